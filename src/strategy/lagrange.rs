@@ -1,0 +1,142 @@
+//! Lagrange multipliers (exact contact): the saddle-point system
+//!
+//! `[K  D_A; D_Aᵀ 0] [u; λ_A] = [q; û_A]`,
+//!
+//! with λ the contact forces in the convention `K u = q − D λ`. Bilateral constraints are
+//! always in A. Unilateral ones follow a primal–dual active-set iteration (deal.II step-41
+//! style): a constraint leaves A when its force has the wrong sign (`upper` needs λ ≥ 0,
+//! `lower` λ ≤ 0), and enters A when violated; single changes are used if the full update
+//! cycles. Penetration is 0 to rounding. This is the reference `u_ref` for error measurements.
+//!
+//! When to use: the exact answer; it costs a larger, indefinite system (`cond2_system` is the
+//! saddle-point matrix's) whose size changes with the active set.
+
+use super::{max_active_set_iterations, violated, Context, Method, Solution, SystemKind};
+use crate::error::{Error, Result};
+use crate::linalg::Factorization;
+use crate::system::{ConstraintKind, Problem, Stiffness};
+use std::collections::HashSet;
+
+/// The saddle-point matrix `[K D_A; D_Aᵀ 0]` for the active constraint indices.
+pub fn saddle_matrix(problem: &Problem, active: &[usize]) -> Stiffness {
+    let n = problem.n();
+    let na = active.len();
+    match &problem.k {
+        Stiffness::Dense(k) => {
+            let mut a = faer::Mat::zeros(n + na, n + na);
+            a.as_mut().submatrix_mut(0, 0, n, n).copy_from(k);
+            for (j, &c) in active.iter().enumerate() {
+                let d = problem.constraints[c].dof;
+                a[(d, n + j)] = 1.0;
+                a[(n + j, d)] = 1.0;
+            }
+            Stiffness::Dense(a)
+        }
+        Stiffness::Sparse(_) => {
+            let mut t = Vec::with_capacity(problem.k.nnz() + 2 * na);
+            problem.k.for_each_entry(|i, j, v| t.push((i, j, v)));
+            for (j, &c) in active.iter().enumerate() {
+                let d = problem.constraints[c].dof;
+                t.push((d, n + j, 1.0));
+                t.push((n + j, d, 1.0));
+            }
+            Stiffness::from_triplets(n + na, &t).expect("indices in range")
+        }
+    }
+}
+
+/// Solves the contact problem exactly with Lagrange multipliers.
+pub fn solve(problem: &Problem) -> Result<Solution> {
+    let mut ctx = Context::new(problem);
+    let m = problem.m();
+    let n = problem.n();
+    // Start: bilateral + violated by u0 (all, if K is singular).
+    let mut active: Vec<bool> = match ctx.u0() {
+        Ok(u0) => {
+            let u0 = u0.to_vec();
+            (0..m).map(|c| violated(problem, c, &u0)).collect()
+        }
+        Err(Error::Singular(_)) => vec![true; m],
+        Err(e) => return Err(e),
+    };
+    let mut seen: HashSet<Vec<bool>> = HashSet::new();
+    let mut single = false;
+    let max_it = max_active_set_iterations(m);
+    let scale = problem
+        .constraints
+        .iter()
+        .map(|c| c.limit.abs())
+        .fold(0.0f64, f64::max);
+    loop {
+        let idx: Vec<usize> = (0..m).filter(|&c| active[c]).collect();
+        let a = saddle_matrix(problem, &idx);
+        let f = Factorization::new(&a, false).map_err(|e| match e {
+            Error::Singular(msg) => Error::singular(format!(
+                "saddle-point matrix is singular ({msg}): K is singular on the unconstrained \
+                 DOFs, or constraints are dependent"
+            )),
+            e => e,
+        })?;
+        ctx.stats.factorizations += 1;
+        let mut rhs = problem.q.clone();
+        rhs.extend(idx.iter().map(|&c| problem.constraints[c].limit));
+        let x = f.solve(&rhs);
+        ctx.stats.linear_solves += 1;
+        ctx.stats.iterations += 1;
+        ctx.stats.active_set_sizes.push(idx.len());
+        let u = x[..n].to_vec();
+        let mut lambda = vec![0.0; m];
+        for (j, &c) in idx.iter().enumerate() {
+            lambda[c] = x[n + j];
+        }
+        // Changes: wrong-sign forces leave, violated constraints enter.
+        let unorm = u.iter().fold(scale, |a, v| a.max(v.abs()));
+        let tol = 64.0 * f64::EPSILON * (n as f64) * unorm;
+        let mut changes: Vec<(f64, usize)> = Vec::new();
+        for c in 0..m {
+            let con = problem.constraints[c];
+            let g = u[con.dof] - con.limit;
+            match (active[c], con.kind) {
+                (_, ConstraintKind::Bilateral) => {}
+                (true, ConstraintKind::Upper) if lambda[c] < 0.0 => {
+                    changes.push((-lambda[c], c))
+                }
+                (true, ConstraintKind::Lower) if lambda[c] > 0.0 => changes.push((lambda[c], c)),
+                (false, k) if k.penetration(g) > tol => changes.push((k.penetration(g), c)),
+                _ => {}
+            }
+        }
+        let converged = changes.is_empty();
+        if converged || ctx.stats.iterations >= max_it {
+            let mut warnings = Vec::new();
+            if !converged {
+                warnings.push(format!(
+                    "lagrange: active set did not settle after {max_it} iterations"
+                ));
+            }
+            return Ok(ctx.finish(
+                Method::Lagrange,
+                u,
+                vec![0.0; m],
+                Some(lambda),
+                SystemKind::SaddlePoint { active: idx },
+                warnings,
+            ));
+        }
+        seen.insert(active.clone());
+        let mut next = active.clone();
+        for &(_, c) in &changes {
+            next[c] = !next[c];
+        }
+        if single || seen.contains(&next) {
+            single = true;
+            let &(_, c) = changes
+                .iter()
+                .max_by(|a, b| a.0.total_cmp(&b.0))
+                .expect("non-empty");
+            next = active.clone();
+            next[c] = !next[c];
+        }
+        active = next;
+    }
+}

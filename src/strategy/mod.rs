@@ -1,0 +1,448 @@
+//! Contact strategies: seven ways to enforce `Dᵀu ⋚ û` on `K u = q`.
+//!
+//! | name | knob | penalty ε_c (or method) | paper |
+//! |---|---|---|---|
+//! | [`constant`] | ε | ε_c = ε | Eq. 9 |
+//! | [`scaled`] | factor f | ε_c = f · K[d_c, d_c] | — |
+//! | [`spring`] | δ | ε_c = (q_d − k(û + sδ)) / (sδ), k = K[d,d], s = sign g0_c | Eq. 17 |
+//! | [`paper`] | δ | ε_c = (\|K̄û − q̄\|_c − (K̄δ1)_c) / δ, K̄ = DᵀKD | Eq. 26–29 |
+//! | [`condensed`] | δ | ε = S⁻¹(g0 − g*) ./ g*, S = DᵀK⁻¹D, \|g*_c\| = δ | (ours) |
+//! | [`lagrange`] | — | saddle point `[K D; Dᵀ 0]`, active set | exact |
+//! | [`augmented`] | ε, tol | Uzawa: λ ← λ + ε g until max penetration ≤ tol | — |
+//!
+//! Every strategy returns a [`Solution`]: u, the penalties, the gaps, warnings and
+//! [`Stats`] (iterations, linear solves, factorizations, active-set sizes). Unilateral
+//! constraints (`upper`/`lower`) are penalized only while violated: the penalty strategies share
+//! one active-set driver ([`penalty_active_set`]).
+
+pub mod augmented;
+pub mod condensed;
+pub mod constant;
+pub mod lagrange;
+pub mod paper;
+pub mod scaled;
+pub mod spring;
+
+use crate::error::{Error, Result};
+use crate::linalg::Factorization;
+use crate::system::{ConstraintKind, Problem, Stiffness};
+use serde::Serialize;
+use std::collections::HashSet;
+
+/// A strategy and its knob.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(tag = "method", rename_all = "lowercase")]
+pub enum Method {
+    /// Classical penalty with one ε for all active constraints.
+    Constant {
+        /// ε (stiffness units, > 0).
+        eps: f64,
+    },
+    /// ε_c = factor · K[d_c, d_c].
+    Scaled {
+        /// Dimensionless factor (> 0).
+        factor: f64,
+    },
+    /// Eq. 17 per constraint (1-DOF spring, coupling ignored).
+    Spring {
+        /// Allowed penetration δ (length/velocity units of u, > 0).
+        delta: f64,
+    },
+    /// Eq. 26–29 literally.
+    Paper {
+        /// Allowed penetration δ (> 0).
+        delta: f64,
+    },
+    /// Exact δ-targeting through the condensed flexibility S = DᵀK⁻¹D.
+    Condensed {
+        /// Allowed penetration δ (> 0).
+        delta: f64,
+    },
+    /// Lagrange multipliers (exact).
+    Lagrange,
+    /// Augmented Lagrangian (Uzawa).
+    Augmented {
+        /// Penalty used in the augmented term (> 0).
+        eps: f64,
+        /// Stop when max penetration ≤ tol (> 0).
+        tol: f64,
+        /// Per-constraint penalty update (×10 when a gap does not shrink by 4×).
+        adaptive: bool,
+    },
+}
+
+/// Names accepted by [`Method::from_name`].
+pub const METHOD_NAMES: [&str; 7] = [
+    "constant",
+    "scaled",
+    "spring",
+    "paper",
+    "condensed",
+    "lagrange",
+    "augmented",
+];
+
+/// Optional knobs for [`Method::from_name`].
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Knobs {
+    /// ε for `constant` and `augmented`.
+    pub eps: Option<f64>,
+    /// Factor for `scaled`.
+    pub factor: Option<f64>,
+    /// δ for `spring`, `paper`, `condensed`.
+    pub delta: Option<f64>,
+    /// Tolerance for `augmented`.
+    pub tol: Option<f64>,
+    /// Adaptive penalty update for `augmented`.
+    pub adaptive: bool,
+}
+
+fn positive(name: &str, what: &str, v: Option<f64>) -> Result<f64> {
+    match v {
+        None => Err(Error::input(format!("method {name} needs {what}"))),
+        Some(x) if !(x.is_finite() && x > 0.0) => Err(Error::input(format!(
+            "{what} must be a finite number > 0 (got {x})"
+        ))),
+        Some(x) => Ok(x),
+    }
+}
+
+impl Method {
+    /// Builds a method from its name and knobs, validating them (δ ≤ 0, NaN → error).
+    pub fn from_name(name: &str, k: Knobs) -> Result<Self> {
+        Ok(match name {
+            "constant" => Method::Constant {
+                eps: positive(name, "--eps", k.eps)?,
+            },
+            "scaled" => Method::Scaled {
+                factor: positive(name, "--factor", k.factor)?,
+            },
+            "spring" => Method::Spring {
+                delta: positive(name, "--delta", k.delta)?,
+            },
+            "paper" => Method::Paper {
+                delta: positive(name, "--delta", k.delta)?,
+            },
+            "condensed" => Method::Condensed {
+                delta: positive(name, "--delta", k.delta)?,
+            },
+            "lagrange" => Method::Lagrange,
+            "augmented" => Method::Augmented {
+                eps: positive(name, "--eps", k.eps)?,
+                tol: positive(name, "--tol", k.tol)?,
+                adaptive: k.adaptive,
+            },
+            other => {
+                return Err(Error::input(format!(
+                    "unknown method '{other}' (valid: {})",
+                    METHOD_NAMES.join(", ")
+                )))
+            }
+        })
+    }
+
+    /// The method's name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Method::Constant { .. } => "constant",
+            Method::Scaled { .. } => "scaled",
+            Method::Spring { .. } => "spring",
+            Method::Paper { .. } => "paper",
+            Method::Condensed { .. } => "condensed",
+            Method::Lagrange => "lagrange",
+            Method::Augmented { .. } => "augmented",
+        }
+    }
+
+    /// δ if the method has one.
+    pub fn delta(&self) -> Option<f64> {
+        match *self {
+            Method::Spring { delta } | Method::Paper { delta } | Method::Condensed { delta } => {
+                Some(delta)
+            }
+            _ => None,
+        }
+    }
+}
+
+/// Solver statistics.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct Stats {
+    /// Outer iterations (active-set or Uzawa).
+    pub iterations: usize,
+    /// Right-hand sides solved (a block solve with m columns counts m).
+    pub linear_solves: usize,
+    /// Matrix factorizations.
+    pub factorizations: usize,
+    /// Number of active (penalized / multiplier) constraints after each iteration.
+    pub active_set_sizes: Vec<usize>,
+}
+
+/// The final system matrix of a solve (for metrics).
+#[derive(Clone, Debug, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SystemKind {
+    /// `K + D E Dᵀ` with E = diag(penalties).
+    Penalized,
+    /// `[K D_A; D_Aᵀ 0]` with the listed active constraint indices.
+    SaddlePoint {
+        /// Constraint indices in the saddle-point system.
+        active: Vec<usize>,
+    },
+}
+
+/// Result of a strategy.
+#[derive(Clone, Debug, Serialize)]
+pub struct Solution {
+    /// The method and knob used.
+    pub method: Method,
+    /// Solution u (N).
+    pub u: Vec<f64>,
+    /// ε_c per constraint (0 where unpenalized; 0 for `lagrange`).
+    pub penalties: Vec<f64>,
+    /// Signed gaps g_c = u[d_c] − û_c.
+    pub gaps: Vec<f64>,
+    /// Contact forces r_c (K u = q − D r): `ε_c g_c` for penalties, multipliers otherwise.
+    pub forces: Vec<f64>,
+    /// max_c penetration.
+    pub max_penetration: f64,
+    /// The final system matrix kind.
+    pub system: SystemKind,
+    /// Statistics.
+    pub stats: Stats,
+    /// Human-readable warnings (assumption failures, non-convergence).
+    pub warnings: Vec<String>,
+}
+
+/// Solves `problem` with `method`.
+pub fn solve(problem: &Problem, method: Method) -> Result<Solution> {
+    match method {
+        Method::Constant { eps } => constant::solve(problem, eps),
+        Method::Scaled { factor } => scaled::solve(problem, factor),
+        Method::Spring { delta } => spring::solve(problem, delta),
+        Method::Paper { delta } => paper::solve(problem, delta),
+        Method::Condensed { delta } => condensed::solve(problem, delta),
+        Method::Lagrange => lagrange::solve(problem),
+        Method::Augmented { eps, tol, adaptive } => augmented::solve(problem, eps, tol, adaptive),
+    }
+}
+
+/// Shared state: K's factorization (lazy) and the unconstrained solution u0 = K⁻¹q.
+pub struct Context<'a> {
+    /// The problem.
+    pub problem: &'a Problem,
+    /// K is symmetric (selects Cholesky and the eigenvalue cond route).
+    pub symmetric: bool,
+    k_factor: Option<Factorization>,
+    u0: Option<Vec<f64>>,
+    /// Last penalized factorization and the penalties it was built with (reused when the
+    /// penalties repeat, e.g. Uzawa updates at fixed ε).
+    last: Option<(Vec<f64>, Factorization)>,
+    /// Statistics accumulated so far.
+    pub stats: Stats,
+}
+
+impl<'a> Context<'a> {
+    /// A new context.
+    pub fn new(problem: &'a Problem) -> Self {
+        Context {
+            problem,
+            symmetric: problem.k.is_symmetric(),
+            k_factor: None,
+            u0: None,
+            last: None,
+            stats: Stats::default(),
+        }
+    }
+
+    /// Factorization of K (computed once). Errors if K is singular.
+    pub fn k_factor(&mut self) -> Result<&Factorization> {
+        if self.k_factor.is_none() {
+            let f = Factorization::new(&self.problem.k, self.symmetric).map_err(|e| match e {
+                Error::Singular(m) => Error::singular(format!(
+                    "K is singular ({m}); this method needs K⁻¹ (use constant, scaled or lagrange)"
+                )),
+                e => e,
+            })?;
+            self.stats.factorizations += 1;
+            self.k_factor = Some(f);
+        }
+        Ok(self.k_factor.as_ref().expect("just set"))
+    }
+
+    /// Unconstrained solution u0 = K⁻¹ q (computed once).
+    pub fn u0(&mut self) -> Result<&[f64]> {
+        if self.u0.is_none() {
+            let q = self.problem.q.clone();
+            let u0 = self.k_factor()?.solve(&q);
+            self.stats.linear_solves += 1;
+            self.u0 = Some(u0);
+        }
+        Ok(self.u0.as_deref().expect("just set"))
+    }
+
+    /// Unconstrained gaps g0 = Dᵀu0 − û.
+    pub fn g0(&mut self) -> Result<Vec<f64>> {
+        let u0 = self.u0()?.to_vec();
+        Ok(self.problem.gaps(&u0))
+    }
+
+    /// Solves the penalized system `(K + D E Dᵀ) u = q + D E û`.
+    pub fn solve_penalized(&mut self, eps: &[f64]) -> Result<Vec<f64>> {
+        let limits: Vec<f64> = self.problem.constraints.iter().map(|c| c.limit).collect();
+        self.solve_penalized_with(eps, &limits)
+    }
+
+    /// Solves `(K + D E Dᵀ) u = q + D E ℓ` for given limits ℓ (shifted limits of the
+    /// augmented Lagrangian).
+    pub fn solve_penalized_with(&mut self, eps: &[f64], limits: &[f64]) -> Result<Vec<f64>> {
+        let p = self.problem;
+        let reuse = matches!(&self.last, Some((e, _)) if e.as_slice() == eps);
+        if !reuse {
+            let a = penalized_matrix(p, eps);
+            let f = Factorization::new(&a, self.symmetric).map_err(|e| match e {
+                Error::Singular(m) => Error::singular(format!("K + D E Dᵀ is singular ({m})")),
+                e => e,
+            })?;
+            self.stats.factorizations += 1;
+            self.last = Some((eps.to_vec(), f));
+        }
+        let f = &self.last.as_ref().expect("just set").1;
+        let mut rhs = p.q.clone();
+        for ((c, &e), &l) in p.constraints.iter().zip(eps).zip(limits) {
+            rhs[c.dof] += e * l;
+        }
+        self.stats.linear_solves += 1;
+        Ok(f.solve(&rhs))
+    }
+
+    /// Assembles a [`Solution`] from u and the penalties.
+    pub fn finish(
+        self,
+        method: Method,
+        u: Vec<f64>,
+        penalties: Vec<f64>,
+        forces: Option<Vec<f64>>,
+        system: SystemKind,
+        warnings: Vec<String>,
+    ) -> Solution {
+        let gaps = self.problem.gaps(&u);
+        let forces =
+            forces.unwrap_or_else(|| penalties.iter().zip(&gaps).map(|(e, g)| e * g).collect());
+        let max_penetration = self.problem.max_penetration(&u);
+        Solution {
+            method,
+            u,
+            penalties,
+            gaps,
+            forces,
+            max_penetration,
+            system,
+            stats: self.stats,
+            warnings,
+        }
+    }
+}
+
+/// Is constraint `c` to be penalized at the trial solution `u`? Bilateral: always;
+/// unilateral: while violated (penetration > 0).
+pub fn violated(problem: &Problem, c: usize, u: &[f64]) -> bool {
+    let con = problem.constraints[c];
+    match con.kind {
+        ConstraintKind::Bilateral => true,
+        k => k.penetration(u[con.dof] - con.limit) > 0.0,
+    }
+}
+
+/// Upper bound on active-set iterations.
+pub fn max_active_set_iterations(m: usize) -> usize {
+    4 * m + 50
+}
+
+/// The active-set driver shared by the penalty strategies.
+///
+/// 1. Start from the constraints violated by u0 = K⁻¹q (u0 is not computed when every
+///    constraint is bilateral; if K is singular, start from all constraints).
+/// 2. `rule(active, ctx)` gives ε for every constraint (it must return 0 off the active set);
+///    solve `(K + D E Dᵀ) u = q + D E û`.
+/// 3. New active set = constraints violated at u; stop when it repeats. A revisited set
+///    (cycling) stops with a warning.
+pub fn penalty_active_set(
+    problem: &Problem,
+    method: Method,
+    mut rule: impl FnMut(&[bool], &mut Context) -> Result<(Vec<f64>, Vec<String>)>,
+) -> Result<Solution> {
+    let mut ctx = Context::new(problem);
+    let m = problem.m();
+    let all_bilateral = problem
+        .constraints
+        .iter()
+        .all(|c| c.kind == ConstraintKind::Bilateral);
+    let mut active: Vec<bool> = if all_bilateral {
+        vec![true; m]
+    } else {
+        match ctx.u0() {
+            Ok(u0) => {
+                let u0 = u0.to_vec();
+                (0..m).map(|c| violated(problem, c, &u0)).collect()
+            }
+            Err(Error::Singular(_)) => vec![true; m],
+            Err(e) => return Err(e),
+        }
+    };
+    let mut seen: HashSet<Vec<bool>> = HashSet::new();
+    let mut warnings = Vec::new();
+    let max_it = max_active_set_iterations(m);
+    loop {
+        let (eps, w) = rule(&active, &mut ctx)?;
+        let u = ctx.solve_penalized(&eps)?;
+        ctx.stats.iterations += 1;
+        ctx.stats
+            .active_set_sizes
+            .push(eps.iter().filter(|&&e| e != 0.0).count());
+        let new_active: Vec<bool> = (0..m).map(|c| violated(problem, c, &u)).collect();
+        let done = new_active == active;
+        seen.insert(active.clone());
+        if done || seen.contains(&new_active) || ctx.stats.iterations >= max_it {
+            if !done {
+                warnings.push(format!(
+                    "{}: active set did not settle after {} iterations (cycling); \
+                     the last iterate is returned",
+                    method.name(),
+                    ctx.stats.iterations
+                ));
+            }
+            warnings.extend(w);
+            return Ok(ctx.finish(method, u, eps, None, SystemKind::Penalized, warnings));
+        }
+        active = new_active;
+    }
+}
+
+/// Clips negative penalties to 0 with a warning naming the constraint and the equation.
+pub fn clip_negative(problem: &Problem, eps: &mut [f64], equation: &str) -> Vec<String> {
+    let mut w = Vec::new();
+    for (c, e) in eps.iter_mut().enumerate() {
+        if *e < 0.0 {
+            w.push(format!(
+                "{equation} gives a negative penalty ε = {:.6e} for constraint {c} (DOF {}); \
+                 set to 0 (unpenalized), so this constraint's penetration is not controlled",
+                *e, problem.constraints[c].dof
+            ));
+            *e = 0.0;
+        }
+    }
+    w
+}
+
+/// Dense convenience: the penalized matrix `K + D E Dᵀ` of a solution.
+pub fn penalized_matrix(problem: &Problem, penalties: &[f64]) -> Stiffness {
+    let adds: Vec<(usize, f64)> = problem
+        .constraints
+        .iter()
+        .zip(penalties)
+        .filter(|(_, &e)| e != 0.0)
+        .map(|(c, &e)| (c.dof, e))
+        .collect();
+    problem.k.with_diagonal_added(&adds)
+}

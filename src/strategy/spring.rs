@@ -1,0 +1,43 @@
+//! Eq. 17 per constraint, ignoring coupling (the 1-DOF spring of Fig. 1):
+//!
+//! `ε_c = (q_d − k (û_c + s δ)) / (s δ)`, `k = K[d,d]`, `q_d = q[d]`, `s = sign(g0_c)`,
+//!
+//! which puts a lone spring exactly at `u = û + sδ`. For `s = −1` this is the paper's Eq. 17,
+//! `ε = (k(û − δ) − q) / δ`. Unilateral constraints use the side of their obstacle
+//! (`upper`: s = +1, `lower`: s = −1); bilateral ones the side of the unconstrained solution.
+//!
+//! When to use: a sanity baseline. In a coupled system the rest of the structure also carries
+//! load, so the penetration is not δ; when `|q_d|` is small the formula goes negative (warned
+//! and clipped to 0).
+
+use super::{clip_negative, penalty_active_set, Method, Solution};
+use crate::error::Result;
+use crate::system::{ConstraintKind, Problem};
+
+/// Solves with Eq. 17 penalties for allowed penetration δ.
+pub fn solve(problem: &Problem, delta: f64) -> Result<Solution> {
+    penalty_active_set(problem, Method::Spring { delta }, |active, ctx| {
+        let g0 = ctx.g0()?;
+        let p = ctx.problem;
+        let mut eps: Vec<f64> = p
+            .constraints
+            .iter()
+            .enumerate()
+            .map(|(c, con)| {
+                if !active[c] || con.kind.penetration(g0[c]) <= delta {
+                    // Not violated, or already within δ without a penalty.
+                    return 0.0;
+                }
+                let s = match con.kind {
+                    ConstraintKind::Upper => 1.0,
+                    ConstraintKind::Lower => -1.0,
+                    ConstraintKind::Bilateral => g0[c].signum(),
+                };
+                let k = p.k.diag(con.dof);
+                (p.q[con.dof] - k * (con.limit + s * delta)) / (s * delta)
+            })
+            .collect();
+        let w = clip_negative(p, &mut eps, "spring (Eq. 17)");
+        Ok((eps, w))
+    })
+}

@@ -1,0 +1,306 @@
+//! Linear systems with contact constraints: `K u = q` subject to `Dᵀu ⋚ û`.
+//!
+//! * [`Stiffness`] — the assembled matrix **K** (N×N), dense or sparse. A sparse input is never
+//!   densified unless a metric really needs it (see [`crate::conditioning`]).
+//! * [`Constraint`] — one contact restriction: DOF index `d_c`, limit `û_c`, and a
+//!   [`ConstraintKind`] (`bilateral` / `upper` / `lower`).
+//! * [`Problem`] — K, the load **q** and the constraints, validated on construction.
+//!
+//! Sign conventions (binding, see `shared/notes/methods.md`): the gap is
+//! `g_c = u[d_c] − û_c`; the penetration is `|g_c|` (bilateral), `max(0, g_c)` (upper:
+//! `u[d_c] ≤ û_c`) or `max(0, −g_c)` (lower: `u[d_c] ≥ û_c`).
+
+use crate::error::{Error, Result};
+use faer::sparse::{SparseColMat, Triplet};
+use faer::Mat;
+use serde::{Deserialize, Serialize};
+
+/// The stiffness matrix **K**: dense (faer `Mat`) or sparse (faer CSC).
+#[derive(Clone, Debug)]
+pub enum Stiffness {
+    /// Dense storage, column-major.
+    Dense(Mat<f64>),
+    /// Sparse compressed-column storage (duplicates already summed).
+    Sparse(SparseColMat<usize, f64>),
+}
+
+impl Stiffness {
+    /// Builds a dense matrix from row-major rows. Errors on ragged or non-square input.
+    pub fn from_rows(rows: &[Vec<f64>]) -> Result<Self> {
+        let n = rows.len();
+        if n == 0 {
+            return Err(Error::input("stiffness matrix is empty (0×0)"));
+        }
+        for (i, r) in rows.iter().enumerate() {
+            if r.len() != n {
+                return Err(Error::input(format!(
+                    "stiffness matrix is not square: row {i} has {} entries, expected {n}",
+                    r.len()
+                )));
+            }
+        }
+        Ok(Stiffness::Dense(Mat::from_fn(n, n, |i, j| rows[i][j])))
+    }
+
+    /// Builds a sparse matrix from (row, col, value) triplets; duplicates are summed.
+    pub fn from_triplets(n: usize, triplets: &[(usize, usize, f64)]) -> Result<Self> {
+        if n == 0 {
+            return Err(Error::input("stiffness matrix is empty (0×0)"));
+        }
+        let t: Vec<Triplet<usize, usize, f64>> = triplets
+            .iter()
+            .map(|&(row, col, val)| Triplet { row, col, val })
+            .collect();
+        for x in &t {
+            if x.row >= n || x.col >= n {
+                return Err(Error::input(format!(
+                    "sparse entry ({}, {}) is outside the {n}×{n} matrix",
+                    x.row, x.col
+                )));
+            }
+        }
+        let m = SparseColMat::try_new_from_triplets(n, n, &t)
+            .map_err(|e| Error::input(format!("cannot build sparse matrix: {e:?}")))?;
+        Ok(Stiffness::Sparse(m))
+    }
+
+    /// Number of rows (= columns).
+    pub fn n(&self) -> usize {
+        match self {
+            Stiffness::Dense(m) => m.nrows(),
+            Stiffness::Sparse(m) => m.nrows(),
+        }
+    }
+
+    /// Number of stored entries (N² for dense).
+    pub fn nnz(&self) -> usize {
+        match self {
+            Stiffness::Dense(m) => m.nrows() * m.ncols(),
+            Stiffness::Sparse(m) => m.val().len(),
+        }
+    }
+
+    /// `true` for sparse storage.
+    pub fn is_sparse(&self) -> bool {
+        matches!(self, Stiffness::Sparse(_))
+    }
+
+    /// Entry `K[i, j]` (0 if not stored).
+    pub fn get(&self, i: usize, j: usize) -> f64 {
+        match self {
+            Stiffness::Dense(m) => m[(i, j)],
+            Stiffness::Sparse(m) => m.as_ref().get(i, j).copied().unwrap_or(0.0),
+        }
+    }
+
+    /// Diagonal entry `K[i, i]`.
+    pub fn diag(&self, i: usize) -> f64 {
+        self.get(i, i)
+    }
+
+    /// Calls `f(i, j, value)` for every stored entry.
+    pub fn for_each_entry(&self, mut f: impl FnMut(usize, usize, f64)) {
+        match self {
+            Stiffness::Dense(m) => {
+                for j in 0..m.ncols() {
+                    for i in 0..m.nrows() {
+                        f(i, j, m[(i, j)]);
+                    }
+                }
+            }
+            Stiffness::Sparse(m) => {
+                let m = m.as_ref();
+                for j in 0..m.ncols() {
+                    for (&i, &v) in m.row_idx_of_col_raw(j).iter().zip(m.val_of_col(j)) {
+                        f(i, j, v);
+                    }
+                }
+            }
+        }
+    }
+
+    /// Largest absolute entry (max-norm).
+    pub fn max_abs(&self) -> f64 {
+        let mut a = 0.0f64;
+        self.for_each_entry(|_, _, v| a = a.max(v.abs()));
+        a
+    }
+
+    /// `true` if every stored entry is finite.
+    pub fn all_finite(&self) -> bool {
+        let mut ok = true;
+        self.for_each_entry(|_, _, v| ok &= v.is_finite());
+        ok
+    }
+
+    /// `true` if `|K[i,j] − K[j,i]| ≤ 8 ε_mach · max|K|` for all pairs: the test that
+    /// selects the symmetric (eigenvalue) routes and Cholesky.
+    pub fn is_symmetric(&self) -> bool {
+        let tol = 8.0 * f64::EPSILON * self.max_abs();
+        match self {
+            Stiffness::Dense(m) => {
+                let n = m.nrows();
+                (0..n).all(|j| (0..j).all(|i| (m[(i, j)] - m[(j, i)]).abs() <= tol))
+            }
+            Stiffness::Sparse(_) => {
+                let mut ok = true;
+                self.for_each_entry(|i, j, v| {
+                    if i != j && (v - self.get(j, i)).abs() > tol {
+                        ok = false;
+                    }
+                });
+                ok
+            }
+        }
+    }
+
+    /// `y = K x`.
+    pub fn matvec(&self, x: &[f64]) -> Vec<f64> {
+        let mut y = vec![0.0; self.n()];
+        self.for_each_entry(|i, j, v| y[i] += v * x[j]);
+        y
+    }
+
+    /// A dense copy (used only by metrics that need it, and by small models).
+    pub fn to_dense(&self) -> Mat<f64> {
+        match self {
+            Stiffness::Dense(m) => m.clone(),
+            Stiffness::Sparse(m) => m.as_ref().to_dense(),
+        }
+    }
+
+    /// `K + Σ_c add_c e_{d_c} e_{d_c}ᵀ` — the penalized matrix `K + D E Dᵀ` (Eq. 19) for a
+    /// Boolean D. Sparse stays sparse (missing diagonal entries are inserted).
+    pub fn with_diagonal_added(&self, adds: &[(usize, f64)]) -> Stiffness {
+        match self {
+            Stiffness::Dense(m) => {
+                let mut m = m.clone();
+                for &(d, v) in adds {
+                    m[(d, d)] += v;
+                }
+                Stiffness::Dense(m)
+            }
+            Stiffness::Sparse(_) => {
+                let mut t = Vec::with_capacity(self.nnz() + adds.len());
+                self.for_each_entry(|i, j, v| t.push((i, j, v)));
+                t.extend(adds.iter().map(|&(d, v)| (d, d, v)));
+                Stiffness::from_triplets(self.n(), &t).expect("indices already validated")
+            }
+        }
+    }
+}
+
+/// Kind of a contact constraint (binding names: `bilateral`, `upper`, `lower`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ConstraintKind {
+    /// `u[d] = û` — always penalized (the paper's beam example).
+    Bilateral,
+    /// `u[d] ≤ û` — obstacle on the + side; penalized only while violated.
+    Upper,
+    /// `u[d] ≥ û` — obstacle on the − side; penalized only while violated.
+    Lower,
+}
+
+impl ConstraintKind {
+    /// Penetration for the signed gap `g = u[d] − û`.
+    pub fn penetration(self, g: f64) -> f64 {
+        match self {
+            ConstraintKind::Bilateral => g.abs(),
+            ConstraintKind::Upper => g.max(0.0),
+            ConstraintKind::Lower => (-g).max(0.0),
+        }
+    }
+}
+
+/// One contact restriction (a row of Dᵀ and an entry of û).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Constraint {
+    /// 0-based DOF index `d_c`.
+    pub dof: usize,
+    /// Limit `û_c` (same units as u).
+    pub limit: f64,
+    /// Bilateral, upper or lower.
+    pub kind: ConstraintKind,
+}
+
+/// A contact problem: `K`, `q` and the constraints, validated.
+#[derive(Clone, Debug)]
+pub struct Problem {
+    /// Stiffness **K** (N×N).
+    pub k: Stiffness,
+    /// Load **q** (N).
+    pub q: Vec<f64>,
+    /// Contact constraints (m of them).
+    pub constraints: Vec<Constraint>,
+}
+
+impl Problem {
+    /// Validates sizes, finiteness and DOF indices, then builds the problem.
+    ///
+    /// Errors: non-finite entries in K, q or û; `q.len() != N`; a DOF out of range; two
+    /// constraints on the same DOF (D would not have full column rank).
+    pub fn new(k: Stiffness, q: Vec<f64>, constraints: Vec<Constraint>) -> Result<Self> {
+        let n = k.n();
+        if q.len() != n {
+            return Err(Error::input(format!(
+                "load vector has {} entries but K is {n}×{n}",
+                q.len()
+            )));
+        }
+        if !k.all_finite() {
+            return Err(Error::input("stiffness matrix contains NaN or Inf"));
+        }
+        if let Some(i) = q.iter().position(|v| !v.is_finite()) {
+            return Err(Error::input(format!("load entry {i} is not finite")));
+        }
+        let mut seen = vec![false; n];
+        for (c, con) in constraints.iter().enumerate() {
+            if con.dof >= n {
+                return Err(Error::input(format!(
+                    "constraint {c}: DOF {} is out of range (N = {n}, DOFs are 0-based)",
+                    con.dof
+                )));
+            }
+            if !con.limit.is_finite() {
+                return Err(Error::input(format!("constraint {c}: limit is not finite")));
+            }
+            if seen[con.dof] {
+                return Err(Error::input(format!(
+                    "constraint {c}: DOF {} is constrained twice",
+                    con.dof
+                )));
+            }
+            seen[con.dof] = true;
+        }
+        Ok(Problem { k, q, constraints })
+    }
+
+    /// Number of DOFs N.
+    pub fn n(&self) -> usize {
+        self.k.n()
+    }
+
+    /// Number of constraints m.
+    pub fn m(&self) -> usize {
+        self.constraints.len()
+    }
+
+    /// Signed gaps `g_c = u[d_c] − û_c`.
+    pub fn gaps(&self, u: &[f64]) -> Vec<f64> {
+        self.constraints.iter().map(|c| u[c.dof] - c.limit).collect()
+    }
+
+    /// Penetrations `p_c` (see module docs).
+    pub fn penetrations(&self, u: &[f64]) -> Vec<f64> {
+        self.constraints
+            .iter()
+            .map(|c| c.kind.penetration(u[c.dof] - c.limit))
+            .collect()
+    }
+
+    /// `max_c p_c` (0 when m = 0).
+    pub fn max_penetration(&self, u: &[f64]) -> f64 {
+        self.penetrations(u).into_iter().fold(0.0, f64::max)
+    }
+}

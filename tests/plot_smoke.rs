@@ -1,0 +1,138 @@
+//! Smoke tests for `penalty_lab::plot`: both formats are written, bad data is an error.
+
+use std::path::PathBuf;
+
+use penalty_lab::plot::{render, render_panels, Band, Figure, Mark, Marker, Scale, Series};
+
+fn tmp_dir(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("penalty_lab_plot_{}_{name}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn loglog_figure() -> Figure {
+    let eps: Vec<f64> = (0..=24).map(|k| 10f64.powf(k as f64 * 0.5)).collect();
+    let kappa: Vec<f64> = eps.iter().map(|e| 1e2 * (1.0 + e)).collect();
+    let err: Vec<f64> = eps.iter().map(|e| 1.0 / e + 1e-10 * e).collect();
+    let lo: Vec<f64> = kappa.iter().map(|k| k * 0.5).collect();
+    let hi: Vec<f64> = kappa.iter().map(|k| k * 2.0).collect();
+    Figure::new(
+        "Penalty sweep: conditioning vs. accuracy",
+        "penalty parameter ε",
+        "κ(K), error",
+    )
+    .scales(Scale::Log10, Scale::Log10)
+    .with_band(Band::new("κ spread (min–max)", eps.clone(), lo, hi))
+    .with_series(Series::new(
+        "condition number κ",
+        eps.clone(),
+        kappa,
+        Mark::LinePoints,
+    ))
+    .with_series(Series::new("gap error", eps, err, Mark::Dashed).color(1))
+    .with_marker(Marker::new("optimum ε*", 1e5, 2e-5).color(1))
+    .hline(1e12, "κ limit 1e12")
+}
+
+#[test]
+fn loglog_renders_png_and_svg() {
+    let dir = tmp_dir("loglog");
+    let paths = render(&loglog_figure(), &dir.join("loglog")).unwrap();
+    assert_eq!(paths.len(), 2);
+    let png = paths
+        .iter()
+        .find(|p| p.extension().unwrap() == "png")
+        .unwrap();
+    let svg = paths
+        .iter()
+        .find(|p| p.extension().unwrap() == "svg")
+        .unwrap();
+    let bytes = std::fs::read(png).unwrap();
+    assert!(!bytes.is_empty());
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    let text = std::fs::read_to_string(svg).unwrap();
+    assert!(text.contains("<svg"));
+    assert!(text.contains("condition number κ"));
+    assert!(text.contains("gap error"));
+    if let Ok(keep) = std::env::var("PLOT_EXAMPLE") {
+        std::fs::copy(png, keep).unwrap();
+    }
+}
+
+#[test]
+fn all_nan_is_an_error() {
+    let dir = tmp_dir("nan");
+    let fig = Figure::new("nan", "x", "y").with_series(Series::new(
+        "nan",
+        vec![f64::NAN, f64::INFINITY],
+        vec![f64::NAN, 1.0],
+        Mark::Line,
+    ));
+    let err = render(&fig, &dir.join("nan")).unwrap_err();
+    assert!(matches!(err, penalty_lab::Error::Input(_)), "{err}");
+    assert!(!dir.join("nan.png").exists());
+    // Empty figure as well.
+    assert!(render(&Figure::new("", "x", "y"), &dir.join("empty")).is_err());
+}
+
+#[test]
+fn length_mismatch_is_an_error() {
+    let dir = tmp_dir("len");
+    let fig = Figure::new("bad", "x", "y").line("s", vec![1.0, 2.0], vec![1.0]);
+    assert!(matches!(
+        render(&fig, &dir.join("bad")),
+        Err(penalty_lab::Error::Input(_))
+    ));
+}
+
+#[test]
+fn log_scale_skips_non_positive_values() {
+    let dir = tmp_dir("neg");
+    let x = vec![-1.0, 0.0, 1.0, 2.0, 3.0, 4.0, f64::NAN, 6.0];
+    let y = vec![1.0, 2.0, -3.0, 4.0, 0.0, 16.0, 25.0, 36.0];
+    let fig = Figure::new("negatives", "x", "y")
+        .scales(Scale::Log10, Scale::Log10)
+        .with_series(Series::new("s", x.clone(), y.clone(), Mark::LinePoints))
+        .with_band(Band::new(
+            "b",
+            x.clone(),
+            y.clone(),
+            y.iter().map(|v| v * 2.0).collect(),
+        ))
+        .with_marker(Marker::new("m", -1.0, 5.0))
+        .vline(0.0, "ignored")
+        .hline(-2.0, "ignored");
+    let paths = render(&fig, &dir.join("neg")).unwrap();
+    assert!(paths.iter().all(|p| p.exists()));
+    // Linear x with log y, and a dotted stem that must keep its dot.
+    let fig = fig.scales(Scale::Linear, Scale::Log10);
+    let paths = render(&fig, &dir.join("neg_0.5")).unwrap();
+    assert!(paths[0].ends_with("neg_0.5.png"), "{:?}", paths[0]);
+    assert!(paths.iter().all(|p| p.exists()));
+}
+
+#[test]
+fn panels_and_segments() {
+    let dir = tmp_dir("panels");
+    let xs: Vec<f64> = (0..=40).map(|i| i as f64 / 40.0).collect();
+    let figs: Vec<Figure> = [1.0, 1e3, 1e6]
+        .iter()
+        .map(|&eps| {
+            let w: Vec<f64> = xs
+                .iter()
+                .map(|&x| -0.01 * x * x * (3.0 - x) / (1.0 + 1.0 / eps))
+                .collect();
+            Figure::new(format!("ε = {eps:e}"), "x [m]", "w [m]")
+                .line("beam", xs.clone(), w)
+                .segment((0.6, -0.025), (1.0, -0.025), 6)
+                .vline(0.6, "obstacle")
+        })
+        .collect();
+    let paths = render_panels(&figs, 3, &dir.join("beam"), (1800, 550)).unwrap();
+    assert!(paths.iter().all(|p| p.exists()));
+    if let Ok(keep) = std::env::var("PLOT_PANELS") {
+        std::fs::copy(&paths[0], keep).unwrap();
+    }
+    assert!(render_panels(&figs, 0, &dir.join("x"), (800, 600)).is_err());
+    assert!(render_panels(&[], 2, &dir.join("x"), (800, 600)).is_err());
+}
