@@ -1,4 +1,44 @@
-//! penalty-lab (crate docs written below).
+//! # penalty-lab
+//!
+//! A research harness for contact penalty methods and the conditioning of finite-element
+//! systems, built around T. Bednarek, P. Kowalczyk, A. Marczewski, W. Sosnowski, *Improvement
+//! of stability conditions and uniqueness of penalty approach in contact modelling in sheet
+//! metal forming*, Computer Methods in Materials Science (2011) — "the paper".
+//!
+//! The paper replaces the user-chosen penalty factor ε by an allowed penetration δ and computes
+//! ε per contact DOF (Eq. 17, 28–29). This crate implements that, the classical alternatives and
+//! an exact δ-targeting penalty side by side, with exact condition numbers for every solve.
+//!
+//! ## Tour
+//! * [`system`] — K (dense or sparse), q, constraints (`bilateral`/`upper`/`lower`), gaps.
+//! * [`strategy`] — the seven strategies and [`strategy::solve`].
+//! * [`metrics`] / [`conditioning`] — exact cond₂ (route recorded), log10|det|, ratios.
+//! * [`linalg`] — factorize once, solve many; log-det from the factor.
+//! * [`model`] — the 1-DOF spring (Eq. 10–17) and Euler–Bernoulli beams (Eq. 30–34).
+//! * [`scene`] — scene files (JSON, Matrix Market) in and out.
+//! * [`plot`] — one figure style, PNG + SVG.
+//!
+//! ## Glossary (paper symbol → code → units)
+//! | paper | code | meaning | units |
+//! |---|---|---|---|
+//! | **K** | [`system::Problem::k`] | stiffness (flow: viscosity) matrix after essential BCs | force/length |
+//! | **q** | [`system::Problem::q`] | load vector | force |
+//! | **u** | [`strategy::Solution::u`] | displacements (flow: velocities) | length |
+//! | **D** | [`system::Constraint::dof`] | Boolean N×m matrix; column c selects DOF `d_c` | — |
+//! | **û** | [`system::Constraint::limit`] | contact limits | length |
+//! | ε, **ε** = D ε̄ Dᵀ | [`strategy::Solution::penalties`] | penalty factor per constraint | force/length |
+//! | δ | `delta` in [`strategy::Method`] | allowed penetration | length |
+//! | g = Dᵀu − û | [`strategy::Solution::gaps`] | signed gap | length |
+//! | K̄ = DᵀKD, q̄ = Dᵀq | [`strategy::paper::eq28`] | reduced system of Eq. 26–27 | — |
+//! | S = DᵀK⁻¹D | [`strategy::condensed`] | condensed flexibility (ours) | length/force |
+//! | uw(·) | [`conditioning::cond2`] | 2-norm condition number σ_max/σ_min | — |
+//! | \|·\| (det) | [`conditioning::log10_abs_det`] | log10 of \|det\| | — |
+//! | μ* | (forming solver) | viscosity function of Eq. 4 | stress·time |
+//!
+//! Sign convention: `K u = q − D r` where r are the contact forces (`r_c = ε_c g_c` for a
+//! penalty); an `upper` obstacle (`u ≤ û`) pushes with `r ≥ 0`, a `lower` one with `r ≤ 0`.
+#![warn(missing_docs)]
+
 pub mod conditioning;
 pub mod error;
 pub mod linalg;
@@ -8,4 +48,5 @@ pub mod plot;
 pub mod scene;
 pub mod strategy;
 pub mod system;
+
 pub use error::{Error, Result};

@@ -15,15 +15,15 @@
 
 use super::{Context, Method, Solution, SystemKind};
 use crate::error::Result;
-use crate::system::{ConstraintKind, Problem};
+use crate::system::ConstraintKind;
 
 /// Maximum Uzawa updates.
 pub const MAX_UPDATES: usize = 500;
 
 /// Solves with the augmented Lagrangian, penalty `eps`, tolerance `tol` on penetration.
-pub fn solve(problem: &Problem, eps: f64, tol: f64, adaptive: bool) -> Result<Solution> {
+pub fn solve(mut ctx: Context, eps: f64, tol: f64, adaptive: bool) -> Result<Solution> {
+    let problem = ctx.problem;
     let method = Method::Augmented { eps, tol, adaptive };
-    let mut ctx = Context::new(problem);
     let m = problem.m();
     let mut lambda = vec![0.0; m];
     let mut pen_eps = vec![eps; m];

@@ -25,7 +25,7 @@
 
 use super::{Context, Method, Solution, SystemKind};
 use crate::error::{Error, Result};
-use crate::system::{ConstraintKind, Problem};
+use crate::system::ConstraintKind;
 use faer::linalg::solvers::Solve;
 use faer::{Mat, MatRef, Side};
 use std::collections::HashSet;
@@ -167,8 +167,8 @@ pub fn box_qp(s: MatRef<'_, f64>, g0: &[f64], lo: &[f64], hi: &[f64]) -> Result<
 }
 
 /// Solves with exact δ-targeting penalties.
-pub fn solve(problem: &Problem, delta: f64) -> Result<Solution> {
-    let mut ctx = Context::new(problem);
+pub fn solve(mut ctx: Context, delta: f64) -> Result<Solution> {
+    let problem = ctx.problem;
     let g0 = ctx.g0()?;
     let u0 = ctx.u0()?.to_vec();
     let m = problem.m();

@@ -4,13 +4,12 @@
 //! When to use: when a good ε is known. Too small and contact leaks (penetration ∝ 1/ε), too
 //! large and cond(K + εDDᵀ) grows ∝ ε.
 
-use super::{penalty_active_set, Method, Solution};
+use super::{Context, penalty_active_set, Method, Solution};
 use crate::error::Result;
-use crate::system::Problem;
 
 /// Solves with the constant penalty ε (> 0, validated by [`Method::from_name`]).
-pub fn solve(problem: &Problem, eps: f64) -> Result<Solution> {
-    penalty_active_set(problem, Method::Constant { eps }, |active, _| {
+pub fn solve(ctx: Context, eps: f64) -> Result<Solution> {
+    penalty_active_set(ctx, Method::Constant { eps }, |active, _| {
         Ok((
             active.iter().map(|&a| if a { eps } else { 0.0 }).collect(),
             Vec::new(),

@@ -46,8 +46,8 @@ pub fn saddle_matrix(problem: &Problem, active: &[usize]) -> Stiffness {
 }
 
 /// Solves the contact problem exactly with Lagrange multipliers.
-pub fn solve(problem: &Problem) -> Result<Solution> {
-    let mut ctx = Context::new(problem);
+pub fn solve(mut ctx: Context) -> Result<Solution> {
+    let problem = ctx.problem;
     let m = problem.m();
     let n = problem.n();
     // Start: bilateral + violated by u0 (all, if K is singular).

@@ -28,6 +28,7 @@ use crate::linalg::Factorization;
 use crate::system::{ConstraintKind, Problem, Stiffness};
 use serde::Serialize;
 use std::collections::HashSet;
+use std::sync::Arc;
 
 /// A strategy and its knob.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -216,14 +217,60 @@ pub struct Solution {
 
 /// Solves `problem` with `method`.
 pub fn solve(problem: &Problem, method: Method) -> Result<Solution> {
+    solve_prepared(problem, method, None)
+}
+
+/// Solves `problem` with `method`, reusing K's factorization and u0 from `prepared` (a sweep
+/// prepares each scene once). Work done inside `prepared` is not counted in [`Stats`].
+pub fn solve_prepared(
+    problem: &Problem,
+    method: Method,
+    prepared: Option<&Prepared>,
+) -> Result<Solution> {
+    let ctx = match prepared {
+        Some(p) => Context::from_prepared(problem, p),
+        None => Context::new(problem),
+    };
     match method {
-        Method::Constant { eps } => constant::solve(problem, eps),
-        Method::Scaled { factor } => scaled::solve(problem, factor),
-        Method::Spring { delta } => spring::solve(problem, delta),
-        Method::Paper { delta } => paper::solve(problem, delta),
-        Method::Condensed { delta } => condensed::solve(problem, delta),
-        Method::Lagrange => lagrange::solve(problem),
-        Method::Augmented { eps, tol, adaptive } => augmented::solve(problem, eps, tol, adaptive),
+        Method::Constant { eps } => constant::solve(ctx, eps),
+        Method::Scaled { factor } => scaled::solve(ctx, factor),
+        Method::Spring { delta } => spring::solve(ctx, delta),
+        Method::Paper { delta } => paper::solve(ctx, delta),
+        Method::Condensed { delta } => condensed::solve(ctx, delta),
+        Method::Lagrange => lagrange::solve(ctx),
+        Method::Augmented { eps, tol, adaptive } => augmented::solve(ctx, eps, tol, adaptive),
+    }
+}
+
+/// K's factorization and the unconstrained solution u0 = K⁻¹q, computed once per problem and
+/// shared by every strategy run on it.
+#[derive(Clone)]
+pub struct Prepared {
+    k_factor: Arc<Factorization>,
+    u0: Arc<Vec<f64>>,
+    symmetric: bool,
+}
+
+impl Prepared {
+    /// Factorizes K and solves for u0. Errors if K is singular.
+    pub fn new(problem: &Problem) -> Result<Self> {
+        let mut ctx = Context::new(problem);
+        ctx.u0()?;
+        Ok(Prepared {
+            k_factor: ctx.k_factor.expect("computed by u0"),
+            u0: ctx.u0.expect("computed"),
+            symmetric: ctx.symmetric,
+        })
+    }
+
+    /// u0 = K⁻¹q.
+    pub fn u0(&self) -> &[f64] {
+        &self.u0
+    }
+
+    /// K's factorization.
+    pub fn k_factor(&self) -> &Factorization {
+        &self.k_factor
     }
 }
 
@@ -233,8 +280,8 @@ pub struct Context<'a> {
     pub problem: &'a Problem,
     /// K is symmetric (selects Cholesky and the eigenvalue cond route).
     pub symmetric: bool,
-    k_factor: Option<Factorization>,
-    u0: Option<Vec<f64>>,
+    k_factor: Option<Arc<Factorization>>,
+    u0: Option<Arc<Vec<f64>>>,
     /// Last penalized factorization and the penalties it was built with (reused when the
     /// penalties repeat, e.g. Uzawa updates at fixed ε).
     last: Option<(Vec<f64>, Factorization)>,
@@ -255,6 +302,18 @@ impl<'a> Context<'a> {
         }
     }
 
+    /// A context that starts from a [`Prepared`] K factorization and u0.
+    pub fn from_prepared(problem: &'a Problem, p: &Prepared) -> Self {
+        Context {
+            problem,
+            symmetric: p.symmetric,
+            k_factor: Some(p.k_factor.clone()),
+            u0: Some(p.u0.clone()),
+            last: None,
+            stats: Stats::default(),
+        }
+    }
+
     /// Factorization of K (computed once). Errors if K is singular.
     pub fn k_factor(&mut self) -> Result<&Factorization> {
         if self.k_factor.is_none() {
@@ -265,7 +324,7 @@ impl<'a> Context<'a> {
                 e => e,
             })?;
             self.stats.factorizations += 1;
-            self.k_factor = Some(f);
+            self.k_factor = Some(Arc::new(f));
         }
         Ok(self.k_factor.as_ref().expect("just set"))
     }
@@ -276,9 +335,9 @@ impl<'a> Context<'a> {
             let q = self.problem.q.clone();
             let u0 = self.k_factor()?.solve(&q);
             self.stats.linear_solves += 1;
-            self.u0 = Some(u0);
+            self.u0 = Some(Arc::new(u0));
         }
-        Ok(self.u0.as_deref().expect("just set"))
+        Ok(self.u0.as_deref().map(|v| v.as_slice()).expect("just set"))
     }
 
     /// Unconstrained gaps g0 = Dᵀu0 − û.
@@ -300,7 +359,8 @@ impl<'a> Context<'a> {
         let reuse = matches!(&self.last, Some((e, _)) if e.as_slice() == eps);
         if !reuse {
             let a = penalized_matrix(p, eps);
-            let f = Factorization::new(&a, self.symmetric).map_err(|e| match e {
+            let sym = self.k_factor.as_ref().and_then(|f| f.symbolic());
+            let f = Factorization::with_symbolic(&a, self.symmetric, sym).map_err(|e| match e {
                 Error::Singular(m) => Error::singular(format!("K + D E Dᵀ is singular ({m})")),
                 e => e,
             })?;
@@ -368,11 +428,11 @@ pub fn max_active_set_iterations(m: usize) -> usize {
 /// 3. New active set = constraints violated at u; stop when it repeats. A revisited set
 ///    (cycling) stops with a warning.
 pub fn penalty_active_set(
-    problem: &Problem,
+    mut ctx: Context,
     method: Method,
     mut rule: impl FnMut(&[bool], &mut Context) -> Result<(Vec<f64>, Vec<String>)>,
 ) -> Result<Solution> {
-    let mut ctx = Context::new(problem);
+    let problem = ctx.problem;
     let m = problem.m();
     let all_bilateral = problem
         .constraints

@@ -4,13 +4,12 @@
 //! When to use: a dimensionless knob that adapts to the units and to the local stiffness; the
 //! penetration still depends on the load (it is not a δ).
 
-use super::{penalty_active_set, Method, Solution};
+use super::{Context, penalty_active_set, Method, Solution};
 use crate::error::Result;
-use crate::system::Problem;
 
 /// Solves with `ε_c = factor · K[d_c, d_c]`.
-pub fn solve(problem: &Problem, factor: f64) -> Result<Solution> {
-    penalty_active_set(problem, Method::Scaled { factor }, |active, ctx| {
+pub fn solve(ctx: Context, factor: f64) -> Result<Solution> {
+    penalty_active_set(ctx, Method::Scaled { factor }, |active, ctx| {
         let k = &ctx.problem.k;
         Ok((
             ctx.problem

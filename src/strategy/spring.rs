@@ -10,13 +10,13 @@
 //! load, so the penetration is not δ; when `|q_d|` is small the formula goes negative (warned
 //! and clipped to 0).
 
-use super::{clip_negative, penalty_active_set, Method, Solution};
+use super::{Context, clip_negative, penalty_active_set, Method, Solution};
 use crate::error::Result;
-use crate::system::{ConstraintKind, Problem};
+use crate::system::ConstraintKind;
 
 /// Solves with Eq. 17 penalties for allowed penetration δ.
-pub fn solve(problem: &Problem, delta: f64) -> Result<Solution> {
-    penalty_active_set(problem, Method::Spring { delta }, |active, ctx| {
+pub fn solve(ctx: Context, delta: f64) -> Result<Solution> {
+    penalty_active_set(ctx, Method::Spring { delta }, |active, ctx| {
         let g0 = ctx.g0()?;
         let p = ctx.problem;
         let mut eps: Vec<f64> = p
