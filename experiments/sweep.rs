@@ -1,1 +1,183 @@
-fn main() {}
+//! `sweep`: ε and δ over randomized contact configurations — the harness's main job.
+//!
+//! ```text
+//! cargo run --release --bin sweep                       # built-in default (< 1 min, 2 cores)
+//! cargo run --release --bin sweep -- --families beam --count 50 --eps 1e0:1e10:21 --threads 2
+//! cargo run --release --bin sweep -- --scenes-dir scenes/ --out results/files
+//! cargo run --release --bin sweep -- --render-only --out results/sweep
+//! ```
+//!
+//! Writes `OUT/rows.csv`, `OUT/manifest.json` and `OUT/figures/*.{png,svg}`. Bad configuration
+//! exits with status 2 and a message naming the problem and the valid choices.
+
+use clap::Parser;
+use penalty_lab::sweep::{self, figures, rows, LogGrid, RunOptions, SweepConfig};
+use penalty_lab::Error;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "sweep",
+    about = "Sweep penalty ε and allowed penetration δ over randomized contact scenes",
+    after_help = "Without arguments: the built-in default (all families, 8 scenes each, all \
+                  methods) into results/sweep.\nExit status: 0 ok, 2 bad configuration or input."
+)]
+struct Args {
+    /// TOML config (fields of SweepConfig); command-line flags override it.
+    #[arg(long)]
+    config: Option<PathBuf>,
+    /// Run over every *.scene.json in DIR instead of generating scenes.
+    #[arg(long, value_name = "DIR")]
+    scenes_dir: Option<PathBuf>,
+    /// Families, comma-separated: beam, membrane, spectrum.
+    #[arg(long, value_delimiter = ',')]
+    families: Option<Vec<String>>,
+    /// Scenes per family.
+    #[arg(long)]
+    count: Option<usize>,
+    /// Master seed (ChaCha8 streams per scene).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// ε grid for `constant`: LO:HI:N, log-spaced, inclusive.
+    #[arg(long, value_name = "LO:HI:N")]
+    eps: Option<String>,
+    /// Factors for `scaled`, comma-separated.
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
+    factors: Option<Vec<f64>>,
+    /// Absolute δ values, comma-separated.
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
+    deltas: Option<Vec<f64>>,
+    /// Relative δ values R (δ = R·max_c|u0[d_c]|), comma-separated.
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
+    deltas_rel: Option<Vec<f64>>,
+    /// Methods, comma-separated (lagrange always runs as the reference).
+    #[arg(long, value_delimiter = ',')]
+    methods: Option<Vec<String>>,
+    /// Metrics, comma-separated: cond, det ("none" for neither).
+    #[arg(long, value_delimiter = ',')]
+    metrics: Option<Vec<String>>,
+    /// Output folder.
+    #[arg(long, default_value = "results/sweep")]
+    out: PathBuf,
+    /// Worker threads (default: all cores). Results do not depend on it.
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Run shard K of N (contiguous blocks of scenes): K/N.
+    #[arg(long, value_name = "K/N")]
+    shard: Option<String>,
+    /// Continue an interrupted run in OUT (same config and shard).
+    #[arg(long)]
+    resume: bool,
+    /// Only re-render the figures from OUT/rows.csv.
+    #[arg(long)]
+    render_only: bool,
+    /// Also write every scene as a scene file (re-runnable with `solve`).
+    #[arg(long, value_name = "DIR")]
+    write_scenes: Option<PathBuf>,
+    /// Skip the figures.
+    #[arg(long)]
+    no_figures: bool,
+}
+
+fn config(a: &Args) -> Result<SweepConfig, Error> {
+    let mut c = match &a.config {
+        Some(p) => SweepConfig::from_toml_file(p)?,
+        None => SweepConfig::default(),
+    };
+    if let Some(v) = &a.families {
+        c.families = v.iter().map(|s| s.trim().to_string()).collect();
+    }
+    if let Some(v) = a.count {
+        c.count = v;
+    }
+    if let Some(v) = a.seed {
+        c.seed = v;
+    }
+    if let Some(v) = &a.eps {
+        c.eps = LogGrid::parse(v)?;
+    }
+    if let Some(v) = &a.factors {
+        c.factors = v.clone();
+    }
+    if let Some(v) = &a.deltas {
+        c.deltas = v.clone();
+        if a.deltas_rel.is_none() {
+            c.deltas_rel.clear();
+        }
+    }
+    if let Some(v) = &a.deltas_rel {
+        c.deltas_rel = v.clone();
+        if a.deltas.is_none() {
+            c.deltas.clear();
+        }
+    }
+    if let Some(v) = &a.methods {
+        c.methods = v.iter().map(|s| s.trim().to_string()).collect();
+    }
+    if let Some(v) = &a.metrics {
+        c.metrics = v
+            .iter()
+            .map(|s| s.trim().to_string())
+            .filter(|s| s != "none")
+            .collect();
+    }
+    if let Some(d) = &a.scenes_dir {
+        c.scenes_dir = Some(d.clone());
+    }
+    c.validate()?;
+    Ok(c)
+}
+
+fn render(out: &std::path::Path) -> Result<usize, Error> {
+    let (rows, _) = rows::read_rows(&out.join("rows.csv"), false)?;
+    let files = figures::render_all(&rows, &out.join("figures"))?;
+    Ok(files.len())
+}
+
+fn run(a: &Args) -> Result<(), Error> {
+    if a.render_only {
+        let n = render(&a.out)?;
+        eprintln!("rendered {n} figure files into {}", a.out.join("figures").display());
+        return Ok(());
+    }
+    let cfg = config(a)?;
+    let shard = a.shard.as_deref().map(sweep::parse_shard).transpose()?;
+    if a.threads == Some(0) {
+        return Err(Error::input("--threads must be ≥ 1"));
+    }
+    let opts = RunOptions {
+        out: a.out.clone(),
+        threads: a.threads,
+        shard,
+        resume: a.resume,
+        write_scenes: a.write_scenes.clone(),
+        progress: true,
+    };
+    let s = sweep::run(&cfg, &opts)?;
+    eprintln!(
+        "sweep: {} scenes ({} resumed), {} rows in {:.2} s ({:.0} rows/s) → {}",
+        s.scenes,
+        s.resumed_scenes,
+        s.rows_written,
+        s.wall_seconds,
+        s.rows_per_second,
+        a.out.join("rows.csv").display()
+    );
+    if !a.no_figures {
+        let n = render(&a.out)?;
+        eprintln!("rendered {n} figure files into {}", a.out.join("figures").display());
+    }
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    let args = Args::parse();
+    match run(&args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+    }
+}

@@ -149,53 +149,91 @@ fn log10_abs_det_dense_lu(a: &Stiffness) -> Result<f64> {
 }
 
 /// Independent reference implementations for cross-checks.
+///
+/// Nothing here is used by the library's own metrics: these functions recompute the same
+/// quantities with other libraries (nalgebra always; LAPACK — system OpenBLAS — behind the
+/// `lapack` feature) so that `tests/cross_check.rs` can compare them with [`cond2`] and
+/// [`log10_abs_det`]. They densify their input and panic on a LAPACK error (`info ≠ 0`), which
+/// is what a test wants.
+///
+/// nalgebra-lapack 0.28's `SymmetricEigen::eigenvalues()` panics (it passes an invalid `jobz`
+/// to DSYEV) and its `SVD::new` always computes U and Vᵀ, so the LAPACK routes call the
+/// `lapack` crate's `dgesdd` / `dsyevd` / `dgetrf` directly, values only.
 pub mod reference {
     use crate::system::Stiffness;
 
-    /// cond₂ from nalgebra's SVD (singular values only).
-    pub fn cond2_nalgebra(a: &Stiffness) -> f64 {
+    // Links the system OpenBLAS that provides the LAPACK symbols.
+    #[cfg(feature = "lapack")]
+    extern crate openblas_src as _;
+
+    fn to_nalgebra(a: &Stiffness) -> nalgebra::DMatrix<f64> {
         let n = a.n();
         let mut m = nalgebra::DMatrix::<f64>::zeros(n, n);
         a.for_each_entry(|i, j, v| m[(i, j)] += v);
-        let sv = m.singular_values();
-        let smax = sv.iter().fold(0.0f64, |x, v| x.max(*v));
-        let smin = sv.iter().fold(f64::INFINITY, |x, v| x.min(*v));
-        smax / smin
+        m
+    }
+
+    /// `max |x| / min |x|` (+∞ if the minimum is 0).
+    fn abs_ratio(x: &[f64]) -> f64 {
+        let max = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let min = x.iter().fold(f64::INFINITY, |m, v| m.min(v.abs()));
+        max / min
+    }
+
+    /// cond₂ from nalgebra's SVD (singular values only).
+    pub fn cond2_nalgebra(a: &Stiffness) -> f64 {
+        let sv = to_nalgebra(a).singular_values();
+        abs_ratio(sv.as_slice())
+    }
+
+    /// cond₂ = max|λ| / min|λ| from nalgebra's symmetric eigenvalues (lower triangle read).
+    /// Only meaningful for a symmetric `a`.
+    pub fn cond2_nalgebra_symmetric(a: &Stiffness) -> f64 {
+        let ev = to_nalgebra(a).symmetric_eigenvalues();
+        abs_ratio(ev.as_slice())
     }
 
     /// log10|det| from nalgebra's LU.
     pub fn log10_abs_det_nalgebra(a: &Stiffness) -> f64 {
         let n = a.n();
-        let mut m = nalgebra::DMatrix::<f64>::zeros(n, n);
-        a.for_each_entry(|i, j, v| m[(i, j)] += v);
-        let lu = m.lu();
+        let lu = to_nalgebra(a).lu();
         let u = lu.u();
         (0..n).map(|i| u[(i, i)].abs().log10()).sum()
     }
 
-    /// cond₂ from LAPACK `dgesdd` (values only), system OpenBLAS.
+    /// Dense column-major copy and its order as a LAPACK integer.
     #[cfg(feature = "lapack")]
-    pub fn cond2_lapack(a: &Stiffness) -> f64 {
-        extern crate openblas_src as _;
+    fn to_lapack(a: &Stiffness) -> (Vec<f64>, i32) {
         let n = a.n();
         let mut m = vec![0.0f64; n * n];
         a.for_each_entry(|i, j, v| m[i + j * n] += v);
+        let ni = i32::try_from(n).expect("matrix too large for LAPACK's 32-bit integers");
+        (m, ni)
+    }
+
+    /// Singular values (nonincreasing) from LAPACK `dgesdd` with `jobz = 'N'`.
+    #[cfg(feature = "lapack")]
+    pub fn singular_values_lapack(a: &Stiffness) -> Vec<f64> {
+        let (mut m, ni) = to_lapack(a);
+        let n = a.n();
         let mut s = vec![0.0; n];
         let mut iwork = vec![0i32; 8 * n];
-        let ni = n as i32;
         let mut info = 0;
         let mut u = [0.0f64; 1];
         let mut vt = [0.0f64; 1];
         let mut wq = [0.0f64; 1];
-        // Workspace query, then the real call (jobz = 'N': singular values only).
+        // SAFETY: every slice is at least as long as LAPACK reads/writes for these arguments
+        // (a: n·n with lda = n, s: n, iwork: 8n; u/vt are not referenced for jobz = 'N').
         unsafe {
             lapack::dgesdd(
                 b'N', ni, ni, &mut m, ni, &mut s, &mut u, 1, &mut vt, 1, &mut wq, -1, &mut iwork,
                 &mut info,
             );
         }
-        let lwork = wq[0] as i32;
-        let mut work = vec![0.0; lwork.max(1) as usize];
+        assert_eq!(info, 0, "dgesdd workspace query failed with info = {info}");
+        let lwork = (wq[0] as i32).max(1);
+        let mut work = vec![0.0; lwork as usize];
+        // SAFETY: as above, with work of the queried length.
         unsafe {
             lapack::dgesdd(
                 b'N', ni, ni, &mut m, ni, &mut s, &mut u, 1, &mut vt, 1, &mut work, lwork,
@@ -203,6 +241,68 @@ pub mod reference {
             );
         }
         assert_eq!(info, 0, "dgesdd failed with info = {info}");
-        s[0] / s[n - 1]
+        s
+    }
+
+    /// cond₂ from LAPACK `dgesdd` (values only), system OpenBLAS.
+    #[cfg(feature = "lapack")]
+    pub fn cond2_lapack(a: &Stiffness) -> f64 {
+        abs_ratio(&singular_values_lapack(a))
+    }
+
+    /// Eigenvalues (nondecreasing) of a symmetric matrix from LAPACK `dsyevd` with
+    /// `jobz = 'N'`, lower triangle read.
+    #[cfg(feature = "lapack")]
+    pub fn symmetric_eigenvalues_lapack(a: &Stiffness) -> Vec<f64> {
+        let (mut m, ni) = to_lapack(a);
+        let n = a.n();
+        let mut w = vec![0.0; n];
+        let mut info = 0;
+        let mut wq = [0.0f64; 1];
+        let mut iwq = [0i32; 1];
+        // SAFETY: a is n·n with lda = n, w has n entries; lwork = liwork = -1 is a workspace
+        // query that writes one entry of work and iwork.
+        unsafe {
+            lapack::dsyevd(
+                b'N', b'L', ni, &mut m, ni, &mut w, &mut wq, -1, &mut iwq, -1, &mut info,
+            );
+        }
+        assert_eq!(info, 0, "dsyevd workspace query failed with info = {info}");
+        let lwork = (wq[0] as i32).max(1);
+        let liwork = iwq[0].max(1);
+        let mut work = vec![0.0; lwork as usize];
+        let mut iwork = vec![0i32; liwork as usize];
+        // SAFETY: as above, with work/iwork of the queried lengths.
+        unsafe {
+            lapack::dsyevd(
+                b'N', b'L', ni, &mut m, ni, &mut w, &mut work, lwork, &mut iwork, liwork, &mut info,
+            );
+        }
+        assert_eq!(info, 0, "dsyevd failed with info = {info}");
+        w
+    }
+
+    /// cond₂ = max|λ| / min|λ| from LAPACK `dsyevd` (values only). Only meaningful for a
+    /// symmetric `a`.
+    #[cfg(feature = "lapack")]
+    pub fn cond2_lapack_symmetric(a: &Stiffness) -> f64 {
+        abs_ratio(&symmetric_eigenvalues_lapack(a))
+    }
+
+    /// log10|det| from LAPACK's partial-pivoting LU (`dgetrf`): `Σ log10|U_ii|`
+    /// (−∞ for an exactly singular matrix).
+    #[cfg(feature = "lapack")]
+    pub fn log10_abs_det_lapack(a: &Stiffness) -> f64 {
+        let (mut m, ni) = to_lapack(a);
+        let n = a.n();
+        let mut ipiv = vec![0i32; n];
+        let mut info = 0;
+        // SAFETY: a is n·n with lda = n, ipiv has n entries.
+        unsafe {
+            lapack::dgetrf(ni, ni, &mut m, ni, &mut ipiv, &mut info);
+        }
+        assert!(info >= 0, "dgetrf: illegal argument {}", -info);
+        // info > 0: U[info-1, info-1] is exactly zero, which the sum turns into −∞.
+        (0..n).map(|i| m[i + i * n].abs().log10()).sum()
     }
 }

@@ -47,6 +47,7 @@ pub mod model;
 pub mod plot;
 pub mod scene;
 pub mod strategy;
+pub mod sweep;
 pub mod system;
 
 pub use error::{Error, Result};

@@ -75,6 +75,36 @@ pub fn compute(problem: &Problem, sol: &Solution, set: MetricSet) -> Result<Metr
     Ok(out)
 }
 
+/// Like [`compute`], but only the system matrix is analysed: `cond2_k` is left `None` and
+/// `log10|det K|` is taken from `log10_det_k` when given (a sweep computes K's metrics once per
+/// scene).
+pub fn compute_with_k(
+    problem: &Problem,
+    sol: &Solution,
+    set: MetricSet,
+    log10_det_k: Option<f64>,
+) -> Result<Metrics> {
+    let mut out = Metrics::default();
+    if !(set.cond || set.det) {
+        return Ok(out);
+    }
+    let sys = system_matrix(problem, sol);
+    if set.cond {
+        out.cond2_system = Some(conditioning::cond2(&sys)?);
+    }
+    if set.det {
+        let dk = match log10_det_k {
+            Some(v) => v,
+            None => conditioning::log10_abs_det(&problem.k)?,
+        };
+        let ds = conditioning::log10_abs_det(&sys)?;
+        out.log10_det_k = Some(dk);
+        out.log10_det_system = Some(ds);
+        out.log10_det_ratio = Some(ds - dk);
+    }
+    Ok(out)
+}
+
 /// Warnings derived from metrics: digits lost when `cond₂(system) · ε_mach > 1e-6`.
 pub fn precision_warnings(m: &Metrics) -> Vec<String> {
     let mut w = Vec::new();

@@ -198,6 +198,9 @@ impl Marker {
     }
 }
 
+/// A straight segment `((x0, y0), (x1, y1), palette index)` in data coordinates.
+pub type Segment = ((f64, f64), (f64, f64), usize);
+
 /// A figure described as data. Build with [`Figure::new`] and the builder helpers, or fill
 /// the public fields directly.
 #[derive(Debug, Clone, PartialEq)]
@@ -224,7 +227,7 @@ pub struct Figure {
     pub hlines: Vec<(f64, String)>,
     /// Straight segments `((x0, y0), (x1, y1), palette index)` in data coordinates, drawn
     /// 3 px wide without legend entry (rigid surfaces, obstacles, schematic drawings).
-    pub segments: Vec<((f64, f64), (f64, f64), usize)>,
+    pub segments: Vec<Segment>,
     /// Image size in pixels (width, height) for [`render`].
     pub size: (u32, u32),
 }
@@ -353,7 +356,7 @@ fn render_panels_impl(
     let cols = cols.min(figs.len());
     let rows = figs.len().div_ceil(cols);
     let cell = (size.0 as f64 / cols as f64, size.1 as f64 / rows as f64);
-    let scale = (cell.0 / 900.0).min(cell.1 / 600.0).clamp(0.8, 2.0);
+    let scale = (cell.0 / 900.0).min(cell.1 / 600.0).clamp(0.95, 2.0);
 
     if let Some(parent) = stem.parent() {
         if !parent.as_os_str().is_empty() {
@@ -524,8 +527,7 @@ fn prepare(fig: &Figure) -> Result<Prepared> {
     Ok(Prepared { x, y, xt, yt })
 }
 
-/// Axis range (transformed space) covering `vals` with a 5 % margin. Log axes are widened to
-/// whole decades when the range would not contain a power of ten (so there is a tick label).
+/// Axis range (transformed space) covering `vals` with a 5 % margin.
 fn axis_range(vals: &[f64], s: Scale) -> Option<(f64, f64)> {
     let lo = vals.iter().copied().fold(f64::INFINITY, f64::min);
     let hi = vals.iter().copied().fold(f64::NEG_INFINITY, f64::max);
@@ -544,10 +546,6 @@ fn axis_range(vals: &[f64], s: Scale) -> Option<(f64, f64)> {
     } else {
         (lo - 0.05 * span, hi + 0.05 * span)
     };
-    if s == Scale::Log10 && b.floor() < a.ceil() {
-        a = a.floor();
-        b = b.ceil();
-    }
     if s == Scale::Log10 {
         // Keep 10^a and 10^b representable.
         a = a.max(-307.0);
@@ -565,6 +563,8 @@ fn axis_range(vals: &[f64], s: Scale) -> Option<(f64, f64)> {
 enum TickFmt {
     /// `1e3`, `2e-2`.
     Log,
+    /// Shortest decimal (`0.02`, `5`, `200`).
+    Plain,
     /// Fixed-point with `decimals`.
     Fixed { decimals: usize, step: f64 },
     /// Scientific with `decimals` in the mantissa.
@@ -605,6 +605,11 @@ impl TickFmt {
     fn format(&self, v: f64) -> String {
         match *self {
             TickFmt::Log => format_log_tick(v),
+            TickFmt::Plain => {
+                let t = format!("{v:.6}");
+                let t = t.trim_end_matches('0').trim_end_matches('.');
+                t.to_string()
+            }
             TickFmt::Fixed { decimals, step } => {
                 let v = if v.abs() < 1e-9 * step { 0.0 } else { v };
                 format!("{v:.decimals$}")
@@ -639,19 +644,95 @@ fn format_log_tick(v: f64) -> String {
     format!("{m}e{}", k as i64)
 }
 
-/// Tick values plotters will label and the matching formatter.
-fn ticks(s: Scale, r: (f64, f64), n: usize) -> (Vec<f64>, TickFmt) {
+/// Tick positions of one axis: labelled (bold) values, minor grid values and the formatter.
+struct AxisTicks {
+    bold: Vec<f64>,
+    light: Vec<f64>,
+    fmt: TickFmt,
+}
+
+/// Ticks for an axis over the data range `r`, at most about `n` labels.
+fn ticks(s: Scale, r: (f64, f64), n: usize) -> AxisTicks {
     match s {
         Scale::Linear => {
+            // Plotters' own choice (same hint as the mesh uses), only the format is ours.
             let c: RangedCoordf64 = (r.0..r.1).into();
-            let t = c.key_points(n);
-            let f = TickFmt::for_linear(&t, r.1 - r.0);
-            (t, f)
+            let bold = c.key_points(n);
+            let fmt = TickFmt::for_linear(&bold, r.1 - r.0);
+            AxisTicks {
+                bold,
+                light: Vec::new(),
+                fmt,
+            }
         }
-        Scale::Log10 => {
-            let c: LogCoord<f64> = (r.0..r.1).log_scale().into();
-            (c.key_points(n), TickFmt::Log)
+        Scale::Log10 => log_ticks(r, n),
+    }
+}
+
+/// Log-axis ticks: powers of ten when the range holds at least three (every k-th decade if
+/// there are too many), otherwise 1-2-5 or 1…9 × 10^k, otherwise plain linear ticks.
+fn log_ticks((lo, hi): (f64, f64), n: usize) -> AxisTicks {
+    let n = n.max(2);
+    let inside = |v: &f64| *v >= lo * (1.0 - 1e-12) && *v <= hi * (1.0 + 1e-12);
+    let kmin = (lo.log10() - 1e-9).ceil() as i32;
+    let kmax = (hi.log10() + 1e-9).floor() as i32;
+    let decade_set = |mantissas: &[f64]| -> Vec<f64> {
+        (kmin - 1..=kmax)
+            .flat_map(|k| mantissas.iter().map(move |m| m * 10f64.powi(k)))
+            .filter(inside)
+            .collect()
+    };
+    let all_minor = || decade_set(&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0]);
+    let decades = (kmax - kmin + 1).max(0) as usize;
+    if decades >= 3 {
+        let stride = decades.div_ceil(n) as i32;
+        let (bold, light): (Vec<i32>, Vec<i32>) =
+            (kmin..=kmax).partition(|k| k.rem_euclid(stride) == 0);
+        let p = |k: &i32| 10f64.powi(*k);
+        let light = if stride == 1 && decades <= 9 {
+            all_minor()
+        } else {
+            light.iter().map(p).collect()
+        };
+        return AxisTicks {
+            bold: bold.iter().map(p).collect(),
+            light,
+            fmt: TickFmt::Log,
+        };
+    }
+    let plain_or_log = |t: &[f64]| {
+        if t.iter().all(|v| (1e-3..1e5).contains(v)) {
+            TickFmt::Plain
+        } else {
+            TickFmt::Log
         }
+    };
+    for (mantissas, light) in [
+        (&[1.0, 2.0, 5.0][..], true),
+        (&[1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0][..], false),
+    ] {
+        let bold = decade_set(mantissas);
+        if bold.len() >= 3 && bold.len() <= n + 2 {
+            let fmt = plain_or_log(&bold);
+            let light = if light {
+                all_minor()
+                    .into_iter()
+                    .filter(|v| !bold.contains(v))
+                    .collect()
+            } else {
+                Vec::new()
+            };
+            return AxisTicks { bold, light, fmt };
+        }
+    }
+    // Less than a decade: evenly spaced ticks read best.
+    let c: RangedCoordf64 = (lo..hi).into();
+    let bold: Vec<f64> = c.key_points(n).into_iter().filter(|v| *v > 0.0).collect();
+    let fmt = TickFmt::for_linear(&bold, hi - lo);
+    AxisTicks {
+        bold,
+        light: Vec::new(),
+        fmt,
     }
 }
 
@@ -700,25 +781,59 @@ fn draw_figure<DB: DrawingBackend>(
     prep: &Prepared,
     scale: f64,
 ) -> std::result::Result<(), String> {
+    let (w, h) = area.dim_in_pixel();
+    let st = Style::new(scale);
+    let title_h = if fig.title.is_empty() {
+        0
+    } else {
+        (st.title * 1.9) as i32
+    };
+    let n_x = ((w as f64 / (85.0 * scale)) as usize).clamp(3, 10);
+    let n_y = (((h as i32 - title_h) as f64 / (65.0 * scale)) as usize).clamp(3, 10);
+    let xt = ticks(fig.x_scale, prep.x, n_x);
+    let yt = ticks(fig.y_scale, prep.y, n_y);
     let (x0, x1) = prep.x;
     let (y0, y1) = prep.y;
+    let lay = Layout {
+        st,
+        title_h,
+        n_x,
+        n_y,
+    };
+    let log = |r: std::ops::Range<f64>, t: &AxisTicks| {
+        r.log_scale()
+            .with_key_points(t.bold.clone())
+            .with_light_points(t.light.clone())
+    };
     match (fig.x_scale, fig.y_scale) {
-        (Scale::Linear, Scale::Linear) => draw_chart(area, fig, prep, scale, x0..x1, y0..y1),
+        (Scale::Linear, Scale::Linear) => {
+            draw_chart(area, fig, prep, &lay, &xt, &yt, x0..x1, y0..y1)
+        }
         (Scale::Linear, Scale::Log10) => {
-            draw_chart(area, fig, prep, scale, x0..x1, (y0..y1).log_scale())
+            draw_chart(area, fig, prep, &lay, &xt, &yt, x0..x1, log(y0..y1, &yt))
         }
         (Scale::Log10, Scale::Linear) => {
-            draw_chart(area, fig, prep, scale, (x0..x1).log_scale(), y0..y1)
+            draw_chart(area, fig, prep, &lay, &xt, &yt, log(x0..x1, &xt), y0..y1)
         }
         (Scale::Log10, Scale::Log10) => draw_chart(
             area,
             fig,
             prep,
-            scale,
-            (x0..x1).log_scale(),
-            (y0..y1).log_scale(),
+            &lay,
+            &xt,
+            &yt,
+            log(x0..x1, &xt),
+            log(y0..y1, &yt),
         ),
     }
+}
+
+/// Sizes decided before the chart is built.
+struct Layout {
+    st: Style,
+    title_h: i32,
+    n_x: usize,
+    n_y: usize,
 }
 
 /// Splits `(x, y)` pairs into runs of consecutive drawable points.
@@ -822,7 +937,7 @@ fn pick_corner(fig: &Figure, prep: &Prepared, w: f64, h: f64) -> Corner {
         if ok(fig.x_scale, m.x) && ok(fig.y_scale, m.y) {
             // A marker weighs like a short stretch of line.
             let p = norm(fig, prep, (m.x, m.y));
-            pts.extend(std::iter::repeat_n(p, 20));
+            pts.extend(std::iter::repeat(p).take(20));
         }
     }
     let count = |c: Corner| {
@@ -851,11 +966,14 @@ fn pick_corner(fig: &Figure, prep: &Prepared, w: f64, h: f64) -> Corner {
     .unwrap_or(Corner::UpperRight)
 }
 
+#[allow(clippy::too_many_arguments)]
 fn draw_chart<DB, XS, YS>(
     area: &DrawingArea<DB, Shift>,
     fig: &Figure,
     prep: &Prepared,
-    scale: f64,
+    lay: &Layout,
+    xt: &AxisTicks,
+    yt: &AxisTicks,
     x_spec: XS,
     y_spec: YS,
 ) -> std::result::Result<(), String>
@@ -867,14 +985,15 @@ where
     YS::CoordDescType: ValueFormatter<f64>,
 {
     let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
-    let st = Style::new(scale);
+    let st = &lay.st;
+    let scale = st.s;
     let (w, _) = area.dim_in_pixel();
 
     // Title strip.
     let body = if fig.title.is_empty() {
         area.clone()
     } else {
-        let th = (st.title * 1.9) as i32;
+        let th = lay.title_h;
         let (top, rest) = area.split_vertically(th);
         top.draw(&Text::new(
             fig.title.as_str(),
@@ -884,14 +1003,10 @@ where
         .map_err(e)?;
         rest
     };
-    let (_, bh) = body.dim_in_pixel();
-
-    // Tick labels and label-area sizes.
-    let n_x = ((w as f64 / (110.0 * scale)) as usize).clamp(3, 10);
-    let n_y = ((bh as f64 / (65.0 * scale)) as usize).clamp(3, 10);
-    let (_, xfmt) = ticks(fig.x_scale, prep.x, n_x);
-    let (yt, yfmt) = ticks(fig.y_scale, prep.y, n_y);
+    let (n_x, n_y) = (lay.n_x, lay.n_y);
+    let (xfmt, yfmt) = (xt.fmt, yt.fmt);
     let y_tick_w = yt
+        .bold
         .iter()
         .map(|&v| text_width(&yfmt.format(v), st.tick))
         .fold(text_width("0", st.tick), f64::max);
@@ -899,12 +1014,12 @@ where
     let x_area = if fig.x_label.is_empty() {
         (st.tick * 2.0) as u32
     } else {
-        (st.tick * 1.8 + st.label * 1.7) as u32
+        (st.tick * 1.7 + st.label * 1.4) as u32
     };
     let top = if fig.y_label.is_empty() {
         st.px(12.0) as u32
     } else {
-        (st.label * 1.9) as u32
+        (st.label * 2.1) as u32
     };
     // Right margin: room for the last x tick label to overhang.
     let right =
@@ -920,6 +1035,7 @@ where
         .build_cartesian_2d(x_spec, y_spec)
         .map_err(e)?;
 
+    let (xs, ys) = (fig.x_scale, fig.y_scale);
     let xf = move |v: &f64| xfmt.format(*v);
     let yf = move |v: &f64| yfmt.format(*v);
     {
@@ -933,7 +1049,10 @@ where
             .bold_line_style(RGBColor(220, 220, 220).stroke_width(1))
             .light_line_style(RGBColor(242, 242, 242).stroke_width(1))
             .axis_style(BLACK.stroke_width(1))
-            .set_all_tick_mark_size(st.px(5.0));
+            .set_all_tick_mark_size(st.px(5.0))
+            // Minor grid: 2…9 × 10^k on log axes, one line between labels on linear axes.
+            .x_max_light_lines(if xs == Scale::Log10 { 10 } else { 1 })
+            .y_max_light_lines(if ys == Scale::Log10 { 10 } else { 1 });
         if !fig.x_label.is_empty() {
             mesh.x_desc(fig.x_label.as_str());
         }
@@ -941,7 +1060,6 @@ where
     }
 
     let lw = st.px(2.0).max(1) as u32;
-    let (xs, ys) = (fig.x_scale, fig.y_scale);
 
     // Bands.
     for (i, b) in fig.bands.iter().enumerate() {
@@ -1123,9 +1241,10 @@ where
         .chain(fig.markers.iter().map(|m| m.label.as_str()))
         .filter(|l| !l.is_empty())
         .collect();
+    // Legend size in normalised plot coordinates (0×0: no legend).
+    let mut legend_wh = (0.0, 0.0);
     let corner = if labels.is_empty() {
-        // No legend: keep reference-line labels on the right / at the top.
-        Corner::LowerLeft
+        Corner::UpperRight
     } else {
         let lw_px = labels
             .iter()
@@ -1134,7 +1253,8 @@ where
             + 36.0 * scale
             + 30.0 * scale;
         let lh_px = labels.len() as f64 * st.legend * 1.25 + 30.0 * scale;
-        pick_corner(fig, prep, lw_px / pw, lh_px / ph)
+        legend_wh = (lw_px / pw, lh_px / ph);
+        pick_corner(fig, prep, legend_wh.0, legend_wh.1)
     };
     if !labels.is_empty() {
         let pos = match corner {
@@ -1155,12 +1275,31 @@ where
             .map_err(e)?;
     }
 
-    // Reference-line labels, on the side away from the legend.
+    // Reference-line labels: hline labels at the right end above the line, vline labels at the
+    // top right of the line, each moved to the other end where it would hit the legend.
     let legend_right = matches!(corner, Corner::UpperRight | Corner::LowerRight);
     let legend_top = matches!(corner, Corner::UpperRight | Corner::UpperLeft);
+    let in_legend_x = |a: f64, b: f64| {
+        if legend_right {
+            b >= 1.0 - legend_wh.0
+        } else {
+            a <= legend_wh.0
+        }
+    };
+    let in_legend_y = |a: f64, b: f64| {
+        if legend_top {
+            b >= 1.0 - legend_wh.1
+        } else {
+            a <= legend_wh.1
+        }
+    };
     let gap = st.px(5.0);
+    let tw = |l: &str| text_width(l, st.annot) / pw;
+    let th = st.annot * 1.3 / ph;
     for (y, label) in fig.hlines.iter().filter(|l| ok(ys, l.0) && !l.1.is_empty()) {
-        let (x, dx, hp) = if legend_right {
+        let v = norm(fig, prep, (prep.x.0, *y)).1;
+        let hits = legend_wh.0 > 0.0 && in_legend_x(1.0 - tw(label), 1.0) && in_legend_y(v, v + th);
+        let (x, dx, hp) = if hits {
             (prep.x.0, gap, HPos::Left)
         } else {
             (prep.x.1, -gap, HPos::Right)
@@ -1179,7 +1318,16 @@ where
             .map_err(e)?;
     }
     for (x, label) in fig.vlines.iter().filter(|l| ok(xs, l.0) && !l.1.is_empty()) {
-        let (y, dy, vp) = if legend_top {
+        let u = norm(fig, prep, (*x, prep.y.0)).0;
+        let w = tw(label);
+        // Right of the line unless that runs out of the plot.
+        let (a, b, dx, hp) = if u + w < 0.98 {
+            (u, u + w, gap, HPos::Left)
+        } else {
+            (u - w, u, -gap, HPos::Right)
+        };
+        let hits = legend_wh.0 > 0.0 && in_legend_x(a, b) && in_legend_y(1.0 - th, 1.0);
+        let (y, dy, vp) = if hits {
             (prep.y.0, -gap, VPos::Bottom)
         } else {
             (prep.y.1, gap, VPos::Top)
@@ -1189,10 +1337,8 @@ where
                 EmptyElement::at((*x, y))
                     + Text::new(
                         label.clone(),
-                        (gap, dy),
-                        font(st.annot)
-                            .color(&REF_GREY)
-                            .pos(Pos::new(HPos::Left, vp)),
+                        (dx, dy),
+                        font(st.annot).color(&REF_GREY).pos(Pos::new(hp, vp)),
                     ),
             ))
             .map_err(e)?;
@@ -1203,7 +1349,7 @@ where
     let (ax0, ay0) = (prx.start - bx, pry.start - by);
     let (ax1, ay1) = (prx.end - bx - 1, pry.end - by - 1);
     area.draw(&PathElement::new(
-        vec![(ax0, ay0), (ax1, ay0), (ax1, ay1), (ax0, ay1), (ax0, ay0)],
+        vec![(ax0, ay0), (ax1, ay0), (ax1, ay1)],
         BLACK.stroke_width(1),
     ))
     .map_err(e)?;
@@ -1243,9 +1389,19 @@ mod tests {
     }
 
     #[test]
-    fn log_range_snaps_to_decades_when_needed() {
-        let (a, b) = axis_range(&[2f64.log10(), 8f64.log10()], Scale::Log10).unwrap();
-        assert_eq!((a, b), (0.0, 1.0));
+    fn log_ticks_fit_the_range() {
+        let t = log_ticks((1.0, 1e12), 8);
+        assert_eq!(t.bold.len(), 7);
+        assert_eq!(TickFmt::Log.format(t.bold[1]), "1e2");
+        let t = log_ticks((0.9, 11.0), 8);
+        assert_eq!(t.bold, vec![1.0, 2.0, 5.0, 10.0]);
+        assert_eq!(t.fmt.format(5.0), "5");
+        let t = log_ticks((21.0, 29.0), 8);
+        assert!(t.bold.len() >= 3 && t.bold.iter().all(|v| (21.0..=29.0).contains(v)));
+    }
+
+    #[test]
+    fn ranges() {
         assert!(axis_range(&[], Scale::Linear).is_none());
         let (a, b) = axis_range(&[3.0, 3.0], Scale::Linear).unwrap();
         assert!(a < 3.0 && b > 3.0);

@@ -136,3 +136,45 @@ fn panels_and_segments() {
     assert!(render_panels(&figs, 0, &dir.join("x"), (800, 600)).is_err());
     assert!(render_panels(&[], 2, &dir.join("x"), (800, 600)).is_err());
 }
+
+#[test]
+fn gallery_of_edge_cases() {
+    let dir = match std::env::var("PLOT_GALLERY") {
+        Ok(d) => {
+            std::fs::create_dir_all(&d).unwrap();
+            PathBuf::from(d)
+        }
+        Err(_) => tmp_dir("gallery"),
+    };
+    // Linear axes with large values (scientific tick labels), points and a vline.
+    let x: Vec<f64> = (0..30).map(|i| i as f64 * 1e5).collect();
+    let y: Vec<f64> = x.iter().map(|v| 3e-4 * (v / 1e6).sin()).collect();
+    let fig = Figure::new(
+        "Linear, large/small values",
+        "load F [N]",
+        "displacement u [m]",
+    )
+    .points("measured", x.clone(), y.clone())
+    .with_series(
+        Series::new(
+            "model",
+            x,
+            y.iter().map(|v| v * 0.9).collect(),
+            Mark::Dashed,
+        )
+        .color(2),
+    )
+    .vline(1.5e6, "yield")
+    .hline(0.0, "");
+    render(&fig, &dir.join("linear_sci")).unwrap();
+    // Narrow log range (no power of ten inside the data) on y, log x within a decade.
+    let x: Vec<f64> = (0..10).map(|i| 2.0 + i as f64 * 0.6).collect();
+    let y: Vec<f64> = x.iter().map(|v| 20.0 + v).collect();
+    let fig = Figure::new("Narrow log ranges", "n", "time [ms]")
+        .scales(Scale::Log10, Scale::Log10)
+        .with_series(Series::new("t(n)", x, y, Mark::LinePoints));
+    render(&fig, &dir.join("narrow_log")).unwrap();
+    // A single point, no title.
+    let fig = Figure::new("", "x", "y").with_marker(Marker::new("only point", 1.0, 1.0));
+    render(&fig, &dir.join("single")).unwrap();
+}

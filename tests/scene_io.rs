@@ -212,7 +212,10 @@ fn matrix_market_scene_resolves_relative_to_scene_dir_and_stays_sparse() {
     // The test's working directory is the crate root, not the fixture directory.
     let mm = read_scene(&fixtures().join("small_mm.scene.json")).unwrap();
     let dense = read_scene(&fixtures().join("small.scene.json")).unwrap();
-    assert!(mm.problem.k.is_sparse(), "a Matrix Market K must not be densified");
+    assert!(
+        mm.problem.k.is_sparse(),
+        "a Matrix Market K must not be densified"
+    );
     assert_eq!(all_bits(&mm.problem.k), all_bits(&dense.problem.k));
     assert_eq!(bits(&mm.problem.q), bits(&dense.problem.q));
     assert_eq!(mm.description, None);
@@ -242,8 +245,7 @@ fn agrees_with_nalgebra_sparse_on_valid_files() {
     for name in ["small_sym.mtx", "small_gen.mtx"] {
         let text = fs::read_to_string(fixtures().join(name)).unwrap();
         let ours = parse_matrix_market_str(&text, name).unwrap();
-        let coo =
-            nalgebra_sparse::io::load_coo_from_matrix_market_str::<f64>(&text).unwrap();
+        let coo = nalgebra_sparse::io::load_coo_from_matrix_market_str::<f64>(&text).unwrap();
         assert_eq!((coo.nrows(), coo.ncols()), (ours.n(), ours.n()));
         let mut dense = vec![0.0; ours.n() * ours.n()];
         for (i, j, v) in coo.triplet_iter() {
@@ -305,7 +307,11 @@ fn round_trip_dense_inline_is_bit_identical() {
     let meta = serde_json::json!({"generator": "test", "seed": 42, "x": [0.1, -3]});
     let path = dir.path("beam.scene.json");
     write_scene(&path, "beam \"quoted\" ✓", &p, Some(&meta), 100).unwrap();
-    assert_eq!(dir.listing(), vec!["beam.scene.json"], "no .mtx, no temp files");
+    assert_eq!(
+        dir.listing(),
+        vec!["beam.scene.json"],
+        "no .mtx, no temp files"
+    );
     let text = fs::read_to_string(&path).unwrap();
     assert!(text.contains("\"dense\""), "{text}");
 
@@ -393,7 +399,10 @@ fn round_trip_sparse_general_and_symmetric() {
     write_matrix_market(&path, &k).unwrap();
     assert!(fs::read_to_string(&path).unwrap().contains("general"));
     assert_eq!(entries(&read_matrix_market(&path).unwrap()), entries(&k));
-    assert_eq!(dir.listing(), vec!["g.mtx", "g.scene.json", "k.mtx", "s.mtx", "s.scene.json"]);
+    assert_eq!(
+        dir.listing(),
+        vec!["g.mtx", "g.scene.json", "k.mtx", "s.mtx", "s.scene.json"]
+    );
 }
 
 fn finite_f64() -> impl Strategy<Value = f64> {
@@ -485,14 +494,18 @@ fn failed_write_leaves_nothing_behind() {
     // A problem made invalid after construction cannot be written; the old file survives.
     let mut bad = good.clone();
     bad.q[1] = f64::NAN;
-    let e = write_scene(&path, "a", &bad, None, 0).unwrap_err().to_string();
+    let e = write_scene(&path, "a", &bad, None, 0)
+        .unwrap_err()
+        .to_string();
     assert_has(&e, &["a.scene.json", "load entry 1 is not finite"]);
     assert_eq!(fs::read(&path).unwrap(), before);
     assert_eq!(dir.listing(), vec!["a.scene.json"]);
 
     // Missing directory: error naming the file, nothing created anywhere.
     let nowhere = dir.path("no/such/dir/x.scene.json");
-    let e = write_scene(&nowhere, "x", &good, None, 0).unwrap_err().to_string();
+    let e = write_scene(&nowhere, "x", &good, None, 0)
+        .unwrap_err()
+        .to_string();
     assert_has(&e, &["x.mtx", "cannot create temporary file"]);
     assert_eq!(dir.listing(), vec!["a.scene.json"]);
 
@@ -517,15 +530,17 @@ fn scene_errors_name_the_file() {
     let path = dir.path("x.scene.json");
     fs::write(
         &path,
-        scene(K3, "[0, 0, 0]", r#"[{"dof": 12, "limit": 1, "kind": "upper"}]"#),
+        scene(
+            K3,
+            "[0, 0, 0]",
+            r#"[{"dof": 12, "limit": 1, "kind": "upper"}]"#,
+        ),
     )
     .unwrap();
     let e = read_scene(&path).unwrap_err().to_string();
     assert_has(
         &e,
-        &[
-            "x.scene.json: constraint 0: DOF 12 is out of range (N = 3, DOFs are 0-based)",
-        ],
+        &["x.scene.json: constraint 0: DOF 12 is out of range (N = 3, DOFs are 0-based)"],
     );
 
     fs::write(&path, b"{\"name\": \"\xff\"}").unwrap();
@@ -540,14 +555,34 @@ fn dof_out_of_range() {
         "[0, 0, 0]",
         r#"[{"dof": 0, "limit": 0, "kind": "upper"}, {"dof": 3, "limit": 1, "kind": "lower"}]"#,
     ));
-    assert_has(&e, &["t.scene.json", "constraint 1", "DOF 3 is out of range", "N = 3"]);
-    let e = scene_err(&scene(K3, "[0, 0, 0]", r#"[{"dof": -1, "limit": 0, "kind": "upper"}]"#));
+    assert_has(
+        &e,
+        &[
+            "t.scene.json",
+            "constraint 1",
+            "DOF 3 is out of range",
+            "N = 3",
+        ],
+    );
+    let e = scene_err(&scene(
+        K3,
+        "[0, 0, 0]",
+        r#"[{"dof": -1, "limit": 0, "kind": "upper"}]"#,
+    ));
     assert_has(&e, &["constraints[0].dof", "non-negative integer", "-1"]);
-    let e = scene_err(&scene(K3, "[0, 0, 0]", r#"[{"dof": 1.5, "limit": 0, "kind": "upper"}]"#));
+    let e = scene_err(&scene(
+        K3,
+        "[0, 0, 0]",
+        r#"[{"dof": 1.5, "limit": 0, "kind": "upper"}]"#,
+    ));
     assert_has(&e, &["constraints[0].dof", "1.5"]);
     // 2.0 is an integer, accepted.
     let s = parse_scene_str(
-        &scene(K3, "[0, 0, 0]", r#"[{"dof": 2.0, "limit": 0, "kind": "upper"}]"#),
+        &scene(
+            K3,
+            "[0, 0, 0]",
+            r#"[{"dof": 2.0, "limit": 0, "kind": "upper"}]"#,
+        ),
         Path::new("."),
         "t",
     )
@@ -562,15 +597,28 @@ fn duplicate_dof() {
         "[0, 0, 0]",
         r#"[{"dof": 1, "limit": 0, "kind": "upper"}, {"dof": 1, "limit": 1, "kind": "lower"}]"#,
     ));
-    assert_has(&e, &["t.scene.json", "constraint 1", "DOF 1 is constrained twice"]);
+    assert_has(
+        &e,
+        &["t.scene.json", "constraint 1", "DOF 1 is constrained twice"],
+    );
 }
 
 #[test]
 fn unknown_kind_lists_valid_kinds() {
-    let e = scene_err(&scene(K3, "[0, 0, 0]", r#"[{"dof": 1, "limit": 0, "kind": "Upper"}]"#));
+    let e = scene_err(&scene(
+        K3,
+        "[0, 0, 0]",
+        r#"[{"dof": 1, "limit": 0, "kind": "Upper"}]"#,
+    ));
     assert_has(
         &e,
-        &["constraints[0].kind", "unknown kind \"Upper\"", "bilateral", "upper", "lower"],
+        &[
+            "constraints[0].kind",
+            "unknown kind \"Upper\"",
+            "bilateral",
+            "upper",
+            "lower",
+        ],
     );
     let e = scene_err(&scene(K3, "[0, 0, 0]", r#"[{"dof": 1, "limit": 0}]"#));
     assert_has(&e, &["constraints[0]", "missing required field \"kind\""]);
@@ -579,7 +627,10 @@ fn unknown_kind_lists_valid_kinds() {
 #[test]
 fn wrong_load_length() {
     let e = scene_err(&scene(K3, "[0, 0]", C1));
-    assert_has(&e, &["t.scene.json", "load vector has 2 entries but K is 3×3"]);
+    assert_has(
+        &e,
+        &["t.scene.json", "load vector has 2 entries but K is 3×3"],
+    );
 }
 
 #[test]
@@ -617,7 +668,10 @@ fn non_finite_numbers_are_rejected() {
 #[test]
 fn null_and_non_numeric_matrix_entries() {
     let e = scene_err(&scene(r#"{"dense": [[1, null], [0, 1]]}"#, "[0, 0]", "[]"));
-    assert_has(&e, &["stiffness.dense[0][1]", "expected a number, found null"]);
+    assert_has(
+        &e,
+        &["stiffness.dense[0][1]", "expected a number, found null"],
+    );
     let e = scene_err(&scene(r#"{"dense": [[1, 0], [0, "2"]]}"#, "[0, 0]", "[]"));
     assert_has(&e, &["stiffness.dense[1][1]", "found the string \"2\""]);
     let e = scene_err(&scene(r#"{"dense": [[1, 0], [0, true]]}"#, "[0, 0]", "[]"));
@@ -637,7 +691,14 @@ fn stiffness_needs_exactly_one_source() {
         "[0]",
         "[]",
     ));
-    assert_has(&e, &["stiffness", "both \"dense\" and \"matrix_market\"", "exactly one"]);
+    assert_has(
+        &e,
+        &[
+            "stiffness",
+            "both \"dense\" and \"matrix_market\"",
+            "exactly one",
+        ],
+    );
     let e = scene_err(&scene("{}", "[0]", "[]"));
     assert_has(&e, &["stiffness", "exactly one"]);
     let e = scene_err(&scene(r#"{"sparse": [[1]]}"#, "[0]", "[]"));
@@ -653,12 +714,16 @@ fn missing_fields_and_wrong_types() {
     let e = scene_err(r#"{"stiffness": {"dense": [[1]]}, "load": [0], "constraints": []}"#);
     assert_has(&e, &["missing required field \"name\""]);
     let e = scene_err(r#"{"name": "t", "stiffness": {"dense": [[1]]}, "load": [0]}"#);
-    assert_has(&e, &["missing required field \"constraints\"", "[] for none"]);
+    assert_has(
+        &e,
+        &["missing required field \"constraints\"", "[] for none"],
+    );
     let e = scene_err(r#"{"name": "t", "stiffness": {"dense": [[1]]}, "constraints": []}"#);
     assert_has(&e, &["missing required field \"load\""]);
     let e = scene_err(r#"{"name": "t", "load": [0], "constraints": []}"#);
     assert_has(&e, &["missing required field \"stiffness\""]);
-    let e = scene_err(r#"{"name": 5, "stiffness": {"dense": [[1]]}, "load": [0], "constraints": []}"#);
+    let e =
+        scene_err(r#"{"name": 5, "stiffness": {"dense": [[1]]}, "load": [0], "constraints": []}"#);
     assert_has(&e, &["name", "expected a string, found a number"]);
     let e = scene_err(
         r#"{"name": "t", "description": [], "stiffness": {"dense": [[1]]}, "load": [0], "constraints": []}"#,
@@ -671,7 +736,15 @@ fn missing_fields_and_wrong_types() {
 #[test]
 fn matrix_market_reference_errors() {
     let e = scene_err(&scene(r#"{"matrix_market": "missing.mtx"}"#, "[0]", "[]"));
-    assert_has(&e, &["t.scene.json", "stiffness.matrix_market", "missing.mtx", "cannot read file"]);
+    assert_has(
+        &e,
+        &[
+            "t.scene.json",
+            "stiffness.matrix_market",
+            "missing.mtx",
+            "cannot read file",
+        ],
+    );
     let dir = TmpDir::new("mmref");
     fs::write(dir.path("K.mtx"), format!("{MM_HDR}3 3 2\n1 1 1\n7 2\n")).unwrap();
     let e = parse_scene_str(
@@ -683,7 +756,10 @@ fn matrix_market_reference_errors() {
     .to_string();
     assert_has(
         &e,
-        &["s.scene.json", "K.mtx: line 4: expected 3 fields \"row col value\", found 2"],
+        &[
+            "s.scene.json",
+            "K.mtx: line 4: expected 3 fields \"row col value\", found 2",
+        ],
     );
     // Sizes are checked against the Matrix Market K too.
     fs::write(dir.path("K.mtx"), format!("{MM_HDR}2 2 1\n1 1 1\n")).unwrap();
@@ -694,7 +770,10 @@ fn matrix_market_reference_errors() {
     )
     .unwrap_err()
     .to_string();
-    assert_has(&e, &["s.scene.json", "load vector has 3 entries but K is 2×2"]);
+    assert_has(
+        &e,
+        &["s.scene.json", "load vector has 3 entries but K is 2×2"],
+    );
 }
 
 // ----------------------------------------------------------------------------------------
@@ -704,7 +783,10 @@ fn matrix_market_reference_errors() {
 #[test]
 fn matrix_market_errors() {
     assert_has(&mm_err(""), &["K.mtx", "empty"]);
-    assert_has(&mm_err("1 1 1\n1 1 1\n"), &["line 1", "not a Matrix Market file"]);
+    assert_has(
+        &mm_err("1 1 1\n1 1 1\n"),
+        &["line 1", "not a Matrix Market file"],
+    );
     assert_has(
         &mm_err("%%MatrixMarket matrix coordinate real\n1 1 0\n"),
         &["header must have 5 fields"],
@@ -718,12 +800,24 @@ fn matrix_market_errors() {
         &["not square"],
     );
     assert_has(&mm_err(&format!("{MM_HDR}0 0 0\n")), &["empty (0×0)"]);
-    assert_has(&mm_err(&format!("{MM_HDR}% only comments\n")), &["size line"]);
-    assert_has(&mm_err(&format!("{MM_HDR}3 3\n")), &["size line", "expected 3 integers"]);
-    assert_has(&mm_err(&format!("{MM_HDR}3 x 1\n")), &["\"x\" is not a non-negative integer"]);
+    assert_has(
+        &mm_err(&format!("{MM_HDR}% only comments\n")),
+        &["size line"],
+    );
+    assert_has(
+        &mm_err(&format!("{MM_HDR}3 3\n")),
+        &["size line", "expected 3 integers"],
+    );
+    assert_has(
+        &mm_err(&format!("{MM_HDR}3 x 1\n")),
+        &["\"x\" is not a non-negative integer"],
+    );
     assert_has(&mm_err(&format!("{MM_HDR}2 2 5\n")), &["at most 4"]);
     let big = MAX_DIM + 1;
-    assert_has(&mm_err(&format!("{MM_HDR}{big} {big} 0\n")), &["exceeds the supported maximum"]);
+    assert_has(
+        &mm_err(&format!("{MM_HDR}{big} {big} 0\n")),
+        &["exceeds the supported maximum"],
+    );
     assert_has(
         &mm_err(&format!("{MM_HDR}3 3 2\n1 1 1.0\n1 2\n")),
         &["line 4", "expected 3 fields \"row col value\", found 2"],
@@ -736,13 +830,22 @@ fn matrix_market_errors() {
         &mm_err(&format!("{MM_HDR}3 3 1\n4 1 1.0\n")),
         &["line 3", "row index 4 is out of range (1..=3", "1-based"],
     );
-    assert_has(&mm_err(&format!("{MM_HDR}3 3 1\n1 0 1.0\n")), &["column index 0 is out of range"]);
+    assert_has(
+        &mm_err(&format!("{MM_HDR}3 3 1\n1 0 1.0\n")),
+        &["column index 0 is out of range"],
+    );
     assert_has(
         &mm_err(&format!("{MM_HDR}3 3 1\n99999999999999999999999 1 1.0\n")),
         &["row index 99999999999999999999999 is out of range"],
     );
-    assert_has(&mm_err(&format!("{MM_HDR}3 3 1\n-1 1 1.0\n")), &["out of range"]);
-    assert_has(&mm_err(&format!("{MM_HDR}3 3 1\n1.5 1 1.0\n")), &["\"1.5\" is not an integer"]);
+    assert_has(
+        &mm_err(&format!("{MM_HDR}3 3 1\n-1 1 1.0\n")),
+        &["out of range"],
+    );
+    assert_has(
+        &mm_err(&format!("{MM_HDR}3 3 1\n1.5 1 1.0\n")),
+        &["\"1.5\" is not an integer"],
+    );
     assert_has(
         &mm_err(&format!("{MM_HDR}3 3 3\n1 1 1\n2 2 2\n")),
         &["truncated", "declares 3 entries", "after 2"],
@@ -757,7 +860,10 @@ fn matrix_market_errors() {
             &["line 3", "not finite"],
         );
     }
-    assert_has(&mm_err(&format!("{MM_HDR}1 1 1\n1 1 abc\n")), &["\"abc\" is not a number"]);
+    assert_has(
+        &mm_err(&format!("{MM_HDR}1 1 1\n1 1 abc\n")),
+        &["\"abc\" is not a number"],
+    );
     assert_has(
         &mm_err("%%MatrixMarket matrix coordinate integer general\n1 1 1\n1 1 1.5\n"),
         &["\"1.5\" is not an integer"],
@@ -795,7 +901,9 @@ fn matrix_market_errors() {
         &["more values than the 1 expected"],
     );
     // The file name appears for file-based reads.
-    let e = read_matrix_market(Path::new("tests/data/scenes/nope.mtx")).unwrap_err().to_string();
+    let e = read_matrix_market(Path::new("tests/data/scenes/nope.mtx"))
+        .unwrap_err()
+        .to_string();
     assert_has(&e, &["nope.mtx", "cannot read file"]);
 }
 
@@ -834,7 +942,11 @@ fn mm_text() -> impl Strategy<Value = String> {
 fn mutated_scene() -> impl Strategy<Value = String> {
     let base = fs::read_to_string(fixtures().join("small.scene.json")).unwrap();
     prop::collection::vec(
-        (any::<prop::sample::Index>(), 0usize..4, "[\\[\\]{}\":,0-9a-zA-Z .eE+\\\\-]{0,3}"),
+        (
+            any::<prop::sample::Index>(),
+            0usize..4,
+            "[\\[\\]{}\":,0-9a-zA-Z .eE+\\\\-]{0,3}",
+        ),
         1..5,
     )
     .prop_map(move |edits| {
@@ -890,44 +1002,4 @@ proptest! {
             }
         }
     }
-}
-
-#[test]
-fn zz_probe_nalgebra() {
-    let cases = [
-        "%%MatrixMarket matrix coordinate real general\n3 3 1\n99999999999999999999999 1 1.0\n",
-        "%%MatrixMarket matrix coordinate real general\n99999999999999999999999 3 0\n",
-        "%%MatrixMarket matrix coordinate real general\n5 5 1\n4294967296 4294967296 1\n",
-        "%%MatrixMarket matrix array real skew-symmetric\n0 0\n",
-        "%%MatrixMarket matrix coordinate real general\n3 3 1\n1 1 nan\n",
-        "%%MatrixMarket matrix coordinate real general\n3 3 1\n1 1 1e400\n",
-        "%%MatrixMarket matrix coordinate real symmetric\n3 3 1\n1 2 1\n",
-        "%%MatrixMarket matrix coordinate real general\n\n3 3 1\n1 1 1\n",
-        "%%MatrixMarket matrix coordinate real general\n3 3 2\n1 1 1\n",
-        "%%MatrixMarket matrix coordinate real general\n3 3 1\n1 2\n",
-        "%%MatrixMarket matrix coordinate real general\n3 4 1\n1 2 1\n",
-        "%%MatrixMarket matrix array real general\n99999999999 99999999999\n",
-    ];
-    for c in cases {
-        let r = std::panic::catch_unwind(|| nalgebra_sparse::io::load_coo_from_matrix_market_str::<f64>(c).map(|m| (m.nrows(), m.ncols(), m.values().to_vec())));
-        match r {
-            Ok(Ok(m)) => eprintln!("PROBE OK {c:?} -> {m:?}"),
-            Ok(Err(e)) => eprintln!("PROBE ERR {c:?} -> {e}"),
-            Err(_) => eprintln!("PROBE PANIC {c:?}"),
-        }
-    }
-    // serde_json default float parsing vs correctly rounded
-    let mut bad = 0; let mut first = None;
-    let mut x: u64 = 0x9E3779B97F4A7C15;
-    for _ in 0..100000 {
-        x ^= x << 13; x ^= x >> 7; x ^= x << 17;
-        let v = f64::from_bits(x);
-        if !v.is_finite() { continue; }
-        let s = format!("{v:?}");
-        let p: f64 = serde_json::from_str(&s).unwrap_or(f64::NAN);
-        if p.to_bits() != v.to_bits() { bad += 1; first.get_or_insert(s); }
-    }
-    eprintln!("PROBE serde_json mismatches: {bad}/100000, e.g. {first:?}");
-    let s = serde_json::from_str::<f64>("1e999");
-    eprintln!("PROBE serde 1e999: {s:?}");
 }

@@ -109,7 +109,10 @@ fn penalized_system(p: &Problem, eps: &[f64], limits: &[f64]) -> (DMatrix<f64>, 
 }
 
 fn matvec(a: &DMatrix<f64>, x: &[f64]) -> Vec<f64> {
-    (a * DVector::from_column_slice(x)).iter().copied().collect()
+    (a * DVector::from_column_slice(x))
+        .iter()
+        .copied()
+        .collect()
 }
 
 fn limits(p: &Problem) -> Vec<f64> {
@@ -508,19 +511,34 @@ fn lagrange_matches_hand_solution_of_the_spring_chain() {
 }
 
 #[test]
-fn lagrange_releases_a_constraint_that_would_pull() {
-    // Beam, all `upper`: u0 violates all three (g0 = 23.7, 0.29, 21.4). Tying all three as in
-    // the bilateral case needs at least one pulling (negative) force on the transverse pair
-    // (node 3 pushed down to 3 while the tip at 30 is not pulled up) — the active set must end
-    // with non-negative forces and the released constraints free of penetration.
+fn lagrange_releases_the_tip_of_the_upper_beam() {
+    // Beam, all `upper` (u ≤ û): u0 violates all three (g0 = 23.7, 0.29, 21.4). Closed form
+    // (cubic beam elements are exact for nodal loads): cantilever L = 30, EJ = 175, EA = 2100,
+    // tip load P = 1 up, axial load −50. Pushing node 3 (x = a = 20) down to 3 needs
+    // R = (w_P(a) − 3)/f_aa with w_P(a) = P a²(3L − a)/(6EJ), f_aa = a³/(3EJ); the tip then
+    // sits at w_P(L) − R a²(3L − a)/(6EJ) ≈ 10.0 < 30, so the tip obstacle is released
+    // (force 0), while the bilateral tie would need a pull there (negative force).
+    let (l, a, ej, ea): (f64, f64, f64, f64) = (30.0, 20.0, 175.0, 2100.0);
+    let w_pa = a * a * (3.0 * l - a) / (6.0 * ej);
+    let r = (w_pa - 3.0) / (a.powi(3) / (3.0 * ej));
+    let tip = l.powi(3) / (3.0 * ej) - r * a * a * (3.0 * l - a) / (6.0 * ej);
+    assert!(tip < 30.0);
     let p = paper::problem_with_kind(ConstraintKind::Upper);
-    let bil = strategy::solve(&paper::problem(), Method::Lagrange).unwrap();
     let sol = check_lagrange("beam upper", &p);
-    if bil.forces.iter().any(|&f| f < 0.0) {
-        // Then the unilateral answer differs from the bilateral one.
-        assert!(sol.forces.iter().all(|&f| f >= 0.0));
-        assert!(diff2(&sol.u, &bil.u) > 1e-6 * norm2(&bil.u));
-    }
+    let tol = rounding_tol(cond_of(&metrics::system_matrix(&p, &sol)), 11, 60.0);
+    assert!((sol.u[7] - tip).abs() <= tol, "tip {} vs {tip}", sol.u[7]);
+    assert_eq!(sol.forces[2], 0.0);
+    assert!(
+        (sol.forces[0] - r).abs() <= tol * ea,
+        "R {} vs {r}",
+        sol.forces[0]
+    );
+    // Axial bar (stiffness EA/L at the tip): u0 = −50 L/EA = −0.714 > −1, so the obstacle
+    // pushes the tip to −1: (EA/L)(−1) = −50 − λ ⇒ λ = EA/L − 50 = 20 ≥ 0.
+    assert!((sol.u[6] + 1.0).abs() <= tol);
+    assert!((sol.forces[1] - (ea / l - 50.0)).abs() <= tol * ea);
+    let bil = strategy::solve(&paper::problem(), Method::Lagrange).unwrap();
+    assert!(bil.forces[2] < 0.0, "bilateral tip force {}", bil.forces[2]);
 }
 
 // ----------------------------------------------------------------------------------------
@@ -554,7 +572,11 @@ fn constant_penalty_converges_to_lagrange_at_rate_one_over_eps() {
     let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
     let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
     let slope = sxy / sxx;
-    assert!((-1.1..=-0.9).contains(&slope), "slope {slope}, points {pts:?}");
+    eprintln!("log10 ε, log10 error used in the fit: {pts:?}; slope {slope:.4}");
+    assert!(
+        (-1.1..=-0.9).contains(&slope),
+        "slope {slope}, points {pts:?}"
+    );
     // Each decade gains ≈ 10×.
     for w in pts.windows(2) {
         let ratio = 10f64.powf(w[0].1 - w[1].1);
@@ -736,6 +758,82 @@ fn spring_and_paper_penalties_match_their_formulas() {
     assert!(compared >= 20, "only {compared} nonzero penalties compared");
 }
 
+/// Ground —k— u₀ —k— u₁ —k— u₂ ← P (k = 1, P = 1; free: u = (1, 2, 3)); `upper` obstacle
+/// u₂ ≤ 0.6 (violated by u0) and `lower` obstacle u₁ ≥ 1 (NOT violated by u0: u0₁ = 2).
+fn three_spring_chain() -> Problem {
+    Problem::new(
+        Stiffness::from_rows(&[
+            vec![2.0, -1.0, 0.0],
+            vec![-1.0, 2.0, -1.0],
+            vec![0.0, -1.0, 1.0],
+        ])
+        .unwrap(),
+        vec![0.0, 0.0, 1.0],
+        vec![
+            Constraint {
+                dof: 2,
+                limit: 0.6,
+                kind: ConstraintKind::Upper,
+            },
+            Constraint {
+                dof: 1,
+                limit: 1.0,
+                kind: ConstraintKind::Lower,
+            },
+        ],
+    )
+    .unwrap()
+}
+
+/// BUG (src/strategy/spring.rs:27): a unilateral constraint that is not violated by u0 but
+/// becomes violated once other constraints are penalized enters the active set, yet the rule
+/// `if !active[c] || con.kind.penetration(g0[c]) <= delta { return 0.0 }` judges "already
+/// within δ" by the *unconstrained* g0 and gives it ε = 0 — silently: no warning, and the
+/// active set does not change again, so the driver returns a solution whose penetration is
+/// uncontrolled. methods.md §3 applies Eq. 17 to every penalized constraint.
+///
+/// Hand computation (δ = 0.1): iteration 1 penalizes u₂ only, ε₀ = (q₂ − k₂₂(û + δ))/δ
+/// = (1 − 0.7)/0.1 = 3; the flexibility at u₂ is S = 3, so g = g0/(1 + Sε) = 2.4/10 = 0.24 and
+/// the chain carries 1 − 3·0.24 = 0.28: u = (0.28, 0.56, 0.84). Now u₁ = 0.56 < 1 violates its
+/// obstacle by 0.44 = 4.4δ. Eq. 17 for it (s = −1): ε₁ = (k₁₁(û − δ) − q₁)/δ = 2·0.9/0.1 = 18 > 0,
+/// but the strategy returns ε₁ = 0 and no warning.
+#[test]
+#[ignore = "BUG src/strategy/spring.rs:27: a constraint activated after the first pass gets ε = 0 silently (g0-based 'within δ' test)"]
+fn spring_penalizes_constraints_that_become_violated() {
+    let p = three_spring_chain();
+    let delta = 0.1;
+    let sol = strategy::solve(&p, Method::Spring { delta }).unwrap();
+    // The constraint is violated beyond δ at the returned u …
+    let pen1 = p.penetrations(&sol.u)[1];
+    assert!(pen1 > delta, "u₁ penetration {pen1}");
+    // … so it must either be penalized with its Eq. 17 value or be reported.
+    let eq17 = (p.k.get(1, 1) * (1.0 - delta) - p.q[1]) / delta;
+    let penalized = (sol.penalties[1] - eq17).abs() <= 1e-12 * eq17;
+    let warned = sol.warnings.iter().any(|w| w.contains("constraint 1"));
+    assert!(
+        penalized || warned,
+        "constraint 1 penetrates {pen1} (> δ = {delta}) with ε = {} (Eq. 17: {eq17}) and no \
+         warning; warnings = {:?}",
+        sol.penalties[1],
+        sol.warnings
+    );
+}
+
+#[test]
+fn spring_first_pass_on_the_three_spring_chain_matches_hand_computation() {
+    // The part of the scenario above that is correct today (hand numbers in its doc).
+    let p = three_spring_chain();
+    let sol = strategy::solve(&p, Method::Spring { delta: 0.1 }).unwrap();
+    let tol = rounding_tol(cond_of(&metrics::system_matrix(&p, &sol)), 3, 3.0);
+    assert!((sol.penalties[0] - 3.0).abs() <= tol * 30.0);
+    for (got, want) in sol.u.iter().zip([0.28, 0.56, 0.84]) {
+        assert!((got - want).abs() <= tol, "u = {:?}", sol.u);
+    }
+    // condensed on the same chain keeps both within δ.
+    let cd = strategy::solve(&p, Method::Condensed { delta: 0.1 }).unwrap();
+    assert!(cd.max_penetration <= 0.1 * (1.0 + 1e-9) + tol);
+}
+
 #[test]
 fn paper_eq28_on_the_beam_recomputed_matches_eq35() {
     // Our independent Eq. 28 reproduces the paper's printed Eq. 35 (so the formula used in the
@@ -749,9 +847,9 @@ fn paper_eq28_on_the_beam_recomputed_matches_eq35() {
 
 #[test]
 fn clipped_penalties_are_warned() {
-    // Beam, tip transverse alone, limit 0.05 (< δ = 0.1), no load at... the tip is loaded by 1,
-    // K[7,7] = 2.1: Eq. 28 = (|2.1·0.05 − 1| − 2.1·0.1)/0.1 = (0.895 − 0.21)/0.1 > 0. With a
-    // limit of 0.45: |0.945 − 1| = 0.055 < 0.21 → negative → clipped with a warning.
+    // Beam, tip transverse `upper` at û = 0.45 alone (u0 = 51.4 violates it). K[7,7] = 2.1 and
+    // q[7] = 1: Eq. 28 = (|2.1·0.45 − 1| − 2.1·0.1)/0.1 = (0.055 − 0.21)/0.1 < 0 → clipped to 0
+    // with a warning.
     let k = paper::frame().assemble(false).unwrap();
     let p = Problem::new(
         k,
@@ -826,11 +924,14 @@ fn every_solution_is_consistent_with_its_system_and_reports() {
             } else {
                 1.0
             };
+            // The solve was with K + D E Dᵀ (E = the penalties; 0 for lagrange), so its
+            // norm — not ‖K‖ — sets the backward error; forces ε·g also round at ε·ε_mach·|û|.
+            let a_norm = norm_inf_mat(&k) + inf(&sol.penalties);
             let rtol = amp
                 * C_ROUND
                 * (p.n() + p.m()) as f64
                 * f64::EPSILON
-                * (norm_inf_mat(&k) * inf(&sol.u) + inf(&sol.forces) + inf(&p.q));
+                * (a_norm * inf(&sol.u).max(inf(&limits(&p))) + inf(&sol.forces) + inf(&p.q));
             assert!(res <= rtol, "{tag}: ‖Ku − q + Dr‖ = {res:e} > {rtol:e}");
 
             match method {
@@ -874,13 +975,40 @@ fn stats_are_pinned_on_the_bilateral_beam() {
     }
     let s = st(Method::Spring { delta: 0.1 });
     assert_eq!((s.factorizations, s.linear_solves, s.iterations), (2, 2, 1));
-    // condensed: one factorization of K, u0 (1 solve) and W = K⁻¹D (m = 3 solves); all g0 > δ
-    // start at the upper bound, and the answer has every gap at +δ (checked), so the box QP
-    // stops after its first iteration.
-    let sol = strategy::solve(&p, Method::Condensed { delta: 0.1 }).unwrap();
-    assert!(sol.gaps.iter().all(|&g| g > 0.0), "{:?}", sol.gaps);
+    // condensed: one factorization of K, u0 (1 solve) and W = K⁻¹D (m = 3 solves). The box QP
+    // (src/strategy/condensed.rs) starts every constraint at the bound on the side of g0 (all
+    // g0 > δ: upper bound +δ) and moves a constraint with a wrong-sign force to Free, and a
+    // free one outside the box to the violated bound. Its path here, recomputed with nalgebra:
+    // (+,+,+) gives the tip a pulling force r₂ < 0 → (+,+,free) leaves the tip below −δ →
+    // (+,+,−), which is the KKT point: 3 iterations.
+    let u0 = u0_of(&p);
+    let g0 = p.gaps(&u0);
+    let delta = 0.1;
+    let s = flexibility(&p, &[0, 1, 2]);
+    let r1 =
+        s.clone().try_inverse().unwrap() * DVector::from_iterator(3, g0.iter().map(|g| g - delta));
+    assert!(
+        r1[0] >= 0.0 && r1[1] >= 0.0 && r1[2] < 0.0,
+        "path step 1: {r1}"
+    );
+    let s2 = s.view((0, 0), (2, 2)).clone_owned();
+    let r2 = s2.try_inverse().unwrap() * DVector::from_vec(vec![g0[0] - delta, g0[1] - delta]);
+    let g2 = g0[2] - s[(2, 0)] * r2[0] - s[(2, 1)] * r2[1];
+    assert!(
+        r2[0] >= 0.0 && r2[1] >= 0.0 && g2 < -delta,
+        "path step 2: {r2}, {g2}"
+    );
+    let gstar = DVector::from_vec(vec![delta, delta, -delta]);
+    let r3 = s.try_inverse().unwrap() * (DVector::from_column_slice(&g0) - gstar);
+    assert!(
+        r3[0] >= 0.0 && r3[1] >= 0.0 && r3[2] <= 0.0,
+        "path step 3: {r3}"
+    );
+    let sol = strategy::solve(&p, Method::Condensed { delta }).unwrap();
+    assert!(sol.gaps[0] > 0.0 && sol.gaps[1] > 0.0 && sol.gaps[2] < 0.0);
     let s = sol.stats;
-    assert_eq!((s.factorizations, s.linear_solves, s.iterations), (1, 4, 1));
+    assert_eq!((s.factorizations, s.linear_solves, s.iterations), (1, 4, 3));
+    assert_eq!(s.active_set_sizes, vec![3, 2, 3]);
     // lagrange: K (for u0) + one saddle-point factorization, one solve each, one iteration.
     let s = st(Method::Lagrange);
     assert_eq!((s.factorizations, s.linear_solves, s.iterations), (2, 2, 1));
@@ -992,7 +1120,10 @@ fn bad_knobs_are_rejected_with_clear_messages() {
     }
     let e = Method::from_name("penalty", Knobs::default()).unwrap_err();
     let msg = e.to_string();
-    assert!(msg.contains("unknown method") && msg.contains("'penalty'"), "{msg}");
+    assert!(
+        msg.contains("unknown method") && msg.contains("'penalty'"),
+        "{msg}"
+    );
     for valid in METHOD_NAMES {
         assert!(msg.contains(valid), "{msg} should list {valid}");
     }

@@ -1,0 +1,371 @@
+//! Randomized contact configurations, seeded and reproducible.
+//!
+//! Every scene is a pure function of `(seed, family, index)`: its RNG is a ChaCha8 stream seeded
+//! with a SplitMix64 hash of the three, so a scene does not depend on which thread or shard
+//! builds it, nor on how many scenes precede it.
+//!
+//! Families:
+//! * `beam` — cantilevers and clamped–clamped beams of 3…`max_elements` Euler–Bernoulli
+//!   elements (Eq. 30) with random E, section, length and loads, pressed against rigid surfaces
+//!   that limit some nodal transverse displacements (bilateral ties like the paper's example,
+//!   and unilateral obstacles in the load path).
+//! * `membrane` — a 2D membrane (5-point finite-difference grid, `T (4u_ij − Σ neighbours) =
+//!   f h²`, clamped edges) under a uniform load pushed onto a rigid obstacle below it
+//!   (`u ≥ ψ` at every node — the classic obstacle problem); sparse.
+//! * `spectrum` — dense SPD `K = Q diag(λ) Qᵀ` with log-spaced eigenvalues spanning a
+//!   prescribed spread (10²…10¹⁰), random loads and contact DOFs; a stress family.
+
+use crate::error::{Error, Result};
+use crate::model::beam::{Frame, Section};
+use crate::system::{Constraint, ConstraintKind, Problem, Stiffness};
+use faer::Mat;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// Scene families.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Family {
+    /// Euler–Bernoulli beams against rigid surfaces.
+    Beam,
+    /// Membrane obstacle problem (sparse).
+    Membrane,
+    /// SPD matrices with a prescribed eigenvalue spread.
+    Spectrum,
+}
+
+/// Family names accepted on the command line.
+pub const FAMILY_NAMES: [&str; 3] = ["beam", "membrane", "spectrum"];
+
+impl Family {
+    /// Parses a family name.
+    pub fn from_name(s: &str) -> Result<Self> {
+        match s {
+            "beam" => Ok(Family::Beam),
+            "membrane" => Ok(Family::Membrane),
+            "spectrum" => Ok(Family::Spectrum),
+            _ => Err(Error::input(format!(
+                "unknown family '{s}' (valid: {})",
+                FAMILY_NAMES.join(", ")
+            ))),
+        }
+    }
+
+    /// The family's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Family::Beam => "beam",
+            Family::Membrane => "membrane",
+            Family::Spectrum => "spectrum",
+        }
+    }
+}
+
+/// Size ranges of the generators.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct GeneratorConfig {
+    /// Beam elements: drawn log-uniformly in `[min, max]` (3 ≤ min ≤ max ≤ 500).
+    pub beam_elements: (usize, usize),
+    /// Membrane grid side (interior nodes per side) in `[min, max]` (≥ 10).
+    pub membrane_side: (usize, usize),
+    /// Spectrum family dimension in `[min, max]` (≥ 4).
+    pub spectrum_n: (usize, usize),
+    /// Spectrum family: log10 of the eigenvalue spread in `[min, max]`.
+    pub spectrum_log10_spread: (f64, f64),
+}
+
+impl Default for GeneratorConfig {
+    fn default() -> Self {
+        GeneratorConfig {
+            beam_elements: (3, 60),
+            membrane_side: (10, 16),
+            spectrum_n: (20, 120),
+            spectrum_log10_spread: (2.0, 10.0),
+        }
+    }
+}
+
+impl GeneratorConfig {
+    /// Checks the ranges; errors repeat the valid range.
+    pub fn validate(&self) -> Result<()> {
+        let (a, b) = self.beam_elements;
+        if !(3 <= a && a <= b && b <= 500) {
+            return Err(Error::input(format!(
+                "beam_elements = ({a}, {b}): need 3 ≤ min ≤ max ≤ 500"
+            )));
+        }
+        let (a, b) = self.membrane_side;
+        if !(10 <= a && a <= b && b <= 2000) {
+            return Err(Error::input(format!(
+                "membrane_side = ({a}, {b}): need 10 ≤ min ≤ max ≤ 2000"
+            )));
+        }
+        let (a, b) = self.spectrum_n;
+        if !(4 <= a && a <= b && b <= 4000) {
+            return Err(Error::input(format!(
+                "spectrum_n = ({a}, {b}): need 4 ≤ min ≤ max ≤ 4000"
+            )));
+        }
+        let (a, b) = self.spectrum_log10_spread;
+        if !(a.is_finite() && b.is_finite() && 0.0 <= a && a <= b && b <= 16.0) {
+            return Err(Error::input(format!(
+                "spectrum_log10_spread = ({a}, {b}): need 0 ≤ min ≤ max ≤ 16"
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// A generated scene.
+#[derive(Clone, Debug)]
+pub struct GeneratedScene {
+    /// `family-index` (e.g. `beam-0007`).
+    pub name: String,
+    /// Family.
+    pub family: Family,
+    /// The problem.
+    pub problem: Problem,
+    /// Provenance (generator parameters and seed).
+    pub meta: serde_json::Value,
+}
+
+/// SplitMix64 — mixes (seed, family, index) into an independent stream seed.
+pub fn scene_seed(seed: u64, family: Family, index: usize) -> u64 {
+    let mut z = seed
+        .wrapping_add(0x9E37_79B9_7F4A_7C15u64.wrapping_mul(1 + family as u64))
+        .wrapping_add((index as u64).wrapping_mul(0xD1B5_4A32_D192_ED03));
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
+}
+
+fn log_uniform(rng: &mut ChaCha8Rng, lo: f64, hi: f64) -> f64 {
+    (rng.random_range(lo.ln()..=hi.ln())).exp()
+}
+
+fn int_log_uniform(rng: &mut ChaCha8Rng, lo: usize, hi: usize) -> usize {
+    if lo == hi {
+        return lo;
+    }
+    (log_uniform(rng, lo as f64, hi as f64 + 0.999).floor() as usize).clamp(lo, hi)
+}
+
+/// Generates scene `index` of `family`.
+pub fn generate(
+    family: Family,
+    index: usize,
+    seed: u64,
+    cfg: &GeneratorConfig,
+) -> Result<GeneratedScene> {
+    let s = scene_seed(seed, family, index);
+    let mut rng = ChaCha8Rng::seed_from_u64(s);
+    let (problem, mut meta) = match family {
+        Family::Beam => beam(&mut rng, cfg)?,
+        Family::Membrane => membrane(&mut rng, cfg)?,
+        Family::Spectrum => spectrum(&mut rng, cfg)?,
+    };
+    meta["generator"] = serde_json::json!(family.name());
+    meta["seed"] = serde_json::json!(seed);
+    meta["index"] = serde_json::json!(index);
+    meta["scene_seed"] = serde_json::json!(s);
+    Ok(GeneratedScene {
+        name: format!("{}-{index:04}", family.name()),
+        family,
+        problem,
+        meta,
+    })
+}
+
+/// Unconstrained solution of a dense or sparse K (for placing the obstacles).
+fn unconstrained(k: &Stiffness, q: &[f64]) -> Result<Vec<f64>> {
+    let f = crate::linalg::Factorization::new(k, true)?;
+    Ok(f.solve(q))
+}
+
+/// Picks a constraint on `dof` from the unconstrained displacement `u0d`, so that contact
+/// actually happens: bilateral ties anywhere near the path, unilateral obstacles in the load path
+/// (violated by u0), and some obstacles just out of reach.
+fn constraint_from(rng: &mut ChaCha8Rng, dof: usize, u0d: f64) -> Constraint {
+    let roll: f64 = rng.random();
+    if roll < 0.3 {
+        Constraint {
+            dof,
+            limit: u0d * rng.random_range(-0.5..0.9),
+            kind: ConstraintKind::Bilateral,
+        }
+    } else {
+        // Obstacle on the side the structure moves to.
+        let kind = if u0d >= 0.0 {
+            ConstraintKind::Upper
+        } else {
+            ConstraintKind::Lower
+        };
+        let factor = if roll < 0.85 {
+            rng.random_range(0.1..0.9)
+        } else {
+            rng.random_range(1.05..1.5)
+        };
+        Constraint {
+            dof,
+            limit: u0d * factor,
+            kind,
+        }
+    }
+}
+
+fn beam(rng: &mut ChaCha8Rng, cfg: &GeneratorConfig) -> Result<(Problem, serde_json::Value)> {
+    let n_el = int_log_uniform(rng, cfg.beam_elements.0, cfg.beam_elements.1);
+    let length = rng.random_range(10.0..100.0);
+    let section = Section::rectangle(
+        log_uniform(rng, 1e4, 3e5),
+        rng.random_range(0.5..2.0),
+        rng.random_range(0.5..2.0),
+    );
+    let clamped_both = rng.random_bool(0.3);
+    let mut frame = Frame::cantilever(n_el, length, section)?;
+    if clamped_both {
+        let last = frame.nodes.len() - 1;
+        frame.fixed[3 * last..3 * last + 3].fill(true);
+    }
+    let n_nodes = frame.nodes.len();
+    let sparse = n_el > 150;
+    let k = frame.assemble(sparse)?;
+    let n = k.n();
+    // Loads: a main transverse load at a random free node, small random nodal loads, axial.
+    let mut q = vec![0.0; n];
+    let p_main = log_uniform(rng, 0.5, 50.0) * if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+    let free_nodes: Vec<usize> = (1..n_nodes).filter(|&i| frame.dof(i, 1).is_some()).collect();
+    let main_node = free_nodes[rng.random_range(0..free_nodes.len())];
+    q[frame.dof(main_node, 1).expect("free")] += p_main;
+    for &i in &free_nodes {
+        if rng.random_bool(0.3) {
+            q[frame.dof(i, 1).expect("free")] += 0.2 * p_main * rng.random_range(-1.0..1.0);
+        }
+        if let Some(d) = frame.dof(i, 0) {
+            if rng.random_bool(0.1) {
+                q[d] += p_main * rng.random_range(-5.0..5.0);
+            }
+        }
+    }
+    let u0 = unconstrained(&k, &q)?;
+    let m_max = free_nodes.len().clamp(1, 8);
+    let m = rng.random_range(1..=m_max);
+    let mut nodes = free_nodes.clone();
+    // Partial Fisher–Yates for m distinct nodes.
+    for i in 0..m {
+        let j = rng.random_range(i..nodes.len());
+        nodes.swap(i, j);
+    }
+    let mut cons: Vec<Constraint> = nodes[..m]
+        .iter()
+        .map(|&i| {
+            let d = frame.dof(i, 1).expect("free");
+            constraint_from(rng, d, u0[d])
+        })
+        .collect();
+    cons.sort_by_key(|c| c.dof);
+    let meta = serde_json::json!({
+        "elements": n_el, "length": length, "E": section.e, "A": section.a, "J": section.j,
+        "supports": if clamped_both { "clamped-clamped" } else { "cantilever" },
+        "sparse": sparse,
+    });
+    Ok((Problem::new(k, q, cons)?, meta))
+}
+
+fn membrane(rng: &mut ChaCha8Rng, cfg: &GeneratorConfig) -> Result<(Problem, serde_json::Value)> {
+    let side = rng.random_range(cfg.membrane_side.0..=cfg.membrane_side.1);
+    let n = side * side;
+    let h = 1.0 / (side as f64 + 1.0);
+    let tension = log_uniform(rng, 0.1, 10.0);
+    let idx = |i: usize, j: usize| i * side + j;
+    let mut t = Vec::with_capacity(5 * n);
+    for i in 0..side {
+        for j in 0..side {
+            let r = idx(i, j);
+            t.push((r, r, 4.0 * tension));
+            if i > 0 {
+                t.push((r, idx(i - 1, j), -tension));
+            }
+            if i + 1 < side {
+                t.push((r, idx(i + 1, j), -tension));
+            }
+            if j > 0 {
+                t.push((r, idx(i, j - 1), -tension));
+            }
+            if j + 1 < side {
+                t.push((r, idx(i, j + 1), -tension));
+            }
+        }
+    }
+    let k = Stiffness::from_triplets(n, &t)?;
+    let f = -log_uniform(rng, 1.0, 100.0);
+    let q = vec![f * h * h; n];
+    let u0 = unconstrained(&k, &q)?;
+    let sag = u0.iter().fold(0.0f64, |a, &v| a.min(v));
+    // Obstacle: a tilted paraboloid cap below the membrane touching its lower part.
+    let level = sag * rng.random_range(0.3..0.8);
+    let (x0, y0) = (rng.random_range(0.3..0.7), rng.random_range(0.3..0.7));
+    let curv = rng.random_range(0.0..2.0) * sag.abs();
+    let tilt = (
+        rng.random_range(-0.3..0.3) * sag.abs(),
+        rng.random_range(-0.3..0.3) * sag.abs(),
+    );
+    let cons = (0..side)
+        .flat_map(|i| (0..side).map(move |j| (i, j)))
+        .map(|(i, j)| {
+            let (x, y) = ((i + 1) as f64 * h, (j + 1) as f64 * h);
+            let psi = level
+                - curv * ((x - x0).powi(2) + (y - y0).powi(2))
+                - tilt.0 * (x - 0.5)
+                - tilt.1 * (y - 0.5);
+            Constraint {
+                dof: idx(i, j),
+                limit: psi,
+                kind: ConstraintKind::Lower,
+            }
+        })
+        .collect();
+    let meta = serde_json::json!({
+        "side": side, "h": h, "tension": tension, "load_density": f,
+        "obstacle": {"level": level, "center": [x0, y0], "curvature": curv, "tilt": [tilt.0, tilt.1]},
+    });
+    Ok((Problem::new(k, q, cons)?, meta))
+}
+
+fn spectrum(rng: &mut ChaCha8Rng, cfg: &GeneratorConfig) -> Result<(Problem, serde_json::Value)> {
+    let n = rng.random_range(cfg.spectrum_n.0..=cfg.spectrum_n.1);
+    let spread = rng.random_range(cfg.spectrum_log10_spread.0..=cfg.spectrum_log10_spread.1);
+    let a = Mat::from_fn(n, n, |_, _| rng.random_range(-1.0..1.0));
+    let qr = a.qr();
+    let qm = qr.compute_Q();
+    let lambda: Vec<f64> = (0..n)
+        .map(|i| 10f64.powf(spread * i as f64 / (n - 1) as f64))
+        .collect();
+    let ql = Mat::from_fn(n, n, |i, l| qm[(i, l)] * lambda[l]);
+    let mut k = &ql * qm.transpose();
+    // Exact symmetry (rounding in the product above is not symmetric).
+    for i in 0..n {
+        for j in 0..i {
+            let v = 0.5 * (k[(i, j)] + k[(j, i)]);
+            k[(i, j)] = v;
+            k[(j, i)] = v;
+        }
+    }
+    let k = Stiffness::Dense(k);
+    let q: Vec<f64> = (0..n).map(|_| rng.random_range(-1.0..1.0)).collect();
+    let u0 = unconstrained(&k, &q)?;
+    let m = rng.random_range(1..=(n / 4).clamp(1, 12));
+    let mut dofs: Vec<usize> = (0..n).collect();
+    for i in 0..m {
+        let j = rng.random_range(i..n);
+        dofs.swap(i, j);
+    }
+    let mut cons: Vec<Constraint> = dofs[..m]
+        .iter()
+        .map(|&d| constraint_from(rng, d, u0[d]))
+        .collect();
+    cons.sort_by_key(|c| c.dof);
+    let meta = serde_json::json!({"n": n, "log10_spread": spread});
+    Ok((Problem::new(k, q, cons)?, meta))
+}

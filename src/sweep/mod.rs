@@ -1,0 +1,739 @@
+//! The sweep: every requested strategy over its knob on randomized (or file) scenes, one CSV row
+//! per (scene, method, parameter), resumable and shardable, deterministic for any thread count.
+//!
+//! * Knobs: ε on a log grid for `constant`, factors for `scaled`, δ values for `spring`,
+//!   `paper`, `condensed` and `augmented` (tolerance), and one `lagrange` row per scene — the
+//!   exact reference that `error_vs_exact` is measured against. δ is absolute (`deltas`) or
+//!   relative to the scene's displacement scale (`deltas_rel`: δ = R · max_c |u0[d_c]|).
+//! * Scenes are numbered globally (families in the given order, then index); shard `K/N` takes
+//!   the K-th of N contiguous blocks, so shard outputs concatenate into the unsharded output.
+//! * Rows of a scene are written together and flushed, in scene order (a reorder buffer keeps
+//!   the order under rayon), so a killed run loses at most the scenes in flight and `--resume`
+//!   completes it without losing or duplicating rows.
+
+pub mod figures;
+pub mod generate;
+pub mod rows;
+
+use crate::conditioning;
+use crate::error::{Error, Result};
+use crate::metrics::{self, MetricSet};
+use crate::scene;
+use crate::strategy::{self, Method, Prepared, METHOD_NAMES};
+use crate::system::Problem;
+use generate::{Family, GeneratorConfig};
+use rows::Row;
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// A log-spaced grid `lo..hi` with `n` points, inclusive.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LogGrid {
+    /// First value (> 0).
+    pub lo: f64,
+    /// Last value (≥ lo).
+    pub hi: f64,
+    /// Number of points (≥ 1).
+    pub n: usize,
+}
+
+impl LogGrid {
+    /// Parses `LO:HI:N`.
+    pub fn parse(s: &str) -> Result<Self> {
+        let parts: Vec<&str> = s.split(':').collect();
+        let bad = || {
+            Error::input(format!(
+                "malformed range '{s}': expected LO:HI:N with 0 < LO ≤ HI and N ≥ 1 (e.g. 1e-2:1e12:15)"
+            ))
+        };
+        if parts.len() != 3 {
+            return Err(bad());
+        }
+        let lo: f64 = parts[0].trim().parse().map_err(|_| bad())?;
+        let hi: f64 = parts[1].trim().parse().map_err(|_| bad())?;
+        let n: usize = parts[2].trim().parse().map_err(|_| bad())?;
+        let g = LogGrid { lo, hi, n };
+        g.validate().map_err(|_| bad())?;
+        Ok(g)
+    }
+
+    /// Checks `0 < lo ≤ hi`, finite, `n ≥ 1` (and `lo = hi` when `n = 1`).
+    pub fn validate(&self) -> Result<()> {
+        if !(self.lo.is_finite() && self.hi.is_finite() && self.lo > 0.0 && self.lo <= self.hi)
+            || self.n == 0
+            || (self.n == 1 && self.lo != self.hi)
+        {
+            return Err(Error::input(format!(
+                "bad ε grid {}:{}:{}: need 0 < LO ≤ HI, N ≥ 1",
+                self.lo, self.hi, self.n
+            )));
+        }
+        Ok(())
+    }
+
+    /// The grid values (inclusive ends, exact end points).
+    pub fn values(&self) -> Vec<f64> {
+        if self.n == 1 {
+            return vec![self.lo];
+        }
+        let (a, b) = (self.lo.log10(), self.hi.log10());
+        (0..self.n)
+            .map(|i| {
+                if i == 0 {
+                    self.lo
+                } else if i + 1 == self.n {
+                    self.hi
+                } else {
+                    10f64.powf(a + (b - a) * i as f64 / (self.n - 1) as f64)
+                }
+            })
+            .collect()
+    }
+}
+
+/// Everything that determines the rows (the manifest stores it; `--resume` checks it).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SweepConfig {
+    /// Families to generate (ignored with `scenes_dir`).
+    pub families: Vec<String>,
+    /// Scenes per family.
+    pub count: usize,
+    /// Master seed.
+    pub seed: u64,
+    /// ε grid for `constant`.
+    pub eps: LogGrid,
+    /// Factors for `scaled`.
+    pub factors: Vec<f64>,
+    /// Absolute δ values.
+    pub deltas: Vec<f64>,
+    /// Relative δ values (δ = R · max_c |u0[d_c]|).
+    pub deltas_rel: Vec<f64>,
+    /// Methods to run (`lagrange` always runs: it is the reference).
+    pub methods: Vec<String>,
+    /// Metrics: any of `cond`, `det` (penetration, error and timing are always recorded).
+    pub metrics: Vec<String>,
+    /// Generator size ranges.
+    pub generator: GeneratorConfig,
+    /// Run over every `*.scene.json` in this folder instead of generating.
+    pub scenes_dir: Option<PathBuf>,
+}
+
+impl Default for SweepConfig {
+    fn default() -> Self {
+        SweepConfig {
+            families: generate::FAMILY_NAMES.iter().map(|s| s.to_string()).collect(),
+            count: 8,
+            seed: 2011,
+            eps: LogGrid {
+                lo: 1e-2,
+                hi: 1e12,
+                n: 15,
+            },
+            factors: vec![1.0, 10.0, 100.0, 1e3, 1e4],
+            deltas: vec![],
+            deltas_rel: vec![1e-1, 1e-2, 1e-3],
+            methods: METHOD_NAMES.iter().map(|s| s.to_string()).collect(),
+            metrics: vec!["cond".into(), "det".into()],
+            generator: GeneratorConfig::default(),
+            scenes_dir: None,
+        }
+    }
+}
+
+/// Metric names accepted in `metrics`.
+pub const METRIC_NAMES: [&str; 2] = ["cond", "det"];
+
+impl SweepConfig {
+    /// Reads a TOML config (fields as in [`SweepConfig`]; missing fields take defaults).
+    pub fn from_toml_file(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path.display(), e))?;
+        let cfg: SweepConfig =
+            toml::from_str(&text).map_err(|e| Error::io(path.display(), e.to_string().trim()))?;
+        Ok(cfg)
+    }
+
+    /// Validates names, ranges and knobs; errors name the problem and the valid choices.
+    pub fn validate(&self) -> Result<()> {
+        if self.scenes_dir.is_none() {
+            if self.families.is_empty() {
+                return Err(Error::input(format!(
+                    "no families given (valid: {})",
+                    generate::FAMILY_NAMES.join(", ")
+                )));
+            }
+            for f in &self.families {
+                Family::from_name(f)?;
+            }
+            if self.count == 0 {
+                return Err(Error::input("--count must be ≥ 1"));
+            }
+        }
+        for m in &self.methods {
+            if !METHOD_NAMES.contains(&m.as_str()) {
+                return Err(Error::input(format!(
+                    "unknown method '{m}' (valid: {})",
+                    METHOD_NAMES.join(", ")
+                )));
+            }
+        }
+        for m in &self.metrics {
+            if !METRIC_NAMES.contains(&m.as_str()) {
+                return Err(Error::input(format!(
+                    "unknown metric '{m}' (valid: {}; penetration, error and time are always recorded)",
+                    METRIC_NAMES.join(", ")
+                )));
+            }
+        }
+        self.eps.validate()?;
+        for (what, v) in [
+            ("factor", &self.factors),
+            ("δ (--deltas)", &self.deltas),
+            ("relative δ (--deltas-rel)", &self.deltas_rel),
+        ] {
+            if let Some(x) = v.iter().find(|x| !(x.is_finite() && **x > 0.0)) {
+                return Err(Error::input(format!(
+                    "{what} must be finite and > 0 (got {x})"
+                )));
+            }
+        }
+        let needs_delta = self
+            .methods
+            .iter()
+            .any(|m| matches!(m.as_str(), "spring" | "paper" | "condensed" | "augmented"));
+        if needs_delta && self.deltas.is_empty() && self.deltas_rel.is_empty() {
+            return Err(Error::input(
+                "spring/paper/condensed/augmented need δ values (--deltas or --deltas-rel)",
+            ));
+        }
+        if self.methods.iter().any(|m| m == "scaled") && self.factors.is_empty() {
+            return Err(Error::input("scaled needs --factors"));
+        }
+        self.generator.validate()
+    }
+
+    fn metric_set(&self) -> MetricSet {
+        MetricSet {
+            cond: self.metrics.iter().any(|m| m == "cond"),
+            det: self.metrics.iter().any(|m| m == "det"),
+        }
+    }
+
+    /// Rows produced per scene.
+    pub fn rows_per_scene(&self) -> usize {
+        let nd = self.deltas.len() + self.deltas_rel.len();
+        let mut r = 1; // lagrange reference
+        for m in &self.methods {
+            r += match m.as_str() {
+                "constant" => self.eps.n,
+                "scaled" => self.factors.len(),
+                "spring" | "paper" | "condensed" | "augmented" => nd,
+                _ => 0,
+            };
+        }
+        r
+    }
+}
+
+/// Where a scene comes from.
+#[derive(Clone, Debug)]
+pub enum SceneSpec {
+    /// Generated from (family, index).
+    Generated {
+        /// Family.
+        family: Family,
+        /// Index within the family.
+        index: usize,
+    },
+    /// Read from a scene file.
+    File(PathBuf),
+}
+
+/// The ordered list of scenes of a config.
+pub fn plan(cfg: &SweepConfig) -> Result<Vec<SceneSpec>> {
+    if let Some(dir) = &cfg.scenes_dir {
+        let rd = std::fs::read_dir(dir).map_err(|e| Error::io(dir.display(), e))?;
+        let mut files: Vec<PathBuf> = rd
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| {
+                p.file_name()
+                    .and_then(|n| n.to_str())
+                    .is_some_and(|n| n.ends_with(".scene.json"))
+            })
+            .collect();
+        files.sort();
+        if files.is_empty() {
+            return Err(Error::io(dir.display(), "no *.scene.json files found"));
+        }
+        return Ok(files.into_iter().map(SceneSpec::File).collect());
+    }
+    let mut out = Vec::new();
+    for f in &cfg.families {
+        let family = Family::from_name(f)?;
+        out.extend((0..cfg.count).map(|index| SceneSpec::Generated { family, index }));
+    }
+    Ok(out)
+}
+
+/// The contiguous block of `0..total` that shard `k` of `n` (1-based) owns.
+pub fn shard_range(total: usize, k: usize, n: usize) -> std::ops::Range<usize> {
+    (total * (k - 1) / n)..(total * k / n)
+}
+
+/// Parses `K/N` (1 ≤ K ≤ N).
+pub fn parse_shard(s: &str) -> Result<(usize, usize)> {
+    let bad = || Error::input(format!("malformed shard '{s}': expected K/N with 1 ≤ K ≤ N"));
+    let (a, b) = s.split_once('/').ok_or_else(bad)?;
+    let k: usize = a.trim().parse().map_err(|_| bad())?;
+    let n: usize = b.trim().parse().map_err(|_| bad())?;
+    if k == 0 || n == 0 || k > n {
+        return Err(bad());
+    }
+    Ok((k, n))
+}
+
+/// A loaded scene.
+pub struct LoadedScene {
+    /// Name.
+    pub name: String,
+    /// Family name.
+    pub family: String,
+    /// Problem.
+    pub problem: Problem,
+    /// Provenance.
+    pub meta: serde_json::Value,
+}
+
+/// Builds or reads a scene.
+pub fn load(spec: &SceneSpec, cfg: &SweepConfig) -> Result<LoadedScene> {
+    match spec {
+        SceneSpec::Generated { family, index } => {
+            let g = generate::generate(*family, *index, cfg.seed, &cfg.generator)?;
+            Ok(LoadedScene {
+                name: g.name,
+                family: family.name().to_string(),
+                problem: g.problem,
+                meta: g.meta,
+            })
+        }
+        SceneSpec::File(path) => {
+            let s = scene::read_scene(path)?;
+            let family = s
+                .meta
+                .as_ref()
+                .and_then(|m| m.get("generator"))
+                .and_then(|g| g.as_str())
+                .unwrap_or("file")
+                .to_string();
+            Ok(LoadedScene {
+                name: s.name,
+                family,
+                problem: s.problem,
+                meta: s.meta.unwrap_or(serde_json::Value::Null),
+            })
+        }
+    }
+}
+
+/// The displacement scale max_c |u0[d_c]| used by relative δ (falls back to max |u0|, then 1).
+pub fn displacement_scale(problem: &Problem, u0: &[f64]) -> f64 {
+    let s = problem
+        .constraints
+        .iter()
+        .map(|c| u0[c.dof].abs())
+        .fold(0.0f64, f64::max);
+    if s > 0.0 {
+        return s;
+    }
+    let s = u0.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    if s > 0.0 {
+        s
+    } else {
+        1.0
+    }
+}
+
+/// One job of a scene: a method with its knob.
+#[derive(Clone, Copy, Debug)]
+pub struct Job {
+    /// The method.
+    pub method: Method,
+    /// Relative δ if δ was given relatively.
+    pub delta_rel: Option<f64>,
+}
+
+/// The jobs of a scene, in row order (lagrange first).
+pub fn jobs(cfg: &SweepConfig, problem: &Problem, u0: Option<&[f64]>) -> Vec<Job> {
+    let scale = u0.map(|u| displacement_scale(problem, u)).unwrap_or(1.0);
+    let deltas: Vec<(f64, Option<f64>)> = cfg
+        .deltas
+        .iter()
+        .map(|&d| (d, None))
+        .chain(cfg.deltas_rel.iter().map(|&r| (r * scale, Some(r))))
+        .collect();
+    // Augmented: a moderate ε, the geometric mean of the constrained diagonal of K.
+    let aug_eps = {
+        let logs: Vec<f64> = problem
+            .constraints
+            .iter()
+            .map(|c| problem.k.diag(c.dof).abs())
+            .filter(|v| *v > 0.0)
+            .map(f64::ln)
+            .collect();
+        if logs.is_empty() {
+            1.0
+        } else {
+            (logs.iter().sum::<f64>() / logs.len() as f64).exp()
+        }
+    };
+    let mut out = vec![Job {
+        method: Method::Lagrange,
+        delta_rel: None,
+    }];
+    for m in &cfg.methods {
+        match m.as_str() {
+            "constant" => out.extend(cfg.eps.values().into_iter().map(|eps| Job {
+                method: Method::Constant { eps },
+                delta_rel: None,
+            })),
+            "scaled" => out.extend(cfg.factors.iter().map(|&factor| Job {
+                method: Method::Scaled { factor },
+                delta_rel: None,
+            })),
+            "spring" | "paper" | "condensed" | "augmented" => {
+                out.extend(deltas.iter().map(|&(delta, delta_rel)| Job {
+                    method: match m.as_str() {
+                        "spring" => Method::Spring { delta },
+                        "paper" => Method::Paper { delta },
+                        "condensed" => Method::Condensed { delta },
+                        _ => Method::Augmented {
+                            eps: aug_eps,
+                            tol: delta,
+                            adaptive: true,
+                        },
+                    },
+                    delta_rel,
+                }))
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
+/// Runs every job of one scene. Errors of single jobs become rows with the error in
+/// `warnings`; only an unreadable scene is an error.
+pub fn run_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<(Vec<Row>, LoadedScene)> {
+    let sc = load(spec, cfg)?;
+    let p = &sc.problem;
+    let set = cfg.metric_set();
+    let prepared = Prepared::new(p);
+    let cond_k = if set.cond {
+        conditioning::cond2(&p.k).ok().map(|c| c.cond2)
+    } else {
+        None
+    };
+    let log_det_k = if set.det {
+        conditioning::log10_abs_det(&p.k).ok()
+    } else {
+        None
+    };
+    let prep = prepared.as_ref().ok();
+    let jobs = jobs(cfg, p, prep.map(|x| x.u0()));
+    let mut rows = Vec::with_capacity(jobs.len());
+    let mut u_ref: Option<Vec<f64>> = None;
+    for job in jobs {
+        let t0 = Instant::now();
+        let mut row = Row {
+            scene: sc.name.clone(),
+            family: sc.family.clone(),
+            n: p.n(),
+            m: p.m(),
+            method: job.method.name().to_string(),
+            delta_rel: job.delta_rel,
+            cond2_k: cond_k,
+            ..Default::default()
+        };
+        match job.method {
+            Method::Constant { eps } => row.eps = Some(eps),
+            Method::Scaled { factor } => row.factor = Some(factor),
+            Method::Spring { delta } | Method::Paper { delta } | Method::Condensed { delta } => {
+                row.delta = Some(delta)
+            }
+            Method::Augmented { eps, tol, .. } => {
+                row.eps = Some(eps);
+                row.delta = Some(tol);
+            }
+            Method::Lagrange => {}
+        }
+        let result = strategy::solve_prepared(p, job.method, prep).and_then(|sol| {
+            let m = metrics::compute_with_k(p, &sol, set, log_det_k)?;
+            Ok((sol, m))
+        });
+        match result {
+            Ok((sol, m)) => {
+                let pen: Vec<f64> = sol.penalties.iter().copied().filter(|e| *e > 0.0).collect();
+                if !pen.is_empty() {
+                    row.eps_min = Some(pen.iter().copied().fold(f64::INFINITY, f64::min));
+                    row.eps_max = Some(pen.iter().copied().fold(0.0, f64::max));
+                }
+                row.active = sol.stats.active_set_sizes.last().copied();
+                row.cond2_system = m.cond2_system.map(|c| c.cond2);
+                row.cond_route = m.cond2_system.map(|c| c.route.name().to_string());
+                row.log10_det_ratio = m.log10_det_ratio;
+                row.max_penetration = Some(sol.max_penetration);
+                if matches!(job.method, Method::Lagrange) {
+                    u_ref = Some(sol.u.clone());
+                }
+                row.error_vs_exact = u_ref
+                    .as_ref()
+                    .map(|r| metrics::relative_error(&sol.u, r));
+                row.linear_solves = Some(sol.stats.linear_solves);
+                row.iterations = Some(sol.stats.iterations);
+                let mut w = sol.warnings.clone();
+                w.extend(metrics::precision_warnings(&m));
+                row.warnings = w.join("; ");
+            }
+            Err(e) => row.warnings = format!("error: {e}"),
+        }
+        row.seconds = Some(t0.elapsed().as_secs_f64());
+        rows.push(row);
+    }
+    Ok((rows, sc))
+}
+
+/// Options of a sweep run that do not change its rows.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    /// Output folder.
+    pub out: PathBuf,
+    /// Worker threads (`None`: rayon's default).
+    pub threads: Option<usize>,
+    /// Shard `(k, n)`.
+    pub shard: Option<(usize, usize)>,
+    /// Continue an interrupted run in `out`.
+    pub resume: bool,
+    /// Also write every scene as a scene file here.
+    pub write_scenes: Option<PathBuf>,
+    /// Show a progress bar (hidden anyway when stderr is not a terminal).
+    pub progress: bool,
+}
+
+/// What a run did.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunSummary {
+    /// Scenes in this shard.
+    pub scenes: usize,
+    /// Scenes skipped because `--resume` found them complete.
+    pub resumed_scenes: usize,
+    /// Rows written by this invocation.
+    pub rows_written: usize,
+    /// Wall time (s).
+    pub wall_seconds: f64,
+    /// Rows per second.
+    pub rows_per_second: f64,
+}
+
+fn git_commit() -> String {
+    std::process::Command::new("git")
+        .args(["rev-parse", "HEAD"])
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .and_then(|o| String::from_utf8(o.stdout).ok())
+        .map(|s| s.trim().to_string())
+        .unwrap_or_else(|| "unknown".into())
+}
+
+/// Versions of the main crates, read from Cargo.lock at build time.
+pub fn crate_versions() -> serde_json::Value {
+    let mut m = serde_json::Map::new();
+    m.insert("penalty-lab".into(), env!("CARGO_PKG_VERSION").into());
+    for line in env!("PENALTY_LAB_DEP_VERSIONS").split(';') {
+        if let Some((k, v)) = line.split_once('=') {
+            m.insert(k.into(), v.into());
+        }
+    }
+    serde_json::Value::Object(m)
+}
+
+fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    let tmp = path.with_extension("tmp");
+    std::fs::write(&tmp, bytes).map_err(|e| Error::io(tmp.display(), e))?;
+    std::fs::rename(&tmp, path).map_err(|e| Error::io(path.display(), e))
+}
+
+/// Runs the sweep: writes `out/rows.csv` and `out/manifest.json` (figures are rendered by the
+/// caller from rows.csv).
+pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
+    cfg.validate()?;
+    let t_start = Instant::now();
+    let all = plan(cfg)?;
+    let (k, n) = opts.shard.unwrap_or((1, 1));
+    let range = shard_range(all.len(), k, n);
+    let specs: Vec<(usize, SceneSpec)> = all[range.clone()]
+        .iter()
+        .cloned()
+        .enumerate()
+        .map(|(i, s)| (range.start + i, s))
+        .collect();
+    std::fs::create_dir_all(&opts.out).map_err(|e| Error::io(opts.out.display(), e))?;
+    if let Some(d) = &opts.write_scenes {
+        std::fs::create_dir_all(d).map_err(|e| Error::io(d.display(), e))?;
+    }
+    let rows_path = opts.out.join("rows.csv");
+    let manifest_path = opts.out.join("manifest.json");
+    let config_json = serde_json::to_value(cfg).map_err(|e| Error::Numerical(e.to_string()))?;
+    let per_scene = cfg.rows_per_scene();
+
+    // Resume: keep the complete scenes at the head of rows.csv.
+    let mut done = 0usize;
+    if opts.resume && rows_path.exists() {
+        let old: serde_json::Value = std::fs::read_to_string(&manifest_path)
+            .ok()
+            .and_then(|t| serde_json::from_str(&t).ok())
+            .ok_or_else(|| {
+                Error::io(
+                    manifest_path.display(),
+                    "cannot resume: manifest.json missing or unreadable",
+                )
+            })?;
+        if old.get("config") != Some(&config_json) || old.get("shard") != Some(&serde_json::json!([k, n])) {
+            return Err(Error::input(format!(
+                "cannot resume in {}: it was produced with a different config or shard; use another --out",
+                opts.out.display()
+            )));
+        }
+        let (rows, _) = rows::read_rows(&rows_path, true)?;
+        done = rows.len() / per_scene;
+        let keep = &rows[..done * per_scene];
+        let mut text = rows::header();
+        text.push_str(&rows::format_rows(keep));
+        write_atomic(&rows_path, text.as_bytes())?;
+    } else {
+        write_atomic(&rows_path, rows::header().as_bytes())?;
+    }
+    let todo = &specs[done.min(specs.len())..];
+
+    let mut manifest = serde_json::json!({
+        "tool": "penalty-lab sweep",
+        "git_commit": git_commit(),
+        "config": config_json,
+        "seed": cfg.seed,
+        "crate_versions": crate_versions(),
+        "threads": opts.threads.unwrap_or_else(rayon::current_num_threads),
+        "shard": [k, n],
+        "scenes": specs.len(),
+        "rows_per_scene": per_scene,
+        "status": "running",
+    });
+    write_atomic(
+        &manifest_path,
+        serde_json::to_string_pretty(&manifest)
+            .expect("json")
+            .as_bytes(),
+    )?;
+
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(opts.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| Error::input(format!("cannot start {:?} threads: {e}", opts.threads)))?;
+    faer::set_global_parallelism(faer::Par::Seq);
+    let bar = if opts.progress {
+        indicatif::ProgressBar::with_draw_target(
+            Some(specs.len() as u64),
+            indicatif::ProgressDrawTarget::stderr(),
+        )
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(
+            "{spinner} sweep [{bar:40}] {pos}/{len} scenes {per_sec} eta {eta} {msg}",
+        )
+        .expect("valid template")
+        .progress_chars("=> "),
+    );
+    bar.set_position(done as u64);
+
+    let mut file = std::fs::OpenOptions::new()
+        .append(true)
+        .open(&rows_path)
+        .map_err(|e| Error::io(rows_path.display(), e))?;
+    let (tx, rx) = std::sync::mpsc::channel::<(usize, Result<(Vec<Row>, String)>)>();
+    let write_scenes = opts.write_scenes.clone();
+    let mut rows_written = 0usize;
+    let mut first_error: Option<Error> = None;
+    std::thread::scope(|s| {
+        s.spawn(|| {
+            pool.install(|| {
+                use rayon::prelude::*;
+                todo.par_iter().enumerate().for_each_with(tx, |tx, (i, (_, spec))| {
+                    let r = run_scene(spec, cfg).and_then(|(rows, sc)| {
+                        if let Some(d) = &write_scenes {
+                            let path = d.join(format!("{}.scene.json", sc.name));
+                            scene::write_scene(&path, &sc.name, &sc.problem, Some(&sc.meta), 400)?;
+                        }
+                        Ok((rows, sc.name))
+                    });
+                    let _ = tx.send((i, r));
+                });
+            });
+        });
+        // Reorder buffer: write scenes in order as soon as the prefix is complete.
+        let mut pending: BTreeMap<usize, Result<(Vec<Row>, String)>> = BTreeMap::new();
+        let mut next = 0usize;
+        for (i, r) in rx {
+            pending.insert(i, r);
+            while let Some(r) = pending.remove(&next) {
+                next += 1;
+                bar.inc(1);
+                match r {
+                    Ok((rows, name)) => {
+                        if first_error.is_none() {
+                            let text = rows::format_rows(&rows);
+                            if let Err(e) = file.write_all(text.as_bytes()).and_then(|_| file.flush())
+                            {
+                                first_error = Some(Error::io(rows_path.display(), e));
+                            }
+                            rows_written += rows.len();
+                            bar.set_message(name);
+                        }
+                    }
+                    Err(e) => {
+                        if first_error.is_none() {
+                            first_error = Some(e);
+                        }
+                    }
+                }
+            }
+        }
+    });
+    bar.finish_and_clear();
+    if let Some(e) = first_error {
+        return Err(e);
+    }
+    let wall = t_start.elapsed().as_secs_f64();
+    let summary = RunSummary {
+        scenes: specs.len(),
+        resumed_scenes: done.min(specs.len()),
+        rows_written,
+        wall_seconds: wall,
+        rows_per_second: rows_written as f64 / wall.max(1e-9),
+    };
+    manifest["status"] = "complete".into();
+    manifest["wall_seconds"] = wall.into();
+    manifest["rows_written"] = rows_written.into();
+    manifest["rows_per_second"] = summary.rows_per_second.into();
+    manifest["resumed_scenes"] = summary.resumed_scenes.into();
+    write_atomic(
+        &manifest_path,
+        serde_json::to_string_pretty(&manifest)
+            .expect("json")
+            .as_bytes(),
+    )?;
+    Ok(summary)
+}
