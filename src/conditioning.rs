@@ -151,10 +151,10 @@ fn log10_abs_det_dense_lu(a: &Stiffness) -> Result<f64> {
 /// Independent reference implementations for cross-checks.
 ///
 /// Nothing here is used by the library's own metrics: these functions recompute the same
-/// quantities with other libraries (nalgebra always; LAPACK — system OpenBLAS — behind the
-/// `lapack` feature) so that `tests/cross_check.rs` can compare them with [`cond2`] and
-/// [`log10_abs_det`]. They densify their input and panic on a LAPACK error (`info ≠ 0`), which
-/// is what a test wants.
+/// quantities with other libraries (nalgebra always; LAPACK — the system OpenBLAS, linked
+/// directly — behind the `lapack` feature) so that `tests/cross_check.rs` can compare them
+/// with [`cond2`] and [`log10_abs_det`]. They densify their input and panic on a LAPACK error
+/// (`info ≠ 0`), which is what a test wants.
 ///
 /// nalgebra-lapack 0.28's `SymmetricEigen::eigenvalues()` panics (it passes an invalid `jobz`
 /// to DSYEV) and its `SVD::new` always computes U and Vᵀ, so the LAPACK routes call the
@@ -162,9 +162,11 @@ fn log10_abs_det_dense_lu(a: &Stiffness) -> Result<f64> {
 pub mod reference {
     use crate::system::Stiffness;
 
-    // Links the system OpenBLAS that provides the LAPACK symbols.
+    // The `lapack` crate only declares the Fortran symbols: link the system OpenBLAS
+    // (libopenblas-dev), which provides them.
     #[cfg(feature = "lapack")]
-    extern crate openblas_src as _;
+    #[link(name = "openblas")]
+    extern "C" {}
 
     fn to_nalgebra(a: &Stiffness) -> nalgebra::DMatrix<f64> {
         let n = a.n();

@@ -4,7 +4,8 @@
 //!
 //! which puts a lone spring exactly at `u = û + sδ`. For `s = −1` this is the paper's Eq. 17,
 //! `ε = (k(û − δ) − q) / δ`. Unilateral constraints use the side of their obstacle
-//! (`upper`: s = +1, `lower`: s = −1); bilateral ones the side of the unconstrained solution.
+//! (`upper`: s = +1, `lower`: s = −1) whenever they are active; bilateral ones the side of the
+//! unconstrained solution (and no penalty when `|g0_c| ≤ δ`).
 //!
 //! When to use: a sanity baseline. In a coupled system the rest of the structure also carries
 //! load, so the penetration is not δ; when `|q_d|` is small the formula goes negative (warned
@@ -24,13 +25,14 @@ pub fn solve(ctx: Context, delta: f64) -> Result<Solution> {
             .iter()
             .enumerate()
             .map(|(c, con)| {
-                if !active[c] || con.kind.penetration(g0[c]) <= delta {
-                    // Not violated, or already within δ without a penalty.
+                if !active[c] {
                     return 0.0;
                 }
                 let s = match con.kind {
                     ConstraintKind::Upper => 1.0,
                     ConstraintKind::Lower => -1.0,
+                    // A bilateral tie already within δ of u0 needs no penalty.
+                    ConstraintKind::Bilateral if g0[c].abs() <= delta => return 0.0,
                     ConstraintKind::Bilateral => g0[c].signum(),
                 };
                 let k = p.k.diag(con.dof);
