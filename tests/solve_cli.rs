@@ -1,0 +1,167 @@
+//! The `solve` binary: the scene contract of methods.md on the shipped paper-beam scene, and
+//! exit status 2 with one clear line on stderr for every kind of bad input.
+
+use penalty_lab::model::beam::paper;
+use penalty_lab::scene;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/paper_beam.scene.json");
+
+fn solve(args: &[&str]) -> (i32, String, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_solve"))
+        .args(args)
+        .output()
+        .expect("run solve");
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&o.stdout).into(),
+        String::from_utf8_lossy(&o.stderr).into(),
+    )
+}
+
+fn tmpdir(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("pl-solve-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn printed(a: f64, b: f64, decimals: i32) -> bool {
+    (a - b).abs() <= 0.5 * 10f64.powi(-decimals) * (1.0 + 1e-12)
+}
+
+#[test]
+fn shipped_scene_is_the_model_beam() {
+    let s = scene::read_scene(Path::new(SCENE)).unwrap();
+    let p = paper::problem();
+    assert_eq!(s.problem.q, p.q);
+    assert_eq!(s.problem.constraints, p.constraints);
+    for i in 0..9 {
+        for j in 0..9 {
+            assert_eq!(s.problem.k.get(i, j), p.k.get(i, j));
+        }
+    }
+}
+
+#[test]
+fn paper_method_reproduces_eq35_and_cond() {
+    let (code, out, err) = solve(&[SCENE, "--method", "paper", "--delta", "0.1", "--json"]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let eps: Vec<f64> = serde_json::from_value(v["penalties"].clone()).unwrap();
+    assert!(printed(eps[0], 501.9, 1) && printed(eps[1], 1390.0, 0) && printed(eps[2], 557.0, 0));
+    assert!(printed(v["cond2_system"].as_f64().unwrap(), 513.871, 3));
+    // uw(K) = 4.572e4, |K| = 4.597e11, |K + ε| = 1.948e20 (4 significant digits).
+    assert!((v["cond2_K"].as_f64().unwrap() - 4.572e4).abs() <= 0.5e1);
+    let dk = 10f64.powf(v["log10_det_K"].as_f64().unwrap());
+    assert!((dk - 4.597e11).abs() <= 0.5e8);
+    let ds = 10f64.powf(v["log10_det_system"].as_f64().unwrap());
+    assert!((ds - 1.948e20).abs() <= 0.5e17);
+    for key in [
+        "method",
+        "u",
+        "gaps",
+        "max_penetration",
+        "log10_det_ratio",
+        "linear_solves",
+        "iterations",
+        "warnings",
+    ] {
+        assert!(!v[key].is_null(), "missing {key}");
+    }
+    assert_eq!(v["warnings"].as_array().unwrap().len(), 0);
+}
+
+#[test]
+fn every_method_runs_on_the_scene_and_on_matrix_market() {
+    let d = tmpdir("mm");
+    let p = paper::problem();
+    // Force the Matrix Market route (threshold 0).
+    let f = d.join("beam.scene.json");
+    scene::write_scene(&f, "beam-mm", &p, None, 0).unwrap();
+    assert!(d.join("beam.mtx").exists());
+    for file in [SCENE, f.to_str().unwrap()] {
+        for args in [
+            vec!["--method", "constant", "--eps", "1e4"],
+            vec!["--method", "scaled", "--factor", "100"],
+            vec!["--method", "spring", "--delta", "0.1"],
+            vec!["--method", "paper", "--delta", "0.1"],
+            vec!["--method", "condensed", "--delta", "0.1"],
+            vec!["--method", "lagrange"],
+            vec!["--method", "augmented", "--adaptive"],
+        ] {
+            let mut a = vec![file];
+            a.extend(args.iter().copied());
+            a.push("--json");
+            let (code, out, err) = solve(&a);
+            assert_eq!(code, 0, "{a:?}: {err}");
+            let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+            assert!(v["cond2_system"].as_f64().unwrap() > 1.0);
+        }
+    }
+    // Without --json: a readable table.
+    let (code, out, _) = solve(&[SCENE, "--method", "condensed", "--delta", "0.1"]);
+    assert_eq!(code, 0);
+    assert!(out.contains("cond2_system") && out.contains("penalties"));
+}
+
+fn assert_bad(args: &[&str], needle: &str) {
+    let (code, out, err) = solve(args);
+    assert_eq!(code, 2, "{args:?}: stdout {out} stderr {err}");
+    assert!(out.is_empty(), "{args:?}: stdout not empty: {out}");
+    assert!(
+        err.to_lowercase().contains(&needle.to_lowercase()),
+        "{args:?}: stderr {err:?} lacks {needle:?}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn bad_inputs_exit_2_with_a_clear_message() {
+    let d = tmpdir("bad");
+    let w = |name: &str, text: &str| {
+        let p = d.join(name);
+        std::fs::write(&p, text).unwrap();
+        p.to_str().unwrap().to_string()
+    };
+    assert_bad(&[SCENE, "--method", "paper", "--delta", "0"], "> 0");
+    assert_bad(&[SCENE, "--method", "paper", "--delta", "-1"], "> 0");
+    assert_bad(&[SCENE, "--method", "paper", "--delta", "NaN"], "> 0");
+    assert_bad(&[SCENE, "--method", "paper"], "--delta");
+    assert_bad(&[SCENE, "--method", "bogus"], "condensed");
+    assert_bad(&["/nonexistent/x.scene.json", "--method", "lagrange"], "nonexistent");
+    let malformed = w("malformed.scene.json", "{\"name\": \"x\", ");
+    assert_bad(&[&malformed, "--method", "lagrange"], "line");
+    let oob = w(
+        "oob.scene.json",
+        r#"{"name":"x","stiffness":{"dense":[[2,0],[0,2]]},"load":[1,1],
+            "constraints":[{"dof":5,"limit":0,"kind":"upper"}]}"#,
+    );
+    assert_bad(&[&oob, "--method", "lagrange"], "out of range");
+    let sizes = w(
+        "sizes.scene.json",
+        r#"{"name":"x","stiffness":{"dense":[[2,0],[0,2]]},"load":[1,1,1],
+            "constraints":[]}"#,
+    );
+    assert_bad(&[&sizes, "--method", "lagrange"], "load");
+    let inf = w(
+        "inf.scene.json",
+        r#"{"name":"x","stiffness":{"dense":[[1e999,0],[0,2]]},"load":[1,1],
+            "constraints":[]}"#,
+    );
+    assert_bad(&[&inf, "--method", "lagrange"], "finite");
+    // Singular K where the method needs K⁻¹.
+    let sing = w(
+        "sing.scene.json",
+        r#"{"name":"x","stiffness":{"dense":[[1,-1],[-1,1]]},"load":[1,0],
+            "constraints":[{"dof":0,"limit":0,"kind":"bilateral"}]}"#,
+    );
+    assert_bad(&[&sing, "--method", "condensed", "--delta", "0.1"], "singular");
+    // Malformed Matrix Market.
+    w("K.mtx", "%%MatrixMarket matrix coordinate real general\n2 2 1\n1 1\n");
+    let mm = w(
+        "mm.scene.json",
+        r#"{"name":"x","stiffness":{"matrix_market":"K.mtx"},"load":[1,1],"constraints":[]}"#,
+    );
+    assert_bad(&[&mm, "--method", "lagrange"], "K.mtx");
+}
