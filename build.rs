@@ -2,7 +2,14 @@
 fn main() {
     println!("cargo:rerun-if-changed=Cargo.lock");
     let lock = std::fs::read_to_string("Cargo.lock").unwrap_or_default();
-    let wanted = ["faer", "nalgebra", "rayon", "plotters", "rand_chacha", "serde_json"];
+    let wanted = [
+        "faer",
+        "nalgebra",
+        "rayon",
+        "plotters",
+        "rand_chacha",
+        "serde_json",
+    ];
     let mut out = Vec::new();
     let mut name: Option<String> = None;
     for line in lock.lines() {

@@ -38,7 +38,7 @@ struct Args {
     /// Penalty ε for constant and augmented.
     #[arg(long, allow_negative_numbers = true)]
     eps: Option<f64>,
-    /// Factor f for scaled (ε_c = f·K[d,d]).
+    /// Factor f for scaled (ε_c = f times the diagonal entry of K at the DOF).
     #[arg(long, allow_negative_numbers = true)]
     factor: Option<f64>,
     /// Penetration tolerance for augmented.

@@ -138,7 +138,10 @@ fn render(out: &std::path::Path) -> Result<usize, Error> {
 fn run(a: &Args) -> Result<(), Error> {
     if a.render_only {
         let n = render(&a.out)?;
-        eprintln!("rendered {n} figure files into {}", a.out.join("figures").display());
+        eprintln!(
+            "rendered {n} figure files into {}",
+            a.out.join("figures").display()
+        );
         return Ok(());
     }
     let cfg = config(a)?;
@@ -166,7 +169,10 @@ fn run(a: &Args) -> Result<(), Error> {
     );
     if !a.no_figures {
         let n = render(&a.out)?;
-        eprintln!("rendered {n} figure files into {}", a.out.join("figures").display());
+        eprintln!(
+            "rendered {n} figure files into {}",
+            a.out.join("figures").display()
+        );
     }
     Ok(())
 }

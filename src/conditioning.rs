@@ -12,7 +12,7 @@
 //! `log10|det A|` is read off a factorization (never the raw determinant, which overflows at
 //! n ≈ 1600): the determinant ratio of the paper is `log10|det(K+DEDᵀ)| − log10|det K|`.
 //!
-//! The [`reference`] module recomputes cond₂ with nalgebra (and LAPACK behind the `lapack`
+//! The [`reference`](mod@reference) module recomputes cond₂ with nalgebra (and LAPACK behind the `lapack`
 //! feature) as an independent cross-check.
 
 use crate::error::{Error, Result};

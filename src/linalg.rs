@@ -63,9 +63,8 @@ impl SparseLlt {
     ) -> Option<Self> {
         let mut values = vec![0.0; symbolic.len_val()];
         let par = Par::Seq;
-        let mut mem = MemBuffer::new(
-            symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
-        );
+        let mut mem =
+            MemBuffer::new(symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()));
         let ok = symbolic
             .factorize_numeric_llt(
                 &mut values,

@@ -123,7 +123,12 @@ pub fn precision_warnings(m: &Metrics) -> Vec<String> {
 
 /// Relative error `‖u − u_ref‖₂ / ‖u_ref‖₂` (absolute if u_ref = 0).
 pub fn relative_error(u: &[f64], u_ref: &[f64]) -> f64 {
-    let num: f64 = u.iter().zip(u_ref).map(|(a, b)| (a - b).powi(2)).sum::<f64>().sqrt();
+    let num: f64 = u
+        .iter()
+        .zip(u_ref)
+        .map(|(a, b)| (a - b).powi(2))
+        .sum::<f64>()
+        .sqrt();
     let den: f64 = u_ref.iter().map(|b| b * b).sum::<f64>().sqrt();
     if den > 0.0 {
         num / den

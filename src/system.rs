@@ -288,7 +288,10 @@ impl Problem {
 
     /// Signed gaps `g_c = u[d_c] − û_c`.
     pub fn gaps(&self, u: &[f64]) -> Vec<f64> {
-        self.constraints.iter().map(|c| u[c.dof] - c.limit).collect()
+        self.constraints
+            .iter()
+            .map(|c| u[c.dof] - c.limit)
+            .collect()
     }
 
     /// Penetrations `p_c` (see module docs).

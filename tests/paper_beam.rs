@@ -65,7 +65,11 @@ fn eq31_determinant_and_condition_number() {
     let p = paper::problem();
     let ld = conditioning::log10_abs_det(&p.k).unwrap();
     // |K| = 4.597e11 (4 significant digits).
-    assert!(printed_sig(10f64.powf(ld), 4.597e11, 4), "det K = {}", 10f64.powf(ld));
+    assert!(
+        printed_sig(10f64.powf(ld), 4.597e11, 4),
+        "det K = {}",
+        10f64.powf(ld)
+    );
     let c = conditioning::cond2(&p.k).unwrap();
     // uw(K) = 4.572e4.
     assert!(printed_sig(c.cond2, 4.572e4, 4), "cond K = {}", c.cond2);

@@ -129,7 +129,10 @@ fn bad_inputs_exit_2_with_a_clear_message() {
     assert_bad(&[SCENE, "--method", "paper", "--delta", "NaN"], "> 0");
     assert_bad(&[SCENE, "--method", "paper"], "--delta");
     assert_bad(&[SCENE, "--method", "bogus"], "condensed");
-    assert_bad(&["/nonexistent/x.scene.json", "--method", "lagrange"], "nonexistent");
+    assert_bad(
+        &["/nonexistent/x.scene.json", "--method", "lagrange"],
+        "nonexistent",
+    );
     let malformed = w("malformed.scene.json", "{\"name\": \"x\", ");
     assert_bad(&[&malformed, "--method", "lagrange"], "line");
     let oob = w(
@@ -156,9 +159,15 @@ fn bad_inputs_exit_2_with_a_clear_message() {
         r#"{"name":"x","stiffness":{"dense":[[1,-1],[-1,1]]},"load":[1,0],
             "constraints":[{"dof":0,"limit":0,"kind":"bilateral"}]}"#,
     );
-    assert_bad(&[&sing, "--method", "condensed", "--delta", "0.1"], "singular");
+    assert_bad(
+        &[&sing, "--method", "condensed", "--delta", "0.1"],
+        "singular",
+    );
     // Malformed Matrix Market.
-    w("K.mtx", "%%MatrixMarket matrix coordinate real general\n2 2 1\n1 1\n");
+    w(
+        "K.mtx",
+        "%%MatrixMarket matrix coordinate real general\n2 2 1\n1 1\n",
+    );
     let mm = w(
         "mm.scene.json",
         r#"{"name":"x","stiffness":{"matrix_market":"K.mtx"},"load":[1,1],"constraints":[]}"#,

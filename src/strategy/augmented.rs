@@ -82,14 +82,7 @@ pub fn solve(mut ctx: Context, eps: f64, tol: f64, adaptive: bool) -> Result<Sol
                      multiplier updates"
                 ));
             }
-            return Ok(ctx.finish(
-                method,
-                u,
-                e,
-                Some(lambda),
-                SystemKind::Penalized,
-                warnings,
-            ));
+            return Ok(ctx.finish(method, u, e, Some(lambda), SystemKind::Penalized, warnings));
         }
         if adaptive {
             for c in 0..m {

@@ -4,7 +4,7 @@
 //! When to use: when a good ε is known. Too small and contact leaks (penetration ∝ 1/ε), too
 //! large and cond(K + εDDᵀ) grows ∝ ε.
 
-use super::{Context, penalty_active_set, Method, Solution};
+use super::{penalty_active_set, Context, Method, Solution};
 use crate::error::Result;
 
 /// Solves with the constant penalty ε (> 0, validated by [`Method::from_name`]).

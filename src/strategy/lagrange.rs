@@ -98,9 +98,7 @@ pub fn solve(mut ctx: Context) -> Result<Solution> {
             let g = u[con.dof] - con.limit;
             match (active[c], con.kind) {
                 (_, ConstraintKind::Bilateral) => {}
-                (true, ConstraintKind::Upper) if lambda[c] < 0.0 => {
-                    changes.push((-lambda[c], c))
-                }
+                (true, ConstraintKind::Upper) if lambda[c] < 0.0 => changes.push((-lambda[c], c)),
                 (true, ConstraintKind::Lower) if lambda[c] > 0.0 => changes.push((lambda[c], c)),
                 (false, k) if k.penetration(g) > tol => changes.push((k.penetration(g), c)),
                 _ => {}

@@ -4,7 +4,7 @@
 //! |---|---|---|---|
 //! | [`constant`] | ε | ε_c = ε | Eq. 9 |
 //! | [`scaled`] | factor f | ε_c = f · K[d_c, d_c] | — |
-//! | [`spring`] | δ | ε_c = (q_d − k(û + sδ)) / (sδ), k = K[d,d], s = sign g0_c | Eq. 17 |
+//! | [`spring`] | δ | ε_c = (q_d − k(û + sδ)) / (sδ), k = K\[d,d\], s = sign g0_c | Eq. 17 |
 //! | [`paper`] | δ | ε_c = (\|K̄û − q̄\|_c − (K̄δ1)_c) / δ, K̄ = DᵀKD | Eq. 26–29 |
 //! | [`condensed`] | δ | ε = S⁻¹(g0 − g*) ./ g*, S = DᵀK⁻¹D, \|g*_c\| = δ | (ours) |
 //! | [`lagrange`] | — | saddle point `[K D; Dᵀ 0]`, active set | exact |
@@ -201,7 +201,7 @@ pub struct Solution {
     pub u: Vec<f64>,
     /// ε_c per constraint (0 where unpenalized; 0 for `lagrange`).
     pub penalties: Vec<f64>,
-    /// Signed gaps g_c = u[d_c] − û_c.
+    /// Signed gaps g_c = u\[d_c\] − û_c.
     pub gaps: Vec<f64>,
     /// Contact forces r_c (K u = q − D r): `ε_c g_c` for penalties, multipliers otherwise.
     pub forces: Vec<f64>,

@@ -9,7 +9,7 @@
 //! an order of magnitude (Eq. 37); see [`super::condensed`] for the exact version. A negative
 //! ε̄ (e.g. a tool node with no load of its own) is warned and clipped to 0.
 
-use super::{Context, clip_negative, penalty_active_set, Method, Solution};
+use super::{clip_negative, penalty_active_set, Context, Method, Solution};
 use crate::error::Result;
 use crate::system::Problem;
 

@@ -4,7 +4,7 @@
 //! When to use: a dimensionless knob that adapts to the units and to the local stiffness; the
 //! penetration still depends on the load (it is not a δ).
 
-use super::{Context, penalty_active_set, Method, Solution};
+use super::{penalty_active_set, Context, Method, Solution};
 use crate::error::Result;
 
 /// Solves with `ε_c = factor · K[d_c, d_c]`.

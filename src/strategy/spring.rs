@@ -11,7 +11,7 @@
 //! load, so the penetration is not δ; when `|q_d|` is small the formula goes negative (warned
 //! and clipped to 0).
 
-use super::{Context, clip_negative, penalty_active_set, Method, Solution};
+use super::{clip_negative, penalty_active_set, Context, Method, Solution};
 use crate::error::Result;
 use crate::system::ConstraintKind;
 

@@ -235,7 +235,9 @@ fn beam(rng: &mut ChaCha8Rng, cfg: &GeneratorConfig) -> Result<(Problem, serde_j
     // Loads: a main transverse load at a random free node, small random nodal loads, axial.
     let mut q = vec![0.0; n];
     let p_main = log_uniform(rng, 0.5, 50.0) * if rng.random_bool(0.5) { 1.0 } else { -1.0 };
-    let free_nodes: Vec<usize> = (1..n_nodes).filter(|&i| frame.dof(i, 1).is_some()).collect();
+    let free_nodes: Vec<usize> = (1..n_nodes)
+        .filter(|&i| frame.dof(i, 1).is_some())
+        .collect();
     let main_node = free_nodes[rng.random_range(0..free_nodes.len())];
     q[frame.dof(main_node, 1).expect("free")] += p_main;
     for &i in &free_nodes {

@@ -4,7 +4,7 @@
 //! * Knobs: ε on a log grid for `constant`, factors for `scaled`, δ values for `spring`,
 //!   `paper`, `condensed` and `augmented` (tolerance), and one `lagrange` row per scene — the
 //!   exact reference that `error_vs_exact` is measured against. δ is absolute (`deltas`) or
-//!   relative to the scene's displacement scale (`deltas_rel`: δ = R · max_c |u0[d_c]|).
+//!   relative to the scene's displacement scale (`deltas_rel`: δ = R · max_c |u0\[d_c\]|).
 //! * Scenes are numbered globally (families in the given order, then index); shard `K/N` takes
 //!   the K-th of N contiguous blocks, so shard outputs concatenate into the unsharded output.
 //! * Rows of a scene are written together and flushed, in scene order (a reorder buffer keeps
@@ -110,7 +110,7 @@ pub struct SweepConfig {
     pub factors: Vec<f64>,
     /// Absolute δ values.
     pub deltas: Vec<f64>,
-    /// Relative δ values (δ = R · max_c |u0[d_c]|).
+    /// Relative δ values (δ = R · max_c |u0\[d_c\]|).
     pub deltas_rel: Vec<f64>,
     /// Methods to run (`lagrange` always runs: it is the reference).
     pub methods: Vec<String>,
@@ -125,7 +125,10 @@ pub struct SweepConfig {
 impl Default for SweepConfig {
     fn default() -> Self {
         SweepConfig {
-            families: generate::FAMILY_NAMES.iter().map(|s| s.to_string()).collect(),
+            families: generate::FAMILY_NAMES
+                .iter()
+                .map(|s| s.to_string())
+                .collect(),
             count: 8,
             seed: 2011,
             eps: LogGrid {
@@ -285,7 +288,11 @@ pub fn shard_range(total: usize, k: usize, n: usize) -> std::ops::Range<usize> {
 
 /// Parses `K/N` (1 ≤ K ≤ N).
 pub fn parse_shard(s: &str) -> Result<(usize, usize)> {
-    let bad = || Error::input(format!("malformed shard '{s}': expected K/N with 1 ≤ K ≤ N"));
+    let bad = || {
+        Error::input(format!(
+            "malformed shard '{s}': expected K/N with 1 ≤ K ≤ N"
+        ))
+    };
     let (a, b) = s.split_once('/').ok_or_else(bad)?;
     let k: usize = a.trim().parse().map_err(|_| bad())?;
     let n: usize = b.trim().parse().map_err(|_| bad())?;
@@ -338,7 +345,7 @@ pub fn load(spec: &SceneSpec, cfg: &SweepConfig) -> Result<LoadedScene> {
     }
 }
 
-/// The displacement scale max_c |u0[d_c]| used by relative δ (falls back to max |u0|, then 1).
+/// The displacement scale max_c |u0\[d_c\]| used by relative δ (falls back to max |u0|, then 1).
 pub fn displacement_scale(problem: &Problem, u0: &[f64]) -> f64 {
     let s = problem
         .constraints
@@ -488,9 +495,7 @@ pub fn run_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<(Vec<Row>, Loade
                 if matches!(job.method, Method::Lagrange) {
                     u_ref = Some(sol.u.clone());
                 }
-                row.error_vs_exact = u_ref
-                    .as_ref()
-                    .map(|r| metrics::relative_error(&sol.u, r));
+                row.error_vs_exact = u_ref.as_ref().map(|r| metrics::relative_error(&sol.u, r));
                 row.linear_solves = Some(sol.stats.linear_solves);
                 row.iterations = Some(sol.stats.iterations);
                 let mut w = sol.warnings.clone();
@@ -601,7 +606,9 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
                     "cannot resume: manifest.json missing or unreadable",
                 )
             })?;
-        if old.get("config") != Some(&config_json) || old.get("shard") != Some(&serde_json::json!([k, n])) {
+        if old.get("config") != Some(&config_json)
+            || old.get("shard") != Some(&serde_json::json!([k, n]))
+        {
             return Err(Error::input(format!(
                 "cannot resume in {}: it was produced with a different config or shard; use another --out",
                 opts.out.display()
@@ -671,16 +678,24 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
         s.spawn(|| {
             pool.install(|| {
                 use rayon::prelude::*;
-                todo.par_iter().enumerate().for_each_with(tx, |tx, (i, (_, spec))| {
-                    let r = run_scene(spec, cfg).and_then(|(rows, sc)| {
-                        if let Some(d) = &write_scenes {
-                            let path = d.join(format!("{}.scene.json", sc.name));
-                            scene::write_scene(&path, &sc.name, &sc.problem, Some(&sc.meta), 400)?;
-                        }
-                        Ok((rows, sc.name))
+                todo.par_iter()
+                    .enumerate()
+                    .for_each_with(tx, |tx, (i, (_, spec))| {
+                        let r = run_scene(spec, cfg).and_then(|(rows, sc)| {
+                            if let Some(d) = &write_scenes {
+                                let path = d.join(format!("{}.scene.json", sc.name));
+                                scene::write_scene(
+                                    &path,
+                                    &sc.name,
+                                    &sc.problem,
+                                    Some(&sc.meta),
+                                    400,
+                                )?;
+                            }
+                            Ok((rows, sc.name))
+                        });
+                        let _ = tx.send((i, r));
                     });
-                    let _ = tx.send((i, r));
-                });
             });
         });
         // Reorder buffer: write scenes in order as soon as the prefix is complete.
@@ -695,7 +710,8 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
                     Ok((rows, name)) => {
                         if first_error.is_none() {
                             let text = rows::format_rows(&rows);
-                            if let Err(e) = file.write_all(text.as_bytes()).and_then(|_| file.flush())
+                            if let Err(e) =
+                                file.write_all(text.as_bytes()).and_then(|_| file.flush())
                             {
                                 first_error = Some(Error::io(rows_path.display(), e));
                             }

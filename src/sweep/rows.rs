@@ -28,7 +28,7 @@ pub struct Row {
     pub factor: Option<f64>,
     /// Knob δ, absolute (spring, paper, condensed; tolerance for augmented).
     pub delta: Option<f64>,
-    /// δ relative to the scene's displacement scale max_c |u0[d_c]| (when given so).
+    /// δ relative to the scene's displacement scale max_c |u0\[d_c\]| (when given so).
     pub delta_rel: Option<f64>,
     /// Smallest nonzero penalty used.
     pub eps_min: Option<f64>,
@@ -158,7 +158,9 @@ fn parse_opt<T: std::str::FromStr>(s: &str) -> std::result::Result<Option<T>, St
     if s.is_empty() {
         Ok(None)
     } else {
-        s.parse::<T>().map(Some).map_err(|_| format!("bad number '{s}'"))
+        s.parse::<T>()
+            .map(Some)
+            .map_err(|_| format!("bad number '{s}'"))
     }
 }
 
@@ -193,12 +195,7 @@ pub fn read_rows(path: &Path, lenient: bool) -> Result<(Vec<Row>, usize)> {
                 let _ = e;
                 break;
             }
-            Err(e) => {
-                return Err(Error::io(
-                    path.display(),
-                    format!("line {}: {e}", ln + 2),
-                ))
-            }
+            Err(e) => return Err(Error::io(path.display(), format!("line {}: {e}", ln + 2))),
         }
     }
     Ok((rows, good))
