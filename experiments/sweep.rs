@@ -48,7 +48,7 @@ struct Args {
     /// Absolute δ values, comma-separated.
     #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
     deltas: Option<Vec<f64>>,
-    /// Relative δ values R (δ = R·max_c|u0[d_c]|), comma-separated.
+    /// Relative δ values R, comma-separated: δ = R times the largest unconstrained displacement at a constrained DOF.
     #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
     deltas_rel: Option<Vec<f64>>,
     /// Methods, comma-separated (lagrange always runs as the reference).
