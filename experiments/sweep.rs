@@ -131,6 +131,13 @@ fn config(a: &Args) -> Result<SweepConfig, Error> {
 
 fn render(out: &std::path::Path) -> Result<usize, Error> {
     let (rows, _) = rows::read_rows(&out.join("rows.csv"), false)?;
+    if rows.is_empty() {
+        eprintln!(
+            "no rows in {}: no figures rendered",
+            out.join("rows.csv").display()
+        );
+        return Ok(0);
+    }
     let files = figures::render_all(&rows, &out.join("figures"))?;
     Ok(files.len())
 }

@@ -221,7 +221,8 @@ pub fn solve(problem: &Problem, method: Method) -> Result<Solution> {
 }
 
 /// Solves `problem` with `method`, reusing K's factorization and u0 from `prepared` (a sweep
-/// prepares each scene once). Work done inside `prepared` is not counted in [`Stats`].
+/// prepares each scene once). [`Stats`] are the same as without `prepared`: the prepared
+/// factorization and u0 solve are counted when the method uses them.
 pub fn solve_prepared(
     problem: &Problem,
     method: Method,
@@ -285,6 +286,10 @@ pub struct Context<'a> {
     /// Last penalized factorization and the penalties it was built with (reused when the
     /// penalties repeat, e.g. Uzawa updates at fixed ε).
     last: Option<(Vec<f64>, Factorization)>,
+    /// Work done by a [`Prepared`] that is charged to this solve the first time it is used,
+    /// so that statistics do not depend on whether K was prepared in advance:
+    /// (factorization of K not yet counted, u0 solve not yet counted).
+    uncharged: (bool, bool),
     /// Statistics accumulated so far.
     pub stats: Stats,
 }
@@ -298,6 +303,7 @@ impl<'a> Context<'a> {
             k_factor: None,
             u0: None,
             last: None,
+            uncharged: (false, false),
             stats: Stats::default(),
         }
     }
@@ -310,12 +316,16 @@ impl<'a> Context<'a> {
             k_factor: Some(p.k_factor.clone()),
             u0: Some(p.u0.clone()),
             last: None,
+            uncharged: (true, true),
             stats: Stats::default(),
         }
     }
 
     /// Factorization of K (computed once). Errors if K is singular.
     pub fn k_factor(&mut self) -> Result<&Factorization> {
+        if std::mem::take(&mut self.uncharged.0) {
+            self.stats.factorizations += 1;
+        }
         if self.k_factor.is_none() {
             let f = Factorization::new(&self.problem.k, self.symmetric).map_err(|e| match e {
                 Error::Singular(m) => Error::singular(format!(
@@ -331,6 +341,12 @@ impl<'a> Context<'a> {
 
     /// Unconstrained solution u0 = K⁻¹ q (computed once).
     pub fn u0(&mut self) -> Result<&[f64]> {
+        if std::mem::take(&mut self.uncharged.1) {
+            self.stats.linear_solves += 1;
+            if std::mem::take(&mut self.uncharged.0) {
+                self.stats.factorizations += 1;
+            }
+        }
         if self.u0.is_none() {
             let q = self.problem.q.clone();
             let u0 = self.k_factor()?.solve(&q);

@@ -154,8 +154,16 @@ impl SweepConfig {
     /// Reads a TOML config (fields as in [`SweepConfig`]; missing fields take defaults).
     pub fn from_toml_file(path: &Path) -> Result<Self> {
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path.display(), e))?;
-        let cfg: SweepConfig =
-            toml::from_str(&text).map_err(|e| Error::io(path.display(), e.to_string().trim()))?;
+        let cfg: SweepConfig = toml::from_str(&text).map_err(|e| {
+            let line = e
+                .span()
+                .map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
+            let msg = e.message().replace('\n', " ");
+            match line {
+                Some(l) => Error::io(path.display(), format!("line {l}: {msg}")),
+                None => Error::io(path.display(), msg),
+            }
+        })?;
         Ok(cfg)
     }
 
@@ -689,7 +697,8 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
                                     &sc.name,
                                     &sc.problem,
                                     Some(&sc.meta),
-                                    400,
+                                    // Dense stays inline, so a re-run takes the same routes.
+                                    usize::MAX,
                                 )?;
                             }
                             Ok((rows, sc.name))
