@@ -15,6 +15,8 @@
 //!   the δ-driven strategies (`paper`, `condensed`, `spring`) at δ ∈ {1, 0.1, 0.01, 0.001};
 //! * figures `fig3_deflection_free`, `fig4_deflection_contact`, `cond_vs_eps` (PNG + SVG),
 //!   rendered from the saved files only, so `--render-only` reproduces them.
+// Tables index several parallel per-constraint vectors by c; nested format! builds cells.
+#![allow(clippy::needless_range_loop, clippy::format_in_format_args)]
 
 use clap::Parser;
 use penalty_lab::conditioning;

@@ -769,11 +769,7 @@ fn top_level_number(json: &str, key: &str) -> Option<f64> {
         .find(&pat)
         .unwrap_or_else(|| panic!("no '{key}' in {json}"))
         + pat.len();
-    let tok = json[i..]
-        .split(|c| c == ',' || c == '\n')
-        .next()
-        .unwrap()
-        .trim();
+    let tok = json[i..].split([',', '\n']).next().unwrap().trim();
     if tok == "null" {
         None
     } else {
