@@ -11,7 +11,7 @@
 //! When to use: the exact answer; it costs a larger, indefinite system (`cond2_system` is the
 //! saddle-point matrix's) whose size changes with the active set.
 
-use super::{max_active_set_iterations, violated, Context, Method, Solution, SystemKind};
+use super::{initial_active_set, max_active_set_iterations, Context, Method, Solution, SystemKind};
 use crate::error::{Error, Result};
 use crate::linalg::Factorization;
 use crate::system::{ConstraintKind, Problem, Stiffness};
@@ -50,15 +50,7 @@ pub fn solve(mut ctx: Context) -> Result<Solution> {
     let problem = ctx.problem;
     let m = problem.m();
     let n = problem.n();
-    // Start: bilateral + violated by u0 (all, if K is singular).
-    let mut active: Vec<bool> = match ctx.u0() {
-        Ok(u0) => {
-            let u0 = u0.to_vec();
-            (0..m).map(|c| violated(problem, c, &u0)).collect()
-        }
-        Err(Error::Singular(_)) => vec![true; m],
-        Err(e) => return Err(e),
-    };
+    let mut active = initial_active_set(&mut ctx)?;
     let mut seen: HashSet<Vec<bool>> = HashSet::new();
     let mut single = false;
     let max_it = max_active_set_iterations(m);

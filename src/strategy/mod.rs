@@ -430,6 +430,29 @@ pub fn violated(problem: &Problem, c: usize, u: &[f64]) -> bool {
     }
 }
 
+/// The starting active set of the active-set loops: every constraint violated by
+/// u0 = K⁻¹q. u0 is not computed when every constraint is bilateral (all start active), and if
+/// K is singular every constraint starts active.
+pub fn initial_active_set(ctx: &mut Context) -> Result<Vec<bool>> {
+    let problem = ctx.problem;
+    let m = problem.m();
+    if problem
+        .constraints
+        .iter()
+        .all(|c| c.kind == ConstraintKind::Bilateral)
+    {
+        return Ok(vec![true; m]);
+    }
+    match ctx.u0() {
+        Ok(u0) => {
+            let u0 = u0.to_vec();
+            Ok((0..m).map(|c| violated(problem, c, &u0)).collect())
+        }
+        Err(Error::Singular(_)) => Ok(vec![true; m]),
+        Err(e) => Err(e),
+    }
+}
+
 /// Upper bound on active-set iterations.
 pub fn max_active_set_iterations(m: usize) -> usize {
     4 * m + 50
@@ -450,22 +473,7 @@ pub fn penalty_active_set(
 ) -> Result<Solution> {
     let problem = ctx.problem;
     let m = problem.m();
-    let all_bilateral = problem
-        .constraints
-        .iter()
-        .all(|c| c.kind == ConstraintKind::Bilateral);
-    let mut active: Vec<bool> = if all_bilateral {
-        vec![true; m]
-    } else {
-        match ctx.u0() {
-            Ok(u0) => {
-                let u0 = u0.to_vec();
-                (0..m).map(|c| violated(problem, c, &u0)).collect()
-            }
-            Err(Error::Singular(_)) => vec![true; m],
-            Err(e) => return Err(e),
-        }
-    };
+    let mut active = initial_active_set(&mut ctx)?;
     let mut seen: HashSet<Vec<bool>> = HashSet::new();
     let mut warnings = Vec::new();
     let max_it = max_active_set_iterations(m);
