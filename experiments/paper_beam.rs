@@ -1018,12 +1018,12 @@ fn compute() -> Result<(Document, Vec<DeflectionRow>, Vec<CondRow>)> {
             con.sol.gaps[c].abs(),
             Some(pap.sol.gaps[c].abs()),
             &format!(
-                "signed {}: {} side as u0 (g0 = {})",
+                "signed {}: {} u0 (g0 = {})",
                 fmt_g(con.sol.gaps[c]),
                 if con.sol.gaps[c].signum() == g0[c].signum() {
-                    "same"
+                    "same side as"
                 } else {
-                    "opposite"
+                    "opposite side to"
                 },
                 fmt_g(g0[c])
             ),
@@ -1038,7 +1038,7 @@ fn compute() -> Result<(Document, Vec<DeflectionRow>, Vec<CondRow>)> {
         Some(1e-9 * DELTA),
         con.sol.max_penetration,
         Some(pap.sol.max_penetration),
-        "= δ: the penalties are the smallest that keep |g| ≤ δ",
+        "= δ; smallest ε with |g| ≤ δ, yet not the best-conditioned: see (i)",
     ));
     crows.push(row(
         "condensed.cond",
@@ -1152,13 +1152,11 @@ fn compute() -> Result<(Document, Vec<DeflectionRow>, Vec<CondRow>)> {
                  (paper units), u(10) = {}, u(20) = {}, u(30) = {}. Eq. 33 prints −0.238 and \
                  −0.476 for the first two (agree) but −0.414 for the tip; ours is {}. A 7→4 \
                  digit misprint only: Eq. 35–37, which all agree with ours (except note b), are \
-                 computed from the same K and q, i.e. from the true u_bk[7] = −0.714 (its gap \
-                 g0 = u_bk[7] − û = {} enters Eq. 28 through q̄, not through u_bk).",
+                 computed from the same K and q, i.e. with the true u_bk[7] = −0.714.",
                 f3(-50.0 * 10.0 / ea),
                 f3(-50.0 * 20.0 / ea),
                 f3(tip_axial),
                 format!("{:.6}", u0[6]).replace('-', "\u{2212}"),
-                f3(g0[1]),
             ),
         },
         Note {
@@ -1760,7 +1758,18 @@ fn render_figures(
         ("spring", "spring Eq. 17"),
     ] {
         let pts: Vec<&CondRow> = cond.iter().filter(|r| r.series == s).collect();
-        let lab = format!("{name}, δ = {dl}");
+        // Constraints left unpenalized at every δ (negative ε clipped to 0).
+        let zero: Vec<String> = (0..3)
+            .filter(|&c| {
+                !pts.is_empty() && pts.iter().all(|r| [r.eps_1, r.eps_2, r.eps_3][c] == 0.0)
+            })
+            .map(|c| format!("ε_{}", c + 1))
+            .collect();
+        let lab = if zero.is_empty() {
+            format!("{name}, δ = {dl}")
+        } else {
+            format!("{name}, δ = {dl} ({} = 0)", zero.join(" = "))
+        };
         f1 = f1.with_series(
             Series::new(
                 lab.clone(),

@@ -21,7 +21,9 @@
 //! m-sized dense work; never K⁻¹. `u = u0 − W r`.
 //!
 //! When to use: whenever δ is the physical knob — it gives the smallest penalties that keep
-//! every penetration ≤ δ, hence the best-conditioned penalized system for that δ.
+//! every penetration ≤ δ, with no trial-and-error tuning of ε. It is not always the
+//! best-conditioned choice at a given accuracy: on the paper's beam a uniform ε = 130 reaches the
+//! same max penetration 0.1 with cond 221.1 against 222.3 (see `paper_beam`, note (i)).
 
 use super::{Context, Method, Solution, SystemKind};
 use crate::error::{Error, Result};
