@@ -347,10 +347,19 @@ fn medians_bands_and_legends() {
     );
 
     // constant median at ε = 1 (grid point 0) is the median of the three scenes' values.
+    // Penetration is relative to each scene's displacement scale g0 = delta / delta_rel.
+    assert_eq!(pen.y_label, "max penetration / max_c |u0[d_c]|");
+    let g0 = |scene: &str| {
+        let r = rows
+            .iter()
+            .find(|r| r.scene == scene && r.delta_rel.is_some())
+            .unwrap();
+        r.delta.unwrap() / r.delta_rel.unwrap()
+    };
     let mut at1: Vec<f64> = rows
         .iter()
         .filter(|r| r.method == "constant" && r.eps == Some(1.0))
-        .map(|r| r.max_penetration.unwrap())
+        .map(|r| r.max_penetration.unwrap() / g0(&r.scene))
         .collect();
     at1.sort_by(f64::total_cmp);
     let med = pen
@@ -398,6 +407,70 @@ fn medians_bands_and_legends() {
             "no {m} series in the pareto figure"
         );
     }
+}
+
+#[test]
+fn absolute_delta_keeps_absolute_penetration() {
+    // Without relative δ the scenes' displacement scales are unknown: absolute penetration,
+    // δ listed without the |u0| unit.
+    let rows: Vec<Row> = synthetic(&["spectrum"], 2, true, true)
+        .into_iter()
+        .map(|r| Row {
+            delta_rel: None,
+            ..r
+        })
+        .collect();
+    let figs = build_figures(&rows);
+    let (stem, pen) = &figs[1];
+    assert_eq!(stem, "penetration_vs_eps_spectrum");
+    assert_eq!(pen.y_label, "max penetration (units of u)");
+    let condensed = pen
+        .series
+        .iter()
+        .find(|s| s.label.starts_with("condensed"))
+        .unwrap();
+    assert!(!condensed.label.contains("|u0|"), "{}", condensed.label);
+    // The constant median is that of the raw values (two scenes: their mean).
+    let at1: Vec<f64> = rows
+        .iter()
+        .filter(|r| r.method == "constant" && r.eps == Some(1.0))
+        .map(|r| r.max_penetration.unwrap())
+        .collect();
+    let med = &pen.series[0];
+    assert!((med.y[0] - 0.5 * (at1[0] + at1[1])).abs() <= 1e-12 * at1[0].max(at1[1]));
+}
+
+#[test]
+fn unpenalised_adaptive_method_is_named_not_dropped() {
+    // spring solved every δ but penalised nothing (eps_min/eps_max empty): it has no place on
+    // the ε axis, so it appears as a legend-only entry saying so.
+    let rows: Vec<Row> = synthetic(&["membrane"], 2, true, true)
+        .into_iter()
+        .map(|r| {
+            if r.method == "spring" {
+                Row {
+                    eps_min: None,
+                    eps_max: None,
+                    ..r
+                }
+            } else {
+                r
+            }
+        })
+        .collect();
+    let figs = build_figures(&rows);
+    let cond = &figs[0].1;
+    let spring = cond
+        .series
+        .iter()
+        .find(|s| s.label.starts_with("spring"))
+        .unwrap();
+    assert!(spring.x.is_empty(), "{:?}", spring.x);
+    assert!(spring.label.contains("not drawn"), "{}", spring.label);
+    let dir = tmp_dir("unpenalised");
+    let paths = render_all(&rows, &dir).unwrap();
+    assert_eq!(names(&paths), expected(&FIGURE_KINDS, &["membrane"]));
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// Renders a realistic synthetic sweep (3 families × 8 scenes) for visual inspection into

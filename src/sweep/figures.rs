@@ -17,17 +17,24 @@
 //! | stem | x | y |
 //! |---|---|---|
 //! | `cond_vs_eps_<family>` | ε (log) | cond₂(K + D E Dᵀ) (log) |
-//! | `penetration_vs_eps_<family>` | ε (log) | max penetration (log) |
-//! | `pareto_<family>` | max penetration (log) | cond₂(K + D E Dᵀ) (log) |
+//! | `penetration_vs_eps_<family>` | ε (log) | max penetration (log)¹ |
+//! | `pareto_<family>` | max penetration (log)¹ | cond₂(K + D E Dᵀ) (log) |
 //! | `log_det_ratio_vs_eps_<family>` | ε (log) | log10\|det(K + D E Dᵀ)\| − log10\|det K\| |
+//!
+//! ¹ Relative to each scene's displacement scale max_c |u0\[d_c\]| when that is known for every
+//! scene of the family (it is `delta / delta_rel` of any row run with a relative δ — the sweep's
+//! default), so that scenes of different size share one axis and the adaptive methods sit at
+//! their relative δ; otherwise in absolute units of u. The axis label says which.
 //!
 //! In the three "vs ε" figures the adaptive methods (`spring`, `paper`, `condensed`) have no
 //! single ε: each of their δ values is drawn at x = the median over scenes of the largest
 //! penalty ε_c they used (`eps_max`). ε is in each scene's own stiffness units (the rows carry
-//! no stiffness scale to normalise by), which the axis label says. A figure whose data are
-//! all missing (e.g. `cond2_system` not requested) is not written.
+//! no stiffness scale to normalise by), which the axis label says. A method that penalised
+//! no constraint at any δ (no `eps_max`) has no place on that axis and gets a legend-only
+//! entry saying so. A figure whose data are all missing (e.g. `cond2_system` not requested)
+//! is not written.
 
-use std::collections::BTreeSet;
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 use crate::plot::{render, Band, Figure, Mark, Scale, Series};
@@ -59,7 +66,7 @@ const C_SCALED: usize = 5;
 const C_AUGMENTED: usize = 4;
 
 /// Image size of every sweep figure (px).
-const SIZE: (u32, u32) = (1000, 650);
+const SIZE: (u32, u32) = (1000, 700);
 
 /// Label of the system matrix' condition number.
 const COND_SYS: &str = "cond₂(K + D E Dᵀ)";
@@ -68,6 +75,8 @@ const EPS_LABEL: &str =
     "penalty ε (scene stiffness units; adaptive methods: largest ε_c used, median over scenes)";
 /// Label of the penetration axis.
 const PEN_LABEL: &str = "max penetration (units of u)";
+/// Label of the penetration axis when normalised by each scene's displacement scale.
+const PEN_REL_LABEL: &str = "max penetration / max_c |u0[d_c]|";
 
 /// The `q`-quantile of `v` (0 ≤ q ≤ 1, clamped) with linear interpolation between order
 /// statistics: with `v` sorted ascending and `h = q (n − 1)`, the result is
@@ -137,28 +146,54 @@ pub fn render_all(rows: &[Row], dir: &Path) -> Result<Vec<PathBuf>> {
 // Grouping and statistics
 // ---------------------------------------------------------------------------------------------
 
-/// The rows of one family.
-struct Fam<'a> {
+/// The rows of one family. When every scene's displacement scale max_c |u0\[d_c\]| is known
+/// (see [`scene_scales`]), `max_penetration` has been divided by it and `relative` is set.
+struct Fam {
     name: String,
-    rows: Vec<&'a Row>,
+    rows: Vec<Row>,
     scenes: usize,
+    relative: bool,
 }
 
-impl Fam<'_> {
+impl Fam {
     fn method(&self, name: &str) -> Vec<&Row> {
-        self.rows
-            .iter()
-            .copied()
-            .filter(|r| r.method == name)
-            .collect()
+        self.rows.iter().filter(|r| r.method == name).collect()
+    }
+    fn all(&self) -> Vec<&Row> {
+        self.rows.iter().collect()
     }
     fn title(&self, what: &str) -> String {
         let s = if self.scenes == 1 { "scene" } else { "scenes" };
         format!("{}: {what} ({} {s})", self.name, self.scenes)
     }
+    fn pen_label(&self) -> &'static str {
+        if self.relative {
+            PEN_REL_LABEL
+        } else {
+            PEN_LABEL
+        }
+    }
 }
 
-fn families(rows: &[Row]) -> Vec<Fam<'_>> {
+/// Each scene's displacement scale max_c |u0\[d_c\]|, recovered as `delta / delta_rel` from
+/// any row run with a relative δ (adaptive methods, augmented). `None` unless every scene has
+/// one.
+fn scene_scales<'a>(rows: &[&'a Row]) -> Option<BTreeMap<&'a str, f64>> {
+    let mut out = BTreeMap::new();
+    for r in rows {
+        if let (Some(d), Some(rel)) = (r.delta, r.delta_rel) {
+            let s = d / rel;
+            if s.is_finite() && s > 0.0 {
+                out.entry(r.scene.as_str()).or_insert(s);
+            }
+        }
+    }
+    rows.iter()
+        .all(|r| out.contains_key(r.scene.as_str()))
+        .then_some(out)
+}
+
+fn families(rows: &[Row]) -> Vec<Fam> {
     let names: BTreeSet<&str> = rows.iter().map(|r| r.family.as_str()).collect();
     let rank = |n: &str| {
         ["beam", "membrane", "spectrum", "file"]
@@ -171,16 +206,28 @@ fn families(rows: &[Row]) -> Vec<Fam<'_>> {
     names
         .into_iter()
         .map(|name| {
-            let rows: Vec<&Row> = rows.iter().filter(|r| r.family == name).collect();
-            let scenes = rows
+            let refs: Vec<&Row> = rows.iter().filter(|r| r.family == name).collect();
+            let scenes = refs
                 .iter()
                 .map(|r| r.scene.as_str())
                 .collect::<BTreeSet<_>>()
                 .len();
+            let scales = scene_scales(&refs);
+            let rows = refs
+                .iter()
+                .map(|r| {
+                    let mut r = (*r).clone();
+                    if let Some(s) = scales.as_ref().and_then(|m| m.get(r.scene.as_str())) {
+                        r.max_penetration = r.max_penetration.map(|p| p / s);
+                    }
+                    r
+                })
+                .collect();
             Fam {
                 name: name.to_string(),
                 rows,
                 scenes,
+                relative: scales.is_some(),
             }
         })
         .collect()
@@ -407,6 +454,27 @@ fn eps_figure(fam: &Fam, metric: Metric, title: &str, y_label: &str, y_scale: Sc
                 .map(|p| (p.1, p.0))
                 .collect();
             if shown.is_empty() {
+                // Solved, but no penalty anywhere (e.g. every ε_c ≤ 0 was set to 0): there is
+                // no ε to place it at; say so in the legend rather than dropping it silently.
+                let solved = set
+                    .groups
+                    .iter()
+                    .any(|(_, g)| g.iter().any(|r| metric(r).is_some_and(f64::is_finite)));
+                let penalised = set.groups.iter().any(|(_, g)| {
+                    g.iter()
+                        .any(|r| r.eps_max.is_some_and(|e| e.is_finite() && e > 0.0))
+                });
+                if solved && !penalised {
+                    fig = fig.with_series(
+                        Series::new(
+                            format!("{legend}: no constraint penalised at any δ (not drawn)"),
+                            Vec::new(),
+                            Vec::new(),
+                            Mark::LinePoints,
+                        )
+                        .color(color),
+                    );
+                }
                 continue;
             }
             shown.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -442,7 +510,7 @@ fn cond_vs_eps(fam: &Fam) -> Figure {
         COND_SYS,
         Scale::Log10,
     );
-    let k = scene_median(&fam.rows, |r| r.cond2_k);
+    let k = scene_median(&fam.all(), |r| r.cond2_k);
     if drawable(Scale::Log10, k) && has_data(&fig) {
         fig = fig.hline(k, format!("cond₂(K) = {} (median over scenes)", num(k)));
     }
@@ -450,7 +518,13 @@ fn cond_vs_eps(fam: &Fam) -> Figure {
 }
 
 fn penetration_vs_eps(fam: &Fam) -> Figure {
-    eps_figure(fam, m_pen, "penetration vs ε", PEN_LABEL, Scale::Log10)
+    eps_figure(
+        fam,
+        m_pen,
+        "penetration vs ε",
+        fam.pen_label(),
+        Scale::Log10,
+    )
 }
 
 fn log_det_ratio_vs_eps(fam: &Fam) -> Figure {
@@ -474,7 +548,7 @@ fn pareto_points(groups: &[(f64, Vec<&Row>)]) -> (Vec<f64>, Vec<f64>) {
 fn pareto(fam: &Fam) -> Figure {
     let mut fig = Figure::new(
         fam.title("conditioning vs penetration, medians over scenes"),
-        format!("{PEN_LABEL}, median over scenes"),
+        format!("{}, median over scenes", fam.pen_label()),
         format!("{COND_SYS}, median over scenes"),
     )
     .log_log()
@@ -505,7 +579,7 @@ fn pareto(fam: &Fam) -> Figure {
     let ks: Vec<f64> = scaled.iter().map(|g| g.0).collect();
     fig = add(
         fig,
-        format!("scaled ε_c = f·K[d_c,d_c], f = {}", range(&ks)),
+        format!("scaled, f = {} (ε_c = f·K[d_c,d_c])", range(&ks)),
         &scaled,
         C_SCALED,
     );
@@ -524,19 +598,15 @@ fn pareto(fam: &Fam) -> Figure {
     // augmented: grouped by tolerance only (its ε is chosen per scene by the sweep).
     let augmented = fam.method("augmented");
     let eps_note = match groups(&augmented, |r| r.eps).as_slice() {
-        [(eps, _)] => format!(" (ε = {})", num(*eps)),
-        [] => String::new(),
-        _ => " (ε per scene)".to_string(),
+        [(eps, _)] => format!(", ε = {}", num(*eps)),
+        _ => String::new(),
     };
     for set in delta_sets(&augmented) {
         let ks: Vec<f64> = set.groups.iter().map(|g| g.0).collect();
         let unit = if set.relative { "·|u0|" } else { "" };
         fig = add(
             fig,
-            format!(
-                "augmented Lagrangian{eps_note}, tolerance = {}{unit}",
-                range(&ks)
-            ),
+            format!("augmented{eps_note}, tol = {}{unit}", range(&ks)),
             &set.groups,
             C_AUGMENTED,
         );
@@ -546,7 +616,7 @@ fn pareto(fam: &Fam) -> Figure {
         if drawable(Scale::Log10, lag) {
             fig = fig.hline(lag, "lagrange (exact, saddle point; penetration 0)");
         }
-        let k = scene_median(&fam.rows, |r| r.cond2_k);
+        let k = scene_median(&fam.all(), |r| r.cond2_k);
         if drawable(Scale::Log10, k) {
             fig = fig.hline(k, "cond₂(K), median");
         }
