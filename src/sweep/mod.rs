@@ -579,6 +579,11 @@ fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     std::fs::rename(&tmp, path).map_err(|e| Error::io(path.display(), e))
 }
 
+fn write_manifest(path: &Path, manifest: &serde_json::Value) -> Result<()> {
+    let text = serde_json::to_string_pretty(manifest).expect("a JSON value serializes");
+    write_atomic(path, text.as_bytes())
+}
+
 /// Runs the sweep: writes `out/rows.csv` and `out/manifest.json` (figures are rendered by the
 /// caller from rows.csv).
 pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
@@ -645,12 +650,7 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
         "rows_per_scene": per_scene,
         "status": "running",
     });
-    write_atomic(
-        &manifest_path,
-        serde_json::to_string_pretty(&manifest)
-            .expect("json")
-            .as_bytes(),
-    )?;
+    write_manifest(&manifest_path, &manifest)?;
 
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.threads.unwrap_or(0))
@@ -754,11 +754,6 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
     manifest["rows_written"] = rows_written.into();
     manifest["rows_per_second"] = summary.rows_per_second.into();
     manifest["resumed_scenes"] = summary.resumed_scenes.into();
-    write_atomic(
-        &manifest_path,
-        serde_json::to_string_pretty(&manifest)
-            .expect("json")
-            .as_bytes(),
-    )?;
+    write_manifest(&manifest_path, &manifest)?;
     Ok(summary)
 }
