@@ -41,6 +41,7 @@
 
 pub mod conditioning;
 pub mod error;
+pub mod forming;
 pub mod linalg;
 pub mod metrics;
 pub mod model;
