@@ -117,6 +117,12 @@ impl SparseLlt {
         }
     }
 
+    /// Solves `A x = b` in place (`x` holds b on entry).
+    pub fn solve_vec_in_place(&self, x: &mut [f64]) {
+        let n = x.len();
+        self.solve_in_place(MatMut::from_column_major_slice_mut(x, n, 1));
+    }
+
     fn solve_in_place(&self, rhs: MatMut<'_, f64>) {
         let par = Par::Seq;
         let ncols = rhs.ncols();
