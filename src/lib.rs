@@ -46,6 +46,7 @@ pub mod linalg;
 pub mod metrics;
 pub mod model;
 pub mod plot;
+pub mod provenance;
 pub mod scene;
 pub mod strategy;
 pub mod sweep;

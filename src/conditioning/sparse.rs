@@ -37,6 +37,9 @@ pub const SPARSE_ROUTE_MIN_N: usize = 400;
 /// Lanczos step limit per end (estimates only: the inertia phase corrects a poor estimate).
 pub const MAX_LANCZOS_STEPS: usize = 400;
 
+/// Plain Lanczos steps on A before switching to shift-invert for λ_max.
+pub const PLAIN_LANCZOS_STEPS: usize = 120;
+
 /// Target relative width of each eigenvalue bracket (before the rounding floor).
 pub const BRACKET_TOL: f64 = 1e-11;
 
@@ -58,7 +61,7 @@ pub struct Certificate {
 }
 
 impl Certificate {
-    /// `cond₂ ∈ [cond2_lo, cond2_hi]`.
+    /// `cond₂ ∈ [cond2_lo, cond2_hi]` (`cond2_hi = +∞` when λ_min could not be bounded away from 0).
     pub fn cond2_bounds(&self) -> (f64, f64) {
         (
             self.lambda_max_lo / self.lambda_min_hi,
@@ -196,13 +199,13 @@ fn tridiagonal_max_eigenvalue(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// Largest eigenvalue of a symmetric positive operator by plain Lanczos (no stored vectors):
-/// returns (estimate, steps). Stops when the top Ritz value stagnates to `1e-14` relative over
+/// returns (estimate, steps, converged). Stops when the top Ritz value stagnates to `1e-14` relative over
 /// 5 steps, on an invariant subspace, or after `max_steps`.
 fn lanczos_max(
     n: usize,
     max_steps: usize,
     mut apply: impl FnMut(&[f64], &mut [f64]),
-) -> Result<(f64, usize)> {
+) -> Result<(f64, usize, bool)> {
     // Deterministic start vector with every component nonzero (so no eigenvector is missed).
     let mut q: Vec<f64> = (0..n)
         .map(|i| 1.0 + 0.5 * ((i as f64 * 0.618_033_988_749_895).fract() - 0.5))
@@ -234,7 +237,7 @@ fn lanczos_max(
         let h = history.len();
         let stagnated = h > 5 && (theta - history[h - 6]).abs() <= 1e-14 * theta.abs();
         if stagnated || beta <= 1e-300 || beta <= f64::EPSILON * theta.abs() * 1e-2 {
-            return Ok((theta, steps));
+            return Ok((theta, steps, true));
         }
         betas.push(beta);
         std::mem::swap(&mut q_prev, &mut q);
@@ -243,7 +246,22 @@ fn lanczos_max(
         }
         beta_prev = beta;
     }
-    Ok((*history.last().unwrap_or(&0.0), steps))
+    Ok((*history.last().unwrap_or(&0.0), steps, false))
+}
+
+/// Gershgorin upper bound of the spectrum: `max_j (a_jj + Σ_{i≠j} |a_ij|)` (columns of a
+/// symmetric matrix).
+fn gershgorin_max(a: &SparseColMat<usize, f64>) -> f64 {
+    let cp = a.symbolic().col_ptr();
+    let ri = a.symbolic().row_idx();
+    let av = a.val();
+    (0..a.ncols())
+        .map(|j| {
+            (cp[j]..cp[j + 1])
+                .map(|p| if ri[p] == j { av[p] } else { av[p].abs() })
+                .sum::<f64>()
+        })
+        .fold(f64::NEG_INFINITY, f64::max)
 }
 
 fn dot(x: &[f64], y: &[f64]) -> f64 {
@@ -313,8 +331,10 @@ pub fn extreme_eigenvalues(
     })?;
     let log10_det: f64 = chol.l_diagonal().iter().map(|d| 2.0 * d.log10()).sum();
 
-    // Phase 1: estimates.
-    let (lmax_est, s1) = lanczos_max(n, max_steps, |x, y| {
+    // Phase 1: estimates. λ_max: plain Lanczos on A (products only); if the top of the
+    // spectrum is clustered and it has not settled, shift-invert Lanczos on (σ₀I − A)⁻¹ with
+    // σ₀ just above the Gershgorin bound, where λ_max = σ₀ − 1/ν_max is well separated.
+    let matvec = |x: &[f64], y: &mut [f64]| {
         y.iter_mut().for_each(|v| *v = 0.0);
         let cp = a.symbolic().col_ptr();
         let ri = a.symbolic().row_idx();
@@ -325,8 +345,22 @@ pub fn extreme_eigenvalues(
                 y[ri[p]] += av[p] * xj;
             }
         }
-    })?;
-    let (inv_max, s2) = lanczos_max(n, max_steps, |x, y| {
+    };
+    let (mut lmax_est, mut s1, converged) = lanczos_max(n, PLAIN_LANCZOS_STEPS, matvec)?;
+    if !converged {
+        let sigma0 = gershgorin_max(a) * (1.0 + 1e-8);
+        if let Some(f) = fam.factor(-1.0, sigma0) {
+            let (nu, s, _) = lanczos_max(n, max_steps, |x, y| {
+                y.copy_from_slice(x);
+                f.solve_vec_in_place(y);
+            })?;
+            s1 += s;
+            if nu > 0.0 && nu.is_finite() {
+                lmax_est = lmax_est.max(sigma0 - 1.0 / nu);
+            }
+        }
+    }
+    let (inv_max, s2, _) = lanczos_max(n, max_steps, |x, y| {
         y.copy_from_slice(x);
         chol.solve_vec_in_place(y);
     })?;
@@ -349,15 +383,22 @@ pub fn extreme_eigenvalues(
         lanczos_steps: s1 + s2,
         factorizations: fam.factorizations,
     };
-    if !(max_lo > 0.0 && max_hi.is_finite() && min_lo > 0.0 && min_hi.is_finite()) {
+    if !(max_lo > 0.0 && max_hi.is_finite() && min_hi.is_finite()) {
         return Err(Error::Numerical(format!(
             "inertia brackets did not close: λ_max ∈ [{max_lo:e}, {max_hi:e}], \
              λ_min ∈ [{min_lo:e}, {min_hi:e}]"
         )));
     }
+    // λ_min below the rounding level of A (cond₂ ≳ 1/ε_mach): no shift can be certified
+    // positive, the bracket stays [0, hi] and the Lanczos estimate is reported as the value.
+    let lambda_min = if min_lo > 0.0 {
+        (min_lo * min_hi).sqrt()
+    } else {
+        lmin_est.min(min_hi)
+    };
     Ok(SparseSpectrum {
         lambda_max: (max_lo * max_hi).sqrt(),
-        lambda_min: (min_lo * min_hi).sqrt(),
+        lambda_min,
         certificate,
         log10_det,
     })

@@ -550,34 +550,8 @@ pub struct RunSummary {
     pub rows_per_second: f64,
 }
 
-fn git_commit() -> String {
-    std::process::Command::new("git")
-        .args(["rev-parse", "HEAD"])
-        .output()
-        .ok()
-        .filter(|o| o.status.success())
-        .and_then(|o| String::from_utf8(o.stdout).ok())
-        .map(|s| s.trim().to_string())
-        .unwrap_or_else(|| "unknown".into())
-}
-
-/// Versions of the main crates, read from Cargo.lock at build time.
-pub fn crate_versions() -> serde_json::Value {
-    let mut m = serde_json::Map::new();
-    m.insert("penalty-lab".into(), env!("CARGO_PKG_VERSION").into());
-    for line in env!("PENALTY_LAB_DEP_VERSIONS").split(';') {
-        if let Some((k, v)) = line.split_once('=') {
-            m.insert(k.into(), v.into());
-        }
-    }
-    serde_json::Value::Object(m)
-}
-
-fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let tmp = path.with_extension("tmp");
-    std::fs::write(&tmp, bytes).map_err(|e| Error::io(tmp.display(), e))?;
-    std::fs::rename(&tmp, path).map_err(|e| Error::io(path.display(), e))
-}
+pub use crate::provenance::crate_versions;
+use crate::provenance::{git_commit, write_atomic};
 
 fn write_manifest(path: &Path, manifest: &serde_json::Value) -> Result<()> {
     let text = serde_json::to_string_pretty(manifest).expect("a JSON value serializes");
