@@ -48,6 +48,7 @@ pub mod model;
 pub mod plot;
 pub mod provenance;
 pub mod scene;
+pub mod stability;
 pub mod strategy;
 pub mod sweep;
 pub mod system;
