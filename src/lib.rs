@@ -45,6 +45,7 @@ pub mod forming;
 pub mod linalg;
 pub mod metrics;
 pub mod model;
+pub mod perf;
 pub mod plot;
 pub mod provenance;
 pub mod scene;

@@ -1,0 +1,751 @@
+//! Run time against error: every strategy's time to solution against its error as its knob
+//! varies, on beam and membrane scenes of increasing size (issue 5, `runtime_vs_error`).
+//!
+//! For a strategy with knob κ (ε for `constant`, the factor for `scaled`, δ for
+//! `spring`/`paper`/`condensed`, the tolerance for `augmented`) and a scene of N DOFs, a row
+//! records the median wall time of `repeats` complete solves (`strategy::solve` from scratch:
+//! factorizations included) and the errors
+//!
+//! * `max_penetration` = max_c p_c (absolute, and relative to the displacement scale
+//!   max_c |u0\[d_c\]|), and
+//! * `error_vs_ref` = ‖u − u_ref‖₂ / ‖u_ref‖₂ with u_ref the exact contact solution
+//!   (`lagrange`; where lagrange is refused or over budget, the augmented Lagrangian driven to
+//!   a penetration of 1e-12 × scale, and the row says which).
+//!
+//! Scenes ([`beam_scene`], [`membrane_scene`]) are built directly from the model code so that
+//! N can reach 10⁶: a cantilever on a Winkler foundation (bounded condition number at any
+//! length) pressed by a wavy load onto a flat rigid surface, and the 5-point membrane pressed
+//! onto a paraboloid obstacle sampled on a sub-grid (at most `max_constraints` contact DOFs, so
+//! that `condensed`'s N×m block solve stays in memory).
+//!
+//! Budget: a solve cannot be interrupted, so a method is skipped (a row with the reason, never
+//! an abort) when its time at the previous size, extrapolated as `t·(N/N_prev)^1.5`, exceeds
+//! the per-solve budget, after it has exceeded the budget once, or when `condensed`'s N×m block
+//! would exceed the memory limit. Errors of a strategy are rows with status `error`.
+
+use crate::error::{Error, Result};
+use crate::linalg::Factorization;
+use crate::model::beam::{Frame, Section};
+use crate::plot::{Figure, Mark, Scale, Series};
+use crate::strategy::{self, Method, METHOD_NAMES};
+use crate::system::{Constraint, ConstraintKind, Problem, Stiffness};
+use serde::Serialize;
+use std::collections::HashMap;
+use std::time::Instant;
+
+/// A scene of the run-time study.
+#[derive(Clone, Debug)]
+pub struct PerfScene {
+    /// `beam` or `membrane`.
+    pub family: String,
+    /// The requested size.
+    pub size: usize,
+    /// The problem.
+    pub problem: Problem,
+    /// Displacement scale max_c |u0\[d_c\]| (δ and tolerances are relative to it).
+    pub scale: f64,
+    /// max_c K\[d_c, d_c\] (ε is relative to it).
+    pub k_scale: f64,
+}
+
+/// The unconstrained problem and u0 = K⁻¹q (to place the obstacles).
+fn unconstrained(k: Stiffness, q: Vec<f64>) -> Result<(Problem, Vec<f64>)> {
+    let u0 = Factorization::new(&k, true)?.solve(&q);
+    Ok((Problem::new(k, q, Vec::new())?, u0))
+}
+
+fn scales(p: &Problem, u0: &[f64]) -> (f64, f64) {
+    let scale = crate::sweep::displacement_scale(p, u0);
+    let k_scale = p
+        .constraints
+        .iter()
+        .map(|c| p.k.diag(c.dof).abs())
+        .fold(0.0f64, f64::max);
+    (scale, if k_scale > 0.0 { k_scale } else { 1.0 })
+}
+
+/// A cantilever of ⌈N/3⌉ unit-length Euler–Bernoulli elements (E = 2.1e5, 1×1 section) on a
+/// Winkler foundation (transverse k_f = 1e-2·EI per node, axial 1e-3·EA), under the wavy load
+/// `q_y = −(1 + 0.8 sin(2π x / 20))`, against a flat rigid surface `u_y ≥ 0.6 · min u0_y`
+/// at up to `max_constraints` evenly spaced nodes (`lower` constraints).
+pub fn beam_scene(size: usize, max_constraints: usize) -> Result<PerfScene> {
+    let n_el = (size / 3).max(3);
+    let section = Section::rectangle(2.1e5, 1.0, 1.0);
+    let frame = Frame::cantilever(n_el, n_el as f64, section)?;
+    let k = frame.assemble(true)?;
+    let ei = section.e * section.j;
+    let ea = section.e * section.a;
+    // Node i ≥ 1 has DOFs 3(i−1) + {0: u_x, 1: u_y, 2: θ} (node 0 is clamped).
+    let dof = |i: usize, c: usize| 3 * (i - 1) + c;
+    let mut adds = Vec::with_capacity(2 * n_el);
+    for i in 1..=n_el {
+        adds.push((dof(i, 1), 1e-2 * ei));
+        adds.push((dof(i, 0), 1e-3 * ea));
+    }
+    let k = k.with_diagonal_added(&adds);
+    let mut q = vec![0.0; k.n()];
+    for i in 1..=n_el {
+        let x = i as f64;
+        q[dof(i, 1)] = -(1.0 + 0.8 * (2.0 * std::f64::consts::PI * x / 20.0).sin());
+    }
+    let (base, u0) = unconstrained(k, q)?;
+    let lowest = (1..=n_el).map(|i| u0[dof(i, 1)]).fold(0.0f64, f64::min);
+    let stride = n_el.div_ceil(max_constraints.max(1)).max(1);
+    let constraints: Vec<Constraint> = (1..=n_el)
+        .filter(|i| (i - 1) % stride == stride / 2)
+        .map(|i| Constraint {
+            dof: dof(i, 1),
+            limit: 0.6 * lowest,
+            kind: ConstraintKind::Lower,
+        })
+        .collect();
+    let problem = Problem::new(base.k, base.q, constraints)?;
+    let (scale, k_scale) = scales(&problem, &u0);
+    Ok(PerfScene {
+        family: "beam".into(),
+        size,
+        problem,
+        scale,
+        k_scale,
+    })
+}
+
+/// The 5-point membrane `4u_ij − Σ neighbours = f h²` on a side×side interior grid
+/// (side = round √N, clamped edges, f = −10), pressed onto the paraboloid obstacle
+/// `u ≥ ψ = 0.5·min u0 − |min u0|·((x−½)² + (y−½)²)` sampled at the nodes of a sub-grid of
+/// stride ⌈√(N / max_constraints)⌉ (`lower` constraints).
+pub fn membrane_scene(size: usize, max_constraints: usize) -> Result<PerfScene> {
+    let side = ((size as f64).sqrt().round() as usize).max(3);
+    let n = side * side;
+    let h = 1.0 / (side as f64 + 1.0);
+    let idx = |i: usize, j: usize| i * side + j;
+    let mut t = Vec::with_capacity(5 * n);
+    for i in 0..side {
+        for j in 0..side {
+            let r = idx(i, j);
+            t.push((r, r, 4.0));
+            if i > 0 {
+                t.push((r, idx(i - 1, j), -1.0));
+            }
+            if i + 1 < side {
+                t.push((r, idx(i + 1, j), -1.0));
+            }
+            if j > 0 {
+                t.push((r, idx(i, j - 1), -1.0));
+            }
+            if j + 1 < side {
+                t.push((r, idx(i, j + 1), -1.0));
+            }
+        }
+    }
+    let k = Stiffness::from_triplets(n, &t)?;
+    let q = vec![-10.0 * h * h; n];
+    let (base, u0) = unconstrained(k, q)?;
+    let sag = u0.iter().fold(0.0f64, |a, &v| a.min(v));
+    let stride = ((n as f64 / max_constraints.max(1) as f64).sqrt().ceil() as usize).max(1);
+    let mut constraints = Vec::new();
+    for i in (stride / 2..side).step_by(stride) {
+        for j in (stride / 2..side).step_by(stride) {
+            let (x, y) = ((i + 1) as f64 * h, (j + 1) as f64 * h);
+            let psi = 0.5 * sag - sag.abs() * ((x - 0.5).powi(2) + (y - 0.5).powi(2));
+            constraints.push(Constraint {
+                dof: idx(i, j),
+                limit: psi,
+                kind: ConstraintKind::Lower,
+            });
+        }
+    }
+    let problem = Problem::new(base.k, base.q, constraints)?;
+    let (scale, k_scale) = scales(&problem, &u0);
+    Ok(PerfScene {
+        family: "membrane".into(),
+        size,
+        problem,
+        scale,
+        k_scale,
+    })
+}
+
+/// Builds a scene of `family` (`beam` or `membrane`) with about `size` DOFs.
+pub fn scene(family: &str, size: usize, max_constraints: usize) -> Result<PerfScene> {
+    match family {
+        "beam" => beam_scene(size, max_constraints),
+        "membrane" => membrane_scene(size, max_constraints),
+        other => Err(Error::input(format!(
+            "unknown family '{other}' (valid: beam, membrane)"
+        ))),
+    }
+}
+
+/// Knob values, relative to the scene's scales.
+#[derive(Clone, Debug, Serialize)]
+pub struct Knobs {
+    /// `constant`: ε / max_c K\[d_c,d_c\].
+    pub eps_rel: Vec<f64>,
+    /// `scaled`: factors.
+    pub factors: Vec<f64>,
+    /// `spring`, `paper`, `condensed`: δ / scale.
+    pub deltas_rel: Vec<f64>,
+    /// `augmented`: tolerance / scale (ε = max_c K\[d_c,d_c\]).
+    pub tols_rel: Vec<f64>,
+}
+
+impl Knobs {
+    /// The full grids.
+    pub fn full() -> Self {
+        Knobs {
+            eps_rel: vec![1e-2, 1.0, 1e2, 1e4, 1e6, 1e8],
+            factors: vec![1e-2, 1.0, 1e2, 1e4, 1e6, 1e8],
+            deltas_rel: vec![0.3, 1e-1, 1e-2, 1e-3, 1e-4, 1e-6],
+            tols_rel: vec![1e-1, 1e-2, 1e-4, 1e-6, 1e-8],
+        }
+    }
+    /// Three values each (for `--smoke`).
+    pub fn smoke() -> Self {
+        Knobs {
+            eps_rel: vec![1e-2, 1e2, 1e6],
+            factors: vec![1e-2, 1e2, 1e6],
+            deltas_rel: vec![1e-1, 1e-3, 1e-6],
+            tols_rel: vec![1e-2, 1e-5, 1e-8],
+        }
+    }
+}
+
+/// Configuration of a run.
+#[derive(Clone, Debug, Serialize)]
+pub struct PerfConfig {
+    /// Families (`beam`, `membrane`).
+    pub families: Vec<String>,
+    /// Requested DOF counts.
+    pub sizes: Vec<usize>,
+    /// Methods to time.
+    pub methods: Vec<String>,
+    /// Timed repeats per point (the median is reported).
+    pub repeats: usize,
+    /// Per-solve budget in seconds.
+    pub budget_seconds: f64,
+    /// Maximum number of contact constraints per scene.
+    pub max_constraints: usize,
+    /// Memory limit for `condensed`'s N×m block (bytes).
+    pub memory_limit_bytes: f64,
+    /// Knob grids.
+    pub knobs: Knobs,
+}
+
+impl PerfConfig {
+    /// Checks the configuration; errors name the offending value and the valid range.
+    pub fn validate(&self) -> Result<()> {
+        if self.families.is_empty() {
+            return Err(Error::input("no families given (valid: beam, membrane)"));
+        }
+        for f in &self.families {
+            if f != "beam" && f != "membrane" {
+                return Err(Error::input(format!(
+                    "unknown family '{f}' (valid: beam, membrane)"
+                )));
+            }
+        }
+        if self.sizes.is_empty() || self.sizes.iter().any(|&s| !(9..=4_000_000).contains(&s)) {
+            return Err(Error::input(format!(
+                "sizes {:?}: need at least one, each in 9..=4000000",
+                self.sizes
+            )));
+        }
+        for m in &self.methods {
+            if !METHOD_NAMES.contains(&m.as_str()) {
+                return Err(Error::input(format!(
+                    "unknown method '{m}' (valid: {})",
+                    METHOD_NAMES.join(", ")
+                )));
+            }
+        }
+        if self.repeats == 0 || self.repeats > 100 {
+            return Err(Error::input(format!(
+                "repeats = {}: need 1..=100",
+                self.repeats
+            )));
+        }
+        if !(self.budget_seconds.is_finite() && self.budget_seconds > 0.0) {
+            return Err(Error::input(format!(
+                "budget = {}: need a finite number of seconds > 0",
+                self.budget_seconds
+            )));
+        }
+        if self.max_constraints == 0 {
+            return Err(Error::input("max constraints must be ≥ 1"));
+        }
+        Ok(())
+    }
+}
+
+/// One (scene, method, knob) point.
+#[derive(Clone, Debug, Serialize)]
+pub struct PerfRow {
+    /// Family.
+    pub family: String,
+    /// Requested size.
+    pub size: usize,
+    /// N.
+    pub n: usize,
+    /// m.
+    pub m: usize,
+    /// Method.
+    pub method: String,
+    /// Knob name (`eps`, `factor`, `delta`, `tol`, `-`).
+    pub knob: String,
+    /// Knob value (absolute).
+    pub value: f64,
+    /// Knob value relative to the scene's scale.
+    pub value_rel: f64,
+    /// `ok`, `error` or `skipped`.
+    pub status: String,
+    /// Why skipped / the error message.
+    pub reason: String,
+    /// Median wall time of the repeats (s).
+    pub seconds: Option<f64>,
+    /// All repeat times (s).
+    pub seconds_all: Vec<f64>,
+    /// Max penetration.
+    pub max_penetration: Option<f64>,
+    /// Max penetration / displacement scale.
+    pub penetration_rel: Option<f64>,
+    /// `‖u − u_ref‖/‖u_ref‖`.
+    pub error_vs_ref: Option<f64>,
+    /// Which reference: `lagrange`, `augmented`, or `none`.
+    pub reference: String,
+    /// Outer iterations.
+    pub iterations: Option<usize>,
+    /// Factorizations.
+    pub factorizations: Option<usize>,
+    /// Linear solves (right-hand sides).
+    pub linear_solves: Option<usize>,
+    /// Warnings of the solve.
+    pub warnings: Vec<String>,
+}
+
+/// The jobs `(method, knob name, absolute value, relative value)` of a scene.
+pub fn jobs(scene: &PerfScene, cfg: &PerfConfig) -> Vec<(Method, &'static str, f64, f64)> {
+    let mut out = Vec::new();
+    let k = &cfg.knobs;
+    for name in &cfg.methods {
+        match name.as_str() {
+            "constant" => {
+                for &r in &k.eps_rel {
+                    out.push((
+                        Method::Constant {
+                            eps: r * scene.k_scale,
+                        },
+                        "eps",
+                        r * scene.k_scale,
+                        r,
+                    ));
+                }
+            }
+            "scaled" => {
+                for &f in &k.factors {
+                    out.push((Method::Scaled { factor: f }, "factor", f, f));
+                }
+            }
+            "spring" | "paper" | "condensed" => {
+                for &r in &k.deltas_rel {
+                    let delta = r * scene.scale;
+                    let m = match name.as_str() {
+                        "spring" => Method::Spring { delta },
+                        "paper" => Method::Paper { delta },
+                        _ => Method::Condensed { delta },
+                    };
+                    out.push((m, "delta", delta, r));
+                }
+            }
+            "augmented" => {
+                for &r in &k.tols_rel {
+                    let tol = r * scene.scale;
+                    out.push((
+                        Method::Augmented {
+                            eps: scene.k_scale,
+                            tol,
+                            adaptive: false,
+                        },
+                        "tol",
+                        tol,
+                        r,
+                    ));
+                }
+            }
+            "lagrange" => out.push((Method::Lagrange, "-", 0.0, 0.0)),
+            _ => {}
+        }
+    }
+    out
+}
+
+/// Budget bookkeeping across sizes: per method, the last single-solve time and N, and whether
+/// the method has exceeded the budget.
+#[derive(Clone, Debug, Default)]
+pub struct Budget {
+    last: HashMap<(String, String), (usize, f64)>,
+    exceeded: HashMap<(String, String), (usize, f64)>,
+}
+
+impl Budget {
+    /// `Some(reason)` if `method` should be skipped on a scene of `n` DOFs.
+    pub fn skip_reason(&self, family: &str, method: &str, n: usize, budget: f64) -> Option<String> {
+        let key = (family.to_string(), method.to_string());
+        if let Some(&(n0, t)) = self.exceeded.get(&key) {
+            if n >= n0 {
+                return Some(format!(
+                    "over budget: a solve took {t:.1} s > {budget} s at N = {n0}"
+                ));
+            }
+        }
+        if let Some(&(n0, t)) = self.last.get(&key) {
+            let predicted = t * (n as f64 / n0 as f64).max(1.0).powf(1.5);
+            if predicted > budget {
+                return Some(format!(
+                    "predicted {predicted:.1} s > budget {budget} s (took {t:.2} s at N = {n0}, scaled as N^1.5)"
+                ));
+            }
+        }
+        None
+    }
+
+    fn record(&mut self, family: &str, method: &str, n: usize, t: f64, budget: f64) {
+        let key = (family.to_string(), method.to_string());
+        let e = self.last.entry(key.clone()).or_insert((n, t));
+        if n > e.0 || (n == e.0 && t > e.1) {
+            *e = (n, t);
+        }
+        if t > budget {
+            self.exceeded.entry(key).or_insert((n, t));
+        }
+    }
+}
+
+fn median(v: &[f64]) -> f64 {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    let k = s.len();
+    if k % 2 == 1 {
+        s[k / 2]
+    } else {
+        0.5 * (s[k / 2 - 1] + s[k / 2])
+    }
+}
+
+fn relative_error(u: &[f64], r: &[f64]) -> Option<f64> {
+    let e = crate::metrics::relative_error(u, r);
+    e.is_finite().then_some(e)
+}
+
+/// Runs every job on one scene. `progress` receives one line per point.
+pub fn run_scene(
+    scene: &PerfScene,
+    cfg: &PerfConfig,
+    budget: &mut Budget,
+    progress: &mut dyn FnMut(&str),
+) -> Vec<PerfRow> {
+    let p = &scene.problem;
+    let (n, m) = (p.n(), p.m());
+    let fam = scene.family.as_str();
+    let mut jobs = jobs(scene, cfg);
+    // lagrange first: its solution is the reference.
+    jobs.sort_by_key(|j| !matches!(j.0, Method::Lagrange));
+    let mut reference: Option<(Vec<f64>, &'static str)> = None;
+    let mut rows = Vec::with_capacity(jobs.len() + 1);
+    let mut reference_pending = true;
+    for (method, knob, value, value_rel) in jobs {
+        let name = method.name();
+        if reference_pending && !matches!(method, Method::Lagrange) {
+            reference_pending = false;
+            if reference.is_none() {
+                reference = fallback_reference(scene, cfg, budget);
+            }
+        }
+        let mut row = PerfRow {
+            family: scene.family.clone(),
+            size: scene.size,
+            n,
+            m,
+            method: name.into(),
+            knob: knob.into(),
+            value,
+            value_rel,
+            status: "skipped".into(),
+            reason: String::new(),
+            seconds: None,
+            seconds_all: Vec::new(),
+            max_penetration: None,
+            penetration_rel: None,
+            error_vs_ref: None,
+            reference: "none".into(),
+            iterations: None,
+            factorizations: None,
+            linear_solves: None,
+            warnings: Vec::new(),
+        };
+        let mut skip = budget.skip_reason(fam, name, n, cfg.budget_seconds);
+        if skip.is_none() && name == "condensed" {
+            let bytes = 8.0 * n as f64 * m as f64;
+            if bytes > cfg.memory_limit_bytes {
+                skip = Some(format!(
+                    "condensed needs an N×m block of {:.1} GB > memory limit {:.1} GB",
+                    bytes / 1e9,
+                    cfg.memory_limit_bytes / 1e9
+                ));
+            }
+        }
+        if let Some(reason) = skip {
+            row.reason = reason;
+            progress(&format!(
+                "{fam} N={n} {name} {knob}={value:.3e}: skipped ({})",
+                row.reason
+            ));
+            rows.push(row);
+            continue;
+        }
+        let mut times = Vec::new();
+        let mut last = None;
+        for _ in 0..cfg.repeats {
+            let t0 = Instant::now();
+            let r = strategy::solve(p, method);
+            let t = t0.elapsed().as_secs_f64();
+            budget.record(fam, name, n, t, cfg.budget_seconds);
+            match r {
+                Ok(sol) => {
+                    times.push(t);
+                    let over = t > cfg.budget_seconds;
+                    last = Some(Ok(sol));
+                    if over {
+                        break;
+                    }
+                }
+                Err(e) => {
+                    last = Some(Err(e));
+                    break;
+                }
+            }
+        }
+        match last {
+            Some(Ok(sol)) => {
+                if matches!(method, Method::Lagrange) {
+                    reference = Some((sol.u.clone(), "lagrange"));
+                }
+                row.status = "ok".into();
+                row.seconds = Some(median(&times));
+                row.seconds_all = times;
+                row.max_penetration = Some(sol.max_penetration).filter(|v| v.is_finite());
+                row.penetration_rel = row.max_penetration.map(|v| v / scene.scale);
+                if let Some((u_ref, which)) = &reference {
+                    row.error_vs_ref = relative_error(&sol.u, u_ref);
+                    row.reference = (*which).into();
+                }
+                row.iterations = Some(sol.stats.iterations);
+                row.factorizations = Some(sol.stats.factorizations);
+                row.linear_solves = Some(sol.stats.linear_solves);
+                row.warnings = sol.warnings;
+                if sol.u.iter().any(|v| !v.is_finite()) {
+                    row.status = "error".into();
+                    row.reason = "solution contains NaN/Inf".into();
+                }
+            }
+            Some(Err(e)) => {
+                row.status = "error".into();
+                row.reason = e.to_string();
+            }
+            None => {
+                row.reason = "no repeat ran".into();
+            }
+        }
+        progress(&format!(
+            "{fam} N={n} m={m} {name} {knob}={value:.3e}: {} {}",
+            row.status,
+            row.seconds.map_or(row.reason.clone(), |s| format!(
+                "{s:.4} s, error {:?}",
+                row.error_vs_ref
+            ))
+        ));
+        rows.push(row);
+    }
+    rows
+}
+
+/// The augmented Lagrangian driven to a penetration of 1e-12 × scale: the reference where
+/// lagrange was not run, was refused or is over budget.
+fn fallback_reference(
+    scene: &PerfScene,
+    cfg: &PerfConfig,
+    budget: &Budget,
+) -> Option<(Vec<f64>, &'static str)> {
+    if budget
+        .skip_reason(
+            &scene.family,
+            "augmented",
+            scene.problem.n(),
+            cfg.budget_seconds,
+        )
+        .is_some()
+    {
+        return None;
+    }
+    let m = Method::Augmented {
+        eps: scene.k_scale,
+        tol: 1e-12 * scene.scale,
+        adaptive: true,
+    };
+    strategy::solve(&scene.problem, m)
+        .ok()
+        .filter(|s| s.u.iter().all(|v| v.is_finite()))
+        .map(|s| (s.u, "augmented"))
+}
+
+/// The full study: every family × size, with progress lines.
+pub fn run(cfg: &PerfConfig, progress: &mut dyn FnMut(&str)) -> Result<Vec<PerfRow>> {
+    cfg.validate()?;
+    let mut rows = Vec::new();
+    for fam in &cfg.families {
+        let mut budget = Budget::default();
+        let mut sizes = cfg.sizes.clone();
+        sizes.sort_unstable();
+        sizes.dedup();
+        for &size in &sizes {
+            let t0 = Instant::now();
+            let sc = scene(fam, size, cfg.max_constraints)?;
+            progress(&format!(
+                "{fam}: built N = {}, m = {} in {:.2} s",
+                sc.problem.n(),
+                sc.problem.m(),
+                t0.elapsed().as_secs_f64()
+            ));
+            rows.extend(run_scene(&sc, cfg, &mut budget, progress));
+        }
+    }
+    Ok(rows)
+}
+
+/// Errors below this are drawn at this value on log axes.
+pub const PLOT_FLOOR: f64 = 1e-17;
+
+/// Figures: per family, time against `‖u − u_ref‖/‖u_ref‖` and time against relative max
+/// penetration, one panel per size, one line per strategy through its knob values; and time
+/// against N per strategy (at the middle knob value).
+pub fn figures(rows: &[PerfRow]) -> Vec<(String, Vec<Figure>)> {
+    let mut out = Vec::new();
+    let mut families: Vec<&str> = rows.iter().map(|r| r.family.as_str()).collect();
+    families.dedup();
+    families.sort_unstable();
+    families.dedup();
+    let mut methods: Vec<&str> = Vec::new();
+    for r in rows {
+        if !methods.contains(&r.method.as_str()) {
+            methods.push(&r.method);
+        }
+    }
+    let color = |m: &str| METHOD_NAMES.iter().position(|x| *x == m).unwrap_or(0);
+    for fam in &families {
+        let mut sizes: Vec<usize> = rows
+            .iter()
+            .filter(|r| r.family == *fam)
+            .map(|r| r.n)
+            .collect();
+        sizes.sort_unstable();
+        sizes.dedup();
+        for (what, label, get) in [
+            (
+                "time_vs_error",
+                "‖u − u_ref‖ / ‖u_ref‖",
+                (|r: &PerfRow| r.error_vs_ref) as fn(&PerfRow) -> Option<f64>,
+            ),
+            (
+                "time_vs_penetration",
+                "max penetration / displacement scale",
+                |r: &PerfRow| r.penetration_rel,
+            ),
+        ] {
+            let mut panels = Vec::new();
+            for &n in &sizes {
+                let mut fig = Figure::new(
+                    format!("{fam}, N = {n}"),
+                    label,
+                    "time to solution (s, median)",
+                )
+                .scales(Scale::Log10, Scale::Log10);
+                let mut any = false;
+                for m in &methods {
+                    let pts: Vec<(f64, f64)> = rows
+                        .iter()
+                        .filter(|r| r.family == *fam && r.n == n && r.method == *m)
+                        .filter_map(|r| Some((get(r)?.max(PLOT_FLOOR), r.seconds?)))
+                        .collect();
+                    if pts.is_empty() {
+                        continue;
+                    }
+                    any = true;
+                    fig = fig.with_series(
+                        Series::new(
+                            *m,
+                            pts.iter().map(|p| p.0).collect(),
+                            pts.iter().map(|p| p.1).collect(),
+                            Mark::LinePoints,
+                        )
+                        .color(color(m)),
+                    );
+                }
+                if any {
+                    panels.push(fig);
+                }
+            }
+            if !panels.is_empty() {
+                out.push((format!("{what}_{fam}"), panels));
+            }
+        }
+    }
+    // Time against N, per family, at the middle knob value of each method.
+    let mut panels = Vec::new();
+    for fam in &families {
+        let mut fig = Figure::new(
+            format!("{fam}: time vs size (middle knob value)"),
+            "N (DOFs)",
+            "time to solution (s, median)",
+        )
+        .scales(Scale::Log10, Scale::Log10);
+        let mut any = false;
+        for m in &methods {
+            let mut vals: Vec<f64> = rows
+                .iter()
+                .filter(|r| r.family == *fam && r.method == *m)
+                .map(|r| r.value_rel)
+                .collect();
+            vals.sort_by(f64::total_cmp);
+            vals.dedup();
+            if vals.is_empty() {
+                continue;
+            }
+            let mid = vals[vals.len() / 2];
+            let pts: Vec<(f64, f64)> = rows
+                .iter()
+                .filter(|r| r.family == *fam && r.method == *m && r.value_rel == mid)
+                .filter_map(|r| Some((r.n as f64, r.seconds?)))
+                .collect();
+            if pts.is_empty() {
+                continue;
+            }
+            any = true;
+            fig = fig.with_series(
+                Series::new(
+                    *m,
+                    pts.iter().map(|p| p.0).collect(),
+                    pts.iter().map(|p| p.1).collect(),
+                    Mark::LinePoints,
+                )
+                .color(color(m)),
+            );
+        }
+        if any {
+            panels.push(fig);
+        }
+    }
+    if !panels.is_empty() {
+        out.push(("time_vs_size".into(), panels));
+    }
+    out
+}

@@ -1,0 +1,289 @@
+//! `runtime_vs_error --smoke --json`: structure of the output, finiteness, and orderings that
+//! hold by theory (never numbers copied from our own output):
+//!
+//! * `lagrange` is the exact contact solution: zero penetration up to rounding, and it is the
+//!   reference (error 0 against itself);
+//! * `condensed` targets the allowed penetration exactly: max penetration ≤ δ (1 + 1e-9) plus
+//!   rounding;
+//! * `augmented` stops only when max penetration ≤ tol (or warns);
+//! * `constant` and `scaled`: the penalty solution tends to the exact one as ε → ∞
+//!   (u_ε − u* = O(1/ε)), so the largest knob value gives a smaller penetration and error than
+//!   the smallest one (six decades apart);
+//! * `condensed`'s error against the exact solution is O(δ): 1000× smaller δ, smaller error.
+
+use serde_json::Value;
+use std::path::PathBuf;
+use std::process::Command;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_runtime_vs_error"))
+}
+
+fn tmp(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("penalty-lab-rve-{}-{tag}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+fn smoke_json(out: &PathBuf) -> Value {
+    let o = bin()
+        .args(["--smoke", "--json", "--out"])
+        .arg(out)
+        .output()
+        .expect("runs");
+    assert!(
+        o.status.success(),
+        "exit {:?}: {}",
+        o.status,
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(!o.stderr.is_empty(), "progress goes to stderr");
+    serde_json::from_slice(&o.stdout).expect("stdout is one JSON object")
+}
+
+fn f(v: &Value) -> f64 {
+    v.as_f64().expect("a number")
+}
+
+#[test]
+fn smoke_json_structure_and_theory_orderings() {
+    let out = tmp("smoke");
+    let v = smoke_json(&out);
+    let eps = f64::EPSILON;
+
+    // Manifest.
+    let man = &v["manifest"];
+    assert_eq!(man["experiment"], "runtime_vs_error");
+    assert!(man["git_commit"].is_string());
+    assert_eq!(man["smoke"], true);
+    assert!(man["config"]["sizes"].is_array());
+    assert!(f(&man["wall_seconds"]) > 0.0);
+
+    // Files.
+    for name in ["rows.csv", "manifest.json"] {
+        assert!(out.join(name).exists(), "{name} missing");
+    }
+    let figs: Vec<String> = std::fs::read_dir(out.join("figures"))
+        .expect("figures dir")
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    for fam in ["beam", "membrane"] {
+        for ext in ["png", "svg"] {
+            let name = format!("time_vs_error_{fam}.{ext}");
+            assert!(figs.contains(&name), "{name} not in {figs:?}");
+        }
+    }
+
+    let rows = v["rows"].as_array().expect("rows");
+    let csv = std::fs::read_to_string(out.join("rows.csv")).unwrap();
+    assert_eq!(
+        csv.lines().count(),
+        rows.len() + 1,
+        "CSV has one line per row"
+    );
+
+    let families = ["beam", "membrane"];
+    let methods = [
+        "constant",
+        "scaled",
+        "spring",
+        "paper",
+        "condensed",
+        "lagrange",
+        "augmented",
+    ];
+    let mut sizes_seen = std::collections::BTreeSet::new();
+    for r in rows {
+        for key in [
+            "family",
+            "size",
+            "n",
+            "m",
+            "method",
+            "knob",
+            "value",
+            "value_rel",
+            "status",
+            "reason",
+            "seconds",
+            "seconds_all",
+            "max_penetration",
+            "penetration_rel",
+            "error_vs_ref",
+            "reference",
+            "warnings",
+        ] {
+            assert!(r.get(key).is_some(), "row lacks {key}: {r}");
+        }
+        assert!(families.contains(&r["family"].as_str().unwrap()));
+        assert!(methods.contains(&r["method"].as_str().unwrap()));
+        let status = r["status"].as_str().unwrap();
+        assert!(["ok", "error", "skipped"].contains(&status), "{status}");
+        if status != "ok" {
+            assert!(!r["reason"].as_str().unwrap().is_empty(), "{r}");
+            continue;
+        }
+        sizes_seen.insert(r["n"].as_u64().unwrap());
+        let secs = f(&r["seconds"]);
+        assert!(secs.is_finite() && secs > 0.0);
+        for s in r["seconds_all"].as_array().unwrap() {
+            assert!(f(s).is_finite() && f(s) > 0.0);
+        }
+        let pen = f(&r["max_penetration"]);
+        let err = f(&r["error_vs_ref"]);
+        assert!(pen.is_finite() && pen >= 0.0, "{r}");
+        assert!(err.is_finite() && err >= 0.0, "{r}");
+        assert!(f(&r["penetration_rel"]).is_finite());
+    }
+    // Smoke covers two sizes per family.
+    assert!(sizes_seen.len() >= 3, "sizes {sizes_seen:?}");
+
+    // Orderings by theory, per scene.
+    let ok = |fam: &str, n: u64, m: &str| -> Vec<&Value> {
+        rows.iter()
+            .filter(|r| r["family"] == fam && r["n"].as_u64() == Some(n) && r["method"] == m)
+            .filter(|r| r["status"] == "ok")
+            .collect()
+    };
+    let mut checked = 0;
+    for fam in families {
+        let ns: std::collections::BTreeSet<u64> = rows
+            .iter()
+            .filter(|r| r["family"] == fam)
+            .map(|r| r["n"].as_u64().unwrap())
+            .collect();
+        for &n in &ns {
+            // lagrange: exact, and the reference.
+            let lag = ok(fam, n, "lagrange");
+            assert_eq!(lag.len(), 1, "{fam} N={n}: lagrange should run in smoke");
+            let l = lag[0];
+            assert_eq!(l["reference"], "lagrange");
+            assert_eq!(f(&l["error_vs_ref"]), 0.0);
+            // Rounding level of the penetration, 64·N·ε_mach × the displacement scale (recovered
+            // from a condensed row: δ = δ_rel × scale).
+            let cond = ok(fam, n, "condensed");
+            assert!(!cond.is_empty());
+            let disp_scale = f(&cond[0]["value"]) / f(&cond[0]["value_rel"]);
+            let round = 64.0 * n as f64 * eps * disp_scale;
+            assert!(
+                f(&l["max_penetration"]) <= round,
+                "{fam} N={n}: lagrange penetrates"
+            );
+            // condensed: penetration ≤ δ(1 + 1e-9) + rounding; error O(δ).
+            for r in &cond {
+                let delta = f(&r["value"]);
+                assert!(
+                    f(&r["max_penetration"]) <= delta * (1.0 + 1e-9) + round,
+                    "{fam} N={n}: condensed penetration {} > δ = {delta}",
+                    r["max_penetration"]
+                );
+            }
+            let by_knob = |rs: &[&Value]| {
+                let mut v: Vec<(f64, f64, f64)> = rs
+                    .iter()
+                    .map(|r| {
+                        (
+                            f(&r["value"]),
+                            f(&r["max_penetration"]),
+                            f(&r["error_vs_ref"]),
+                        )
+                    })
+                    .collect();
+                v.sort_by(|a, b| a.0.total_cmp(&b.0));
+                v
+            };
+            let c = by_knob(&cond);
+            let (small, large) = (c[0], c[c.len() - 1]);
+            assert!(
+                small.2 < large.2,
+                "{fam} N={n}: condensed error should shrink with δ: {c:?}"
+            );
+            // augmented: penetration ≤ tol unless it warned.
+            for r in ok(fam, n, "augmented") {
+                let warned = !r["warnings"].as_array().unwrap().is_empty();
+                assert!(
+                    warned || f(&r["max_penetration"]) <= f(&r["value"]),
+                    "{fam} N={n}: augmented stopped above tol: {r}"
+                );
+            }
+            // constant and scaled: largest knob beats smallest.
+            for m in ["constant", "scaled"] {
+                let v = by_knob(&ok(fam, n, m));
+                assert!(v.len() >= 2, "{fam} N={n} {m}");
+                let (lo, hi) = (v[0], v[v.len() - 1]);
+                assert!(hi.0 >= 1e6 * lo.0, "knob span");
+                assert!(
+                    hi.1 < lo.1 && hi.2 < lo.2,
+                    "{fam} N={n} {m}: penetration/error should fall as ε grows: {v:?}"
+                );
+            }
+            checked += 1;
+        }
+    }
+    assert!(checked >= 4);
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn bad_input_exits_2_with_one_line() {
+    for args in [
+        vec!["--sizes", "0"],
+        vec!["--sizes", "abc"],
+        vec!["--families", "plate"],
+        vec!["--methods", "magic"],
+        vec!["--repeats", "0"],
+        vec!["--budget", "-1"],
+        vec!["--memory-gb", "nan"],
+    ] {
+        let out = tmp("bad");
+        let o = bin()
+            .args(&args)
+            .arg("--smoke")
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains("error"), "{args:?}: {err}");
+        assert!(o.stdout.is_empty(), "{args:?}");
+        assert!(!out.exists(), "{args:?}: nothing written on bad input");
+    }
+}
+
+#[test]
+fn skipped_rows_are_recorded_not_fatal() {
+    // A tiny memory limit makes condensed impossible: rows are skipped with the reason and
+    // the run still succeeds.
+    let out = tmp("skip");
+    let o = bin()
+        .args([
+            "--sizes",
+            "100",
+            "--families",
+            "membrane",
+            "--methods",
+            "condensed,constant",
+            "--memory-gb",
+            "1e-9",
+            "--json",
+            "--no-figures",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: Value = serde_json::from_slice(&o.stdout).unwrap();
+    let rows = v["rows"].as_array().unwrap();
+    let cond: Vec<&Value> = rows.iter().filter(|r| r["method"] == "condensed").collect();
+    assert!(!cond.is_empty());
+    for r in cond {
+        assert_eq!(r["status"], "skipped");
+        assert!(r["reason"].as_str().unwrap().contains("memory"));
+    }
+    assert!(rows
+        .iter()
+        .any(|r| r["method"] == "constant" && r["status"] == "ok"));
+    let _ = std::fs::remove_dir_all(&out);
+}
