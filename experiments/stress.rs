@@ -13,6 +13,7 @@
 
 use clap::Parser;
 use penalty_lab::plot::{self, Figure};
+use penalty_lab::provenance;
 use penalty_lab::stability::{self, EpsRow, StrategyRow, StressConfig, StressScene};
 use penalty_lab::sweep::generate::FAMILY_NAMES;
 use penalty_lab::sweep::LogGrid;
@@ -56,17 +57,6 @@ struct Args {
     /// Skip the figures.
     #[arg(long)]
     no_figures: bool,
-}
-
-fn git_commit() -> String {
-    std::process::Command::new("git")
-        .args(["rev-parse", "HEAD"])
-        .output()
-        .ok()
-        .filter(|o| o.status.success())
-        .and_then(|o| String::from_utf8(o.stdout).ok())
-        .map(|s| s.trim().to_string())
-        .unwrap_or_else(|| "unknown".into())
 }
 
 fn opt(v: Option<f64>) -> String {
@@ -308,15 +298,14 @@ fn run(a: &Args) -> Result<(), Error> {
     let wall = t0.elapsed().as_secs_f64();
     let summary = summary(&eps_rows, &strat_rows);
     std::fs::create_dir_all(&a.out).map_err(|e| Error::io(a.out.display(), e))?;
-    let write = |name: &str, text: &str| {
-        let p = a.out.join(name);
-        std::fs::write(&p, text).map_err(|e| Error::io(p.display(), e))
-    };
+    let write =
+        |name: &str, text: &str| provenance::write_atomic(&a.out.join(name), text.as_bytes());
     write("eps_study.csv", &eps_csv(&eps_rows))?;
     write("strategies.csv", &strategy_csv(&strat_rows))?;
     let manifest = json!({
         "experiment": "stress",
-        "git_commit": git_commit(),
+        "git_commit": provenance::git_commit(),
+        "crate_versions": provenance::crate_versions(),
         "command": std::env::args().collect::<Vec<_>>().join(" "),
         "seed": a.seed,
         "count": a.count,

@@ -680,9 +680,14 @@ pub fn figures(rows: &[PerfRow]) -> Vec<(String, Vec<Figure>)> {
                         continue;
                     }
                     any = true;
+                    let label = if *m == "lagrange" && what == "time_vs_error" {
+                        "lagrange (the reference)".to_string()
+                    } else {
+                        m.to_string()
+                    };
                     fig = fig.with_series(
                         Series::new(
-                            *m,
+                            label,
                             pts.iter().map(|p| p.0).collect(),
                             pts.iter().map(|p| p.1).collect(),
                             Mark::LinePoints,

@@ -503,3 +503,88 @@ proptest! {
         }
     }
 }
+
+// ----------------------------------------------------------------------------------------
+// The `stress` binary
+// ----------------------------------------------------------------------------------------
+
+fn stress_bin() -> std::process::Command {
+    std::process::Command::new(env!("CARGO_BIN_EXE_stress"))
+}
+
+/// `stress --json` on the paper's beam: one JSON object with the manifest (git commit,
+/// config, seed), the ε study and the strategy runs; CSV + JSON + PNG/SVG written; no panic
+/// and no non-finite output except the reported condensed case.
+#[test]
+fn stress_cli_writes_csv_json_and_figures() {
+    let out = std::env::temp_dir().join(format!("penalty-lab-stress-cli-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&out);
+    let o = stress_bin()
+        .args([
+            "--families",
+            "none",
+            "--eps",
+            "1e-3:1e20:8",
+            "--json",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON object");
+    let man = &v["manifest"];
+    assert!(man["git_commit"].is_string());
+    assert_eq!(man["seed"], 7);
+    assert_eq!(man["config"]["eps"].as_array().unwrap().len(), 8);
+    assert_eq!(man["summary"]["panics"], 0);
+    let rows = v["eps_study"].as_array().unwrap();
+    assert_eq!(rows.len(), 2 * 8, "two paper-beam scenes × 8 ε");
+    for r in rows {
+        // Every ε gets a reference and the best variant solves it.
+        assert!(
+            r["forward"]["equilibrated_refined_extended"].is_number(),
+            "{r}"
+        );
+        assert!(r["cond2"].as_f64().unwrap() >= 1.0);
+    }
+    assert!(!v["strategies"].as_array().unwrap().is_empty());
+    for f in ["eps_study.csv", "strategies.csv", "stress.json"] {
+        assert!(out.join(f).exists(), "{f}");
+    }
+    for stem in [
+        "forward_error_vs_eps",
+        "error_vs_lagrange",
+        "forward_error_vs_cond",
+    ] {
+        for ext in ["png", "svg"] {
+            let p = out.join("figures").join(format!("{stem}.{ext}"));
+            assert!(p.exists(), "{}", p.display());
+        }
+    }
+    let _ = std::fs::remove_dir_all(&out);
+}
+
+#[test]
+fn stress_cli_bad_input_exits_2() {
+    for args in [
+        vec!["--eps", "1:0:3"],
+        vec!["--eps", "x"],
+        vec!["--families", "plate"],
+        vec!["--count", "1000"],
+    ] {
+        let out =
+            std::env::temp_dir().join(format!("penalty-lab-stress-bad-{}", std::process::id()));
+        let o = stress_bin()
+            .args(&args)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.starts_with("error"), "{args:?}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+        assert!(!out.exists());
+    }
+}
