@@ -8,6 +8,7 @@
 //! `shared/notes/methods.md`). Bad input exits with status 2 and one line on stderr.
 
 use clap::Parser;
+use penalty_lab::conditioning;
 use penalty_lab::metrics::{self, MetricSet};
 use penalty_lab::scene;
 use penalty_lab::strategy::{self, Knobs, Method, METHOD_NAMES};
@@ -127,6 +128,8 @@ fn run(args: &Args) -> Result<Value, Error> {
         "cond2_system": finite_or_null(m.cond2_system.map(|c| c.cond2)),
         "cond_route_K": m.cond2_k.map(|c| c.route.name()),
         "cond_route_system": m.cond2_system.map(|c| c.route.name()),
+        "cond2_K_bounds": bounds(m.cond2_k),
+        "cond2_system_bounds": bounds(m.cond2_system),
         "log10_det_K": finite_or_null(m.log10_det_k),
         "log10_det_system": finite_or_null(m.log10_det_system),
         "log10_det_ratio": finite_or_null(m.log10_det_ratio),
@@ -138,6 +141,18 @@ fn run(args: &Args) -> Result<Value, Error> {
         "seconds": seconds,
         "warnings": warnings,
     }))
+}
+
+/// The certified bracket `[lo, hi]` of a sparse-route cond₂ (null where not certified or
+/// unbounded).
+fn bounds(c: Option<conditioning::CondReport>) -> Value {
+    match c.and_then(|c| c.certificate) {
+        Some(cert) => {
+            let (lo, hi) = cert.cond2_bounds();
+            json!([finite_or_null(Some(lo)), finite_or_null(Some(hi))])
+        }
+        None => Value::Null,
+    }
 }
 
 fn fmt_vec(v: &Value) -> String {
@@ -163,6 +178,7 @@ fn print_table(v: &Value) {
         "cond2_K",
         "cond2_system",
         "cond_route_system",
+        "cond2_system_bounds",
         "log10_det_K",
         "log10_det_system",
         "log10_det_ratio",

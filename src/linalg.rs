@@ -18,7 +18,7 @@ use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymbolicCholeskyRaw,
 };
 use faer::sparse::linalg::solvers::Lu as SparseLu;
-use faer::sparse::SparseColMat;
+use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 use faer::{Conj, Mat, MatMut, Par, Side};
 use std::sync::Arc;
 
@@ -133,6 +133,81 @@ impl SparseLlt {
             par,
             MemStack::new(&mut mem),
         );
+    }
+}
+
+/// The pattern of a sparse matrix with every diagonal entry present (inserted as explicit
+/// zeros where missing) and its symbolic Cholesky analysis: any matrix with these values
+/// changed — shifted `A + σI`, or A with Dirichlet rows/columns replaced by the identity — is
+/// factorized numerically without a new analysis.
+pub struct DiagonalPattern {
+    /// Column pointers and sorted row indices (diagonal included).
+    pub pattern: SymbolicSparseColMat<usize>,
+    /// The values of A on that pattern (0 at inserted diagonal positions).
+    pub values: Vec<f64>,
+    /// `diag[j]`: position of entry (j, j) in `values`.
+    pub diag: Vec<usize>,
+    /// Symbolic Cholesky analysis of the pattern.
+    pub symbolic: Arc<SymbolicCholesky<usize>>,
+}
+
+impl DiagonalPattern {
+    /// Copies the pattern of `a` (CSC with sorted row indices), inserting missing diagonals.
+    pub fn new(a: &SparseColMat<usize, f64>) -> Result<Self> {
+        let n = a.nrows();
+        let cp = a.symbolic().col_ptr();
+        let ri = a.symbolic().row_idx();
+        let av = a.val();
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::with_capacity(ri.len() + n);
+        let mut values = Vec::with_capacity(ri.len() + n);
+        let mut diag = vec![0; n];
+        col_ptr.push(0);
+        for j in 0..n {
+            let mut have_diag = false;
+            for p in cp[j]..cp[j + 1] {
+                let i = ri[p];
+                if !have_diag && i > j {
+                    diag[j] = row_idx.len();
+                    row_idx.push(j);
+                    values.push(0.0);
+                    have_diag = true;
+                }
+                if i == j {
+                    diag[j] = row_idx.len();
+                    have_diag = true;
+                }
+                row_idx.push(i);
+                values.push(av[p]);
+            }
+            if !have_diag {
+                diag[j] = row_idx.len();
+                row_idx.push(j);
+                values.push(0.0);
+            }
+            col_ptr.push(row_idx.len());
+        }
+        let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+        let probe = SparseColMat::new(pattern.clone(), values.clone());
+        let symbolic = SparseLlt::analyze(&probe)?;
+        Ok(DiagonalPattern {
+            pattern,
+            values,
+            diag,
+            symbolic,
+        })
+    }
+
+    /// Numeric Cholesky of the matrix with this pattern and `values` (None if not positive
+    /// definite).
+    pub fn factor(&self, values: Vec<f64>) -> Option<SparseLlt> {
+        let m = SparseColMat::new(self.pattern.clone(), values);
+        SparseLlt::factorize(self.symbolic.clone(), &m)
+    }
+
+    /// Dimension.
+    pub fn n(&self) -> usize {
+        self.diag.len()
     }
 }
 

@@ -6,7 +6,7 @@
 //! matrix `[K D_A; D_Aᵀ 0]` for `lagrange`.
 
 use crate::conditioning::{self, CondReport};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::strategy::{lagrange, penalized_matrix, Solution, SystemKind};
 use crate::system::{Problem, Stiffness};
 use serde::Serialize;
@@ -41,6 +41,22 @@ pub struct Metrics {
     pub log10_det_system: Option<f64>,
     /// `log10|det(system)| − log10|det K|`.
     pub log10_det_ratio: Option<f64>,
+    /// Requested metrics that have no exact route for this matrix (e.g. cond₂ of a sparse
+    /// indefinite saddle-point matrix above the densify limit), with the reason.
+    pub unavailable: Vec<String>,
+}
+
+/// cond₂ of the system matrix, or `None` with a note when no exact route exists for it.
+fn system_cond(sys: &Stiffness, out: &mut Metrics) -> Result<Option<CondReport>> {
+    match conditioning::cond2(sys) {
+        Ok(r) => Ok(Some(r)),
+        Err(Error::Input(msg)) => {
+            out.unavailable
+                .push(format!("cond2 of the system matrix not computed: {msg}"));
+            Ok(None)
+        }
+        Err(e) => Err(e),
+    }
 }
 
 /// Threshold on `cond₂ · ε_mach` above which fewer than ~10 digits are reliable.
@@ -63,7 +79,7 @@ pub fn compute(problem: &Problem, sol: &Solution, set: MetricSet) -> Result<Metr
     let sys = system_matrix(problem, sol);
     if set.cond {
         out.cond2_k = Some(conditioning::cond2(&problem.k)?);
-        out.cond2_system = Some(conditioning::cond2(&sys)?);
+        out.cond2_system = system_cond(&sys, &mut out)?;
     }
     if set.det {
         let dk = conditioning::log10_abs_det(&problem.k)?;
@@ -90,7 +106,7 @@ pub fn compute_with_k(
     }
     let sys = system_matrix(problem, sol);
     if set.cond {
-        out.cond2_system = Some(conditioning::cond2(&sys)?);
+        out.cond2_system = system_cond(&sys, &mut out)?;
     }
     if set.det {
         let dk = match log10_det_k {
@@ -105,9 +121,10 @@ pub fn compute_with_k(
     Ok(out)
 }
 
-/// Warnings derived from metrics: digits lost when `cond₂(system) · ε_mach > 1e-6`.
+/// Warnings derived from metrics: digits lost when `cond₂(system) · ε_mach > 1e-6`, and the
+/// metrics that could not be computed.
 pub fn precision_warnings(m: &Metrics) -> Vec<String> {
-    let mut w = Vec::new();
+    let mut w = m.unavailable.clone();
     if let Some(c) = m.cond2_system {
         if c.cond2 * f64::EPSILON > DIGITS_LOST_THRESHOLD {
             w.push(format!(

@@ -1186,6 +1186,9 @@ mod json {
         i: usize,
         line: usize,
         line_start: usize,
+        /// (byte position, column) of the last column computed: columns are counted
+        /// incrementally, so long one-line arrays cost O(length), not O(length²).
+        col_cache: std::cell::Cell<(usize, usize)>,
     }
 
     type PResult<T> = Result<T, ParseError>;
@@ -1199,6 +1202,7 @@ mod json {
             i: 0,
             line: 1,
             line_start: 0,
+            col_cache: std::cell::Cell::new((0, 0)),
         };
         p.ws();
         if p.i == p.b.len() {
@@ -1217,10 +1221,19 @@ mod json {
 
     impl Parser<'_> {
         fn col(&self) -> usize {
-            self.s
-                .get(self.line_start..self.i)
-                .map_or(self.i - self.line_start, |t| t.chars().count())
-                + 1
+            let (pos, col) = self.col_cache.get();
+            let (from, base) = if pos >= self.line_start && pos <= self.i {
+                (pos, col)
+            } else {
+                (self.line_start, 0)
+            };
+            let c = base
+                + self
+                    .s
+                    .get(from..self.i)
+                    .map_or(self.i - from, |t| t.chars().count());
+            self.col_cache.set((self.i, c));
+            c + 1
         }
 
         fn err(&self, msg: impl Into<String>) -> ParseError {

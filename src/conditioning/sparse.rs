@@ -24,11 +24,9 @@
 //! automatically above [`SPARSE_ROUTE_MIN_N`].
 
 use crate::error::{Error, Result};
-use crate::linalg::SparseLlt;
-use faer::sparse::linalg::cholesky::SymbolicCholesky;
-use faer::sparse::{SparseColMat, SymbolicSparseColMat};
+use crate::linalg::{DiagonalPattern, SparseLlt};
+use faer::sparse::SparseColMat;
 use serde::Serialize;
-use std::sync::Arc;
 
 /// Below this dimension [`super::cond2`] densifies sparse matrices (dense eigenvalues are cheaper
 /// than several sparse factorizations for small n).
@@ -83,72 +81,28 @@ pub struct SparseSpectrum {
     pub log10_det: f64,
 }
 
-/// The pattern of A with every diagonal entry present, so that `αA + σI` shares one symbolic
-/// Cholesky analysis for every shift σ.
+/// `αA + σI` for many shifts σ, sharing one symbolic Cholesky analysis.
 struct ShiftFamily {
-    pattern: SymbolicSparseColMat<usize>,
-    values: Vec<f64>,
-    diag: Vec<usize>,
-    symbolic: Arc<SymbolicCholesky<usize>>,
+    pattern: DiagonalPattern,
     factorizations: usize,
 }
 
 impl ShiftFamily {
     fn new(a: &SparseColMat<usize, f64>) -> Result<Self> {
-        let n = a.nrows();
-        let cp = a.symbolic().col_ptr();
-        let ri = a.symbolic().row_idx();
-        let av = a.val();
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::with_capacity(ri.len() + n);
-        let mut values = Vec::with_capacity(ri.len() + n);
-        let mut diag = vec![0; n];
-        col_ptr.push(0);
-        for j in 0..n {
-            let mut have_diag = false;
-            for p in cp[j]..cp[j + 1] {
-                let i = ri[p];
-                if !have_diag && i > j {
-                    diag[j] = row_idx.len();
-                    row_idx.push(j);
-                    values.push(0.0);
-                    have_diag = true;
-                }
-                if i == j {
-                    diag[j] = row_idx.len();
-                    have_diag = true;
-                }
-                row_idx.push(i);
-                values.push(av[p]);
-            }
-            if !have_diag {
-                diag[j] = row_idx.len();
-                row_idx.push(j);
-                values.push(0.0);
-            }
-            col_ptr.push(row_idx.len());
-        }
-        let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
-        let probe = SparseColMat::new(pattern.clone(), values.clone());
-        let symbolic = SparseLlt::analyze(&probe)?;
         Ok(ShiftFamily {
-            pattern,
-            values,
-            diag,
-            symbolic,
+            pattern: DiagonalPattern::new(a)?,
             factorizations: 0,
         })
     }
 
     /// Cholesky of `alpha·A + sigma·I` (None if not positive definite).
     fn factor(&mut self, alpha: f64, sigma: f64) -> Option<SparseLlt> {
-        let mut v: Vec<f64> = self.values.iter().map(|x| alpha * x).collect();
-        for &p in &self.diag {
+        let mut v: Vec<f64> = self.pattern.values.iter().map(|x| alpha * x).collect();
+        for &p in &self.pattern.diag {
             v[p] += sigma;
         }
-        let m = SparseColMat::new(self.pattern.clone(), v);
         self.factorizations += 1;
-        SparseLlt::factorize(self.symbolic.clone(), &m)
+        self.pattern.factor(v)
     }
 
     /// Is `alpha·A + sigma·I` positive definite?

@@ -18,7 +18,9 @@
 //! ones), with a one-change-per-iteration fallback if the full update cycles.
 //!
 //! Cost: one factorization of K, one block solve with m right-hand sides (`W = K⁻¹D`), then
-//! m-sized dense work; never K⁻¹. `u = u0 − W r`.
+//! m-sized dense work; never K⁻¹. `u = u0 − W r`. For large sparse K (n ≥ 2000) the same QP
+//! is solved in u-space by elimination ([`super::eliminated`]): one sparse Cholesky per
+//! active-set iteration, memory O(nnz of the factor), no N×m block.
 //!
 //! When to use: whenever δ is the physical knob — it gives the smallest penalties that keep
 //! every penetration ≤ δ, with no trial-and-error tuning of ε. It is not always the
@@ -168,8 +170,60 @@ pub fn box_qp(s: MatRef<'_, f64>, g0: &[f64], lo: &[f64], hi: &[f64]) -> Result<
     )))
 }
 
-/// Solves with exact δ-targeting penalties.
-pub fn solve(mut ctx: Context, delta: f64) -> Result<Solution> {
+/// Solves with exact δ-targeting penalties: through S = DᵀK⁻¹D ([`solve_dense`]), or for
+/// large sparse K by elimination ([`solve_eliminated`], see [`super::eliminated`]).
+pub fn solve(ctx: Context, delta: f64) -> Result<Solution> {
+    if super::eliminated::applies(ctx.problem) {
+        solve_eliminated(ctx, delta)
+    } else {
+        solve_dense(ctx, delta)
+    }
+}
+
+/// Gap bounds of the condensed box QP: `[−δ, δ]` (bilateral), `(−∞, δ]` (upper),
+/// `[−δ, ∞)` (lower).
+fn bounds(problem: &crate::system::Problem, delta: f64) -> (Vec<f64>, Vec<f64>) {
+    problem
+        .constraints
+        .iter()
+        .map(|c| match c.kind {
+            ConstraintKind::Bilateral => (-delta, delta),
+            ConstraintKind::Upper => (f64::NEG_INFINITY, delta),
+            ConstraintKind::Lower => (-delta, f64::INFINITY),
+        })
+        .unzip()
+}
+
+const CYCLED: &str =
+    "condensed: the primal-dual active-set update cycled; converged with single changes";
+
+/// The elimination route: the box problem in u-space, `ε_c = r_c / g_c` at the bounds.
+pub fn solve_eliminated(mut ctx: Context, delta: f64) -> Result<Solution> {
+    let (lo, hi) = bounds(ctx.problem, delta);
+    let b = super::eliminated::box_solve(&mut ctx, &lo, &hi)?;
+    let penalties: Vec<f64> = (0..b.state.len())
+        .map(|c| match b.state[c] {
+            BoundState::Free => 0.0,
+            _ => (b.r[c] / b.g[c]).max(0.0),
+        })
+        .collect();
+    let warnings = if b.fallback {
+        vec![CYCLED.to_string()]
+    } else {
+        Vec::new()
+    };
+    Ok(ctx.finish(
+        Method::Condensed { delta },
+        b.u,
+        penalties,
+        None,
+        SystemKind::Penalized,
+        warnings,
+    ))
+}
+
+/// The dense route through `S = DᵀK⁻¹D` (m×m) and `W = K⁻¹D` (N×m).
+pub fn solve_dense(mut ctx: Context, delta: f64) -> Result<Solution> {
     let problem = ctx.problem;
     let g0 = ctx.g0()?;
     let u0 = ctx.u0()?.to_vec();
@@ -179,24 +233,13 @@ pub fn solve(mut ctx: Context, delta: f64) -> Result<Solution> {
     let w = ctx.k_factor()?.solve_unit_columns(&dofs);
     ctx.stats.linear_solves += m;
     let s = Mat::from_fn(m, m, |i, j| w[(dofs[i], j)]);
-    let (lo, hi): (Vec<f64>, Vec<f64>) = problem
-        .constraints
-        .iter()
-        .map(|c| match c.kind {
-            ConstraintKind::Bilateral => (-delta, delta),
-            ConstraintKind::Upper => (f64::NEG_INFINITY, delta),
-            ConstraintKind::Lower => (-delta, f64::INFINITY),
-        })
-        .unzip();
+    let (lo, hi) = bounds(problem, delta);
     let qp = box_qp(s.as_ref(), &g0, &lo, &hi)?;
     ctx.stats.iterations = qp.iterations;
     ctx.stats.active_set_sizes = qp.sizes.clone();
     let mut warnings = Vec::new();
     if qp.fallback {
-        warnings.push(
-            "condensed: the primal-dual active-set update cycled; converged with single changes"
-                .to_string(),
-        );
+        warnings.push(CYCLED.to_string());
     }
     let penalties: Vec<f64> = (0..m)
         .map(|c| match qp.state[c] {

@@ -45,8 +45,52 @@ pub fn saddle_matrix(problem: &Problem, active: &[usize]) -> Stiffness {
     }
 }
 
-/// Solves the contact problem exactly with Lagrange multipliers.
-pub fn solve(mut ctx: Context) -> Result<Solution> {
+/// Solves the contact problem exactly with Lagrange multipliers: the saddle-point route
+/// ([`solve_saddle`]), or for large sparse K the equivalent elimination route
+/// ([`solve_eliminated`], see [`super::eliminated`]); the reported system is the saddle-point
+/// matrix either way.
+pub fn solve(ctx: Context) -> Result<Solution> {
+    if super::eliminated::applies(ctx.problem) {
+        solve_eliminated(ctx)
+    } else {
+        solve_saddle(ctx)
+    }
+}
+
+/// The elimination route: prescribed DOFs at the limits, multipliers from the residuals.
+pub fn solve_eliminated(mut ctx: Context) -> Result<Solution> {
+    let (lo, hi): (Vec<f64>, Vec<f64>) = ctx
+        .problem
+        .constraints
+        .iter()
+        .map(|c| match c.kind {
+            ConstraintKind::Bilateral => (0.0, 0.0),
+            ConstraintKind::Upper => (f64::NEG_INFINITY, 0.0),
+            ConstraintKind::Lower => (0.0, f64::INFINITY),
+        })
+        .unzip();
+    let b = super::eliminated::box_solve(&mut ctx, &lo, &hi)?;
+    let active: Vec<usize> = (0..b.state.len())
+        .filter(|&c| b.state[c] != super::condensed::BoundState::Free)
+        .collect();
+    let m = b.state.len();
+    let warnings = if b.fallback {
+        vec!["lagrange: the active-set update cycled; converged with single changes".to_string()]
+    } else {
+        Vec::new()
+    };
+    Ok(ctx.finish(
+        Method::Lagrange,
+        b.u,
+        vec![0.0; m],
+        Some(b.r),
+        SystemKind::SaddlePoint { active },
+        warnings,
+    ))
+}
+
+/// The saddle-point route: one LU of `[K D_A; D_Aᵀ 0]` per active-set iteration.
+pub fn solve_saddle(mut ctx: Context) -> Result<Solution> {
     let problem = ctx.problem;
     let m = problem.m();
     let n = problem.n();

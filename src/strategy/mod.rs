@@ -18,6 +18,7 @@
 pub mod augmented;
 pub mod condensed;
 pub mod constant;
+pub mod eliminated;
 pub mod lagrange;
 pub mod paper;
 pub mod scaled;
