@@ -1,0 +1,310 @@
+//! Outputs of forming runs: step tables (CSV), the JSON document, and the figures — the
+//! paper's Fig. 7 (cond₂ of the system matrix per step, log scale), punch force vs travel,
+//! thickness strain ln(t/t₀) vs initial radius at several depths, deformed profiles with the
+//! tools. Figures are rendered from the saved JSON ([`SavedRuns`]), never from live state.
+
+use super::config::{ContactRule, FormingConfig};
+use super::solver::{RunResult, Snapshot, StepRecord};
+use super::tools::{Die, Punch};
+use crate::error::{Error, Result};
+use crate::plot::{render, render_panels, Figure, Mark, Scale, Series};
+use serde::{Deserialize, Serialize};
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// One run as saved in the JSON document.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct SavedRun {
+    /// Contact rule.
+    pub rule: ContactRule,
+    /// Penalty ε (classical only).
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub eps: Option<f64>,
+    /// Allowed penetration δ (in; adaptive rules only).
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub delta: Option<f64>,
+    /// Per-step telemetry.
+    pub steps: Vec<StepRecord>,
+    /// Sheet snapshots.
+    pub snapshots: Vec<Snapshot>,
+    /// Wall time (s).
+    pub seconds: f64,
+}
+
+impl From<&RunResult> for SavedRun {
+    fn from(r: &RunResult) -> Self {
+        SavedRun {
+            rule: r.rule,
+            eps: match r.rule {
+                ContactRule::Classical { eps } => Some(eps),
+                _ => None,
+            },
+            delta: r.rule.delta(),
+            steps: r.steps.clone(),
+            snapshots: r.snapshots.clone(),
+            seconds: r.seconds,
+        }
+    }
+}
+
+/// The JSON document of an experiment: provenance, configuration, runs by name.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct SavedRuns {
+    /// Experiment name.
+    pub experiment: String,
+    /// Git commit, command line, wall time, …
+    pub provenance: serde_json::Value,
+    /// The configuration shared by the runs.
+    pub config: FormingConfig,
+    /// Runs by name (`classical`, `adaptive`, `condensed`).
+    pub runs: BTreeMap<String, SavedRun>,
+}
+
+/// `git rev-parse HEAD`, or `"unknown"`.
+pub fn git_commit() -> String {
+    std::process::Command::new("git")
+        .args(["rev-parse", "HEAD"])
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+        .unwrap_or_else(|| "unknown".into())
+}
+
+/// Writes one run's step table as CSV.
+pub fn write_steps_csv(path: &Path, steps: &[StepRecord]) -> Result<()> {
+    let mut w = csv::Writer::from_path(path).map_err(|e| Error::io(path.display(), e))?;
+    w.write_record([
+        "step",
+        "punch_travel",
+        "punch_force",
+        "cond2",
+        "log10_det",
+        "max_penetration",
+        "geometric_penetration",
+        "volume",
+        "iterations",
+        "converged",
+        "picard_change",
+        "contact_nodes",
+        "candidates",
+        "clipped",
+        "min_penalty",
+        "max_penalty",
+        "mu_ratio",
+        "drag_force",
+        "factorizations",
+    ])
+    .map_err(|e| Error::io(path.display(), e))?;
+    for s in steps {
+        w.write_record([
+            s.step.to_string(),
+            s.punch_travel.to_string(),
+            s.punch_force.to_string(),
+            s.cond2.to_string(),
+            s.log10_det.to_string(),
+            s.max_penetration.to_string(),
+            s.geometric_penetration.to_string(),
+            s.volume.to_string(),
+            s.iterations.to_string(),
+            s.converged.to_string(),
+            s.picard_change.to_string(),
+            s.contact_nodes.to_string(),
+            s.candidates.to_string(),
+            s.clipped.to_string(),
+            s.min_penalty.to_string(),
+            s.max_penalty.to_string(),
+            s.mu_ratio.to_string(),
+            s.drag_force.to_string(),
+            s.factorizations.to_string(),
+        ])
+        .map_err(|e| Error::io(path.display(), e))?;
+    }
+    w.flush().map_err(|e| Error::io(path.display(), e))
+}
+
+/// Writes `DIR/<stem>.json` and `DIR/steps_<run>.csv` for every run; returns the JSON path.
+pub fn save(dir: &Path, stem: &str, doc: &SavedRuns) -> Result<PathBuf> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir.display(), e))?;
+    let json = dir.join(format!("{stem}.json"));
+    let text = serde_json::to_string_pretty(doc)
+        .map_err(|e| Error::Numerical(format!("cannot serialize results: {e}")))?;
+    std::fs::write(&json, text).map_err(|e| Error::io(json.display(), e))?;
+    for (name, run) in &doc.runs {
+        write_steps_csv(&dir.join(format!("steps_{name}.csv")), &run.steps)?;
+    }
+    Ok(json)
+}
+
+/// Reads a document written by [`save`].
+pub fn load(json: &Path) -> Result<SavedRuns> {
+    let text = std::fs::read_to_string(json).map_err(|e| Error::io(json.display(), e))?;
+    serde_json::from_str(&text).map_err(|e| Error::input(format!("{}: {e}", json.display())))
+}
+
+fn label(name: &str, run: &SavedRun) -> String {
+    match run.rule {
+        ContactRule::Classical { eps } => format!("{name}: constant ε = {eps:.0e}"),
+        ContactRule::Paper { delta } => format!("{name}: Eq. 28–29, δ = {delta:.0e} in"),
+        ContactRule::Condensed { delta } => {
+            format!("{name}: exact δ-targeting, δ = {delta:.0e} in")
+        }
+    }
+}
+
+fn color(name: &str) -> usize {
+    match name {
+        "classical" => 1,
+        "adaptive" => 0,
+        "condensed" => 2,
+        _ => 4,
+    }
+}
+
+/// Renders the four figures into `dir` from a saved document; `prefix` names them
+/// (`fig7_condition_per_step` etc. for the deep draw). Returns the files written.
+pub fn render_figures(dir: &Path, doc: &SavedRuns, title: &str) -> Result<Vec<PathBuf>> {
+    let mut files = Vec::new();
+    // Fig. 7: cond per step.
+    let mut f7 = Figure::new(
+        format!("{title}: condition number of the main system per step (paper Fig. 7)"),
+        "time step",
+        "cond₂(K + D E Dᵀ)",
+    )
+    .scales(Scale::Linear, Scale::Log10);
+    for (name, run) in &doc.runs {
+        f7 = f7.with_series(
+            Series::new(
+                label(name, run),
+                run.steps.iter().map(|s| s.step as f64).collect(),
+                run.steps.iter().map(|s| s.cond2).collect(),
+                Mark::Line,
+            )
+            .color(color(name)),
+        );
+    }
+    files.extend(render(&f7, &dir.join("fig7_condition_per_step"))?);
+    // Punch force vs travel.
+    let mut ff = Figure::new(
+        format!("{title}: punch force"),
+        "punch travel (in)",
+        "punch force (ton-force)",
+    );
+    for (name, run) in &doc.runs {
+        ff = ff.with_series(
+            Series::new(
+                label(name, run),
+                run.steps.iter().map(|s| s.punch_travel).collect(),
+                run.steps.iter().map(|s| s.punch_force).collect(),
+                Mark::Line,
+            )
+            .color(color(name)),
+        );
+    }
+    files.extend(render(&ff, &dir.join("punch_force_vs_travel"))?);
+    // Thickness strain vs initial radius, one panel per run.
+    let panels: Vec<Figure> = doc
+        .runs
+        .iter()
+        .map(|(name, run)| {
+            let mut f = Figure::new(
+                label(name, run),
+                "initial radius (in)",
+                "thickness strain ln(t/t₀)",
+            );
+            for (k, s) in run.snapshots.iter().enumerate() {
+                f = f.with_series(
+                    Series::new(
+                        format!("travel {:.2} in", s.travel),
+                        s.r0.clone(),
+                        s.thickness_strain.clone(),
+                        Mark::LinePoints,
+                    )
+                    .color(k),
+                );
+            }
+            f
+        })
+        .collect();
+    if !panels.is_empty() && panels.iter().all(|p| !p.series.is_empty()) {
+        files.extend(render_panels(
+            &panels,
+            panels.len().min(3),
+            &dir.join("thickness_strain"),
+            (650 * panels.len().min(3) as u32, 520),
+        )?);
+    }
+    // Deformed profiles with tools (the classical run if present: its penetration is
+    // negligible).
+    let pick = doc
+        .runs
+        .get_key_value("classical")
+        .or_else(|| doc.runs.iter().next())
+        .filter(|(_, r)| !r.snapshots.is_empty());
+    if let Some((name, run)) = pick {
+        files.extend(render(
+            &profiles_figure(&doc.config, name, run, title),
+            &dir.join("deformed_profiles"),
+        )?);
+    }
+    Ok(files)
+}
+
+fn profiles_figure(cfg: &FormingConfig, name: &str, run: &SavedRun, title: &str) -> Figure {
+    let mut f = Figure::new(
+        format!(
+            "{title}: deformed mid-surface and tools ({})",
+            label(name, run)
+        ),
+        "r (in)",
+        "z (in)",
+    )
+    .with_size(1000, 600);
+    let die = Die {
+        opening_radius: cfg.die.opening_radius,
+        profile_radius: cfg.die.profile_radius,
+        face_z: -0.5 * cfg.thickness,
+    };
+    let depth = cfg.travel + 0.2;
+    let pts = die.outline(depth, cfg.blank_radius * 1.05);
+    f = f.with_series(
+        Series::new(
+            "die",
+            pts.iter().map(|p| p[0]).collect(),
+            pts.iter().map(|p| p[1]).collect(),
+            Mark::Line,
+        )
+        .color(6),
+    );
+    for (k, s) in run.snapshots.iter().enumerate() {
+        let punch = Punch {
+            radius: cfg.punch.radius,
+            profile_radius: cfg.punch.profile_radius.unwrap_or(cfg.punch.radius),
+            tip_z: s.punch_tip_z,
+        };
+        let pts = punch.outline(cfg.punch.radius.max(0.3));
+        f = f.with_series(
+            Series::new(
+                if k + 1 == run.snapshots.len() {
+                    "punch".to_string()
+                } else {
+                    String::new()
+                },
+                pts.iter().map(|p| p[0]).collect(),
+                pts.iter().map(|p| p[1]).collect(),
+                Mark::Dashed,
+            )
+            .color(k),
+        );
+        f = f.with_series(
+            Series::new(
+                format!("sheet, travel {:.2} in", s.travel),
+                s.r.clone(),
+                s.z.clone(),
+                Mark::LinePoints,
+            )
+            .color(k),
+        );
+    }
+    f
+}

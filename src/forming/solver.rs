@@ -1,0 +1,938 @@
+//! The flow-approach solver: updated Lagrangian steps, Picard iteration on μ*, penalty contact
+//! in local nodal axes, telemetry.
+//!
+//! ## One time step (Δt = travel / steps / v_punch)
+//! 1. **Contact candidates** from the geometry at the start of the step: for every node the
+//!    nearest tool, its gap `g = d − t_node/2` and outward normal n; nodes with
+//!    `g < max(3 v_punch Δt, t₀)` become constraints. The node's `(v_r, v_z)` are rotated to
+//!    local `(n, τ)` axes so that D is Boolean (paper Eq. 7–9); the constraint is
+//!    `v·n ≥ û = V_tool·n − g/Δt` (`lower`): after the step the node is not inside the tool.
+//!    The axis node keeps global axes (v_r = 0 there) and is constrained on v_z.
+//! 2. **Picard iteration** on `K[μ*(v)] v = q` (Eq. 6): μ* per element and Gauss layer from the
+//!    current iterate (Eq. 4, cut-off rate), K assembled (element matrices, [`super::element`]),
+//!    lagged regularized Coulomb friction added as `c ττᵀ`, `c = μ (N + H) / sqrt(v_t² + v₀²)`
+//!    with the previous iterate's normal force N and holder load H (keeps K symmetric), the
+//!    rigid-mode drag added to the v_z diagonals, essential BCs removed (axis: v_r = β = 0;
+//!    clamped rim: all three). The resulting [`Problem`] is solved with
+//!    [`crate::strategy::solve`]: `constant {ε}`, `paper {δ/Δt}` or `condensed {δ/Δt}`; the
+//!    strategy's own active-set loop decides which candidates are penalized. Converged when
+//!    `max|v_new − v| ≤ tol · max(max|v_new|, v_punch)`; otherwise `v ← ω v_new + (1−ω) v`.
+//!    The accepted velocity is the last solve's (unrelaxed) output, so the penalty rule's
+//!    guarantees hold for it exactly.
+//! 3. **Telemetry** of the last solve: exact cond₂ and log10|det| of the system matrix
+//!    `K + D E Dᵀ` ([`crate::metrics::system_matrix`]), punch force, penetration, …
+//! 4. **Update** (updated Lagrangian): `ε̄ += ε̄̇ Δt` per layer, thickness (see
+//!    [`ThicknessUpdate`]), `x += v Δt`, punch tip `−= v_punch Δt`.
+//!
+//! The blank holder is a prescribed force spread as nodal loads `−H_i e_z` over the nodes on the
+//! flat of the die (tributary area); it does not add constraints. This keeps D Boolean and the
+//! holder force exactly the prescribed one, at the price of ignoring where the flange actually
+//! touches the holder.
+//!
+//! ## Punch force
+//! The z-component of the force the sheet exerts on the punch (positive while the punch
+//! pushes): `P = −Σ_punch (N n_z + f τ_z)` over the punch constraints, N = −r_c the normal
+//! force (r_c = ε_c g_c from the strategy), f = −c (v_t − V_t) the friction force.
+//! [`Simulation::equilibrium_punch_force`] recomputes it from the element internal forces.
+
+use super::assembly::{Block, BlockTri};
+use super::config::{ContactRule, FormingConfig, MuThroughThickness, ThicknessUpdate};
+use super::element::{self, ElementGeom};
+use super::tools::{Die, Punch, ToolId};
+use crate::conditioning;
+use crate::error::{Error, Result};
+use crate::metrics;
+use crate::strategy::{self, Method, Solution};
+use crate::system::{Constraint, ConstraintKind, Problem};
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// JSON writes non-finite numbers as `null`; read them back as NaN.
+fn null_as_nan<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
+/// Telemetry of one converged (or capped) step.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct StepRecord {
+    /// Step number (1-based).
+    pub step: usize,
+    /// Punch travel at the end of the step (in).
+    pub punch_travel: f64,
+    /// Punch force (ton-force), see module docs.
+    pub punch_force: f64,
+    /// Exact cond₂ of the system matrix `K + D E Dᵀ` of the step's last solve.
+    #[serde(deserialize_with = "null_as_nan")]
+    pub cond2: f64,
+    /// log10|det| of that matrix.
+    #[serde(deserialize_with = "null_as_nan")]
+    pub log10_det: f64,
+    /// Max penetration of the last solve, in length: `max_c p_c · Δt` (in) — the quantity δ
+    /// bounds.
+    pub max_penetration: f64,
+    /// Max geometric penetration of a contact node into its tool after the update (in).
+    pub geometric_penetration: f64,
+    /// Sheet volume after the update (in³).
+    pub volume: f64,
+    /// Picard iterations.
+    pub iterations: usize,
+    /// Matrix factorizations over all Picard iterations (strategy statistics).
+    pub factorizations: usize,
+    /// Picard converged within the cap.
+    pub converged: bool,
+    /// Final relative velocity change of the Picard test.
+    pub picard_change: f64,
+    /// Penalized (active) contact constraints in the last solve.
+    pub contact_nodes: usize,
+    /// Contact candidates (constraints offered to the strategy).
+    pub candidates: usize,
+    /// Constraints whose penalty came out negative and was clipped to 0 (paper Eq. 28).
+    pub clipped: usize,
+    /// Largest and smallest penalty ε_c among the active constraints (ton-force·s/in).
+    pub max_penalty: f64,
+    /// Smallest active penalty.
+    pub min_penalty: f64,
+    /// max μ* / min μ* over elements and layers (cut-off induced spread of K).
+    #[serde(deserialize_with = "null_as_nan")]
+    pub mu_ratio: f64,
+    /// Total force of the rigid-mode drag on the sheet (ton-force, z).
+    pub drag_force: f64,
+    /// cond₂ of every Picard iteration's system matrix (only if requested).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub iteration_cond2: Vec<f64>,
+}
+
+/// The sheet state at a given punch travel (for figures).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Snapshot {
+    /// Punch travel (in).
+    pub travel: f64,
+    /// Node coordinates r (in).
+    pub r: Vec<f64>,
+    /// Node coordinates z (in).
+    pub z: Vec<f64>,
+    /// Initial mid radius of each element (in).
+    pub r0: Vec<f64>,
+    /// Thickness strain ln(t/t₀) per element.
+    pub thickness_strain: Vec<f64>,
+    /// Mid-surface equivalent strain per element.
+    pub eps_bar: Vec<f64>,
+    /// Punch tip z (in).
+    pub punch_tip_z: f64,
+}
+
+/// One constraint offered to the strategy.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct ContactCandidate {
+    /// Node index.
+    pub node: usize,
+    /// Tool.
+    pub tool: ToolId,
+    /// Gap at the start of the step (in).
+    pub gap: f64,
+    /// Outward tool normal.
+    pub normal: [f64; 2],
+    /// Tangent τ.
+    pub tangent: [f64; 2],
+    /// Tool velocity.
+    pub tool_velocity: [f64; 2],
+    /// Global direction e of the constrained local DOF (the normal of the node's nearest
+    /// tool, or e_z at the axis node); τ is perpendicular to e.
+    pub dof_direction: [f64; 2],
+    /// `n·e = ±1`: the constraint is `sign · (v·e) = û` when active.
+    pub sign: f64,
+    /// Index of the constrained DOF in the reduced system.
+    pub dof: usize,
+    /// Holder load on the node (ton-force, ≥ 0).
+    pub holder: f64,
+}
+
+/// Everything about the last solve of the last step (for checks and tests).
+#[derive(Clone, Debug)]
+pub struct StepDetail {
+    /// The problem of the last Picard iteration.
+    pub problem: Problem,
+    /// Its solution.
+    pub solution: Solution,
+    /// Contact candidates of the step.
+    pub candidates: Vec<ContactCandidate>,
+    /// Candidate index of each constraint of `problem` (the columns of D).
+    pub constraint_candidate: Vec<usize>,
+    /// Friction coefficient c per candidate (ton-force·s/in).
+    pub friction_c: Vec<f64>,
+    /// μ* per element and layer used in the last solve.
+    pub mu: Vec<Vec<f64>>,
+    /// Global velocities (3 per node) of the last solve.
+    pub v: Vec<f64>,
+    /// Node coordinates at the start of the step.
+    pub x: Vec<[f64; 2]>,
+    /// Element thicknesses at the start of the step.
+    pub t: Vec<f64>,
+    /// Global external loads (3 per node; holder loads).
+    pub q: Vec<f64>,
+    /// Rigid-mode drag coefficient on the v_z DOFs.
+    pub drag: f64,
+    /// Punch force reported for the step.
+    pub punch_force: f64,
+}
+
+/// A complete run.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunResult {
+    /// Configuration.
+    pub config: FormingConfig,
+    /// Contact rule.
+    pub rule: ContactRule,
+    /// Per-step telemetry.
+    pub steps: Vec<StepRecord>,
+    /// Sheet snapshots.
+    pub snapshots: Vec<Snapshot>,
+    /// Wall time of the run (s).
+    pub seconds: f64,
+}
+
+/// The simulation state.
+pub struct Simulation {
+    cfg: FormingConfig,
+    rule: ContactRule,
+    x: Vec<[f64; 2]>,
+    r0_elem: Vec<f64>,
+    t: Vec<f64>,
+    eps_bar: Vec<Vec<f64>>,
+    v: Vec<f64>,
+    normal_force: Vec<f64>,
+    contact_tool: Vec<Option<ToolId>>,
+    travel: f64,
+    step: usize,
+    xi: Vec<f64>,
+    w: Vec<f64>,
+    detail: Option<StepDetail>,
+    snapshots: Vec<Snapshot>,
+}
+
+/// Normal velocity `v·n` of a candidate's node.
+fn vn(v: &[f64], c: &ContactCandidate) -> f64 {
+    v[3 * c.node] * c.normal[0] + v[3 * c.node + 1] * c.normal[1]
+}
+
+impl Simulation {
+    /// A flat blank of `cfg.elements` equal elements on z = 0, punch touching its top surface.
+    pub fn new(cfg: &FormingConfig, rule: ContactRule) -> Result<Self> {
+        cfg.validate()?;
+        rule.validate()?;
+        let ne = cfg.elements;
+        let x: Vec<[f64; 2]> = (0..=ne)
+            .map(|i| [cfg.blank_radius * i as f64 / ne as f64, 0.0])
+            .collect();
+        let r0_elem = (0..ne).map(|e| 0.5 * (x[e][0] + x[e + 1][0])).collect();
+        let (xi, w) = element::gauss_layers(cfg.layers);
+        Ok(Simulation {
+            cfg: cfg.clone(),
+            rule,
+            x,
+            r0_elem,
+            t: vec![cfg.thickness; ne],
+            eps_bar: vec![vec![0.0; cfg.layers]; ne],
+            v: vec![0.0; 3 * (ne + 1)],
+            normal_force: vec![0.0; ne + 1],
+            contact_tool: vec![None; ne + 1],
+            travel: 0.0,
+            step: 0,
+            xi,
+            w,
+            detail: None,
+            snapshots: Vec::new(),
+        })
+    }
+
+    /// Runs all steps and returns the telemetry.
+    pub fn run(cfg: &FormingConfig, rule: ContactRule) -> Result<RunResult> {
+        let t0 = Instant::now();
+        let mut sim = Simulation::new(cfg, rule)?;
+        let mut steps = Vec::with_capacity(cfg.steps);
+        for _ in 0..cfg.steps {
+            steps.push(sim.step()?);
+        }
+        Ok(RunResult {
+            config: cfg.clone(),
+            rule,
+            steps,
+            snapshots: sim.snapshots.clone(),
+            seconds: t0.elapsed().as_secs_f64(),
+        })
+    }
+
+    /// Node coordinates (r, z).
+    pub fn nodes(&self) -> &[[f64; 2]] {
+        &self.x
+    }
+
+    /// Element thicknesses.
+    pub fn thickness(&self) -> &[f64] {
+        &self.t
+    }
+
+    /// Current punch travel (in).
+    pub fn travel(&self) -> f64 {
+        self.travel
+    }
+
+    /// Snapshots taken so far.
+    pub fn snapshots(&self) -> &[Snapshot] {
+        &self.snapshots
+    }
+
+    /// The last solve of the last step.
+    pub fn detail(&self) -> Option<&StepDetail> {
+        self.detail.as_ref()
+    }
+
+    /// The punch at the current travel.
+    pub fn punch(&self) -> Punch {
+        let c = &self.cfg;
+        Punch {
+            radius: c.punch.radius,
+            profile_radius: c.punch.profile_radius.unwrap_or(c.punch.radius),
+            tip_z: 0.5 * c.thickness - self.travel,
+        }
+    }
+
+    /// The die.
+    pub fn die(&self) -> Die {
+        let c = &self.cfg;
+        Die {
+            opening_radius: c.die.opening_radius,
+            profile_radius: c.die.profile_radius,
+            face_z: -0.5 * c.thickness,
+        }
+    }
+
+    /// Sheet volume `Σ 2π r_m L t` (in³).
+    pub fn volume(&self) -> f64 {
+        (0..self.t.len())
+            .map(|e| ElementGeom::new(self.x[e], self.x[e + 1]).area() * self.t[e])
+            .sum()
+    }
+
+    fn node_thickness(&self, i: usize) -> f64 {
+        let ne = self.t.len();
+        if i == 0 {
+            self.t[0]
+        } else if i == ne {
+            self.t[ne - 1]
+        } else {
+            0.5 * (self.t[i - 1] + self.t[i])
+        }
+    }
+
+    /// Globally fixed DOFs (axis: v_r, β; clamped rim: all three).
+    fn fixed(&self) -> Vec<bool> {
+        let n = 3 * self.x.len();
+        let mut f = vec![false; n];
+        f[0] = true;
+        f[2] = true;
+        if self.cfg.clamped_rim {
+            let last = self.x.len() - 1;
+            for d in 0..3 {
+                f[3 * last + d] = true;
+            }
+        }
+        f
+    }
+
+    /// μ* per element and layer for global velocities `v` (Eq. 4 with the cut-off).
+    pub fn mu_star(&self, v: &[f64]) -> Vec<Vec<f64>> {
+        let m = &self.cfg.material;
+        (0..self.t.len())
+            .map(|e| {
+                let g = ElementGeom::new(self.x[e], self.x[e + 1]);
+                let ve: [f64; 6] = std::array::from_fn(|k| v[3 * e + k]);
+                let sr = element::strain_rates(&g, &ve);
+                let eb: f64 = self.eps_bar[e]
+                    .iter()
+                    .zip(&self.w)
+                    .map(|(e, w)| 0.5 * w * e)
+                    .sum();
+                match self.cfg.mu_through_thickness {
+                    MuThroughThickness::Layered => {}
+                    MuThroughThickness::Midsurface => {
+                        let mu = m.mu_star(eb, element::effective_rate(sr.eps_s, sr.eps_theta));
+                        return vec![mu; self.xi.len()];
+                    }
+                    MuThroughThickness::Rms => {
+                        let ms: f64 = self
+                            .xi
+                            .iter()
+                            .zip(&self.w)
+                            .map(|(&x, &w)| {
+                                let (a, b) = sr.at(0.5 * x * self.t[e]);
+                                0.5 * w * element::effective_rate(a, b).powi(2)
+                            })
+                            .sum();
+                        return vec![m.mu_star(eb, ms.sqrt()); self.xi.len()];
+                    }
+                }
+                self.xi
+                    .iter()
+                    .zip(&self.eps_bar[e])
+                    .map(|(&x, &eb)| {
+                        let (a, b) = sr.at(0.5 * x * self.t[e]);
+                        m.mu_star(eb, element::effective_rate(a, b))
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// Global material matrix (block-tridiagonal, global axes) for μ* `mu`.
+    pub fn material_matrix(&self, mu: &[Vec<f64>]) -> BlockTri {
+        let mut k = BlockTri::zeros(self.x.len());
+        for e in 0..self.t.len() {
+            let g = ElementGeom::new(self.x[e], self.x[e + 1]);
+            let ke = element::element_matrix(&g, self.t[e], &mu[e], &self.xi, &self.w);
+            k.add_element(e, &ke);
+        }
+        k
+    }
+
+    /// Holder load H_i (ton-force, ≥ 0, acting in −z) per node.
+    fn holder_loads(&self) -> Vec<f64> {
+        let nn = self.x.len();
+        let mut h = vec![0.0; nn];
+        if self.cfg.holder_force <= 0.0 || self.cfg.clamped_rim {
+            return h;
+        }
+        let r_h = self.cfg.die.opening_radius + self.cfg.die.profile_radius;
+        for e in 0..self.t.len() {
+            let g = ElementGeom::new(self.x[e], self.x[e + 1]);
+            if g.r_m >= r_h {
+                h[e] += 0.5 * g.area();
+                h[e + 1] += 0.5 * g.area();
+            }
+        }
+        let total: f64 = h.iter().sum();
+        if total > 0.0 {
+            for v in &mut h {
+                *v *= self.cfg.holder_force / total;
+            }
+        }
+        h
+    }
+
+    /// Lower face z of the blank-holder stop: the die face plus the largest thickness in the
+    /// holder zone (`r ≥ R_d + ρ_d`), i.e. the holder rests on the thickest flange element.
+    /// `None` without a holder.
+    pub fn holder_stop_z(&self) -> Option<f64> {
+        if !self.cfg.holder_stop || self.cfg.holder_force <= 0.0 || self.cfg.clamped_rim {
+            return None;
+        }
+        let r_h = self.cfg.die.opening_radius + self.cfg.die.profile_radius;
+        let tmax = (0..self.t.len())
+            .filter(|&e| 0.5 * (self.x[e][0] + self.x[e + 1][0]) >= r_h)
+            .map(|e| self.t[e])
+            .fold(f64::NEG_INFINITY, f64::max);
+        tmax.is_finite().then(|| self.die().face_z + tmax)
+    }
+
+    /// Contact candidates: per node the nearest tool (its normal fixes the node's local axes),
+    /// plus, in the holder zone, the opposite one of the die/holder pair on the same local DOF.
+    fn candidates(&self, dt: f64, holder: &[f64], fixed: &[bool]) -> Vec<ContactCandidate> {
+        let punch = self.punch();
+        let die = self.die();
+        let stop = self.holder_stop_z();
+        let r_h = self.cfg.die.opening_radius + self.cfg.die.profile_radius;
+        let vp = self.cfg.punch_speed;
+        let capture = (3.0 * vp * dt).max(self.cfg.thickness);
+        let mut out = Vec::new();
+        for i in 0..self.x.len() {
+            if fixed[3 * i] && fixed[3 * i + 1] {
+                continue;
+            }
+            let p = self.x[i];
+            let half = 0.5 * self.node_thickness(i);
+            let mut tools: Vec<(ToolId, f64, [f64; 2], [f64; 2])> = Vec::with_capacity(3);
+            let (dp, np) = punch.distance(p);
+            tools.push((ToolId::Punch, dp - half, np, [0.0, -vp]));
+            let (dd, nd) = die.distance(p);
+            tools.push((ToolId::Die, dd - half, nd, [0.0, 0.0]));
+            if let Some(zh) = stop {
+                if p[0] >= r_h {
+                    tools.push((ToolId::Holder, zh - p[1] - half, [0.0, -1.0], [0.0, 0.0]));
+                }
+            }
+            let k = (0..tools.len())
+                .min_by(|&a, &b| tools[a].1.total_cmp(&tools[b].1))
+                .expect("two tools at least");
+            let (tool, gap, mut n, vel) = tools[k];
+            if gap >= capture {
+                continue;
+            }
+            if i == 0 {
+                n = [0.0, if n[1] >= 0.0 { 1.0 } else { -1.0 }];
+            }
+            let e = if i == 0 { [0.0, 1.0] } else { n };
+            let tangent = [e[1], -e[0]];
+            let mut push = |tool, gap, n: [f64; 2], vel| {
+                out.push(ContactCandidate {
+                    node: i,
+                    tool,
+                    gap,
+                    normal: n,
+                    tangent,
+                    tool_velocity: vel,
+                    dof_direction: e,
+                    sign: n[0] * e[0] + n[1] * e[1],
+                    dof: usize::MAX,
+                    holder: holder[i],
+                });
+            };
+            push(tool, gap, n, vel);
+            // The die/holder partner on the same axis (flat zone only).
+            if matches!(tool, ToolId::Die | ToolId::Holder) && tools.len() == 3 {
+                let other = if tool == ToolId::Die { 2 } else { 1 };
+                let (t2, g2, n2, v2) = tools[other];
+                if g2 < capture && (n2[0] * e[0] + n2[1] * e[1]).abs() > 1.0 - 1e-12 {
+                    push(t2, g2, n2, v2);
+                }
+            }
+        }
+        out
+    }
+
+    /// Advances one time step; returns its telemetry.
+    pub fn step(&mut self) -> Result<StepRecord> {
+        let cfg = self.cfg.clone();
+        let dt = cfg.dt();
+        let nn = self.x.len();
+        let n = 3 * nn;
+        let fixed = self.fixed();
+        let holder = self.holder_loads();
+        let mut cands = self.candidates(dt, &holder, &fixed);
+        let uhat_stop = self.holder_stop_z();
+        // Reduced DOF numbering.
+        let mut red = vec![usize::MAX; n];
+        let mut free = Vec::new();
+        for d in 0..n {
+            if !fixed[d] {
+                red[d] = free.len();
+                free.push(d);
+            }
+        }
+        for c in cands.iter_mut() {
+            c.dof = if c.node == 0 { red[1] } else { red[3 * c.node] };
+        }
+        // Holder friction on loaded nodes that are not contact candidates (radial sliding).
+        let cand_of: Vec<Option<usize>> = {
+            let mut m = vec![None; nn];
+            for (k, c) in cands.iter().enumerate() {
+                if m[c.node].is_none() {
+                    m[c.node] = Some(k);
+                }
+            }
+            m
+        };
+        let mut rot: Vec<Option<Block>> = vec![None; nn];
+        for c in &cands {
+            if c.node != 0 {
+                let (nv, tv) = (c.dof_direction, c.tangent);
+                rot[c.node] = Some([[nv[0], tv[0], 0.0], [nv[1], tv[1], 0.0], [0.0, 0.0, 1.0]]);
+            }
+        }
+        let method = match self.rule {
+            ContactRule::Classical { eps } => Method::Constant { eps },
+            ContactRule::Paper { delta } => Method::Paper { delta: delta / dt },
+            ContactRule::Condensed { delta } => Method::Condensed { delta: delta / dt },
+        };
+        let mut v = self.v.clone();
+        let mut iter_cond = Vec::new();
+        let mut iterations = 0;
+        let mut factorizations = 0;
+        let mut converged = false;
+        let mut change = f64::INFINITY;
+        #[allow(clippy::type_complexity)]
+        let mut last: Option<(
+            Problem,
+            Solution,
+            Vec<f64>,
+            Vec<Vec<f64>>,
+            f64,
+            Vec<f64>,
+            Vec<usize>,
+        )> = None;
+        // Allowed normal velocities û = V_tool·n − g/Δt; the axis node with n = −e_z is
+        // constrained on v_z = −v·n (sign −1).
+        let uhat: Vec<f64> = cands
+            .iter()
+            .map(|c| {
+                c.tool_velocity[0] * c.normal[0] + c.tool_velocity[1] * c.normal[1] - c.gap / dt
+            })
+            .collect();
+        let sgn: Vec<f64> = cands.iter().map(|c| c.sign).collect();
+        // Start from the previous step's contacts plus the candidates the current guess
+        // violates.
+        let mut in_contact = vec![false; cands.len()];
+        {
+            let mut taken = vec![false; nn];
+            for pass in 0..2 {
+                for (ci, c) in cands.iter().enumerate() {
+                    let on = if pass == 0 {
+                        self.contact_tool[c.node] == Some(c.tool)
+                    } else {
+                        vn(&v, c) < uhat[ci]
+                    };
+                    if on && !taken[c.node] {
+                        in_contact[ci] = true;
+                        taken[c.node] = true;
+                    }
+                }
+            }
+        }
+        let mut normal_force: Vec<f64> = self.normal_force.clone();
+        let mut omega = cfg.picard.relaxation;
+        let mut prev_res: Option<Vec<f64>> = None;
+        while iterations < cfg.picard.max_iterations {
+            iterations += 1;
+            let mu = self.mu_star(&v);
+            let mut k = self.material_matrix(&mu);
+            // Rigid-mode drag on v_z.
+            let kzz_max = k.d.iter().map(|b| b[1][1]).fold(0.0, f64::max);
+            let drag = cfg.drag * kzz_max;
+            for b in k.d.iter_mut() {
+                b[1][1] += drag;
+            }
+            let mut q = vec![0.0; n];
+            for i in 0..nn {
+                q[3 * i + 1] -= holder[i];
+            }
+            // Lagged friction c ττᵀ, c V_t τ.
+            let mut fric_c = vec![0.0; cands.len()];
+            let mu_f = cfg.friction;
+            let v0 = cfg.friction_v0;
+            let add_friction =
+                |k: &mut BlockTri, q: &mut [f64], i: usize, tau: [f64; 2], vt_tool: f64, c: f64| {
+                    for a in 0..2 {
+                        for b in 0..2 {
+                            k.d[i][a][b] += c * tau[a] * tau[b];
+                        }
+                        q[3 * i + a] += c * vt_tool * tau[a];
+                    }
+                };
+            if mu_f > 0.0 {
+                for (ci, c) in cands.iter().enumerate() {
+                    if c.node == 0 || cand_of[c.node] != Some(ci) {
+                        continue; // axis: tangent is radial and fixed; one friction per node
+                    }
+                    let i = c.node;
+                    let vt = v[3 * i] * c.tangent[0] + v[3 * i + 1] * c.tangent[1];
+                    let vtt = c.tool_velocity[0] * c.tangent[0] + c.tool_velocity[1] * c.tangent[1];
+                    let p = normal_force[i].max(0.0) + c.holder;
+                    let cc = mu_f * p / ((vt - vtt).powi(2) + v0 * v0).sqrt();
+                    fric_c[ci] = cc;
+                    add_friction(&mut k, &mut q, i, c.tangent, vtt, cc);
+                }
+                for i in 0..nn {
+                    if holder[i] > 0.0 && cand_of[i].is_none() && !fixed[3 * i] {
+                        let cc = mu_f * holder[i] / (v[3 * i].powi(2) + v0 * v0).sqrt();
+                        add_friction(&mut k, &mut q, i, [1.0, 0.0], 0.0, cc);
+                    }
+                }
+            }
+            // Rotate candidate nodes to (n, τ): T_i = [n τ 0; 0 0 1].
+            k.rotate(&rot);
+            for (i, t) in rot.iter().enumerate() {
+                if let Some(t) = t {
+                    let (a, b) = (q[3 * i], q[3 * i + 1]);
+                    q[3 * i] = t[0][0] * a + t[1][0] * b;
+                    q[3 * i + 1] = t[0][1] * a + t[1][1] * b;
+                }
+            }
+            let kmat = k.to_stiffness(&red, free.len())?;
+            let qr: Vec<f64> = free.iter().map(|&d| q[d]).collect();
+            let act_idx: Vec<usize> = (0..cands.len()).filter(|&c| in_contact[c]).collect();
+            let constraints: Vec<Constraint> = act_idx
+                .iter()
+                .map(|&ci| Constraint {
+                    dof: cands[ci].dof,
+                    limit: sgn[ci] * uhat[ci],
+                    kind: ConstraintKind::Bilateral,
+                })
+                .collect();
+            let problem = Problem::new(kmat, qr, constraints)?;
+            let sol = strategy::solve(&problem, method)?;
+            factorizations += sol.stats.factorizations;
+            if sol.u.iter().any(|x| !x.is_finite()) {
+                return Err(Error::Numerical(format!(
+                    "step {}: the velocity solution is not finite",
+                    self.step + 1
+                )));
+            }
+            if cfg.cond_per_iteration {
+                let sys = metrics::system_matrix(&problem, &sol);
+                iter_cond.push(conditioning::cond2(&sys)?.cond2);
+            }
+            // Back to global velocities.
+            let mut v_new = vec![0.0; n];
+            for (j, &d) in free.iter().enumerate() {
+                v_new[d] = sol.u[j];
+            }
+            for c in &cands {
+                if c.node == 0 {
+                    continue;
+                }
+                let (p0, p1) = (3 * c.node, 3 * c.node + 1);
+                let (a, b) = (v_new[p0], v_new[p1]);
+                v_new[p0] = a * c.normal[0] + b * c.tangent[0];
+                v_new[p1] = a * c.normal[1] + b * c.tangent[1];
+            }
+            // Normal forces N = (−r_c e)·n (friction lag, contact-set update).
+            normal_force = vec![0.0; nn];
+            for (k, &ci) in act_idx.iter().enumerate() {
+                let c = &cands[ci];
+                let r = sol.forces[k];
+                let f = [-r * c.dof_direction[0], -r * c.dof_direction[1]];
+                normal_force[c.node] = f[0] * c.normal[0] + f[1] * c.normal[1];
+            }
+            // Contact-set update: release tensile contacts, add penetrating candidates.
+            let mut new_set: Vec<bool> = (0..cands.len())
+                .map(|ci| in_contact[ci] && normal_force[cands[ci].node] >= 0.0)
+                .collect();
+            let mut taken = vec![false; nn];
+            for (ci, c) in cands.iter().enumerate() {
+                taken[c.node] |= new_set[ci];
+            }
+            for (ci, c) in cands.iter().enumerate() {
+                if !in_contact[ci]
+                    && !taken[c.node]
+                    && vn(&v_new, c) < uhat[ci] - 1e-9 * cfg.punch_speed
+                {
+                    new_set[ci] = true;
+                    taken[c.node] = true;
+                }
+            }
+            let set_changed = new_set != in_contact;
+            // Convergence on the nodal velocities (v_r, v_z); rotation rates β are in other
+            // units (rad/s) and follow the velocity gradients.
+            let (mut vmax, mut dmax) = (0.0f64, 0.0f64);
+            for d in (0..n).filter(|d| d % 3 != 2) {
+                vmax = vmax.max(v_new[d].abs());
+                dmax = dmax.max((v_new[d] - v[d]).abs());
+            }
+            change = dmax / vmax.max(cfg.punch_speed);
+            let done = change <= cfg.picard.tol && !set_changed;
+            // Residual of the fixed-point map and Aitken's dynamic relaxation (Irons–Tuck):
+            // ω_k = −ω_{k−1} r_{k−1}ᵀ(r_k − r_{k−1}) / |r_k − r_{k−1}|², clamped.
+            let res: Vec<f64> = v_new.iter().zip(&v).map(|(a, b)| a - b).collect();
+            if cfg.picard.aitken {
+                if let Some(prev) = &prev_res {
+                    let (mut num, mut den) = (0.0, 0.0);
+                    for (a, b) in res.iter().zip(prev) {
+                        num += b * (a - b);
+                        den += (a - b) * (a - b);
+                    }
+                    if den > 0.0 {
+                        omega = (-omega * num / den).clamp(0.05, 2.0);
+                    }
+                }
+            }
+            if done || iterations >= cfg.picard.max_iterations {
+                v = v_new.clone();
+            } else {
+                for (a, r) in v.iter_mut().zip(&res) {
+                    *a += omega * r;
+                }
+            }
+            prev_res = Some(res);
+            last = Some((problem, sol, fric_c, mu, drag, q, act_idx));
+            in_contact = new_set;
+            if done {
+                converged = true;
+                break;
+            }
+        }
+        let (problem, sol, fric_c, mu, drag, _q_loc, act_idx) =
+            last.expect("at least one iteration");
+        let mut contact_tool = vec![None; nn];
+        for &ci in &act_idx {
+            contact_tool[cands[ci].node] = Some(cands[ci].tool);
+        }
+        // Velocity-level penetration of every candidate, in length.
+        let max_penetration = (0..cands.len())
+            .map(|ci| (uhat[ci] - vn(&v, &cands[ci])).max(0.0) * dt)
+            .fold(0.0, f64::max);
+        // Telemetry.
+        let sys = metrics::system_matrix(&problem, &sol);
+        let cond2 = conditioning::cond2(&sys)?.cond2;
+        let log10_det = conditioning::log10_abs_det(&sys)?;
+        let mut punch_force = 0.0;
+        for (ci, c) in cands.iter().enumerate() {
+            if c.tool != ToolId::Punch {
+                continue;
+            }
+            let i = c.node;
+            let vt = v[3 * i] * c.tangent[0] + v[3 * i + 1] * c.tangent[1];
+            let vtt = c.tool_velocity[0] * c.tangent[0] + c.tool_velocity[1] * c.tangent[1];
+            let f = -fric_c[ci] * (vt - vtt);
+            punch_force -= normal_force[i] * c.normal[1] + f * c.tangent[1];
+        }
+        let active: Vec<f64> = sol.penalties.iter().copied().filter(|&e| e > 0.0).collect();
+        let clipped = sol
+            .warnings
+            .iter()
+            .filter(|w| w.contains("negative penalty"))
+            .count();
+        let (mut mu_min, mut mu_max) = (f64::INFINITY, 0.0f64);
+        for m in mu.iter().flatten() {
+            mu_min = mu_min.min(*m);
+            mu_max = mu_max.max(*m);
+        }
+        let drag_force: f64 = (0..nn).map(|i| drag * v[3 * i + 1]).sum();
+        let q_glob: Vec<f64> = (0..n)
+            .map(|d| if d % 3 == 1 { -holder[d / 3] } else { 0.0 })
+            .collect();
+        self.detail = Some(StepDetail {
+            problem: problem.clone(),
+            solution: sol.clone(),
+            candidates: cands.clone(),
+            constraint_candidate: act_idx.clone(),
+            friction_c: fric_c,
+            mu: mu.clone(),
+            v: v.clone(),
+            x: self.x.clone(),
+            t: self.t.clone(),
+            q: q_glob,
+            drag,
+            punch_force,
+        });
+        // Update: strains, thickness, geometry.
+        let ne = self.t.len();
+        let areas_old: Vec<f64> = (0..ne)
+            .map(|e| ElementGeom::new(self.x[e], self.x[e + 1]).area())
+            .collect();
+        for e in 0..ne {
+            let g = ElementGeom::new(self.x[e], self.x[e + 1]);
+            let ve: [f64; 6] = std::array::from_fn(|k| v[3 * e + k]);
+            let sr = element::strain_rates(&g, &ve);
+            for (l, &x) in self.xi.iter().enumerate() {
+                let (a, b) = sr.at(0.5 * x * self.t[e]);
+                self.eps_bar[e][l] += element::effective_rate(a, b) * dt;
+            }
+            if cfg.thickness_update == ThicknessUpdate::Rate {
+                self.t[e] *= (sr.thickness_rate() * dt).exp();
+            }
+        }
+        for i in 0..nn {
+            self.x[i][0] += v[3 * i] * dt;
+            self.x[i][1] += v[3 * i + 1] * dt;
+        }
+        self.x[0][0] = 0.0;
+        if cfg.thickness_update == ThicknessUpdate::Volume {
+            for e in 0..ne {
+                let a = ElementGeom::new(self.x[e], self.x[e + 1]).area();
+                self.t[e] *= areas_old[e] / a;
+            }
+        }
+        self.travel += cfg.punch_speed * dt;
+        self.step += 1;
+        self.v = v;
+        self.normal_force = normal_force;
+        self.contact_tool = contact_tool;
+        // Geometric penetration after the update.
+        let (punch, die) = (self.punch(), self.die());
+        let mut geo = 0.0f64;
+        for &ci in &act_idx {
+            let c = &cands[ci];
+            let p = self.x[c.node];
+            let half = 0.5 * self.node_thickness(c.node);
+            let d = match c.tool {
+                ToolId::Punch => punch.distance(p).0,
+                ToolId::Die => die.distance(p).0,
+                // The stop before this step's thickness update.
+                ToolId::Holder => uhat_stop.map_or(f64::INFINITY, |zh| zh - p[1]),
+            } - half;
+            geo = geo.max(-d);
+        }
+        // Snapshots.
+        let h = 0.5 * cfg.travel / cfg.steps as f64;
+        for &s in &cfg.snapshots {
+            if (self.travel - s).abs() <= h * (1.0 + 1e-9)
+                && !self.snapshots.iter().any(|x| (x.travel - s).abs() <= h)
+            {
+                self.snapshots.push(self.snapshot());
+            }
+        }
+        Ok(StepRecord {
+            step: self.step,
+            punch_travel: self.travel,
+            punch_force,
+            cond2,
+            log10_det,
+            max_penetration,
+            geometric_penetration: geo,
+            volume: self.volume(),
+            iterations,
+            factorizations,
+            converged,
+            picard_change: change,
+            contact_nodes: act_idx.len(),
+            candidates: cands.len(),
+            clipped,
+            max_penalty: active.iter().copied().fold(0.0, f64::max),
+            min_penalty: if active.is_empty() {
+                0.0
+            } else {
+                active.iter().copied().fold(f64::INFINITY, f64::min)
+            },
+            mu_ratio: mu_max / mu_min,
+            drag_force,
+            iteration_cond2: iter_cond,
+        })
+    }
+
+    /// The current sheet state.
+    pub fn snapshot(&self) -> Snapshot {
+        let t0 = self.cfg.thickness;
+        Snapshot {
+            travel: self.travel,
+            r: self.x.iter().map(|p| p[0]).collect(),
+            z: self.x.iter().map(|p| p[1]).collect(),
+            r0: self.r0_elem.clone(),
+            thickness_strain: self.t.iter().map(|t| (t / t0).ln()).collect(),
+            eps_bar: self
+                .eps_bar
+                .iter()
+                .map(|l| l.iter().zip(&self.w).map(|(e, w)| 0.5 * w * e).sum())
+                .collect(),
+            punch_tip_z: self.punch().tip_z,
+        }
+    }
+
+    /// Punch force of the last step recomputed from equilibrium, independently of the
+    /// penalty forces: at every punch-contact node the contact force (normal + friction)
+    /// equals `(K_mat v + drag v − q)` in global axes, with K_mat the material matrix for the
+    /// μ* of the last solve. Returns `−Σ_punch (K_mat v + drag v − q)_z`.
+    pub fn equilibrium_punch_force(&self) -> Option<f64> {
+        let d = self.detail.as_ref()?;
+        // Material matrix on the start-of-step geometry.
+        let ne = d.t.len();
+        let n = 3 * d.x.len();
+        let mut f = vec![0.0; n];
+        for e in 0..ne {
+            let g = ElementGeom::new(d.x[e], d.x[e + 1]);
+            let ke = element::element_matrix(&g, d.t[e], &d.mu[e], &self.xi, &self.w);
+            for a in 0..6 {
+                for b in 0..6 {
+                    f[3 * e + a] += ke[a][b] * d.v[3 * e + b];
+                }
+            }
+        }
+        let mut p = 0.0;
+        for c in &d.candidates {
+            if c.tool != ToolId::Punch {
+                continue;
+            }
+            let i = c.node;
+            p -= f[3 * i + 1] + d.drag * d.v[3 * i + 1] - d.q[3 * i + 1];
+        }
+        Some(p)
+    }
+}
