@@ -73,7 +73,7 @@ fn csv_field(s: &str) -> String {
 
 fn eps_csv(rows: &[EpsRow]) -> String {
     let mut t = String::from(
-        "scene,family,n,m_active,eps,cond2,cond2_f64,cond_eps_mach,precision_warning,reference_correction,\
+        "scene,family,n,m_active,eps,cond2,cond2_f64,cond_eps_mach,cond2_scaled,precision_warning,reference_correction,\
          err_plain,err_refined_working,err_refined_extended,err_equilibrated,\
          err_equilibrated_refined_extended,steps_extended,penalty_error,total_error_plain,\
          total_error_refined,variant_errors,strategy_status,strategy_max_penetration,\
@@ -90,6 +90,7 @@ fn eps_csv(rows: &[EpsRow]) -> String {
             opt(r.cond2),
             opt(r.cond2_f64),
             opt(r.cond_eps_mach),
+            opt(r.cond2_scaled),
             r.precision_warning.to_string(),
             opt(r.reference_correction),
             opt(f.plain),
@@ -243,7 +244,9 @@ fn render(eps_rows: &[EpsRow], dir: &Path) -> Result<usize, Error> {
         n += plot::render_panels(&fs, cols, &stem, (1500, 520 * rows))?.len();
     }
     for (name, fig) in &figs {
-        if name == "forward_error_vs_cond" || name.ends_with("_paper-beam") {
+        if name.starts_with("forward_error_vs_") && !name.starts_with("forward_error_vs_eps_")
+            || name.ends_with("_paper-beam")
+        {
             n += plot::render(fig, &dir.join(name))?.len();
         }
     }

@@ -626,8 +626,9 @@ pub fn run(cfg: &PerfConfig, progress: &mut dyn FnMut(&str)) -> Result<Vec<PerfR
 pub const PLOT_FLOOR: f64 = 1e-17;
 
 /// Figures: per family, time against `‖u − u_ref‖/‖u_ref‖` and time against relative max
-/// penetration, one panel per size, one line per strategy through its knob values; and time
-/// against N per strategy (at the middle knob value).
+/// penetration, one panel per size, one line per strategy through its knob values (lagrange,
+/// exact, as a horizontal line at its time); and time against N per strategy (at the middle
+/// knob value).
 pub fn figures(rows: &[PerfRow]) -> Vec<(String, Vec<Figure>)> {
     let mut out = Vec::new();
     let mut families: Vec<&str> = rows.iter().map(|r| r.family.as_str()).collect();
@@ -670,7 +671,16 @@ pub fn figures(rows: &[PerfRow]) -> Vec<(String, Vec<Figure>)> {
                 )
                 .scales(Scale::Log10, Scale::Log10);
                 let mut any = false;
-                for m in &methods {
+                // lagrange (exact: zero error and penetration) as a horizontal reference
+                // line at its time.
+                if let Some(t) = rows
+                    .iter()
+                    .find(|r| r.family == *fam && r.n == n && r.method == "lagrange")
+                    .and_then(|r| r.seconds)
+                {
+                    fig = fig.hline(t, "lagrange (exact)");
+                }
+                for m in methods.iter().filter(|m| **m != "lagrange") {
                     let pts: Vec<(f64, f64)> = rows
                         .iter()
                         .filter(|r| r.family == *fam && r.n == n && r.method == *m)
@@ -680,14 +690,9 @@ pub fn figures(rows: &[PerfRow]) -> Vec<(String, Vec<Figure>)> {
                         continue;
                     }
                     any = true;
-                    let label = if *m == "lagrange" && what == "time_vs_error" {
-                        "lagrange (the reference)".to_string()
-                    } else {
-                        m.to_string()
-                    };
                     fig = fig.with_series(
                         Series::new(
-                            label,
+                            *m,
                             pts.iter().map(|p| p.0).collect(),
                             pts.iter().map(|p| p.1).collect(),
                             Mark::LinePoints,

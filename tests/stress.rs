@@ -315,6 +315,23 @@ fn equilibration_is_exact_and_rescues_refused_factorizations() {
     );
 }
 
+/// cond₂ of the equilibrated matrix stays bounded as ε → ∞ (S A S tends to a fixed matrix:
+/// unit diagonal at the penalized DOFs, their couplings scaled by ε^(-1/2) → 0), while cond₂
+/// itself grows ∝ ε.
+#[test]
+fn equilibrated_cond_is_bounded_as_eps_grows() {
+    let sc = paper_scene();
+    let cfg = StressConfig {
+        eps: vec![1e10, 1e15, 1e20],
+        ..StressConfig::default()
+    };
+    let rows = stability::eps_study(&sc, &cfg).unwrap();
+    let s: Vec<f64> = rows.iter().map(|r| r.cond2_scaled.unwrap()).collect();
+    let c: Vec<f64> = rows.iter().map(|r| r.cond2.unwrap()).collect();
+    assert!(s[2] / s[0] < 2.0 && s[0] / s[2] < 2.0, "{s:?}");
+    assert!(c[2] / c[0] > 1e9, "{c:?}");
+}
+
 /// The penalty's model error against the exact contact solution decays like 1/ε:
 /// u_ε − u* = O(1/ε) (a Neumann series in (εS)⁻¹), so one decade of ε buys one decade.
 #[test]
