@@ -166,7 +166,7 @@ fn run(a: &Args) -> Result<(), Error> {
     };
     let s = sweep::run(&cfg, &opts)?;
     eprintln!(
-        "sweep: {} scenes ({} resumed), {} rows in {:.2} s ({:.0} rows/s) → {}",
+        "sweep: {} scenes ({} resumed), {} rows in {:.2} s ({:.3e} rows/s) → {}",
         s.scenes,
         s.resumed_scenes,
         s.rows_written,

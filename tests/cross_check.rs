@@ -453,6 +453,50 @@ fn sparse_laplacian_matches_closed_form() {
     );
 }
 
+/// The sparse exact route (Lanczos + inertia, no densifying) against nalgebra's dense
+/// symmetric eigenvalues on a membrane with penalties (n = 900, above the sparse-route
+/// threshold): three independent implementations agree to 1e-9 relative.
+fn membrane_with_penalties() -> Stiffness {
+    let side = 30;
+    let idx = |i: usize, j: usize| i * side + j;
+    let mut t = Vec::new();
+    for i in 0..side {
+        for j in 0..side {
+            let r = idx(i, j);
+            // Penalties on every 7th node, as a penalized contact system would have.
+            t.push((r, r, 4.0 + if r % 7 == 0 { 1e3 } else { 0.0 }));
+            if i + 1 < side {
+                t.push((r, idx(i + 1, j), -1.0));
+                t.push((idx(i + 1, j), r, -1.0));
+            }
+            if j + 1 < side {
+                t.push((r, idx(i, j + 1), -1.0));
+                t.push((idx(i, j + 1), r, -1.0));
+            }
+        }
+    }
+    Stiffness::from_triplets(side * side, &t).unwrap()
+}
+
+#[test]
+fn sparse_route_against_nalgebra() {
+    let a = membrane_with_penalties();
+    let r = cond2(&a);
+    assert_eq!(r.route, CondRoute::SparseInertia);
+    let na = reference::cond2_nalgebra_symmetric(&a);
+    let d = rel(r.cond2, na);
+    assert!(
+        d <= 1e-9f64.max(tol_cond(a.n(), r.cond2)),
+        "sparse {} vs nalgebra {na}: {d:e}",
+        r.cond2
+    );
+    eprintln!(
+        "sparse route vs nalgebra (n {}, cond {:.3e}): {d:.1e}",
+        a.n(),
+        r.cond2
+    );
+}
+
 /// The same checks against LAPACK (system OpenBLAS): `dgesdd` and `dsyevd` values only,
 /// `dgetrf` pivots.
 #[cfg(feature = "lapack")]
@@ -512,6 +556,32 @@ mod against_lapack {
                  dsyevd {e_syevd:.1e} (vs exact {e_syevd_exact:.1e}) | dgetrf {d:.1e}"
             );
         }
+    }
+
+    #[test]
+    fn sparse_route_against_lapack() {
+        let a = membrane_with_penalties();
+        let r = cond2(&a);
+        assert_eq!(r.route, CondRoute::SparseInertia);
+        let ev = reference::symmetric_eigenvalues_lapack(&a);
+        let n = a.n();
+        for (got, want) in [(r.sigma_max, ev[n - 1]), (r.sigma_min, ev[0])] {
+            let d = rel(got, want);
+            assert!(
+                d <= 1e-9f64.max(tol_cond(n, r.cond2)),
+                "{got} vs dsyevd {want}: {d:e}"
+            );
+        }
+        let c = r.certificate.unwrap();
+        assert!(
+            c.lambda_max_lo <= ev[n - 1] * (1.0 + 1e-12)
+                && ev[n - 1] <= c.lambda_max_hi * (1.0 + 1e-12)
+        );
+        eprintln!(
+            "sparse route vs dsyevd: cond {:.3e} vs {:.3e}",
+            r.cond2,
+            ev[n - 1] / ev[0]
+        );
     }
 
     #[test]
