@@ -12,8 +12,8 @@
 //! status 2 and one line on stderr.
 
 use clap::Parser;
-use penalty_lab::forming::experiment::{self, ExperimentConfig};
-use penalty_lab::forming::report::{self, SavedRuns};
+use penalty_lab::forming::experiment::{self, ExperimentConfig, Overrides};
+use penalty_lab::forming::report;
 use penalty_lab::forming::FormingConfig;
 use penalty_lab::Error;
 use std::path::PathBuf;
@@ -55,74 +55,19 @@ struct Args {
     config: Option<PathBuf>,
 }
 
-/// Applies the shared flags over a preset (used by both forming binaries).
 fn build(a: &Args, preset: FormingConfig) -> Result<ExperimentConfig, Error> {
-    let mut c = match &a.config {
+    let c = match &a.config {
         Some(p) => ExperimentConfig::from_toml_file(p, preset)?,
         None => ExperimentConfig::paper_knobs(preset),
     };
-    if let Some(v) = a.elements {
-        c.forming.elements = v;
-    }
-    if let Some(v) = a.steps {
-        c.forming.steps = v;
-    }
-    if let Some(v) = a.travel {
-        c.forming.travel = v;
-        c.forming.snapshots = [0.25, 0.5, 0.75, 1.0].iter().map(|f| f * v).collect();
-    }
-    if let Some(v) = a.friction {
-        c.forming.friction = v;
-    }
-    if let Some(v) = a.penalty {
-        c.penalty = v;
-    }
-    if let Some(v) = a.delta {
-        c.delta = v;
-    }
-    c.validate()?;
-    Ok(c)
-}
-
-fn summary(doc: &SavedRuns) {
-    println!(
-        "{:<10} {:>6} {:>9} {:>12} {:>12} {:>10} {:>12} {:>8} {:>7}",
-        "run",
-        "steps",
-        "converged",
-        "median cond",
-        "final force",
-        "mean iter",
-        "max pen (in)",
-        "clipped",
-        "sec"
-    );
-    for (name, r) in &doc.runs {
-        let mut c: Vec<f64> = r.steps.iter().map(|s| s.cond2).collect();
-        c.sort_by(f64::total_cmp);
-        let med = c.get(c.len() / 2).copied().unwrap_or(f64::NAN);
-        let conv = r.steps.iter().filter(|s| s.converged).count();
-        let it: f64 =
-            r.steps.iter().map(|s| s.iterations as f64).sum::<f64>() / r.steps.len() as f64;
-        let pen = r
-            .steps
-            .iter()
-            .map(|s| s.max_penetration)
-            .fold(0.0, f64::max);
-        let clip: usize = r.steps.iter().map(|s| s.clipped).sum();
-        let f = r.steps.last().map_or(f64::NAN, |s| s.punch_force);
-        println!(
-            "{name:<10} {:>6} {:>9} {:>12.3e} {:>12.4} {:>10.1} {:>12.2e} {:>8} {:>7.2}",
-            r.steps.len(),
-            conv,
-            med,
-            f,
-            it,
-            pen,
-            clip,
-            r.seconds
-        );
-    }
+    c.apply(&Overrides {
+        elements: a.elements,
+        steps: a.steps,
+        travel: a.travel,
+        friction: a.friction,
+        penalty: a.penalty,
+        delta: a.delta,
+    })
 }
 
 fn run(a: &Args) -> Result<(), Error> {
@@ -141,7 +86,7 @@ fn run(a: &Args) -> Result<(), Error> {
                 .map_err(|e| Error::Numerical(format!("cannot serialize: {e}")))?
         );
     } else {
-        summary(&doc);
+        print!("{}", experiment::summary_table(&doc));
     }
     Ok(())
 }

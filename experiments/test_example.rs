@@ -1,5 +1,136 @@
-//! Placeholder until the forming solver lands (issue 4).
-fn main() {
-    eprintln!("not implemented yet (issue 4)");
-    std::process::exit(2);
+//! `test_example`: the paper's first example (classical ε = 1e7: cond 2.705e5, modified
+//! δ = 1e-5 in: cond 3.721e2; its geometry figure is lost), rebuilt as the clamped
+//! hemispherical-punch stretching test with published geometry (Ghosh–Hecker, forming.md),
+//! converted to inches: clamp radius 2.330 in, punch radius 2.0 in, die profile radius
+//! 0.25 in, the paper's sheet t = 0.035 in, μ = 0.2, 50 elements, 100 steps to 0.8 in.
+//!
+//! ```text
+//! cargo run --release --bin test_example -- --json
+//! cargo run --release --bin test_example -- --out figures/test_example
+//! ```
+//!
+//! `--json` prints `cond2_classical`, `cond2_adaptive` (Eq. 28–29) and `cond2_condensed` at
+//! the **representative step = the last step (full punch travel)**, their medians over all
+//! steps, and the per-step series of every run. Bad input exits with status 2.
+
+use clap::Parser;
+use penalty_lab::forming::experiment::{self, ExperimentConfig, Overrides};
+use penalty_lab::forming::report;
+use penalty_lab::forming::FormingConfig;
+use penalty_lab::Error;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "test_example",
+    about = "Clamped hemispherical-punch stretching (paper's first example): classical vs adaptive penalty",
+    after_help = "Units: inch, ton-force, second. Exit status: 0 ok, 2 bad input or failed run."
+)]
+struct Args {
+    /// Print the JSON document on stdout.
+    #[arg(long)]
+    json: bool,
+    /// Write JSON, CSV step tables and figures into DIR.
+    #[arg(long, value_name = "DIR")]
+    out: Option<PathBuf>,
+    /// Number of elements (default 50).
+    #[arg(long)]
+    elements: Option<usize>,
+    /// Number of time steps (default 100).
+    #[arg(long)]
+    steps: Option<usize>,
+    /// Punch travel in inches (default 0.8).
+    #[arg(long, allow_negative_numbers = true)]
+    travel: Option<f64>,
+    /// Coulomb friction coefficient (default 0.2).
+    #[arg(long, allow_negative_numbers = true)]
+    friction: Option<f64>,
+    /// Classical penalty ε in ton-force·s/in (default 1e7).
+    #[arg(long, allow_negative_numbers = true)]
+    penalty: Option<f64>,
+    /// Allowed penetration δ in inches for the adaptive runs (default 1e-5).
+    #[arg(long, allow_negative_numbers = true)]
+    delta: Option<f64>,
+    /// TOML file: `penalty`, `delta`, `condensed`, and a `[forming]` table; flags override it.
+    #[arg(long, value_name = "FILE.toml")]
+    config: Option<PathBuf>,
+}
+
+fn build(a: &Args, preset: FormingConfig) -> Result<ExperimentConfig, Error> {
+    let c = match &a.config {
+        Some(p) => ExperimentConfig::from_toml_file(p, preset)?,
+        None => ExperimentConfig::paper_knobs(preset),
+    };
+    c.apply(&Overrides {
+        elements: a.elements,
+        steps: a.steps,
+        travel: a.travel,
+        friction: a.friction,
+        penalty: a.penalty,
+        delta: a.delta,
+    })
+}
+
+fn run(a: &Args) -> Result<(), Error> {
+    let cfg = build(a, FormingConfig::ghosh_hecker_stretching())?;
+    let command = std::env::args().collect::<Vec<_>>().join(" ");
+    let doc = experiment::run("test_example", &cfg, &command)?;
+    if let Some(dir) = &a.out {
+        let json = report::save(dir, "test_example", &doc)?;
+        let saved = report::load(&json)?;
+        report::render_figures(dir, &saved, "Stretching test")?;
+    }
+    if a.json {
+        let at_last = |name: &str| {
+            doc.runs
+                .get(name)
+                .and_then(|r| r.steps.last())
+                .map(|s| s.cond2)
+        };
+        let median = |name: &str| {
+            doc.runs.get(name).map(|r| {
+                let mut c: Vec<f64> = r.steps.iter().map(|s| s.cond2).collect();
+                c.sort_by(f64::total_cmp);
+                c[c.len() / 2]
+            })
+        };
+        let v = serde_json::json!({
+            "representative_step": doc.config.steps,
+            "representative_step_note": "the last step (full punch travel)",
+            "cond2_classical": at_last("classical"),
+            "cond2_adaptive": at_last("adaptive"),
+            "cond2_condensed": at_last("condensed"),
+            "median_cond2_classical": median("classical"),
+            "median_cond2_adaptive": median("adaptive"),
+            "median_cond2_condensed": median("condensed"),
+            "paper": {"cond2_classical": 2.705008e5, "cond2_adaptive": 3.721074e2},
+            "runs": doc.runs,
+            "provenance": doc.provenance,
+        });
+        println!(
+            "{}",
+            serde_json::to_string(&v)
+                .map_err(|e| Error::Numerical(format!("cannot serialize: {e}")))?
+        );
+    } else {
+        print!("{}", experiment::summary_table(&doc));
+    }
+    Ok(())
+}
+
+fn main() -> ExitCode {
+    let args = Args::parse();
+    std::panic::set_hook(Box::new(|_| {}));
+    match std::panic::catch_unwind(|| run(&args)) {
+        Ok(Ok(())) => ExitCode::SUCCESS,
+        Ok(Err(e)) => {
+            eprintln!("error: {e}");
+            ExitCode::from(2)
+        }
+        Err(_) => {
+            eprintln!("error: internal failure (panic); please report the command line");
+            ExitCode::from(2)
+        }
+    }
 }

@@ -111,6 +111,94 @@ impl ExperimentConfig {
     }
 }
 
+/// Command-line overrides shared by the experiment binaries (`None` = keep).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Overrides {
+    /// Number of elements.
+    pub elements: Option<usize>,
+    /// Number of steps.
+    pub steps: Option<usize>,
+    /// Punch travel (in); the snapshots move to 25/50/75/100 % of it.
+    pub travel: Option<f64>,
+    /// Friction coefficient.
+    pub friction: Option<f64>,
+    /// Classical penalty ε.
+    pub penalty: Option<f64>,
+    /// Allowed penetration δ (in).
+    pub delta: Option<f64>,
+}
+
+impl ExperimentConfig {
+    /// Applies the overrides and validates the result.
+    pub fn apply(mut self, o: &Overrides) -> Result<Self> {
+        if let Some(v) = o.elements {
+            self.forming.elements = v;
+        }
+        if let Some(v) = o.steps {
+            self.forming.steps = v;
+        }
+        if let Some(v) = o.travel {
+            self.forming.travel = v;
+            self.forming.snapshots = [0.25, 0.5, 0.75, 1.0].iter().map(|f| f * v).collect();
+        }
+        if let Some(v) = o.friction {
+            self.forming.friction = v;
+        }
+        if let Some(v) = o.penalty {
+            self.penalty = v;
+        }
+        if let Some(v) = o.delta {
+            self.delta = v;
+        }
+        self.validate()?;
+        Ok(self)
+    }
+}
+
+/// One line per run: steps, converged steps, median cond₂, final punch force, mean Picard
+/// iterations, max penetration, clipped penalties, seconds.
+pub fn summary_table(doc: &SavedRuns) -> String {
+    let mut out = format!(
+        "{:<10} {:>6} {:>9} {:>12} {:>12} {:>10} {:>12} {:>8} {:>7}\n",
+        "run",
+        "steps",
+        "converged",
+        "median cond",
+        "final force",
+        "mean iter",
+        "max pen (in)",
+        "clipped",
+        "sec"
+    );
+    for (name, r) in &doc.runs {
+        let mut c: Vec<f64> = r.steps.iter().map(|s| s.cond2).collect();
+        c.sort_by(f64::total_cmp);
+        let med = c.get(c.len() / 2).copied().unwrap_or(f64::NAN);
+        let conv = r.steps.iter().filter(|s| s.converged).count();
+        let it: f64 =
+            r.steps.iter().map(|s| s.iterations as f64).sum::<f64>() / r.steps.len().max(1) as f64;
+        let pen = r
+            .steps
+            .iter()
+            .map(|s| s.max_penetration)
+            .fold(0.0, f64::max);
+        let clip: usize = r.steps.iter().map(|s| s.clipped).sum();
+        let f = r.steps.last().map_or(f64::NAN, |s| s.punch_force);
+        out.push_str(&format!(
+            "{name:<10} {:>6} {:>9} {:>12.3e} {:>12.4} {:>10.1} {:>12.2e} {:>8} {:>7.2}\n",
+            r.steps.len(),
+            conv,
+            med,
+            f,
+            it,
+            pen,
+            clip,
+            r.seconds
+        ));
+    }
+    out
+}
+
 /// Runs every rule of `cfg` (in parallel) and assembles the saved document.
 pub fn run(experiment: &str, cfg: &ExperimentConfig, command: &str) -> Result<SavedRuns> {
     cfg.validate()?;
