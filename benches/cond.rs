@@ -8,33 +8,10 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use penalty_lab::conditioning::{cond2_dense, cond2_sparse_spd};
 use penalty_lab::linalg::Factorization;
+use penalty_lab::model::membrane;
 use penalty_lab::system::Stiffness;
 use std::hint::black_box;
 use std::time::Duration;
-
-fn membrane(side: usize) -> Stiffness {
-    let idx = |i: usize, j: usize| i * side + j;
-    let mut t = Vec::new();
-    for i in 0..side {
-        for j in 0..side {
-            let r = idx(i, j);
-            t.push((r, r, 4.0));
-            if i > 0 {
-                t.push((r, idx(i - 1, j), -1.0));
-            }
-            if i + 1 < side {
-                t.push((r, idx(i + 1, j), -1.0));
-            }
-            if j > 0 {
-                t.push((r, idx(i, j - 1), -1.0));
-            }
-            if j + 1 < side {
-                t.push((r, idx(i, j + 1), -1.0));
-            }
-        }
-    }
-    Stiffness::from_triplets(side * side, &t).expect("valid membrane")
-}
 
 fn bench_cond(c: &mut Criterion) {
     let mut g = c.benchmark_group("cond2_by_route");
@@ -42,7 +19,7 @@ fn bench_cond(c: &mut Criterion) {
         .warm_up_time(Duration::from_millis(300))
         .measurement_time(Duration::from_secs(2));
     for side in [20usize, 32, 64, 128] {
-        let a = membrane(side);
+        let a = membrane::stiffness(side, 1.0).expect("valid membrane");
         let n = a.n();
         let Stiffness::Sparse(m) = &a else {
             unreachable!()

@@ -19,6 +19,7 @@ use clap::Parser;
 use penalty_lab::conditioning::{self, cond2_dense, cond2_sparse_spd};
 use penalty_lab::linalg::Factorization;
 use penalty_lab::model::beam::{Frame, Section};
+use penalty_lab::model::membrane;
 use penalty_lab::plot::{render, Figure, Mark, Series};
 use penalty_lab::provenance;
 use penalty_lab::system::Stiffness;
@@ -80,30 +81,6 @@ struct Row {
 struct Document {
     provenance: serde_json::Value,
     rows: Vec<Row>,
-}
-
-fn membrane(side: usize) -> Result<Stiffness> {
-    let idx = |i: usize, j: usize| i * side + j;
-    let mut t = Vec::with_capacity(5 * side * side);
-    for i in 0..side {
-        for j in 0..side {
-            let r = idx(i, j);
-            t.push((r, r, 4.0));
-            if i > 0 {
-                t.push((r, idx(i - 1, j), -1.0));
-            }
-            if i + 1 < side {
-                t.push((r, idx(i + 1, j), -1.0));
-            }
-            if j > 0 {
-                t.push((r, idx(i, j - 1), -1.0));
-            }
-            if j + 1 < side {
-                t.push((r, idx(i, j + 1), -1.0));
-            }
-        }
-    }
-    Stiffness::from_triplets(side * side, &t)
 }
 
 fn median(mut v: Vec<f64>) -> f64 {
@@ -267,7 +244,7 @@ fn run(args: &Args) -> Result<()> {
         let mut rows = Vec::new();
         for &side in &args.sides {
             eprintln!("cond_cost: membrane {side}×{side}");
-            rows.push(measure("membrane", &membrane(side)?, args)?);
+            rows.push(measure("membrane", &membrane::stiffness(side, 1.0)?, args)?);
         }
         for &el in &args.elements {
             eprintln!("cond_cost: cantilever with {el} elements");

@@ -6,6 +6,7 @@
 
 use penalty_lab::conditioning::{self, sparse, CondRoute};
 use penalty_lab::model::beam::{Frame, Section};
+use penalty_lab::model::membrane;
 use penalty_lab::sweep::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::system::Stiffness;
 use std::f64::consts::PI;
@@ -20,27 +21,7 @@ fn tol(n: usize, cond: f64) -> f64 {
 }
 
 fn laplacian_2d(side: usize, tension: f64) -> Stiffness {
-    let idx = |i: usize, j: usize| i * side + j;
-    let mut t = Vec::new();
-    for i in 0..side {
-        for j in 0..side {
-            let r = idx(i, j);
-            t.push((r, r, 4.0 * tension));
-            if i > 0 {
-                t.push((r, idx(i - 1, j), -tension));
-            }
-            if i + 1 < side {
-                t.push((r, idx(i + 1, j), -tension));
-            }
-            if j > 0 {
-                t.push((r, idx(i, j - 1), -tension));
-            }
-            if j + 1 < side {
-                t.push((r, idx(i, j + 1), -tension));
-            }
-        }
-    }
-    Stiffness::from_triplets(side * side, &t).unwrap()
+    membrane::stiffness(side, tension).unwrap()
 }
 
 fn sparse_of(a: &Stiffness) -> &faer::sparse::SparseColMat<usize, f64> {
@@ -85,10 +66,8 @@ fn laplacian_2d_matches_closed_form() {
     for (side, tension) in [(20usize, 1.0), (45, 3.7), (120, 0.25)] {
         let a = laplacian_2d(side, tension);
         let n = side * side;
-        let h = PI / (side as f64 + 1.0);
-        // λ_jk = T (4 − 2 cos jh − 2 cos kh), extremes at j = k = 1 and j = k = side.
-        let lmin = tension * (4.0 - 4.0 * h.cos());
-        let lmax = tension * (4.0 - 4.0 * (side as f64 * h).cos());
+        // λ_jk = T (4 − 2 cos jπh − 2 cos kπh), extremes at j = k = 1 and j = k = side.
+        let (lmin, lmax) = membrane::extreme_eigenvalues(side, tension);
         let r = conditioning::cond2(&a).unwrap();
         assert_eq!(r.route, CondRoute::SparseInertia, "side {side}");
         let e = rel(r.cond2, lmax / lmin);

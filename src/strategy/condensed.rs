@@ -148,26 +148,35 @@ pub fn box_qp(s: MatRef<'_, f64>, g0: &[f64], lo: &[f64], hi: &[f64]) -> Result<
                 fallback,
             });
         }
-        seen.insert(state.clone());
-        let mut next = state.clone();
-        for &(_, c, st) in &changes {
-            next[c] = st;
-        }
-        if fallback || seen.contains(&next) {
-            // Full primal–dual update cycles: apply the single largest change.
-            fallback = true;
-            let &(_, c, st) = changes
-                .iter()
-                .max_by(|a, b| a.0.total_cmp(&b.0))
-                .expect("non-empty");
-            next = state.clone();
-            next[c] = st;
-        }
-        state = next;
+        state = pdas_update(&state, &changes, &mut seen, &mut fallback);
     }
     Err(Error::Numerical(format!(
         "condensed: active set did not converge in {max_it} iterations"
     )))
+}
+
+/// One primal–dual active-set update: every change at once (`(weight, constraint, new
+/// state)`), or — once the full update has revisited a state (cycling) — from then on only the
+/// change of largest weight. `seen` collects the visited states.
+pub fn pdas_update(
+    state: &[BoundState],
+    changes: &[(f64, usize, BoundState)],
+    seen: &mut HashSet<Vec<BoundState>>,
+    fallback: &mut bool,
+) -> Vec<BoundState> {
+    seen.insert(state.to_vec());
+    let mut next = state.to_vec();
+    for &(_, c, st) in changes {
+        next[c] = st;
+    }
+    if *fallback || seen.contains(&next) {
+        *fallback = true;
+        if let Some(&(_, c, st)) = changes.iter().max_by(|a, b| a.0.total_cmp(&b.0)) {
+            next = state.to_vec();
+            next[c] = st;
+        }
+    }
+    next
 }
 
 /// Solves with exact δ-targeting penalties: through S = DᵀK⁻¹D ([`solve_dense`]), or for

@@ -19,7 +19,7 @@
 //! `condensed` and `lagrange` take this route for sparse K with `n ≥` [`ELIMINATION_MIN_N`]
 //! and distinct constraint DOFs.
 
-use super::condensed::BoundState;
+use super::condensed::{pdas_update, BoundState};
 use super::Context;
 use crate::error::{Error, Result};
 use crate::linalg::DiagonalPattern;
@@ -190,21 +190,7 @@ pub fn box_solve(ctx: &mut Context, lo: &[f64], hi: &[f64]) -> Result<BoxSolve> 
                 fallback,
             });
         }
-        seen.insert(state.clone());
-        let mut next = state.clone();
-        for &(_, c, st) in &changes {
-            next[c] = st;
-        }
-        if fallback || seen.contains(&next) {
-            fallback = true;
-            let &(_, c, st) = changes
-                .iter()
-                .max_by(|a, b| a.0.total_cmp(&b.0))
-                .expect("non-empty");
-            next = state.clone();
-            next[c] = st;
-        }
-        state = next;
+        state = pdas_update(&state, &changes, &mut seen, &mut fallback);
     }
     Err(Error::Numerical(format!(
         "elimination route: active set did not converge in {max_it} iterations"

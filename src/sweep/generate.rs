@@ -17,6 +17,7 @@
 
 use crate::error::{Error, Result};
 use crate::model::beam::{Frame, Section};
+use crate::model::membrane as membrane_model;
 use crate::system::{Constraint, ConstraintKind, Problem, Stiffness};
 use faer::Mat;
 use rand::{Rng, SeedableRng};
@@ -280,27 +281,8 @@ fn membrane(rng: &mut ChaCha8Rng, cfg: &GeneratorConfig) -> Result<(Problem, ser
     let n = side * side;
     let h = 1.0 / (side as f64 + 1.0);
     let tension = log_uniform(rng, 0.1, 10.0);
-    let idx = |i: usize, j: usize| i * side + j;
-    let mut t = Vec::with_capacity(5 * n);
-    for i in 0..side {
-        for j in 0..side {
-            let r = idx(i, j);
-            t.push((r, r, 4.0 * tension));
-            if i > 0 {
-                t.push((r, idx(i - 1, j), -tension));
-            }
-            if i + 1 < side {
-                t.push((r, idx(i + 1, j), -tension));
-            }
-            if j > 0 {
-                t.push((r, idx(i, j - 1), -tension));
-            }
-            if j + 1 < side {
-                t.push((r, idx(i, j + 1), -tension));
-            }
-        }
-    }
-    let k = Stiffness::from_triplets(n, &t)?;
+    let idx = |i: usize, j: usize| membrane_model::dof(side, i, j);
+    let k = membrane_model::stiffness(side, tension)?;
     let f = -log_uniform(rng, 1.0, 100.0);
     let q = vec![f * h * h; n];
     let u0 = unconstrained(&k, &q)?;
