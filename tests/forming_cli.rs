@@ -1,0 +1,102 @@
+//! CLI contract of `deep_drawing` and `test_example`: JSON shape, `--out` files, bad input →
+//! exit status 2 with one line on stderr.
+
+use std::process::Command;
+
+fn run(bin: &str, args: &[&str]) -> std::process::Output {
+    Command::new(bin).args(args).output().expect("binary runs")
+}
+
+const DD: &str = env!("CARGO_BIN_EXE_deep_drawing");
+const TE: &str = env!("CARGO_BIN_EXE_test_example");
+
+#[test]
+fn bad_input_exits_with_status_2_and_one_line() {
+    let dir = std::env::temp_dir().join(format!("pl_forming_cli_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bad_toml = dir.join("bad.toml");
+    std::fs::write(&bad_toml, "penalty = 1e7\n[forming]\nelemnts = 3\n").unwrap();
+    let bad_toml = bad_toml.to_str().unwrap().to_string();
+    let cases: Vec<(&str, Vec<&str>, &str)> = vec![
+        (DD, vec!["--elements", "1"], "elements"),
+        (DD, vec!["--delta", "-1"], "δ"),
+        (DD, vec!["--penalty", "0"], "penalty"),
+        (DD, vec!["--travel", "nan"], "travel"),
+        (DD, vec!["--friction", "-0.1"], "friction"),
+        (DD, vec!["--config", "/nonexistent/x.toml"], "nonexistent"),
+        (DD, vec!["--config", &bad_toml], "elemnts"),
+        (TE, vec!["--steps", "0"], "steps"),
+    ];
+    for (bin, args, needle) in cases {
+        let o = run(bin, &args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: '{err}' lacks '{needle}'");
+    }
+}
+
+#[test]
+fn json_shapes_and_out_files() {
+    let dir = std::env::temp_dir().join(format!("pl_forming_out_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let small = [
+        "--steps",
+        "12",
+        "--elements",
+        "20",
+        "--travel",
+        "0.12",
+        "--json",
+    ];
+    let mut args = small.to_vec();
+    let out = dir.to_str().unwrap();
+    args.extend(["--out", out]);
+    let o = run(DD, &args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["runs"]["classical"]["eps"], 1e7);
+    assert_eq!(v["runs"]["adaptive"]["delta"], 1e-5);
+    for run in ["classical", "adaptive"] {
+        let steps = v["runs"][run]["steps"].as_array().unwrap();
+        assert_eq!(steps.len(), 12);
+        for key in [
+            "step",
+            "punch_travel",
+            "punch_force",
+            "cond2",
+            "log10_det",
+            "max_penetration",
+            "volume",
+            "iterations",
+            "contact_nodes",
+        ] {
+            assert!(steps[0].get(key).is_some(), "{run} step lacks {key}");
+        }
+    }
+    for f in [
+        "deep_drawing.json",
+        "steps_classical.csv",
+        "steps_adaptive.csv",
+        "fig7_condition_per_step.png",
+        "fig7_condition_per_step.svg",
+        "punch_force_vs_travel.png",
+        "thickness_strain.png",
+        "deformed_profiles.svg",
+    ] {
+        assert!(dir.join(f).is_file(), "missing {f}");
+    }
+    let saved: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("deep_drawing.json")).unwrap())
+            .unwrap();
+    assert_ne!(saved["provenance"]["git_commit"], serde_json::Value::Null);
+    assert_eq!(saved["config"]["elements"], 20);
+
+    let o = run(TE, &small);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let last = |r: &str| v["runs"][r]["steps"].as_array().unwrap().last().unwrap()["cond2"].clone();
+    assert_eq!(v["cond2_classical"], last("classical"));
+    assert_eq!(v["cond2_adaptive"], last("adaptive"));
+    assert!(v["cond2_classical"].as_f64().unwrap() > 0.0);
+}
