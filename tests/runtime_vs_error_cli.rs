@@ -225,7 +225,7 @@ fn smoke_json_structure_and_theory_orderings() {
 }
 
 #[test]
-fn bad_input_exits_2_with_one_line() {
+fn bad_input_exits_2_with_an_error_message() {
     for args in [
         vec!["--sizes", "0"],
         vec!["--sizes", "abc"],
