@@ -77,7 +77,7 @@ fn run(a: &Args) -> Result<(), Error> {
     if let Some(dir) = &a.out {
         let json = report::save(dir, "deep_drawing", &doc)?;
         let saved = report::load(&json)?;
-        report::render_figures(dir, &saved, "Deep drawing")?;
+        report::render_figures(dir, &saved, "Deep drawing", "fig7_condition_per_step")?;
     }
     if a.json {
         println!(

@@ -79,7 +79,7 @@ fn run(a: &Args) -> Result<(), Error> {
     if let Some(dir) = &a.out {
         let json = report::save(dir, "test_example", &doc)?;
         let saved = report::load(&json)?;
-        report::render_figures(dir, &saved, "Stretching test")?;
+        report::render_figures(dir, &saved, "Stretching test", "condition_per_step")?;
     }
     if a.json {
         let at_last = |name: &str| {

@@ -161,13 +161,23 @@ fn color(name: &str) -> usize {
     }
 }
 
-/// Renders the four figures into `dir` from a saved document; `prefix` names them
-/// (`fig7_condition_per_step` etc. for the deep draw). Returns the files written.
-pub fn render_figures(dir: &Path, doc: &SavedRuns, title: &str) -> Result<Vec<PathBuf>> {
+/// Renders the four figures into `dir` from a saved document: `<cond_stem>` (cond₂ per step;
+/// `fig7_condition_per_step` for the deep draw, the paper's Fig. 7), `punch_force_vs_travel`,
+/// `thickness_strain`, `deformed_profiles` (PNG + SVG each). Returns the files written.
+pub fn render_figures(
+    dir: &Path,
+    doc: &SavedRuns,
+    title: &str,
+    cond_stem: &str,
+) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
-    // Fig. 7: cond per step.
+    let fig7 = if cond_stem.starts_with("fig7") {
+        " (paper Fig. 7)"
+    } else {
+        ""
+    };
     let mut f7 = Figure::new(
-        format!("{title}: condition number of the main system per step (paper Fig. 7)"),
+        format!("{title}: condition number of the main system per step{fig7}"),
         "time step",
         "cond₂(K + D E Dᵀ)",
     )
@@ -183,7 +193,7 @@ pub fn render_figures(dir: &Path, doc: &SavedRuns, title: &str) -> Result<Vec<Pa
             .color(color(name)),
         );
     }
-    files.extend(render(&f7, &dir.join("fig7_condition_per_step"))?);
+    files.extend(render(&f7, &dir.join(cond_stem))?);
     // Punch force vs travel.
     let mut ff = Figure::new(
         format!("{title}: punch force"),

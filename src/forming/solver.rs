@@ -4,21 +4,24 @@
 //! ## One time step (Δt = travel / steps / v_punch)
 //! 1. **Contact candidates** from the geometry at the start of the step: for every node the
 //!    nearest tool, its gap `g = d − t_node/2` and outward normal n; nodes with
-//!    `g < max(3 v_punch Δt, t₀)` become constraints. The node's `(v_r, v_z)` are rotated to
-//!    local `(n, τ)` axes so that D is Boolean (paper Eq. 7–9); the constraint is
-//!    `v·n ≥ û = V_tool·n − g/Δt` (`lower`): after the step the node is not inside the tool.
-//!    The axis node keeps global axes (v_r = 0 there) and is constrained on v_z.
-//! 2. **Picard iteration** on `K[μ*(v)] v = q` (Eq. 6): μ* per element and Gauss layer from the
-//!    current iterate (Eq. 4, cut-off rate), K assembled (element matrices, [`super::element`]),
-//!    lagged regularized Coulomb friction added as `c ττᵀ`, `c = μ (N + H) / sqrt(v_t² + v₀²)`
-//!    with the previous iterate's normal force N and holder load H (keeps K symmetric), the
-//!    rigid-mode drag added to the v_z diagonals, essential BCs removed (axis: v_r = β = 0;
-//!    clamped rim: all three). The resulting [`Problem`] is solved with
-//!    [`crate::strategy::solve`]: `constant {ε}`, `paper {δ/Δt}` or `condensed {δ/Δt}`; the
-//!    strategy's own active-set loop decides which candidates are penalized. Converged when
-//!    `max|v_new − v| ≤ tol · max(max|v_new|, v_punch)`; otherwise `v ← ω v_new + (1−ω) v`.
-//!    The accepted velocity is the last solve's (unrelaxed) output, so the penalty rule's
-//!    guarantees hold for it exactly.
+//!    `g < max(3 v_punch Δt, t₀)` are candidates. The node's `(v_r, v_z)` are rotated to local
+//!    `(n, τ)` axes so that D is Boolean (paper Eq. 7–9); non-penetration after the step reads
+//!    `v·n ≥ û = V_tool·n − g/Δt`. The axis node keeps global axes (v_r = 0 there) and is
+//!    constrained on v_z.
+//! 2. **Picard iteration** on `K[μ*(v)] v = q` (Eq. 6): μ* per element from the current
+//!    iterate (Eq. 4, cut-off rate, see [`MuThroughThickness`]), K assembled from the element
+//!    matrices ([`super::element`]), lagged regularized Coulomb friction added as `c ττᵀ`,
+//!    `c = μ (N + H) / sqrt(v_t² + v₀²)` with the previous iterate's normal force N and holder
+//!    load H (keeps K symmetric), the rigid-mode drag added to the v_z diagonals, essential BCs
+//!    removed (axis: v_r = β = 0; clamped rim: all three). The candidates in the current
+//!    **contact set** become `bilateral` constraints `v·n = û` (D selects exactly the active
+//!    contact DOFs, as the paper's D does); the [`Problem`] is solved with
+//!    [`crate::strategy::solve`]: `constant {ε}`, `paper {δ/Δt}` or `condensed {δ/Δt}`. The
+//!    contact set is then updated (contacts with a tensile normal force released, penetrating
+//!    candidates added). Converged when `max|v_new − v| ≤ tol · max(max|v_new|, v_punch)`
+//!    over the nodal velocities and the contact set did not change; otherwise
+//!    `v ← v + ω (v_new − v)` with Aitken's ω. The accepted velocity is the last solve's
+//!    (unrelaxed) output, so the penalty rule's guarantees hold for it exactly.
 //! 3. **Telemetry** of the last solve: exact cond₂ and log10|det| of the system matrix
 //!    `K + D E Dᵀ` ([`crate::metrics::system_matrix`]), punch force, penetration, …
 //! 4. **Update** (updated Lagrangian): `ε̄ += ε̄̇ Δt` per layer, thickness (see
@@ -82,9 +85,9 @@ pub struct StepRecord {
     pub converged: bool,
     /// Final relative velocity change of the Picard test.
     pub picard_change: f64,
-    /// Penalized (active) contact constraints in the last solve.
+    /// Contact constraints (the contact set, columns of D) in the last solve.
     pub contact_nodes: usize,
-    /// Contact candidates (constraints offered to the strategy).
+    /// Contact candidates of the step (nodes close enough to a tool).
     pub candidates: usize,
     /// Constraints whose penalty came out negative and was clipped to 0 (paper Eq. 28).
     pub clipped: usize,
@@ -121,7 +124,7 @@ pub struct Snapshot {
     pub punch_tip_z: f64,
 }
 
-/// One constraint offered to the strategy.
+/// A node close to a tool: a possible contact constraint for the step.
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct ContactCandidate {
     /// Node index.
