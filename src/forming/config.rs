@@ -107,13 +107,6 @@ pub struct FormingConfig {
     /// Blank-holder force (ton-force), spread over the flange nodes on the flat of the die by
     /// tributary area; 0 = no holder.
     pub holder_force: f64,
-    /// Experimental: also treat the holder as a rigid stop at the thickest-flange height (a
-    /// `holder` contact candidate opposite the die on the same local DOF), so the flange cannot
-    /// tilt up at the start. Off by default: in our runs the die/holder pair flip-flops in the
-    /// contact-set update and the run diverges after ~10 steps. Without it the holder is a pure
-    /// force, and in the first steps the flange tilts about the die profile (few contacts,
-    /// punch-force spike at step 1).
-    pub holder_stop: bool,
     /// Clamp the rim node (v_r = v_z = β = 0).
     pub clamped_rim: bool,
     /// Coulomb friction coefficient μ.
@@ -169,7 +162,6 @@ impl FormingConfig {
                 profile_radius: 0.25,
             },
             holder_force: 1.0,
-            holder_stop: false,
             clamped_rim: false,
             friction: 0.2,
             friction_v0: 1e-2,

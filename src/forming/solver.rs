@@ -142,7 +142,8 @@ pub struct ContactCandidate {
     /// Global direction e of the constrained local DOF (the normal of the node's nearest
     /// tool, or e_z at the axis node); τ is perpendicular to e.
     pub dof_direction: [f64; 2],
-    /// `n·e = ±1`: the constraint is `sign · (v·e) = û` when active.
+    /// `n·e = ±1` (−1 only at the axis node under the punch): the constraint is
+    /// `v·e = sign · û` when active.
     pub sign: f64,
     /// Index of the constrained DOF in the reduced system.
     pub dof: usize,
@@ -422,28 +423,10 @@ impl Simulation {
         h
     }
 
-    /// Lower face z of the blank-holder stop: the die face plus the largest thickness in the
-    /// holder zone (`r ≥ R_d + ρ_d`), i.e. the holder rests on the thickest flange element.
-    /// `None` without a holder.
-    pub fn holder_stop_z(&self) -> Option<f64> {
-        if !self.cfg.holder_stop || self.cfg.holder_force <= 0.0 || self.cfg.clamped_rim {
-            return None;
-        }
-        let r_h = self.cfg.die.opening_radius + self.cfg.die.profile_radius;
-        let tmax = (0..self.t.len())
-            .filter(|&e| 0.5 * (self.x[e][0] + self.x[e + 1][0]) >= r_h)
-            .map(|e| self.t[e])
-            .fold(f64::NEG_INFINITY, f64::max);
-        tmax.is_finite().then(|| self.die().face_z + tmax)
-    }
-
-    /// Contact candidates: per node the nearest tool (its normal fixes the node's local axes),
-    /// plus, in the holder zone, the opposite one of the die/holder pair on the same local DOF.
+    /// Contact candidates: per node the nearest tool; its normal fixes the node's local axes.
     fn candidates(&self, dt: f64, holder: &[f64], fixed: &[bool]) -> Vec<ContactCandidate> {
         let punch = self.punch();
         let die = self.die();
-        let stop = self.holder_stop_z();
-        let r_h = self.cfg.die.opening_radius + self.cfg.die.profile_radius;
         let vp = self.cfg.punch_speed;
         let capture = (3.0 * vp * dt).max(self.cfg.thickness);
         let mut out = Vec::new();
@@ -458,11 +441,6 @@ impl Simulation {
             tools.push((ToolId::Punch, dp - half, np, [0.0, -vp]));
             let (dd, nd) = die.distance(p);
             tools.push((ToolId::Die, dd - half, nd, [0.0, 0.0]));
-            if let Some(zh) = stop {
-                if p[0] >= r_h {
-                    tools.push((ToolId::Holder, zh - p[1] - half, [0.0, -1.0], [0.0, 0.0]));
-                }
-            }
             let k = (0..tools.len())
                 .min_by(|&a, &b| tools[a].1.total_cmp(&tools[b].1))
                 .expect("two tools at least");
@@ -475,29 +453,18 @@ impl Simulation {
             }
             let e = if i == 0 { [0.0, 1.0] } else { n };
             let tangent = [e[1], -e[0]];
-            let mut push = |tool, gap, n: [f64; 2], vel| {
-                out.push(ContactCandidate {
-                    node: i,
-                    tool,
-                    gap,
-                    normal: n,
-                    tangent,
-                    tool_velocity: vel,
-                    dof_direction: e,
-                    sign: n[0] * e[0] + n[1] * e[1],
-                    dof: usize::MAX,
-                    holder: holder[i],
-                });
-            };
-            push(tool, gap, n, vel);
-            // The die/holder partner on the same axis (flat zone only).
-            if matches!(tool, ToolId::Die | ToolId::Holder) && tools.len() == 3 {
-                let other = if tool == ToolId::Die { 2 } else { 1 };
-                let (t2, g2, n2, v2) = tools[other];
-                if g2 < capture && (n2[0] * e[0] + n2[1] * e[1]).abs() > 1.0 - 1e-12 {
-                    push(t2, g2, n2, v2);
-                }
-            }
+            out.push(ContactCandidate {
+                node: i,
+                tool,
+                gap,
+                normal: n,
+                tangent,
+                tool_velocity: vel,
+                dof_direction: e,
+                sign: n[0] * e[0] + n[1] * e[1],
+                dof: usize::MAX,
+                holder: holder[i],
+            });
         }
         out
     }
@@ -511,7 +478,6 @@ impl Simulation {
         let fixed = self.fixed();
         let holder = self.holder_loads();
         let mut cands = self.candidates(dt, &holder, &fixed);
-        let uhat_stop = self.holder_stop_z();
         // Reduced DOF numbering.
         let mut red = vec![usize::MAX; n];
         let mut free = Vec::new();
@@ -849,8 +815,6 @@ impl Simulation {
             let d = match c.tool {
                 ToolId::Punch => punch.distance(p).0,
                 ToolId::Die => die.distance(p).0,
-                // The stop before this step's thickness update.
-                ToolId::Holder => uhat_stop.map_or(f64::INFINITY, |zh| zh - p[1]),
             } - half;
             geo = geo.max(-d);
         }

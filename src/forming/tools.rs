@@ -136,8 +136,6 @@ pub enum ToolId {
     Punch,
     /// The die.
     Die,
-    /// The blank-holder stop (flat, normal −e_z).
-    Holder,
 }
 
 #[cfg(test)]
