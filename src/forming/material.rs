@@ -60,7 +60,7 @@ impl Hardening {
 
 /// The rigid-viscoplastic material of Eq. 4.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, default)]
 pub struct Material {
     /// σ_y(ε̄).
     pub hardening: Hardening,
