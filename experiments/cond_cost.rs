@@ -155,6 +155,9 @@ fn slope(x: &[f64], y: &[f64]) -> Option<f64> {
     (sxx > 0.0).then(|| sxy / sxx)
 }
 
+/// Reads one route's wall time (s) off a row; `None` where the route was skipped.
+type RouteTime = fn(&Row) -> Option<f64>;
+
 fn render_figure(rows: &[Row], out: &Path) -> Result<Vec<PathBuf>> {
     let mut fig = Figure::new(
         "Exact cond₂: cost by route vs one sparse Cholesky (median, 1 thread)",
@@ -163,7 +166,7 @@ fn render_figure(rows: &[Row], out: &Path) -> Result<Vec<PathBuf>> {
     )
     .log_log()
     .with_size(1000, 650);
-    let routes: [(&str, fn(&Row) -> Option<f64>); 4] = [
+    let routes: [(&str, RouteTime); 4] = [
         ("one sparse Cholesky", |r| Some(r.cholesky_s)),
         ("sparse exact (Lanczos + inertia)", |r| {
             Some(r.sparse_exact_s)
