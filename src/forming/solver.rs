@@ -195,7 +195,9 @@ pub struct RunResult {
     pub seconds: f64,
 }
 
-/// The simulation state.
+/// The simulation state. `Clone` lets a caller branch a run (e.g. benchmark one step from a
+/// mid-draw state).
+#[derive(Clone)]
 pub struct Simulation {
     cfg: FormingConfig,
     rule: ContactRule,
