@@ -358,24 +358,10 @@ fn penalty_error_decays_like_one_over_eps() {
 // Strategies at the extremes
 // ----------------------------------------------------------------------------------------
 
-/// Rounding level of the gaps: `condensed` cannot target a δ below the spacing of the
-/// floating-point numbers around u (see the ignored reproducer below).
-fn delta_below_rounding(p: &Problem, delta: f64) -> bool {
-    let umax = strategy::solve(p, Method::Lagrange)
-        .map(|s| s.u.iter().fold(0.0f64, |a, v| a.max(v.abs())))
-        .unwrap_or(1.0)
-        .max(
-            p.constraints
-                .iter()
-                .fold(0.0f64, |a, c| a.max(c.limit.abs())),
-        );
-    delta <= 64.0 * EPS * umax.max(f64::MIN_POSITIVE)
-}
-
 /// Every strategy at extreme knobs on the paper's beam and generated scenes: no panic; Ok
 /// results are finite; errors are one clean line; every system with cond₂·ε_mach > 1e-6
-/// carries a warning. (Known exception, reported: `condensed` with δ below the rounding level
-/// of u — see `condensed_with_delta_below_rounding_gives_finite_penalties`.)
+/// carries a warning (including `condensed` with δ below the rounding level of u, see
+/// `condensed_with_delta_below_rounding_gives_finite_penalties`).
 #[test]
 fn strategies_at_extreme_knobs_are_finite_or_clean_errors() {
     let mut scenes = vec![
@@ -394,14 +380,7 @@ fn strategies_at_extreme_knobs_are_finite_or_clean_errors() {
         for r in stability::strategy_study(sc, &cfg).unwrap() {
             let what = format!("{} {} {}={:e}", r.scene, r.method, r.knob, r.value);
             assert_ne!(r.status, "panic", "{what}: {}", r.message);
-            if r.status == "non_finite" {
-                assert!(
-                    r.method == "condensed" && delta_below_rounding(&sc.problem, r.value),
-                    "{what}: {}",
-                    r.message
-                );
-                continue;
-            }
+            assert_ne!(r.status, "non_finite", "{what}: {}", r.message);
             if r.status == "error" {
                 assert!(!r.message.is_empty() && !r.message.contains('\n'), "{what}");
                 errors += 1;
@@ -437,12 +416,11 @@ fn precision_warning_at_absurd_eps() {
     );
 }
 
-/// Reproducer (reported to the strategy owner): `condensed` with δ below the rounding level of
-/// u returns an infinite penalty — the targeted gap g* = ±δ rounds to 0 in `g0 − S r`, and
-/// `ε = r / g` divides by it. `solve scenes/paper_beam.scene.json --method condensed
-/// --delta 5.1428571428570526e-17 --json` prints `"forces": [8.89…, null, …]` and exits 0.
+/// Regression: `condensed` with δ below the rounding level of u returned an infinite penalty —
+/// the targeted gap g* = ±δ rounds to 0 in the recomputed `g0 − S r`, and `ε = r / g` divided
+/// by it (`solve scenes/paper_beam.scene.json --method condensed --delta
+/// 5.1428571428570526e-17` printed a null force and exited 0). ε is now `r / g*`.
 #[test]
-#[ignore = "condensed: infinite penalty when δ is below the rounding level of u (reported, not ours to fix)"]
 fn condensed_with_delta_below_rounding_gives_finite_penalties() {
     let p = paper::problem();
     match strategy::solve(
@@ -504,9 +482,6 @@ proptest! {
                 adaptive,
             },
         };
-        if let Method::Condensed { delta } = m {
-            prop_assume!(!delta_below_rounding(p, delta));
-        }
         let (outcome, sol) = stability::guarded_solve(p, m);
         match outcome {
             stability::Outcome::Ok => {
@@ -531,7 +506,7 @@ fn stress_bin() -> std::process::Command {
 
 /// `stress --json` on the paper's beam: one JSON object with the manifest (git commit,
 /// config, seed), the ε study and the strategy runs; CSV + JSON + PNG/SVG written; no panic
-/// and no non-finite output except the reported condensed case.
+/// and no non-finite output.
 #[test]
 fn stress_cli_writes_csv_json_and_figures() {
     let out = std::env::temp_dir().join(format!("penalty-lab-stress-cli-{}", std::process::id()));
@@ -555,6 +530,7 @@ fn stress_cli_writes_csv_json_and_figures() {
     assert_eq!(man["seed"], 7);
     assert_eq!(man["config"]["eps"].as_array().unwrap().len(), 8);
     assert_eq!(man["summary"]["panics"], 0);
+    assert_eq!(man["summary"]["non_finite"], 0);
     let rows = v["eps_study"].as_array().unwrap();
     assert_eq!(rows.len(), 2 * 8, "two paper-beam scenes × 8 ε");
     for r in rows {

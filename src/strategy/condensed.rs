@@ -203,6 +203,22 @@ fn bounds(problem: &crate::system::Problem, delta: f64) -> (Vec<f64>, Vec<f64>) 
         .unzip()
 }
 
+/// `ε_c = r_c / g*_c` with the target gap `g*_c` (the bound the constraint sits at, ±δ) and
+/// 0 for free constraints. Dividing by the target rather than by the recomputed gap
+/// `g = g0 − S r` is the formula itself, and stays finite when δ is below the rounding level
+/// of the gaps (there the recomputed gap can round to exactly 0).
+fn penalties(state: &[BoundState], r: &[f64], lo: &[f64], hi: &[f64]) -> Vec<f64> {
+    state
+        .iter()
+        .enumerate()
+        .map(|(c, st)| match st {
+            BoundState::Free => 0.0,
+            BoundState::Lo => (r[c] / lo[c]).max(0.0),
+            BoundState::Hi => (r[c] / hi[c]).max(0.0),
+        })
+        .collect()
+}
+
 const CYCLED: &str =
     "condensed: the primal-dual active-set update cycled; converged with single changes";
 
@@ -210,12 +226,7 @@ const CYCLED: &str =
 pub fn solve_eliminated(mut ctx: Context, delta: f64) -> Result<Solution> {
     let (lo, hi) = bounds(ctx.problem, delta);
     let b = super::eliminated::box_solve(&mut ctx, &lo, &hi)?;
-    let penalties: Vec<f64> = (0..b.state.len())
-        .map(|c| match b.state[c] {
-            BoundState::Free => 0.0,
-            _ => (b.r[c] / b.g[c]).max(0.0),
-        })
-        .collect();
+    let penalties = penalties(&b.state, &b.r, &lo, &hi);
     let warnings = if b.fallback {
         vec![CYCLED.to_string()]
     } else {
@@ -250,12 +261,7 @@ pub fn solve_dense(mut ctx: Context, delta: f64) -> Result<Solution> {
     if qp.fallback {
         warnings.push(CYCLED.to_string());
     }
-    let penalties: Vec<f64> = (0..m)
-        .map(|c| match qp.state[c] {
-            BoundState::Free => 0.0,
-            _ => (qp.r[c] / qp.g[c]).max(0.0),
-        })
-        .collect();
+    let penalties = penalties(&qp.state, &qp.r, &lo, &hi);
     // u = u0 − W r.
     let n = problem.n();
     let u: Vec<f64> = (0..n)
