@@ -14,22 +14,32 @@ use crate::error::Result;
 use crate::system::Problem;
 
 /// Eq. 28 for the active constraints (0 elsewhere), before clipping.
+///
+/// `K̄x = Dᵀ(K(Dx))`, so `K̄û` and `K̄δ1` are two products with K of the vectors `Dû` and `D1`
+/// (entries at the active constrained DOFs, summed where constraints share a DOF): O(nnz K),
+/// never the m×m K̄.
 pub fn eq28(problem: &Problem, active: &[bool], delta: f64) -> Vec<f64> {
-    let idx: Vec<usize> = (0..problem.m()).filter(|&c| active[c]).collect();
-    let mut eps = vec![0.0; problem.m()];
-    for &i in &idx {
-        let di = problem.constraints[i].dof;
-        // (K̄ û)_i and (K̄ δ1)_i over the active set.
-        let (mut kbar_u, mut kbar_d) = (0.0, 0.0);
-        for &k in &idx {
-            let ck = problem.constraints[k];
-            let kik = problem.k.get(di, ck.dof);
-            kbar_u += kik * ck.limit;
-            kbar_d += kik * delta;
+    let n = problem.n();
+    let (mut d_u, mut d_one) = (vec![0.0; n], vec![0.0; n]);
+    for (c, con) in problem.constraints.iter().enumerate() {
+        if active[c] {
+            d_u[con.dof] += con.limit;
+            d_one[con.dof] += 1.0;
         }
-        eps[i] = ((kbar_u - problem.q[di]).abs() - kbar_d) / delta;
     }
-    eps
+    let (k_du, k_done) = (problem.k.matvec(&d_u), problem.k.matvec(&d_one));
+    problem
+        .constraints
+        .iter()
+        .enumerate()
+        .map(|(c, con)| {
+            if !active[c] {
+                return 0.0;
+            }
+            let d = con.dof;
+            ((k_du[d] - problem.q[d]).abs() - delta * k_done[d]) / delta
+        })
+        .collect()
 }
 
 /// Solves with the Eq. 28 penalties for allowed penetration δ.
