@@ -7,6 +7,7 @@
 //! ```text
 //! cargo run --release --bin test_example -- --json
 //! cargo run --release --bin test_example -- --out figures/test_example
+//! cargo run --release --bin test_example -- --render-only --out figures/test_example
 //! ```
 //!
 //! `--json` prints `cond2_classical`, `cond2_adaptive` (Eq. 28–29) and `cond2_condensed` at
@@ -14,74 +15,33 @@
 //! steps, and the per-step series of every run. Bad input exits with status 2.
 
 use clap::Parser;
-use penalty_lab::forming::experiment::{self, ExperimentConfig, Overrides};
-use penalty_lab::forming::report;
+use penalty_lab::forming::experiment::{self, Cli, Experiment};
 use penalty_lab::forming::FormingConfig;
 use penalty_lab::Error;
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 #[derive(Parser, Debug)]
 #[command(
     name = "test_example",
     about = "Clamped hemispherical-punch stretching (paper's first example): classical vs adaptive penalty",
-    after_help = "Units: inch, ton-force, second. Exit status: 0 ok, 2 bad input or failed run."
+    after_help = "Default travel 0.8 in. Units: inch, ton-force, second. Exit status: 0 ok, 2 bad \
+                  input or failed run."
 )]
 struct Args {
-    /// Print the JSON document on stdout.
-    #[arg(long)]
-    json: bool,
-    /// Write JSON, CSV step tables and figures into DIR.
-    #[arg(long, value_name = "DIR")]
-    out: Option<PathBuf>,
-    /// Number of elements (default 50).
-    #[arg(long)]
-    elements: Option<usize>,
-    /// Number of time steps (default 100).
-    #[arg(long)]
-    steps: Option<usize>,
-    /// Punch travel in inches (default 0.8).
-    #[arg(long, allow_negative_numbers = true)]
-    travel: Option<f64>,
-    /// Coulomb friction coefficient (default 0.2).
-    #[arg(long, allow_negative_numbers = true)]
-    friction: Option<f64>,
-    /// Classical penalty ε in ton-force·s/in (default 1e7).
-    #[arg(long, allow_negative_numbers = true)]
-    penalty: Option<f64>,
-    /// Allowed penetration δ in inches for the adaptive runs (default 1e-5).
-    #[arg(long, allow_negative_numbers = true)]
-    delta: Option<f64>,
-    /// TOML file: `penalty`, `delta`, `condensed`, and a `[forming]` table; flags override it.
-    #[arg(long, value_name = "FILE.toml")]
-    config: Option<PathBuf>,
+    #[command(flatten)]
+    cli: Cli,
 }
 
-fn build(a: &Args, preset: FormingConfig) -> Result<ExperimentConfig, Error> {
-    let c = match &a.config {
-        Some(p) => ExperimentConfig::from_toml_file(p, preset)?,
-        None => ExperimentConfig::paper_knobs(preset),
-    };
-    c.apply(&Overrides {
-        elements: a.elements,
-        steps: a.steps,
-        travel: a.travel,
-        friction: a.friction,
-        penalty: a.penalty,
-        delta: a.delta,
-    })
-}
+const EXPERIMENT: Experiment = Experiment {
+    name: "test_example",
+    title: "Stretching test",
+    cond_figure: "condition_per_step",
+    preset: FormingConfig::ghosh_hecker_stretching,
+};
 
 fn run(a: &Args) -> Result<(), Error> {
-    let cfg = build(a, FormingConfig::ghosh_hecker_stretching())?;
-    let command = std::env::args().collect::<Vec<_>>().join(" ");
-    let doc = experiment::run("test_example", &cfg, &command)?;
-    if let Some(dir) = &a.out {
-        let json = report::save(dir, "test_example", &doc)?;
-        let saved = report::load(&json)?;
-        report::render_figures(dir, &saved, "Stretching test", "condition_per_step")?;
-    }
-    if a.json {
+    let doc = a.cli.execute(EXPERIMENT)?;
+    if a.cli.json {
         let at_last = |name: &str| {
             doc.runs
                 .get(name)
@@ -121,16 +81,5 @@ fn run(a: &Args) -> Result<(), Error> {
 
 fn main() -> ExitCode {
     let args = Args::parse();
-    std::panic::set_hook(Box::new(|_| {}));
-    match std::panic::catch_unwind(|| run(&args)) {
-        Ok(Ok(())) => ExitCode::SUCCESS,
-        Ok(Err(e)) => {
-            eprintln!("error: {e}");
-            ExitCode::from(2)
-        }
-        Err(_) => {
-            eprintln!("error: internal failure (panic); please report the command line");
-            ExitCode::from(2)
-        }
-    }
+    experiment::guarded_main(|| run(&args))
 }

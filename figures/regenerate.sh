@@ -1,7 +1,14 @@
 #!/usr/bin/env bash
 # Regenerates every figure of the repository from data (each binary saves its data first and
 # renders from it). Run from the repository root: bash figures/regenerate.sh
+# The timing figures (runtime_vs_error, cond_cost) measure this machine: run them idle.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+cargo build --release --bins
 cargo run --release --bin sweep -- --out figures/sweep
 cargo run --release --bin paper_beam -- --out figures/paper_beam
+cargo run --release --bin deep_drawing -- --out figures/deep_drawing
+cargo run --release --bin test_example -- --out figures/test_example
+cargo run --release --bin stress -- --out figures/stress
+cargo run --release --bin runtime_vs_error -- --out figures/runtime_vs_error
+cargo run --release --bin cond_cost -- --out figures/cond_cost

@@ -16,6 +16,13 @@
 //! * [`linalg`] — factorize once, solve many; log-det from the factor.
 //! * [`model`] — the 1-DOF spring (Eq. 10–17) and Euler–Bernoulli beams (Eq. 30–34).
 //! * [`scene`] — scene files (JSON, Matrix Market) in and out.
+//! * [`sweep`] — randomized scene families, the ε/δ sweep, rows, manifest, figures.
+//! * [`forming`] — the axisymmetric flow-approach sheet-forming solver (paper sections 2, 5;
+//!   Fig. 7).
+//! * [`stability`] — forward error against an extended-precision reference, refinement,
+//!   equilibration, strategies at extreme knobs.
+//! * [`perf`] — time to solution against error per strategy and knob, 1e2–1e6 DOFs.
+//! * [`provenance`] — git commit, crate versions and command for every data file.
 //! * [`plot`] — one figure style, PNG + SVG.
 //!
 //! ## Glossary (paper symbol → code → units)
@@ -33,7 +40,10 @@
 //! | S = DᵀK⁻¹D | [`strategy::condensed`] | condensed flexibility (ours) | length/force |
 //! | uw(·) | [`conditioning::cond2`] | 2-norm condition number σ_max/σ_min | — |
 //! | \|·\| (det) | [`conditioning::log10_abs_det`] | log10 of \|det\| | — |
-//! | μ* | (forming solver) | viscosity function of Eq. 4 | stress·time |
+//! | μ* | [`forming::Material::mu_star`] | viscosity function of Eq. 4, μ* = σ̄/(3ε̄̇) | ton-force·s/in² |
+//! | σ̄ = σ_y(ε̄) + (ε̄̇/γ)^(1/n) | [`forming::Material::sigma_bar`] | effective stress, Eq. 4 and 38 | ton-force/in² |
+//! | v (forming) | `u` of the step's system | nodal velocities and rotation rates | in/s, rad/s |
+//! | δ (forming) | [`forming::ContactRule`] | allowed penetration per step; δ/Δt on the normal velocity | in |
 //!
 //! Sign convention: `K u = q − D r` where r are the contact forces (`r_c = ε_c g_c` for a
 //! penalty); an `upper` obstacle (`u ≤ û`) pushes with `r ≥ 0`, a `lower` one with `r ≤ 0`.

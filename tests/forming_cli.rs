@@ -92,6 +92,21 @@ fn json_shapes_and_out_files() {
     assert_ne!(saved["provenance"]["git_commit"], serde_json::Value::Null);
     assert_eq!(saved["config"]["elements"], 20);
 
+    // --render-only redraws the figures from the saved JSON alone and prints the same runs.
+    let fig7 = dir.join("fig7_condition_per_step.png");
+    std::fs::remove_file(&fig7).unwrap();
+    let o = run(DD, &["--render-only", "--json", "--out", out]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(fig7.is_file(), "--render-only did not redraw Fig. 7");
+    let again: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(again["runs"], v["runs"]);
+    // Without saved data it is a clean error.
+    let empty = dir.join("empty");
+    std::fs::create_dir_all(&empty).unwrap();
+    let o = run(DD, &["--render-only", "--out", empty.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("deep_drawing.json"));
+
     let o = run(TE, &small);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();

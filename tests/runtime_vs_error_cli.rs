@@ -287,3 +287,36 @@ fn skipped_rows_are_recorded_not_fatal() {
         .any(|r| r["method"] == "constant" && r["status"] == "ok"));
     let _ = std::fs::remove_dir_all(&out);
 }
+
+/// The budget extrapolates with the slope measured between the two previous sizes (clamped to
+/// [1, 2]), 1.5 before that; the rows it skips say which exponent they used.
+#[test]
+fn budget_extrapolates_with_the_measured_growth() {
+    use penalty_lab::perf::{Budget, DEFAULT_GROWTH};
+    let mut b = Budget::default();
+    assert_eq!(b.growth("membrane", "paper"), DEFAULT_GROWTH);
+    // One size: 1 s at 1e4 → 1e6 predicted at 100^1.5 = 1000 s, skipped.
+    b.record("membrane", "paper", 10_000, 1.0, 30.0);
+    assert_eq!(b.growth("membrane", "paper"), DEFAULT_GROWTH);
+    let why = b.skip_reason("membrane", "paper", 1_000_000, 30.0).unwrap();
+    assert!(why.contains("N^1.50"), "{why}");
+    // Two sizes with linear growth: 1 s → 10 s over 10× N, slope 1 → 100 s at 1e6: skipped;
+    // but 1e6 with a 200 s budget is not, where 1.5 would have predicted 316 s.
+    let mut b = Budget::default();
+    b.record("membrane", "paper", 10_000, 0.1, 200.0);
+    b.record("membrane", "paper", 100_000, 1.0, 200.0);
+    assert!((b.growth("membrane", "paper") - 1.0).abs() < 1e-12);
+    assert!(b.skip_reason("membrane", "paper", 1_000_000, 200.0).is_none());
+    assert!(b.skip_reason("membrane", "paper", 1_000_000, 5.0).is_some());
+    // Slopes outside [1, 2] are clamped; sub-millisecond times do not count as a measurement.
+    let mut b = Budget::default();
+    b.record("beam", "lagrange", 100, 0.01, 30.0);
+    b.record("beam", "lagrange", 1000, 10.0, 30.0);
+    assert_eq!(b.growth("beam", "lagrange"), 2.0);
+    let mut b = Budget::default();
+    b.record("beam", "lagrange", 100, 1e-5, 30.0);
+    b.record("beam", "lagrange", 1000, 1e-2, 30.0);
+    assert_eq!(b.growth("beam", "lagrange"), DEFAULT_GROWTH);
+    // Methods and families are kept apart.
+    assert_eq!(b.growth("membrane", "lagrange"), DEFAULT_GROWTH);
+}

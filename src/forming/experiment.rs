@@ -9,6 +9,7 @@ use super::solver::Simulation;
 use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
+use std::path::PathBuf;
 use std::time::Instant;
 
 /// An experiment: the forming configuration and the two contact knobs.
@@ -152,6 +153,116 @@ impl ExperimentConfig {
         }
         self.validate()?;
         Ok(self)
+    }
+}
+
+/// The command line shared by `deep_drawing` and `test_example` (`#[command(flatten)]`).
+#[derive(clap::Args, Debug, Clone, Default)]
+pub struct Cli {
+    /// Print the JSON document on stdout.
+    #[arg(long)]
+    pub json: bool,
+    /// Write JSON, CSV step tables and figures into DIR.
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Re-render the figures from `DIR/<experiment>.json` (needs `--out DIR`) without running.
+    #[arg(long, requires = "out")]
+    pub render_only: bool,
+    /// Number of elements (default 50).
+    #[arg(long)]
+    pub elements: Option<usize>,
+    /// Number of time steps (default 100).
+    #[arg(long)]
+    pub steps: Option<usize>,
+    /// Punch travel in inches (default: the experiment's, given below).
+    #[arg(long, allow_negative_numbers = true)]
+    pub travel: Option<f64>,
+    /// Coulomb friction coefficient (default 0.2).
+    #[arg(long, allow_negative_numbers = true)]
+    pub friction: Option<f64>,
+    /// Classical penalty ε in ton-force·s/in (default 1e7).
+    #[arg(long, allow_negative_numbers = true)]
+    pub penalty: Option<f64>,
+    /// Allowed penetration δ in inches for the adaptive runs (default 1e-5).
+    #[arg(long, allow_negative_numbers = true)]
+    pub delta: Option<f64>,
+    /// TOML file: `penalty`, `delta`, `condensed`, and a `[forming]` table; flags override it.
+    #[arg(long, value_name = "FILE.toml")]
+    pub config: Option<PathBuf>,
+}
+
+/// What an experiment binary passes besides its flags.
+#[derive(Clone, Copy, Debug)]
+pub struct Experiment {
+    /// Name: the JSON file stem and `experiment` field (`deep_drawing`, `test_example`).
+    pub name: &'static str,
+    /// Figure title prefix.
+    pub title: &'static str,
+    /// File stem of the cond-per-step figure (`fig7_condition_per_step` for the deep draw).
+    pub cond_figure: &'static str,
+    /// The preset the TOML file and flags modify.
+    pub preset: fn() -> FormingConfig,
+}
+
+impl Cli {
+    /// The experiment configuration: the TOML file (or the paper's knobs) on the preset, then
+    /// the flags; validated.
+    pub fn config(&self, preset: FormingConfig) -> Result<ExperimentConfig> {
+        let c = match &self.config {
+            Some(p) => ExperimentConfig::from_toml_file(p, preset)?,
+            None => ExperimentConfig::paper_knobs(preset),
+        };
+        c.apply(&Overrides {
+            elements: self.elements,
+            steps: self.steps,
+            travel: self.travel,
+            friction: self.friction,
+            penalty: self.penalty,
+            delta: self.delta,
+        })
+    }
+
+    /// Runs the experiment (or, with `--render-only`, loads `OUT/<name>.json`), writes the data
+    /// and renders the figures from the saved file when `--out` is given, and returns the
+    /// document for the binary to print.
+    pub fn execute(&self, exp: Experiment) -> Result<SavedRuns> {
+        if self.render_only {
+            let dir = self
+                .out
+                .as_ref()
+                .ok_or_else(|| Error::input("--render-only needs --out DIR"))?;
+            let doc = super::report::load(&dir.join(format!("{}.json", exp.name)))?;
+            super::report::render_figures(dir, &doc, exp.title, exp.cond_figure)?;
+            return Ok(doc);
+        }
+        let cfg = self.config((exp.preset)())?;
+        let command = std::env::args().collect::<Vec<_>>().join(" ");
+        let doc = run(exp.name, &cfg, &command)?;
+        if let Some(dir) = &self.out {
+            let json = super::report::save(dir, exp.name, &doc)?;
+            let saved = super::report::load(&json)?;
+            super::report::render_figures(dir, &saved, exp.title, exp.cond_figure)?;
+        }
+        Ok(doc)
+    }
+}
+
+/// `main` of an experiment binary: runs `f`, maps an error to one line on stderr and exit
+/// status 2, and a panic to one line asking for a report (never a backtrace).
+pub fn guarded_main(
+    f: impl FnOnce() -> Result<()> + std::panic::UnwindSafe,
+) -> std::process::ExitCode {
+    std::panic::set_hook(Box::new(|_| {}));
+    match std::panic::catch_unwind(f) {
+        Ok(Ok(())) => std::process::ExitCode::SUCCESS,
+        Ok(Err(e)) => {
+            eprintln!("error: {e}");
+            std::process::ExitCode::from(2)
+        }
+        Err(_) => {
+            eprintln!("error: internal failure (panic); please report the command line");
+            std::process::ExitCode::from(2)
+        }
     }
 }
 
