@@ -306,7 +306,9 @@ fn budget_extrapolates_with_the_measured_growth() {
     b.record("membrane", "paper", 10_000, 0.1, 200.0);
     b.record("membrane", "paper", 100_000, 1.0, 200.0);
     assert!((b.growth("membrane", "paper") - 1.0).abs() < 1e-12);
-    assert!(b.skip_reason("membrane", "paper", 1_000_000, 200.0).is_none());
+    assert!(b
+        .skip_reason("membrane", "paper", 1_000_000, 200.0)
+        .is_none());
     assert!(b.skip_reason("membrane", "paper", 1_000_000, 5.0).is_some());
     // Slopes outside [1, 2] are clamped; sub-millisecond times do not count as a measurement.
     let mut b = Budget::default();

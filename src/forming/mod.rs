@@ -19,8 +19,8 @@
 //! The paper: with the modified penalty the condition number of the main system is better "in
 //! all but one increment" (Fig. 7), and in its first example 3.721e2 against 2.705e5 (×727).
 //! Ours (default runs, `figures/deep_drawing/README.md`, `figures/test_example/README.md`):
-//! Eq. 28 is better at **every** step (100/100, no exception step), by ×32 to ×2e3 (median
-//! ×392) on the deep draw and ×214 at the last step of the stretching test; the exact
+//! Eq. 28 is better at **every** step (100/100, no exception step), by ×32 to ×1.7e3 (median
+//! ×386) on the deep draw and ×214 at the last step of the stretching test; the exact
 //! `condensed` rule gains another factor ≈ 3–10. Our absolute condition numbers are ~4 orders
 //! higher than the paper's (classical ~1e9 against 2.7e5): K itself is ill-conditioned by the
 //! cut-off (μ* spread up to 1e3), the thin sheet's bending/membrane stiffness ratio and the
