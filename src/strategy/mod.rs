@@ -504,6 +504,21 @@ pub fn penalty_active_set(
     }
 }
 
+/// `f(c, constraint)` for every active constraint c, 0 for the inactive ones: the per-constraint
+/// penalty rules (Eq. 17, Eq. 28) evaluated over the active set.
+pub fn per_active(
+    problem: &Problem,
+    active: &[bool],
+    mut f: impl FnMut(usize, &crate::system::Constraint) -> f64,
+) -> Vec<f64> {
+    problem
+        .constraints
+        .iter()
+        .enumerate()
+        .map(|(c, con)| if active[c] { f(c, con) } else { 0.0 })
+        .collect()
+}
+
 /// Clips negative penalties to 0 with a warning naming the constraint and the equation.
 pub fn clip_negative(problem: &Problem, eps: &mut [f64], equation: &str) -> Vec<String> {
     let mut w = Vec::new();

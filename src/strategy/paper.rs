@@ -9,7 +9,7 @@
 //! an order of magnitude (Eq. 37); see [`super::condensed`] for the exact version. A negative
 //! ε̄ (e.g. a tool node with no load of its own) is warned and clipped to 0.
 
-use super::{clip_negative, penalty_active_set, Context, Method, Solution};
+use super::{clip_negative, penalty_active_set, per_active, Context, Method, Solution};
 use crate::error::Result;
 use crate::system::Problem;
 
@@ -28,18 +28,10 @@ pub fn eq28(problem: &Problem, active: &[bool], delta: f64) -> Vec<f64> {
         }
     }
     let (k_du, k_done) = (problem.k.matvec(&d_u), problem.k.matvec(&d_one));
-    problem
-        .constraints
-        .iter()
-        .enumerate()
-        .map(|(c, con)| {
-            if !active[c] {
-                return 0.0;
-            }
-            let d = con.dof;
-            ((k_du[d] - problem.q[d]).abs() - delta * k_done[d]) / delta
-        })
-        .collect()
+    per_active(problem, active, |_, con| {
+        let d = con.dof;
+        ((k_du[d] - problem.q[d]).abs() - delta * k_done[d]) / delta
+    })
 }
 
 /// Solves with the Eq. 28 penalties for allowed penetration δ.
