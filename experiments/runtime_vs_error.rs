@@ -5,10 +5,13 @@
 //! cargo run --release --bin runtime_vs_error -- --smoke --json       # seconds
 //! cargo run --release --bin runtime_vs_error                         # 10²…10⁶ DOFs, 3 repeats
 //! cargo run --release --bin runtime_vs_error -- --sizes 100,10000 --repeats 5 --out results/rve
+//! cargo run --release --bin runtime_vs_error -- --render-only --out figures/runtime_vs_error
 //! ```
 //!
-//! Writes `OUT/rows.csv`, `OUT/manifest.json` (git commit, config, crate versions, wall time)
-//! and `OUT/figures/*.{png,svg}`; progress goes to stderr. A strategy that errors or would
+//! Writes `OUT/rows.csv` (for spreadsheets), `OUT/rows.json` (every field, exact),
+//! `OUT/manifest.json` (git commit, config, crate versions, wall time) and
+//! `OUT/figures/*.{png,svg}`, rendered from `rows.json` once it is written (`--render-only`
+//! re-renders from it without measuring); progress goes to stderr. A strategy that errors or would
 //! exceed the per-solve budget at some size is recorded as a row with the reason; the run goes
 //! on. Bad input exits with status 2 and one line on stderr.
 
@@ -19,7 +22,7 @@ use penalty_lab::provenance;
 use penalty_lab::strategy::METHOD_NAMES;
 use penalty_lab::Error;
 use serde_json::json;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -66,6 +69,9 @@ struct Args {
     /// Skip the figures.
     #[arg(long)]
     no_figures: bool,
+    /// Re-render the figures from `OUT/rows.json` without measuring.
+    #[arg(long, conflicts_with_all = ["smoke", "json", "no_figures"])]
+    render_only: bool,
 }
 
 fn opt<T: std::fmt::LowerExp>(v: Option<T>) -> String {
@@ -154,13 +160,43 @@ fn config(a: &Args) -> Result<PerfConfig, Error> {
     Ok(cfg)
 }
 
+/// Renders every figure into `OUT/figures` from `OUT/rows.json`.
+fn render(out: &Path) -> Result<(), Error> {
+    let path = out.join("rows.json");
+    let text = std::fs::read_to_string(&path).map_err(|e| Error::io(path.display(), e))?;
+    let rows: Vec<PerfRow> = serde_json::from_str(&text)
+        .map_err(|e| Error::input(format!("{}: {e}", path.display())))?;
+    let dir = out.join("figures");
+    let mut files = 0;
+    for (name, panels) in perf::figures(&rows) {
+        let cols = panels.len().min(3);
+        let nrows = panels.len().div_ceil(cols) as u32;
+        files += plot::render_panels(
+            &panels,
+            cols,
+            &dir.join(&name),
+            (560 * cols as u32, 460 * nrows),
+        )?
+        .len();
+    }
+    eprintln!("rendered {files} figure files into {}", dir.display());
+    Ok(())
+}
+
 fn run(a: &Args) -> Result<(), Error> {
+    if a.render_only {
+        return render(&a.out);
+    }
     let cfg = config(a)?;
     let t0 = Instant::now();
     let rows = perf::run(&cfg, &mut |line: &str| eprintln!("{line}"))?;
     let wall = t0.elapsed().as_secs_f64();
     std::fs::create_dir_all(&a.out).map_err(|e| Error::io(a.out.display(), e))?;
     provenance::write_atomic(&a.out.join("rows.csv"), csv(&rows).as_bytes())?;
+    provenance::write_atomic(
+        &a.out.join("rows.json"),
+        serde_json::to_string(&rows).expect("JSON value").as_bytes(),
+    )?;
     let count = |s: &str| rows.iter().filter(|r| r.status == s).count();
     let manifest = json!({
         "experiment": "runtime_vs_error",
@@ -184,20 +220,7 @@ fn run(a: &Args) -> Result<(), Error> {
             .as_bytes(),
     )?;
     if !a.no_figures {
-        let dir = a.out.join("figures");
-        let mut files = 0;
-        for (name, panels) in perf::figures(&rows) {
-            let cols = panels.len().min(3);
-            let nrows = panels.len().div_ceil(cols) as u32;
-            files += plot::render_panels(
-                &panels,
-                cols,
-                &dir.join(&name),
-                (560 * cols as u32, 460 * nrows),
-            )?
-            .len();
-        }
-        eprintln!("rendered {files} figure files into {}", dir.display());
+        render(&a.out)?;
     }
     eprintln!(
         "runtime_vs_error: {} rows ({} ok, {} errors, {} skipped) in {wall:.1} s → {}",

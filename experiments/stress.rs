@@ -7,8 +7,10 @@
 //! cargo run --release --bin stress -- --families spectrum --count 4 --eps 1e-3:1e20:24 --json
 //! ```
 //!
-//! Writes `OUT/eps_study.csv`, `OUT/strategies.csv`, `OUT/stress.json` (git commit, config,
-//! seed, summary) and `OUT/figures/*.{png,svg}`. Library: [`penalty_lab::stability`]. Bad
+//! Writes `OUT/eps_study.csv`, `OUT/strategies.csv` (for spreadsheets), `OUT/eps_study.json`
+//! (every field of the ε study, exact), `OUT/stress.json` (git commit, config, seed, summary)
+//! and `OUT/figures/*.{png,svg}`, rendered from `eps_study.json` once it is written
+//! (`--render-only --out DIR` re-renders from it without running). Library: [`penalty_lab::stability`]. Bad
 //! input exits with status 2 and one line on stderr.
 
 use clap::Parser;
@@ -57,6 +59,9 @@ struct Args {
     /// Skip the figures.
     #[arg(long)]
     no_figures: bool,
+    /// Re-render the figures from `OUT/eps_study.json` without running.
+    #[arg(long, conflicts_with_all = ["json", "no_figures"])]
+    render_only: bool,
 }
 
 fn opt(v: Option<f64>) -> String {
@@ -224,8 +229,14 @@ fn summary(eps_rows: &[EpsRow], strat: &[StrategyRow]) -> Value {
     })
 }
 
-fn render(eps_rows: &[EpsRow], dir: &Path) -> Result<usize, Error> {
-    let figs = stability::figures(eps_rows);
+/// Renders the figures into `OUT/figures` from `OUT/eps_study.json`; returns the file count.
+fn render(out: &Path) -> Result<usize, Error> {
+    let path = out.join("eps_study.json");
+    let text = std::fs::read_to_string(&path).map_err(|e| Error::io(path.display(), e))?;
+    let eps_rows: Vec<EpsRow> = serde_json::from_str(&text)
+        .map_err(|e| Error::input(format!("{}: {e}", path.display())))?;
+    let dir = out.join("figures");
+    let figs = stability::figures(&eps_rows);
     let mut n = 0;
     let panel = |prefix: &str| -> Vec<Figure> {
         figs.iter()
@@ -254,6 +265,14 @@ fn render(eps_rows: &[EpsRow], dir: &Path) -> Result<usize, Error> {
 }
 
 fn run(a: &Args) -> Result<(), Error> {
+    if a.render_only {
+        let n = render(&a.out)?;
+        eprintln!(
+            "rendered {n} figure files into {}",
+            a.out.join("figures").display()
+        );
+        return Ok(());
+    }
     let grid = LogGrid::parse(&a.eps)?;
     let families: Vec<String> = a
         .families
@@ -304,6 +323,10 @@ fn run(a: &Args) -> Result<(), Error> {
     let write =
         |name: &str, text: &str| provenance::write_atomic(&a.out.join(name), text.as_bytes());
     write("eps_study.csv", &eps_csv(&eps_rows))?;
+    write(
+        "eps_study.json",
+        &serde_json::to_string(&eps_rows).expect("JSON value"),
+    )?;
     write("strategies.csv", &strategy_csv(&strat_rows))?;
     let manifest = json!({
         "experiment": "stress",
@@ -324,7 +347,7 @@ fn run(a: &Args) -> Result<(), Error> {
     let text = serde_json::to_string_pretty(&manifest).expect("JSON value");
     write("stress.json", &text)?;
     if !a.no_figures && !eps_rows.is_empty() {
-        let n = render(&eps_rows, &a.out.join("figures"))?;
+        let n = render(&a.out)?;
         eprintln!(
             "rendered {n} figure files into {}",
             a.out.join("figures").display()

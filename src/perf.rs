@@ -284,7 +284,7 @@ impl PerfConfig {
 }
 
 /// One (scene, method, knob) point.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, serde::Deserialize)]
 pub struct PerfRow {
     /// Family.
     pub family: String,

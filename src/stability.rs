@@ -762,7 +762,7 @@ pub fn guarded_solve(problem: &Problem, method: Method) -> (Outcome, Option<Solu
 }
 
 /// Forward errors of the five [`SolveOptions::variants`] (`None` where the solve errored).
-#[derive(Clone, Debug, Default, Serialize)]
+#[derive(Clone, Debug, Default, Serialize, serde::Deserialize)]
 pub struct VariantErrors {
     /// One factorization, one solve.
     pub plain: Option<f64>,
@@ -802,7 +802,7 @@ impl VariantErrors {
 }
 
 /// One point of [`eps_study`].
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, serde::Deserialize)]
 pub struct EpsRow {
     /// Scene name.
     pub scene: String,

@@ -221,6 +221,30 @@ fn smoke_json_structure_and_theory_orderings() {
         }
     }
     assert!(checked >= 4);
+
+    // The figures come from the saved rows: --render-only redraws them from rows.json alone.
+    let saved: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("rows.json")).unwrap()).unwrap();
+    assert_eq!(saved, v["rows"], "rows.json holds exactly the rows printed");
+    let fig = out.join("figures").join("time_vs_size.png");
+    std::fs::remove_file(&fig).unwrap();
+    let o = bin()
+        .arg("--render-only")
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(fig.is_file(), "--render-only did not redraw time_vs_size");
+    let empty = tmp("render-empty");
+    let o = bin()
+        .arg("--render-only")
+        .arg("--out")
+        .arg(&empty)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("rows.json"));
     let _ = std::fs::remove_dir_all(&out);
 }
 

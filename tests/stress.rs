@@ -542,9 +542,21 @@ fn stress_cli_writes_csv_json_and_figures() {
         assert!(r["cond2"].as_f64().unwrap() >= 1.0);
     }
     assert!(!v["strategies"].as_array().unwrap().is_empty());
-    for f in ["eps_study.csv", "strategies.csv", "stress.json"] {
+    for f in [
+        "eps_study.csv",
+        "eps_study.json",
+        "strategies.csv",
+        "stress.json",
+    ] {
         assert!(out.join(f).exists(), "{f}");
     }
+    let saved: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("eps_study.json")).unwrap())
+            .unwrap();
+    assert_eq!(
+        saved, v["eps_study"],
+        "eps_study.json holds exactly the rows printed"
+    );
     for stem in [
         "forward_error_vs_eps",
         "error_vs_lagrange",
@@ -555,6 +567,29 @@ fn stress_cli_writes_csv_json_and_figures() {
             assert!(p.exists(), "{}", p.display());
         }
     }
+    // --render-only redraws the figures from eps_study.json alone.
+    let fig = out.join("figures").join("forward_error_vs_cond.png");
+    std::fs::remove_file(&fig).unwrap();
+    let o = stress_bin()
+        .arg("--render-only")
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(
+        fig.is_file(),
+        "--render-only did not redraw forward_error_vs_cond"
+    );
+    let empty = out.join("empty");
+    let o = stress_bin()
+        .arg("--render-only")
+        .arg("--out")
+        .arg(&empty)
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("eps_study.json"));
     let _ = std::fs::remove_dir_all(&out);
 }
 
