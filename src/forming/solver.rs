@@ -746,11 +746,7 @@ impl Simulation {
             punch_force -= normal_force[i] * c.normal[1] + f * c.tangent[1];
         }
         let active: Vec<f64> = sol.penalties.iter().copied().filter(|&e| e > 0.0).collect();
-        let clipped = sol
-            .warnings
-            .iter()
-            .filter(|w| w.contains("negative penalty"))
-            .count();
+        let clipped = sol.stats.clipped;
         let (mut mu_min, mut mu_max) = (f64::INFINITY, 0.0f64);
         for m in mu.iter().flatten() {
             mu_min = mu_min.min(*m);

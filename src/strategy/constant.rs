@@ -10,9 +10,6 @@ use crate::error::Result;
 /// Solves with the constant penalty ε (> 0, validated by [`Method::from_name`]).
 pub fn solve(ctx: Context, eps: f64) -> Result<Solution> {
     penalty_active_set(ctx, Method::Constant { eps }, |active, _| {
-        Ok((
-            active.iter().map(|&a| if a { eps } else { 0.0 }).collect(),
-            Vec::new(),
-        ))
+        Ok(active.iter().map(|&a| if a { eps } else { 0.0 }).collect())
     })
 }

@@ -165,6 +165,16 @@ impl Method {
             _ => None,
         }
     }
+
+    /// The method's penalty rule as named in messages: `spring (Eq. 17)`, `paper (Eq. 28)`,
+    /// otherwise the method name.
+    pub fn rule_label(&self) -> String {
+        match self {
+            Method::Spring { .. } => "spring (Eq. 17)".into(),
+            Method::Paper { .. } => "paper (Eq. 28)".into(),
+            m => m.name().into(),
+        }
+    }
 }
 
 /// Solver statistics.
@@ -178,6 +188,9 @@ pub struct Stats {
     pub factorizations: usize,
     /// Number of active (penalized / multiplier) constraints after each iteration.
     pub active_set_sizes: Vec<usize>,
+    /// Active constraints whose rule gave a negative penalty at the final iterate (Eq. 17,
+    /// Eq. 28), set to 0 and warned about: their penetration is not controlled.
+    pub clipped: usize,
 }
 
 /// The final system matrix of a solve (for metrics).
@@ -464,13 +477,14 @@ pub fn max_active_set_iterations(m: usize) -> usize {
 /// 1. Start from the constraints violated by u0 = K⁻¹q (u0 is not computed when every
 ///    constraint is bilateral; if K is singular, start from all constraints).
 /// 2. `rule(active, ctx)` gives ε for every constraint (it must return 0 off the active set);
-///    solve `(K + D E Dᵀ) u = q + D E û`.
+///    negative values are set to 0 with one warning ([`clip_negative`]; counted in
+///    [`Stats::clipped`]); solve `(K + D E Dᵀ) u = q + D E û`.
 /// 3. New active set = constraints violated at u; stop when it repeats. A revisited set
 ///    (cycling) stops with a warning.
 pub fn penalty_active_set(
     mut ctx: Context,
     method: Method,
-    mut rule: impl FnMut(&[bool], &mut Context) -> Result<(Vec<f64>, Vec<String>)>,
+    mut rule: impl FnMut(&[bool], &mut Context) -> Result<Vec<f64>>,
 ) -> Result<Solution> {
     let problem = ctx.problem;
     let m = problem.m();
@@ -479,7 +493,8 @@ pub fn penalty_active_set(
     let mut warnings = Vec::new();
     let max_it = max_active_set_iterations(m);
     loop {
-        let (eps, w) = rule(&active, &mut ctx)?;
+        let mut eps = rule(&active, &mut ctx)?;
+        let (clip_warning, clipped) = clip_negative(problem, &mut eps, &method.rule_label());
         let u = ctx.solve_penalized(&eps)?;
         ctx.stats.iterations += 1;
         ctx.stats
@@ -497,7 +512,8 @@ pub fn penalty_active_set(
                     ctx.stats.iterations
                 ));
             }
-            warnings.extend(w);
+            warnings.extend(clip_warning);
+            ctx.stats.clipped = clipped;
             return Ok(ctx.finish(method, u, eps, None, SystemKind::Penalized, warnings));
         }
         active = new_active;
@@ -519,20 +535,42 @@ pub fn per_active(
         .collect()
 }
 
-/// Clips negative penalties to 0 with a warning naming the constraint and the equation.
-pub fn clip_negative(problem: &Problem, eps: &mut [f64], equation: &str) -> Vec<String> {
-    let mut w = Vec::new();
-    for (c, e) in eps.iter_mut().enumerate() {
-        if *e < 0.0 {
-            w.push(format!(
-                "{equation} gives a negative penalty ε = {:.6e} for constraint {c} (DOF {}); \
-                 set to 0 (unpenalized), so this constraint's penetration is not controlled",
-                *e, problem.constraints[c].dof
-            ));
-            *e = 0.0;
-        }
+/// Sets negative penalties to 0 and returns one warning naming the rule, how many
+/// constraints it concerns and (up to three of) which, with the count.
+pub fn clip_negative(problem: &Problem, eps: &mut [f64], rule: &str) -> (Option<String>, usize) {
+    let negative: Vec<(usize, f64)> = eps
+        .iter()
+        .enumerate()
+        .filter(|(_, &e)| e < 0.0)
+        .map(|(c, &e)| (c, e))
+        .collect();
+    for &(c, _) in &negative {
+        eps[c] = 0.0;
     }
-    w
+    let describe = |&(c, e): &(usize, f64)| {
+        format!(
+            "constraint {c} (DOF {}): ε = {e:.6e}",
+            problem.constraints[c].dof
+        )
+    };
+    let warning = match negative.len() {
+        0 => None,
+        1 => Some(format!(
+            "{rule} gives a negative penalty for {}; set to 0 (unpenalized), so this \
+             constraint's penetration is not controlled",
+            describe(&negative[0])
+        )),
+        k => {
+            let listed: Vec<String> = negative.iter().take(3).map(describe).collect();
+            let more = if k > 3 { ", …" } else { "" };
+            Some(format!(
+                "{rule} gives a negative penalty for {k} constraints ({}{more}); set to 0 \
+                 (unpenalized), so their penetration is not controlled",
+                listed.join("; ")
+            ))
+        }
+    };
+    (warning, negative.len())
 }
 
 /// Dense convenience: the penalized matrix `K + D E Dᵀ` of a solution.

@@ -9,7 +9,7 @@
 //! an order of magnitude (Eq. 37); see [`super::condensed`] for the exact version. A negative
 //! ε̄ (e.g. a tool node with no load of its own) is warned and clipped to 0.
 
-use super::{clip_negative, penalty_active_set, per_active, Context, Method, Solution};
+use super::{penalty_active_set, per_active, Context, Method, Solution};
 use crate::error::Result;
 use crate::system::Problem;
 
@@ -37,8 +37,6 @@ pub fn eq28(problem: &Problem, active: &[bool], delta: f64) -> Vec<f64> {
 /// Solves with the Eq. 28 penalties for allowed penetration δ.
 pub fn solve(ctx: Context, delta: f64) -> Result<Solution> {
     penalty_active_set(ctx, Method::Paper { delta }, |active, ctx| {
-        let mut eps = eq28(ctx.problem, active, delta);
-        let w = clip_negative(ctx.problem, &mut eps, "paper (Eq. 28)");
-        Ok((eps, w))
+        Ok(eq28(ctx.problem, active, delta))
     })
 }

@@ -11,14 +11,12 @@ use crate::error::Result;
 pub fn solve(ctx: Context, factor: f64) -> Result<Solution> {
     penalty_active_set(ctx, Method::Scaled { factor }, |active, ctx| {
         let k = &ctx.problem.k;
-        Ok((
-            ctx.problem
-                .constraints
-                .iter()
-                .zip(active)
-                .map(|(c, &a)| if a { factor * k.diag(c.dof).abs() } else { 0.0 })
-                .collect(),
-            Vec::new(),
-        ))
+        Ok(ctx
+            .problem
+            .constraints
+            .iter()
+            .zip(active)
+            .map(|(c, &a)| if a { factor * k.diag(c.dof).abs() } else { 0.0 })
+            .collect())
     })
 }

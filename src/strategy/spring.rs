@@ -11,7 +11,7 @@
 //! load, so the penetration is not δ; when `|q_d|` is small the formula goes negative (warned
 //! and clipped to 0).
 
-use super::{clip_negative, penalty_active_set, per_active, Context, Method, Solution};
+use super::{penalty_active_set, per_active, Context, Method, Solution};
 use crate::error::Result;
 use crate::system::ConstraintKind;
 
@@ -20,7 +20,7 @@ pub fn solve(ctx: Context, delta: f64) -> Result<Solution> {
     penalty_active_set(ctx, Method::Spring { delta }, |active, ctx| {
         let g0 = ctx.g0()?;
         let p = ctx.problem;
-        let mut eps = per_active(p, active, |c, con| {
+        Ok(per_active(p, active, |c, con| {
             let s = match con.kind {
                 ConstraintKind::Upper => 1.0,
                 ConstraintKind::Lower => -1.0,
@@ -30,8 +30,6 @@ pub fn solve(ctx: Context, delta: f64) -> Result<Solution> {
             };
             let k = p.k.diag(con.dof);
             (p.q[con.dof] - k * (con.limit + s * delta)) / (s * delta)
-        });
-        let w = clip_negative(p, &mut eps, "spring (Eq. 17)");
-        Ok((eps, w))
+        }))
     })
 }
