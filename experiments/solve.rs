@@ -214,29 +214,13 @@ fn main() -> ExitCode {
         );
         return ExitCode::from(2);
     }
-    // Last line of defence: a panic is reported like any other error.
-    std::panic::set_hook(Box::new(|_| {}));
-    match std::panic::catch_unwind(|| run(&args)) {
-        Ok(Ok(v)) => {
-            if args.json {
-                println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
-            } else {
-                print_table(&v);
-            }
-            ExitCode::SUCCESS
+    penalty_lab::error::run_main(|| {
+        let v = run(&args)?;
+        if args.json {
+            println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
+        } else {
+            print_table(&v);
         }
-        Ok(Err(e)) => {
-            eprintln!("error: {e}");
-            ExitCode::from(2)
-        }
-        Err(p) => {
-            let msg = p
-                .downcast_ref::<String>()
-                .cloned()
-                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
-                .unwrap_or_else(|| "unknown".into());
-            eprintln!("error: internal failure ({msg}); please report this scene");
-            ExitCode::from(2)
-        }
-    }
+        Ok(())
+    })
 }

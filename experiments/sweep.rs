@@ -186,11 +186,5 @@ fn run(a: &Args) -> Result<(), Error> {
 
 fn main() -> ExitCode {
     let args = Args::parse();
-    match run(&args) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("error: {e}");
-            ExitCode::from(2)
-        }
-    }
+    penalty_lab::error::run_main(|| run(&args))
 }

@@ -81,5 +81,5 @@ fn run(a: &Args) -> Result<(), Error> {
 
 fn main() -> ExitCode {
     let args = Args::parse();
-    experiment::guarded_main(|| run(&args))
+    penalty_lab::error::run_main(|| run(&args))
 }

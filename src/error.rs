@@ -47,3 +47,29 @@ impl Error {
 
 /// Library result.
 pub type Result<T> = std::result::Result<T, Error>;
+
+/// The `main` of every binary: runs `f`; an error becomes its message on one line of stderr
+/// and exit status 2, a panic (a bug, never expected) one line asking for a report and exit
+/// status 2 — never a backtrace or a half-written line.
+pub fn run_main(f: impl FnOnce() -> Result<()> + std::panic::UnwindSafe) -> std::process::ExitCode {
+    std::panic::set_hook(Box::new(|_| {}));
+    match std::panic::catch_unwind(f) {
+        Ok(Ok(())) => std::process::ExitCode::SUCCESS,
+        Ok(Err(e)) => {
+            eprintln!("error: {e}");
+            std::process::ExitCode::from(2)
+        }
+        Err(p) => {
+            let msg = p
+                .downcast_ref::<String>()
+                .cloned()
+                .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
+                .unwrap_or_else(|| "unknown".into());
+            eprintln!(
+                "error: internal failure ({}); please report the command line",
+                msg.replace('\n', " ")
+            );
+            std::process::ExitCode::from(2)
+        }
+    }
+}

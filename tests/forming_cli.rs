@@ -1,6 +1,7 @@
 //! CLI contract of `deep_drawing` and `test_example`: JSON shape, `--out` files, bad input →
 //! exit status 2 with one line on stderr.
 
+mod common;
 use std::process::Command;
 
 fn run(bin: &str, args: &[&str]) -> std::process::Output {
@@ -93,19 +94,15 @@ fn json_shapes_and_out_files() {
     assert_eq!(saved["config"]["elements"], 20);
 
     // --render-only redraws the figures from the saved JSON alone and prints the same runs.
-    let fig7 = dir.join("fig7_condition_per_step.png");
-    std::fs::remove_file(&fig7).unwrap();
-    let o = run(DD, &["--render-only", "--json", "--out", out]);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert!(fig7.is_file(), "--render-only did not redraw Fig. 7");
-    let again: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let stdout = common::assert_render_only(
+        DD,
+        &dir,
+        "fig7_condition_per_step.png",
+        "deep_drawing.json",
+        &["--json"],
+    );
+    let again: serde_json::Value = serde_json::from_slice(&stdout).unwrap();
     assert_eq!(again["runs"], v["runs"]);
-    // Without saved data it is a clean error.
-    let empty = dir.join("empty");
-    std::fs::create_dir_all(&empty).unwrap();
-    let o = run(DD, &["--render-only", "--out", empty.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("deep_drawing.json"));
 
     let o = run(TE, &small);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));

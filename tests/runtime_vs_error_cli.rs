@@ -11,6 +11,8 @@
 //!   the smallest one (six decades apart);
 //! * `condensed`'s error against the exact solution is O(δ): 1000× smaller δ, smaller error.
 
+mod common;
+
 use serde_json::Value;
 use std::path::PathBuf;
 use std::process::Command;
@@ -226,25 +228,13 @@ fn smoke_json_structure_and_theory_orderings() {
     let saved: Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("rows.json")).unwrap()).unwrap();
     assert_eq!(saved, v["rows"], "rows.json holds exactly the rows printed");
-    let fig = out.join("figures").join("time_vs_size.png");
-    std::fs::remove_file(&fig).unwrap();
-    let o = bin()
-        .arg("--render-only")
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert!(fig.is_file(), "--render-only did not redraw time_vs_size");
-    let empty = tmp("render-empty");
-    let o = bin()
-        .arg("--render-only")
-        .arg("--out")
-        .arg(&empty)
-        .output()
-        .unwrap();
-    assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("rows.json"));
+    common::assert_render_only(
+        env!("CARGO_BIN_EXE_runtime_vs_error"),
+        &out,
+        "figures/time_vs_size.png",
+        "rows.json",
+        &[],
+    );
     let _ = std::fs::remove_dir_all(&out);
 }
 

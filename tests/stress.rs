@@ -6,6 +6,8 @@
 //! classical forward-error bound cond₂·ε_mach, the O(1/ε) convergence of the penalty
 //! solution, power-of-two scaling being exact), never from our own output.
 
+mod common;
+
 use num_rational::BigRational;
 use num_traits::{ToPrimitive, Zero};
 use penalty_lab::metrics::{self, MetricSet};
@@ -568,28 +570,13 @@ fn stress_cli_writes_csv_json_and_figures() {
         }
     }
     // --render-only redraws the figures from eps_study.json alone.
-    let fig = out.join("figures").join("forward_error_vs_cond.png");
-    std::fs::remove_file(&fig).unwrap();
-    let o = stress_bin()
-        .arg("--render-only")
-        .arg("--out")
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-    assert!(
-        fig.is_file(),
-        "--render-only did not redraw forward_error_vs_cond"
+    common::assert_render_only(
+        env!("CARGO_BIN_EXE_stress"),
+        &out,
+        "figures/forward_error_vs_cond.png",
+        "eps_study.json",
+        &[],
     );
-    let empty = out.join("empty");
-    let o = stress_bin()
-        .arg("--render-only")
-        .arg("--out")
-        .arg(&empty)
-        .output()
-        .unwrap();
-    assert_eq!(o.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&o.stderr).contains("eps_study.json"));
     let _ = std::fs::remove_dir_all(&out);
 }
 

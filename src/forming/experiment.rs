@@ -247,25 +247,6 @@ impl Cli {
     }
 }
 
-/// `main` of an experiment binary: runs `f`, maps an error to one line on stderr and exit
-/// status 2, and a panic to one line asking for a report (never a backtrace).
-pub fn guarded_main(
-    f: impl FnOnce() -> Result<()> + std::panic::UnwindSafe,
-) -> std::process::ExitCode {
-    std::panic::set_hook(Box::new(|_| {}));
-    match std::panic::catch_unwind(f) {
-        Ok(Ok(())) => std::process::ExitCode::SUCCESS,
-        Ok(Err(e)) => {
-            eprintln!("error: {e}");
-            std::process::ExitCode::from(2)
-        }
-        Err(_) => {
-            eprintln!("error: internal failure (panic); please report the command line");
-            std::process::ExitCode::from(2)
-        }
-    }
-}
-
 /// One line per run: steps, converged steps, median cond₂, final punch force, mean Picard
 /// iterations, max penetration, clipped penalties, seconds.
 pub fn summary_table(doc: &SavedRuns) -> String {
