@@ -10,8 +10,8 @@
 //! Writes `OUT/eps_study.csv`, `OUT/strategies.csv` (for spreadsheets), `OUT/eps_study.json`
 //! (every field of the ε study, exact), `OUT/stress.json` (git commit, config, seed, summary)
 //! and `OUT/figures/*.{png,svg}`, rendered from `eps_study.json` once it is written
-//! (`--render-only --out DIR` re-renders from it without running). Library: [`penalty_lab::stability`]. Bad
-//! input exits with status 2 and one line on stderr.
+//! (`--render-only --out DIR` re-renders from it without running). Library:
+//! [`penalty_lab::stability`]. Bad input exits with status 2 and one line on stderr.
 
 use clap::Parser;
 use penalty_lab::plot::{self, Figure};
@@ -229,8 +229,8 @@ fn summary(eps_rows: &[EpsRow], strat: &[StrategyRow]) -> Value {
     })
 }
 
-/// Renders the figures into `OUT/figures` from `OUT/eps_study.json`; returns the file count.
-fn render(out: &Path) -> Result<usize, Error> {
+/// Renders the figures into `OUT/figures` from `OUT/eps_study.json` and says how many it wrote.
+fn render(out: &Path) -> Result<(), Error> {
     let path = out.join("eps_study.json");
     let text = std::fs::read_to_string(&path).map_err(|e| Error::io(path.display(), e))?;
     let eps_rows: Vec<EpsRow> = serde_json::from_str(&text)
@@ -261,17 +261,13 @@ fn render(out: &Path) -> Result<usize, Error> {
             n += plot::render(fig, &dir.join(name))?.len();
         }
     }
-    Ok(n)
+    eprintln!("rendered {n} figure files into {}", dir.display());
+    Ok(())
 }
 
 fn run(a: &Args) -> Result<(), Error> {
     if a.render_only {
-        let n = render(&a.out)?;
-        eprintln!(
-            "rendered {n} figure files into {}",
-            a.out.join("figures").display()
-        );
-        return Ok(());
+        return render(&a.out);
     }
     let grid = LogGrid::parse(&a.eps)?;
     let families: Vec<String> = a
@@ -347,11 +343,7 @@ fn run(a: &Args) -> Result<(), Error> {
     let text = serde_json::to_string_pretty(&manifest).expect("JSON value");
     write("stress.json", &text)?;
     if !a.no_figures && !eps_rows.is_empty() {
-        let n = render(&a.out)?;
-        eprintln!(
-            "rendered {n} figure files into {}",
-            a.out.join("figures").display()
-        );
+        render(&a.out)?;
     }
     eprintln!(
         "stress: {} scenes, {} ε points, {} strategy runs ({} ok, {} clean errors, {} non-finite, {} panics) in {:.1} s → {}",

@@ -129,27 +129,29 @@ fn config(a: &Args) -> Result<SweepConfig, Error> {
     Ok(c)
 }
 
-fn render(out: &std::path::Path) -> Result<usize, Error> {
+/// Renders the figures into `OUT/figures` from `OUT/rows.csv` and says how many it wrote.
+fn render(out: &std::path::Path) -> Result<(), Error> {
     let (rows, _) = rows::read_rows(&out.join("rows.csv"), false)?;
     if rows.is_empty() {
         eprintln!(
             "no rows in {}: no figures rendered",
             out.join("rows.csv").display()
         );
-        return Ok(0);
+        return Ok(());
     }
-    let files = figures::render_all(&rows, &out.join("figures"))?;
-    Ok(files.len())
+    let dir = out.join("figures");
+    let files = figures::render_all(&rows, &dir)?;
+    eprintln!(
+        "rendered {} figure files into {}",
+        files.len(),
+        dir.display()
+    );
+    Ok(())
 }
 
 fn run(a: &Args) -> Result<(), Error> {
     if a.render_only {
-        let n = render(&a.out)?;
-        eprintln!(
-            "rendered {n} figure files into {}",
-            a.out.join("figures").display()
-        );
-        return Ok(());
+        return render(&a.out);
     }
     let cfg = config(a)?;
     let shard = a.shard.as_deref().map(sweep::parse_shard).transpose()?;
@@ -175,11 +177,7 @@ fn run(a: &Args) -> Result<(), Error> {
         a.out.join("rows.csv").display()
     );
     if !a.no_figures {
-        let n = render(&a.out)?;
-        eprintln!(
-            "rendered {n} figure files into {}",
-            a.out.join("figures").display()
-        );
+        render(&a.out)?;
     }
     Ok(())
 }
