@@ -90,7 +90,7 @@ fn csv(rows: &[PerfRow]) -> String {
     let mut t = String::from(
         "family,size,n,m,method,knob,value,value_rel,status,seconds,seconds_all,\
          max_penetration,penetration_rel,error_vs_ref,reference,iterations,factorizations,\
-         linear_solves,n_warnings,reason\n",
+         linear_solves,converged,n_warnings,reason\n",
     );
     for r in rows {
         let cells = [
@@ -116,6 +116,7 @@ fn csv(rows: &[PerfRow]) -> String {
             r.iterations.map_or(String::new(), |v| v.to_string()),
             r.factorizations.map_or(String::new(), |v| v.to_string()),
             r.linear_solves.map_or(String::new(), |v| v.to_string()),
+            r.converged.map_or(String::new(), |v| v.to_string()),
             r.warnings.len().to_string(),
             csv_field(&r.reason),
         ];

@@ -136,6 +136,7 @@ fn run(args: &Args) -> Result<Value, Error> {
         "linear_solves": sol.stats.linear_solves,
         "factorizations": sol.stats.factorizations,
         "iterations": sol.stats.iterations,
+        "converged": sol.stats.converged,
         "active_set_sizes": sol.stats.active_set_sizes,
         "clipped": sol.stats.clipped,
         "system": sol.system,
@@ -171,6 +172,9 @@ fn fmt_vec(v: &Value) -> String {
 fn print_table(v: &Value) {
     println!("scene {}  (N = {}, m = {})", v["scene"], v["n"], v["m"]);
     println!("method {}  {}", v["method"], v["knob"]);
+    if v["converged"] == Value::Bool(false) {
+        println!("NOT CONVERGED (see the warnings below)");
+    }
     for key in ["penalties", "gaps", "forces", "u"] {
         println!("{key:>18}: {}", fmt_vec(&v[key]));
     }
@@ -186,6 +190,7 @@ fn print_table(v: &Value) {
         "linear_solves",
         "factorizations",
         "iterations",
+        "converged",
         "seconds",
     ] {
         let s = match &v[key] {

@@ -188,7 +188,7 @@ fn summary(eps_rows: &[EpsRow], strat: &[StrategyRow]) -> Value {
     };
     let beyond: Vec<&EpsRow> = eps_rows
         .iter()
-        .filter(|r| r.cond_eps_mach.map_or(true, |c| c >= 1e-2))
+        .filter(|r| r.cond_eps_mach.is_none_or(|c| c >= 1e-2))
         .collect();
     let plain_failed_equil_ok = eps_rows
         .iter()

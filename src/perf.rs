@@ -324,6 +324,9 @@ pub struct PerfRow {
     pub factorizations: Option<usize>,
     /// Linear solves (right-hand sides).
     pub linear_solves: Option<usize>,
+    /// The strategy converged (`Stats::converged`); absent in files written before it existed.
+    #[serde(default)]
+    pub converged: Option<bool>,
     /// Warnings of the solve.
     pub warnings: Vec<String>,
 }
@@ -512,6 +515,7 @@ pub fn run_scene(
             iterations: None,
             factorizations: None,
             linear_solves: None,
+            converged: None,
             warnings: Vec::new(),
         };
         let mut skip = budget.skip_reason(fam, name, n, cfg.budget_seconds);
@@ -572,6 +576,7 @@ pub fn run_scene(
                 row.iterations = Some(sol.stats.iterations);
                 row.factorizations = Some(sol.stats.factorizations);
                 row.linear_solves = Some(sol.stats.linear_solves);
+                row.converged = Some(sol.stats.converged);
                 row.warnings = sol.warnings;
                 if sol.u.iter().any(|v| !v.is_finite()) {
                     row.status = "error".into();

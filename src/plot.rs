@@ -937,7 +937,7 @@ fn pick_corner(fig: &Figure, prep: &Prepared, w: f64, h: f64) -> Corner {
         if ok(fig.x_scale, m.x) && ok(fig.y_scale, m.y) {
             // A marker weighs like a short stretch of line.
             let p = norm(fig, prep, (m.x, m.y));
-            pts.extend(std::iter::repeat(p).take(20));
+            pts.extend(std::iter::repeat_n(p, 20));
         }
     }
     let count = |c: Corner| {

@@ -126,6 +126,13 @@ impl Stiffness {
         a
     }
 
+    /// `‖K‖_∞`: the largest absolute row sum.
+    pub fn inf_norm(&self) -> f64 {
+        let mut rows = vec![0.0f64; self.n()];
+        self.for_each_entry(|i, _, v| rows[i] += v.abs());
+        rows.into_iter().fold(0.0, f64::max)
+    }
+
     /// `true` if every stored entry is finite.
     pub fn all_finite(&self) -> bool {
         let mut ok = true;

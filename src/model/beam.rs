@@ -256,3 +256,48 @@ pub mod paper {
         Problem::new(k, LOAD.to_vec(), constraints).expect("valid problem")
     }
 }
+
+/// A long cantilever resting on a wavy rigid bed: the scene family on which the plain
+/// active-set loop of a classical penalty cycles (dense unilateral contact, ε near the beam's
+/// own stiffness at the contact DOFs).
+///
+/// A steel-like cantilever (E = 2.1e5, 1×1 section) of length 100 with `n_el` elements,
+/// clamped at x = 0, a transverse load `load` at every free node, and one `lower` constraint
+/// per free node on its transverse DOF: `w(x) ≥ −amp · (1 + sin(waves·π·x/L)) · x/L`.
+pub mod bed {
+    use super::*;
+
+    /// Parameters of the scene.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct Bed {
+        /// Number of elements (N = 3·n_el DOFs, m = n_el constraints).
+        pub n_el: usize,
+        /// Transverse nodal load (negative: towards the bed).
+        pub load: f64,
+        /// Amplitude of the bed profile.
+        pub amp: f64,
+        /// Number of half-waves of the profile along the beam.
+        pub waves: f64,
+    }
+
+    /// The contact problem (dense K).
+    pub fn problem(b: Bed) -> Result<Problem> {
+        let length = 100.0;
+        let frame = Frame::cantilever(b.n_el, length, Section::rectangle(2.1e5, 1.0, 1.0))?;
+        let k = frame.assemble(false)?;
+        let mut q = vec![0.0; k.n()];
+        let mut cons = Vec::with_capacity(b.n_el);
+        for i in 1..=b.n_el {
+            let d = frame.dof(i, 1).expect("only node 0 is clamped");
+            q[d] = b.load;
+            let x = frame.nodes[i].0 / length;
+            let limit = -b.amp * (1.0 + (b.waves * std::f64::consts::PI * x).sin()) * x;
+            cons.push(Constraint {
+                dof: d,
+                limit,
+                kind: ConstraintKind::Lower,
+            });
+        }
+        Problem::new(k, q, cons)
+    }
+}

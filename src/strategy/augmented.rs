@@ -13,6 +13,7 @@
 //! When to use: penetration driven to any tolerance with a moderate ε (good conditioning), at
 //! the price of several solves.
 
+use super::active_set::{newton, Start};
 use super::{Context, Method, Solution, SystemKind};
 use crate::error::Result;
 use crate::system::ConstraintKind;
@@ -21,6 +22,11 @@ use crate::system::ConstraintKind;
 pub const MAX_UPDATES: usize = 500;
 
 /// Solves with the augmented Lagrangian, penalty `eps`, tolerance `tol` on penetration.
+///
+/// Each inner problem (fixed λ, ε) is the minimizer of a convex penalized energy with shifted
+/// limits, solved by [`newton`]: the first from the set of bilateral constraints, the later
+/// ones warm-started from the previous iterate. `converged` is false (with a warning) only
+/// when the penetration is still above `tol` after [`MAX_UPDATES`] multiplier updates.
 pub fn solve(mut ctx: Context, eps: f64, tol: f64, adaptive: bool) -> Result<Solution> {
     let problem = ctx.problem;
     let method = Method::Augmented { eps, tol, adaptive };
@@ -30,40 +36,27 @@ pub fn solve(mut ctx: Context, eps: f64, tol: f64, adaptive: bool) -> Result<Sol
     let mut prev_pen = vec![f64::INFINITY; m];
     let mut warnings = Vec::new();
     let mut updates = 0;
+    let mut start = Start::Set(
+        problem
+            .constraints
+            .iter()
+            .map(|c| c.kind == ConstraintKind::Bilateral)
+            .collect(),
+    );
     loop {
-        // Inner active-set loop for the shifted penalty problem.
+        // Inner problem: the penalty problem with shifted limits ℓ_c = û_c − λ_c/ε_c.
         let limits: Vec<f64> = (0..m)
             .map(|c| problem.constraints[c].limit - lambda[c] / pen_eps[c])
             .collect();
-        let is_active = |c: usize, u: &[f64]| {
-            let con = problem.constraints[c];
-            let r = pen_eps[c] * (u[con.dof] - limits[c]);
-            match con.kind {
-                ConstraintKind::Bilateral => true,
-                ConstraintKind::Upper => r > 0.0,
-                ConstraintKind::Lower => r < 0.0,
-            }
-        };
-        let mut active: Vec<bool> = (0..m)
-            .map(|c| problem.constraints[c].kind == ConstraintKind::Bilateral || lambda[c] != 0.0)
-            .collect();
-        let mut inner = 0;
-        let (u, e) = loop {
-            let e: Vec<f64> = (0..m)
-                .map(|c| if active[c] { pen_eps[c] } else { 0.0 })
-                .collect();
-            let u = ctx.solve_penalized_with(&e, &limits)?;
-            inner += 1;
-            ctx.stats.iterations += 1;
-            ctx.stats
-                .active_set_sizes
-                .push(active.iter().filter(|&&a| a).count());
-            let next: Vec<bool> = (0..m).map(|c| is_active(c, &u)).collect();
-            if next == active || inner > 4 * m + 50 {
-                break (u, e);
-            }
-            active = next;
-        };
+        let inner = newton(&mut ctx, &pen_eps, &limits, start)?;
+        if !inner.converged && warnings.is_empty() {
+            warnings.push(format!(
+                "augmented: NOT CONVERGED: an inner Newton solve reached its iteration cap \
+                 (backward error {:.2e})",
+                inner.backward_error
+            ));
+        }
+        let (u, e) = (inner.u, inner.penalties);
         // Multiplier update λ ← r.
         for c in 0..m {
             lambda[c] = if e[c] != 0.0 {
@@ -76,10 +69,11 @@ pub fn solve(mut ctx: Context, eps: f64, tol: f64, adaptive: bool) -> Result<Sol
         let maxp = pen.iter().fold(0.0f64, |a, &b| a.max(b));
         updates += 1;
         if maxp <= tol || updates >= MAX_UPDATES {
+            ctx.stats.converged = maxp <= tol && inner.converged;
             if maxp > tol {
                 warnings.push(format!(
-                    "augmented: max penetration {maxp:.3e} > tol {tol:.3e} after {MAX_UPDATES} \
-                     multiplier updates"
+                    "augmented: NOT CONVERGED: max penetration {maxp:.3e} > tol {tol:.3e} after \
+                     {MAX_UPDATES} multiplier updates"
                 ));
             }
             return Ok(ctx.finish(method, u, e, Some(lambda), SystemKind::Penalized, warnings));
@@ -92,5 +86,9 @@ pub fn solve(mut ctx: Context, eps: f64, tol: f64, adaptive: bool) -> Result<Sol
             }
         }
         prev_pen = pen;
+        start = Start::Point {
+            u,
+            solved_with: None,
+        };
     }
 }

@@ -227,6 +227,7 @@ pub fn solve_eliminated(mut ctx: Context, delta: f64) -> Result<Solution> {
     let (lo, hi) = bounds(ctx.problem, delta);
     let b = super::eliminated::box_solve(&mut ctx, &lo, &hi)?;
     let penalties = penalties(&b.state, &b.r, &lo, &hi);
+    ctx.stats.converged = true;
     let warnings = if b.fallback {
         vec![CYCLED.to_string()]
     } else {
@@ -257,6 +258,7 @@ pub fn solve_dense(mut ctx: Context, delta: f64) -> Result<Solution> {
     let qp = box_qp(s.as_ref(), &g0, &lo, &hi)?;
     ctx.stats.iterations = qp.iterations;
     ctx.stats.active_set_sizes = qp.sizes.clone();
+    ctx.stats.converged = true;
     let mut warnings = Vec::new();
     if qp.fallback {
         warnings.push(CYCLED.to_string());

@@ -4,12 +4,12 @@
 //! When to use: when a good ε is known. Too small and contact leaks (penetration ∝ 1/ε), too
 //! large and cond(K + εDDᵀ) grows ∝ ε.
 
-use super::{penalty_active_set, Context, Method, Solution};
+use super::{fixed_energy, Context, Method, Solution};
 use crate::error::Result;
 
-/// Solves with the constant penalty ε (> 0, validated by [`Method::from_name`]).
+/// Solves with the constant penalty ε (> 0, validated by [`Method::from_name`]): the unique
+/// minimizer of `½uᵀKu − qᵀu + ½ε Σ_c p_c(u)²` (see [`super::active_set`]).
 pub fn solve(ctx: Context, eps: f64) -> Result<Solution> {
-    penalty_active_set(ctx, Method::Constant { eps }, |active, _| {
-        Ok(active.iter().map(|&a| if a { eps } else { 0.0 }).collect())
-    })
+    let m = ctx.problem.m();
+    fixed_energy(ctx, Method::Constant { eps }, vec![eps; m])
 }

@@ -95,7 +95,7 @@ pub fn box_solve(ctx: &mut Context, lo: &[f64], hi: &[f64]) -> Result<BoxSolve> 
     let mut seen: HashSet<Vec<BoundState>> = HashSet::new();
     let mut fallback = false;
     let mut sizes = Vec::new();
-    let max_it = super::max_active_set_iterations(m);
+    let max_it = super::max_iterations(m);
     for it in 1..=max_it {
         // Prescribed DOFs and values.
         let mut fixed = vec![false; n];

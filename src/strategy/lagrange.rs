@@ -11,7 +11,7 @@
 //! When to use: the exact answer; it costs a larger, indefinite system (`cond2_system` is the
 //! saddle-point matrix's) whose size changes with the active set.
 
-use super::{initial_active_set, max_active_set_iterations, Context, Method, Solution, SystemKind};
+use super::{initial_active_set, max_iterations, Context, Method, Solution, SystemKind};
 use crate::error::{Error, Result};
 use crate::linalg::Factorization;
 use crate::system::{ConstraintKind, Problem, Stiffness};
@@ -74,6 +74,7 @@ pub fn solve_eliminated(mut ctx: Context) -> Result<Solution> {
         .filter(|&c| b.state[c] != super::condensed::BoundState::Free)
         .collect();
     let m = b.state.len();
+    ctx.stats.converged = true;
     let warnings = if b.fallback {
         vec!["lagrange: the active-set update cycled; converged with single changes".to_string()]
     } else {
@@ -97,7 +98,7 @@ pub fn solve_saddle(mut ctx: Context) -> Result<Solution> {
     let mut active = initial_active_set(&mut ctx)?;
     let mut seen: HashSet<Vec<bool>> = HashSet::new();
     let mut single = false;
-    let max_it = max_active_set_iterations(m);
+    let max_it = max_iterations(m);
     let scale = problem
         .constraints
         .iter()
@@ -143,9 +144,10 @@ pub fn solve_saddle(mut ctx: Context) -> Result<Solution> {
         let converged = changes.is_empty();
         if converged || ctx.stats.iterations >= max_it {
             let mut warnings = Vec::new();
+            ctx.stats.converged = converged;
             if !converged {
                 warnings.push(format!(
-                    "lagrange: active set did not settle after {max_it} iterations"
+                    "lagrange: NOT CONVERGED: active set did not settle after {max_it} iterations"
                 ));
             }
             return Ok(ctx.finish(

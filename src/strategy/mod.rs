@@ -11,10 +11,14 @@
 //! | [`augmented`] | ε, tol | Uzawa: λ ← λ + ε g until max penetration ≤ tol | — |
 //!
 //! Every strategy returns a [`Solution`]: u, the penalties, the gaps, warnings and
-//! [`Stats`] (iterations, linear solves, factorizations, active-set sizes). Unilateral
-//! constraints (`upper`/`lower`) are penalized only while violated: the penalty strategies share
-//! one active-set driver ([`penalty_active_set`]).
+//! [`Stats`] (iterations, linear solves, factorizations, active-set sizes, `converged`).
+//! Unilateral constraints (`upper`/`lower`) are penalized only while violated. The penalty
+//! strategies share the drivers of [`active_set`]: a globalized semismooth Newton method for
+//! rules with a fixed energy (`constant`, `scaled`, `augmented`'s inner solves), which always
+//! reaches the unique minimizer, and a fixed-point iteration with a documented terminating
+//! rule for the rules whose ε depends on the active set (`spring`, `paper`).
 
+pub mod active_set;
 pub mod augmented;
 pub mod condensed;
 pub mod constant;
@@ -26,10 +30,14 @@ pub mod spring;
 
 use crate::error::{Error, Result};
 use crate::linalg::Factorization;
-use crate::system::{ConstraintKind, Problem, Stiffness};
+use crate::system::{Problem, Stiffness};
 use serde::Serialize;
-use std::collections::HashSet;
 use std::sync::Arc;
+
+pub use active_set::{
+    clip_negative, fixed_energy, fixed_point, initial_active_set, max_iterations, per_active,
+    violated,
+};
 
 /// A strategy and its knob.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -191,6 +199,11 @@ pub struct Stats {
     /// Active constraints whose rule gave a negative penalty at the final iterate (Eq. 17,
     /// Eq. 28), set to 0 and warned about: their penetration is not controlled.
     pub clipped: usize,
+    /// The strategy's iteration reached its own solution: the minimizer of the penalized
+    /// energy (fixed-energy rules), a consistent active set (set-dependent rules, Lagrange),
+    /// the box QP's optimum (condensed), the tolerance (augmented). `false` comes with a
+    /// warning that says which terminating rule was applied.
+    pub converged: bool,
 }
 
 /// The final system matrix of a solve (for metrics).
@@ -432,145 +445,6 @@ impl<'a> Context<'a> {
             warnings,
         }
     }
-}
-
-/// Is constraint `c` to be penalized at the trial solution `u`? Bilateral: always;
-/// unilateral: while violated (penetration > 0).
-pub fn violated(problem: &Problem, c: usize, u: &[f64]) -> bool {
-    let con = problem.constraints[c];
-    match con.kind {
-        ConstraintKind::Bilateral => true,
-        k => k.penetration(u[con.dof] - con.limit) > 0.0,
-    }
-}
-
-/// The starting active set of the active-set loops: every constraint violated by
-/// u0 = K⁻¹q. u0 is not computed when every constraint is bilateral (all start active), and if
-/// K is singular every constraint starts active.
-pub fn initial_active_set(ctx: &mut Context) -> Result<Vec<bool>> {
-    let problem = ctx.problem;
-    let m = problem.m();
-    if problem
-        .constraints
-        .iter()
-        .all(|c| c.kind == ConstraintKind::Bilateral)
-    {
-        return Ok(vec![true; m]);
-    }
-    match ctx.u0() {
-        Ok(u0) => {
-            let u0 = u0.to_vec();
-            Ok((0..m).map(|c| violated(problem, c, &u0)).collect())
-        }
-        Err(Error::Singular(_)) => Ok(vec![true; m]),
-        Err(e) => Err(e),
-    }
-}
-
-/// Upper bound on active-set iterations.
-pub fn max_active_set_iterations(m: usize) -> usize {
-    4 * m + 50
-}
-
-/// The active-set driver shared by the penalty strategies.
-///
-/// 1. Start from the constraints violated by u0 = K⁻¹q (u0 is not computed when every
-///    constraint is bilateral; if K is singular, start from all constraints).
-/// 2. `rule(active, ctx)` gives ε for every constraint (it must return 0 off the active set);
-///    negative values are set to 0 with one warning ([`clip_negative`]; counted in
-///    [`Stats::clipped`]); solve `(K + D E Dᵀ) u = q + D E û`.
-/// 3. New active set = constraints violated at u; stop when it repeats. A revisited set
-///    (cycling) stops with a warning.
-pub fn penalty_active_set(
-    mut ctx: Context,
-    method: Method,
-    mut rule: impl FnMut(&[bool], &mut Context) -> Result<Vec<f64>>,
-) -> Result<Solution> {
-    let problem = ctx.problem;
-    let m = problem.m();
-    let mut active = initial_active_set(&mut ctx)?;
-    let mut seen: HashSet<Vec<bool>> = HashSet::new();
-    let mut warnings = Vec::new();
-    let max_it = max_active_set_iterations(m);
-    loop {
-        let mut eps = rule(&active, &mut ctx)?;
-        let (clip_warning, clipped) = clip_negative(problem, &mut eps, &method.rule_label());
-        let u = ctx.solve_penalized(&eps)?;
-        ctx.stats.iterations += 1;
-        ctx.stats
-            .active_set_sizes
-            .push(eps.iter().filter(|&&e| e != 0.0).count());
-        let new_active: Vec<bool> = (0..m).map(|c| violated(problem, c, &u)).collect();
-        let done = new_active == active;
-        seen.insert(active.clone());
-        if done || seen.contains(&new_active) || ctx.stats.iterations >= max_it {
-            if !done {
-                warnings.push(format!(
-                    "{}: active set did not settle after {} iterations (cycling); \
-                     the last iterate is returned",
-                    method.name(),
-                    ctx.stats.iterations
-                ));
-            }
-            warnings.extend(clip_warning);
-            ctx.stats.clipped = clipped;
-            return Ok(ctx.finish(method, u, eps, None, SystemKind::Penalized, warnings));
-        }
-        active = new_active;
-    }
-}
-
-/// `f(c, constraint)` for every active constraint c, 0 for the inactive ones: the per-constraint
-/// penalty rules (Eq. 17, Eq. 28) evaluated over the active set.
-pub fn per_active(
-    problem: &Problem,
-    active: &[bool],
-    mut f: impl FnMut(usize, &crate::system::Constraint) -> f64,
-) -> Vec<f64> {
-    problem
-        .constraints
-        .iter()
-        .enumerate()
-        .map(|(c, con)| if active[c] { f(c, con) } else { 0.0 })
-        .collect()
-}
-
-/// Sets negative penalties to 0 and returns one warning naming the rule, how many
-/// constraints it concerns and (up to three of) which, with the count.
-pub fn clip_negative(problem: &Problem, eps: &mut [f64], rule: &str) -> (Option<String>, usize) {
-    let negative: Vec<(usize, f64)> = eps
-        .iter()
-        .enumerate()
-        .filter(|(_, &e)| e < 0.0)
-        .map(|(c, &e)| (c, e))
-        .collect();
-    for &(c, _) in &negative {
-        eps[c] = 0.0;
-    }
-    let describe = |&(c, e): &(usize, f64)| {
-        format!(
-            "constraint {c} (DOF {}): ε = {e:.6e}",
-            problem.constraints[c].dof
-        )
-    };
-    let warning = match negative.len() {
-        0 => None,
-        1 => Some(format!(
-            "{rule} gives a negative penalty for {}; set to 0 (unpenalized), so this \
-             constraint's penetration is not controlled",
-            describe(&negative[0])
-        )),
-        k => {
-            let listed: Vec<String> = negative.iter().take(3).map(describe).collect();
-            let more = if k > 3 { ", …" } else { "" };
-            Some(format!(
-                "{rule} gives a negative penalty for {k} constraints ({}{more}); set to 0 \
-                 (unpenalized), so their penetration is not controlled",
-                listed.join("; ")
-            ))
-        }
-    };
-    (warning, negative.len())
 }
 
 /// Dense convenience: the penalized matrix `K + D E Dᵀ` of a solution.

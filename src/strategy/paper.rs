@@ -9,7 +9,7 @@
 //! an order of magnitude (Eq. 37); see [`super::condensed`] for the exact version. A negative
 //! ε̄ (e.g. a tool node with no load of its own) is warned and clipped to 0.
 
-use super::{penalty_active_set, per_active, Context, Method, Solution};
+use super::{fixed_point, per_active, Context, Method, Solution};
 use crate::error::Result;
 use crate::system::Problem;
 
@@ -36,7 +36,7 @@ pub fn eq28(problem: &Problem, active: &[bool], delta: f64) -> Vec<f64> {
 
 /// Solves with the Eq. 28 penalties for allowed penetration δ.
 pub fn solve(ctx: Context, delta: f64) -> Result<Solution> {
-    penalty_active_set(ctx, Method::Paper { delta }, |active, ctx| {
+    fixed_point(ctx, Method::Paper { delta }, |active, ctx| {
         Ok(eq28(ctx.problem, active, delta))
     })
 }

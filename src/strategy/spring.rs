@@ -11,13 +11,13 @@
 //! load, so the penetration is not δ; when `|q_d|` is small the formula goes negative (warned
 //! and clipped to 0).
 
-use super::{penalty_active_set, per_active, Context, Method, Solution};
+use super::{fixed_point, per_active, Context, Method, Solution};
 use crate::error::Result;
 use crate::system::ConstraintKind;
 
 /// Solves with Eq. 17 penalties for allowed penetration δ.
 pub fn solve(ctx: Context, delta: f64) -> Result<Solution> {
-    penalty_active_set(ctx, Method::Spring { delta }, |active, ctx| {
+    fixed_point(ctx, Method::Spring { delta }, |active, ctx| {
         let g0 = ctx.g0()?;
         let p = ctx.problem;
         Ok(per_active(p, active, |c, con| {

@@ -37,7 +37,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-use crate::plot::{render, Band, Figure, Mark, Scale, Series};
+use crate::plot::{render, Band, Figure, Mark, Marker, Scale, Series};
 use crate::sweep::rows::Row;
 use crate::{Error, Result};
 
@@ -499,6 +499,40 @@ fn eps_figure(fam: &Fam, metric: Metric, title: &str, y_label: &str, y_scale: Sc
             );
         }
     }
+    let x_of = |r: &Row| {
+        if r.method == "constant" {
+            r.eps
+        } else {
+            r.eps_max
+        }
+    };
+    mark_not_converged(fig, &fam.rows, x_of, metric)
+}
+
+/// Marks every solve whose strategy did not converge (`converged = false`) at its own (x, y),
+/// in black, with one legend entry that counts them: medians hide single rows, these do not.
+fn mark_not_converged(
+    mut fig: Figure,
+    rows: &[Row],
+    x: impl Fn(&Row) -> Option<f64>,
+    y: Metric,
+) -> Figure {
+    let bad: Vec<(f64, f64)> = rows
+        .iter()
+        .filter(|r| r.converged == Some(false))
+        .filter_map(|r| Some((x(r)?, y(r)?)))
+        .collect();
+    for (i, &(x, y)) in bad.iter().enumerate() {
+        let label = if i == 0 {
+            format!(
+                "NOT CONVERGED ({} solves, each at its own value)",
+                bad.len()
+            )
+        } else {
+            String::new()
+        };
+        fig = fig.with_marker(Marker::new(label, x, y));
+    }
     fig
 }
 
@@ -621,5 +655,5 @@ fn pareto(fam: &Fam) -> Figure {
             fig = fig.hline(k, "cond₂(K), median");
         }
     }
-    fig
+    mark_not_converged(fig, &fam.rows, m_pen, m_cond)
 }

@@ -506,6 +506,7 @@ pub fn run_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<(Vec<Row>, Loade
                 row.error_vs_exact = u_ref.as_ref().map(|r| metrics::relative_error(&sol.u, r));
                 row.linear_solves = Some(sol.stats.linear_solves);
                 row.iterations = Some(sol.stats.iterations);
+                row.converged = Some(sol.stats.converged);
                 let mut w = sol.warnings.clone();
                 w.extend(metrics::precision_warnings(&m));
                 row.warnings = w.join("; ");

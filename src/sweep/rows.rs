@@ -52,6 +52,8 @@ pub struct Row {
     pub linear_solves: Option<usize>,
     /// Outer iterations.
     pub iterations: Option<usize>,
+    /// The strategy's iteration reached its solution (`Stats::converged`); empty on error.
+    pub converged: Option<bool>,
     /// Wall time of this row (s).
     pub seconds: Option<f64>,
     /// Warnings and errors, `; `-separated (empty when all is well).
@@ -59,7 +61,7 @@ pub struct Row {
 }
 
 /// Column names, in file order.
-pub const COLUMNS: [&str; 22] = [
+pub const COLUMNS: [&str; 23] = [
     "scene",
     "family",
     "n",
@@ -80,6 +82,7 @@ pub const COLUMNS: [&str; 22] = [
     "error_vs_exact",
     "linear_solves",
     "iterations",
+    "converged",
     "seconds",
     "warnings",
 ];
@@ -122,6 +125,7 @@ impl Row {
             f(self.error_vs_exact),
             u(self.linear_solves),
             u(self.iterations),
+            self.converged.map(|c| c.to_string()).unwrap_or_default(),
             f(self.seconds),
             self.warnings.clone(),
         ]
@@ -246,7 +250,8 @@ fn parse_line(line: &str) -> std::result::Result<Row, String> {
         error_vs_exact: fl(17)?,
         linear_solves: parse_opt(g(18))?,
         iterations: parse_opt(g(19))?,
-        seconds: fl(20)?,
-        warnings: g(21).into(),
+        converged: parse_opt(g(20)).map_err(|_| format!("bad converged '{}'", g(20)))?,
+        seconds: fl(21)?,
+        warnings: g(22).into(),
     })
 }
