@@ -137,6 +137,7 @@ fn run(args: &Args) -> Result<Value, Error> {
         "factorizations": sol.stats.factorizations,
         "iterations": sol.stats.iterations,
         "converged": sol.stats.converged,
+        "refinements": sol.stats.refinements,
         "active_set_sizes": sol.stats.active_set_sizes,
         "clipped": sol.stats.clipped,
         "system": sol.system,

@@ -37,8 +37,14 @@ fn condensed_routes_agree() {
             let delta = rel * scale;
             let a = condensed::solve_dense(Context::new(&p), delta).unwrap();
             let b = condensed::solve_eliminated(Context::new(&p), delta).unwrap();
-            assert_eq!(a.stats.active_set_sizes, b.stats.active_set_sizes);
-            assert_eq!(a.stats.iterations, b.stats.iterations);
+            // Same active sets in exact arithmetic up to the first optimum; the guard's
+            // refinements after it (penetration above δ by rounding) depend on rounding.
+            let first = |s: &penalty_lab::strategy::Solution| {
+                let k = s.stats.active_set_sizes.len() - s.stats.refinements;
+                s.stats.active_set_sizes[..k].to_vec()
+            };
+            assert_eq!(first(&a), first(&b));
+            assert!(a.max_penetration <= delta && b.max_penetration <= delta);
             let e = relative_error(&b.u, &a.u);
             assert!(e <= tol_u(&p), "n {}: u differs by {e:e}", p.n());
             assert!(b.max_penetration <= delta * (1.0 + tol_u(&p)));

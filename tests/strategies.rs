@@ -824,7 +824,7 @@ fn spring_penalizes_constraints_that_become_violated() {
     assert_eq!(sol.stats.iterations, 2);
     // condensed on the same chain keeps both within δ.
     let cd = strategy::solve(&p, Method::Condensed { delta }).unwrap();
-    assert!(cd.max_penetration <= delta * (1.0 + 1e-9) + tol);
+    assert!(cd.max_penetration <= delta);
 }
 
 #[test]
@@ -1007,8 +1007,15 @@ fn stats_are_pinned_on_the_bilateral_beam() {
     let sol = strategy::solve(&p, Method::Condensed { delta }).unwrap();
     assert!(sol.gaps[0] > 0.0 && sol.gaps[1] > 0.0 && sol.gaps[2] < 0.0);
     let s = sol.stats;
-    assert_eq!((s.factorizations, s.linear_solves, s.iterations), (1, 4, 3));
-    assert_eq!(s.active_set_sizes, vec![3, 2, 3]);
+    // The three steps of the path, plus one re-solve from the final state if rounding put a
+    // gap an ulp above δ (the guard: every penetration ≤ δ in floating point).
+    assert!(s.refinements <= 1, "{s:?}");
+    assert_eq!(
+        (s.factorizations, s.linear_solves, s.iterations),
+        (1, 4, 3 + s.refinements)
+    );
+    assert_eq!(s.active_set_sizes[..3], [3, 2, 3]);
+    assert!(sol.max_penetration <= delta);
     // lagrange (all bilateral: no u0 needed): one saddle-point factorization, one solve each, one iteration.
     let s = st(Method::Lagrange);
     assert_eq!((s.factorizations, s.linear_solves, s.iterations), (1, 1, 1));

@@ -64,8 +64,15 @@ pub struct BoxQp {
 
 /// Solves `min ½(g − g0)ᵀS⁻¹(g − g0)` s.t. `lo ≤ g ≤ hi` in the force variable
 /// `r = S⁻¹(g0 − g)` (only S is needed, never S⁻¹): at-bound rows solve `S_AA r_A = g0_A − g_A`,
-/// free rows have `r = 0` and `g_F = g0_F − S_FA r_A`.
-pub fn box_qp(s: MatRef<'_, f64>, g0: &[f64], lo: &[f64], hi: &[f64]) -> Result<BoxQp> {
+/// free rows have `r = 0` and `g_F = g0_F − S_FA r_A`. `start`: the initial state (default:
+/// the bounds violated by g0).
+pub fn box_qp(
+    s: MatRef<'_, f64>,
+    g0: &[f64],
+    lo: &[f64],
+    hi: &[f64],
+    start: Option<Vec<BoundState>>,
+) -> Result<BoxQp> {
     let m = g0.len();
     // Violation tolerance: rounding level of the gaps.
     let scale = g0
@@ -74,17 +81,20 @@ pub fn box_qp(s: MatRef<'_, f64>, g0: &[f64], lo: &[f64], hi: &[f64]) -> Result<
         .chain(hi.iter().filter(|v| v.is_finite()))
         .fold(0.0f64, |a, v| a.max(v.abs()));
     let tol = 64.0 * f64::EPSILON * (m as f64).max(1.0) * scale;
-    let mut state: Vec<BoundState> = (0..m)
-        .map(|c| {
-            if g0[c] > hi[c] {
-                BoundState::Hi
-            } else if g0[c] < lo[c] {
-                BoundState::Lo
-            } else {
-                BoundState::Free
-            }
-        })
-        .collect();
+    let mut state: Vec<BoundState> = match start {
+        Some(s) if s.len() == m => s,
+        _ => (0..m)
+            .map(|c| {
+                if g0[c] > hi[c] {
+                    BoundState::Hi
+                } else if g0[c] < lo[c] {
+                    BoundState::Lo
+                } else {
+                    BoundState::Free
+                }
+            })
+            .collect(),
+    };
     let mut seen: HashSet<Vec<BoundState>> = HashSet::new();
     let mut fallback = false;
     let mut sizes = Vec::new();
@@ -222,20 +232,136 @@ fn penalties(state: &[BoundState], r: &[f64], lo: &[f64], hi: &[f64]) -> Vec<f64
 const CYCLED: &str =
     "condensed: the primal-dual active-set update cycled; converged with single changes";
 
-/// The elimination route: the box problem in u-space, `ε_c = r_c / g_c` at the bounds.
-pub fn solve_eliminated(mut ctx: Context, delta: f64) -> Result<Solution> {
-    let (lo, hi) = bounds(ctx.problem, delta);
-    let b = super::eliminated::box_solve(&mut ctx, &lo, &hi)?;
-    let penalties = penalties(&b.state, &b.r, &lo, &hi);
-    ctx.stats.converged = true;
-    let warnings = if b.fallback {
-        vec![CYCLED.to_string()]
+/// Most refinements of the bounds by [`guarded`] (each at least doubles the margin of the
+/// constraints it moves; one is the rule, two are rare).
+pub const MAX_REFINEMENTS: usize = 8;
+
+/// One solve of the box problem for given (shrunk) bounds: u, the final state and forces.
+struct Attempt {
+    u: Vec<f64>,
+    state: Vec<BoundState>,
+    r: Vec<f64>,
+    fallback: bool,
+}
+
+/// The guarded result: the last attempt, the bounds it was solved with, refinements used.
+struct Guarded {
+    attempt: Attempt,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    refinements: usize,
+    /// Some attempt needed the single-change fallback.
+    fallback: bool,
+}
+
+/// Enforces the contract "every penetration computed from the returned u is ≤ δ" in floating
+/// point. The box problem is solved with bounds `[lo, hi]` (±δ); then the penetration of every
+/// constraint is recomputed from u. Where rounding put the largest above δ by `o`, every
+/// constraint within `margin_c = 2^(k+1)·max(o, 2·ε_mach·max(|u[d_c]|, |û_c|, δ))` of δ
+/// (k-th refinement; the second term is the step in which `fl(u[d] − û)` moves) gets its
+/// bound moved to `δ − margin_c`, and the problem is solved again from the final state (warm
+/// start), until no penetration exceeds δ. Penalized constraints then sit within
+/// the rounding level of their gap (≈ ε_mach·|g0|, times cond for the dense route) of δ.
+fn guarded(
+    problem: &crate::system::Problem,
+    delta: f64,
+    lo: Vec<f64>,
+    hi: Vec<f64>,
+    mut attempt: impl FnMut(&[f64], &[f64], Option<Vec<BoundState>>) -> Result<Attempt>,
+) -> Result<Guarded> {
+    let (mut lo, mut hi) = (lo, hi);
+    let mut start = None;
+    let mut fallback = false;
+    for refinements in 0..=MAX_REFINEMENTS {
+        let a = attempt(&lo, &hi, start.take())?;
+        fallback |= a.fallback;
+        let pen: Vec<f64> = problem
+            .constraints
+            .iter()
+            .map(|con| con.kind.penetration(a.u[con.dof] - con.limit))
+            .collect();
+        let over = pen.iter().fold(0.0f64, |m, &p| m.max(p - delta));
+        if over <= 0.0 {
+            return Ok(Guarded {
+                attempt: a,
+                lo,
+                hi,
+                refinements,
+                fallback,
+            });
+        }
+        // The overshoot is rounding noise that changes with every solve, and the gap
+        // `fl(u[d] − û)` moves in steps of the ulp of max(|u[d]|, |û|): move every constraint
+        // within its margin of δ inward by that margin, which doubles per round.
+        let grow = 2f64.powi(refinements as i32 + 1);
+        for (c, con) in problem.constraints.iter().enumerate() {
+            let unit = f64::EPSILON * a.u[con.dof].abs().max(con.limit.abs()).max(delta);
+            let margin = grow * over.max(2.0 * unit);
+            if pen[c] > delta - margin {
+                if a.u[con.dof] - con.limit > 0.0 {
+                    hi[c] = hi[c].min(delta - margin);
+                } else {
+                    lo[c] = lo[c].max(-(delta - margin));
+                }
+            }
+        }
+        start = Some(a.state);
+    }
+    Err(Error::Numerical(format!(
+        "condensed: rounding keeps a penetration above δ = {delta:e} after {MAX_REFINEMENTS} \
+         refinements of the targets (δ below the rounding level of the gaps?)"
+    )))
+}
+
+/// Warnings about the guard: how close the penalized constraints ended to δ where rounding
+/// kept them further than 1e-6·δ.
+fn guard_warnings(problem: &crate::system::Problem, delta: f64, g: &Guarded) -> Vec<String> {
+    let worst = g
+        .attempt
+        .state
+        .iter()
+        .enumerate()
+        .filter(|(_, st)| **st != BoundState::Free)
+        .map(|(c, _)| {
+            let con = problem.constraints[c];
+            (delta - con.kind.penetration(g.attempt.u[con.dof] - con.limit)) / delta
+        })
+        .fold(0.0f64, f64::max);
+    if worst > 1e-6 {
+        vec![format!(
+            "condensed: rounding of the gaps keeps the penalized constraints within {worst:.1e}·δ \
+             of δ (not 1e-6·δ): targets were moved inward {} time(s) so that every penetration \
+             stays ≤ δ",
+            g.refinements
+        )]
     } else {
         Vec::new()
-    };
+    }
+}
+
+/// The elimination route: the box problem in u-space, `ε_c = r_c / g*_c` at the bounds.
+pub fn solve_eliminated(mut ctx: Context, delta: f64) -> Result<Solution> {
+    let problem = ctx.problem;
+    let (lo, hi) = bounds(problem, delta);
+    let g = guarded(problem, delta, lo, hi, |lo, hi, start| {
+        let b = super::eliminated::box_solve(&mut ctx, lo, hi, start)?;
+        Ok(Attempt {
+            u: b.u,
+            state: b.state,
+            r: b.r,
+            fallback: b.fallback,
+        })
+    })?;
+    let penalties = penalties(&g.attempt.state, &g.attempt.r, &g.lo, &g.hi);
+    ctx.stats.converged = true;
+    ctx.stats.refinements = g.refinements;
+    let mut warnings = guard_warnings(problem, delta, &g);
+    if g.fallback {
+        warnings.push(CYCLED.to_string());
+    }
     Ok(ctx.finish(
         Method::Condensed { delta },
-        b.u,
+        g.attempt.u,
         penalties,
         None,
         SystemKind::Penalized,
@@ -249,29 +375,42 @@ pub fn solve_dense(mut ctx: Context, delta: f64) -> Result<Solution> {
     let g0 = ctx.g0()?;
     let u0 = ctx.u0()?.to_vec();
     let m = problem.m();
+    let n = problem.n();
     let dofs: Vec<usize> = problem.constraints.iter().map(|c| c.dof).collect();
     // W = K⁻¹ D (N×m), S = Dᵀ W.
     let w = ctx.k_factor()?.solve_unit_columns(&dofs);
     ctx.stats.linear_solves += m;
     let s = Mat::from_fn(m, m, |i, j| w[(dofs[i], j)]);
     let (lo, hi) = bounds(problem, delta);
-    let qp = box_qp(s.as_ref(), &g0, &lo, &hi)?;
-    ctx.stats.iterations = qp.iterations;
-    ctx.stats.active_set_sizes = qp.sizes.clone();
+    let mut iterations = 0;
+    let mut sizes = Vec::new();
+    let g = guarded(problem, delta, lo, hi, |lo, hi, start| {
+        let qp = box_qp(s.as_ref(), &g0, lo, hi, start)?;
+        iterations += qp.iterations;
+        sizes.extend_from_slice(&qp.sizes);
+        // u = u0 − W r.
+        let u: Vec<f64> = (0..n)
+            .map(|i| u0[i] - (0..m).map(|c| w[(i, c)] * qp.r[c]).sum::<f64>())
+            .collect();
+        Ok(Attempt {
+            u,
+            state: qp.state,
+            r: qp.r,
+            fallback: qp.fallback,
+        })
+    })?;
+    ctx.stats.iterations = iterations;
+    ctx.stats.active_set_sizes = sizes;
     ctx.stats.converged = true;
-    let mut warnings = Vec::new();
-    if qp.fallback {
+    ctx.stats.refinements = g.refinements;
+    let mut warnings = guard_warnings(problem, delta, &g);
+    if g.fallback {
         warnings.push(CYCLED.to_string());
     }
-    let penalties = penalties(&qp.state, &qp.r, &lo, &hi);
-    // u = u0 − W r.
-    let n = problem.n();
-    let u: Vec<f64> = (0..n)
-        .map(|i| u0[i] - (0..m).map(|c| w[(i, c)] * qp.r[c]).sum::<f64>())
-        .collect();
+    let penalties = penalties(&g.attempt.state, &g.attempt.r, &g.lo, &g.hi);
     Ok(ctx.finish(
         Method::Condensed { delta },
-        u,
+        g.attempt.u,
         penalties,
         None,
         SystemKind::Penalized,

@@ -62,8 +62,17 @@ pub fn applies(problem: &Problem) -> bool {
 
 /// Solves `min ½uᵀKu − qᵀu` s.t. `lo_c ≤ u[d_c] − û_c ≤ hi_c` by a primal–dual active-set
 /// iteration with elimination of the DOFs at a bound (K sparse SPD, constraint DOFs distinct).
-/// `lo_c = hi_c` pins a constraint (never released).
-pub fn box_solve(ctx: &mut Context, lo: &[f64], hi: &[f64]) -> Result<BoxSolve> {
+/// `lo_c = hi_c` pins a constraint (never released). `start`: the initial state (default: the
+/// bounds violated by u0), e.g. the final state of a previous solve with nearby bounds.
+///
+/// A prescribed value is `u[d] = û + b` rounded so that the gap computed from it,
+/// `fl(u[d] − û)`, does not lie outside `[lo, hi]`: the bound holds in floating point.
+pub fn box_solve(
+    ctx: &mut Context,
+    lo: &[f64],
+    hi: &[f64],
+    start: Option<Vec<BoundState>>,
+) -> Result<BoxSolve> {
     let problem = ctx.problem;
     let Stiffness::Sparse(kmat) = &problem.k else {
         return Err(Error::input("elimination route needs a sparse K"));
@@ -77,17 +86,20 @@ pub fn box_solve(ctx: &mut Context, lo: &[f64], hi: &[f64]) -> Result<BoxSolve> 
         .chain(hi.iter().filter(|v| v.is_finite()))
         .fold(0.0f64, |a, v| a.max(v.abs()));
     let tol = 64.0 * f64::EPSILON * (m as f64).max(1.0) * scale;
-    let mut state: Vec<BoundState> = (0..m)
-        .map(|c| {
-            if lo[c] == hi[c] || g0[c] > hi[c] {
-                BoundState::Hi
-            } else if g0[c] < lo[c] {
-                BoundState::Lo
-            } else {
-                BoundState::Free
-            }
-        })
-        .collect();
+    let mut state: Vec<BoundState> = match start {
+        Some(s) if s.len() == m => s,
+        _ => (0..m)
+            .map(|c| {
+                if lo[c] == hi[c] || g0[c] > hi[c] {
+                    BoundState::Hi
+                } else if g0[c] < lo[c] {
+                    BoundState::Lo
+                } else {
+                    BoundState::Free
+                }
+            })
+            .collect(),
+    };
     let pat = DiagonalPattern::new(kmat)?;
     let rows = pat.pattern.row_idx().to_vec();
     let cols = pat.pattern.col_ptr().to_vec();
@@ -108,7 +120,7 @@ pub fn box_solve(ctx: &mut Context, lo: &[f64], hi: &[f64]) -> Result<BoxSolve> 
                 BoundState::Lo => lo[c],
             };
             fixed[con.dof] = true;
-            u_fix[con.dof] = con.limit + b;
+            u_fix[con.dof] = prescribed(con.limit, b, lo[c], hi[c]);
             at_bound += 1;
         }
         sizes.push(at_bound);
@@ -178,8 +190,8 @@ pub fn box_solve(ctx: &mut Context, lo: &[f64], hi: &[f64]) -> Result<BoxSolve> 
             }
         }
         if changes.is_empty() {
-            ctx.stats.iterations = it;
-            ctx.stats.active_set_sizes = sizes.clone();
+            ctx.stats.iterations += it;
+            ctx.stats.active_set_sizes.extend_from_slice(&sizes);
             return Ok(BoxSolve {
                 u,
                 g,
@@ -195,4 +207,21 @@ pub fn box_solve(ctx: &mut Context, lo: &[f64], hi: &[f64]) -> Result<BoxSolve> 
     Err(Error::Numerical(format!(
         "elimination route: active set did not converge in {max_it} iterations"
     )))
+}
+
+/// `v ≈ û + b` such that the gap recomputed from it, `fl(v − û)`, lies in `[lo, hi]` (one or
+/// two ulps of v away from the rounded sum where rounding pushed it out).
+pub fn prescribed(limit: f64, b: f64, lo: f64, hi: f64) -> f64 {
+    let mut v = limit + b;
+    for _ in 0..64 {
+        let g = v - limit;
+        if g > hi {
+            v = v.next_down();
+        } else if g < lo {
+            v = v.next_up();
+        } else {
+            break;
+        }
+    }
+    v
 }

@@ -69,7 +69,7 @@ pub fn solve_eliminated(mut ctx: Context) -> Result<Solution> {
             ConstraintKind::Lower => (0.0, f64::INFINITY),
         })
         .unzip();
-    let b = super::eliminated::box_solve(&mut ctx, &lo, &hi)?;
+    let b = super::eliminated::box_solve(&mut ctx, &lo, &hi, None)?;
     let active: Vec<usize> = (0..b.state.len())
         .filter(|&c| b.state[c] != super::condensed::BoundState::Free)
         .collect();

@@ -204,6 +204,9 @@ pub struct Stats {
     /// the box QP's optimum (condensed), the tolerance (augmented). `false` comes with a
     /// warning that says which terminating rule was applied.
     pub converged: bool,
+    /// `condensed`: how many times rounding put a penetration above δ and the targets were
+    /// moved inward and the box problem re-solved from its final state (0 almost always).
+    pub refinements: usize,
 }
 
 /// The final system matrix of a solve (for metrics).
