@@ -5,7 +5,7 @@
 //!
 //! ```sh
 //! cargo run --release --example bed_scene
-//! cargo run --release --bin solve -- scenes/bed_cantilever.scene.json --method constant --eps 3.4e5
+//! cargo run --release --bin solve -- scenes/bed_cantilever.scene.json --method constant --eps 3.378e5
 //! ```
 
 use penalty_lab::model::beam::bed::{self, Bed};

@@ -440,7 +440,7 @@ fn set_violation(problem: &Problem, active: &[bool], u: &[f64]) -> f64 {
 /// 2. `rule(active, ctx)` gives ε for every constraint (0 off the active set); negative values
 ///    are set to 0 with one warning ([`clip_negative`], counted in `Stats::clipped`); solve.
 /// 3. New active set = violated at u; stop when it repeats (converged). On a revisited set or
-///    the cap, return the visited iterate with the least [`set_violation`], not converged.
+///    the cap, return the visited iterate with the least active-set violation, not converged.
 pub fn fixed_point(
     ctx: Context,
     method: Method,

@@ -22,6 +22,12 @@
 //! is solved in u-space by elimination ([`super::eliminated`]): one sparse Cholesky per
 //! active-set iteration, memory O(nnz of the factor), no N×m block.
 //!
+//! Contract in floating point: every penetration computed from the returned u is ≤ δ. After
+//! the QP, the penetrations are recomputed from u; where rounding left one above δ, the targets
+//! of the constraints near δ move inward by a doubling margin and the QP is re-solved from its
+//! final state (`Stats::refinements`); penalized constraints end within the rounding level of
+//! their gap of δ (a warning says so if that is further than 1e-6·δ).
+//!
 //! When to use: whenever δ is the physical knob — it gives the smallest penalties that keep
 //! every penetration ≤ δ, with no trial-and-error tuning of ε. It is not always the
 //! best-conditioned choice at a given accuracy: on the paper's beam a uniform ε = 130 reaches the
@@ -232,8 +238,8 @@ fn penalties(state: &[BoundState], r: &[f64], lo: &[f64], hi: &[f64]) -> Vec<f64
 const CYCLED: &str =
     "condensed: the primal-dual active-set update cycled; converged with single changes";
 
-/// Most refinements of the bounds by [`guarded`] (each at least doubles the margin of the
-/// constraints it moves; one is the rule, two are rare).
+/// Most refinements of the targets by the δ guard (each at least doubles the margin of the
+/// constraints it moves; in the tests 0 or 1 are needed).
 pub const MAX_REFINEMENTS: usize = 8;
 
 /// One solve of the box problem for given (shrunk) bounds: u, the final state and forces.
