@@ -87,20 +87,7 @@ pub fn box_qp(
         .chain(hi.iter().filter(|v| v.is_finite()))
         .fold(0.0f64, |a, v| a.max(v.abs()));
     let tol = 64.0 * f64::EPSILON * (m as f64).max(1.0) * scale;
-    let mut state: Vec<BoundState> = match start {
-        Some(s) if s.len() == m => s,
-        _ => (0..m)
-            .map(|c| {
-                if g0[c] > hi[c] {
-                    BoundState::Hi
-                } else if g0[c] < lo[c] {
-                    BoundState::Lo
-                } else {
-                    BoundState::Free
-                }
-            })
-            .collect(),
-    };
+    let mut state = start_state(g0, lo, hi, start);
     let mut seen: HashSet<Vec<BoundState>> = HashSet::new();
     let mut fallback = false;
     let mut sizes = Vec::new();
@@ -169,6 +156,30 @@ pub fn box_qp(
     Err(Error::Numerical(format!(
         "condensed: active set did not converge in {max_it} iterations"
     )))
+}
+
+/// The starting state of the box problem: `start` if given (a warm start), else the bounds
+/// violated by g0; a pinned constraint (`lo = hi`) starts at its bound.
+pub fn start_state(
+    g0: &[f64],
+    lo: &[f64],
+    hi: &[f64],
+    start: Option<Vec<BoundState>>,
+) -> Vec<BoundState> {
+    match start {
+        Some(s) if s.len() == g0.len() => s,
+        _ => (0..g0.len())
+            .map(|c| {
+                if lo[c] == hi[c] || g0[c] > hi[c] {
+                    BoundState::Hi
+                } else if g0[c] < lo[c] {
+                    BoundState::Lo
+                } else {
+                    BoundState::Free
+                }
+            })
+            .collect(),
+    }
 }
 
 /// One primal–dual active-set update: every change at once (`(weight, constraint, new

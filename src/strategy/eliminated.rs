@@ -19,7 +19,7 @@
 //! `condensed` and `lagrange` take this route for sparse K with `n ≥` [`ELIMINATION_MIN_N`]
 //! and distinct constraint DOFs.
 
-use super::condensed::{pdas_update, BoundState};
+use super::condensed::{pdas_update, start_state, BoundState};
 use super::Context;
 use crate::error::{Error, Result};
 use crate::linalg::DiagonalPattern;
@@ -86,20 +86,7 @@ pub fn box_solve(
         .chain(hi.iter().filter(|v| v.is_finite()))
         .fold(0.0f64, |a, v| a.max(v.abs()));
     let tol = 64.0 * f64::EPSILON * (m as f64).max(1.0) * scale;
-    let mut state: Vec<BoundState> = match start {
-        Some(s) if s.len() == m => s,
-        _ => (0..m)
-            .map(|c| {
-                if lo[c] == hi[c] || g0[c] > hi[c] {
-                    BoundState::Hi
-                } else if g0[c] < lo[c] {
-                    BoundState::Lo
-                } else {
-                    BoundState::Free
-                }
-            })
-            .collect(),
-    };
+    let mut state = start_state(&g0, lo, hi, start);
     let pat = DiagonalPattern::new(kmat)?;
     let rows = pat.pattern.row_idx().to_vec();
     let cols = pat.pattern.col_ptr().to_vec();
