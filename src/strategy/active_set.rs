@@ -113,15 +113,16 @@ pub fn energy_gradient(problem: &Problem, eps: &[f64], limits: &[f64], u: &[f64]
 
 /// Normwise backward error of `u` as a minimizer of the penalized energy:
 /// `‖∇J(u)‖_∞ / (‖H_A‖_∞ ‖u‖_∞ + ‖b_A‖_∞)` with A the penalized set at u (Rigal–Gaches: the
-/// smallest relative perturbation of `H_A` and `b_A` for which u is exact). `k_inf` is ‖K‖_∞.
+/// smallest relative perturbation of `H_A` and `b_A` for which u is exact). `grad` is
+/// [`energy_gradient`] at u, `k_inf` is ‖K‖_∞.
 pub fn backward_error(
     problem: &Problem,
     eps: &[f64],
     limits: &[f64],
     u: &[f64],
+    grad: &[f64],
     k_inf: f64,
 ) -> f64 {
-    let grad = energy_gradient(problem, eps, limits, u);
     let mut b = problem.q.clone();
     let mut e_max = 0.0f64;
     for ((con, &e), &l) in problem.constraints.iter().zip(eps).zip(limits) {
@@ -133,9 +134,9 @@ pub fn backward_error(
     let inf = |v: &[f64]| v.iter().fold(0.0f64, |a, x| a.max(x.abs()));
     let denom = (k_inf + e_max) * inf(u) + inf(&b);
     if denom == 0.0 {
-        return inf(&grad);
+        return inf(grad);
     }
-    inf(&grad) / denom
+    inf(grad) / denom
 }
 
 /// The backward error at which [`newton`] accepts an iterate whose active set still flips
@@ -173,9 +174,6 @@ pub struct Newton {
     pub converged: bool,
     /// Backward error of u (see [`backward_error`]).
     pub backward_error: f64,
-    /// Newton steps shortened by the line search (t < 1): 0 when the plain active-set loop
-    /// would have converged on the same path.
-    pub damped_steps: usize,
 }
 
 /// Minimizes `½uᵀKu − qᵀu + ½Σ ε_c p_c(u; ℓ_c)²` by semismooth Newton with an exact line
@@ -203,6 +201,18 @@ pub fn newton(ctx: &mut Context, eps: &[f64], limits: &[f64], start: Start) -> R
     };
     let k_inf = problem.k.inf_norm();
     let tol = backward_error_tol(n);
+    // ∇J(u) and the backward error of u: one product with K.
+    let measure = |u: &[f64]| {
+        let grad = energy_gradient(problem, eps, limits, u);
+        let be = backward_error(problem, eps, limits, u, &grad, k_inf);
+        (grad, be)
+    };
+    let finish = |u: Vec<f64>, a: &[bool], converged: bool, backward_error: f64| Newton {
+        u,
+        penalties: on_set(a),
+        converged,
+        backward_error,
+    };
     let solve = |ctx: &mut Context, a: &[bool]| -> Result<Vec<f64>> {
         let e = on_set(a);
         let u = ctx.solve_penalized_with(&e, limits)?;
@@ -219,26 +229,21 @@ pub fn newton(ctx: &mut Context, eps: &[f64], limits: &[f64], start: Start) -> R
             (u, Some(a))
         }
     };
-    let mut damped_steps = 0;
     let (it0, max_it) = (ctx.stats.iterations, max_iterations(m));
     loop {
         let a = set_at(&u);
-        if solved.as_ref() == Some(&a) {
-            let be = backward_error(problem, eps, limits, &u, k_inf);
-            return Ok(finish(u, on_set(&a), true, be, damped_steps));
-        }
-        let be = backward_error(problem, eps, limits, &u, k_inf);
-        if be <= tol {
-            return Ok(finish(u, on_set(&a), true, be, damped_steps));
+        let (grad, be) = measure(&u);
+        if solved.as_ref() == Some(&a) || be <= tol {
+            return Ok(finish(u, &a, true, be));
         }
         if ctx.stats.iterations - it0 >= max_it {
-            return Ok(finish(u, on_set(&a), false, be, damped_steps));
+            return Ok(finish(u, &a, false, be));
         }
         let u_n = solve(ctx, &a)?;
         let d: Vec<f64> = u_n.iter().zip(&u).map(|(x, y)| x - y).collect();
         // An unsymmetric K has no energy: plain (undamped) steps, capped.
         let step = if ctx.symmetric {
-            line_search(problem, eps, limits, &u, &d)
+            line_search(problem, eps, limits, &u, &d, &grad)
         } else {
             Some(1.0)
         };
@@ -252,12 +257,11 @@ pub fn newton(ctx: &mut Context, eps: &[f64], limits: &[f64], start: Start) -> R
                     *ui += t * di;
                 }
                 solved = None;
-                damped_steps += 1;
             }
             None => {
                 // No descent left along d: u is stationary to rounding. Keep the better of u
                 // and the Newton point (exact if its own set is consistent).
-                let be_n = backward_error(problem, eps, limits, &u_n, k_inf);
+                let (_, be_n) = measure(&u_n);
                 let consistent = set_at(&u_n) == a;
                 let (u_f, be_f, exact) = if consistent || be_n <= be {
                     (u_n, be_n, consistent)
@@ -265,46 +269,31 @@ pub fn newton(ctx: &mut Context, eps: &[f64], limits: &[f64], start: Start) -> R
                     (u, be, false)
                 };
                 let a_f = set_at(&u_f);
-                let ok = exact || be_f <= tol;
-                return Ok(finish(u_f, on_set(&a_f), ok, be_f, damped_steps));
+                return Ok(finish(u_f, &a_f, exact || be_f <= tol, be_f));
             }
         }
-    }
-}
-
-fn finish(
-    u: Vec<f64>,
-    penalties: Vec<f64>,
-    converged: bool,
-    backward_error: f64,
-    damped_steps: usize,
-) -> Newton {
-    Newton {
-        u,
-        penalties,
-        converged,
-        backward_error,
-        damped_steps,
     }
 }
 
 /// Exact minimizer over t ∈ (0, 1] of `φ(t) = J(u + t d)`; `None` if d is not a descent
 /// direction to rounding (φ'(0) ≥ 0 or dᵀKd ≤ 0).
 ///
-/// `φ'(t) = dᵀ(Ku − q) + t dᵀKd + Σ_c ε_c h_c π_c(g_c + t h_c)`, `h = Dᵀd`, is piecewise
-/// linear and non-decreasing; walk its breakpoints `t_c = −g_c/h_c` in order.
+/// `φ'(t) = dᵀ∇J(u) + t dᵀKd + Σ_c ε_c h_c (π_c(g_c + t h_c) − π_c(g_c))`, `h = Dᵀd`, is
+/// piecewise linear and non-decreasing; walk its breakpoints `t_c = −g_c/h_c` in order.
+/// `grad` is [`energy_gradient`] at u, so the only product with K is `Kd`.
 pub fn line_search(
     problem: &Problem,
     eps: &[f64],
     limits: &[f64],
     u: &[f64],
     d: &[f64],
+    grad: &[f64],
 ) -> Option<f64> {
-    let ku = problem.k.matvec(u);
     let kd = problem.k.matvec(d);
     let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
     let a1 = dot(d, &kd);
-    let mut alpha = dot(d, &ku) - dot(d, &problem.q);
+    // φ'(0) = dᵀ∇J(u): the penalized constraints' e·h·g terms are in the gradient already.
+    let mut alpha = dot(d, grad);
     let mut beta = a1;
     // Breakpoints (t, constraint, entering?) inside (0, 1).
     let mut events: Vec<(f64, f64, f64)> = Vec::new(); // (t, Δα, Δβ) when crossing
@@ -321,7 +310,6 @@ pub fn line_search(
             ConstraintKind::Lower => g < 0.0 || (g == 0.0 && h < 0.0),
         };
         if on_at_0 {
-            alpha += da;
             beta += db;
         }
         if con.kind != ConstraintKind::Bilateral && h != 0.0 {
@@ -362,12 +350,8 @@ pub fn line_search(
 pub fn fixed_energy(mut ctx: Context, method: Method, eps: Vec<f64>) -> Result<Solution> {
     if !ctx.symmetric {
         let label = format!("{} (unsymmetric K: no energy to descend)", method.name());
-        return fixed_point_labelled(ctx, method, &label, move |active, _| {
-            Ok(eps
-                .iter()
-                .zip(active)
-                .map(|(&e, &a)| if a { e } else { 0.0 })
-                .collect())
+        return fixed_point_labelled(ctx, method, &label, move |active, ctx| {
+            Ok(per_active(ctx.problem, active, |c, _| eps[c]))
         });
     }
     let problem = ctx.problem;

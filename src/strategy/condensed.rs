@@ -330,9 +330,11 @@ fn guarded(
     )))
 }
 
-/// Warnings about the guard: how close the penalized constraints ended to δ where rounding
-/// kept them further than 1e-6·δ.
-fn guard_warnings(problem: &crate::system::Problem, delta: f64, g: &Guarded) -> Vec<String> {
+/// The solution of a guarded solve: `ε_c = r_c / g*_c` at the (moved) bounds, the guard's
+/// statistics, and its warnings — how close the penalized constraints ended to δ where
+/// rounding kept them further than 1e-6·δ, and the single-change fallback if any.
+fn finish_guarded(mut ctx: Context, delta: f64, g: Guarded) -> Solution {
+    let problem = ctx.problem;
     let worst = g
         .attempt
         .state
@@ -344,16 +346,29 @@ fn guard_warnings(problem: &crate::system::Problem, delta: f64, g: &Guarded) -> 
             (delta - con.kind.penetration(g.attempt.u[con.dof] - con.limit)) / delta
         })
         .fold(0.0f64, f64::max);
+    let mut warnings = Vec::new();
     if worst > 1e-6 {
-        vec![format!(
+        warnings.push(format!(
             "condensed: rounding of the gaps keeps the penalized constraints within {worst:.1e}·δ \
              of δ (not 1e-6·δ): targets were moved inward {} time(s) so that every penetration \
              stays ≤ δ",
             g.refinements
-        )]
-    } else {
-        Vec::new()
+        ));
     }
+    if g.fallback {
+        warnings.push(CYCLED.to_string());
+    }
+    ctx.stats.converged = true;
+    ctx.stats.refinements = g.refinements;
+    let penalties = penalties(&g.attempt.state, &g.attempt.r, &g.lo, &g.hi);
+    ctx.finish(
+        Method::Condensed { delta },
+        g.attempt.u,
+        penalties,
+        None,
+        SystemKind::Penalized,
+        warnings,
+    )
 }
 
 /// The elimination route: the box problem in u-space, `ε_c = r_c / g*_c` at the bounds.
@@ -369,21 +384,7 @@ pub fn solve_eliminated(mut ctx: Context, delta: f64) -> Result<Solution> {
             fallback: b.fallback,
         })
     })?;
-    let penalties = penalties(&g.attempt.state, &g.attempt.r, &g.lo, &g.hi);
-    ctx.stats.converged = true;
-    ctx.stats.refinements = g.refinements;
-    let mut warnings = guard_warnings(problem, delta, &g);
-    if g.fallback {
-        warnings.push(CYCLED.to_string());
-    }
-    Ok(ctx.finish(
-        Method::Condensed { delta },
-        g.attempt.u,
-        penalties,
-        None,
-        SystemKind::Penalized,
-        warnings,
-    ))
+    Ok(finish_guarded(ctx, delta, g))
 }
 
 /// The dense route through `S = DᵀK⁻¹D` (m×m) and `W = K⁻¹D` (N×m).
@@ -399,12 +400,10 @@ pub fn solve_dense(mut ctx: Context, delta: f64) -> Result<Solution> {
     ctx.stats.linear_solves += m;
     let s = Mat::from_fn(m, m, |i, j| w[(dofs[i], j)]);
     let (lo, hi) = bounds(problem, delta);
-    let mut iterations = 0;
-    let mut sizes = Vec::new();
     let g = guarded(problem, delta, lo, hi, |lo, hi, start| {
         let qp = box_qp(s.as_ref(), &g0, lo, hi, start)?;
-        iterations += qp.iterations;
-        sizes.extend_from_slice(&qp.sizes);
+        ctx.stats.iterations += qp.iterations;
+        ctx.stats.active_set_sizes.extend_from_slice(&qp.sizes);
         // u = u0 − W r.
         let u: Vec<f64> = (0..n)
             .map(|i| u0[i] - (0..m).map(|c| w[(i, c)] * qp.r[c]).sum::<f64>())
@@ -416,21 +415,5 @@ pub fn solve_dense(mut ctx: Context, delta: f64) -> Result<Solution> {
             fallback: qp.fallback,
         })
     })?;
-    ctx.stats.iterations = iterations;
-    ctx.stats.active_set_sizes = sizes;
-    ctx.stats.converged = true;
-    ctx.stats.refinements = g.refinements;
-    let mut warnings = guard_warnings(problem, delta, &g);
-    if g.fallback {
-        warnings.push(CYCLED.to_string());
-    }
-    let penalties = penalties(&g.attempt.state, &g.attempt.r, &g.lo, &g.hi);
-    Ok(ctx.finish(
-        Method::Condensed { delta },
-        g.attempt.u,
-        penalties,
-        None,
-        SystemKind::Penalized,
-        warnings,
-    ))
+    Ok(finish_guarded(ctx, delta, g))
 }
