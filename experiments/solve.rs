@@ -138,6 +138,7 @@ fn run(args: &Args) -> Result<Value, Error> {
         "iterations": sol.stats.iterations,
         "converged": sol.stats.converged,
         "refinements": sol.stats.refinements,
+        "cg_iterations": sol.stats.cg_iterations,
         "active_set_sizes": sol.stats.active_set_sizes,
         "clipped": sol.stats.clipped,
         "system": sol.system,

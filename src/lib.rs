@@ -50,6 +50,7 @@
 #![warn(missing_docs)]
 
 pub mod conditioning;
+pub mod engine_scale;
 pub mod error;
 pub mod forming;
 pub mod linalg;

@@ -676,7 +676,7 @@ pub fn figures(rows: &[PerfRow]) -> Vec<(String, Vec<Figure>)> {
             methods.push(&r.method);
         }
     }
-    let color = |m: &str| METHOD_NAMES.iter().position(|x| *x == m).unwrap_or(0);
+    let color = crate::plot::method_color;
     for fam in &families {
         let mut sizes: Vec<usize> = rows
             .iter()

@@ -102,6 +102,15 @@ pub enum Mark {
     Dashed,
 }
 
+/// The palette index of a method: its position in
+/// [`METHOD_NAMES`](crate::strategy::METHOD_NAMES) (one colour per method in every figure).
+pub fn method_color(name: &str) -> usize {
+    crate::strategy::METHOD_NAMES
+        .iter()
+        .position(|x| *x == name)
+        .unwrap_or(0)
+}
+
 /// A data series: `y` against `x`, drawn with `mark`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Series {

@@ -1,8 +1,11 @@
 //! The elimination route of `condensed` and `lagrange` (large sparse K) against the dense
-//! routes on the same problems: same active sets and iteration counts, same u, penalties and
-//! forces to rounding.
+//! routes on the same problems: same final active sets, same u, penalties and forces to
+//! rounding; from the same start, the same active sets at every iteration. The path-following
+//! start and the PCG reuse of factors change the work, not the answer.
 
+use penalty_lab::linalg::{pcg, DiagonalPattern};
 use penalty_lab::metrics::relative_error;
+use penalty_lab::strategy::condensed::{start_state, BoundState};
 use penalty_lab::strategy::{self, condensed, eliminated, lagrange, Context, Method};
 use penalty_lab::sweep::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::system::{ConstraintKind, Problem, Stiffness};
@@ -37,13 +40,12 @@ fn condensed_routes_agree() {
             let delta = rel * scale;
             let a = condensed::solve_dense(Context::new(&p), delta).unwrap();
             let b = condensed::solve_eliminated(Context::new(&p), delta).unwrap();
-            // Same active sets in exact arithmetic up to the first optimum; the guard's
-            // refinements after it (penetration above δ by rounding) depend on rounding.
-            let first = |s: &penalty_lab::strategy::Solution| {
+            // Same optimal active set (the guard's refinements after it depend on rounding).
+            let optimum = |s: &penalty_lab::strategy::Solution| {
                 let k = s.stats.active_set_sizes.len() - s.stats.refinements;
-                s.stats.active_set_sizes[..k].to_vec()
+                s.stats.active_set_sizes[k - 1]
             };
-            assert_eq!(first(&a), first(&b));
+            assert_eq!(optimum(&a), optimum(&b));
             assert!(a.max_penetration <= delta && b.max_penetration <= delta);
             let e = relative_error(&b.u, &a.u);
             assert!(e <= tol_u(&p), "n {}: u differs by {e:e}", p.n());
@@ -68,7 +70,10 @@ fn lagrange_routes_agree() {
     for p in membranes() {
         let a = lagrange::solve_saddle(Context::new(&p)).unwrap();
         let b = lagrange::solve_eliminated(Context::new(&p)).unwrap();
-        assert_eq!(a.stats.active_set_sizes, b.stats.active_set_sizes);
+        assert_eq!(
+            a.stats.active_set_sizes.last(),
+            b.stats.active_set_sizes.last()
+        );
         let e = relative_error(&b.u, &a.u);
         assert!(e <= tol_u(&p), "u differs by {e:e}");
         let fmax = a.forces.iter().fold(0.0f64, |m, f| m.max(f.abs()));
@@ -111,4 +116,111 @@ fn route_selection() {
     assert!(!eliminated::applies(
         &Problem::new(dense, p.q.clone(), cons).unwrap()
     ));
+}
+
+/// Gap bounds of `condensed` at δ (lower constraints: `[−δ, ∞)`).
+fn lower_bounds(p: &Problem, delta: f64) -> (Vec<f64>, Vec<f64>) {
+    assert!(p
+        .constraints
+        .iter()
+        .all(|c| c.kind == ConstraintKind::Lower));
+    (vec![-delta; p.m()], vec![f64::INFINITY; p.m()])
+}
+
+fn scale(p: &Problem) -> f64 {
+    p.constraints
+        .iter()
+        .map(|c| c.limit.abs())
+        .fold(0.0, f64::max)
+}
+
+/// From the dense route's start (the bounds violated by u0), the elimination route visits the
+/// same active sets as the dense box QP, iteration by iteration (exact arithmetic; the sets
+/// are integers, so rounding would have to flip a decision to break it).
+#[test]
+fn plain_start_visits_the_dense_sets() {
+    for p in membranes() {
+        let delta = 0.1 * scale(&p);
+        let a = condensed::solve_dense(Context::new(&p), delta).unwrap();
+        let (lo, hi) = lower_bounds(&p, delta);
+        let mut ctx = Context::new(&p);
+        let g0 = ctx.g0().unwrap();
+        let plain = start_state(&g0, &lo, &hi, None);
+        let b = eliminated::box_solve(&mut ctx, &lo, &hi, Some(plain)).unwrap();
+        let k = a.stats.active_set_sizes.len() - a.stats.refinements;
+        assert_eq!(a.stats.active_set_sizes[..k], b.sizes[..]);
+    }
+}
+
+/// Path following on an obstacle problem with thousands of violated bounds: the same optimum
+/// as the plain start (unique: strictly convex QP), in fewer factorizations.
+#[test]
+fn path_following_same_optimum_fewer_factorizations() {
+    let cfg = GeneratorConfig {
+        membrane_side: (100, 100),
+        ..Default::default()
+    };
+    let p = generate(Family::Membrane, 0, 2011, &cfg).unwrap().problem;
+    let delta = 1e-3 * scale(&p);
+    let (lo, hi) = lower_bounds(&p, delta);
+    let mut c1 = Context::new(&p);
+    let g0 = c1.g0().unwrap();
+    let violated = g0.iter().filter(|&&g| g < -delta).count();
+    assert!(
+        violated >= strategy::active_set::PATH_FOLLOWING_MIN_VIOLATED,
+        "{violated}"
+    );
+    let plain =
+        eliminated::box_solve(&mut c1, &lo, &hi, Some(start_state(&g0, &lo, &hi, None))).unwrap();
+    let mut c2 = Context::new(&p);
+    let pf = eliminated::box_solve(&mut c2, &lo, &hi, None).unwrap();
+    assert_eq!(plain.state, pf.state);
+    assert!(relative_error(&pf.u, &plain.u) <= tol_u(&p));
+    let (f1, f2) = (c1.stats.factorizations, c2.stats.factorizations);
+    assert!(f2 < f1, "path following {f2} factorizations, plain {f1}");
+    assert!(pf.state.contains(&BoundState::Lo));
+}
+
+/// PCG with the factor of a matrix that differs in a few prescribed rows converges in about
+/// 2·(rows changed) iterations to the direct solution.
+#[test]
+fn pcg_with_a_nearby_factor() {
+    let p = &membranes()[0];
+    let Stiffness::Sparse(k) = &p.k else {
+        panic!("membranes are sparse")
+    };
+    let pat = DiagonalPattern::new(k).unwrap();
+    let n = pat.n();
+    // Prescribe (Dirichlet, K_jj·e_j) the rows in `fixed`.
+    let values_with = |fixed: &[usize]| {
+        let mut v = pat.values.clone();
+        let (cp, ri) = (pat.pattern.col_ptr(), pat.pattern.row_idx());
+        for j in 0..n {
+            for q in cp[j]..cp[j + 1] {
+                if ri[q] != j && (fixed.contains(&ri[q]) || fixed.contains(&j)) {
+                    v[q] = 0.0;
+                }
+            }
+        }
+        v
+    };
+    let old: Vec<usize> = (0..n).step_by(7).collect();
+    let mut new = old.clone();
+    new.retain(|j| *j != 7 * 40 && *j != 7 * 41);
+    new.push(n / 2 + 1);
+    let f_old = pat.factor(values_with(&old)).unwrap();
+    let v_new = values_with(&new);
+    let a = faer::sparse::SparseColMatRef::new(pat.pattern.as_ref(), &v_new);
+    let b: Vec<f64> = (0..n).map(|i| 1.0 + (i % 5) as f64).collect();
+    let mut x_direct = b.clone();
+    pat.factor(v_new.clone())
+        .unwrap()
+        .solve_vec_in_place(&mut x_direct);
+    let mut x = vec![0.0; n];
+    let tol = 16.0 * (n as f64).sqrt() * f64::EPSILON;
+    let out = pcg(a, &f_old, &b, &mut x, tol, 50);
+    assert!(out.converged);
+    // 3 rows changed: M⁻¹A − I has rank ≤ 6.
+    assert!(out.iterations <= 2 * 3 + 1, "{} iterations", out.iterations);
+    assert!(relative_error(&x, &x_direct) <= tol_u(p));
 }

@@ -12,22 +12,39 @@
 //! and columns replaced by `K_jj·e_j` (exact, no penalty), so one symbolic Cholesky analysis
 //! serves every iteration. The contact forces are the residuals `r_c = q[d_c] − (K u)[d_c]`
 //! (convention `K u = q − D r`). The primal–dual active-set update is the one of
-//! [`condensed::box_qp`](super::condensed::box_qp), started from the same state (the bounds
-//! violated by u0), so both routes visit the same active sets in exact arithmetic.
+//! [`condensed::box_qp`](super::condensed::box_qp). Where many bounds are violated by u0
+//! (obstacle-type problems) the start comes from a Moreau–Yosida path following
+//! ([`active_set::path_following`], up to [`PATH_END`]); otherwise both routes start
+//! from the bounds violated by u0 and visit the same active sets in exact arithmetic.
 //!
-//! Cost per iteration: one numeric sparse Cholesky and one solve; memory O(nnz of the factor).
+//! Cost per iteration: one numeric sparse Cholesky and one solve — or, when at most
+//! [`PCG_MAX_CHANGED`] DOFs changed status since the last factorization, conjugate gradients
+//! preconditioned by that factor (`M⁻¹A = I + rank ≤ 2·changed`), accepted at a normwise
+//! backward error ≤ `16√N·ε_mach` and abandoned for a fresh factorization after
+//! `2·changed +` [`PCG_EXTRA_ITERATIONS`] iterations (`Stats::cg_iterations`). One factor is
+//! kept at a time; memory O(nnz of the factor). Measured (README, Performance): the path
+//! following cuts the 10⁶-DOF membrane from 162 to 21 factorizations.
+//!
 //! `condensed` and `lagrange` take this route for sparse K with `n ≥` [`ELIMINATION_MIN_N`]
 //! and distinct constraint DOFs.
 
 use super::condensed::{pdas_update, start_state, BoundState};
-use super::Context;
+use super::{active_set, Context};
 use crate::error::{Error, Result};
-use crate::linalg::DiagonalPattern;
+use crate::linalg::{pcg, DiagonalPattern, SparseLlt};
 use crate::system::{Problem, Stiffness};
+use faer::sparse::SparseColMatRef;
 use std::collections::HashSet;
 
 /// Smallest n for which `condensed`/`lagrange` use the elimination route on sparse K.
 pub const ELIMINATION_MIN_N: usize = 2000;
+
+/// At most this many DOFs may have changed status (prescribed ↔ free) since the last
+/// factorization for an iteration to try PCG with that factor instead of refactorizing.
+pub const PCG_MAX_CHANGED: usize = 16;
+
+/// PCG iterations allowed beyond `2 × changed` (the rank of the change) before refactorizing.
+pub const PCG_EXTRA_ITERATIONS: usize = 4;
 
 /// Result of [`box_solve`].
 #[derive(Clone, Debug)]
@@ -62,8 +79,9 @@ pub fn applies(problem: &Problem) -> bool {
 
 /// Solves `min ½uᵀKu − qᵀu` s.t. `lo_c ≤ u[d_c] − û_c ≤ hi_c` by a primal–dual active-set
 /// iteration with elimination of the DOFs at a bound (K sparse SPD, constraint DOFs distinct).
-/// `lo_c = hi_c` pins a constraint (never released). `start`: the initial state (default: the
-/// bounds violated by u0), e.g. the final state of a previous solve with nearby bounds.
+/// `lo_c = hi_c` pins a constraint (never released). `start`: the initial state, e.g. the
+/// final state of a previous solve with nearby bounds (default: from the path following, or
+/// the bounds violated by u0; module docs).
 ///
 /// A prescribed value is `u[d] = û + b` rounded so that the gap computed from it,
 /// `fl(u[d] − û)`, does not lie outside `[lo, hi]`: the bound holds in floating point.
@@ -86,15 +104,23 @@ pub fn box_solve(
         .chain(hi.iter().filter(|v| v.is_finite()))
         .fold(0.0f64, |a, v| a.max(v.abs()));
     let tol = 64.0 * f64::EPSILON * (m as f64).max(1.0) * scale;
-    let mut state = start_state(&g0, lo, hi, start);
     let pat = DiagonalPattern::new(kmat)?;
+    let kdiag: Vec<f64> = pat.diag.iter().map(|&p| pat.values[p]).collect();
+    let start = match start {
+        Some(s) => Some(s),
+        None => path_following_start(ctx, lo, hi)?,
+    };
+    let mut state = start_state(&g0, lo, hi, start);
     let rows = pat.pattern.row_idx().to_vec();
     let cols = pat.pattern.col_ptr().to_vec();
-    let kdiag: Vec<f64> = pat.diag.iter().map(|&p| pat.values[p]).collect();
     let mut seen: HashSet<Vec<BoundState>> = HashSet::new();
     let mut fallback = false;
     let mut sizes = Vec::new();
     let max_it = super::max_iterations(m);
+    // The last factor and the prescribed DOFs it was built for; the last solution.
+    let mut last: Option<(SparseLlt, Vec<bool>)> = None;
+    let mut u_last: Option<Vec<f64>> = None;
+    let cg_tol = super::active_set::backward_error_tol(n);
     for it in 1..=max_it {
         // Prescribed DOFs and values.
         let mut fixed = vec![false; n];
@@ -132,17 +158,52 @@ pub fn box_solve(
                 rhs[j] = d * u_fix[j];
             }
         }
-        let f = pat.factor(vals).ok_or_else(|| {
-            Error::singular(
-                "K_FF (K without the DOFs at a bound) is not positive definite: K is singular \
-                 on the free DOFs"
-                    .to_string(),
-            )
-        })?;
-        ctx.stats.factorizations += 1;
-        ctx.stats.linear_solves += 1;
-        let mut u = rhs;
-        f.solve_vec_in_place(&mut u);
+        // Few DOFs changed status since the last factorization: PCG with that factor.
+        let mut u_cg = None;
+        if let (Some((f, f_fixed)), Some(u_prev)) = (&last, &u_last) {
+            let changed = f_fixed.iter().zip(&fixed).filter(|(a, b)| a != b).count();
+            if changed <= PCG_MAX_CHANGED {
+                let mut x = u_prev.clone();
+                for j in 0..n {
+                    if fixed[j] {
+                        x[j] = u_fix[j];
+                    }
+                }
+                let a = SparseColMatRef::new(pat.pattern.as_ref(), &vals);
+                let out = pcg(
+                    a,
+                    f,
+                    &rhs,
+                    &mut x,
+                    cg_tol,
+                    2 * changed + PCG_EXTRA_ITERATIONS,
+                );
+                ctx.stats.cg_iterations += out.iterations;
+                if out.converged {
+                    u_cg = Some(x);
+                }
+            }
+        }
+        let u = match u_cg {
+            Some(x) => x,
+            None => {
+                drop(last.take()); // one factor in memory at a time
+                let f = pat.factor(vals).ok_or_else(|| {
+                    Error::singular(
+                        "K_FF (K without the DOFs at a bound) is not positive definite: K is \
+                         singular on the free DOFs"
+                            .to_string(),
+                    )
+                })?;
+                ctx.stats.factorizations += 1;
+                ctx.stats.linear_solves += 1;
+                let mut u = rhs;
+                f.solve_vec_in_place(&mut u);
+                last = Some((f, fixed));
+                u
+            }
+        };
+        u_last = Some(u.clone());
         if u.iter().any(|v| !v.is_finite()) {
             return Err(Error::Numerical(
                 "elimination route produced a non-finite solution".into(),
@@ -212,3 +273,38 @@ pub fn prescribed(limit: f64, b: f64, lo: f64, hi: f64) -> f64 {
     }
     v
 }
+
+/// The start of [`box_solve`] from the Moreau–Yosida path following
+/// ([`active_set::path_following`]: penalties `t·K_dd` on the distance to `[lo, hi]`, t up
+/// to [`PATH_END`]): the state whose bounds are violated at its last stage. `None` (plain
+/// start) where the path following does not apply.
+fn path_following_start(
+    ctx: &mut Context,
+    lo: &[f64],
+    hi: &[f64],
+) -> Result<Option<Vec<BoundState>>> {
+    use crate::system::ConstraintKind;
+    let problem = ctx.problem;
+    // Penalties act on the distance to [lo, hi]: the limit is the bound on the penalized side
+    // (bilateral: the midpoint, penalized both ways — a start heuristic only).
+    let limits: Vec<f64> = problem
+        .constraints
+        .iter()
+        .enumerate()
+        .map(|(c, con)| match con.kind {
+            ConstraintKind::Lower => con.limit + lo[c],
+            ConstraintKind::Upper => con.limit + hi[c],
+            ConstraintKind::Bilateral => con.limit + 0.5 * (lo[c] + hi[c]),
+        })
+        .collect();
+    let caps = vec![f64::INFINITY; problem.m()];
+    let Some(u) = active_set::path_following(ctx, &caps, &limits, PATH_END)? else {
+        return Ok(None);
+    };
+    let g = problem.gaps(&u);
+    Ok(Some(start_state(&g, lo, hi, None)))
+}
+
+/// Last penalty of the path following of [`box_solve`], relative to `K_dd`: stiff enough that
+/// the penalized contact zone is within a few elements of the exact one.
+pub const PATH_END: f64 = 10.0;

@@ -207,6 +207,11 @@ pub struct Stats {
     /// `condensed`: how many times rounding put a penetration above δ and the targets were
     /// moved inward and the box problem re-solved from its final state (0 almost always).
     pub refinements: usize,
+    /// Conjugate-gradient iterations (each: one product with the matrix and one solve with an
+    /// earlier factor as preconditioner) spent instead of refactorizing when an active-set
+    /// iteration changed few constraints (elimination route; see
+    /// [`eliminated`](crate::strategy::eliminated)).
+    pub cg_iterations: usize,
 }
 
 /// The final system matrix of a solve (for metrics).
@@ -404,6 +409,7 @@ impl<'a> Context<'a> {
         let p = self.problem;
         let reuse = matches!(&self.last, Some((e, _)) if e.as_slice() == eps);
         if !reuse {
+            self.last = None; // one penalized factor in memory at a time
             let a = penalized_matrix(p, eps);
             let sym = self.k_factor.as_ref().and_then(|f| f.symbolic());
             let f = Factorization::with_symbolic(&a, self.symmetric, sym).map_err(|e| match e {
@@ -420,6 +426,11 @@ impl<'a> Context<'a> {
         }
         self.stats.linear_solves += 1;
         Ok(f.solve(&rhs))
+    }
+
+    /// Drops the last penalized factorization (frees its memory before other large work).
+    pub fn release_penalized(&mut self) {
+        self.last = None;
     }
 
     /// Assembles a [`Solution`] from u and the penalties.

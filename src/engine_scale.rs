@@ -1,0 +1,294 @@
+//! The contact solve engine at scale: full-contact membranes from 10⁴ to 10⁶ DOFs (issue 9).
+//!
+//! Scene: [`perf::membrane_scene`] with one `lower` constraint per node — the 5-point membrane
+//! under uniform load on a paraboloid obstacle, in contact over part of the domain. For each
+//! size and method ([`ScaleConfig`] knobs, relative to the scene's scales) one complete
+//! `strategy::solve` is timed (wall clock, one thread, factorizations included), then the
+//! certified cond₂ of the final system matrix (timed separately); cond₂(K) is computed once
+//! per size. A row records the solver statistics (active-set iterations, numeric
+//! factorizations, CG iterations, `converged`), the wall times, the peak resident memory of
+//! the solve and its metrics, and the cond₂ brackets.
+//!
+//! Peak memory: Linux only — the process's high-water mark (`VmHWM`) is reset before each
+//! method by writing `5` to `/proc/self/clear_refs` and read from `/proc/self/status` after
+//! it; the scene itself (K, q, constraints) and K's cond₂ are alive during every method and
+//! are included. No crate exposes a resettable peak, hence these two small readers.
+//!
+//! Use it to measure the engine against the factorization floor (README, Performance):
+//! `cargo run --release --bin engine_scale`.
+
+use crate::conditioning;
+use crate::error::{Error, Result};
+use crate::metrics::{self, MetricSet};
+use crate::perf::{self, PerfScene};
+use crate::plot::{method_color, Figure, Mark, Series};
+use crate::strategy::{self, Method};
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// Methods the study runs (fixed-energy penalties, δ-targeting, exact contact).
+pub const SCALE_METHODS: [&str; 4] = ["constant", "scaled", "condensed", "lagrange"];
+
+/// Configuration.
+#[derive(Clone, Debug, Serialize)]
+pub struct ScaleConfig {
+    /// Requested DOF counts (the membrane side is `round(√size)`).
+    pub sizes: Vec<usize>,
+    /// Methods, from [`SCALE_METHODS`].
+    pub methods: Vec<String>,
+    /// Compute the certified cond₂ of K and of each system.
+    pub cond: bool,
+    /// `constant`: ε / max_c K\[d_c, d_c\].
+    pub eps_rel: f64,
+    /// `scaled`: ε_c = factor · K\[d_c, d_c\].
+    pub factor: f64,
+    /// `condensed`: δ / max_c |u0\[d_c\]|.
+    pub delta_rel: f64,
+}
+
+impl Default for ScaleConfig {
+    fn default() -> Self {
+        ScaleConfig {
+            sizes: vec![10_000, 100_000],
+            methods: SCALE_METHODS.iter().map(|s| s.to_string()).collect(),
+            cond: true,
+            eps_rel: 1e2,
+            factor: 1e2,
+            delta_rel: 1e-3,
+        }
+    }
+}
+
+impl ScaleConfig {
+    /// Rejects unknown methods, empty lists and non-positive knobs.
+    pub fn validate(&self) -> Result<()> {
+        if self.sizes.is_empty() || self.sizes.iter().any(|&s| s < 9) {
+            return Err(Error::input("sizes: need at least one size ≥ 9"));
+        }
+        if let Some(m) = self
+            .methods
+            .iter()
+            .find(|m| !SCALE_METHODS.contains(&m.as_str()))
+        {
+            return Err(Error::input(format!(
+                "unknown method '{m}' (valid: {})",
+                SCALE_METHODS.join(", ")
+            )));
+        }
+        for (name, v) in [
+            ("eps_rel", self.eps_rel),
+            ("factor", self.factor),
+            ("delta_rel", self.delta_rel),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(Error::input(format!(
+                    "{name} = {v}: need a finite number > 0"
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One method on one scene.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct ScaleRow {
+    /// DOFs.
+    pub n: usize,
+    /// Contact constraints.
+    pub m: usize,
+    /// Method name.
+    pub method: String,
+    /// The knob's absolute value (ε, factor or δ; 0 for lagrange).
+    pub knob: f64,
+    /// Active constraints at the end.
+    pub active: usize,
+    /// Max penetration of the returned u (units of u).
+    pub max_penetration: f64,
+    /// Active-set iterations.
+    pub iterations: usize,
+    /// Numeric factorizations (K's included).
+    pub factorizations: usize,
+    /// CG iterations (elimination route's reuse of factors).
+    pub cg_iterations: usize,
+    /// The solver reached its own solution.
+    pub converged: bool,
+    /// Wall time of the solve (s).
+    pub seconds_solve: f64,
+    /// Wall time of the system's cond₂ (s); None without cond.
+    pub seconds_cond_system: Option<f64>,
+    /// Wall time of K's cond₂ at this size (s, shared by the size's rows).
+    pub seconds_cond_k: Option<f64>,
+    /// Peak resident memory during the solve and its metrics (MB); None off Linux.
+    pub peak_rss_mb: Option<f64>,
+    /// cond₂(K) and its certified bracket.
+    pub cond2_k: Option<f64>,
+    /// Lower end of the cond₂(K) bracket.
+    pub cond2_k_lo: Option<f64>,
+    /// Upper end of the cond₂(K) bracket.
+    pub cond2_k_hi: Option<f64>,
+    /// cond₂ of the final system matrix.
+    pub cond2_system: Option<f64>,
+    /// Lower end of its bracket (sparse route).
+    pub cond2_system_lo: Option<f64>,
+    /// Upper end of its bracket (sparse route).
+    pub cond2_system_hi: Option<f64>,
+    /// Route of the system's cond₂, or why it was not computed.
+    pub cond_route_system: String,
+}
+
+/// Resets the process's peak resident memory (Linux; false elsewhere).
+fn reset_peak_rss() -> bool {
+    std::fs::write("/proc/self/clear_refs", "5").is_ok()
+}
+
+/// The process's peak resident memory since the last reset, in MB (Linux `VmHWM`).
+fn peak_rss_mb() -> Option<f64> {
+    let s = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = s.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb / 1024.0)
+}
+
+fn method(name: &str, scene: &PerfScene, cfg: &ScaleConfig) -> (Method, f64) {
+    match name {
+        "constant" => {
+            let eps = cfg.eps_rel * scene.k_scale;
+            (Method::Constant { eps }, eps)
+        }
+        "scaled" => (Method::Scaled { factor: cfg.factor }, cfg.factor),
+        "condensed" => {
+            let delta = cfg.delta_rel * scene.scale;
+            (Method::Condensed { delta }, delta)
+        }
+        _ => (Method::Lagrange, 0.0),
+    }
+}
+
+/// Runs the study; `progress` gets one line per finished solve.
+pub fn run(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<Vec<ScaleRow>> {
+    cfg.validate()?;
+    let mut rows = Vec::new();
+    for &size in &cfg.sizes {
+        let scene = perf::membrane_scene(size, usize::MAX)?;
+        let p = &scene.problem;
+        let (k_cond, seconds_cond_k) = if cfg.cond {
+            let t = Instant::now();
+            let c = conditioning::cond2(&p.k)?;
+            (Some(c), Some(t.elapsed().as_secs_f64()))
+        } else {
+            (None, None)
+        };
+        let bounds = |c: &conditioning::CondReport| {
+            c.certificate
+                .map(|cert| cert.cond2_bounds())
+                .map_or((None, None), |(lo, hi)| (Some(lo), Some(hi)))
+        };
+        let (k_lo, k_hi) = k_cond.as_ref().map_or((None, None), bounds);
+        for name in &cfg.methods {
+            let (m, knob) = method(name, &scene, cfg);
+            let tracked = reset_peak_rss();
+            let t = Instant::now();
+            let sol = strategy::solve(p, m)?;
+            let seconds_solve = t.elapsed().as_secs_f64();
+            let (sys, seconds_cond_system, route) = if cfg.cond {
+                let t = Instant::now();
+                let met = metrics::compute_with_k(
+                    p,
+                    &sol,
+                    MetricSet {
+                        cond: true,
+                        det: false,
+                    },
+                    None,
+                )?;
+                let route = match (&met.cond2_system, met.unavailable.first()) {
+                    (Some(c), _) => c.route.name().to_string(),
+                    (None, Some(why)) => format!("not computed: {why}"),
+                    (None, None) => "not computed".to_string(),
+                };
+                (met.cond2_system, Some(t.elapsed().as_secs_f64()), route)
+            } else {
+                (None, None, "not requested".to_string())
+            };
+            let (s_lo, s_hi) = sys.as_ref().map_or((None, None), bounds);
+            let row = ScaleRow {
+                n: p.n(),
+                m: p.m(),
+                method: name.clone(),
+                knob,
+                active: sol.stats.active_set_sizes.last().copied().unwrap_or(0),
+                max_penetration: sol.max_penetration,
+                iterations: sol.stats.iterations,
+                factorizations: sol.stats.factorizations,
+                cg_iterations: sol.stats.cg_iterations,
+                converged: sol.stats.converged,
+                seconds_solve,
+                seconds_cond_system,
+                seconds_cond_k,
+                peak_rss_mb: if tracked { peak_rss_mb() } else { None },
+                cond2_k: k_cond.map(|c| c.cond2),
+                cond2_k_lo: k_lo,
+                cond2_k_hi: k_hi,
+                cond2_system: sys.map(|c| c.cond2),
+                cond2_system_lo: s_lo,
+                cond2_system_hi: s_hi,
+                cond_route_system: route,
+            };
+            progress(&format!(
+                "N = {:>8} {:<10} {:>3} iterations {:>3} factorizations {:>4} CG  solve {:.2} s",
+                row.n,
+                row.method,
+                row.iterations,
+                row.factorizations,
+                row.cg_iterations,
+                row.seconds_solve
+            ));
+            rows.push(row);
+        }
+    }
+    Ok(rows)
+}
+
+/// Two panels against N (log–log), one series per method: wall time of the solve, and
+/// numeric factorizations.
+pub fn figures(rows: &[ScaleRow]) -> Vec<Figure> {
+    let mut time = Figure::new(
+        "Solve wall time, full-contact membranes",
+        "N (DOFs)",
+        "seconds",
+    )
+    .log_log();
+    let mut fact = Figure::new(
+        "Numeric factorizations per solve",
+        "N (DOFs)",
+        "factorizations",
+    )
+    .log_log();
+    for name in SCALE_METHODS {
+        let r: Vec<&ScaleRow> = rows.iter().filter(|r| r.method == name).collect();
+        if r.is_empty() {
+            continue;
+        }
+        let x: Vec<f64> = r.iter().map(|r| r.n as f64).collect();
+        time = time.with_series(
+            Series::new(
+                name,
+                x.clone(),
+                r.iter().map(|r| r.seconds_solve).collect(),
+                Mark::LinePoints,
+            )
+            .color(method_color(name)),
+        );
+        fact = fact.with_series(
+            Series::new(
+                name,
+                x,
+                r.iter().map(|r| r.factorizations as f64).collect(),
+                Mark::LinePoints,
+            )
+            .color(method_color(name)),
+        );
+    }
+    vec![time, fact]
+}
