@@ -128,6 +128,11 @@ impl SparseLlt {
         self.solve_in_place(MatMut::from_column_major_slice_mut(x, n, 1));
     }
 
+    /// Solves `A X = B` in place (`rhs` holds B on entry).
+    pub fn solve_mat_in_place(&self, rhs: MatMut<'_, f64>) {
+        self.solve_in_place(rhs)
+    }
+
     fn solve_in_place(&self, rhs: MatMut<'_, f64>) {
         let par = Par::Seq;
         let ncols = rhs.ncols();

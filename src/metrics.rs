@@ -47,7 +47,30 @@ pub struct Metrics {
 }
 
 /// cond₂ of the system matrix, or `None` with a note when no exact route exists for it.
-fn system_cond(sys: &Stiffness, out: &mut Metrics) -> Result<Option<CondReport>> {
+fn system_cond(
+    problem: &Problem,
+    sol: &Solution,
+    sys: &Stiffness,
+    out: &mut Metrics,
+) -> Result<Option<CondReport>> {
+    // A sparse saddle point with Boolean D: block-structure route, never densified.
+    if let (SystemKind::SaddlePoint { active }, Stiffness::Sparse(k)) = (&sol.system, &problem.k) {
+        let dofs: Vec<usize> = active.iter().map(|&c| problem.constraints[c].dof).collect();
+        let mut seen = vec![false; problem.n()];
+        let distinct = dofs.iter().all(|&d| !std::mem::replace(&mut seen[d], true));
+        if distinct
+            && !dofs.is_empty()
+            && sys.n() >= conditioning::sparse::SPARSE_ROUTE_MIN_N
+            && problem.k.is_symmetric()
+        {
+            match conditioning::saddle::cond2_saddle(k, &dofs) {
+                Ok(r) => return Ok(Some(r)),
+                // K_FF not positive definite (K not SPD): the generic route decides below.
+                Err(Error::Singular(_)) => {}
+                Err(e) => return Err(e),
+            }
+        }
+    }
     match conditioning::cond2(sys) {
         Ok(r) => Ok(Some(r)),
         Err(Error::Input(msg)) => {
@@ -79,7 +102,7 @@ pub fn compute(problem: &Problem, sol: &Solution, set: MetricSet) -> Result<Metr
     let sys = system_matrix(problem, sol);
     if set.cond {
         out.cond2_k = Some(conditioning::cond2(&problem.k)?);
-        out.cond2_system = system_cond(&sys, &mut out)?;
+        out.cond2_system = system_cond(problem, sol, &sys, &mut out)?;
     }
     if set.det {
         let dk = conditioning::log10_abs_det(&problem.k)?;
@@ -106,7 +129,7 @@ pub fn compute_with_k(
     }
     let sys = system_matrix(problem, sol);
     if set.cond {
-        out.cond2_system = system_cond(&sys, &mut out)?;
+        out.cond2_system = system_cond(problem, sol, &sys, &mut out)?;
     }
     if set.det {
         let dk = match log10_det_k {

@@ -7,7 +7,9 @@
 //! |---|---|---|
 //! | dense symmetric | eigenvalues, `σ_i = |λ_i|` ([`CondRoute::SymmetricEigen`]) | ≈ 4/3 n³ |
 //! | dense unsymmetric | singular values ([`CondRoute::Svd`]) | ≈ 3–4× the eigen route |
-//! | sparse | densified, then as above ([`CondRoute::DensifiedSymmetricEigen`] / [`CondRoute::DensifiedSvd`]) | n² memory |
+//! | sparse SPD | Lanczos + inertia certificate ([`CondRoute::SparseInertia`], [`sparse`]) | a few sparse Cholesky |
+//! | sparse saddle point `[K D; Dᵀ 0]`, Boolean D | block-structure inertia ([`CondRoute::SparseSaddleInertia`], [`saddle`]) | a few sparse Cholesky |
+//! | other sparse | densified, then as above ([`CondRoute::DensifiedSymmetricEigen`] / [`CondRoute::DensifiedSvd`]) | n² memory |
 //!
 //! `log10|det A|` is read off a factorization (never the raw determinant, which overflows at
 //! n ≈ 1600): the determinant ratio of the paper is `log10|det(K+DEDᵀ)| − log10|det K|`.
@@ -15,6 +17,7 @@
 //! The [`reference`](mod@reference) module recomputes cond₂ with nalgebra (and LAPACK behind the `lapack`
 //! feature) as an independent cross-check.
 
+pub mod saddle;
 pub mod sparse;
 
 use crate::error::{Error, Result};
@@ -38,6 +41,9 @@ pub enum CondRoute {
     /// Sparse SPD: Lanczos estimates certified by inertia (sparse Cholesky of shifted
     /// matrices), see [`sparse`].
     SparseInertia,
+    /// Sparse saddle-point `[K D; Dᵀ 0]` (Boolean D): Lanczos estimates of the four extreme
+    /// |λ| certified by inertia through the block structure, see [`saddle`].
+    SparseSaddleInertia,
 }
 
 impl CondRoute {
@@ -49,6 +55,7 @@ impl CondRoute {
             CondRoute::DensifiedSymmetricEigen => "densified_symmetric_eigen",
             CondRoute::DensifiedSvd => "densified_svd",
             CondRoute::SparseInertia => "sparse_inertia",
+            CondRoute::SparseSaddleInertia => "sparse_saddle_inertia",
         }
     }
 }

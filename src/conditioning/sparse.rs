@@ -155,7 +155,7 @@ fn tridiagonal_max_eigenvalue(a: &[f64], b: &[f64]) -> f64 {
 /// Largest eigenvalue of a symmetric positive operator by plain Lanczos (no stored vectors):
 /// returns (estimate, steps, converged). Stops when the top Ritz value stagnates to `1e-14` relative over
 /// 5 steps, on an invariant subspace, or after `max_steps`.
-fn lanczos_max(
+pub(crate) fn lanczos_max(
     n: usize,
     max_steps: usize,
     mut apply: impl FnMut(&[f64], &mut [f64]),
@@ -229,7 +229,7 @@ fn norm(x: &[f64]) -> f64 {
 /// Brackets an extreme eigenvalue near the estimate `theta > 0`: `upper(σ)` must return true iff
 /// σ is an upper bound of the eigenvalue (from an inertia test). Returns (lo, hi) with
 /// `hi / lo − 1 ≤ tol`, or wider if 60 tests did not get there.
-fn bracket(theta: f64, tol: f64, mut upper: impl FnMut(f64) -> bool) -> (f64, f64) {
+pub(crate) fn bracket(theta: f64, tol: f64, mut upper: impl FnMut(f64) -> bool) -> (f64, f64) {
     let mut lo = None;
     let mut hi = None;
     let mut h = 0.5 * tol;

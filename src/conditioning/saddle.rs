@@ -1,0 +1,265 @@
+//! Exact, certified cond₂ of a sparse saddle-point matrix without forming or densifying it.
+//!
+//! `A = [K D; Dᵀ 0]` with K sparse SPD (N×N) and D Boolean with distinct DOFs B (N×m, one
+//! column `e_d` per active constraint). A is symmetric indefinite with N positive and m
+//! negative eigenvalues, and `σ = |λ|`:
+//!
+//! `σ_max = max(λ_max, −λ_min)`,  `σ_min = min(λ⁺_min, −λ⁻_max)`
+//!
+//! (λ⁺_min the smallest positive, λ⁻_max the negative eigenvalue closest to 0).
+//!
+//! **Inertia through the block structure.** For σ ≠ 0, eliminating the multiplier block
+//! (−σI_m, diagonal) is a congruence: `A − σI ≅ (−σI_m) ⊕ H(σ)`,
+//!
+//! `H(σ) = K − σI + σ⁻¹ Σ_{d∈B} e_d e_dᵀ`  (K's pattern, only the diagonal changes),
+//!
+//! so by Sylvester `#{λ < σ} = m·[σ > 0] + #neg(H(σ))`. Three ends are certified by sparse
+//! Cholesky tests (success ⇔ positive definite), as in the SPD route ([`super::sparse`]):
+//!
+//! * `λ_max < σ` ⇔ `−H(σ) ≻ 0` (σ > 0);
+//! * `λ⁺_min > σ` ⇔ `H(σ) ≻ 0` (σ > 0);
+//! * `λ_min > −s` ⇔ `H(−s) = K + sI − s⁻¹1_B ≻ 0` (s > 0).
+//!
+//! The fourth is not a definiteness test of H: for s > 0 there is no eigenvalue in (−s, 0)
+//! iff `λ_min(M(s)) ≥ s` with `M(s) = Dᵀ(K + sI)⁻¹D` (m×m; from the congruence eliminating
+//! K + sI instead). It is tested with m solves with the Cholesky factor of K + sI and dense
+//! symmetric eigenvalues when `m ≤` [`SCHUR_TEST_MAX`]. Without any solve, `H_BB ≺ 0` when
+//! `s·(g_B + s) < 1` (g_B the Gershgorin bound of K_BB), and then the F-Schur complement is
+//! SPD, so `#neg H(−s) = m`: no eigenvalue in (−s, 0). That bound `s₀ ≤ −λ⁻_max` is enough
+//! whenever λ⁺_min's bracket lies below it (σ_min = λ⁺_min; e.g. the membranes). Otherwise,
+//! for `m >` [`SCHUR_TEST_MAX`], the bracket of σ_min keeps only certified ends,
+//! `[min(λ⁺_lo, s₀), λ⁺_hi]`, with the Lanczos estimate inside it as the value: the
+//! certificate's width says how far it is from proven.
+//!
+//! **Estimates** by Lanczos (no stored vectors): plain on A and −A for λ_max and λ_min, and on
+//! `A⁻¹` and `−A⁻¹` for λ⁺_min and λ⁻_max. `A⁻¹` costs one solve with K_FF (K without the
+//! rows and columns of B, factored once): for `A [x; y] = [f; g]`, `x_B = g`,
+//! `K_FF x_F = f_F − K_FB g`, `y = f_B − (K x)_B`.
+//!
+//! Cost: one Cholesky of K_FF, Lanczos products and solves (O(nnz) and O(nnz of the factor)
+//! each), 2–4 shifted Cholesky factorizations per certified end; memory O(nnz of the factor).
+//! Use it for the `lagrange` system of a sparse K (the metrics pick it automatically).
+
+use super::sparse::{bracket, lanczos_max, Certificate, BRACKET_TOL, MAX_LANCZOS_STEPS};
+use super::{CondReport, CondRoute};
+use crate::error::{Error, Result};
+use crate::linalg::{DiagonalPattern, SparseLlt};
+use faer::sparse::SparseColMat;
+use faer::Side;
+
+/// Largest m for which the fourth end (λ⁻_max) is certified by the m×m test `λ_min(M(s)) ≥ s`.
+pub const SCHUR_TEST_MAX: usize = 1500;
+
+/// `α·K + σ·I + β·1_B` on K's pattern, factorized with one symbolic analysis.
+struct Shifts<'a> {
+    pattern: &'a DiagonalPattern,
+    in_b: &'a [bool],
+    factorizations: usize,
+}
+
+impl Shifts<'_> {
+    fn factor(&mut self, alpha: f64, sigma: f64, beta: f64) -> Option<SparseLlt> {
+        let mut v: Vec<f64> = self.pattern.values.iter().map(|x| alpha * x).collect();
+        for (j, &p) in self.pattern.diag.iter().enumerate() {
+            v[p] += sigma + if self.in_b[j] { beta } else { 0.0 };
+        }
+        self.factorizations += 1;
+        self.pattern.factor(v)
+    }
+    fn is_pd(&mut self, alpha: f64, sigma: f64, beta: f64) -> bool {
+        self.factor(alpha, sigma, beta).is_some()
+    }
+}
+
+/// cond₂ of `[K D; Dᵀ 0]` (D: columns `e_d` for `dofs`, distinct) for sparse SPD K (both
+/// triangles stored), certified as in the module docs. Errors with [`Error::Input`] on
+/// repeated or out-of-range DOFs and [`Error::Singular`] if K_FF is not positive definite (A
+/// singular).
+pub fn cond2_saddle(k: &SparseColMat<usize, f64>, dofs: &[usize]) -> Result<CondReport> {
+    cond2_saddle_with(k, dofs, SCHUR_TEST_MAX)
+}
+
+/// [`cond2_saddle`] with the limit on m for the m×m test of the fourth end given (0: never).
+pub fn cond2_saddle_with(
+    k: &SparseColMat<usize, f64>,
+    dofs: &[usize],
+    schur_test_max: usize,
+) -> Result<CondReport> {
+    let n = k.nrows();
+    let m = dofs.len();
+    let mut in_b = vec![false; n];
+    for &d in dofs {
+        if d >= n || std::mem::replace(&mut in_b[d], true) {
+            return Err(Error::input(format!(
+                "saddle-point cond₂: constraint DOF {d} repeated or out of range (N = {n})"
+            )));
+        }
+    }
+    if m == 0 || m >= n {
+        return Err(Error::input(format!(
+            "saddle-point cond₂ needs 0 < m < N (m = {m}, N = {n})"
+        )));
+    }
+    let pattern = DiagonalPattern::new(k)?;
+    let mut shifts = Shifts {
+        pattern: &pattern,
+        in_b: &in_b,
+        factorizations: 0,
+    };
+    // K_FF (rows/columns of B replaced by the identity) for A⁻¹.
+    let (cp, ri) = (pattern.pattern.col_ptr(), pattern.pattern.row_idx());
+    let mut vff = pattern.values.clone();
+    for j in 0..n {
+        for p in cp[j]..cp[j + 1] {
+            if in_b[ri[p]] || in_b[j] {
+                vff[p] = if ri[p] == j { 1.0 } else { 0.0 };
+            }
+        }
+    }
+    let kff = pattern.factor(vff).ok_or_else(|| {
+        Error::singular("saddle-point matrix is singular: K without the constrained DOFs is not positive definite")
+    })?;
+    shifts.factorizations += 1;
+    let matvec_k = |x: &[f64], y: &mut [f64]| {
+        y.iter_mut().for_each(|v| *v = 0.0);
+        for j in 0..n {
+            for p in cp[j]..cp[j + 1] {
+                y[ri[p]] += pattern.values[p] * x[j];
+            }
+        }
+    };
+    let size = n + m;
+    // A·[x; y] = [K x + D y; Dᵀ x].
+    let apply_a = |v: &[f64], out: &mut [f64], sign: f64| {
+        let (x, y) = v.split_at(n);
+        let (ox, oy) = out.split_at_mut(n);
+        matvec_k(x, ox);
+        for (c, &d) in dofs.iter().enumerate() {
+            ox[d] += y[c];
+            oy[c] = x[d];
+        }
+        out.iter_mut().for_each(|o| *o *= sign);
+    };
+    // A⁻¹·[f; g] by block elimination with K_FF.
+    let apply_inv = |v: &[f64], out: &mut [f64], sign: f64| {
+        let (f, g) = v.split_at(n);
+        let (x, y) = out.split_at_mut(n);
+        // x_B = g; K_FF x_F = f_F − K_FB g.
+        let mut xb = vec![0.0; n];
+        for (c, &d) in dofs.iter().enumerate() {
+            xb[d] = g[c];
+        }
+        let mut kxb = vec![0.0; n];
+        matvec_k(&xb, &mut kxb);
+        for i in 0..n {
+            x[i] = if in_b[i] { xb[i] } else { f[i] - kxb[i] };
+        }
+        kff.solve_vec_in_place(x);
+        for (c, &d) in dofs.iter().enumerate() {
+            x[d] = g[c];
+        }
+        let mut kx = vec![0.0; n];
+        matvec_k(x, &mut kx);
+        for (c, &d) in dofs.iter().enumerate() {
+            y[c] = f[d] - kx[d];
+        }
+        out.iter_mut().for_each(|o| *o *= sign);
+    };
+    let steps = MAX_LANCZOS_STEPS;
+    let (lmax_est, s1, _) = lanczos_max(size, steps, |x, y| apply_a(x, y, 1.0))?;
+    let (neg_min_est, s2, _) = lanczos_max(size, steps, |x, y| apply_a(x, y, -1.0))?;
+    let (inv_pos, s3, _) = lanczos_max(size, steps, |x, y| apply_inv(x, y, 1.0))?;
+    let (inv_neg, s4, _) = lanczos_max(size, steps, |x, y| apply_inv(x, y, -1.0))?;
+    let (pos_min_est, neg_near_est) = (1.0 / inv_pos, 1.0 / inv_neg);
+    for (what, v) in [
+        ("λ_max", lmax_est),
+        ("−λ_min", neg_min_est),
+        ("λ⁺_min", pos_min_est),
+        ("−λ⁻_max", neg_near_est),
+    ] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(Error::Numerical(format!(
+                "saddle-point Lanczos estimate of {what} is not usable ({v:e})"
+            )));
+        }
+    }
+    // Certified brackets (module docs).
+    let (max_lo, max_hi) = bracket(lmax_est, BRACKET_TOL, |s| shifts.is_pd(-1.0, s, -1.0 / s));
+    let (nmin_lo, nmin_hi) = bracket(neg_min_est, BRACKET_TOL, |s| shifts.is_pd(1.0, s, -1.0 / s));
+    let sigma_max = (max_lo.max(nmin_lo), max_hi.max(nmin_hi));
+    let floor = 64.0 * f64::EPSILON * sigma_max.1 / pos_min_est.min(neg_near_est);
+    let tol = BRACKET_TOL.max(floor);
+    let (pmin_lo, pmin_hi) = bracket(pos_min_est, tol, |s| !shifts.is_pd(1.0, -s, 1.0 / s));
+    // s₀: s·(g_B + s) < 1 ⇒ no eigenvalue in (−s, 0).
+    let g_b = gershgorin_b(k, &in_b);
+    let s0 = 2.0 / (g_b + (g_b * g_b + 4.0).sqrt()) * (1.0 - 1e-12);
+    // −λ⁻_max: certified bracket, or only the lower bound s₀ (upper end +∞).
+    let (nnear_lo, nnear_hi) = if pmin_hi < s0 || m > schur_test_max {
+        (s0, f64::INFINITY)
+    } else {
+        bracket(neg_near_est, tol, |s| {
+            schur_test_fails(&mut shifts, dofs, s).unwrap_or(true)
+        })
+    };
+    let sigma_min = (pmin_lo.min(nnear_lo), pmin_hi.min(nnear_hi));
+    let certificate = Certificate {
+        lambda_max_lo: sigma_max.0,
+        lambda_max_hi: sigma_max.1,
+        lambda_min_lo: sigma_min.0,
+        lambda_min_hi: sigma_min.1,
+        lanczos_steps: s1 + s2 + s3 + s4,
+        factorizations: shifts.factorizations,
+    };
+    if !(sigma_max.0 > 0.0 && sigma_max.1.is_finite() && sigma_min.1.is_finite()) {
+        return Err(Error::Numerical(format!(
+            "saddle-point inertia brackets did not close: σ_max ∈ [{:e}, {:e}], σ_min ∈ [{:e}, {:e}]",
+            sigma_max.0, sigma_max.1, sigma_min.0, sigma_min.1
+        )));
+    }
+    let smax = (sigma_max.0 * sigma_max.1).sqrt();
+    // Value: the bracket's midpoint, or (fourth end uncertified) the estimate inside it.
+    let smin = if nnear_hi.is_finite() || pmin_hi < s0 {
+        (sigma_min.0 * sigma_min.1).sqrt()
+    } else {
+        ((pmin_lo * pmin_hi).sqrt())
+            .min(neg_near_est)
+            .clamp(sigma_min.0, sigma_min.1)
+    };
+    Ok(CondReport {
+        cond2: smax / smin,
+        sigma_max: smax,
+        sigma_min: smin,
+        route: CondRoute::SparseSaddleInertia,
+        certificate: Some(certificate),
+    })
+}
+
+/// Gershgorin upper bound of the principal submatrix K_BB.
+fn gershgorin_b(k: &SparseColMat<usize, f64>, in_b: &[bool]) -> f64 {
+    let (cp, ri, v) = (k.symbolic().col_ptr(), k.symbolic().row_idx(), k.val());
+    (0..k.ncols())
+        .filter(|&j| in_b[j])
+        .map(|j| {
+            (cp[j]..cp[j + 1])
+                .filter(|&p| in_b[ri[p]])
+                .map(|p| if ri[p] == j { v[p] } else { v[p].abs() })
+                .sum::<f64>()
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Is there an eigenvalue of A in [−s, 0)? ⇔ `λ_min(Dᵀ(K + sI)⁻¹D) < s`.
+fn schur_test_fails(shifts: &mut Shifts, dofs: &[usize], s: f64) -> Option<bool> {
+    let f = shifts.factor(1.0, s, 0.0)?;
+    let n = shifts.pattern.n();
+    let m = dofs.len();
+    let mut x = faer::Mat::<f64>::zeros(n, m);
+    for (c, &d) in dofs.iter().enumerate() {
+        x[(d, c)] = 1.0;
+    }
+    f.solve_mat_in_place(x.as_mut());
+    let ms = faer::Mat::from_fn(m, m, |i, j| 0.5 * (x[(dofs[i], j)] + x[(dofs[j], i)]));
+    let ev = ms.self_adjoint_eigenvalues(Side::Lower).ok()?;
+    let lmin = ev.iter().fold(f64::INFINITY, |a, &v| a.min(v));
+    Some(lmin < s)
+}

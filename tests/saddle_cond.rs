@@ -1,0 +1,158 @@
+//! The sparse saddle-point cond₂ route (inertia through the block structure,
+//! `conditioning::saddle`) against dense symmetric eigenvalues of the assembled
+//! `[K D; Dᵀ 0]`: the dense value lies in the certified bracket (widened by the dense
+//! solver's own rounding, 64·n·ε_mach·cond₂), on the elasticity scenes of an outside FE code
+//! (where σ_min is the negative eigenvalue closest to 0) and on membranes (σ_min = λ⁺_min).
+
+use penalty_lab::conditioning::saddle::{cond2_saddle, cond2_saddle_with};
+use penalty_lab::conditioning::{cond2_dense, CondReport, CondRoute};
+use penalty_lab::metrics::{self, MetricSet};
+use penalty_lab::scene::read_scene;
+use penalty_lab::strategy::{self, lagrange, Method, SystemKind};
+use penalty_lab::sweep::generate::{generate, Family, GeneratorConfig};
+use penalty_lab::system::{Problem, Stiffness};
+use std::path::Path;
+
+fn elasticity() -> Vec<Problem> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/elasticity");
+    [
+        "elasticity-quad-block",
+        "elasticity-p2-strip",
+        "elasticity-tet-brick",
+    ]
+    .iter()
+    .map(|s| {
+        read_scene(&dir.join(format!("{s}.scene.json")))
+            .unwrap()
+            .problem
+    })
+    .collect()
+}
+
+fn membranes() -> Vec<Problem> {
+    let cfg = GeneratorConfig {
+        membrane_side: (30, 45),
+        ..Default::default()
+    };
+    (0..2)
+        .map(|i| generate(Family::Membrane, i, 77, &cfg).unwrap().problem)
+        .collect()
+}
+
+/// The lagrange active set and its DOFs.
+fn active(p: &Problem) -> (Vec<usize>, Vec<usize>) {
+    let s = strategy::solve(p, Method::Lagrange).unwrap();
+    let SystemKind::SaddlePoint { active } = s.system else {
+        panic!("lagrange returns a saddle point")
+    };
+    let dofs = active.iter().map(|&c| p.constraints[c].dof).collect();
+    (active, dofs)
+}
+
+fn check(p: &Problem, sparse: &CondReport, label: &str) {
+    let (act, _) = active(p);
+    let kkt = lagrange::saddle_matrix(p, &act).to_dense();
+    let dense = cond2_dense(kkt.as_ref(), true).unwrap();
+    let slack = 64.0 * kkt.nrows() as f64 * f64::EPSILON * dense.cond2;
+    let cert = sparse.certificate.expect("certificate");
+    let (lo, hi) = cert.cond2_bounds();
+    assert!(
+        dense.cond2 >= lo * (1.0 - slack) && dense.cond2 <= hi * (1.0 + slack),
+        "{label}: dense cond₂ {:e} outside [{lo:e}, {hi:e}] (slack {slack:e})",
+        dense.cond2
+    );
+    for (what, d, l, h) in [
+        (
+            "σ_max",
+            dense.sigma_max,
+            cert.lambda_max_lo,
+            cert.lambda_max_hi,
+        ),
+        (
+            "σ_min",
+            dense.sigma_min,
+            cert.lambda_min_lo,
+            cert.lambda_min_hi,
+        ),
+    ] {
+        // Absolute rounding of the dense eigenvalues: 64·n·ε·σ_max.
+        let abs = 64.0 * kkt.nrows() as f64 * f64::EPSILON * dense.sigma_max;
+        assert!(
+            d >= l - abs && d <= h + abs,
+            "{label}: dense {what} {d:e} outside [{l:e}, {h:e}]"
+        );
+    }
+}
+
+#[test]
+fn elasticity_scenes_sparse_bracket_contains_dense() {
+    for p in elasticity() {
+        let Stiffness::Sparse(k) = &p.k else {
+            panic!("scene K is sparse")
+        };
+        let (_, dofs) = active(&p);
+        let sparse = cond2_saddle(k, &dofs).unwrap();
+        assert_eq!(sparse.route, CondRoute::SparseSaddleInertia);
+        let (lo, hi) = sparse.certificate.unwrap().cond2_bounds();
+        // Certified to the rounding floor 64·ε·cond₂ (cond₂ ≈ 1e11–1e12 here).
+        assert!(hi / lo - 1.0 <= 2.0 * 64.0 * f64::EPSILON * sparse.cond2 + 1e-9);
+        check(&p, &sparse, "elasticity");
+    }
+}
+
+#[test]
+fn membranes_sparse_bracket_contains_dense() {
+    for p in membranes() {
+        let Stiffness::Sparse(k) = &p.k else {
+            panic!("membrane K is sparse")
+        };
+        let (_, dofs) = active(&p);
+        let sparse = cond2_saddle(k, &dofs).unwrap();
+        let (lo, hi) = sparse.certificate.unwrap().cond2_bounds();
+        assert!(hi / lo - 1.0 <= 1e-9, "bracket [{lo:e}, {hi:e}]");
+        check(&p, &sparse, "membrane");
+    }
+}
+
+/// Without the m×m test (as for m > SCHUR_TEST_MAX), the bracket keeps only certified ends:
+/// wider on the elasticity scenes, and still containing the dense value.
+#[test]
+fn without_the_schur_test_the_bracket_stays_certified() {
+    for p in elasticity() {
+        let Stiffness::Sparse(k) = &p.k else {
+            panic!("scene K is sparse")
+        };
+        let (_, dofs) = active(&p);
+        let sparse = cond2_saddle_with(k, &dofs, 0).unwrap();
+        check(&p, &sparse, "elasticity, no Schur test");
+    }
+}
+
+/// The metrics take the saddle route for a sparse lagrange system, whatever its size.
+#[test]
+fn metrics_use_the_saddle_route() {
+    let p = &elasticity()[1];
+    let s = strategy::solve(p, Method::Lagrange).unwrap();
+    let m = metrics::compute(
+        p,
+        &s,
+        MetricSet {
+            cond: true,
+            det: false,
+        },
+    )
+    .unwrap();
+    assert_eq!(
+        m.cond2_system.unwrap().route,
+        CondRoute::SparseSaddleInertia
+    );
+}
+
+/// Bad input: a repeated DOF is refused with a clear error.
+#[test]
+fn repeated_dof_is_an_input_error() {
+    let p = &membranes()[0];
+    let Stiffness::Sparse(k) = &p.k else { panic!() };
+    let e = cond2_saddle(k, &[3, 3]).unwrap_err().to_string();
+    assert!(e.contains("repeated"), "{e}");
+}
