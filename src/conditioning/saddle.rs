@@ -166,48 +166,65 @@ pub fn cond2_saddle_with(
         out.iter_mut().for_each(|o| *o *= sign);
     };
     let steps = MAX_LANCZOS_STEPS;
-    let (lmax_est, s1, _) = lanczos_max(size, steps, |x, y| apply_a(x, y, 1.0))?;
-    let (neg_min_est, s2, _) = lanczos_max(size, steps, |x, y| apply_a(x, y, -1.0))?;
-    let (inv_pos, s3, _) = lanczos_max(size, steps, |x, y| apply_inv(x, y, 1.0))?;
-    let (inv_neg, s4, _) = lanczos_max(size, steps, |x, y| apply_inv(x, y, -1.0))?;
-    let (pos_min_est, neg_near_est) = (1.0 / inv_pos, 1.0 / inv_neg);
-    for (what, v) in [
-        ("λ_max", lmax_est),
-        ("−λ_min", neg_min_est),
-        ("λ⁺_min", pos_min_est),
-        ("−λ⁻_max", neg_near_est),
-    ] {
-        if !(v.is_finite() && v > 0.0) {
-            return Err(Error::Numerical(format!(
+    let usable = |what: &str, v: f64| {
+        if v.is_finite() && v > 0.0 {
+            Ok(v)
+        } else {
+            Err(Error::Numerical(format!(
                 "saddle-point Lanczos estimate of {what} is not usable ({v:e})"
-            )));
+            )))
         }
-    }
-    // Certified brackets (module docs).
+    };
+    let mut lanczos_steps = 0;
+    // σ_max: λ_max, and −λ_min only where one test does not already show −λ_min < λ_max.
+    let (lmax_est, st, _) = lanczos_max(size, steps, |x, y| apply_a(x, y, 1.0))?;
+    lanczos_steps += st;
+    let lmax_est = usable("λ_max", lmax_est)?;
     let (max_lo, max_hi) = bracket(lmax_est, BRACKET_TOL, |s| shifts.is_pd(-1.0, s, -1.0 / s));
-    let (nmin_lo, nmin_hi) = bracket(neg_min_est, BRACKET_TOL, |s| shifts.is_pd(1.0, s, -1.0 / s));
-    let sigma_max = (max_lo.max(nmin_lo), max_hi.max(nmin_hi));
-    let floor = 64.0 * f64::EPSILON * sigma_max.1 / pos_min_est.min(neg_near_est);
-    let tol = BRACKET_TOL.max(floor);
+    let sigma_max = if max_lo > 0.0 && shifts.is_pd(1.0, max_lo, -1.0 / max_lo) {
+        (max_lo, max_hi)
+    } else {
+        let (est, st, _) = lanczos_max(size, steps, |x, y| apply_a(x, y, -1.0))?;
+        lanczos_steps += st;
+        let est = usable("−λ_min", est)?;
+        let (lo, hi) = bracket(est, BRACKET_TOL, |s| shifts.is_pd(1.0, s, -1.0 / s));
+        (max_lo.max(lo), max_hi.max(hi))
+    };
+    // σ_min: λ⁺_min, and −λ⁻_max unless s₀ already shows −λ⁻_max > λ⁺_min.
+    let (inv_pos, st, _) = lanczos_max(size, steps, |x, y| apply_inv(x, y, 1.0))?;
+    lanczos_steps += st;
+    let pos_min_est = 1.0 / usable("1/λ⁺_min", inv_pos)?;
+    let tol = BRACKET_TOL.max(64.0 * f64::EPSILON * sigma_max.1 / pos_min_est);
     let (pmin_lo, pmin_hi) = bracket(pos_min_est, tol, |s| !shifts.is_pd(1.0, -s, 1.0 / s));
     // s₀: s·(g_B + s) < 1 ⇒ no eigenvalue in (−s, 0).
     let g_b = gershgorin_b(k, &in_b);
     let s0 = 2.0 / (g_b + (g_b * g_b + 4.0).sqrt()) * (1.0 - 1e-12);
-    // −λ⁻_max: certified bracket, or only the lower bound s₀ (upper end +∞).
-    let (nnear_lo, nnear_hi) = if pmin_hi < s0 || m > schur_test_max {
-        (s0, f64::INFINITY)
+    let (sigma_min, value) = if pmin_hi < s0 {
+        ((pmin_lo, pmin_hi), (pmin_lo * pmin_hi).sqrt())
     } else {
-        bracket(neg_near_est, tol, |s| {
-            schur_test_fails(&mut shifts, dofs, s).unwrap_or(true)
-        })
+        let (inv_neg, st, _) = lanczos_max(size, steps, |x, y| apply_inv(x, y, -1.0))?;
+        lanczos_steps += st;
+        let near_est = 1.0 / usable("−1/λ⁻_max", inv_neg)?;
+        let tol = tol.max(64.0 * f64::EPSILON * sigma_max.1 / near_est);
+        if m <= schur_test_max {
+            let (lo, hi) = bracket(near_est, tol, |s| {
+                schur_test_fails(&mut shifts, dofs, s).unwrap_or(true)
+            });
+            let b = (pmin_lo.min(lo), pmin_hi.min(hi));
+            (b, (b.0 * b.1).sqrt())
+        } else {
+            // Only certified ends: [min(λ⁺_lo, s₀), λ⁺_hi]; the estimate inside as the value.
+            let b = (pmin_lo.min(s0), pmin_hi);
+            let v = (pmin_lo * pmin_hi).sqrt().min(near_est).clamp(b.0, b.1);
+            (b, v)
+        }
     };
-    let sigma_min = (pmin_lo.min(nnear_lo), pmin_hi.min(nnear_hi));
     let certificate = Certificate {
         lambda_max_lo: sigma_max.0,
         lambda_max_hi: sigma_max.1,
         lambda_min_lo: sigma_min.0,
         lambda_min_hi: sigma_min.1,
-        lanczos_steps: s1 + s2 + s3 + s4,
+        lanczos_steps,
         factorizations: shifts.factorizations,
     };
     if !(sigma_max.0 > 0.0 && sigma_max.1.is_finite() && sigma_min.1.is_finite()) {
@@ -217,14 +234,7 @@ pub fn cond2_saddle_with(
         )));
     }
     let smax = (sigma_max.0 * sigma_max.1).sqrt();
-    // Value: the bracket's midpoint, or (fourth end uncertified) the estimate inside it.
-    let smin = if nnear_hi.is_finite() || pmin_hi < s0 {
-        (sigma_min.0 * sigma_min.1).sqrt()
-    } else {
-        ((pmin_lo * pmin_hi).sqrt())
-            .min(neg_near_est)
-            .clamp(sigma_min.0, sigma_min.1)
-    };
+    let smin = value;
     Ok(CondReport {
         cond2: smax / smin,
         sigma_max: smax,
