@@ -61,6 +61,19 @@ impl Stiffness {
         }
         let m = SparseColMat::try_new_from_triplets(n, n, &t)
             .map_err(|e| Error::input(format!("cannot build sparse matrix: {e:?}")))?;
+        // Duplicates are summed: finite entries can overflow to ±∞.
+        let (cp, ri) = (m.symbolic().col_ptr(), m.symbolic().row_idx());
+        for j in 0..n {
+            for p in cp[j]..cp[j + 1] {
+                if !m.val()[p].is_finite() {
+                    return Err(Error::input(format!(
+                        "sparse entry ({}, {j}) is not finite after summing duplicate entries \
+                         (overflow)",
+                        ri[p]
+                    )));
+                }
+            }
+        }
         Ok(Stiffness::Sparse(m))
     }
 
