@@ -43,7 +43,7 @@ impl Stiffness {
     }
 
     /// Builds a sparse matrix from (row, col, value) triplets; duplicates are summed.
-    pub fn from_triplets(n: usize, triplets: &[(usize, usize, f64)]) -> Result<Self> {
+    fn assemble(n: usize, triplets: &[(usize, usize, f64)]) -> Result<Self> {
         if n == 0 {
             return Err(Error::input("stiffness matrix is empty (0×0)"));
         }
@@ -61,6 +61,15 @@ impl Stiffness {
         }
         let m = SparseColMat::try_new_from_triplets(n, n, &t)
             .map_err(|e| Error::input(format!("cannot build sparse matrix: {e:?}")))?;
+        Ok(Stiffness::Sparse(m))
+    }
+
+    /// A sparse matrix from triplets (duplicates summed), refusing entries that are not
+    /// finite after summing (an input file whose duplicates overflow).
+    pub fn from_triplets(n: usize, triplets: &[(usize, usize, f64)]) -> Result<Self> {
+        let Stiffness::Sparse(m) = Self::assemble(n, triplets)? else {
+            unreachable!("assemble builds a sparse matrix")
+        };
         // Duplicates are summed: finite entries can overflow to ±∞.
         let (cp, ri) = (m.symbolic().col_ptr(), m.symbolic().row_idx());
         for j in 0..n {
@@ -204,7 +213,8 @@ impl Stiffness {
                 let mut t = Vec::with_capacity(self.nnz() + adds.len());
                 self.for_each_entry(|i, j, v| t.push((i, j, v)));
                 t.extend(adds.iter().map(|&(d, v)| (d, d, v)));
-                Stiffness::from_triplets(self.n(), &t).expect("indices already validated")
+                // Unchecked values: an overflowing penalty is reported by the factorization.
+                Stiffness::assemble(self.n(), &t).expect("indices already validated")
             }
         }
     }
