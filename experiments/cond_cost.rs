@@ -268,15 +268,7 @@ fn run(args: &Args) -> Result<()> {
         };
         let text = serde_json::to_string_pretty(&doc).expect("serializable");
         provenance::write_atomic(&json_path, text.as_bytes())?;
-        let mut w = csv::Writer::from_writer(Vec::new());
-        for r in &rows {
-            w.serialize(r)
-                .map_err(|e| Error::Numerical(e.to_string()))?;
-        }
-        let bytes = w
-            .into_inner()
-            .map_err(|e| Error::Numerical(e.to_string()))?;
-        provenance::write_atomic(&args.out.join("cond_cost.csv"), &bytes)?;
+        provenance::write_csv(&args.out.join("cond_cost.csv"), &rows)?;
         rows
     };
     render_figure(&rows, &args.out)?;

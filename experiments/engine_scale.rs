@@ -45,15 +45,7 @@ fn run(a: Args) -> Result<()> {
     };
     let rows = engine_scale::run(&cfg, &mut |line| eprintln!("{line}"))?;
     std::fs::create_dir_all(&a.out).map_err(|e| Error::io(a.out.display(), e))?;
-    let mut w = csv::Writer::from_writer(Vec::new());
-    for r in &rows {
-        w.serialize(r)
-            .map_err(|e| Error::Numerical(e.to_string()))?;
-    }
-    let bytes = w
-        .into_inner()
-        .map_err(|e| Error::Numerical(e.to_string()))?;
-    provenance::write_atomic(&a.out.join("rows.csv"), &bytes)?;
+    provenance::write_csv(&a.out.join("rows.csv"), &rows)?;
     let json = serde_json::to_string_pretty(&rows).expect("JSON value");
     provenance::write_atomic(&a.out.join("rows.json"), json.as_bytes())?;
     let manifest = serde_json::json!({

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates every figure of the repository from data (each binary saves its data first and
 # renders from it). Run from the repository root: bash figures/regenerate.sh
-# The timing figures (runtime_vs_error, cond_cost) measure this machine: run them idle.
+# The timing figures (runtime_vs_error, cond_cost, engine_scale) measure this machine: run them idle.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release --bins
@@ -12,3 +12,4 @@ cargo run --release --bin test_example -- --out figures/test_example
 cargo run --release --bin stress -- --out figures/stress
 cargo run --release --bin runtime_vs_error -- --out figures/runtime_vs_error
 cargo run --release --bin cond_cost -- --out figures/cond_cost
+cargo run --release --bin engine_scale -- --sizes 10000,100000,1000000 --out figures/engine_scale

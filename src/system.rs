@@ -72,16 +72,12 @@ impl Stiffness {
         };
         // Duplicates are summed: finite entries can overflow to ±∞.
         let (cp, ri) = (m.symbolic().col_ptr(), m.symbolic().row_idx());
-        for j in 0..n {
-            for p in cp[j]..cp[j + 1] {
-                if !m.val()[p].is_finite() {
-                    return Err(Error::input(format!(
-                        "sparse entry ({}, {j}) is not finite after summing duplicate entries \
-                         (overflow)",
-                        ri[p]
-                    )));
-                }
-            }
+        if let Some(p) = m.val().iter().position(|v| !v.is_finite()) {
+            let j = cp.partition_point(|&c| c <= p) - 1;
+            return Err(Error::input(format!(
+                "sparse entry ({}, {j}) is not finite after summing duplicate entries (overflow)",
+                ri[p]
+            )));
         }
         Ok(Stiffness::Sparse(m))
     }
