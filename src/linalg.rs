@@ -421,75 +421,57 @@ impl Factorization {
     }
 }
 
-/// `A` (a sparse matrix, both triangles stored) as a faer linear operator for
-/// [`faer::matrix_free::conjugate_gradient`].
-struct SparseOp<'a>(faer::sparse::SparseColMatRef<'a, usize, f64>);
+/// The two operators of [`pcg`] for faer's `conjugate_gradient`: a sparse matrix (both
+/// triangles stored; `A x`) and a sparse Cholesky factor used as preconditioner (`M⁻¹ x`, one
+/// solve). Both are real symmetric, so `conj_apply = apply`.
+enum Operator<'a> {
+    Sparse(faer::sparse::SparseColMatRef<'a, usize, f64>),
+    Factor(&'a SparseLlt),
+}
 
-impl std::fmt::Debug for SparseOp<'_> {
+impl std::fmt::Debug for Operator<'_> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "SparseOp({}×{})", self.0.nrows(), self.0.ncols())
+        match self {
+            Operator::Sparse(a) => write!(f, "Sparse({}×{})", a.nrows(), a.ncols()),
+            Operator::Factor(l) => write!(f, "Factor({})", l.symbolic.nrows()),
+        }
     }
 }
 
-impl faer::matrix_free::LinOp<f64> for SparseOp<'_> {
+impl faer::matrix_free::LinOp<f64> for Operator<'_> {
     fn apply_scratch(&self, _rhs_ncols: usize, _par: Par) -> faer::dyn_stack::StackReq {
         faer::dyn_stack::StackReq::EMPTY
     }
     fn nrows(&self) -> usize {
-        self.0.nrows()
+        match self {
+            Operator::Sparse(a) => a.nrows(),
+            Operator::Factor(l) => l.symbolic.nrows(),
+        }
     }
     fn ncols(&self) -> usize {
-        self.0.ncols()
-    }
-    fn apply(&self, out: MatMut<'_, f64>, rhs: faer::MatRef<'_, f64>, par: Par, _: &mut MemStack) {
-        faer::sparse::linalg::matmul::sparse_dense_matmul(
-            out,
-            faer::Accum::Replace,
-            self.0,
-            rhs,
-            1.0,
-            par,
-        );
-    }
-    fn conj_apply(
-        &self,
-        out: MatMut<'_, f64>,
-        rhs: faer::MatRef<'_, f64>,
-        par: Par,
-        stack: &mut MemStack,
-    ) {
-        self.apply(out, rhs, par, stack);
-    }
-}
-
-/// A sparse Cholesky factor used as a preconditioner (`M⁻¹ x` = one solve).
-struct FactorPrecond<'a>(&'a SparseLlt);
-
-impl std::fmt::Debug for FactorPrecond<'_> {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "FactorPrecond")
-    }
-}
-
-impl faer::matrix_free::LinOp<f64> for FactorPrecond<'_> {
-    fn apply_scratch(&self, _rhs_ncols: usize, _par: Par) -> faer::dyn_stack::StackReq {
-        faer::dyn_stack::StackReq::EMPTY
-    }
-    fn nrows(&self) -> usize {
-        self.0.symbolic.nrows()
-    }
-    fn ncols(&self) -> usize {
-        self.0.symbolic.nrows()
+        self.nrows()
     }
     fn apply(
         &self,
         mut out: MatMut<'_, f64>,
         rhs: faer::MatRef<'_, f64>,
-        _par: Par,
+        par: Par,
         _: &mut MemStack,
     ) {
-        out.copy_from(rhs);
-        self.0.solve_in_place(out);
+        match self {
+            Operator::Sparse(a) => faer::sparse::linalg::matmul::sparse_dense_matmul(
+                out,
+                faer::Accum::Replace,
+                *a,
+                rhs,
+                1.0,
+                par,
+            ),
+            Operator::Factor(l) => {
+                out.copy_from(rhs);
+                l.solve_in_place(out);
+            }
+        }
     }
     fn conj_apply(
         &self,
@@ -502,7 +484,7 @@ impl faer::matrix_free::LinOp<f64> for FactorPrecond<'_> {
     }
 }
 
-impl faer::matrix_free::Precond<f64> for FactorPrecond<'_> {}
+impl faer::matrix_free::Precond<f64> for Operator<'_> {}
 
 /// Result of [`pcg`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -531,7 +513,7 @@ pub fn pcg(
         conjugate_gradient, conjugate_gradient_scratch, CgError, CgParams,
     };
     let n = b.len();
-    let (op, pre) = (SparseOp(a), FactorPrecond(precond));
+    let (op, pre) = (Operator::Sparse(a), Operator::Factor(precond));
     let params = CgParams {
         rel_tolerance: tol,
         max_iters,

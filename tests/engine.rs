@@ -8,23 +8,17 @@
 //! tolerance on `‖∇J(u)‖∞` is the backward-error bound of a stable solve,
 //! `c·N·ε_mach·(‖H‖∞‖u‖∞ + ‖b‖∞)` (Higham §7.1) — no condition number, no bare constant.
 
-use nalgebra::{DMatrix, DVector};
+mod common;
+
+use common::dense::{dense, inf};
+use nalgebra::DVector;
 use penalty_lab::model::beam::bed::{self, Bed};
 use penalty_lab::strategy::{self, Method, Solution};
-use penalty_lab::system::{ConstraintKind, Problem, Stiffness};
+use penalty_lab::system::{ConstraintKind, Problem};
 use proptest::prelude::*;
 use std::collections::HashSet;
 
 const C_ROUND: f64 = 8.0;
-
-fn dense(k: &Stiffness) -> DMatrix<f64> {
-    let d = k.to_dense();
-    DMatrix::from_fn(d.nrows(), d.ncols(), |i, j| d[(i, j)])
-}
-
-fn inf(v: &[f64]) -> f64 {
-    v.iter().fold(0.0f64, |a, x| a.max(x.abs()))
-}
 
 /// The plain loop, independently: start from the set violated by u0, penalize the violated
 /// constraints with `eps[c]`, re-solve; `Some(u)` when the set repeats at once (converged),

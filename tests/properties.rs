@@ -19,6 +19,9 @@
 //! was found, so the generic claim is kept as an ignored property with its shrunk
 //! counterexample committed in `proptest-regressions/properties.txt`.
 
+mod common;
+
+use common::dense::{dense, inf};
 use nalgebra::{DMatrix, DVector};
 use penalty_lab::conditioning;
 use penalty_lab::metrics;
@@ -44,17 +47,6 @@ fn rounding_tol(cond: f64, n: usize, scale: f64) -> f64 {
 
 fn cond_of(k: &Stiffness) -> f64 {
     conditioning::cond2(k).expect("cond2").cond2
-}
-
-fn inf(v: &[f64]) -> f64 {
-    v.iter().fold(0.0f64, |a, x| a.max(x.abs()))
-}
-
-fn dense(k: &Stiffness) -> DMatrix<f64> {
-    let n = k.n();
-    let mut m = DMatrix::zeros(n, n);
-    k.for_each_entry(|i, j, v| m[(i, j)] += v);
-    m
 }
 
 fn solve_dense(k: &DMatrix<f64>, b: &[f64]) -> Vec<f64> {

@@ -11,6 +11,9 @@
 //! ≲ c·n·ε_mach (Higham, *Accuracy and Stability of Numerical Algorithms*, §7.1 and §9–10); see
 //! [`rounding_tol`] and [`residual_tol`].
 
+mod common;
+
+use common::dense::{dense, inf};
 use nalgebra::{DMatrix, DVector};
 use penalty_lab::conditioning;
 use penalty_lab::metrics;
@@ -49,17 +52,6 @@ fn cond_of(k: &Stiffness) -> f64 {
 // ----------------------------------------------------------------------------------------
 // Small dense linear algebra, independent of the library (nalgebra)
 // ----------------------------------------------------------------------------------------
-
-fn dense(k: &Stiffness) -> DMatrix<f64> {
-    let n = k.n();
-    let mut m = DMatrix::zeros(n, n);
-    k.for_each_entry(|i, j, v| m[(i, j)] += v);
-    m
-}
-
-fn inf(v: &[f64]) -> f64 {
-    v.iter().fold(0.0f64, |a, x| a.max(x.abs()))
-}
 
 fn norm_inf_mat(a: &DMatrix<f64>) -> f64 {
     (0..a.nrows())

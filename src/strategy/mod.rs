@@ -210,7 +210,7 @@ pub struct Stats {
     /// Conjugate-gradient iterations (each: one product with the matrix and one solve with an
     /// earlier factor as preconditioner) spent instead of refactorizing when an active-set
     /// iteration changed few constraints (elimination route; see
-    /// [`eliminated`](crate::strategy::eliminated)).
+    /// [`eliminated`]).
     pub cg_iterations: usize,
 }
 

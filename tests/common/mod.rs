@@ -1,4 +1,8 @@
-//! Helpers shared by the CLI tests of the experiment binaries.
+//! Helpers shared by the tests: the CLI contract of the experiment binaries, and independent
+//! dense helpers ([`dense`]). Each test crate uses part of them.
+#![allow(dead_code)]
+
+pub mod dense;
 
 use std::path::Path;
 use std::process::Command;
