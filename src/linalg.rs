@@ -61,21 +61,30 @@ impl SparseLlt {
         symbolic: Arc<SymbolicCholesky<usize>>,
         a: &SparseColMat<usize, f64>,
     ) -> Option<Self> {
+        Self::factorize_ref(symbolic, a.as_ref())
+    }
+
+    /// [`SparseLlt::factorize`] of a borrowed matrix.
+    pub fn factorize_ref(
+        symbolic: Arc<SymbolicCholesky<usize>>,
+        a: faer::sparse::SparseColMatRef<'_, usize, f64>,
+    ) -> Option<Self> {
         let mut values = recycled_values(symbolic.len_val());
         let par = Par::Seq;
-        let mut mem =
-            MemBuffer::new(symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()));
-        let ok = symbolic
-            .factorize_numeric_llt(
-                &mut values,
-                a.as_ref(),
-                Side::Lower,
-                Default::default(),
-                par,
-                MemStack::new(&mut mem),
-                Default::default(),
-            )
-            .is_ok();
+        let req = symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default());
+        let ok = with_scratch(req, |stack| {
+            symbolic
+                .factorize_numeric_llt(
+                    &mut values,
+                    a,
+                    Side::Lower,
+                    Default::default(),
+                    par,
+                    stack,
+                    Default::default(),
+                )
+                .is_ok()
+        });
         if ok {
             Some(SparseLlt { symbolic, values })
         } else {
@@ -136,13 +145,15 @@ impl SparseLlt {
     fn solve_in_place(&self, rhs: MatMut<'_, f64>) {
         let par = Par::Seq;
         let ncols = rhs.ncols();
-        let mut mem = MemBuffer::new(self.symbolic.solve_in_place_scratch::<f64>(ncols, par));
-        LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(
-            Conj::No,
-            rhs,
-            par,
-            MemStack::new(&mut mem),
-        );
+        let req = self.symbolic.solve_in_place_scratch::<f64>(ncols, par);
+        with_scratch(req, |stack| {
+            LltRef::new(&self.symbolic, &self.values).solve_in_place_with_conj(
+                Conj::No,
+                rhs,
+                par,
+                stack,
+            )
+        });
     }
 }
 
@@ -157,6 +168,27 @@ thread_local! {
     /// inertia bisections factorize the same pattern again and again; reusing the buffer
     /// avoids mapping (and page-faulting) tens of MB of fresh memory per factorization.
     static SPARE_VALUES: std::cell::RefCell<Vec<f64>> = const { std::cell::RefCell::new(Vec::new()) };
+}
+
+thread_local! {
+    /// The largest scratch buffer used by a sparse factorization or solve on this thread, kept
+    /// for the next one (same reason as `SPARE_VALUES`).
+    static SPARE_SCRATCH: std::cell::RefCell<Option<(usize, usize, MemBuffer)>> =
+        const { std::cell::RefCell::new(None) };
+}
+
+/// Runs `f` on a scratch stack of at least `req`, reusing this thread's spare buffer when it
+/// is large enough (the buffer's contents are never read before being written by faer).
+fn with_scratch<R>(req: faer::dyn_stack::StackReq, f: impl FnOnce(&mut MemStack) -> R) -> R {
+    let (size, align) = (req.size_bytes(), req.align_bytes());
+    let spare = SPARE_SCRATCH.with(|s| s.borrow_mut().take());
+    let (mut buf, cap, cap_align) = match spare {
+        Some((c, a, b)) if c >= size && a >= align => (b, c, a),
+        _ => (MemBuffer::new(req), size, align),
+    };
+    let r = f(MemStack::new(&mut buf));
+    SPARE_SCRATCH.with(|s| *s.borrow_mut() = Some((cap, cap_align, buf)));
+    r
 }
 
 /// A zeroed value buffer of length `len`, reusing the spare one if it is large enough.
@@ -244,9 +276,9 @@ impl DiagonalPattern {
 
     /// Numeric Cholesky of the matrix with this pattern and `values` (None if not positive
     /// definite).
-    pub fn factor(&self, values: Vec<f64>) -> Option<SparseLlt> {
-        let m = SparseColMat::new(self.pattern.clone(), values);
-        SparseLlt::factorize(self.symbolic.clone(), &m)
+    pub fn factor(&self, values: &[f64]) -> Option<SparseLlt> {
+        let m = faer::sparse::SparseColMatRef::new(self.pattern.as_ref(), values);
+        SparseLlt::factorize_ref(self.symbolic.clone(), m)
     }
 
     /// Dimension.

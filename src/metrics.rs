@@ -82,6 +82,15 @@ fn system_cond(
     }
 }
 
+/// `log10|det A|`: read off the cond₂ route's own factorization when it has one, else from a
+/// factorization of A.
+fn log10_det(cond: Option<&CondReport>, a: &Stiffness) -> Result<f64> {
+    match cond.and_then(|c| c.log10_det) {
+        Some(v) => Ok(v),
+        None => conditioning::log10_abs_det(a),
+    }
+}
+
 /// Threshold on `cond₂ · ε_mach` above which fewer than ~10 digits are reliable.
 pub const DIGITS_LOST_THRESHOLD: f64 = 1e-6;
 
@@ -105,8 +114,8 @@ pub fn compute(problem: &Problem, sol: &Solution, set: MetricSet) -> Result<Metr
         out.cond2_system = system_cond(problem, sol, &sys, &mut out)?;
     }
     if set.det {
-        let dk = conditioning::log10_abs_det(&problem.k)?;
-        let ds = conditioning::log10_abs_det(&sys)?;
+        let dk = log10_det(out.cond2_k.as_ref(), &problem.k)?;
+        let ds = log10_det(out.cond2_system.as_ref(), &sys)?;
         out.log10_det_k = Some(dk);
         out.log10_det_system = Some(ds);
         out.log10_det_ratio = Some(ds - dk);
@@ -136,7 +145,7 @@ pub fn compute_with_k(
             Some(v) => v,
             None => conditioning::log10_abs_det(&problem.k)?,
         };
-        let ds = conditioning::log10_abs_det(&sys)?;
+        let ds = log10_det(out.cond2_system.as_ref(), &sys)?;
         out.log10_det_k = Some(dk);
         out.log10_det_system = Some(ds);
         out.log10_det_ratio = Some(ds - dk);

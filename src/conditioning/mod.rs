@@ -73,6 +73,10 @@ pub struct CondReport {
     pub route: CondRoute,
     /// Inertia brackets of λ_max and λ_min (sparse route only).
     pub certificate: Option<sparse::Certificate>,
+    /// `log10|det A|` when the route factorized A itself (sparse SPD route: free by-product,
+    /// so the metrics do not factorize A again).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub log10_det: Option<f64>,
 }
 
 /// Largest dimension for which a sparse matrix is densified to get an exact condition number.
@@ -111,6 +115,7 @@ pub fn cond2_dense(a: MatRef<'_, f64>, symmetric: bool) -> Result<CondReport> {
         sigma_min: smin,
         route,
         certificate: None,
+        log10_det: None,
     })
 }
 
@@ -157,6 +162,7 @@ pub fn cond2_sparse_spd(a: &faer::sparse::SparseColMat<usize, f64>) -> Result<Co
         sigma_min: s.lambda_min,
         route: CondRoute::SparseInertia,
         certificate: Some(s.certificate),
+        log10_det: Some(s.log10_det),
     })
 }
 

@@ -55,11 +55,15 @@ struct Shifts<'a> {
     pattern: &'a DiagonalPattern,
     in_b: &'a [bool],
     factorizations: usize,
+    /// Value buffer reused by every factorization.
+    work: Vec<f64>,
 }
 
 impl Shifts<'_> {
     fn factor(&mut self, alpha: f64, sigma: f64, beta: f64) -> Option<SparseLlt> {
-        let mut v: Vec<f64> = self.pattern.values.iter().map(|x| alpha * x).collect();
+        let v = &mut self.work;
+        v.clear();
+        v.extend(self.pattern.values.iter().map(|x| alpha * x));
         for (j, &p) in self.pattern.diag.iter().enumerate() {
             v[p] += sigma + if self.in_b[j] { beta } else { 0.0 };
         }
@@ -105,6 +109,7 @@ pub fn cond2_saddle_with(
         pattern: &pattern,
         in_b: &in_b,
         factorizations: 0,
+        work: Vec::new(),
     };
     // K_FF (rows/columns of B replaced by the identity) for A⁻¹.
     let (cp, ri) = (pattern.pattern.col_ptr(), pattern.pattern.row_idx());
@@ -116,7 +121,7 @@ pub fn cond2_saddle_with(
             }
         }
     }
-    let kff = pattern.factor(vff).ok_or_else(|| {
+    let kff = pattern.factor(&vff).ok_or_else(|| {
         Error::singular("saddle-point matrix is singular: K without the constrained DOFs is not positive definite")
     })?;
     shifts.factorizations += 1;
@@ -241,6 +246,7 @@ pub fn cond2_saddle_with(
         sigma_min: smin,
         route: CondRoute::SparseSaddleInertia,
         certificate: Some(certificate),
+        log10_det: None,
     })
 }
 

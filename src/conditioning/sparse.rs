@@ -85,6 +85,8 @@ pub struct SparseSpectrum {
 struct ShiftFamily {
     pattern: DiagonalPattern,
     factorizations: usize,
+    /// Value buffer reused by every factorization.
+    work: Vec<f64>,
 }
 
 impl ShiftFamily {
@@ -92,12 +94,15 @@ impl ShiftFamily {
         Ok(ShiftFamily {
             pattern: DiagonalPattern::new(a)?,
             factorizations: 0,
+            work: Vec::new(),
         })
     }
 
     /// Cholesky of `alpha·A + sigma·I` (None if not positive definite).
     fn factor(&mut self, alpha: f64, sigma: f64) -> Option<SparseLlt> {
-        let mut v: Vec<f64> = self.pattern.values.iter().map(|x| alpha * x).collect();
+        let v = &mut self.work;
+        v.clear();
+        v.extend(self.pattern.values.iter().map(|x| alpha * x));
         for &p in &self.pattern.diag {
             v[p] += sigma;
         }

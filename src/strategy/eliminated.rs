@@ -121,6 +121,7 @@ pub fn box_solve(
     let mut last: Option<(SparseLlt, Vec<bool>)> = None;
     let mut u_last: Option<Vec<f64>> = None;
     let cg_tol = super::active_set::backward_error_tol(n);
+    let mut vals = pat.values.clone(); // matrix values of each iteration (buffer reused)
     for it in 1..=max_it {
         // Prescribed DOFs and values.
         let mut fixed = vec![false; n];
@@ -138,7 +139,7 @@ pub fn box_solve(
         }
         sizes.push(at_bound);
         // Matrix with prescribed rows/columns replaced by K_jj e_j; rhs q_F − K_FB u_B.
-        let mut vals = pat.values.clone();
+        vals.copy_from_slice(&pat.values);
         let mut rhs = problem.q.clone();
         for j in 0..n {
             for p in cols[j]..cols[j + 1] {
@@ -188,7 +189,7 @@ pub fn box_solve(
             Some(x) => x,
             None => {
                 drop(last.take()); // one factor in memory at a time
-                let f = pat.factor(vals).ok_or_else(|| {
+                let f = pat.factor(&vals).ok_or_else(|| {
                     Error::singular(
                         "K_FF (K without the DOFs at a bound) is not positive definite: K is \
                          singular on the free DOFs"
