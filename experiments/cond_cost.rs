@@ -83,11 +83,6 @@ struct Document {
     rows: Vec<Row>,
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
 fn time<T>(repeats: usize, mut f: impl FnMut() -> Result<T>) -> Result<(f64, T)> {
     let mut times = Vec::with_capacity(repeats);
     let mut last = None;
@@ -97,7 +92,8 @@ fn time<T>(repeats: usize, mut f: impl FnMut() -> Result<T>) -> Result<(f64, T)>
         times.push(t0.elapsed().as_secs_f64());
         last = Some(r);
     }
-    Ok((median(times), last.expect("at least one repeat")))
+    let med = penalty_lab::stats::median(&times).expect("at least one repeat");
+    Ok((med, last.expect("at least one repeat")))
 }
 
 fn measure(family: &str, a: &Stiffness, args: &Args) -> Result<Row> {

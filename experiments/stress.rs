@@ -17,6 +17,7 @@ use clap::Parser;
 use penalty_lab::plot::{self, Figure};
 use penalty_lab::provenance;
 use penalty_lab::stability::{self, EpsRow, StrategyRow, StressConfig, StressScene};
+use penalty_lab::stats::median;
 use penalty_lab::sweep::generate::FAMILY_NAMES;
 use penalty_lab::sweep::LogGrid;
 use penalty_lab::Error;
@@ -153,14 +154,6 @@ fn strategy_csv(rows: &[StrategyRow]) -> String {
     t
 }
 
-fn median(mut v: Vec<f64>) -> Option<f64> {
-    if v.is_empty() {
-        return None;
-    }
-    v.sort_by(f64::total_cmp);
-    Some(v[v.len() / 2])
-}
-
 /// What the run found, in numbers (also the `summary` of the JSON outputs).
 fn summary(eps_rows: &[EpsRow], strat: &[StrategyRow]) -> Value {
     let count = |s: &str| strat.iter().filter(|r| r.status == s).count();
@@ -184,7 +177,7 @@ fn summary(eps_rows: &[EpsRow], strat: &[StrategyRow]) -> Value {
         .filter(|r| r.cond_eps_mach.is_some_and(|c| c < 1e-2))
         .collect();
     let med = |f: &dyn Fn(&EpsRow) -> Option<f64>, rows: &[&EpsRow]| {
-        median(rows.iter().filter_map(|r| f(r)).collect())
+        median(&rows.iter().filter_map(|r| f(r)).collect::<Vec<_>>())
     };
     let beyond: Vec<&EpsRow> = eps_rows
         .iter()

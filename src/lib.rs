@@ -61,6 +61,7 @@ pub mod plot;
 pub mod provenance;
 pub mod scene;
 pub mod stability;
+pub mod stats;
 pub mod strategy;
 pub mod sweep;
 pub mod system;

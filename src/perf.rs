@@ -455,17 +455,6 @@ impl Budget {
     }
 }
 
-fn median(v: &[f64]) -> f64 {
-    let mut s = v.to_vec();
-    s.sort_by(f64::total_cmp);
-    let k = s.len();
-    if k % 2 == 1 {
-        s[k / 2]
-    } else {
-        0.5 * (s[k / 2 - 1] + s[k / 2])
-    }
-}
-
 fn relative_error(u: &[f64], r: &[f64]) -> Option<f64> {
     let e = crate::metrics::relative_error(u, r);
     e.is_finite().then_some(e)
@@ -565,7 +554,7 @@ pub fn run_scene(
                     reference = Some((sol.u.clone(), "lagrange"));
                 }
                 row.status = "ok".into();
-                row.seconds = Some(median(&times));
+                row.seconds = crate::stats::median(&times);
                 row.seconds_all = times;
                 row.max_penetration = Some(sol.max_penetration).filter(|v| v.is_finite());
                 row.penetration_rel = row.max_penetration.map(|v| v / scene.scale);

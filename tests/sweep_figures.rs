@@ -4,7 +4,8 @@
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
-use penalty_lab::sweep::figures::{build_figures, quantile, render_all, FIGURE_KINDS};
+use penalty_lab::stats::{median, quantile};
+use penalty_lab::sweep::figures::{build_figures, render_all, FIGURE_KINDS};
 use penalty_lab::sweep::rows::Row;
 
 fn tmp_dir(name: &str) -> PathBuf {
@@ -31,6 +32,10 @@ fn quantile_matches_hand_computed_values() {
     assert_eq!(quantile(&mut v, 0.0), 1.0);
     assert_eq!(quantile(&mut v, 1.0), 4.0);
     assert_eq!(quantile(&mut v, 1.0 / 3.0), 2.0); // h = 1 exactly
+                                                  // The median is the q = ½ quantile: mean of the middle pair for an even count.
+    assert_eq!(median(&[4.0, 1.0, 3.0, 2.0]), Some(2.5));
+    assert_eq!(median(&[3.0, 1.0, 2.0]), Some(2.0));
+    assert_eq!(median(&[]), None);
 
     // Odd length: the median is the middle element.
     let mut v = vec![10.0, -5.0, 7.0, 0.0, 100.0];

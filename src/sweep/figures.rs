@@ -38,6 +38,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
 use crate::plot::{render, Band, Figure, Mark, Marker, Scale, Series};
+use crate::stats::quantile;
 use crate::sweep::rows::Row;
 use crate::{Error, Result};
 
@@ -77,27 +78,6 @@ const EPS_LABEL: &str =
 const PEN_LABEL: &str = "max penetration (units of u)";
 /// Label of the penetration axis when normalised by each scene's displacement scale.
 const PEN_REL_LABEL: &str = "max penetration / max_c |u0[d_c]|";
-
-/// The `q`-quantile of `v` (0 ≤ q ≤ 1, clamped) with linear interpolation between order
-/// statistics: with `v` sorted ascending and `h = q (n − 1)`, the result is
-/// `v[⌊h⌋] + (h − ⌊h⌋)(v[⌊h⌋+1] − v[⌊h⌋])` (type 7 of Hyndman & Fan, the default of R and
-/// NumPy). `v` is sorted in place. The input must be NaN-free; an empty slice gives NaN.
-pub fn quantile(v: &mut [f64], q: f64) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    let q = if q.is_nan() { 0.5 } else { q.clamp(0.0, 1.0) };
-    let h = q * (v.len() - 1) as f64;
-    let lo = h.floor() as usize;
-    let hi = (lo + 1).min(v.len() - 1);
-    let frac = h - lo as f64;
-    if frac == 0.0 || v[lo] == v[hi] {
-        v[lo]
-    } else {
-        v[lo] + frac * (v[hi] - v[lo])
-    }
-}
 
 /// Builds every sweep figure without rendering it: `(file stem, figure)` pairs, families in
 /// the order beam, membrane, spectrum, file, then any other alphabetically; within a family
