@@ -1,6 +1,41 @@
-//! Embeds the versions of the main dependencies (from Cargo.lock) for provenance records.
+//! Embeds, for provenance records, the versions of the main dependencies (from Cargo.lock)
+//! and the git commit the binary was built from, with `-dirty` when tracked files differed
+//! from it (so a binary run from any directory records its own source, not the caller's).
+fn git(args: &[&str]) -> Option<String> {
+    let o = std::process::Command::new("git").args(args).output().ok()?;
+    o.status
+        .success()
+        .then(|| String::from_utf8_lossy(&o.stdout).trim().to_string())
+}
+
 fn main() {
     println!("cargo:rerun-if-changed=Cargo.lock");
+    // Re-run when the sources or the checkout's HEAD/index change (commit, checkout, edit).
+    for p in [
+        "src",
+        "experiments",
+        "benches",
+        "examples",
+        "Cargo.toml",
+        "build.rs",
+        ".git/HEAD",
+        ".git/index",
+    ] {
+        println!("cargo:rerun-if-changed={p}");
+    }
+    let commit = match git(&["rev-parse", "HEAD"]) {
+        Some(sha) => {
+            let dirty = git(&["status", "--porcelain", "--untracked-files=no"])
+                .is_some_and(|s| !s.is_empty());
+            if dirty {
+                format!("{sha}-dirty")
+            } else {
+                sha
+            }
+        }
+        None => "unknown".to_string(),
+    };
+    println!("cargo:rustc-env=PENALTY_LAB_GIT_COMMIT={commit}");
     let lock = std::fs::read_to_string("Cargo.lock").unwrap_or_default();
     let wanted = [
         "faer",

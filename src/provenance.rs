@@ -3,16 +3,11 @@
 use crate::error::{Error, Result};
 use std::path::Path;
 
-/// `git rev-parse HEAD` of the working directory, or `"unknown"` outside a git checkout.
+/// The git commit this binary was built from (captured at build time by `build.rs`), with a
+/// `-dirty` suffix when tracked files differed from it; `"unknown"` when built outside a git
+/// checkout. Independent of the directory the binary runs in.
 pub fn git_commit() -> String {
-    std::process::Command::new("git")
-        .args(["rev-parse", "HEAD"])
-        .output()
-        .ok()
-        .filter(|o| o.status.success())
-        .and_then(|o| String::from_utf8(o.stdout).ok())
-        .map(|s| s.trim().to_string())
-        .unwrap_or_else(|| "unknown".into())
+    env!("PENALTY_LAB_GIT_COMMIT").to_string()
 }
 
 /// Versions of penalty-lab and its main dependencies, read from Cargo.lock at build time.

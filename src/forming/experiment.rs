@@ -4,9 +4,10 @@
 //! The three runs are independent and run in parallel (rayon).
 
 use super::config::{ContactRule, FormingConfig};
-use super::report::{git_commit, SavedRun, SavedRuns};
+use super::report::{SavedRun, SavedRuns};
 use super::solver::Simulation;
 use crate::error::{Error, Result};
+use crate::provenance::git_commit;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::PathBuf;

@@ -60,17 +60,6 @@ pub struct SavedRuns {
     pub runs: BTreeMap<String, SavedRun>,
 }
 
-/// `git rev-parse HEAD`, or `"unknown"`.
-pub fn git_commit() -> String {
-    std::process::Command::new("git")
-        .args(["rev-parse", "HEAD"])
-        .output()
-        .ok()
-        .filter(|o| o.status.success())
-        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
-        .unwrap_or_else(|| "unknown".into())
-}
-
 /// Writes one run's step table as CSV.
 pub fn write_steps_csv(path: &Path, steps: &[StepRecord]) -> Result<()> {
     let mut w = csv::Writer::from_path(path).map_err(|e| Error::io(path.display(), e))?;
