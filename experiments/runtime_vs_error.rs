@@ -78,14 +78,6 @@ fn opt<T: std::fmt::LowerExp>(v: Option<T>) -> String {
     v.map_or(String::new(), |x| format!("{x:e}"))
 }
 
-fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n']) {
-        format!("\"{}\"", s.replace('"', "\"\"").replace('\n', " "))
-    } else {
-        s.to_string()
-    }
-}
-
 fn csv(rows: &[PerfRow]) -> String {
     let mut t = String::from(
         "family,size,n,m,method,knob,value,value_rel,status,seconds,seconds_all,\
@@ -118,9 +110,9 @@ fn csv(rows: &[PerfRow]) -> String {
             r.linear_solves.map_or(String::new(), |v| v.to_string()),
             r.converged.map_or(String::new(), |v| v.to_string()),
             r.warnings.len().to_string(),
-            csv_field(&r.reason),
+            r.reason.clone(),
         ];
-        t.push_str(&cells.join(","));
+        t.push_str(&provenance::csv_line(&cells));
         t.push('\n');
     }
     t

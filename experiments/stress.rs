@@ -69,14 +69,6 @@ fn opt(v: Option<f64>) -> String {
     v.map_or(String::new(), |x| format!("{x:e}"))
 }
 
-fn csv_field(s: &str) -> String {
-    if s.contains([',', '"', '\n']) {
-        format!("\"{}\"", s.replace('"', "\"\"").replace('\n', " "))
-    } else {
-        s.to_string()
-    }
-}
-
 fn eps_csv(rows: &[EpsRow]) -> String {
     let mut t = String::from(
         "scene,family,n,m_active,eps,cond2,cond2_f64,cond_eps_mach,cond2_scaled,precision_warning,reference_correction,\
@@ -88,7 +80,7 @@ fn eps_csv(rows: &[EpsRow]) -> String {
     for r in rows {
         let f = &r.forward;
         let cells = [
-            csv_field(&r.scene),
+            r.scene.clone(),
             r.family.clone(),
             r.n.to_string(),
             r.m_active.to_string(),
@@ -108,13 +100,13 @@ fn eps_csv(rows: &[EpsRow]) -> String {
             opt(r.penalty_error),
             opt(r.total_error_plain),
             opt(r.total_error_refined),
-            csv_field(&r.variant_errors.join(" | ")),
+            r.variant_errors.join(" | "),
             r.strategy_status.clone(),
             opt(r.strategy_max_penetration),
             r.strategy_warnings.to_string(),
-            csv_field(&r.strategy_message),
+            r.strategy_message.clone(),
         ];
-        t.push_str(&cells.join(","));
+        t.push_str(&provenance::csv_line(&cells));
         t.push('\n');
     }
     t
@@ -128,12 +120,12 @@ fn strategy_csv(rows: &[StrategyRow]) -> String {
     );
     for r in rows {
         let cells = [
-            csv_field(&r.scene),
+            r.scene.clone(),
             r.family.clone(),
             r.n.to_string(),
             r.m.to_string(),
             r.method.clone(),
-            csv_field(&r.knob),
+            r.knob.clone(),
             format!("{:e}", r.value),
             opt(r.value2),
             r.adaptive.to_string(),
@@ -145,10 +137,10 @@ fn strategy_csv(rows: &[StrategyRow]) -> String {
             r.warnings.len().to_string(),
             opt(r.forward_error),
             opt(r.error_vs_lagrange),
-            csv_field(&r.message),
-            csv_field(&r.warnings.join(" | ")),
+            r.message.clone(),
+            r.warnings.join(" | "),
         ];
-        t.push_str(&cells.join(","));
+        t.push_str(&provenance::csv_line(&cells));
         t.push('\n');
     }
     t

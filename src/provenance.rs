@@ -43,3 +43,16 @@ pub fn write_csv<T: serde::Serialize>(path: &Path, rows: &[T]) -> Result<()> {
         .map_err(|e| Error::Numerical(format!("CSV for {}: {e}", path.display())))?;
     write_atomic(path, &bytes)
 }
+
+/// One CSV record (no line end) from its fields, quoted by the `csv` crate where a field needs
+/// it (delimiter, quote, line break): for tables whose columns are built by hand.
+pub fn csv_line(fields: &[String]) -> String {
+    let mut w = csv::WriterBuilder::new()
+        .terminator(csv::Terminator::Any(b'\n'))
+        .from_writer(Vec::new());
+    w.write_record(fields).expect("writing to memory");
+    let bytes = w.into_inner().expect("writing to memory");
+    let mut s = String::from_utf8(bytes).expect("fields are UTF-8");
+    s.pop(); // the terminator
+    s
+}
