@@ -281,6 +281,17 @@ impl DiagonalPattern {
         SparseLlt::factorize_ref(self.symbolic.clone(), m)
     }
 
+    /// `y = A x` with A's values on this pattern (both triangles stored).
+    pub fn matvec(&self, x: &[f64], y: &mut [f64]) {
+        y.iter_mut().for_each(|v| *v = 0.0);
+        let (cp, ri) = (self.pattern.col_ptr(), self.pattern.row_idx());
+        for (j, &xj) in x.iter().enumerate() {
+            for p in cp[j]..cp[j + 1] {
+                y[ri[p]] += self.values[p] * xj;
+            }
+        }
+    }
+
     /// Dimension.
     pub fn n(&self) -> usize {
         self.diag.len()

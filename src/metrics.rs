@@ -55,18 +55,13 @@ fn system_cond(
 ) -> Result<Option<CondReport>> {
     // A sparse saddle point with Boolean D: block-structure route, never densified.
     if let (SystemKind::SaddlePoint { active }, Stiffness::Sparse(k)) = (&sol.system, &problem.k) {
-        let dofs: Vec<usize> = active.iter().map(|&c| problem.constraints[c].dof).collect();
-        let mut seen = vec![false; problem.n()];
-        let distinct = dofs.iter().all(|&d| !std::mem::replace(&mut seen[d], true));
-        if distinct
-            && !dofs.is_empty()
-            && sys.n() >= conditioning::sparse::SPARSE_ROUTE_MIN_N
-            && problem.k.is_symmetric()
-        {
+        if sys.n() >= conditioning::sparse::SPARSE_ROUTE_MIN_N && problem.k.is_symmetric() {
+            let dofs: Vec<usize> = active.iter().map(|&c| problem.constraints[c].dof).collect();
             match conditioning::saddle::cond2_saddle(k, &dofs) {
                 Ok(r) => return Ok(Some(r)),
-                // K_FF not positive definite (K not SPD): the generic route decides below.
-                Err(Error::Singular(_)) => {}
+                // Not its structure (repeated DOFs, no active constraint) or K_FF not
+                // positive definite: the generic route decides below.
+                Err(Error::Input(_) | Error::Singular(_)) => {}
                 Err(e) => return Err(e),
             }
         }

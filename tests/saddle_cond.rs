@@ -4,7 +4,7 @@
 //! solver's own rounding, 64·n·ε_mach·cond₂), on the elasticity scenes of an outside FE code
 //! (where σ_min is the negative eigenvalue closest to 0) and on membranes (σ_min = λ⁺_min).
 
-use penalty_lab::conditioning::saddle::{cond2_saddle, cond2_saddle_with};
+use penalty_lab::conditioning::saddle::{cond2_saddle, cond2_saddle_with, SCHUR_TEST_MAX};
 use penalty_lab::conditioning::{cond2_dense, CondReport, CondRoute};
 use penalty_lab::metrics::{self, MetricSet};
 use penalty_lab::scene::read_scene;
@@ -49,9 +49,17 @@ fn active(p: &Problem) -> (Vec<usize>, Vec<usize>) {
     (active, dofs)
 }
 
-fn check(p: &Problem, sparse: &CondReport, label: &str) {
-    let (act, _) = active(p);
-    let kkt = lagrange::saddle_matrix(p, &act).to_dense();
+/// The lagrange active set of `p` (sparse K) and the sparse saddle-point cond₂ of its system.
+fn sparse_saddle(p: &Problem, schur_test_max: usize) -> (Vec<usize>, CondReport) {
+    let Stiffness::Sparse(k) = &p.k else {
+        panic!("the test scenes have a sparse K")
+    };
+    let (act, dofs) = active(p);
+    (act, cond2_saddle_with(k, &dofs, schur_test_max).unwrap())
+}
+
+fn check(p: &Problem, act: &[usize], sparse: &CondReport, label: &str) {
+    let kkt = lagrange::saddle_matrix(p, act).to_dense();
     let dense = cond2_dense(kkt.as_ref(), true).unwrap();
     let slack = 64.0 * kkt.nrows() as f64 * f64::EPSILON * dense.cond2;
     let cert = sparse.certificate.expect("certificate");
@@ -87,30 +95,22 @@ fn check(p: &Problem, sparse: &CondReport, label: &str) {
 #[test]
 fn elasticity_scenes_sparse_bracket_contains_dense() {
     for p in elasticity() {
-        let Stiffness::Sparse(k) = &p.k else {
-            panic!("scene K is sparse")
-        };
-        let (_, dofs) = active(&p);
-        let sparse = cond2_saddle(k, &dofs).unwrap();
+        let (act, sparse) = sparse_saddle(&p, SCHUR_TEST_MAX);
         assert_eq!(sparse.route, CondRoute::SparseSaddleInertia);
         let (lo, hi) = sparse.certificate.unwrap().cond2_bounds();
         // Certified to the rounding floor 64·ε·cond₂ (cond₂ ≈ 1e11–1e12 here).
         assert!(hi / lo - 1.0 <= 2.0 * 64.0 * f64::EPSILON * sparse.cond2 + 1e-9);
-        check(&p, &sparse, "elasticity");
+        check(&p, &act, &sparse, "elasticity");
     }
 }
 
 #[test]
 fn membranes_sparse_bracket_contains_dense() {
     for p in membranes() {
-        let Stiffness::Sparse(k) = &p.k else {
-            panic!("membrane K is sparse")
-        };
-        let (_, dofs) = active(&p);
-        let sparse = cond2_saddle(k, &dofs).unwrap();
+        let (act, sparse) = sparse_saddle(&p, SCHUR_TEST_MAX);
         let (lo, hi) = sparse.certificate.unwrap().cond2_bounds();
         assert!(hi / lo - 1.0 <= 1e-9, "bracket [{lo:e}, {hi:e}]");
-        check(&p, &sparse, "membrane");
+        check(&p, &act, &sparse, "membrane");
     }
 }
 
@@ -119,12 +119,8 @@ fn membranes_sparse_bracket_contains_dense() {
 #[test]
 fn without_the_schur_test_the_bracket_stays_certified() {
     for p in elasticity() {
-        let Stiffness::Sparse(k) = &p.k else {
-            panic!("scene K is sparse")
-        };
-        let (_, dofs) = active(&p);
-        let sparse = cond2_saddle_with(k, &dofs, 0).unwrap();
-        check(&p, &sparse, "elasticity, no Schur test");
+        let (act, sparse) = sparse_saddle(&p, 0);
+        check(&p, &act, &sparse, "elasticity, no Schur test");
     }
 }
 

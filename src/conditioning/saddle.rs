@@ -125,20 +125,12 @@ pub fn cond2_saddle_with(
         Error::singular("saddle-point matrix is singular: K without the constrained DOFs is not positive definite")
     })?;
     shifts.factorizations += 1;
-    let matvec_k = |x: &[f64], y: &mut [f64]| {
-        y.iter_mut().for_each(|v| *v = 0.0);
-        for j in 0..n {
-            for p in cp[j]..cp[j + 1] {
-                y[ri[p]] += pattern.values[p] * x[j];
-            }
-        }
-    };
     let size = n + m;
     // A·[x; y] = [K x + D y; Dᵀ x].
     let apply_a = |v: &[f64], out: &mut [f64], sign: f64| {
         let (x, y) = v.split_at(n);
         let (ox, oy) = out.split_at_mut(n);
-        matvec_k(x, ox);
+        pattern.matvec(x, ox);
         for (c, &d) in dofs.iter().enumerate() {
             ox[d] += y[c];
             oy[c] = x[d];
@@ -155,7 +147,7 @@ pub fn cond2_saddle_with(
             xb[d] = g[c];
         }
         let mut kxb = vec![0.0; n];
-        matvec_k(&xb, &mut kxb);
+        pattern.matvec(&xb, &mut kxb);
         for i in 0..n {
             x[i] = if in_b[i] { xb[i] } else { f[i] - kxb[i] };
         }
@@ -164,7 +156,7 @@ pub fn cond2_saddle_with(
             x[d] = g[c];
         }
         let mut kx = vec![0.0; n];
-        matvec_k(x, &mut kx);
+        pattern.matvec(x, &mut kx);
         for (c, &d) in dofs.iter().enumerate() {
             y[c] = f[d] - kx[d];
         }

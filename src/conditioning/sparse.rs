@@ -293,19 +293,8 @@ pub fn extreme_eigenvalues(
     // Phase 1: estimates. λ_max: plain Lanczos on A (products only); if the top of the
     // spectrum is clustered and it has not settled, shift-invert Lanczos on (σ₀I − A)⁻¹ with
     // σ₀ just above the Gershgorin bound, where λ_max = σ₀ − 1/ν_max is well separated.
-    let matvec = |x: &[f64], y: &mut [f64]| {
-        y.iter_mut().for_each(|v| *v = 0.0);
-        let cp = a.symbolic().col_ptr();
-        let ri = a.symbolic().row_idx();
-        let av = a.val();
-        for j in 0..n {
-            let xj = x[j];
-            for p in cp[j]..cp[j + 1] {
-                y[ri[p]] += av[p] * xj;
-            }
-        }
-    };
-    let (mut lmax_est, mut s1, converged) = lanczos_max(n, PLAIN_LANCZOS_STEPS, matvec)?;
+    let (mut lmax_est, mut s1, converged) =
+        lanczos_max(n, PLAIN_LANCZOS_STEPS, |x, y| fam.pattern.matvec(x, y))?;
     if !converged {
         let sigma0 = gershgorin_max(a) * (1.0 + 1e-8);
         if let Some(f) = fam.factor(-1.0, sigma0) {

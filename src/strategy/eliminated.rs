@@ -23,7 +23,7 @@
 //! backward error ≤ `16√N·ε_mach` and abandoned for a fresh factorization after
 //! `2·changed +` [`PCG_EXTRA_ITERATIONS`] iterations (`Stats::cg_iterations`). One factor is
 //! kept at a time; memory O(nnz of the factor). Measured (README, Performance): the path
-//! following cuts the 10⁶-DOF membrane from 162 to 21 factorizations.
+//! following cuts the 10⁶-DOF membrane from ≈ 160 to 19 factorizations.
 //!
 //! `condensed` and `lagrange` take this route for sparse K with `n ≥` [`ELIMINATION_MIN_N`]
 //! and distinct constraint DOFs.
@@ -45,6 +45,10 @@ pub const PCG_MAX_CHANGED: usize = 16;
 
 /// PCG iterations allowed beyond `2 × changed` (the rank of the change) before refactorizing.
 pub const PCG_EXTRA_ITERATIONS: usize = 4;
+
+/// Last penalty of the path following of [`box_solve`], relative to `K_dd`: stiff enough that
+/// the penalized contact zone is within a few elements of the exact one.
+pub const PATH_END: f64 = 10.0;
 
 /// Result of [`box_solve`].
 #[derive(Clone, Debug)]
@@ -305,7 +309,3 @@ fn path_following_start(
     let g = problem.gaps(&u);
     Ok(Some(start_state(&g, lo, hi, None)))
 }
-
-/// Last penalty of the path following of [`box_solve`], relative to `K_dd`: stiff enough that
-/// the penalized contact zone is within a few elements of the exact one.
-pub const PATH_END: f64 = 10.0;
