@@ -32,6 +32,7 @@ use std::time::Instant;
 #[derive(Parser, Debug, Serialize)]
 #[command(
     name = "cond_cost",
+    version = penalty_lab::provenance::VERSION,
     about = "Time of an exact cond2 by route (sparse inertia, dense eigen, dense SVD) against one Cholesky"
 )]
 struct Args {

@@ -21,6 +21,7 @@ use std::process::ExitCode;
 #[derive(Parser, Debug)]
 #[command(
     name = "deep_drawing",
+    version = penalty_lab::provenance::VERSION,
     about = "Woo-like hemispherical-punch deep draw: classical vs adaptive penalty (paper Fig. 7)",
     after_help = "Default travel 1.0 in. Units: inch, ton-force, second. Exit status: 0 ok, 2 bad \
                   input or failed run."

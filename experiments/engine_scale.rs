@@ -12,6 +12,8 @@
 
 use clap::Parser;
 use penalty_lab::engine_scale::{self, ScaleConfig};
+use penalty_lab::progress::Progress;
+use penalty_lab::strategy::MethodName;
 use penalty_lab::{plot, provenance, Error, Result};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -19,18 +21,22 @@ use std::process::ExitCode;
 #[derive(Parser, Debug)]
 #[command(
     name = "engine_scale",
+    version = penalty_lab::provenance::VERSION,
     about = "The contact solve engine at 1e4-1e6 DOFs"
 )]
 struct Args {
     /// Requested DOF counts (membrane side = round(√size)).
     #[arg(long, value_delimiter = ',', default_values_t = [10_000usize, 100_000])]
     sizes: Vec<usize>,
-    /// Methods: constant, scaled, condensed, lagrange.
-    #[arg(long, value_delimiter = ',', default_values_t = engine_scale::SCALE_METHODS.map(String::from))]
-    methods: Vec<String>,
+    /// Methods (default: constant, scaled, condensed, lagrange).
+    #[arg(long, value_enum, value_delimiter = ',')]
+    methods: Option<Vec<MethodName>>,
     /// Skip the cond₂ metrics.
     #[arg(long)]
     no_cond: bool,
+    /// No progress bar or progress lines on stderr.
+    #[arg(long)]
+    quiet: bool,
     /// Output directory.
     #[arg(long, default_value = "figures/engine_scale")]
     out: PathBuf,
@@ -39,11 +45,16 @@ struct Args {
 fn run(a: Args) -> Result<()> {
     let cfg = ScaleConfig {
         sizes: a.sizes,
-        methods: a.methods,
+        methods: a.methods.map_or_else(
+            || engine_scale::SCALE_METHODS.map(String::from).to_vec(),
+            |v| v.iter().map(|m| m.as_str().to_string()).collect(),
+        ),
         cond: !a.no_cond,
         ..Default::default()
     };
-    let rows = engine_scale::run(&cfg, &mut |line| eprintln!("{line}"))?;
+    let progress = Progress::new("engine_scale (solves)", a.quiet);
+    let rows = engine_scale::run(&cfg, &progress)?;
+    progress.finish();
     std::fs::create_dir_all(&a.out).map_err(|e| Error::io(a.out.display(), e))?;
     provenance::write_csv(&a.out.join("rows.csv"), &rows)?;
     let json = serde_json::to_string_pretty(&rows).expect("JSON value");

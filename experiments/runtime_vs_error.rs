@@ -18,8 +18,9 @@
 use clap::Parser;
 use penalty_lab::perf::{self, Knobs, PerfConfig, PerfRow};
 use penalty_lab::plot;
+use penalty_lab::progress::Progress;
 use penalty_lab::provenance;
-use penalty_lab::strategy::METHOD_NAMES;
+use penalty_lab::strategy::{MethodName, METHOD_NAMES};
 use penalty_lab::Error;
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -29,6 +30,7 @@ use std::time::Instant;
 #[derive(Parser, Debug)]
 #[command(
     name = "runtime_vs_error",
+    version = penalty_lab::provenance::VERSION,
     about = "Time to solution against error for every contact strategy, as its knob varies, at increasing size",
     after_help = "Knobs: ε for constant (relative to max K[d,d]), factor for scaled, δ for \
                   spring/paper/condensed and the tolerance for augmented (relative to the \
@@ -44,6 +46,9 @@ struct Args {
     /// Print the rows and manifest as one JSON object on stdout.
     #[arg(long)]
     json: bool,
+    /// No progress bar or progress lines on stderr.
+    #[arg(long)]
+    quiet: bool,
     /// Requested DOF counts, comma-separated (default 100,1000,10000,100000,1000000; smoke
     /// 100,1000).
     #[arg(long, value_delimiter = ',')]
@@ -52,8 +57,8 @@ struct Args {
     #[arg(long, value_delimiter = ',', default_value = "beam,membrane")]
     families: Vec<String>,
     /// Methods, comma-separated (default: all seven).
-    #[arg(long, value_delimiter = ',')]
-    methods: Option<Vec<String>>,
+    #[arg(long, value_enum, value_delimiter = ',')]
+    methods: Option<Vec<MethodName>>,
     /// Timed repeats per point; the median is reported (default 3; smoke 1).
     #[arg(long)]
     repeats: Option<usize>,
@@ -131,7 +136,7 @@ fn config(a: &Args) -> Result<PerfConfig, Error> {
         sizes,
         methods: a.methods.clone().map_or_else(
             || METHOD_NAMES.iter().map(|s| s.to_string()).collect(),
-            |v| v.iter().map(|s| s.trim().to_string()).collect(),
+            |v| v.iter().map(|m| m.as_str().to_string()).collect(),
         ),
         repeats: a.repeats.unwrap_or(if a.smoke { 1 } else { 3 }),
         budget_seconds: a.budget,
@@ -182,7 +187,9 @@ fn run(a: &Args) -> Result<(), Error> {
     }
     let cfg = config(a)?;
     let t0 = Instant::now();
-    let rows = perf::run(&cfg, &mut |line: &str| eprintln!("{line}"))?;
+    let progress = Progress::new("runtime_vs_error (points)", a.quiet);
+    let rows = perf::run(&cfg, &progress)?;
+    progress.finish();
     let wall = t0.elapsed().as_secs_f64();
     std::fs::create_dir_all(&a.out).map_err(|e| Error::io(a.out.display(), e))?;
     provenance::write_atomic(&a.out.join("rows.csv"), csv(&rows).as_bytes())?;

@@ -11,7 +11,7 @@ use clap::Parser;
 use penalty_lab::conditioning;
 use penalty_lab::metrics::{self, MetricSet};
 use penalty_lab::scene;
-use penalty_lab::strategy::{self, Knobs, Method, METHOD_NAMES};
+use penalty_lab::strategy::{self, Knobs, Method, MethodName};
 use penalty_lab::Error;
 use serde_json::{json, Value};
 use std::path::PathBuf;
@@ -21,6 +21,7 @@ use std::time::Instant;
 #[derive(Parser, Debug)]
 #[command(
     name = "solve",
+    version = penalty_lab::provenance::VERSION,
     about = "Solve one contact scene with one penalty strategy and report exact conditioning",
     after_help = "Methods: constant (--eps), scaled (--factor), spring|paper|condensed (--delta), \
                   lagrange, augmented (--eps, --tol; defaults: eps = max K[d,d] over the \
@@ -30,9 +31,9 @@ use std::time::Instant;
 struct Args {
     /// Scene file (JSON; stiffness dense or Matrix Market).
     scene: PathBuf,
-    /// Strategy: constant, scaled, spring, paper, condensed, lagrange, augmented.
-    #[arg(long)]
-    method: String,
+    /// Strategy.
+    #[arg(long, value_enum)]
+    method: MethodName,
     /// Allowed penetration δ (units of u) for spring, paper, condensed.
     #[arg(long, allow_negative_numbers = true)]
     delta: Option<f64>,
@@ -73,7 +74,7 @@ fn run(args: &Args) -> Result<Value, Error> {
         tol: args.tol,
         adaptive: args.adaptive,
     };
-    if args.method == "augmented" {
+    if args.method == MethodName::Augmented {
         if knobs.eps.is_none() {
             let e = p
                 .constraints
@@ -91,7 +92,7 @@ fn run(args: &Args) -> Result<Value, Error> {
             knobs.tol = Some(1e-9 * s);
         }
     }
-    let method = Method::from_name(&args.method, knobs)?;
+    let method = Method::from_name(args.method.as_str(), knobs)?;
     let t0 = Instant::now();
     let sol = strategy::solve(p, method)?;
     let seconds = t0.elapsed().as_secs_f64();
@@ -213,14 +214,6 @@ fn print_table(v: &Value) {
 
 fn main() -> ExitCode {
     let args = Args::parse();
-    if !METHOD_NAMES.contains(&args.method.as_str()) {
-        eprintln!(
-            "error: unknown method '{}' (valid: {})",
-            args.method,
-            METHOD_NAMES.join(", ")
-        );
-        return ExitCode::from(2);
-    }
     penalty_lab::error::run_main(|| {
         let v = run(&args)?;
         if args.json {

@@ -29,6 +29,7 @@ use std::time::Instant;
 #[derive(Parser, Debug)]
 #[command(
     name = "stress",
+    version = penalty_lab::provenance::VERSION,
     about = "Stability stress: forward error vs ε and cond, refinement and scaling, strategies at extreme knobs",
     after_help = "Scenes: the paper's beam (bilateral and upper) plus COUNT generated scenes per \
                   family, small enough for the double-double reference.\nExit status: 0 ok, 2 bad \

@@ -19,6 +19,7 @@ use std::process::ExitCode;
 #[derive(Parser, Debug)]
 #[command(
     name = "sweep",
+    version = penalty_lab::provenance::VERSION,
     about = "Sweep penalty ε and allowed penetration δ over randomized contact scenes",
     after_help = "Without arguments: the built-in default (all families, 8 scenes each, all \
                   methods) into results/sweep.\nExit status: 0 ok, 2 bad configuration or input."
@@ -78,6 +79,9 @@ struct Args {
     /// Skip the figures.
     #[arg(long)]
     no_figures: bool,
+    /// No progress bar or progress lines on stderr.
+    #[arg(long)]
+    quiet: bool,
 }
 
 fn config(a: &Args) -> Result<SweepConfig, Error> {
@@ -164,7 +168,7 @@ fn run(a: &Args) -> Result<(), Error> {
         shard,
         resume: a.resume,
         write_scenes: a.write_scenes.clone(),
-        progress: true,
+        progress: !a.quiet,
     };
     let s = sweep::run(&cfg, &opts)?;
     eprintln!(

@@ -23,6 +23,7 @@ use std::process::ExitCode;
 #[derive(Parser, Debug)]
 #[command(
     name = "test_example",
+    version = penalty_lab::provenance::VERSION,
     about = "Clamped hemispherical-punch stretching (paper's first example): classical vs adaptive penalty",
     after_help = "Default travel 0.8 in. Units: inch, ton-force, second. Exit status: 0 ok, 2 bad \
                   input or failed run."

@@ -22,6 +22,7 @@ use crate::error::{Error, Result};
 use crate::metrics::{self, MetricSet};
 use crate::perf::{self, PerfScene};
 use crate::plot::{method_color, Figure, Mark, Series};
+use crate::progress::Progress;
 use crate::strategy::{self, Method};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -165,9 +166,10 @@ fn method(name: &str, scene: &PerfScene, cfg: &ScaleConfig) -> (Method, f64) {
     }
 }
 
-/// Runs the study; `progress` gets one line per finished solve.
-pub fn run(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<Vec<ScaleRow>> {
+/// Runs the study; one [`Progress::step`] per finished solve.
+pub fn run(cfg: &ScaleConfig, progress: &Progress) -> Result<Vec<ScaleRow>> {
     cfg.validate()?;
+    progress.set_total(cfg.sizes.len() * cfg.methods.len());
     let mut rows = Vec::new();
     for &size in &cfg.sizes {
         let scene = perf::membrane_scene(size, usize::MAX)?;
@@ -235,7 +237,7 @@ pub fn run(cfg: &ScaleConfig, progress: &mut dyn FnMut(&str)) -> Result<Vec<Scal
                 cond2_system_hi: s_hi,
                 cond_route_system: route,
             };
-            progress(&format!(
+            progress.step(&format!(
                 "N = {:>8} {:<10} {:>3} iterations {:>3} factorizations {:>4} CG  solve {:.2} s",
                 row.n,
                 row.method,

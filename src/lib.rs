@@ -23,6 +23,7 @@
 //!   equilibration, strategies at extreme knobs.
 //! * [`perf`] — time to solution against error per strategy and knob, 1e2–1e6 DOFs.
 //! * [`provenance`] — git commit, crate versions and command for every data file.
+//! * [`progress`] — one progress bar (with ETA) for every long run; `--quiet` silences it.
 //! * [`plot`] — one figure style, PNG + SVG.
 //!
 //! ## Glossary (paper symbol → code → units)
@@ -58,6 +59,7 @@ pub mod metrics;
 pub mod model;
 pub mod perf;
 pub mod plot;
+pub mod progress;
 pub mod provenance;
 pub mod scene;
 pub mod stability;

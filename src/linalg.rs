@@ -4,7 +4,8 @@
 //! Route selection: symmetric matrices try Cholesky (`LLᵀ`) first; if that fails (indefinite,
 //! e.g. a saddle-point matrix) or the matrix is unsymmetric, partial-pivoting LU is used. Dense
 //! matrices use faer's dense factorizations, sparse ones faer's sparse Cholesky (with the
-//! symbolic analysis kept for reuse) or sparse LU.
+//! symbolic analysis kept for reuse — process-wide for the last two patterns,
+//! [`SparseLlt::analyze`]) or sparse LU.
 //!
 //! A factor whose smallest pivot is at the rounding level of the largest
 //! (`pivot ≤ ε_mach · max pivot`) is reported as [`Error::Singular`]: K is singular to working
@@ -20,7 +21,7 @@ use faer::sparse::linalg::cholesky::{
 use faer::sparse::linalg::solvers::Lu as SparseLu;
 use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 use faer::{Conj, Mat, MatMut, Par, Side};
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 
 /// Which factorization was used.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -36,6 +37,19 @@ pub enum FactorKind {
     SparseLu,
 }
 
+/// Number of patterns whose symbolic Cholesky analysis [`SparseLlt::analyze`] keeps.
+pub const SYMBOLIC_CACHE_LEN: usize = 2;
+
+/// A pattern (compressed, square) and its symbolic analysis.
+struct CachedSymbolic {
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    symbolic: Arc<SymbolicCholesky<usize>>,
+}
+
+/// The last [`SYMBOLIC_CACHE_LEN`] analyses, oldest first.
+static SYMBOLIC_CACHE: Mutex<Vec<CachedSymbolic>> = Mutex::new(Vec::new());
+
 /// Sparse Cholesky factor with access to its diagonal (for log-det) and a shareable symbolic
 /// analysis (same pattern ⇒ reuse across penalty values).
 pub struct SparseLlt {
@@ -44,16 +58,41 @@ pub struct SparseLlt {
 }
 
 impl SparseLlt {
-    /// Symbolic analysis of the lower triangle of `a`.
+    /// Symbolic analysis of the lower triangle of `a` (AMD ordering, supernodal or simplicial
+    /// structure). The analyses of the last [`SYMBOLIC_CACHE_LEN`] patterns are kept
+    /// process-wide and returned for an identical pattern (compared entry by entry): a solve
+    /// and the cond₂ of K and of the penalized system share one analysis. The analysis depends
+    /// only on the pattern, so a cached one is the one a new analysis would compute.
     pub fn analyze(a: &SparseColMat<usize, f64>) -> Result<Arc<SymbolicCholesky<usize>>> {
-        factorize_symbolic_cholesky(
+        let pat = a.symbolic();
+        let key = (pat.col_nnz().is_none() && pat.nrows() == pat.ncols())
+            .then(|| (pat.col_ptr(), pat.row_idx()));
+        if let Some((cp, ri)) = key {
+            let cache = SYMBOLIC_CACHE.lock().unwrap_or_else(|e| e.into_inner());
+            if let Some(e) = cache.iter().find(|e| e.col_ptr == cp && e.row_idx == ri) {
+                return Ok(e.symbolic.clone());
+            }
+        }
+        let symbolic = factorize_symbolic_cholesky(
             a.symbolic(),
             Side::Lower,
             Default::default(),
             Default::default(),
         )
         .map(Arc::new)
-        .map_err(|e| Error::Numerical(format!("sparse symbolic Cholesky failed: {e:?}")))
+        .map_err(|e| Error::Numerical(format!("sparse symbolic Cholesky failed: {e:?}")))?;
+        if let Some((cp, ri)) = key {
+            let mut cache = SYMBOLIC_CACHE.lock().unwrap_or_else(|e| e.into_inner());
+            if cache.len() == SYMBOLIC_CACHE_LEN {
+                cache.remove(0);
+            }
+            cache.push(CachedSymbolic {
+                col_ptr: cp.to_vec(),
+                row_idx: ri.to_vec(),
+                symbolic: symbolic.clone(),
+            });
+        }
+        Ok(symbolic)
     }
 
     /// Numeric factorization with a given symbolic analysis (same pattern as `a`).

@@ -32,6 +32,7 @@ use crate::error::{Error, Result};
 use crate::linalg::Factorization;
 use crate::model::beam::{Frame, Section};
 use crate::plot::{Figure, Mark, Scale, Series};
+use crate::progress::Progress;
 use crate::strategy::{self, Method, METHOD_NAMES};
 use crate::system::{Constraint, ConstraintKind, Problem, Stiffness};
 use serde::Serialize;
@@ -331,57 +332,60 @@ pub struct PerfRow {
     pub warnings: Vec<String>,
 }
 
+/// The relative knob values a method runs at (`lagrange`: one run, no knob).
+fn knob_values<'a>(k: &'a Knobs, method: &str) -> &'a [f64] {
+    match method {
+        "constant" => &k.eps_rel,
+        "scaled" => &k.factors,
+        "spring" | "paper" | "condensed" => &k.deltas_rel,
+        "augmented" => &k.tols_rel,
+        "lagrange" => &[0.0],
+        _ => &[],
+    }
+}
+
+/// Number of points [`jobs`] gives per scene.
+pub fn jobs_per_scene(cfg: &PerfConfig) -> usize {
+    cfg.methods
+        .iter()
+        .map(|m| knob_values(&cfg.knobs, m).len())
+        .sum()
+}
+
 /// The jobs `(method, knob name, absolute value, relative value)` of a scene.
 pub fn jobs(scene: &PerfScene, cfg: &PerfConfig) -> Vec<(Method, &'static str, f64, f64)> {
     let mut out = Vec::new();
-    let k = &cfg.knobs;
     for name in &cfg.methods {
-        match name.as_str() {
-            "constant" => {
-                for &r in &k.eps_rel {
-                    out.push((
-                        Method::Constant {
-                            eps: r * scene.k_scale,
-                        },
-                        "eps",
-                        r * scene.k_scale,
-                        r,
-                    ));
+        for &r in knob_values(&cfg.knobs, name) {
+            out.push(match name.as_str() {
+                "constant" => {
+                    let eps = r * scene.k_scale;
+                    (Method::Constant { eps }, "eps", eps, r)
                 }
-            }
-            "scaled" => {
-                for &f in &k.factors {
-                    out.push((Method::Scaled { factor: f }, "factor", f, f));
-                }
-            }
-            "spring" | "paper" | "condensed" => {
-                for &r in &k.deltas_rel {
+                "scaled" => (Method::Scaled { factor: r }, "factor", r, r),
+                "spring" => {
                     let delta = r * scene.scale;
-                    let m = match name.as_str() {
-                        "spring" => Method::Spring { delta },
-                        "paper" => Method::Paper { delta },
-                        _ => Method::Condensed { delta },
-                    };
-                    out.push((m, "delta", delta, r));
+                    (Method::Spring { delta }, "delta", delta, r)
                 }
-            }
-            "augmented" => {
-                for &r in &k.tols_rel {
+                "paper" => {
+                    let delta = r * scene.scale;
+                    (Method::Paper { delta }, "delta", delta, r)
+                }
+                "condensed" => {
+                    let delta = r * scene.scale;
+                    (Method::Condensed { delta }, "delta", delta, r)
+                }
+                "augmented" => {
                     let tol = r * scene.scale;
-                    out.push((
-                        Method::Augmented {
-                            eps: scene.k_scale,
-                            tol,
-                            adaptive: false,
-                        },
-                        "tol",
+                    let m = Method::Augmented {
+                        eps: scene.k_scale,
                         tol,
-                        r,
-                    ));
+                        adaptive: false,
+                    };
+                    (m, "tol", tol, r)
                 }
-            }
-            "lagrange" => out.push((Method::Lagrange, "-", 0.0, 0.0)),
-            _ => {}
+                _ => (Method::Lagrange, "-", 0.0, 0.0),
+            });
         }
     }
     out
@@ -460,12 +464,12 @@ fn relative_error(u: &[f64], r: &[f64]) -> Option<f64> {
     e.is_finite().then_some(e)
 }
 
-/// Runs every job on one scene. `progress` receives one line per point.
+/// Runs every job on one scene; one [`Progress::step`] per point.
 pub fn run_scene(
     scene: &PerfScene,
     cfg: &PerfConfig,
     budget: &mut Budget,
-    progress: &mut dyn FnMut(&str),
+    progress: &Progress,
 ) -> Vec<PerfRow> {
     let p = &scene.problem;
     let (n, m) = (p.n(), p.m());
@@ -520,7 +524,7 @@ pub fn run_scene(
         }
         if let Some(reason) = skip {
             row.reason = reason;
-            progress(&format!(
+            progress.step(&format!(
                 "{fam} N={n} {name} {knob}={value:.3e}: skipped ({})",
                 row.reason
             ));
@@ -580,7 +584,7 @@ pub fn run_scene(
                 row.reason = "no repeat ran".into();
             }
         }
-        progress(&format!(
+        progress.step(&format!(
             "{fam} N={n} m={m} {name} {knob}={value:.3e}: {} {}",
             row.status,
             row.seconds.map_or(row.reason.clone(), |s| format!(
@@ -622,19 +626,20 @@ fn fallback_reference(
         .map(|s| (s.u, "augmented"))
 }
 
-/// The full study: every family × size, with progress lines.
-pub fn run(cfg: &PerfConfig, progress: &mut dyn FnMut(&str)) -> Result<Vec<PerfRow>> {
+/// The full study: every family × size, one progress step per point.
+pub fn run(cfg: &PerfConfig, progress: &Progress) -> Result<Vec<PerfRow>> {
     cfg.validate()?;
     let mut rows = Vec::new();
+    let mut sizes = cfg.sizes.clone();
+    sizes.sort_unstable();
+    sizes.dedup();
+    progress.set_total(cfg.families.len() * sizes.len() * jobs_per_scene(cfg));
     for fam in &cfg.families {
         let mut budget = Budget::default();
-        let mut sizes = cfg.sizes.clone();
-        sizes.sort_unstable();
-        sizes.dedup();
         for &size in &sizes {
             let t0 = Instant::now();
             let sc = scene(fam, size, cfg.max_constraints)?;
-            progress(&format!(
+            progress.note(&format!(
                 "{fam}: built N = {}, m = {} in {:.2} s",
                 sc.problem.n(),
                 sc.problem.m(),

@@ -3,6 +3,15 @@
 use crate::error::{Error, Result};
 use std::path::Path;
 
+/// `--version` of every binary: the crate version and the git commit it was built from
+/// (`-dirty` when tracked files differed from it).
+pub const VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (",
+    env!("PENALTY_LAB_GIT_COMMIT"),
+    ")"
+);
+
 /// The git commit this binary was built from (captured at build time by `build.rs`), with a
 /// `-dirty` suffix when tracked files differed from it; `"unknown"` when built outside a git
 /// checkout. Independent of the directory the binary runs in.

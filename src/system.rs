@@ -195,7 +195,8 @@ impl Stiffness {
     }
 
     /// `K + Σ_c add_c e_{d_c} e_{d_c}ᵀ` — the penalized matrix `K + D E Dᵀ` (Eq. 19) for a
-    /// Boolean D. Sparse stays sparse (missing diagonal entries are inserted).
+    /// Boolean D. Sparse stays sparse: values added in place where every touched diagonal entry
+    /// is stored, otherwise reassembled with the missing ones inserted.
     pub fn with_diagonal_added(&self, adds: &[(usize, f64)]) -> Stiffness {
         match self {
             Stiffness::Dense(m) => {
@@ -205,7 +206,26 @@ impl Stiffness {
                 }
                 Stiffness::Dense(m)
             }
-            Stiffness::Sparse(_) => {
+            Stiffness::Sparse(m) => {
+                // Every diagonal entry present (stiffness matrices): add in place, O(nnz).
+                let (cp, ri) = (m.symbolic().col_ptr(), m.symbolic().row_idx());
+                if m.symbolic().col_nnz().is_none() {
+                    let pos: Option<Vec<usize>> = adds
+                        .iter()
+                        .map(|&(d, _)| {
+                            let rows = &ri[cp[d]..cp[d + 1]];
+                            rows.binary_search(&d).ok().map(|k| cp[d] + k)
+                        })
+                        .collect();
+                    if let Some(pos) = pos {
+                        let mut out = m.clone();
+                        let vals = out.val_mut();
+                        for (&p, &(_, v)) in pos.iter().zip(adds) {
+                            vals[p] += v;
+                        }
+                        return Stiffness::Sparse(out);
+                    }
+                }
                 let mut t = Vec::with_capacity(self.nnz() + adds.len());
                 self.for_each_entry(|i, j, v| t.push((i, j, v)));
                 t.extend(adds.iter().map(|&(d, v)| (d, d, v)));

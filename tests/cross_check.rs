@@ -497,7 +497,7 @@ fn sparse_route_against_nalgebra() {
     );
 }
 
-/// The same checks against LAPACK (system OpenBLAS): `dgesdd` and `dsyevd` values only,
+/// The same checks against LAPACK (system OpenBLAS): `dgesdd` and `dsyev` values only,
 /// `dgetrf` pivots.
 #[cfg(feature = "lapack")]
 mod against_lapack {
@@ -506,7 +506,7 @@ mod against_lapack {
     #[test]
     fn spd_against_lapack() {
         eprintln!(
-            "LAPACK, SPD n={N}: rel diffs of cond₂ dgesdd / dsyevd vs faer, abs diff of \
+            "LAPACK, SPD n={N}: rel diffs of cond₂ dgesdd / dsyev vs faer, abs diff of \
              log10|det| dgetrf vs faer"
         );
         for (k, cond) in conds().enumerate() {
@@ -528,14 +528,14 @@ mod against_lapack {
                 true,
             );
             let e_syevd = check_cond(
-                "dsyevd vs faer SVD",
+                "dsyev vs faer SVD",
                 reference::cond2_lapack_symmetric(&a),
                 svd,
                 N,
                 true,
             );
             let e_syevd_exact = check_cond(
-                "dsyevd vs closed form",
+                "dsyev vs closed form",
                 reference::cond2_lapack_symmetric(&a),
                 analytic_cond(&lam),
                 N,
@@ -553,7 +553,7 @@ mod against_lapack {
             );
             eprintln!(
                 "  cond {cond:7.0e}: dgesdd {e_gesdd:.1e} (vs faer SVD {e_gesdd_svd:.1e}) \
-                 dsyevd {e_syevd:.1e} (vs exact {e_syevd_exact:.1e}) | dgetrf {d:.1e}"
+                 dsyev {e_syevd:.1e} (vs exact {e_syevd_exact:.1e}) | dgetrf {d:.1e}"
             );
         }
     }
@@ -569,7 +569,7 @@ mod against_lapack {
             let d = rel(got, want);
             assert!(
                 d <= 1e-9f64.max(tol_cond(n, r.cond2)),
-                "{got} vs dsyevd {want}: {d:e}"
+                "{got} vs dsyev {want}: {d:e}"
             );
         }
         let c = r.certificate.unwrap();
@@ -578,7 +578,7 @@ mod against_lapack {
                 && ev[n - 1] <= c.lambda_max_hi * (1.0 + 1e-12)
         );
         eprintln!(
-            "sparse route vs dsyevd: cond {:.3e} vs {:.3e}",
+            "sparse route vs dsyev: cond {:.3e} vs {:.3e}",
             r.cond2,
             ev[n - 1] / ev[0]
         );
@@ -590,7 +590,7 @@ mod against_lapack {
         let kc = cond2(&k).cond2;
         let e1 = check_cond("beam dgesdd", reference::cond2_lapack(&k), kc, k.n(), true);
         let e2 = check_cond(
-            "beam dsyevd",
+            "beam dsyev",
             reference::cond2_lapack_symmetric(&k),
             kc,
             k.n(),
@@ -602,7 +602,7 @@ mod against_lapack {
             3.0 * 7717.5f64.log10(),
             tol_logdet_from_cond(k.n(), kc),
         );
-        eprintln!("LAPACK beam: dgesdd {e1:.1e} dsyevd {e2:.1e} dgetrf {d:.1e}");
+        eprintln!("LAPACK beam: dgesdd {e1:.1e} dsyev {e2:.1e} dgetrf {d:.1e}");
 
         let ks = paper::frame().assemble(true).unwrap();
         check_cond(

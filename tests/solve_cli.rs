@@ -174,3 +174,36 @@ fn bad_inputs_exit_2_with_a_clear_message() {
     );
     assert_bad(&[&mm, "--method", "lagrange"], "K.mtx");
 }
+
+/// `--version` names the crate version and the commit the binary was built from; an unknown
+/// method is a usage error (exit 2) that lists the valid ones.
+#[test]
+fn version_and_method_choices() {
+    let (code, out, _) = solve(&["--version"]);
+    assert_eq!(code, 0);
+    assert!(out.contains(env!("CARGO_PKG_VERSION")), "{out}");
+    assert!(
+        out.contains(&penalty_lab::provenance::git_commit()),
+        "{out}"
+    );
+    let (code, _, err) = solve(&[SCENE, "--method", "penalty", "--eps", "1"]);
+    assert_eq!(code, 2);
+    for name in penalty_lab::strategy::METHOD_NAMES {
+        assert!(err.contains(name), "{err} should list {name}");
+    }
+}
+
+/// Every command-line method name is the strategy's own name.
+#[test]
+fn method_names_are_the_strategy_names() {
+    use clap::ValueEnum;
+    use penalty_lab::strategy::MethodName;
+    let names: Vec<String> = MethodName::value_variants()
+        .iter()
+        .map(|m| m.to_possible_value().unwrap().get_name().to_string())
+        .collect();
+    assert_eq!(names, penalty_lab::strategy::METHOD_NAMES);
+    for m in MethodName::value_variants() {
+        assert_eq!(m.to_possible_value().unwrap().get_name(), m.as_str());
+    }
+}

@@ -203,3 +203,34 @@ fn saddle_point_log_det_by_sparse_lu_matches_schur_complement() {
         "sparse LU log10|det| {ld} vs Schur {expected} (tol {t:e})"
     );
 }
+
+/// `K + Σ add_c e_c e_cᵀ` is the same matrix whether the values are added in place (every
+/// touched diagonal stored) or the matrix is reassembled (a diagonal entry missing).
+#[test]
+fn diagonal_added_in_place_and_by_reassembly_agree() {
+    let k = laplacian_2d(7, 1.3);
+    let n = k.n();
+    let adds: Vec<(usize, f64)> = vec![(0, 2.5), (17, 1e6), (n - 1, 0.25), (17, 3.0)];
+    let expect = |base: &Stiffness, adds: &[(usize, f64)]| {
+        let mut d = base.to_dense();
+        for &(i, v) in adds {
+            d[(i, i)] += v;
+        }
+        d
+    };
+    let inplace = k.with_diagonal_added(&adds);
+    assert!(inplace.is_sparse());
+    assert_eq!(inplace.nnz(), k.nnz());
+    assert_eq!(inplace.to_dense(), expect(&k, &adds));
+    // A matrix without a stored (3, 3): the entry is inserted.
+    let mut t = Vec::new();
+    k.for_each_entry(|i, j, v| {
+        if !(i == 3 && j == 3) {
+            t.push((i, j, v))
+        }
+    });
+    let holed = Stiffness::from_triplets(n, &t).unwrap();
+    let filled = holed.with_diagonal_added(&[(3, 4.0), (5, 1.0)]);
+    assert_eq!(filled.nnz(), holed.nnz() + 1);
+    assert_eq!(filled.to_dense(), expect(&holed, &[(3, 4.0), (5, 1.0)]));
+}

@@ -245,19 +245,20 @@ pub fn log10_abs_det_sparse_lu(a: &faer::sparse::SparseColMat<usize, f64>) -> Re
 /// Independent reference implementations for cross-checks.
 ///
 /// Nothing here is used by the library's own metrics: these functions recompute the same
-/// quantities with other libraries (nalgebra always; LAPACK — the system OpenBLAS, linked
-/// directly — behind the `lapack` feature) so that `tests/cross_check.rs` can compare them
-/// with [`cond2`] and [`log10_abs_det`]. They densify their input and panic on a LAPACK error
-/// (`info ≠ 0`), which is what a test wants.
+/// quantities with other libraries (nalgebra always; LAPACK through `nalgebra-lapack`, linked
+/// to the system OpenBLAS, behind the `lapack` feature) so that `tests/cross_check.rs` can
+/// compare them with [`cond2`] and [`log10_abs_det`]. They densify their input and panic when
+/// LAPACK reports a failure, which is what a test wants.
 ///
-/// nalgebra-lapack 0.28's `SymmetricEigen::eigenvalues()` panics (it passes an invalid `jobz`
-/// to DSYEV) and its `SVD::new` always computes U and Vᵀ, so the LAPACK routes call the
-/// `lapack` crate's `dgesdd` / `dsyevd` / `dgetrf` directly, values only.
+/// The LAPACK routes are `dgesdd` (`nalgebra_lapack::SVD`), `dsyev`
+/// (`nalgebra_lapack::SymmetricEigen::try_new`) and `dgetrf` (`nalgebra_lapack::LU`).
+/// nalgebra-lapack 0.28's values-only `SymmetricEigen::eigenvalues` passes an invalid `jobz`
+/// to DSYEV and panics, so the eigenvalues come from the full decomposition.
 pub mod reference {
     use crate::system::Stiffness;
 
-    // The `lapack` crate only declares the Fortran symbols: link the system OpenBLAS
-    // (libopenblas-dev), which provides them.
+    // `lapack-custom`: nalgebra-lapack only declares the Fortran symbols; the system OpenBLAS
+    // (libopenblas-dev) provides them.
     #[cfg(feature = "lapack")]
     #[link(name = "openblas")]
     extern "C" {}
@@ -297,108 +298,46 @@ pub mod reference {
         (0..n).map(|i| u[(i, i)].abs().log10()).sum()
     }
 
-    /// Dense column-major copy and its order as a LAPACK integer.
-    #[cfg(feature = "lapack")]
-    fn to_lapack(a: &Stiffness) -> (Vec<f64>, i32) {
-        let n = a.n();
-        let mut m = vec![0.0f64; n * n];
-        a.for_each_entry(|i, j, v| m[i + j * n] += v);
-        let ni = i32::try_from(n).expect("matrix too large for LAPACK's 32-bit integers");
-        (m, ni)
-    }
-
-    /// Singular values (nonincreasing) from LAPACK `dgesdd` with `jobz = 'N'`.
+    /// Singular values (nonincreasing) from LAPACK `dgesdd` (`nalgebra_lapack::SVD`).
     #[cfg(feature = "lapack")]
     pub fn singular_values_lapack(a: &Stiffness) -> Vec<f64> {
-        let (mut m, ni) = to_lapack(a);
-        let n = a.n();
-        let mut s = vec![0.0; n];
-        let mut iwork = vec![0i32; 8 * n];
-        let mut info = 0;
-        let mut u = [0.0f64; 1];
-        let mut vt = [0.0f64; 1];
-        let mut wq = [0.0f64; 1];
-        // SAFETY: every slice is at least as long as LAPACK reads/writes for these arguments
-        // (a: n·n with lda = n, s: n, iwork: 8n; u/vt are not referenced for jobz = 'N').
-        unsafe {
-            lapack::dgesdd(
-                b'N', ni, ni, &mut m, ni, &mut s, &mut u, 1, &mut vt, 1, &mut wq, -1, &mut iwork,
-                &mut info,
-            );
-        }
-        assert_eq!(info, 0, "dgesdd workspace query failed with info = {info}");
-        let lwork = (wq[0] as i32).max(1);
-        let mut work = vec![0.0; lwork as usize];
-        // SAFETY: as above, with work of the queried length.
-        unsafe {
-            lapack::dgesdd(
-                b'N', ni, ni, &mut m, ni, &mut s, &mut u, 1, &mut vt, 1, &mut work, lwork,
-                &mut iwork, &mut info,
-            );
-        }
-        assert_eq!(info, 0, "dgesdd failed with info = {info}");
-        s
+        let svd = nalgebra_lapack::SVD::new(to_nalgebra(a)).expect("dgesdd failed");
+        svd.singular_values.as_slice().to_vec()
     }
 
-    /// cond₂ from LAPACK `dgesdd` (values only), system OpenBLAS.
+    /// cond₂ from LAPACK `dgesdd`, system OpenBLAS.
     #[cfg(feature = "lapack")]
     pub fn cond2_lapack(a: &Stiffness) -> f64 {
         abs_ratio(&singular_values_lapack(a))
     }
 
-    /// Eigenvalues (nondecreasing) of a symmetric matrix from LAPACK `dsyevd` with
-    /// `jobz = 'N'`, lower triangle read.
+    /// Eigenvalues (nondecreasing) of a symmetric matrix from LAPACK `dsyev`
+    /// (`nalgebra_lapack::SymmetricEigen`), lower triangle read.
     #[cfg(feature = "lapack")]
     pub fn symmetric_eigenvalues_lapack(a: &Stiffness) -> Vec<f64> {
-        let (mut m, ni) = to_lapack(a);
-        let n = a.n();
-        let mut w = vec![0.0; n];
-        let mut info = 0;
-        let mut wq = [0.0f64; 1];
-        let mut iwq = [0i32; 1];
-        // SAFETY: a is n·n with lda = n, w has n entries; lwork = liwork = -1 is a workspace
-        // query that writes one entry of work and iwork.
-        unsafe {
-            lapack::dsyevd(
-                b'N', b'L', ni, &mut m, ni, &mut w, &mut wq, -1, &mut iwq, -1, &mut info,
-            );
-        }
-        assert_eq!(info, 0, "dsyevd workspace query failed with info = {info}");
-        let lwork = (wq[0] as i32).max(1);
-        let liwork = iwq[0].max(1);
-        let mut work = vec![0.0; lwork as usize];
-        let mut iwork = vec![0i32; liwork as usize];
-        // SAFETY: as above, with work/iwork of the queried lengths.
-        unsafe {
-            lapack::dsyevd(
-                b'N', b'L', ni, &mut m, ni, &mut w, &mut work, lwork, &mut iwork, liwork, &mut info,
-            );
-        }
-        assert_eq!(info, 0, "dsyevd failed with info = {info}");
+        let eig = nalgebra_lapack::SymmetricEigen::try_new(to_nalgebra(a))
+            .expect("dsyev did not converge");
+        let mut w = eig.eigenvalues.as_slice().to_vec();
+        w.sort_by(f64::total_cmp);
         w
     }
 
-    /// cond₂ = max|λ| / min|λ| from LAPACK `dsyevd` (values only). Only meaningful for a
+    /// cond₂ = max|λ| / min|λ| from LAPACK `dsyev`. Only meaningful for a
     /// symmetric `a`.
     #[cfg(feature = "lapack")]
     pub fn cond2_lapack_symmetric(a: &Stiffness) -> f64 {
         abs_ratio(&symmetric_eigenvalues_lapack(a))
     }
 
-    /// log10|det| from LAPACK's partial-pivoting LU (`dgetrf`): `Σ log10|U_ii|`
+    /// log10|det| from LAPACK's partial-pivoting LU (`dgetrf`, `nalgebra_lapack::LU`):
+    /// `Σ log10|U_ii|`
     /// (−∞ for an exactly singular matrix).
     #[cfg(feature = "lapack")]
     pub fn log10_abs_det_lapack(a: &Stiffness) -> f64 {
-        let (mut m, ni) = to_lapack(a);
         let n = a.n();
-        let mut ipiv = vec![0i32; n];
-        let mut info = 0;
-        // SAFETY: a is n·n with lda = n, ipiv has n entries.
-        unsafe {
-            lapack::dgetrf(ni, ni, &mut m, ni, &mut ipiv, &mut info);
-        }
-        assert!(info >= 0, "dgetrf: illegal argument {}", -info);
-        // info > 0: U[info-1, info-1] is exactly zero, which the sum turns into −∞.
-        (0..n).map(|i| m[i + i * n].abs().log10()).sum()
+        let lu = nalgebra_lapack::LU::new(to_nalgebra(a));
+        let u = lu.u();
+        // An exactly zero U_ii (dgetrf's info > 0) gives −∞.
+        (0..n).map(|i| u[(i, i)].abs().log10()).sum()
     }
 }

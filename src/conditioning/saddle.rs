@@ -40,7 +40,7 @@
 //! each), 2–4 shifted Cholesky factorizations per certified end; memory O(nnz of the factor).
 //! Use it for the `lagrange` system of a sparse K (the metrics pick it automatically).
 
-use super::sparse::{bracket, lanczos_max, Certificate, BRACKET_TOL, MAX_LANCZOS_STEPS};
+use super::sparse::{bracket, bracket_tol, lanczos_max, Certificate, MAX_LANCZOS_STEPS};
 use super::{CondReport, CondRoute};
 use crate::error::{Error, Result};
 use crate::linalg::{DiagonalPattern, SparseLlt};
@@ -173,25 +173,27 @@ pub fn cond2_saddle_with(
         }
     };
     let mut lanczos_steps = 0;
+    // λ⁺_min first: its estimate sets the bracket width of both ends (sparse::bracket_tol).
+    let (inv_pos, st, _) = lanczos_max(size, steps, |x, y| apply_inv(x, y, 1.0))?;
+    lanczos_steps += st;
+    let pos_min_est = 1.0 / usable("1/λ⁺_min", inv_pos)?;
     // σ_max: λ_max, and −λ_min only where one test does not already show −λ_min < λ_max.
     let (lmax_est, st, _) = lanczos_max(size, steps, |x, y| apply_a(x, y, 1.0))?;
     lanczos_steps += st;
     let lmax_est = usable("λ_max", lmax_est)?;
-    let (max_lo, max_hi) = bracket(lmax_est, BRACKET_TOL, |s| shifts.is_pd(-1.0, s, -1.0 / s));
+    let tol = bracket_tol(lmax_est / pos_min_est);
+    let (max_lo, max_hi) = bracket(lmax_est, tol, |s| shifts.is_pd(-1.0, s, -1.0 / s));
     let sigma_max = if max_lo > 0.0 && shifts.is_pd(1.0, max_lo, -1.0 / max_lo) {
         (max_lo, max_hi)
     } else {
         let (est, st, _) = lanczos_max(size, steps, |x, y| apply_a(x, y, -1.0))?;
         lanczos_steps += st;
         let est = usable("−λ_min", est)?;
-        let (lo, hi) = bracket(est, BRACKET_TOL, |s| shifts.is_pd(1.0, s, -1.0 / s));
+        let (lo, hi) = bracket(est, tol, |s| shifts.is_pd(1.0, s, -1.0 / s));
         (max_lo.max(lo), max_hi.max(hi))
     };
     // σ_min: λ⁺_min, and −λ⁻_max unless s₀ already shows −λ⁻_max > λ⁺_min.
-    let (inv_pos, st, _) = lanczos_max(size, steps, |x, y| apply_inv(x, y, 1.0))?;
-    lanczos_steps += st;
-    let pos_min_est = 1.0 / usable("1/λ⁺_min", inv_pos)?;
-    let tol = BRACKET_TOL.max(64.0 * f64::EPSILON * sigma_max.1 / pos_min_est);
+    let tol = tol.max(bracket_tol(sigma_max.1 / pos_min_est));
     let (pmin_lo, pmin_hi) = bracket(pos_min_est, tol, |s| !shifts.is_pd(1.0, -s, 1.0 / s));
     // s₀: s·(g_B + s) < 1 ⇒ no eigenvalue in (−s, 0).
     let g_b = gershgorin_b(k, &in_b);
@@ -202,7 +204,7 @@ pub fn cond2_saddle_with(
         let (inv_neg, st, _) = lanczos_max(size, steps, |x, y| apply_inv(x, y, -1.0))?;
         lanczos_steps += st;
         let near_est = 1.0 / usable("−1/λ⁻_max", inv_neg)?;
-        let tol = tol.max(64.0 * f64::EPSILON * sigma_max.1 / near_est);
+        let tol = tol.max(bracket_tol(sigma_max.1 / near_est));
         if m <= schur_test_max {
             let (lo, hi) = bracket(near_est, tol, |s| {
                 schur_test_fails(&mut shifts, dofs, s).unwrap_or(true)

@@ -14,11 +14,14 @@
 //! The bracket is the certificate: it holds up to the backward error of Cholesky,
 //! `‖ΔA‖ ≲ c·ε_mach·‖A‖`, so the attainable relative width at λ_min is about
 //! `c·ε_mach·cond₂(A)` — the same absolute accuracy `ε_mach·‖A‖` a dense symmetric eigensolver
-//! has. The target width is therefore `max(tol, 64·ε_mach·cond₂)`, and the width actually
-//! reached is reported in [`Certificate`].
+//! has. The target width of both brackets is therefore `max(tol, 64·ε_mach·cond₂)`
+//! (`bracket_tol`; a narrower λ_max bracket would not make cond₂ better known), and the width
+//! actually reached is reported in [`Certificate`].
 //!
-//! Cost: one symbolic analysis, one Cholesky of A, `k` products and `k` solves (k ≲ 100–300),
-//! and typically 2–4 shifted Cholesky factorizations per end. Memory: O(nnz of the factor).
+//! Cost: one symbolic analysis, one Cholesky of A (dropped after the λ_min estimate: one factor
+//! in memory at a time), `k` products and `k` solves (k ≲ 100–300), one shift-invert factor
+//! where the top of the spectrum is clustered, and 2 shifted Cholesky tests per end when the
+//! estimate is within the target width (more where it is not). Memory: O(nnz of the factor).
 //!
 //! Use it for large sparse SPD matrices (membranes, assembled frames); [`super::cond2`] picks it
 //! automatically above [`SPARSE_ROUTE_MIN_N`].
@@ -231,6 +234,13 @@ fn norm(x: &[f64]) -> f64 {
     dot(x, x).sqrt()
 }
 
+/// Target relative width of the eigenvalue brackets of a matrix with `cond₂ ≈ cond_est`:
+/// [`BRACKET_TOL`], or the rounding floor `64·ε_mach·cond₂` of λ_min where that is wider (the
+/// backward error of a Cholesky test is `≈ ε_mach·‖A‖`, i.e. `ε_mach·cond₂` relative to λ_min).
+pub(crate) fn bracket_tol(cond_est: f64) -> f64 {
+    BRACKET_TOL.max(64.0 * f64::EPSILON * cond_est)
+}
+
 /// Brackets an extreme eigenvalue near the estimate `theta > 0`: `upper(σ)` must return true iff
 /// σ is an upper bound of the eigenvalue (from an inertia test). Returns (lo, hi) with
 /// `hi / lo − 1 ≤ tol`, or wider if 60 tests did not get there.
@@ -290,9 +300,17 @@ pub fn extreme_eigenvalues(
     })?;
     let log10_det: f64 = chol.l_diagonal().iter().map(|d| 2.0 * d.log10()).sum();
 
-    // Phase 1: estimates. λ_max: plain Lanczos on A (products only); if the top of the
-    // spectrum is clustered and it has not settled, shift-invert Lanczos on (σ₀I − A)⁻¹ with
-    // σ₀ just above the Gershgorin bound, where λ_max = σ₀ − 1/ν_max is well separated.
+    // Phase 1: estimates. λ_min = 1/λ_max(A⁻¹) by Lanczos with the factor of A, which is then
+    // dropped (one factor in memory at a time). λ_max: plain Lanczos on A (products only); if
+    // the top of the spectrum is clustered and it has not settled, shift-invert Lanczos on
+    // (σ₀I − A)⁻¹ with σ₀ just above the Gershgorin bound, where λ_max = σ₀ − 1/ν_max is well
+    // separated.
+    let (inv_max, s2, _) = lanczos_max(n, max_steps, |x, y| {
+        y.copy_from_slice(x);
+        chol.solve_vec_in_place(y);
+    })?;
+    drop(chol);
+    let lmin_est = 1.0 / inv_max;
     let (mut lmax_est, mut s1, converged) =
         lanczos_max(n, PLAIN_LANCZOS_STEPS, |x, y| fam.pattern.matvec(x, y))?;
     if !converged {
@@ -308,21 +326,18 @@ pub fn extreme_eigenvalues(
             }
         }
     }
-    let (inv_max, s2, _) = lanczos_max(n, max_steps, |x, y| {
-        y.copy_from_slice(x);
-        chol.solve_vec_in_place(y);
-    })?;
-    let lmin_est = 1.0 / inv_max;
     if !(lmax_est.is_finite() && lmin_est.is_finite() && lmin_est > 0.0) {
         return Err(Error::Numerical(format!(
             "Lanczos estimates are not usable (λ_max ≈ {lmax_est:e}, λ_min ≈ {lmin_est:e})"
         )));
     }
 
-    // Phase 2: inertia brackets. λ_max < σ ⇔ σI − A ≻ 0; λ_min ≤ σ ⇔ A − σI ⊁ 0.
-    let (max_lo, max_hi) = bracket(lmax_est, BRACKET_TOL, |s| fam.is_pd(-1.0, s));
-    let floor = 64.0 * f64::EPSILON * (max_hi / lmin_est);
-    let (min_lo, min_hi) = bracket(lmin_est, BRACKET_TOL.max(floor), |s| !fam.is_pd(1.0, -s));
+    // Phase 2: inertia brackets. λ_max < σ ⇔ σI − A ≻ 0; λ_min ≤ σ ⇔ A − σI ⊁ 0. Both ends
+    // to the same relative width: cond₂ cannot be known better than the rounding floor of
+    // λ_min, so a narrower λ_max bracket would only cost factorizations.
+    let tol = bracket_tol(lmax_est / lmin_est);
+    let (max_lo, max_hi) = bracket(lmax_est, tol, |s| fam.is_pd(-1.0, s));
+    let (min_lo, min_hi) = bracket(lmin_est, tol, |s| !fam.is_pd(1.0, -s));
     let certificate = Certificate {
         lambda_max_lo: max_lo,
         lambda_max_hi: max_hi,

@@ -92,6 +92,33 @@ pub const METHOD_NAMES: [&str; 7] = [
     "augmented",
 ];
 
+/// A strategy's name as a command-line choice (`--method`, `--methods`): the same names as
+/// [`METHOD_NAMES`], with clap's list of valid values in `--help` and in the error message.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum MethodName {
+    /// Classical constant penalty ε.
+    Constant,
+    /// ε = factor · K_dd per constraint.
+    Scaled,
+    /// The 1-DOF spring rule for δ (Eq. 17).
+    Spring,
+    /// The paper's rule (Eq. 28–29).
+    Paper,
+    /// Exact δ-targeting penalty.
+    Condensed,
+    /// Lagrange multipliers.
+    Lagrange,
+    /// Augmented Lagrangian.
+    Augmented,
+}
+
+impl MethodName {
+    /// The name in [`METHOD_NAMES`].
+    pub fn as_str(self) -> &'static str {
+        METHOD_NAMES[self as usize]
+    }
+}
+
 /// Optional knobs for [`Method::from_name`].
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Knobs {

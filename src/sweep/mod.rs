@@ -632,22 +632,9 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
         .build()
         .map_err(|e| Error::input(format!("cannot start {:?} threads: {e}", opts.threads)))?;
     faer::set_global_parallelism(faer::Par::Seq);
-    let bar = if opts.progress {
-        indicatif::ProgressBar::with_draw_target(
-            Some(specs.len() as u64),
-            indicatif::ProgressDrawTarget::stderr(),
-        )
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
-    bar.set_style(
-        indicatif::ProgressStyle::with_template(
-            "{spinner} sweep [{bar:40}] {pos}/{len} scenes {per_sec} eta {eta} {msg}",
-        )
-        .expect("valid template")
-        .progress_chars("=> "),
-    );
-    bar.set_position(done as u64);
+    let bar = crate::progress::Progress::new("sweep (scenes)", !opts.progress);
+    bar.set_total(specs.len());
+    bar.set_done(done);
 
     let mut file = std::fs::OpenOptions::new()
         .append(true)
@@ -689,7 +676,7 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
             pending.insert(i, r);
             while let Some(r) = pending.remove(&next) {
                 next += 1;
-                bar.inc(1);
+                bar.step("");
                 match r {
                     Ok((rows, name)) => {
                         if first_error.is_none() {
@@ -700,7 +687,7 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
                                 first_error = Some(Error::io(rows_path.display(), e));
                             }
                             rows_written += rows.len();
-                            bar.set_message(name);
+                            bar.message(name);
                         }
                     }
                     Err(e) => {
@@ -712,7 +699,7 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
             }
         }
     });
-    bar.finish_and_clear();
+    bar.finish();
     if let Some(e) = first_error {
         return Err(e);
     }
