@@ -23,6 +23,18 @@ fn main() {
     ] {
         println!("cargo:rerun-if-changed={p}");
     }
+    // A commit on a branch moves the branch's ref, not .git/HEAD: watch the ref too.
+    if let Some(r) = std::fs::read_to_string(".git/HEAD")
+        .ok()
+        .and_then(|h| h.strip_prefix("ref: ").map(|r| r.trim().to_string()))
+    {
+        // (A watched path that does not exist would re-run this script on every build.)
+        for p in [format!(".git/{r}"), ".git/packed-refs".to_string()] {
+            if std::path::Path::new(&p).exists() {
+                println!("cargo:rerun-if-changed={p}");
+            }
+        }
+    }
     let commit = match git(&["rev-parse", "HEAD"]) {
         Some(sha) => {
             let dirty = git(&["status", "--porcelain", "--untracked-files=no"])
