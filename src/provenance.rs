@@ -31,12 +31,71 @@ pub fn crate_versions() -> serde_json::Value {
     serde_json::Value::Object(m)
 }
 
-/// Writes `bytes` to `path` through a temporary file and a rename, so a reader never sees a
-/// half-written file.
+/// Writes `bytes` to `path` through a uniquely named temporary file in the same folder
+/// (`tempfile`) and a rename, so a reader never sees a half-written file, two writers never
+/// share a temporary file, and a failed write leaves nothing behind.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let tmp = path.with_extension("tmp");
-    std::fs::write(&tmp, bytes).map_err(|e| Error::io(tmp.display(), e))?;
-    std::fs::rename(&tmp, path).map_err(|e| Error::io(path.display(), e))
+    use std::io::Write;
+    let dir = match path.parent() {
+        Some(d) if !d.as_os_str().is_empty() => d,
+        _ => Path::new("."),
+    };
+    let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(|e| Error::io(dir.display(), e))?;
+    tmp.write_all(bytes)
+        .map_err(|e| Error::io(path.display(), e))?;
+    tmp.persist(path)
+        .map_err(|e| Error::io(path.display(), e.error))?;
+    Ok(())
+}
+
+/// Writes `value` as pretty-printed JSON to `path`, atomically.
+pub fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<()> {
+    let text = serde_json::to_string_pretty(value)
+        .map_err(|e| Error::Numerical(format!("JSON for {}: {e}", path.display())))?;
+    write_atomic(path, text.as_bytes())
+}
+
+/// Where a data file comes from: every record (`manifest.json`, `stress.json`, …) carries
+/// these four fields beside the study's own (config, seed, summary, timings).
+#[derive(Clone, Debug, serde::Serialize)]
+pub struct Provenance {
+    /// The study (`sweep`, `stress`, …).
+    pub experiment: String,
+    /// [`git_commit`]: the commit the binary was built from.
+    pub git_commit: String,
+    /// [`crate_versions`].
+    pub crate_versions: serde_json::Value,
+    /// The command line that produced the file.
+    pub command: String,
+}
+
+impl Provenance {
+    /// The provenance of the running binary for `experiment`.
+    pub fn new(experiment: &str) -> Provenance {
+        Provenance {
+            experiment: experiment.to_string(),
+            git_commit: git_commit(),
+            crate_versions: crate_versions(),
+            command: std::env::args().collect::<Vec<_>>().join(" "),
+        }
+    }
+
+    /// A record: the provenance fields and `fields` (a JSON object, whose keys must not be the
+    /// provenance's; anything else is stored under `data`).
+    pub fn record(&self, fields: serde_json::Value) -> serde_json::Value {
+        let mut out = serde_json::Map::new();
+        out.insert("experiment".into(), self.experiment.clone().into());
+        out.insert("git_commit".into(), self.git_commit.clone().into());
+        out.insert("crate_versions".into(), self.crate_versions.clone());
+        out.insert("command".into(), self.command.clone().into());
+        match fields {
+            serde_json::Value::Object(m) => out.extend(m),
+            other => {
+                out.insert("data".into(), other);
+            }
+        }
+        serde_json::Value::Object(out)
+    }
 }
 
 /// Writes `rows` as CSV (header from the field names, the `csv` crate's serde mapping) to

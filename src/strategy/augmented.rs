@@ -8,7 +8,8 @@
 //! (unilateral constraints active while their force has the obstacle's sign), then updates
 //! `λ ← r` until `max penetration ≤ tol`. The adaptive variant (in the spirit of
 //! Bussetta–Marceau–Ponthot 2012) multiplies ε_c by 10 when a constraint's penetration did not
-//! shrink by at least 4× in one update.
+//! shrink by at least 4× in one update, up to `K_dd / ε_mach` (beyond it `K_dd + ε_c` no longer
+//! holds any digit of K_dd, and a tolerance below rounding would drive ε_c to overflow).
 //!
 //! When to use: penetration driven to any tolerance with a moderate ε (good conditioning), at
 //! the price of several solves.
@@ -80,7 +81,8 @@ pub fn solve(mut ctx: Context, eps: f64, tol: f64, adaptive: bool) -> Result<Sol
         }
         if adaptive {
             for c in 0..m {
-                if pen[c] > tol && pen[c] > 0.25 * prev_pen[c] {
+                let cap = problem.k.diag(problem.constraints[c].dof).abs() / f64::EPSILON;
+                if pen[c] > tol && pen[c] > 0.25 * prev_pen[c] && pen_eps[c] * 10.0 <= cap {
                     pen_eps[c] *= 10.0;
                 }
             }
