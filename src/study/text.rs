@@ -27,6 +27,11 @@ pub fn fmt_e(v: f64, sig: usize) -> String {
     minus(&format!("{v:.p$e}", p = sig.saturating_sub(1)))
 }
 
+/// `v` with `decimals` decimals (minus sign U+2212).
+pub fn fmt_f(v: f64, decimals: usize) -> String {
+    minus(&format!("{v:.decimals$}"))
+}
+
 /// `s` with every ASCII hyphen-minus replaced by the minus sign U+2212.
 pub fn minus(s: &str) -> String {
     s.replace('-', "\u{2212}")

@@ -7,16 +7,11 @@ use super::record::Note;
 use super::solves::Solves;
 use super::DELTA;
 use crate::model::beam::paper;
-use crate::study::text::{fmt_e, fmt_g, minus};
-
-/// `v` with three decimals.
-fn f3(v: f64) -> String {
-    minus(&format!("{v:.3}"))
-}
+use crate::study::text::{fmt_e, fmt_f, fmt_g};
 
 /// `(v₁, v₂, …)` with `d` decimals.
 fn fv(v: &[f64], d: usize) -> String {
-    let items: Vec<String> = v.iter().map(|x| minus(&format!("{x:.d$}"))).collect();
+    let items: Vec<String> = v.iter().map(|&x| fmt_f(x, d)).collect();
     format!("({})", items.join(", "))
 }
 
@@ -47,10 +42,10 @@ fn a_tip_axial(s: &Solves, ch: &Checks) -> Note {
              −0.476 for the first two (agree) but −0.414 for the tip; ours is {}. A 7→4 \
              digit misprint only: Eq. 35–37, which all agree with ours (except note b), are \
              computed from the same K and q, i.e. with the true u_bk[7] = −0.714.",
-            f3(-50.0 * 10.0 / ea),
-            f3(-50.0 * 20.0 / ea),
-            f3(ch.tip_axial),
-            minus(&format!("{:.6}", s.u0[6])),
+            fmt_f(-50.0 * 10.0 / ea, 3),
+            fmt_f(-50.0 * 20.0 / ea, 3),
+            fmt_f(ch.tip_axial, 3),
+            fmt_f(s.u0[6], 6),
         ),
     )
 }
@@ -70,10 +65,10 @@ fn b_eq37_sign(s: &Solves, ch: &Checks) -> Note {
              0.007 but is not what the paper does elsewhere: ours {:.5} and {:.5} truncate \
              to {:.3} and {:.3}, the paper prints 0.018 and 0.014 (rounded). So: a sign \
              misprint, plus a last-digit difference (0.007 vs 0.008).",
-            f3(ch.eq36_gaps[0]),
-            f3(ch.eq36_gaps[1]),
-            f3(ch.eq36_gaps[2]),
-            minus(&fv(g, 5)),
+            fmt_f(ch.eq36_gaps[0], 3),
+            fmt_f(ch.eq36_gaps[1], 3),
+            fmt_f(ch.eq36_gaps[2], 3),
+            fv(g, 5),
             g[2].abs(),
             g[0],
             g[1],
@@ -193,8 +188,8 @@ fn f_unilateral(ch: &Checks) -> Note {
             fv(&ch.stiff.g0, 3),
             fv(&un.lag_forces, 3),
             un.active_up,
-            f3(un.lag_up.u[7]),
-            f3(un.lag_up.gaps[2]),
+            fmt_f(un.lag_up.u[7], 3),
+            fmt_f(un.lag_up.gaps[2], 3),
         ),
     )
 }

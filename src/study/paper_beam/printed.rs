@@ -51,6 +51,8 @@ pub const METHODS_MD_CONDENSED_EPS: [&str; 3] = ["87.9", "130", "41.4"];
 /// methods.md: cond₂(K + ε) of the `condensed` strategy at δ = 0.1.
 pub const METHODS_MD_CONDENSED_COND: &str = "222";
 
+use crate::study::text::{fmt_f, minus};
+
 /// Value of a printed number (accepts the minus sign U+2212).
 pub fn value(s: &str) -> f64 {
     s.trim()
@@ -83,17 +85,11 @@ pub fn agrees(v: f64, s: &str) -> bool {
 /// `v` with two more digits than the printed reference `s` (minus sign U+2212).
 pub fn format_like(v: f64, s: &str) -> String {
     let s = s.trim();
+    let decimals = |m: &str| m.split_once('.').map_or(0, |(_, f)| f.len()) + 2;
     match s.split_once(['e', 'E']) {
-        Some((m, _)) => {
-            let d = m.split_once('.').map_or(0, |(_, f)| f.len()) + 2;
-            format!("{v:.d$e}")
-        }
-        None => {
-            let d = s.split_once('.').map_or(0, |(_, f)| f.len()) + 2;
-            format!("{v:.d$}")
-        }
+        Some((m, _)) => minus(&format!("{v:.d$e}", d = decimals(m))),
+        None => fmt_f(v, decimals(s)),
     }
-    .replace('-', "\u{2212}")
 }
 
 #[cfg(test)]

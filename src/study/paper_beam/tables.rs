@@ -13,7 +13,7 @@ use super::solves::Solves;
 use super::DELTA;
 use crate::metrics;
 use crate::model::beam;
-use crate::study::text::fmt_g;
+use crate::study::text::{fmt_f, fmt_g, minus};
 use crate::system::Problem;
 
 /// The reference of a compared number.
@@ -55,7 +55,7 @@ fn row(
         id: id.into(),
         equation: equation.into(),
         quantity: quantity.into(),
-        reference_printed: reference_printed.map(|s| s.replace('-', "\u{2212}")),
+        reference_printed: reference_printed.map(minus),
         reference: value,
         reference_source: source.into(),
         tolerance: tol,
@@ -85,8 +85,35 @@ fn dof_name(frame: &beam::Frame, d: usize) -> String {
     format!("DOF {d}")
 }
 
-fn minus3(v: f64) -> String {
-    format!("{v:.3}").replace('-', "\u{2212}")
+/// The names of `dofs`.
+fn dof_names(frame: &beam::Frame, dofs: impl Iterator<Item = usize>) -> Vec<String> {
+    dofs.map(|d| dof_name(frame, d)).collect()
+}
+
+/// One row per printed entry `k` (1-based) of a vector equation: id `<id>k`, quantity
+/// `<quantity(k)>  <names[k − 1]>`, ours `ours[k − 1]`, note `note(k − 1)`.
+fn entries(
+    equation: &str,
+    id: &str,
+    quantity: impl Fn(usize) -> String,
+    printed: &[&str],
+    names: &[String],
+    ours: &[f64],
+    note: impl Fn(usize) -> String,
+) -> Vec<Row> {
+    (0..printed.len())
+        .map(|i| {
+            row(
+                &format!("{id}{}", i + 1),
+                equation,
+                &format!("{}  {}", quantity(i + 1), names[i]),
+                paper(printed[i]),
+                ours[i],
+                None,
+                &note(i),
+            )
+        })
+        .collect()
 }
 
 /// Eq. 31 (K, det, cond) and Eq. 33 (u without contact).
@@ -124,22 +151,18 @@ fn eq31_eq33(frame: &beam::Frame, s: &Solves, ch: &Checks) -> Vec<Row> {
         None,
         "",
     ));
-    for (i, &u) in EQ33_U0.iter().enumerate() {
-        let note = if i == 6 {
-            format!("(a) MISPRINT: −50·30/EA = {}", minus3(ch.tip_axial))
-        } else {
-            String::new()
-        };
-        rows.push(row(
-            &format!("eq33.u{}", i + 1),
-            "Eq. 33",
-            &format!("u_bk[{}]  {}", i + 1, dof_name(frame, i)),
-            paper(u),
-            s.u0[i],
-            None,
-            &note,
-        ));
-    }
+    rows.extend(entries(
+        "Eq. 33",
+        "eq33.u",
+        |k| format!("u_bk[{k}]"),
+        &EQ33_U0,
+        &dof_names(frame, 0..s.u0.len()),
+        &s.u0,
+        |i| match i {
+            6 => format!("(a) MISPRINT: −50·30/EA = {}", fmt_f(ch.tip_axial, 3)),
+            _ => String::new(),
+        },
+    ));
     rows
 }
 
@@ -148,17 +171,16 @@ pub fn paper_comparison(p: &Problem, frame: &beam::Frame, s: &Solves, ch: &Check
     let (pap, con) = (&s.pap, &s.con);
     let dofs: Vec<usize> = p.constraints.iter().map(|c| c.dof).collect();
     let mut rows = eq31_eq33(frame, s, ch);
-    for (c, &e) in EQ35_EPS.iter().enumerate() {
-        rows.push(row(
-            &format!("eq35.eps{}", c + 1),
-            "Eq. 35",
-            &format!("ε{}  {}", c + 1, dof_name(frame, dofs[c])),
-            paper(e),
-            pap.sol.penalties[c],
-            None,
-            &format!("(e) exact δ-target: {}", fmt_g(con.sol.penalties[c])),
-        ));
-    }
+    let names = dof_names(frame, dofs.iter().copied());
+    rows.extend(entries(
+        "Eq. 35",
+        "eq35.eps",
+        |k| format!("ε{k}"),
+        &EQ35_EPS,
+        &names,
+        &pap.sol.penalties,
+        |c| format!("(e) exact δ-target: {}", fmt_g(con.sol.penalties[c])),
+    ));
     let det = 10f64.powf(pap.log10_det);
     rows.push(row(
         "eq35.det",
@@ -178,38 +200,32 @@ pub fn paper_comparison(p: &Problem, frame: &beam::Frame, s: &Solves, ch: &Check
         None,
         &format!("(g) {:.0}× below cond₂ K", ch.drop.cond_drop),
     ));
-    for (i, &u) in EQ36_U.iter().enumerate() {
-        rows.push(row(
-            &format!("eq36.u{}", i + 1),
-            "Eq. 36",
-            &format!("u[{}]  {}", i + 1, dof_name(frame, i)),
-            paper(u),
-            pap.sol.u[i],
-            None,
-            "",
-        ));
-    }
-    for (c, &g) in EQ37_GAPS.iter().enumerate() {
-        let note = if c == 2 {
-            format!(
+    rows.extend(entries(
+        "Eq. 36",
+        "eq36.u",
+        |k| format!("u[{k}]"),
+        &EQ36_U,
+        &dof_names(frame, 0..pap.sol.u.len()),
+        &pap.sol.u,
+        |_| String::new(),
+    ));
+    rows.extend(entries(
+        "Eq. 37",
+        "eq37.g",
+        |k| format!("(Dᵀu − û){k}"),
+        &EQ37_GAPS,
+        &names,
+        &pap.sol.gaps,
+        |c| match c {
+            2 => format!(
                 "(b) MISPRINT: Eq. 36 gives {} − {} = {}",
                 EQ36_U[7],
                 fmt_g(p.constraints[2].limit),
-                minus3(ch.eq36_gaps[2])
-            )
-        } else {
-            format!("(e) {:.2}·δ", pap.sol.gaps[c] / DELTA)
-        };
-        rows.push(row(
-            &format!("eq37.g{}", c + 1),
-            "Eq. 37",
-            &format!("(Dᵀu − û){}  {}", c + 1, dof_name(frame, dofs[c])),
-            paper(g),
-            pap.sol.gaps[c],
-            None,
-            &note,
-        ));
-    }
+                fmt_f(ch.eq36_gaps[2], 3)
+            ),
+            _ => format!("(e) {:.2}·δ", pap.sol.gaps[c] / DELTA),
+        },
+    ));
     rows
 }
 
