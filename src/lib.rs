@@ -22,6 +22,8 @@
 //! * [`stability`] — forward error against an extended-precision reference, refinement,
 //!   equilibration, strategies at extreme knobs.
 //! * [`perf`] — time to solution against error per strategy and knob, 1e2–1e6 DOFs.
+//! * [`study`] — the paper's experiments end to end as library code (the binaries only parse
+//!   flags and print): [`study::paper_beam`] — Sec. 4.2, Eq. 30–37, number by number.
 //! * [`provenance`] — git commit, crate versions and command for every data file.
 //! * [`progress`] — one progress bar (with ETA) for every long run; `--quiet` silences it.
 //! * [`plot`] — one figure style, PNG + SVG.
@@ -65,6 +67,7 @@ pub mod scene;
 pub mod stability;
 pub mod stats;
 pub mod strategy;
+pub mod study;
 pub mod sweep;
 pub mod system;
 

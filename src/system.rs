@@ -194,6 +194,15 @@ impl Stiffness {
         }
     }
 
+    /// A dense nalgebra copy (duplicate sparse entries summed): for the nalgebra/LAPACK
+    /// references and small dense algebra on model problems.
+    pub fn to_nalgebra(&self) -> nalgebra::DMatrix<f64> {
+        let n = self.n();
+        let mut m = nalgebra::DMatrix::<f64>::zeros(n, n);
+        self.for_each_entry(|i, j, v| m[(i, j)] += v);
+        m
+    }
+
     /// `K + Σ_c add_c e_{d_c} e_{d_c}ᵀ` — the penalized matrix `K + D E Dᵀ` (Eq. 19) for a
     /// Boolean D. Sparse stays sparse: values added in place where every touched diagonal entry
     /// is stored, otherwise reassembled with the missing ones inserted.

@@ -1,51 +1,23 @@
 //! The paper's beam example (Eq. 30–37) at the precision the paper prints, plus the
-//! `condensed` numbers of methods.md. Expected values are the paper's printed numbers (or
-//! closed-form cantilever formulas), never output of our own code.
+//! `condensed` numbers of methods.md. Expected values are the paper's printed numbers
+//! (`study::paper_beam::printed`, the one copy the study uses too) or closed-form cantilever
+//! formulas, never output of our own code.
 
 use penalty_lab::conditioning;
 use penalty_lab::metrics::{self, MetricSet};
 use penalty_lab::model::beam::paper;
 use penalty_lab::strategy::{self, Method};
-
-/// `|a − b| ≤ half a unit in the last printed digit` of `b` printed with `decimals` decimals.
-fn printed(a: f64, b: f64, decimals: i32) -> bool {
-    (a - b).abs() <= 0.5 * 10f64.powi(-decimals) * (1.0 + 1e-12)
-}
-
-/// Same with `sig` significant digits (e.g. 4.597e11 has 4).
-fn printed_sig(a: f64, b: f64, sig: i32) -> bool {
-    let e = b.abs().log10().floor() as i32;
-    (a - b).abs() <= 0.5 * 10f64.powi(e - sig + 1) * (1.0 + 1e-12)
-}
+use penalty_lab::study::paper_beam::printed::{
+    agrees, EQ31_COND_K, EQ31_DET_K, EQ31_K, EQ33_U0, EQ35_COND, EQ35_DET, EQ35_EPS, EQ36_U,
+    EQ37_GAPS, METHODS_MD_CONDENSED_COND, METHODS_MD_CONDENSED_EPS,
+};
 
 #[test]
 fn eq31_stiffness_is_assembled_from_element_properties() {
     let p = paper::problem();
     // Eq. 31, upper triangle as printed (row, col, value).
-    let printed_k: &[(usize, usize, f64)] = &[
-        (0, 0, 420.0),
-        (0, 3, -210.0),
-        (1, 1, 4.2),
-        (1, 4, -2.1),
-        (1, 5, 10.5),
-        (2, 2, 140.0),
-        (2, 4, -10.5),
-        (2, 5, 35.0),
-        (3, 3, 420.0),
-        (3, 6, -210.0),
-        (4, 4, 4.2),
-        (4, 7, -2.1),
-        (4, 8, 10.5),
-        (5, 5, 140.0),
-        (5, 7, -10.5),
-        (5, 8, 35.0),
-        (6, 6, 210.0),
-        (7, 7, 2.1),
-        (7, 8, -10.5),
-        (8, 8, 70.0),
-    ];
     let mut expected = [[0.0f64; 9]; 9];
-    for &(i, j, v) in printed_k {
+    for &(i, j, v) in &EQ31_K {
         expected[i][j] = v;
         expected[j][i] = v;
     }
@@ -63,16 +35,16 @@ fn eq31_stiffness_is_assembled_from_element_properties() {
 #[test]
 fn eq31_determinant_and_condition_number() {
     let p = paper::problem();
-    let ld = conditioning::log10_abs_det(&p.k).unwrap();
-    // |K| = 4.597e11 (4 significant digits).
+    let det = 10f64.powf(conditioning::log10_abs_det(&p.k).unwrap());
     assert!(
-        printed_sig(10f64.powf(ld), 4.597e11, 4),
-        "det K = {}",
-        10f64.powf(ld)
+        agrees(det, EQ31_DET_K),
+        "det K = {det}, Eq. 31 prints {EQ31_DET_K}"
     );
-    let c = conditioning::cond2(&p.k).unwrap();
-    // uw(K) = 4.572e4.
-    assert!(printed_sig(c.cond2, 4.572e4, 4), "cond K = {}", c.cond2);
+    let c = conditioning::cond2(&p.k).unwrap().cond2;
+    assert!(
+        agrees(c, EQ31_COND_K),
+        "cond K = {c}, Eq. 31 prints {EQ31_COND_K}"
+    );
 }
 
 #[test]
@@ -92,16 +64,13 @@ fn eq33_unconstrained_solution_matches_cantilever_formulas() {
         assert!((u0[3 * node + 1] - w).abs() < tol);
         assert!((u0[3 * node + 2] - th).abs() < tol);
     }
-    // Eq. 33 at printed precision (3 decimals), except entry 7 — a misprint: the paper prints
-    // −0.414, the axial displacement of the tip is −50·30/2100 = −0.714.
-    let eq33 = [
-        -0.238, 7.619, 1.429, -0.476, 26.667, 2.286, -0.414, 51.429, 2.571,
-    ];
-    for (i, (&got, &want)) in u0.iter().zip(&eq33).enumerate() {
+    // Eq. 33 at printed precision, except entry 7 — a misprint: the paper prints −0.414, the
+    // axial displacement of the tip is −50·30/2100 = −0.714.
+    for (i, (&got, &want)) in u0.iter().zip(&EQ33_U0).enumerate() {
         if i == 6 {
-            assert!(!printed(got, want, 3) && printed(got, -0.714, 3));
+            assert!(!agrees(got, want) && agrees(got, "-0.714"));
         } else {
-            assert!(printed(got, want, 3), "u_bk[{i}] = {got}, paper {want}");
+            assert!(agrees(got, want), "u_bk[{i}] = {got}, paper {want}");
         }
     }
 }
@@ -110,21 +79,36 @@ fn eq33_unconstrained_solution_matches_cantilever_formulas() {
 fn eq35_to_37_paper_penalties_condition_and_solution() {
     let p = paper::problem();
     let sol = strategy::solve(&p, Method::Paper { delta: 0.1 }).unwrap();
-    // Eq. 35: ε = (501.9, 1390, 557).
-    assert!(printed(sol.penalties[0], 501.9, 1));
-    assert!(printed(sol.penalties[1], 1390.0, 0));
-    assert!(printed(sol.penalties[2], 557.0, 0));
-    let m = metrics::compute(&p, &sol, MetricSet::ALL).unwrap();
-    // uw(K + ε) = 513.871.
-    assert!(printed(m.cond2_system.unwrap().cond2, 513.871, 3));
-    // |K + ε| = 1.948e20.
-    let det = 10f64.powf(m.log10_det_system.unwrap());
-    assert!(printed_sig(det, 1.948e20, 4), "det = {det}");
-    // Eq. 36 (3 decimals).
-    let eq36 = [
-        -0.329, -2.764, -0.201, -0.658, 3.018, 1.709, -0.986, 29.992, 3.192,
-    ];
-    for (i, (&got, &want)) in sol.u.iter().zip(&eq36).enumerate() {
-        assert!(printed(got, want, 3), "u[{i}] = {got}, paper {want}");
+    for (c, (&got, &want)) in sol.penalties.iter().zip(&EQ35_EPS).enumerate() {
+        assert!(agrees(got, want), "ε{c} = {got}, Eq. 35 prints {want}");
     }
+    let m = metrics::compute(&p, &sol, MetricSet::ALL).unwrap();
+    let cond = m.cond2_system.unwrap().cond2;
+    assert!(agrees(cond, EQ35_COND), "cond = {cond}");
+    let det = 10f64.powf(m.log10_det_system.unwrap());
+    assert!(agrees(det, EQ35_DET), "det = {det}");
+    for (i, (&got, &want)) in sol.u.iter().zip(&EQ36_U).enumerate() {
+        assert!(agrees(got, want), "u[{i}] = {got}, paper {want}");
+    }
+    // Eq. 37: entries 1 and 2 agree; entry 3 is printed +0.007 for −0.008 (a sign misprint).
+    let g = &sol.gaps;
+    assert!(agrees(g[0], EQ37_GAPS[0]) && agrees(g[1], EQ37_GAPS[1]));
+    assert!(!agrees(g[2], EQ37_GAPS[2]) && agrees(g[2], "-0.008"));
+}
+
+#[test]
+fn condensed_numbers_of_methods_md() {
+    let p = paper::problem();
+    let sol = strategy::solve(&p, Method::Condensed { delta: 0.1 }).unwrap();
+    for (c, (&got, &want)) in sol
+        .penalties
+        .iter()
+        .zip(&METHODS_MD_CONDENSED_EPS)
+        .enumerate()
+    {
+        assert!(agrees(got, want), "ε{c} = {got}, methods.md {want}");
+    }
+    let m = metrics::compute(&p, &sol, MetricSet::ALL).unwrap();
+    let cond = m.cond2_system.unwrap().cond2;
+    assert!(agrees(cond, METHODS_MD_CONDENSED_COND), "cond = {cond}");
 }

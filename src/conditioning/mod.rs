@@ -263,13 +263,6 @@ pub mod reference {
     #[link(name = "openblas")]
     extern "C" {}
 
-    fn to_nalgebra(a: &Stiffness) -> nalgebra::DMatrix<f64> {
-        let n = a.n();
-        let mut m = nalgebra::DMatrix::<f64>::zeros(n, n);
-        a.for_each_entry(|i, j, v| m[(i, j)] += v);
-        m
-    }
-
     /// `max |x| / min |x|` (+∞ if the minimum is 0).
     fn abs_ratio(x: &[f64]) -> f64 {
         let max = x.iter().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -279,21 +272,21 @@ pub mod reference {
 
     /// cond₂ from nalgebra's SVD (singular values only).
     pub fn cond2_nalgebra(a: &Stiffness) -> f64 {
-        let sv = to_nalgebra(a).singular_values();
+        let sv = a.to_nalgebra().singular_values();
         abs_ratio(sv.as_slice())
     }
 
     /// cond₂ = max|λ| / min|λ| from nalgebra's symmetric eigenvalues (lower triangle read).
     /// Only meaningful for a symmetric `a`.
     pub fn cond2_nalgebra_symmetric(a: &Stiffness) -> f64 {
-        let ev = to_nalgebra(a).symmetric_eigenvalues();
+        let ev = a.to_nalgebra().symmetric_eigenvalues();
         abs_ratio(ev.as_slice())
     }
 
     /// log10|det| from nalgebra's LU.
     pub fn log10_abs_det_nalgebra(a: &Stiffness) -> f64 {
         let n = a.n();
-        let lu = to_nalgebra(a).lu();
+        let lu = a.to_nalgebra().lu();
         let u = lu.u();
         (0..n).map(|i| u[(i, i)].abs().log10()).sum()
     }
@@ -301,7 +294,7 @@ pub mod reference {
     /// Singular values (nonincreasing) from LAPACK `dgesdd` (`nalgebra_lapack::SVD`).
     #[cfg(feature = "lapack")]
     pub fn singular_values_lapack(a: &Stiffness) -> Vec<f64> {
-        let svd = nalgebra_lapack::SVD::new(to_nalgebra(a)).expect("dgesdd failed");
+        let svd = nalgebra_lapack::SVD::new(a.to_nalgebra()).expect("dgesdd failed");
         svd.singular_values.as_slice().to_vec()
     }
 
@@ -315,7 +308,7 @@ pub mod reference {
     /// (`nalgebra_lapack::SymmetricEigen`), lower triangle read.
     #[cfg(feature = "lapack")]
     pub fn symmetric_eigenvalues_lapack(a: &Stiffness) -> Vec<f64> {
-        let eig = nalgebra_lapack::SymmetricEigen::try_new(to_nalgebra(a))
+        let eig = nalgebra_lapack::SymmetricEigen::try_new(a.to_nalgebra())
             .expect("dsyev did not converge");
         let mut w = eig.eigenvalues.as_slice().to_vec();
         w.sort_by(f64::total_cmp);
@@ -335,7 +328,7 @@ pub mod reference {
     #[cfg(feature = "lapack")]
     pub fn log10_abs_det_lapack(a: &Stiffness) -> f64 {
         let n = a.n();
-        let lu = nalgebra_lapack::LU::new(to_nalgebra(a));
+        let lu = nalgebra_lapack::LU::new(a.to_nalgebra());
         let u = lu.u();
         // An exactly zero U_ii (dgetrf's info > 0) gives −∞.
         (0..n).map(|i| u[(i, i)].abs().log10()).sum()

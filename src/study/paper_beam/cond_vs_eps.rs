@@ -1,0 +1,122 @@
+//! cond₂(K + εDDᵀ) and the max penetration for a uniform ε on a log grid, and the δ-driven
+//! strategies at several δ (`cond_vs_eps.csv`); the bisection for the uniform ε that reaches a
+//! given max penetration.
+
+use super::solves::solve_with_metrics;
+use super::{DELTAS, EPS_HI, EPS_LO, N_EPS};
+use crate::conditioning;
+use crate::error::{Error, Result};
+use crate::strategy::{self, Method};
+use crate::system::Problem;
+use serde::{Deserialize, Serialize};
+
+/// A row of `cond_vs_eps.csv`.
+#[derive(Serialize, Deserialize, Debug, Clone)]
+pub struct CondRow {
+    /// `K` (no penalty), `uniform`, `paper`, `condensed`, `spring`.
+    pub series: String,
+    /// δ for the δ-driven strategies (empty otherwise).
+    pub delta: Option<f64>,
+    /// Uniform ε, or max_c ε_c for the δ-driven strategies.
+    pub eps: f64,
+    /// ε of constraint 1.
+    pub eps_1: f64,
+    /// ε of constraint 2.
+    pub eps_2: f64,
+    /// ε of constraint 3.
+    pub eps_3: f64,
+    /// cond₂ of the system matrix.
+    pub cond2: f64,
+    /// Max penetration.
+    pub max_penetration: f64,
+    /// log10 det(K + ε)/det K.
+    pub log10_det_ratio: f64,
+}
+
+/// The uniform ε whose max penetration is `target` (bisection in log ε over the sweep range).
+pub fn uniform_eps_for(p: &Problem, target: f64) -> Result<f64> {
+    let pen = |log_e: f64| {
+        strategy::solve(
+            p,
+            Method::Constant {
+                eps: 10f64.powf(log_e),
+            },
+        )
+        .map(|s| s.max_penetration)
+    };
+    let (mut lo, mut hi) = (EPS_LO.log10(), EPS_HI.log10());
+    if !(pen(lo)? > target && pen(hi)? < target) {
+        return Err(Error::Numerical(format!(
+            "no uniform ε in [{EPS_LO:e}, {EPS_HI:e}] gives max penetration {target}"
+        )));
+    }
+    for _ in 0..80 {
+        let mid = 0.5 * (lo + hi);
+        if pen(mid)? > target {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Ok(10f64.powf(0.5 * (lo + hi)))
+}
+
+/// The rows of `cond_vs_eps.csv`: K alone, the uniform-ε grid, then `paper`, `condensed`,
+/// `spring` at every δ of [`DELTAS`].
+pub fn cond_rows(p: &Problem) -> Result<Vec<CondRow>> {
+    let m = p.m();
+    let mut rows = vec![CondRow {
+        series: "K".into(),
+        delta: None,
+        eps: 0.0,
+        eps_1: 0.0,
+        eps_2: 0.0,
+        eps_3: 0.0,
+        cond2: conditioning::cond2(&p.k)?.cond2,
+        max_penetration: strategy::Context::new(p)
+            .g0()?
+            .iter()
+            .fold(0.0, |a, g| a.max(g.abs())),
+        log10_det_ratio: 0.0,
+    }];
+    let (a, b) = (EPS_LO.log10(), EPS_HI.log10());
+    for i in 0..N_EPS {
+        let eps = 10f64.powf(a + (b - a) * i as f64 / (N_EPS - 1) as f64);
+        let s = solve_with_metrics(p, Method::Constant { eps })?;
+        rows.push(CondRow {
+            series: "uniform".into(),
+            delta: None,
+            eps,
+            eps_1: eps,
+            eps_2: eps,
+            eps_3: eps,
+            cond2: s.cond2,
+            max_penetration: s.sol.max_penetration,
+            log10_det_ratio: s.log10_det_ratio,
+        });
+    }
+    for name in ["paper", "condensed", "spring"] {
+        for delta in DELTAS {
+            let method = match name {
+                "paper" => Method::Paper { delta },
+                "condensed" => Method::Condensed { delta },
+                _ => Method::Spring { delta },
+            };
+            let s = solve_with_metrics(p, method)?;
+            let e = &s.sol.penalties;
+            debug_assert_eq!(e.len(), m);
+            rows.push(CondRow {
+                series: name.into(),
+                delta: Some(delta),
+                eps: e.iter().copied().fold(0.0, f64::max),
+                eps_1: e[0],
+                eps_2: e[1],
+                eps_3: e[2],
+                cond2: s.cond2,
+                max_penetration: s.sol.max_penetration,
+                log10_det_ratio: s.log10_det_ratio,
+            });
+        }
+    }
+    Ok(rows)
+}

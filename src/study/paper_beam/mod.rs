@@ -1,0 +1,144 @@
+//! The paper's beam example (Sec. 4.2, Eq. 30–37) number by number: every number the paper
+//! prints next to ours with the half-unit-of-last-digit agreement test and a note, the same
+//! for the `condensed` strategy (against methods.md), one line per other strategy, the
+//! computations behind every explanation, the deflection curves and cond₂ against ε.
+//!
+//! [`run`] computes a [`Study`]; [`save`] writes it into a directory:
+//! * `paper_beam.json` — the [`Record`];
+//! * `deflection.csv` — nodal values and Hermite-interpolated deflection curves
+//!   ([`DeflectionRow`]);
+//! * `cond_vs_eps.csv` — cond₂(K + εDDᵀ) and max penetration for a uniform ε on a log grid,
+//!   plus the δ-driven strategies (`paper`, `condensed`, `spring`) at δ ∈ [`DELTAS`]
+//!   ([`CondRow`]).
+//!
+//! [`figures::render_figures`] draws `fig3_deflection_free`, `fig4_deflection_contact` and
+//! `cond_vs_eps` (PNG + SVG) from what [`load`] reads back, never from live state;
+//! [`summary::text`] is the printed report.
+//!
+//! * [`printed`] — the paper's printed numbers (one copy, also used by the tests).
+//! * [`record`] — the record's types, writing and reading.
+//! * `solves` — the strategies at δ and the equal-accuracy comparisons.
+//! * `checks` — the computations behind the notes; `tables` — the comparison rows;
+//!   `notes` — the explanations.
+//! * `deflection`, `cond_vs_eps` — the data behind the figures; [`figures`] — the figures.
+
+mod checks;
+mod cond_vs_eps;
+mod deflection;
+pub mod figures;
+mod notes;
+pub mod printed;
+pub mod record;
+mod solves;
+pub mod summary;
+mod tables;
+
+pub use cond_vs_eps::CondRow;
+pub use deflection::DeflectionRow;
+pub use record::{load, save, Record};
+
+use crate::error::Result;
+use crate::model::beam::paper;
+use record::{BeamInfo, ConstraintInfo, Provenance};
+
+/// δ of the paper's example (mm).
+pub const DELTA: f64 = 0.1;
+/// δ values at which the δ-driven strategies are marked in `cond_vs_eps`.
+pub const DELTAS: [f64; 4] = [1.0, 0.1, 0.01, 0.001];
+/// Number of points of the uniform-ε grid, log-spaced over `[EPS_LO, EPS_HI]`.
+pub const N_EPS: usize = 100;
+/// Smallest ε of the uniform-ε grid (and of the bisection for a target penetration).
+pub const EPS_LO: f64 = 1e-1;
+/// Largest ε of the uniform-ε grid (and of the bisection for a target penetration).
+pub const EPS_HI: f64 = 1e9;
+/// Interpolation points per element for the deflection curves.
+pub const PTS_PER_ELEMENT: usize = 80;
+
+/// The record's file name.
+pub const JSON_FILE: &str = "paper_beam.json";
+/// The deflection curves' file name.
+pub const DEFLECTION_FILE: &str = "deflection.csv";
+/// The cond₂-against-ε file name.
+pub const COND_FILE: &str = "cond_vs_eps.csv";
+
+/// The outcome of the study: the record and the data behind the figures.
+#[derive(Clone, Debug)]
+pub struct Study {
+    /// `paper_beam.json`.
+    pub record: Record,
+    /// `deflection.csv`: `free`, `paper`, `condensed`, `lagrange`.
+    pub deflection: Vec<DeflectionRow>,
+    /// `cond_vs_eps.csv`.
+    pub cond: Vec<CondRow>,
+}
+
+/// The beam of Fig. 2 as recorded.
+fn beam_info(frame: &crate::model::beam::Frame, p: &crate::system::Problem) -> BeamInfo {
+    let constraints = p
+        .constraints
+        .iter()
+        .enumerate()
+        .map(|(c, con)| {
+            let (node, k) = (0..frame.nodes.len())
+                .flat_map(|nd| (0..3).map(move |k| (nd, k)))
+                .find(|&(nd, k)| frame.dof(nd, k) == Some(con.dof))
+                .expect("constrained DOF exists");
+            ConstraintInfo {
+                c: c + 1,
+                dof: con.dof,
+                node: node + 1,
+                component: ["axial", "transverse", "rotation"][k].into(),
+                x: frame.nodes[node].0,
+                limit: con.limit,
+                kind: format!("{:?}", con.kind).to_lowercase(),
+            }
+        })
+        .collect();
+    let sec = crate::model::beam::Section::rectangle(paper::E, 1.0, 1.0);
+    BeamInfo {
+        length_mm: paper::LENGTH,
+        n_elements: paper::N_ELEMENTS,
+        node_x: frame.nodes.iter().map(|n| n.0).collect(),
+        e: sec.e,
+        a: sec.a,
+        j: sec.j,
+        units: "length mm, force 100 N (so E = 2100 = 210 GPa), see note (d)".into(),
+        dof_order: "(axial u, transverse w, rotation θ) per free node 2, 3, 4; node 1 clamped"
+            .into(),
+        load: p.q.clone(),
+        constraints,
+    }
+}
+
+/// Runs the study: every solve, check, comparison and note, and the data of the figures.
+pub fn run() -> Result<Study> {
+    let frame = paper::frame();
+    let p = paper::problem();
+    let s = solves::solve_all(&p)?;
+    let ch = checks::compute(&p, &s)?;
+    let paper_comparison = tables::paper_comparison(&p, &frame, &s, &ch);
+    let condensed_comparison = tables::condensed_comparison(&p, &frame, &s, &ch);
+    let cond = cond_vs_eps::cond_rows(&p)?;
+    let record = Record {
+        provenance: Provenance::of_this_build(DELTA),
+        beam: beam_info(&frame, &p),
+        paper_comparison,
+        condensed_comparison,
+        notes: notes::notes(&s, &ch, &cond),
+        checks: ch.to_json(&s),
+        strategies: s.strategies.clone(),
+    };
+    let mut deflection = deflection::deflection_rows(&frame, "free", &s.u0);
+    for (name, u) in [
+        ("paper", &s.pap.sol.u),
+        ("condensed", &s.con.sol.u),
+        ("lagrange", &s.lag.sol.u),
+    ] {
+        deflection.extend(deflection::deflection_rows(&frame, name, u));
+    }
+    Ok(Study {
+        record,
+        deflection,
+        cond,
+    })
+}

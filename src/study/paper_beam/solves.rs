@@ -1,0 +1,194 @@
+//! The solves of the study: the strategies at the paper's δ, one line per strategy, and the
+//! equal-accuracy comparisons (a uniform ε tuned by bisection to a max penetration).
+
+use super::cond_vs_eps::uniform_eps_for;
+use super::record::StrategyLine;
+use super::DELTA;
+use crate::error::Result;
+use crate::metrics::{self, MetricSet};
+use crate::strategy::{self, Method, Solution};
+use crate::study::text::{fmt_e, fmt_g};
+use crate::system::Problem;
+
+/// A solved strategy with its metrics.
+#[derive(Clone, Debug)]
+pub struct Solved {
+    /// The solution.
+    pub sol: Solution,
+    /// cond₂ of the system matrix (NaN when not computed).
+    pub cond2: f64,
+    /// log10|det| of the system matrix (NaN when not computed).
+    pub log10_det: f64,
+    /// log10 det(system)/det K (NaN when not computed).
+    pub log10_det_ratio: f64,
+}
+
+/// Solves `p` with `method` and computes every metric.
+pub fn solve_with_metrics(p: &Problem, method: Method) -> Result<Solved> {
+    let sol = strategy::solve(p, method)?;
+    let m = metrics::compute(p, &sol, MetricSet::ALL)?;
+    Ok(Solved {
+        cond2: m.cond2_system.map_or(f64::NAN, |c| c.cond2),
+        log10_det: m.log10_det_system.unwrap_or(f64::NAN),
+        log10_det_ratio: m.log10_det_ratio.unwrap_or(f64::NAN),
+        sol,
+    })
+}
+
+/// Every solve of the study at the paper's δ.
+#[derive(Clone, Debug)]
+pub struct Solves {
+    /// log10|det K|.
+    pub log10_det_k: f64,
+    /// cond₂ K.
+    pub cond_k: f64,
+    /// The solution without contact, `K u0 = q` (Eq. 33).
+    pub u0: Vec<f64>,
+    /// `lagrange` (the exact bilateral solution).
+    pub lag: Solved,
+    /// `paper` (Eq. 28) at δ.
+    pub pap: Solved,
+    /// `condensed` at δ.
+    pub con: Solved,
+    /// One line per strategy.
+    pub strategies: Vec<StrategyLine>,
+    /// The uniform ε whose max penetration is δ.
+    pub eps_tuned: f64,
+    /// `constant` at `eps_tuned`.
+    pub tuned: Solved,
+    /// The max penetration Eq. 28 reaches.
+    pub pen_pap: f64,
+    /// The uniform ε whose max penetration is `pen_pap`.
+    pub eps_at_pap: f64,
+    /// `constant` at `eps_at_pap`.
+    pub uni_at_pap: Solved,
+    /// `condensed` at δ = `pen_pap`.
+    pub con_at_pap: Solved,
+}
+
+fn knob_text(m: &Method) -> String {
+    match *m {
+        Method::Constant { eps } => format!("ε = {}", fmt_e(eps, 1)),
+        Method::Scaled { factor } => format!("ε_c = {factor}·K[d,d]"),
+        Method::Spring { delta } | Method::Paper { delta } | Method::Condensed { delta } => {
+            format!("δ = {delta}")
+        }
+        Method::Lagrange => "exact".into(),
+        Method::Augmented { eps, tol, adaptive } => format!(
+            "ε = {}, tol = {}{}",
+            fmt_g(eps),
+            fmt_e(tol, 1),
+            if adaptive { ", adaptive" } else { "" }
+        ),
+    }
+}
+
+fn strategy_line(name: &str, m: &Method, s: &Solved, u_ref: &[f64]) -> StrategyLine {
+    StrategyLine {
+        name: name.into(),
+        knob: knob_text(m),
+        penalties: s.sol.penalties.clone(),
+        gaps: s.sol.gaps.clone(),
+        forces: s.sol.forces.clone(),
+        max_penetration: s.sol.max_penetration,
+        cond2_system: s.cond2,
+        log10_det_system: s.log10_det,
+        log10_det_ratio: s.log10_det_ratio,
+        error_vs_lagrange: metrics::relative_error(&s.sol.u, u_ref),
+        linear_solves: s.sol.stats.linear_solves,
+        factorizations: s.sol.stats.factorizations,
+        iterations: s.sol.stats.iterations,
+        warnings: s.sol.warnings.clone(),
+        u: s.sol.u.clone(),
+    }
+}
+
+/// The strategies other than `paper` and `condensed` at δ: two constant ε, scaled, spring,
+/// lagrange and augmented (plain and adaptive) with ε = max_c K[d_c, d_c].
+fn other_methods(p: &Problem) -> Vec<(&'static str, Method)> {
+    let max_diag = p
+        .constraints
+        .iter()
+        .map(|c| p.k.diag(c.dof))
+        .fold(0.0f64, f64::max);
+    let max_limit = p
+        .constraints
+        .iter()
+        .map(|c| c.limit.abs())
+        .fold(1.0f64, f64::max);
+    let aug_tol = 1e-9 * max_limit;
+    let augmented = |adaptive| Method::Augmented {
+        eps: max_diag,
+        tol: aug_tol,
+        adaptive,
+    };
+    vec![
+        ("constant", Method::Constant { eps: 1e4 }),
+        ("constant", Method::Constant { eps: 1e8 }),
+        ("scaled", Method::Scaled { factor: 100.0 }),
+        ("spring", Method::Spring { delta: DELTA }),
+        ("lagrange", Method::Lagrange),
+        ("augmented", augmented(false)),
+        ("augmented", augmented(true)),
+    ]
+}
+
+/// Solves the beam with every strategy and the equal-accuracy comparisons.
+pub fn solve_all(p: &Problem) -> Result<Solves> {
+    let log10_det_k = crate::conditioning::log10_abs_det(&p.k)?;
+    let cond_k = crate::conditioning::cond2(&p.k)?.cond2;
+    let u0 = strategy::Context::new(p).u0()?.to_vec();
+
+    let lag = solve_with_metrics(p, Method::Lagrange)?;
+    let u_ref = &lag.sol.u;
+    let pap = solve_with_metrics(p, Method::Paper { delta: DELTA })?;
+    let con = solve_with_metrics(p, Method::Condensed { delta: DELTA })?;
+    let mut strategies = vec![
+        strategy_line("paper", &Method::Paper { delta: DELTA }, &pap, u_ref),
+        strategy_line(
+            "condensed",
+            &Method::Condensed { delta: DELTA },
+            &con,
+            u_ref,
+        ),
+    ];
+    for (name, m) in &other_methods(p) {
+        let s = if *m == Method::Lagrange {
+            lag.clone()
+        } else {
+            solve_with_metrics(p, *m)?
+        };
+        strategies.push(strategy_line(name, m, &s, u_ref));
+    }
+    // Equal-accuracy comparisons: a uniform ε tuned to max penetration δ, and the condensed /
+    // uniform penalties at the max penetration Eq. 28 actually reaches.
+    let eps_tuned = uniform_eps_for(p, DELTA)?;
+    let tuned = solve_with_metrics(p, Method::Constant { eps: eps_tuned })?;
+    let mut line = strategy_line(
+        "constant",
+        &Method::Constant { eps: eps_tuned },
+        &tuned,
+        u_ref,
+    );
+    line.knob = format!("ε = {} (tuned: max pen. = δ)", fmt_g(eps_tuned));
+    strategies.insert(2, line);
+    let pen_pap = pap.sol.max_penetration;
+    let eps_at_pap = uniform_eps_for(p, pen_pap)?;
+    let uni_at_pap = solve_with_metrics(p, Method::Constant { eps: eps_at_pap })?;
+    let con_at_pap = solve_with_metrics(p, Method::Condensed { delta: pen_pap })?;
+    Ok(Solves {
+        log10_det_k,
+        cond_k,
+        u0,
+        lag,
+        pap,
+        con,
+        strategies,
+        eps_tuned,
+        tuned,
+        pen_pap,
+        eps_at_pap,
+        uni_at_pap,
+        con_at_pap,
+    })
+}
