@@ -22,6 +22,7 @@
 //! * [`stability`] — forward error against an extended-precision reference, refinement,
 //!   equilibration, strategies at extreme knobs.
 //! * [`perf`] — time to solution against error per strategy and knob, 1e2–1e6 DOFs.
+//! * [`cond_cost`] — what an exact cond₂ costs by route against one Cholesky.
 //! * [`study`] — the paper's experiments end to end as library code (the binaries only parse
 //!   flags and print): [`study::paper_beam`] — Sec. 4.2, Eq. 30–37, number by number.
 //! * [`provenance`] — git commit, crate versions and command for every data file.
@@ -52,6 +53,7 @@
 //! penalty); an `upper` obstacle (`u ≤ û`) pushes with `r ≥ 0`, a `lower` one with `r ≤ 0`.
 #![warn(missing_docs)]
 
+pub mod cond_cost;
 pub mod conditioning;
 pub mod engine_scale;
 pub mod error;

@@ -30,3 +30,25 @@ pub fn median(v: &[f64]) -> Option<f64> {
     }
     Some(quantile(&mut v.to_vec(), 0.5))
 }
+
+/// Least-squares slope of ln y against ln x over the points with x, y > 0 (the exponent p of
+/// a power law y ∝ xᵖ); `None` with fewer than two such points or no spread in x.
+pub fn loglog_slope(x: &[f64], y: &[f64]) -> Option<f64> {
+    let pts: Vec<(f64, f64)> = x
+        .iter()
+        .zip(y)
+        .filter(|(a, b)| **a > 0.0 && **b > 0.0)
+        .map(|(a, b)| (a.ln(), b.ln()))
+        .collect();
+    if pts.len() < 2 {
+        return None;
+    }
+    let k = pts.len() as f64;
+    let (mx, my) = (
+        pts.iter().map(|p| p.0).sum::<f64>() / k,
+        pts.iter().map(|p| p.1).sum::<f64>() / k,
+    );
+    let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    (sxx > 0.0).then(|| sxy / sxx)
+}

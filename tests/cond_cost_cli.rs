@@ -79,3 +79,30 @@ fn bad_input_exits_2() {
         );
     }
 }
+
+/// The committed data holds unbounded brackets (JSON `null`, past cond₂ ≈ 1/ε_mach): the
+/// re-render reads them back (it used to fail on exactly that file).
+#[test]
+fn render_only_reads_unbounded_brackets() {
+    let dir = std::env::temp_dir().join(format!("cond_cost_cli_null_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let committed = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("figures/cond_cost");
+    std::fs::copy(committed.join("cond_cost.json"), dir.join("cond_cost.json")).unwrap();
+    let text = std::fs::read_to_string(dir.join("cond_cost.json")).unwrap();
+    assert!(
+        text.contains("\"cond2_bracket\": null"),
+        "no unbounded bracket to read"
+    );
+    let out = bin()
+        .args(["--render-only", "--json", "--out"])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(dir.join("cond_cost.png").is_file());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -1,0 +1,269 @@
+//! What an exact cond₂ costs, by route, against one Cholesky of the same matrix (the
+//! `cond_cost` experiment).
+//!
+//! Matrices: the membrane stiffness (5-point Laplacian on `side × side` interior nodes, the
+//! sweep's `membrane` family) and a sparse-assembled cantilever of `elements` Euler–Bernoulli
+//! frame elements (the `beam` family). For each: the time of one sparse Cholesky (symbolic +
+//! numeric — the floor any exact method pays), of the sparse exact route (Lanczos + inertia
+//! certificate), and, up to `dense_max` unknowns, of the dense symmetric eigenvalue and SVD
+//! routes. Times are medians of `repeats` runs, single-threaded.
+
+use crate::conditioning::{self, cond2_dense, cond2_sparse_spd};
+use crate::error::{Error, Result};
+use crate::linalg::Factorization;
+use crate::model::beam::{Frame, Section};
+use crate::model::membrane;
+use crate::plot::{render, Figure, Mark, Series};
+use crate::progress::Progress;
+use crate::provenance::{self, Provenance};
+use crate::stats::loglog_slope;
+use crate::system::Stiffness;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// What to measure.
+#[derive(Clone, Debug, Serialize)]
+pub struct CostConfig {
+    /// Membrane grid sides (n = side²), each in 2..=2000.
+    pub sides: Vec<usize>,
+    /// Cantilever element counts (n = 3·elements), each in 1..=300 000.
+    pub elements: Vec<usize>,
+    /// Repeats per measurement (≥ 1; the median is reported).
+    pub repeats: usize,
+    /// Largest n for the dense routes.
+    pub dense_max: usize,
+}
+
+/// The saved data (`cond_cost.json`): the record and the rows.
+#[derive(Serialize, Deserialize)]
+pub struct Document {
+    /// [`Provenance::record`] of the run with its configuration.
+    pub provenance: serde_json::Value,
+    /// One row per matrix.
+    pub rows: Vec<Row>,
+}
+
+/// Measures every matrix of `cfg`, one progress step per matrix.
+pub fn run(cfg: &CostConfig, progress: &Progress) -> Result<Vec<Row>> {
+    if cfg.repeats == 0 {
+        return Err(Error::input("--repeats must be ≥ 1"));
+    }
+    if let Some(s) = cfg.sides.iter().find(|&&s| !(2..=2000).contains(&s)) {
+        return Err(Error::input(format!("--sides: {s} outside 2..=2000")));
+    }
+    if let Some(e) = cfg.elements.iter().find(|&&e| !(1..=300_000).contains(&e)) {
+        return Err(Error::input(format!("--elements: {e} outside 1..=300000")));
+    }
+    progress.set_total(cfg.sides.len() + cfg.elements.len());
+    let mut rows = Vec::new();
+    for &side in &cfg.sides {
+        progress.message(format!("membrane {side}×{side}"));
+        rows.push(measure(
+            "membrane",
+            &membrane::stiffness(side, 1.0)?,
+            cfg.repeats,
+            cfg.dense_max,
+        )?);
+        progress.step(&format!("cond_cost: membrane {side}×{side}"));
+    }
+    for &el in &cfg.elements {
+        progress.message(format!("cantilever, {el} elements"));
+        let frame = Frame::cantilever(el, 30.0, Section::rectangle(2100.0, 1.0, 1.0))?;
+        rows.push(measure(
+            "beam",
+            &frame.assemble(true)?,
+            cfg.repeats,
+            cfg.dense_max,
+        )?);
+        progress.step(&format!("cond_cost: cantilever with {el} elements"));
+    }
+    progress.finish();
+    Ok(rows)
+}
+
+/// Writes `cond_cost.json` (record + rows) and `cond_cost.csv` into `out`.
+pub fn save(out: &Path, cfg: &CostConfig, rows: &[Row]) -> Result<()> {
+    std::fs::create_dir_all(out).map_err(|e| Error::io(out.display(), e))?;
+    let doc = Document {
+        provenance: Provenance::new("cond_cost").record(serde_json::json!({
+            "config": cfg,
+            "threads": 1,
+            "bracket_tol": conditioning::sparse::BRACKET_TOL,
+        })),
+        rows: rows.to_vec(),
+    };
+    provenance::write_json(&out.join("cond_cost.json"), &doc)?;
+    provenance::write_csv(&out.join("cond_cost.csv"), rows)
+}
+
+/// Reads the rows back from `OUT/cond_cost.json`.
+pub fn load(out: &Path) -> Result<Vec<Row>> {
+    let path = out.join("cond_cost.json");
+    let text = std::fs::read_to_string(&path).map_err(|e| Error::io(path.display(), e))?;
+    let doc: Document = serde_json::from_str(&text)
+        .map_err(|e| Error::input(format!("{}: {e}", path.display())))?;
+    Ok(doc.rows)
+}
+
+/// One matrix, all routes.
+#[derive(Serialize, Deserialize, Debug, Clone)]
+pub struct Row {
+    /// Matrix family (`membrane`, `beam`).
+    pub family: String,
+    /// Unknowns.
+    pub n: usize,
+    /// Stored nonzeros.
+    pub nnz: usize,
+    /// cond₂ by the sparse route.
+    pub cond2: f64,
+    /// Relative width of the certified cond₂ bracket (∞ where the bracket is unbounded,
+    /// past cond₂ ≈ 1/ε_mach; JSON `null`).
+    #[serde(deserialize_with = "null_is_infinite")]
+    pub cond2_bracket: f64,
+    /// Lanczos steps of the sparse route.
+    pub lanczos_steps: usize,
+    /// Cholesky factorizations of the sparse route.
+    pub factorizations: usize,
+    /// One sparse Cholesky, symbolic + numeric (s).
+    pub cholesky_s: f64,
+    /// The sparse exact route (s).
+    pub sparse_exact_s: f64,
+    /// Dense symmetric eigenvalues (s), up to `dense_max`.
+    pub dense_eigen_s: Option<f64>,
+    /// Dense SVD (s), up to `dense_max`.
+    pub dense_svd_s: Option<f64>,
+    /// Relative difference sparse route vs dense SVD (where the SVD ran).
+    pub rel_diff_vs_svd: Option<f64>,
+}
+
+/// serde_json writes a non-finite f64 as `null`; read it back as +∞.
+fn null_is_infinite<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::INFINITY))
+}
+
+/// Median wall time of `repeats` runs of `f` and its last result.
+fn time<T>(repeats: usize, mut f: impl FnMut() -> Result<T>) -> Result<(f64, T)> {
+    let mut times = Vec::with_capacity(repeats);
+    let mut last = None;
+    for _ in 0..repeats.max(1) {
+        let t0 = Instant::now();
+        let r = f()?;
+        times.push(t0.elapsed().as_secs_f64());
+        last = Some(r);
+    }
+    let med = crate::stats::median(&times).expect("at least one repeat");
+    Ok((med, last.expect("at least one repeat")))
+}
+
+/// Times every route on the sparse matrix `a`: `repeats` runs each (median), the dense
+/// routes only up to `dense_max` unknowns.
+pub fn measure(family: &str, a: &Stiffness, repeats: usize, dense_max: usize) -> Result<Row> {
+    let Stiffness::Sparse(m) = a else {
+        return Err(Error::input("cond_cost measures sparse matrices"));
+    };
+    let n = a.n();
+    let (cholesky_s, _) = time(repeats, || Factorization::new(a, true))?;
+    let (sparse_exact_s, r) = time(repeats, || cond2_sparse_spd(m))?;
+    let c = r.certificate.expect("sparse route has a certificate");
+    let (lo, hi) = c.cond2_bounds();
+    let (mut dense_eigen_s, mut dense_svd_s, mut rel_diff) = (None, None, None);
+    if n <= dense_max {
+        let d = a.to_dense();
+        let (t, _) = time(repeats, || cond2_dense(d.as_ref(), true))?;
+        dense_eigen_s = Some(t);
+        let (t, s) = time(repeats, || cond2_dense(d.as_ref(), false))?;
+        dense_svd_s = Some(t);
+        rel_diff = Some((r.cond2 - s.cond2).abs() / s.cond2);
+    }
+    Ok(Row {
+        family: family.into(),
+        n,
+        nnz: a.nnz(),
+        cond2: r.cond2,
+        cond2_bracket: hi / lo - 1.0,
+        lanczos_steps: c.lanczos_steps,
+        factorizations: c.factorizations,
+        cholesky_s,
+        sparse_exact_s,
+        dense_eigen_s,
+        dense_svd_s,
+        rel_diff_vs_svd: rel_diff,
+    })
+}
+
+/// Reads one route's wall time (s) off a row; `None` where the route was skipped.
+type RouteTime = fn(&Row) -> Option<f64>;
+
+/// Renders `OUT/cond_cost.{png,svg}`: time against n per route and family, log–log, with the
+/// least-squares slopes in the legend.
+pub fn render_figure(rows: &[Row], out: &Path) -> Result<Vec<PathBuf>> {
+    let mut fig = Figure::new(
+        "Exact cond₂: cost by route vs one sparse Cholesky (median, 1 thread)",
+        "unknowns n",
+        "wall time (s)",
+    )
+    .log_log()
+    .with_size(1000, 650);
+    let routes: [(&str, RouteTime); 4] = [
+        ("one sparse Cholesky", |r| Some(r.cholesky_s)),
+        ("sparse exact (Lanczos + inertia)", |r| {
+            Some(r.sparse_exact_s)
+        }),
+        ("dense symmetric eigenvalues", |r| r.dense_eigen_s),
+        ("dense SVD", |r| r.dense_svd_s),
+    ];
+    let mut color = 0;
+    for family in ["membrane", "beam"] {
+        for (name, get) in routes.iter() {
+            let pts: Vec<(f64, f64)> = rows
+                .iter()
+                .filter(|r| r.family == family)
+                .filter_map(|r| get(r).map(|t| (r.n as f64, t)))
+                .collect();
+            if pts.is_empty() {
+                continue;
+            }
+            let (x, y): (Vec<f64>, Vec<f64>) = pts.into_iter().unzip();
+            let label = match loglog_slope(&x, &y) {
+                Some(s) => format!("{family}: {name} (slope {s:.2})"),
+                None => format!("{family}: {name}"),
+            };
+            let mark = if family == "membrane" {
+                Mark::LinePoints
+            } else {
+                Mark::Dashed
+            };
+            fig = fig.with_series(Series::new(label, x, y, mark).color(color % 8));
+            color += 1;
+        }
+        color = 0;
+    }
+    render(&fig, &out.join("cond_cost"))
+}
+
+/// The rows as a Markdown table.
+pub fn table(rows: &[Row]) -> String {
+    let mut t = String::new();
+    t.push_str(
+        "| family | n | cond₂ | bracket | Cholesky (s) | sparse exact (s) | ratio | dense eigen (s) | dense SVD (s) | vs SVD |\n",
+    );
+    t.push_str("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+    let f = |v: Option<f64>| v.map_or("—".to_string(), |t| format!("{t:.3e}"));
+    for r in rows {
+        t.push_str(&format!(
+            "| {} | {} | {:.4e} | {:.0e} | {:.3e} | {:.3e} | {:.1} | {} | {} | {} |\n",
+            r.family,
+            r.n,
+            r.cond2,
+            r.cond2_bracket,
+            r.cholesky_s,
+            r.sparse_exact_s,
+            r.sparse_exact_s / r.cholesky_s,
+            f(r.dense_eigen_s),
+            f(r.dense_svd_s),
+            r.rel_diff_vs_svd.map_or("—".into(), |d| format!("{d:.0e}")),
+        ));
+    }
+    t
+}
