@@ -16,14 +16,12 @@
 //! on. Bad input exits with status 2 and one line on stderr.
 
 use clap::Parser;
-use penalty_lab::perf::{self, Knobs, PerfConfig, PerfRow};
-use penalty_lab::plot;
+use penalty_lab::perf::{self, report, PerfConfig};
 use penalty_lab::progress::Progress;
-use penalty_lab::provenance;
-use penalty_lab::strategy::{MethodName, METHOD_NAMES};
+use penalty_lab::strategy::MethodName;
 use penalty_lab::Error;
 use serde_json::json;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 
@@ -79,155 +77,49 @@ struct Args {
     render_only: bool,
 }
 
-fn opt<T: std::fmt::LowerExp>(v: Option<T>) -> String {
-    v.map_or(String::new(), |x| format!("{x:e}"))
-}
-
-fn csv(rows: &[PerfRow]) -> String {
-    let mut t = String::from(
-        "family,size,n,m,method,knob,value,value_rel,status,seconds,seconds_all,\
-         max_penetration,penetration_rel,error_vs_ref,reference,iterations,factorizations,\
-         linear_solves,converged,n_warnings,reason\n",
-    );
-    for r in rows {
-        let cells = [
-            r.family.clone(),
-            r.size.to_string(),
-            r.n.to_string(),
-            r.m.to_string(),
-            r.method.clone(),
-            r.knob.clone(),
-            format!("{:e}", r.value),
-            format!("{:e}", r.value_rel),
-            r.status.clone(),
-            opt(r.seconds),
-            r.seconds_all
-                .iter()
-                .map(|s| format!("{s:e}"))
-                .collect::<Vec<_>>()
-                .join(" "),
-            opt(r.max_penetration),
-            opt(r.penetration_rel),
-            opt(r.error_vs_ref),
-            r.reference.clone(),
-            r.iterations.map_or(String::new(), |v| v.to_string()),
-            r.factorizations.map_or(String::new(), |v| v.to_string()),
-            r.linear_solves.map_or(String::new(), |v| v.to_string()),
-            r.converged.map_or(String::new(), |v| v.to_string()),
-            r.warnings.len().to_string(),
-            r.reason.clone(),
-        ];
-        t.push_str(&provenance::csv_line(&cells));
-        t.push('\n');
-    }
-    t
-}
-
 fn config(a: &Args) -> Result<PerfConfig, Error> {
-    let sizes = a.sizes.clone().unwrap_or_else(|| {
-        if a.smoke {
-            vec![100, 1000]
-        } else {
-            vec![100, 1_000, 10_000, 100_000, 1_000_000]
-        }
-    });
-    let cfg = PerfConfig {
-        families: a.families.iter().map(|s| s.trim().to_string()).collect(),
-        sizes,
-        methods: a.methods.clone().map_or_else(
-            || METHOD_NAMES.iter().map(|s| s.to_string()).collect(),
-            |v| v.iter().map(|m| m.as_str().to_string()).collect(),
-        ),
-        repeats: a.repeats.unwrap_or(if a.smoke { 1 } else { 3 }),
-        budget_seconds: a.budget,
-        max_constraints: a.max_constraints,
-        memory_limit_bytes: a.memory_gb * 1e9,
-        knobs: if a.smoke {
-            Knobs::smoke()
-        } else {
-            Knobs::full()
-        },
-    };
-    if !(a.memory_gb.is_finite() && a.memory_gb > 0.0) {
-        return Err(Error::input(format!(
-            "--memory-gb {}: need a finite number > 0",
-            a.memory_gb
-        )));
+    let mut cfg = PerfConfig::preset(a.smoke);
+    cfg.families = a.families.iter().map(|s| s.trim().to_string()).collect();
+    if let Some(s) = &a.sizes {
+        cfg.sizes = s.clone();
     }
+    if let Some(m) = &a.methods {
+        cfg.methods = m.iter().map(|m| m.as_str().to_string()).collect();
+    }
+    cfg.repeats = a.repeats.unwrap_or(cfg.repeats);
+    cfg.budget_seconds = a.budget;
+    cfg.max_constraints = a.max_constraints;
+    cfg.memory_limit_bytes = a.memory_gb * 1e9;
     cfg.validate()?;
     Ok(cfg)
 }
 
-/// Renders every figure into `OUT/figures` from `OUT/rows.json`.
-fn render(out: &Path) -> Result<(), Error> {
-    let path = out.join("rows.json");
-    let text = std::fs::read_to_string(&path).map_err(|e| Error::io(path.display(), e))?;
-    let rows: Vec<PerfRow> = serde_json::from_str(&text)
-        .map_err(|e| Error::input(format!("{}: {e}", path.display())))?;
-    let dir = out.join("figures");
-    let mut files = 0;
-    for (name, panels) in perf::figures(&rows) {
-        let cols = panels.len().min(3);
-        let nrows = panels.len().div_ceil(cols) as u32;
-        files += plot::render_panels(
-            &panels,
-            cols,
-            &dir.join(&name),
-            (560 * cols as u32, 460 * nrows),
-        )?
-        .len();
-    }
-    eprintln!("rendered {files} figure files into {}", dir.display());
-    Ok(())
-}
-
 fn run(a: &Args) -> Result<(), Error> {
+    let render = || -> Result<(), Error> {
+        let n = report::render(&a.out)?;
+        eprintln!(
+            "rendered {n} figure files into {}",
+            a.out.join("figures").display()
+        );
+        Ok(())
+    };
     if a.render_only {
-        return render(&a.out);
+        return render();
     }
     let cfg = config(a)?;
     let t0 = Instant::now();
-    let progress = Progress::new("runtime_vs_error (points)", a.quiet);
-    let rows = perf::run(&cfg, &progress)?;
-    progress.finish();
+    let rows = perf::run(&cfg, &Progress::new("runtime_vs_error (points)", a.quiet))?;
     let wall = t0.elapsed().as_secs_f64();
-    std::fs::create_dir_all(&a.out).map_err(|e| Error::io(a.out.display(), e))?;
-    provenance::write_atomic(&a.out.join("rows.csv"), csv(&rows).as_bytes())?;
-    provenance::write_atomic(
-        &a.out.join("rows.json"),
-        serde_json::to_string(&rows).expect("JSON value").as_bytes(),
-    )?;
-    let count = |s: &str| rows.iter().filter(|r| r.status == s).count();
-    let manifest = json!({
-        "experiment": "runtime_vs_error",
-        "git_commit": provenance::git_commit(),
-        "command": std::env::args().collect::<Vec<_>>().join(" "),
-        "smoke": a.smoke,
-        "config": cfg,
-        "crate_versions": provenance::crate_versions(),
-        "threads": 1,
-        "timing": "wall time (std::time::Instant) of complete strategy::solve calls, release build, median of the repeats",
-        "rows": rows.len(),
-        "ok": count("ok"),
-        "errors": count("error"),
-        "skipped": count("skipped"),
-        "wall_seconds": wall,
-    });
-    provenance::write_atomic(
-        &a.out.join("manifest.json"),
-        serde_json::to_string_pretty(&manifest)
-            .expect("JSON value")
-            .as_bytes(),
-    )?;
+    let manifest = report::save(&a.out, &cfg, a.smoke, &rows, wall)?;
     if !a.no_figures {
-        render(&a.out)?;
+        render()?;
     }
     eprintln!(
         "runtime_vs_error: {} rows ({} ok, {} errors, {} skipped) in {wall:.1} s → {}",
         rows.len(),
-        count("ok"),
-        count("error"),
-        count("skipped"),
+        manifest["ok"],
+        manifest["errors"],
+        manifest["skipped"],
         a.out.display()
     );
     if a.json {

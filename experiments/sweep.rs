@@ -11,7 +11,8 @@
 //! exits with status 2 and a message naming the problem and the valid choices.
 
 use clap::Parser;
-use penalty_lab::sweep::{self, figures, rows, LogGrid, RunOptions, SweepConfig};
+use penalty_lab::sweep::cli::ConfigArgs;
+use penalty_lab::sweep::{self, figures, rows, RunOptions};
 use penalty_lab::Error;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -25,39 +26,8 @@ use std::process::ExitCode;
                   methods) into results/sweep.\nExit status: 0 ok, 2 bad configuration or input."
 )]
 struct Args {
-    /// TOML config (fields of SweepConfig); command-line flags override it.
-    #[arg(long)]
-    config: Option<PathBuf>,
-    /// Run over every *.scene.json in DIR instead of generating scenes.
-    #[arg(long, value_name = "DIR")]
-    scenes_dir: Option<PathBuf>,
-    /// Families, comma-separated: beam, membrane, spectrum.
-    #[arg(long, value_delimiter = ',')]
-    families: Option<Vec<String>>,
-    /// Scenes per family.
-    #[arg(long)]
-    count: Option<usize>,
-    /// Master seed (ChaCha8 streams per scene).
-    #[arg(long)]
-    seed: Option<u64>,
-    /// ε grid for `constant`: LO:HI:N, log-spaced, inclusive.
-    #[arg(long, value_name = "LO:HI:N")]
-    eps: Option<String>,
-    /// Factors for `scaled`, comma-separated.
-    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
-    factors: Option<Vec<f64>>,
-    /// Absolute δ values, comma-separated.
-    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
-    deltas: Option<Vec<f64>>,
-    /// Relative δ values R, comma-separated: δ = R times the largest unconstrained displacement at a constrained DOF.
-    #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
-    deltas_rel: Option<Vec<f64>>,
-    /// Methods, comma-separated (lagrange always runs as the reference).
-    #[arg(long, value_delimiter = ',')]
-    methods: Option<Vec<String>>,
-    /// Metrics, comma-separated: cond, det ("none" for neither).
-    #[arg(long, value_delimiter = ',')]
-    metrics: Option<Vec<String>>,
+    #[command(flatten)]
+    config: ConfigArgs,
     /// Output folder.
     #[arg(long, default_value = "results/sweep")]
     out: PathBuf,
@@ -84,55 +54,6 @@ struct Args {
     quiet: bool,
 }
 
-fn config(a: &Args) -> Result<SweepConfig, Error> {
-    let mut c = match &a.config {
-        Some(p) => SweepConfig::from_toml_file(p)?,
-        None => SweepConfig::default(),
-    };
-    if let Some(v) = &a.families {
-        c.families = v.iter().map(|s| s.trim().to_string()).collect();
-    }
-    if let Some(v) = a.count {
-        c.count = v;
-    }
-    if let Some(v) = a.seed {
-        c.seed = v;
-    }
-    if let Some(v) = &a.eps {
-        c.eps = LogGrid::parse(v)?;
-    }
-    if let Some(v) = &a.factors {
-        c.factors = v.clone();
-    }
-    if let Some(v) = &a.deltas {
-        c.deltas = v.clone();
-        if a.deltas_rel.is_none() {
-            c.deltas_rel.clear();
-        }
-    }
-    if let Some(v) = &a.deltas_rel {
-        c.deltas_rel = v.clone();
-        if a.deltas.is_none() {
-            c.deltas.clear();
-        }
-    }
-    if let Some(v) = &a.methods {
-        c.methods = v.iter().map(|s| s.trim().to_string()).collect();
-    }
-    if let Some(v) = &a.metrics {
-        c.metrics = v
-            .iter()
-            .map(|s| s.trim().to_string())
-            .filter(|s| s != "none")
-            .collect();
-    }
-    if let Some(d) = &a.scenes_dir {
-        c.scenes_dir = Some(d.clone());
-    }
-    c.validate()?;
-    Ok(c)
-}
-
 /// Renders the figures into `OUT/figures` from `OUT/rows.csv` and says how many it wrote.
 fn render(out: &std::path::Path) -> Result<(), Error> {
     let (rows, _) = rows::read_rows(&out.join("rows.csv"), false)?;
@@ -157,7 +78,7 @@ fn run(a: &Args) -> Result<(), Error> {
     if a.render_only {
         return render(&a.out);
     }
-    let cfg = config(a)?;
+    let cfg = a.config.config()?;
     let shard = a.shard.as_deref().map(sweep::parse_shard).transpose()?;
     if a.threads == Some(0) {
         return Err(Error::input("--threads must be ≥ 1"));

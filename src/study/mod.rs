@@ -4,7 +4,9 @@
 //! study, write its record and print.
 //!
 //! * [`paper_beam`] — the beam example of Sec. 4.2 (Eq. 30–37), number by number.
+//! * [`solve`] — one scene file, one strategy, every metric (the `solve` binary).
 //! * [`text`] — the number formats, aligned tables and wrapped notes of the printed reports.
 
 pub mod paper_beam;
+pub mod solve;
 pub mod text;

@@ -11,6 +11,7 @@
 //!   the order under rayon), so a killed run loses at most the scenes in flight and `--resume`
 //!   completes it without losing or duplicating rows.
 
+pub mod cli;
 pub mod figures;
 pub mod generate;
 pub mod rows;

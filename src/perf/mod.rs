@@ -28,6 +28,8 @@
 //! the budget (`seconds_all` lists the repeats that ran). Errors of a strategy are rows with
 //! status `error`.
 
+pub mod report;
+
 use crate::error::{Error, Result};
 use crate::linalg::Factorization;
 use crate::model::beam::{Frame, Section};
@@ -280,7 +282,33 @@ impl PerfConfig {
         if self.max_constraints == 0 {
             return Err(Error::input("max constraints must be ≥ 1"));
         }
+        if !(self.memory_limit_bytes.is_finite() && self.memory_limit_bytes > 0.0) {
+            return Err(Error::input(format!(
+                "memory limit {} GB: need a finite number > 0",
+                self.memory_limit_bytes / 1e9
+            )));
+        }
         Ok(())
+    }
+
+    /// The default run (sizes 10²…10⁶, every method, 3 repeats, [`Knobs::full`]) or, with
+    /// `smoke`, the quick one (sizes 100 and 1000, 1 repeat, [`Knobs::smoke`]); beam and
+    /// membrane, 30 s budget per solve, ≤ 400 constraints, 4 GB for condensed's N×m block.
+    pub fn preset(smoke: bool) -> PerfConfig {
+        PerfConfig {
+            families: vec!["beam".into(), "membrane".into()],
+            sizes: if smoke {
+                vec![100, 1000]
+            } else {
+                vec![100, 1_000, 10_000, 100_000, 1_000_000]
+            },
+            methods: METHOD_NAMES.iter().map(|s| s.to_string()).collect(),
+            repeats: if smoke { 1 } else { 3 },
+            budget_seconds: 30.0,
+            max_constraints: 400,
+            memory_limit_bytes: 4e9,
+            knobs: if smoke { Knobs::smoke() } else { Knobs::full() },
+        }
     }
 }
 
@@ -648,6 +676,7 @@ pub fn run(cfg: &PerfConfig, progress: &Progress) -> Result<Vec<PerfRow>> {
             rows.extend(run_scene(&sc, cfg, &mut budget, progress));
         }
     }
+    progress.finish();
     Ok(rows)
 }
 

@@ -1,0 +1,172 @@
+//! One scene, one strategy, every metric: the `solve` binary's study and its table.
+
+use crate::conditioning;
+use crate::error::{Error, Result};
+use crate::metrics::{self, MetricSet};
+use crate::scene;
+use crate::strategy::{self, Knobs, Method, MethodName};
+use serde_json::{json, Value};
+use std::path::Path;
+use std::time::Instant;
+
+fn finite_or_null(x: Option<f64>) -> Value {
+    match x {
+        Some(v) if v.is_finite() => json!(v),
+        _ => Value::Null,
+    }
+}
+
+/// Reads `scene`, solves it with `method` (its knobs from `knobs`; `augmented` without ε or
+/// tolerance gets ε = max `K[d,d]` over the constrained DOFs and tol = 1e-9·max(1, max|û|)),
+/// computes the metrics unless `no_metrics`, and returns the `solve --json` object (contract in
+/// `shared/notes/methods.md`). Errors on unreadable scenes, bad knobs, singular systems and a
+/// non-finite solution.
+pub fn solve_scene(
+    scene: &Path,
+    name: MethodName,
+    knobs: Knobs,
+    no_metrics: bool,
+) -> Result<Value> {
+    let sc = scene::read_scene(scene)?;
+    let p = &sc.problem;
+    let mut knobs = knobs;
+    if name == MethodName::Augmented {
+        if knobs.eps.is_none() {
+            let e = p
+                .constraints
+                .iter()
+                .map(|c| p.k.diag(c.dof).abs())
+                .fold(0.0f64, f64::max);
+            knobs.eps = Some(if e > 0.0 { e } else { 1.0 });
+        }
+        if knobs.tol.is_none() {
+            let s = p
+                .constraints
+                .iter()
+                .map(|c| c.limit.abs())
+                .fold(1.0f64, f64::max);
+            knobs.tol = Some(1e-9 * s);
+        }
+    }
+    let method = Method::from_name(name.as_str(), knobs)?;
+    let t0 = Instant::now();
+    let sol = strategy::solve(p, method)?;
+    let seconds = t0.elapsed().as_secs_f64();
+    let set = if no_metrics {
+        MetricSet::default()
+    } else {
+        MetricSet::ALL
+    };
+    let m = metrics::compute(p, &sol, set)?;
+    let mut warnings = sol.warnings.clone();
+    warnings.extend(metrics::precision_warnings(&m));
+    if let Some(c) = m.cond2_system {
+        if !c.cond2.is_finite() {
+            warnings.push("the system matrix is singular (cond2 = ∞)".into());
+        }
+    }
+    if sol.u.iter().any(|v| !v.is_finite()) {
+        return Err(Error::Numerical(
+            "the solution contains NaN/Inf (system singular to working precision)".into(),
+        ));
+    }
+    Ok(json!({
+        "scene": sc.name,
+        "n": p.n(),
+        "m": p.m(),
+        "method": method.name(),
+        "knob": method,
+        "u": sol.u,
+        "penalties": sol.penalties,
+        "gaps": sol.gaps,
+        "forces": sol.forces,
+        "max_penetration": sol.max_penetration,
+        "cond2_K": finite_or_null(m.cond2_k.map(|c| c.cond2)),
+        "cond2_system": finite_or_null(m.cond2_system.map(|c| c.cond2)),
+        "cond_route_K": m.cond2_k.map(|c| c.route.name()),
+        "cond_route_system": m.cond2_system.map(|c| c.route.name()),
+        "cond2_K_bounds": bounds(m.cond2_k),
+        "cond2_system_bounds": bounds(m.cond2_system),
+        "log10_det_K": finite_or_null(m.log10_det_k),
+        "log10_det_system": finite_or_null(m.log10_det_system),
+        "log10_det_ratio": finite_or_null(m.log10_det_ratio),
+        "linear_solves": sol.stats.linear_solves,
+        "factorizations": sol.stats.factorizations,
+        "iterations": sol.stats.iterations,
+        "converged": sol.stats.converged,
+        "refinements": sol.stats.refinements,
+        "cg_iterations": sol.stats.cg_iterations,
+        "active_set_sizes": sol.stats.active_set_sizes,
+        "clipped": sol.stats.clipped,
+        "system": sol.system,
+        "seconds": seconds,
+        "warnings": warnings,
+    }))
+}
+
+/// The certified bracket `[lo, hi]` of a sparse-route cond₂ (null where not certified or
+/// unbounded).
+fn bounds(c: Option<conditioning::CondReport>) -> Value {
+    match c.and_then(|c| c.certificate) {
+        Some(cert) => {
+            let (lo, hi) = cert.cond2_bounds();
+            json!([finite_or_null(Some(lo)), finite_or_null(Some(hi))])
+        }
+        None => Value::Null,
+    }
+}
+
+fn fmt_vec(v: &Value) -> String {
+    match v.as_array() {
+        Some(a) if a.len() <= 12 => a
+            .iter()
+            .map(|x| x.as_f64().map_or("null".into(), |f| format!("{f:.6}")))
+            .collect::<Vec<_>>()
+            .join("  "),
+        Some(a) => format!("[{} values]", a.len()),
+        None => v.to_string(),
+    }
+}
+
+/// The `solve` object as a readable table (NOT CONVERGED in capitals when it did not).
+pub fn table(v: &Value) -> String {
+    let mut t = String::new();
+    t += &format!("scene {}  (N = {}, m = {})\n", v["scene"], v["n"], v["m"]);
+    t += &format!("method {}  {}\n", v["method"], v["knob"]);
+    if v["converged"] == Value::Bool(false) {
+        t += "NOT CONVERGED (see the warnings below)\n";
+    }
+    for key in ["penalties", "gaps", "forces", "u"] {
+        t += &format!("{key:>18}: {}\n", fmt_vec(&v[key]));
+    }
+    for key in [
+        "max_penetration",
+        "cond2_K",
+        "cond2_system",
+        "cond_route_system",
+        "cond2_system_bounds",
+        "log10_det_K",
+        "log10_det_system",
+        "log10_det_ratio",
+        "linear_solves",
+        "factorizations",
+        "iterations",
+        "converged",
+        "seconds",
+    ] {
+        let s = match &v[key] {
+            Value::Number(n) if n.is_f64() => format!("{:.6e}", n.as_f64().unwrap_or(f64::NAN)),
+            other => other.to_string(),
+        };
+        t += &format!("{key:>18}: {s}\n");
+    }
+    match v["warnings"].as_array() {
+        Some(w) if !w.is_empty() => {
+            for x in w {
+                t += &format!("warning: {}\n", x.as_str().unwrap_or_default());
+            }
+        }
+        _ => t += "warnings: none\n",
+    }
+    t
+}
