@@ -15,8 +15,11 @@ use penalty_lab::strategy::{solve, Method};
 use penalty_lab::system::{Constraint, ConstraintKind, Problem};
 use penalty_lab::Result;
 
-/// cond₂ of K, then (method, ε per constraint, cond₂ of the final system) per strategy.
-pub fn run() -> Result<(f64, Vec<(String, Vec<f64>, f64)>)> {
+/// One strategy's outcome: its name, ε per constraint, cond₂ of the final system.
+pub type Outcome = (String, Vec<f64>, f64);
+
+/// cond₂ of K, then one [`Outcome`] per strategy.
+pub fn run() -> Result<(f64, Vec<Outcome>)> {
     // Three Euler–Bernoulli frame elements, 30 mm, E = 2100, 1×1 section (Eq. 30–31).
     let k = Frame::cantilever(3, 30.0, Section::rectangle(2100.0, 1.0, 1.0))?.assemble(false)?;
     let q = vec![0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -50.0, 1.0, 0.0]; // Eq. 32
