@@ -104,11 +104,28 @@ pub enum Mark {
 
 /// The palette index of a method: its position in
 /// [`METHOD_NAMES`](crate::strategy::METHOD_NAMES) (one colour per method in every figure).
+/// The forming runs' names map to the rules they use: `classical` → `constant`, `adaptive` →
+/// `paper` (Eq. 28). Unknown names get the last palette entry.
 pub fn method_color(name: &str) -> usize {
+    let name = match name {
+        "classical" => "constant",
+        "adaptive" => "paper",
+        n => n,
+    };
     crate::strategy::METHOD_NAMES
         .iter()
         .position(|x| *x == name)
-        .unwrap_or(0)
+        .unwrap_or(PALETTE.len() - 1)
+}
+
+/// The legend name of a method in every figure: the δ-driven rules carry their equation.
+pub fn method_label(name: &str) -> &str {
+    match name {
+        "spring" => "spring (Eq. 17)",
+        "paper" => "paper (Eq. 26–29)",
+        "condensed" => "condensed (exact δ)",
+        n => n,
+    }
 }
 
 /// A data series: `y` against `x`, drawn with `mark`.

@@ -178,3 +178,19 @@ fn gallery_of_edge_cases() {
     let fig = Figure::new("", "x", "y").with_marker(Marker::new("only point", 1.0, 1.0));
     render(&fig, &dir.join("single")).unwrap();
 }
+
+/// One colour per method everywhere: distinct for the seven strategies, and the forming runs
+/// take the colour of the rule they use.
+#[test]
+fn one_colour_per_method() {
+    use penalty_lab::plot::{method_color, method_label};
+    use penalty_lab::strategy::METHOD_NAMES;
+    let mut seen: Vec<usize> = METHOD_NAMES.iter().map(|m| method_color(m)).collect();
+    seen.sort_unstable();
+    seen.dedup();
+    assert_eq!(seen.len(), METHOD_NAMES.len());
+    assert_eq!(method_color("classical"), method_color("constant"));
+    assert_eq!(method_color("adaptive"), method_color("paper"));
+    assert!(method_label("paper").contains("Eq. 26"));
+    assert_eq!(method_label("lagrange"), "lagrange");
+}

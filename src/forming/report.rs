@@ -7,7 +7,7 @@ use super::config::{ContactRule, FormingConfig};
 use super::solver::{RunResult, Snapshot, StepRecord};
 use super::tools::{Die, Punch};
 use crate::error::{Error, Result};
-use crate::plot::{render, render_panels, Figure, Mark, Scale, Series};
+use crate::plot::{method_color, render, render_panels, Figure, Mark, Scale, Series};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -141,15 +141,6 @@ fn label(name: &str, run: &SavedRun) -> String {
     }
 }
 
-fn color(name: &str) -> usize {
-    match name {
-        "classical" => 1,
-        "adaptive" => 0,
-        "condensed" => 2,
-        _ => 4,
-    }
-}
-
 /// Renders the four figures into `dir` from a saved document: `<cond_stem>` (cond₂ per step;
 /// `fig7_condition_per_step` for the deep draw, the paper's Fig. 7), `punch_force_vs_travel`,
 /// `thickness_strain`, `deformed_profiles` (PNG + SVG each). Returns the files written.
@@ -179,7 +170,7 @@ pub fn render_figures(
                 run.steps.iter().map(|s| s.cond2).collect(),
                 Mark::Line,
             )
-            .color(color(name)),
+            .color(method_color(name)),
         );
     }
     files.extend(render(&f7, &dir.join(cond_stem))?);
@@ -203,7 +194,7 @@ pub fn render_figures(
                 run.steps.iter().map(|s| s.punch_force).collect(),
                 mark,
             )
-            .color(color(name)),
+            .color(method_color(name)),
         );
     }
     files.extend(render(&ff, &dir.join("punch_force_vs_travel"))?);

@@ -37,7 +37,7 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-use crate::plot::{render, Band, Figure, Mark, Marker, Scale, Series};
+use crate::plot::{method_color, method_label, render, Band, Figure, Mark, Marker, Scale, Series};
 use crate::stats::quantile;
 use crate::sweep::rows::Row;
 use crate::{Error, Result};
@@ -53,18 +53,9 @@ pub const FIGURE_KINDS: [&str; 4] = [
 /// Lower and upper quantile of the spread band drawn around the `constant` median.
 const BAND_Q: (f64, f64) = (0.1, 0.9);
 
-/// Adaptive (δ-driven) methods: name, legend name, palette index.
-const ADAPTIVE: [(&str, &str, usize); 3] = [
-    ("spring", "spring (Eq. 17)", 3),
-    ("paper", "paper (Eq. 26–29)", 1),
-    ("condensed", "condensed (exact δ)", 2),
-];
-/// Palette index of `constant`.
-const C_CONSTANT: usize = 0;
-/// Palette index of `scaled`.
-const C_SCALED: usize = 5;
-/// Palette index of `augmented`.
-const C_AUGMENTED: usize = 4;
+/// Adaptive (δ-driven) methods, in legend order (colours and legend names from
+/// [`method_color`] and [`method_label`], as in every figure).
+const ADAPTIVE: [&str; 3] = ["spring", "paper", "condensed"];
 
 /// Image size of every sweep figure (px).
 const SIZE: (u32, u32) = (1000, 700);
@@ -406,7 +397,7 @@ fn eps_figure(fam: &Fam, metric: Metric, title: &str, y_label: &str, y_scale: Sc
                     st.iter().map(|s| s.lo).collect(),
                     st.iter().map(|s| s.hi).collect(),
                 )
-                .color(C_CONSTANT),
+                .color(method_color("constant")),
             );
         }
         fig = fig.with_series(
@@ -416,11 +407,12 @@ fn eps_figure(fam: &Fam, metric: Metric, title: &str, y_label: &str, y_scale: Sc
                 st.iter().map(|s| s.med).collect(),
                 Mark::Line,
             )
-            .color(C_CONSTANT),
+            .color(method_color("constant")),
         );
     }
 
-    for (name, legend, color) in ADAPTIVE {
+    for name in ADAPTIVE {
+        let (legend, color) = (method_label(name), method_color(name));
         for set in delta_sets(&fam.method(name)) {
             let pts: Vec<(f64, f64, f64)> = set
                 .groups
@@ -587,7 +579,7 @@ fn pareto(fam: &Fam) -> Figure {
         fig,
         format!("constant, ε = {}", range(&ks)),
         &constant,
-        C_CONSTANT,
+        method_color("constant"),
     );
     let scaled = groups(&fam.method("scaled"), |r| r.factor);
     let ks: Vec<f64> = scaled.iter().map(|g| g.0).collect();
@@ -595,9 +587,10 @@ fn pareto(fam: &Fam) -> Figure {
         fig,
         format!("scaled, f = {} (ε_c = f·K[d_c,d_c])", range(&ks)),
         &scaled,
-        C_SCALED,
+        method_color("scaled"),
     );
-    for (name, legend, color) in ADAPTIVE {
+    for name in ADAPTIVE {
+        let (legend, color) = (method_label(name), method_color(name));
         for set in delta_sets(&fam.method(name)) {
             let ks: Vec<f64> = set.groups.iter().map(|g| g.0).collect();
             let unit = if set.relative { "·|u0|" } else { "" };
@@ -622,7 +615,7 @@ fn pareto(fam: &Fam) -> Figure {
             fig,
             format!("augmented{eps_note}, tol = {}{unit}", range(&ks)),
             &set.groups,
-            C_AUGMENTED,
+            method_color("augmented"),
         );
     }
     if has_data(&fig) {
