@@ -1085,8 +1085,46 @@ where
         mesh.draw().map_err(e)?;
     }
 
-    let lw = st.px(2.0).max(1) as u32;
+    draw_bands(&mut chart, fig, st)?;
+    draw_lines(&mut chart, fig, prep, st)?;
+    draw_marks(&mut chart, fig, st)?;
+    draw_markers(&mut chart, fig, st)?;
+    let legend = draw_legend(&mut chart, fig, prep, st)?;
+    draw_reference_labels(&mut chart, fig, prep, st, legend)?;
+    let (prx, pry) = chart.plotting_area().get_pixel_range();
+    // Frame around the plotting area and the horizontal y label above the y axis.
+    let (bx, by) = area.get_base_pixel();
+    let (ax0, ay0) = (prx.start - bx, pry.start - by);
+    let (ax1, ay1) = (prx.end - bx - 1, pry.end - by - 1);
+    area.draw(&PathElement::new(
+        vec![(ax0, ay0), (ax1, ay0), (ax1, ay1)],
+        BLACK.stroke_width(1),
+    ))
+    .map_err(e)?;
+    if !fig.y_label.is_empty() {
+        let x = (ax0 - y_area as i32 + st.px(4.0)).max(st.px(4.0));
+        area.draw(&Text::new(
+            fig.y_label.as_str(),
+            (x, ay0 - st.px(8.0)),
+            font(st.label).pos(Pos::new(HPos::Left, VPos::Bottom)),
+        ))
+        .map_err(e)?;
+    }
+    Ok(())
+}
 
+/// Spread bands: filled polygons between their lower and upper curves, with edges.
+fn draw_bands<'a, DB, X, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    fig: &Figure,
+    st: &Style,
+) -> std::result::Result<(), String>
+where
+    DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     // Bands.
     for (i, b) in fig.bands.iter().enumerate() {
         let c = pal(b.color.unwrap_or(i));
@@ -1121,6 +1159,23 @@ where
         }
     }
 
+    Ok(())
+}
+
+/// Coloured segments and the dashed reference lines (their labels come after the legend).
+fn draw_lines<'a, DB, X, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    fig: &Figure,
+    prep: &Prepared,
+    st: &Style,
+) -> std::result::Result<(), String>
+where
+    DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let (xs, ys) = (fig.x_scale, fig.y_scale);
     // Segments.
     let seg_w = st.px(3.0).max(1) as u32;
     chart
@@ -1156,6 +1211,24 @@ where
             .map_err(e)?;
     }
 
+    Ok(())
+}
+
+/// The data series in their marks, each with its legend entry.
+fn draw_marks<'a, DB, X, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    fig: &Figure,
+    st: &Style,
+) -> std::result::Result<(), String>
+where
+    DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let (xs, ys) = (fig.x_scale, fig.y_scale);
+    let lw = st.px(2.0).max(1) as u32;
+    let dash = (st.px(8.0) as f64, st.px(5.0) as f64);
     // Series.
     let len = st.px(28.0);
     let pr = st.px(4.0).max(2);
@@ -1225,6 +1298,23 @@ where
         }
     }
 
+    Ok(())
+}
+
+/// Markers: diamonds with a black outline.
+fn draw_markers<'a, DB, X, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    fig: &Figure,
+    st: &Style,
+) -> std::result::Result<(), String>
+where
+    DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let (xs, ys) = (fig.x_scale, fig.y_scale);
+    let len = st.px(28.0);
     // Markers: diamond with a black outline.
     let r = st.px(9.0);
     let diamond = move |c: RGBColor| {
@@ -1253,6 +1343,24 @@ where
         }
     }
 
+    Ok(())
+}
+
+/// The legend in the emptiest corner; returns the corner and the legend's size in
+/// normalised plot coordinates (0×0: no legend).
+fn draw_legend<'a, DB, X, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    fig: &Figure,
+    prep: &Prepared,
+    st: &Style,
+) -> std::result::Result<(Corner, (f64, f64)), String>
+where
+    DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let scale = st.s;
     // Legend in the emptiest corner.
     let (prx, pry) = chart.plotting_area().get_pixel_range();
     let (pw, ph) = (
@@ -1301,6 +1409,30 @@ where
             .map_err(e)?;
     }
 
+    Ok((corner, legend_wh))
+}
+
+/// Reference-line labels: hline labels at the right end above the line, vline labels at the
+/// top right of the line, each moved to the other end where it would hit the legend.
+fn draw_reference_labels<'a, DB, X, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    fig: &Figure,
+    prep: &Prepared,
+    st: &Style,
+    (corner, legend_wh): (Corner, (f64, f64)),
+) -> std::result::Result<(), String>
+where
+    DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let (xs, ys) = (fig.x_scale, fig.y_scale);
+    let (prx, pry) = chart.plotting_area().get_pixel_range();
+    let (pw, ph) = (
+        (prx.end - prx.start).max(1) as f64,
+        (pry.end - pry.start).max(1) as f64,
+    );
     // Reference-line labels: hline labels at the right end above the line, vline labels at the
     // top right of the line, each moved to the other end where it would hit the legend.
     let legend_right = matches!(corner, Corner::UpperRight | Corner::LowerRight);
@@ -1370,24 +1502,6 @@ where
             .map_err(e)?;
     }
 
-    // Frame around the plotting area and the horizontal y label above the y axis.
-    let (bx, by) = area.get_base_pixel();
-    let (ax0, ay0) = (prx.start - bx, pry.start - by);
-    let (ax1, ay1) = (prx.end - bx - 1, pry.end - by - 1);
-    area.draw(&PathElement::new(
-        vec![(ax0, ay0), (ax1, ay0), (ax1, ay1)],
-        BLACK.stroke_width(1),
-    ))
-    .map_err(e)?;
-    if !fig.y_label.is_empty() {
-        let x = (ax0 - y_area as i32 + st.px(4.0)).max(st.px(4.0));
-        area.draw(&Text::new(
-            fig.y_label.as_str(),
-            (x, ay0 - st.px(8.0)),
-            font(st.label).pos(Pos::new(HPos::Left, VPos::Bottom)),
-        ))
-        .map_err(e)?;
-    }
     Ok(())
 }
 
