@@ -652,6 +652,10 @@ fn malformed_json_reports_line_and_column() {
     );
     assert_has(&scene_err("{\"a\": \"x\ny\"}"), &["control character"]);
     assert_has(
+        &scene_err(r#"{"name": "t", "meta": {"seed": 1, "run": {"a": 1, "a": 2}}}"#),
+        &["line 1", "meta.run", "duplicate key \"a\""],
+    );
+    assert_has(
         &scene_err("[1, 2]"),
         &[
             "line 1, column 1",

@@ -463,7 +463,7 @@ fn write_mm_body(w: &mut impl Write, k: &Stiffness) -> std::io::Result<()> {
 /// Writes K to a Matrix Market file: `coordinate real symmetric` (lower triangle) when K
 /// is exactly symmetric, `coordinate real general` otherwise; values in shortest
 /// round-trip form, so [`read_matrix_market`] gives back identical bits. The file is
-/// written atomically ([`write_atomic`](crate::provenance::write_atomic)). Non-finite entries are an error.
+/// written atomically ([`write_atomic`]). Non-finite entries are an error.
 pub fn write_matrix_market(path: &Path, k: &Stiffness) -> Result<()> {
     if !k.all_finite() {
         return Err(Error::io(

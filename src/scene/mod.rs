@@ -54,7 +54,7 @@
 //! [`write_scene`] writes the same format; a sparse K, or one with N above a threshold,
 //! goes to a sibling `<stem>.mtx` file. Numbers are written in shortest round-trip form, so
 //! `read_scene(write_scene(p))` reproduces K, q and the limits bit for bit. Files are
-//! written with [`write_atomic`](crate::provenance::write_atomic) (a temporary file in the
+//! written with [`write_atomic`] (a temporary file in the
 //! target directory, renamed into place), so an error never leaves a half-written file
 //! behind.
 
@@ -156,6 +156,7 @@ pub fn parse_scene_str(json: &str, base_dir: &Path, origin: &str) -> Result<Scen
         load,
         constraints,
     } = raw.0;
+    let meta = meta.map(|Meta(v)| v);
     let at = |path: &str, msg: String| Error::io(origin, format!("{path}: {msg}"));
 
     const EXACTLY_ONE: &str =
@@ -220,7 +221,7 @@ struct RawScene {
     /// `units`: documentation only, checked for type, not kept.
     #[serde(rename = "units")]
     _units: Option<String>,
-    meta: Option<serde_json::Value>,
+    meta: Option<Meta>,
     stiffness: Obj<RawStiffness>,
     load: Vec<Num>,
     constraints: Vec<Obj<RawConstraint>>,
@@ -281,6 +282,69 @@ impl<'de, T: Deserialize<'de> + Expecting> Deserialize<'de> for Obj<T> {
     }
 }
 
+/// The `meta` value, kept verbatim as a [`serde_json::Value`]; a duplicate key anywhere
+/// inside it is an error (the value would otherwise silently keep the last one).
+struct Meta(serde_json::Value);
+
+impl<'de> Deserialize<'de> for Meta {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        use serde_json::Value;
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = Meta;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("any JSON value")
+            }
+            fn visit_map<A: MapAccess<'de>>(
+                self,
+                mut map: A,
+            ) -> std::result::Result<Meta, A::Error> {
+                let mut out = serde_json::Map::new();
+                while let Some(key) = map.next_key::<String>()? {
+                    if out.contains_key(&key) {
+                        return Err(de::Error::custom(format_args!(
+                            "duplicate key {}",
+                            quote_short(&key)
+                        )));
+                    }
+                    let Meta(v) = map.next_value()?;
+                    out.insert(key, v);
+                }
+                Ok(Meta(Value::Object(out)))
+            }
+            fn visit_seq<A: de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> std::result::Result<Meta, A::Error> {
+                let mut out = Vec::new();
+                while let Some(Meta(v)) = seq.next_element()? {
+                    out.push(v);
+                }
+                Ok(Meta(Value::Array(out)))
+            }
+            fn visit_unit<E>(self) -> std::result::Result<Meta, E> {
+                Ok(Meta(Value::Null))
+            }
+            fn visit_bool<E>(self, b: bool) -> std::result::Result<Meta, E> {
+                Ok(Meta(Value::Bool(b)))
+            }
+            fn visit_u64<E>(self, v: u64) -> std::result::Result<Meta, E> {
+                Ok(Meta(v.into()))
+            }
+            fn visit_i64<E>(self, v: i64) -> std::result::Result<Meta, E> {
+                Ok(Meta(v.into()))
+            }
+            fn visit_f64<E>(self, v: f64) -> std::result::Result<Meta, E> {
+                Ok(Meta(v.into()))
+            }
+            fn visit_str<E>(self, s: &str) -> std::result::Result<Meta, E> {
+                Ok(Meta(s.into()))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
 /// A number (an f64; JSON cannot hold NaN/Inf, and `serde_json` rejects numbers that
 /// overflow f64). A quoted number is an error with a hint.
 struct Num(f64);
@@ -336,7 +400,7 @@ impl<'de> Deserialize<'de> for Dof {
                 usize::try_from(v).map(Dof).map_err(|_| bad(v))
             }
             fn visit_f64<E: de::Error>(self, v: f64) -> std::result::Result<Dof, E> {
-                if v.fract() == 0.0 && v >= 0.0 && v < 9_007_199_254_740_992.0 {
+                if v.fract() == 0.0 && (0.0..9_007_199_254_740_992.0).contains(&v) {
                     Ok(Dof(v as usize))
                 } else {
                     Err(bad(format_args!("{v:?}")))
@@ -470,7 +534,7 @@ fn write_number_list(w: &mut impl Write, xs: &[f64]) -> std::io::Result<()> {
 /// shortest round-trip form: [`read_scene`] gives back K, q and the constraints bit for bit
 /// (a dense K written to Matrix Market reads back as sparse storage with identical values;
 /// its exact `+0.0` entries are not stored). Both files are written with
-/// [`write_atomic`](crate::provenance::write_atomic) (the `.mtx` first), so an error
+/// [`write_atomic`] (the `.mtx` first), so an error
 /// never leaves a half-written file.
 pub fn write_scene(
     path: &Path,
@@ -612,6 +676,10 @@ mod json_error {
             Category::Data | Category::Io => {
                 let path = match path {
                     None | Some(".") => "scene",
+                    // "unknown field `x`" is about the object, not the path ending in `.x`.
+                    Some(p) if msg.starts_with("unknown field `") => {
+                        p.rsplit_once('.').map_or(p, |(parent, _)| parent)
+                    }
                     Some(p) => p,
                 };
                 format!("{path}: {}", data(msg, path))
@@ -669,14 +737,15 @@ mod json_error {
                 "control character (e.g. a line break) inside a string; escape it".into()
             }
             _ => {
-                let msg = msg.replace('`', "'").replace("EOF", "end of file");
+                let msg = msg
+                    .replace('`', "'")
+                    .replace("EOF", "end of file")
+                    .replace("expected value", "expected a value");
                 if ["NaN", "Infinity", "-Infinity", "-NaN"]
                     .iter()
                     .any(|w| rest.starts_with(w))
                 {
-                    format!(
-                        "{msg}: NaN and Infinity are not valid JSON numbers (all values must be finite)"
-                    )
+                    "NaN and Infinity are not valid JSON numbers (all values must be finite)".into()
                 } else if msg.starts_with("end of file") {
                     msg
                 } else {

@@ -27,7 +27,7 @@
 //!   its rounding errors are those of the scaled problem already), so equilibration changes the
 //!   computed u only when LU pivots differently; what it does change is the smallest/largest
 //!   pivot ratio, so a penalized matrix whose ill-conditioning is purely diagonal (huge ε on a
-//!   few DOFs) passes [`Factorization`]'s "singular to working precision" test after scaling.
+//!   few DOFs) passes [`Factorization`](crate::linalg::Factorization)'s "singular to working precision" test after scaling.
 //!
 //! # Stress studies
 //! [`eps_study`] sweeps a uniform ε over a grid on one problem (constraints active as in the
@@ -35,13 +35,13 @@
 //! variant, the penalty's model error against the exact contact solution (`lagrange`), and the
 //! constant strategy's own outcome. [`strategy_study`] runs every strategy at extreme knobs
 //! (tiny/huge ε, factors, δ, tolerances) and records status (ok / clean error / panic /
-//! non-finite), warnings, cond₂ and errors. [`figures`] turns the rows into plots.
+//! non-finite), warnings, cond₂ and errors. [`figures`](mod@figures) turns the rows into plots.
 
 //!
 //! # Layout
 //! [`dd`]: double-double arithmetic and LU; [`system`]: the exactly formed penalized system and
 //! its reference; [`refine`]: f64 solves with refinement and equilibration; [`study`]: the
-//! studies; [`report`]: CSV, summary and record of a run; [`figures`]: its figures.
+//! studies; [`report`]: CSV, summary and record of a run; [`figures`](mod@figures): its figures.
 
 pub mod dd;
 pub mod figures;

@@ -109,7 +109,7 @@ fn matrix_inf_norm(a: &Stiffness) -> f64 {
 ///
 /// Refinement stops after `max_steps`, or when a step no longer halves the correction
 /// (`‖dx‖ > ‖dx_prev‖/2`, the standard stagnation test), or when the correction falls below
-/// `ε_mach ‖x‖`. Errors: [`Error::Singular`] when the (scaled) matrix fails the factorization's
+/// `ε_mach ‖x‖`. Errors: [`Error::Singular`](crate::Error::Singular) when the (scaled) matrix fails the factorization's
 /// singularity test.
 pub fn solve(sys: &PenalizedSystem, opts: SolveOptions) -> Result<RefinedSolve> {
     let a = sys.matrix();
