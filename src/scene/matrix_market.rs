@@ -104,18 +104,16 @@ pub fn parse_matrix_market_str(text: &str, origin: &str) -> Result<Stiffness> {
             ),
         ));
     }
+    let unknown = |i: usize, what: &str, expected: &str| {
+        at(
+            hl,
+            format!("unknown {what} \"{}\" (expected {expected})", clip(toks[i])),
+        )
+    };
     let format = match lower[2].as_str() {
         "coordinate" => MmFormat::Coordinate,
         "array" => MmFormat::Array,
-        _ => {
-            return Err(at(
-                hl,
-                format!(
-                    "unknown format \"{}\" (expected coordinate or array)",
-                    clip(toks[2])
-                ),
-            ))
-        }
+        _ => return Err(unknown(2, "format", "coordinate or array")),
     };
     let field = match lower[3].as_str() {
         "real" | "double" => MmField::Real,
@@ -133,15 +131,7 @@ pub fn parse_matrix_market_str(text: &str, origin: &str) -> Result<Stiffness> {
                     .into(),
             ))
         }
-        _ => {
-            return Err(at(
-                hl,
-                format!(
-                    "unknown field \"{}\" (expected real or integer)",
-                    clip(toks[3])
-                ),
-            ))
-        }
+        _ => return Err(unknown(3, "field", "real or integer")),
     };
     let symmetric = match lower[4].as_str() {
         "general" => false,
@@ -155,15 +145,7 @@ pub fn parse_matrix_market_str(text: &str, origin: &str) -> Result<Stiffness> {
                 ),
             ))
         }
-        _ => {
-            return Err(at(
-                hl,
-                format!(
-                    "unknown symmetry \"{}\" (expected general or symmetric)",
-                    clip(toks[4])
-                ),
-            ))
-        }
+        _ => return Err(unknown(4, "symmetry", "general or symmetric")),
     };
 
     // Size line (after comments and blank lines).

@@ -419,25 +419,15 @@ struct Kind(ConstraintKind);
 
 impl<'de> Deserialize<'de> for Kind {
     fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
-        struct V;
-        impl Visitor<'_> for V {
-            type Value = Kind;
-            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
-                f.write_str(r#"a constraint kind ("bilateral", "upper" or "lower")"#)
-            }
-            fn visit_str<E: de::Error>(self, s: &str) -> std::result::Result<Kind, E> {
-                match s {
-                    "bilateral" => Ok(Kind(ConstraintKind::Bilateral)),
-                    "upper" => Ok(Kind(ConstraintKind::Upper)),
-                    "lower" => Ok(Kind(ConstraintKind::Lower)),
-                    other => Err(E::custom(format_args!(
-                        "unknown kind {} (valid kinds: bilateral, upper, lower)",
-                        quote_short(other)
-                    ))),
-                }
-            }
+        match String::deserialize(d)?.as_str() {
+            "bilateral" => Ok(Kind(ConstraintKind::Bilateral)),
+            "upper" => Ok(Kind(ConstraintKind::Upper)),
+            "lower" => Ok(Kind(ConstraintKind::Lower)),
+            other => Err(de::Error::custom(format_args!(
+                "unknown kind {} (valid kinds: bilateral, upper, lower)",
+                quote_short(other)
+            ))),
         }
-        d.deserialize_str(V)
     }
 }
 
