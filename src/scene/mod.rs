@@ -40,10 +40,14 @@
 //! JSON is read with `serde_json` (its `float_roundtrip` feature converts decimal numbers
 //! correctly rounded, which the bit-for-bit round trip of [`write_scene`] needs) into
 //! `#[derive(Deserialize)]` types, through `serde_path_to_error` so that a type error names
-//! its JSON path. Numbers that overflow f64 (e.g. `1e999`) are rejected as not finite;
-//! nesting deeper than 128 levels is rejected (`serde_json`'s recursion limit; no stack
-//! overflow on hostile input). Only `stiffness` rejects unknown keys; duplicate keys of the
-//! scene's own fields are errors.
+//! its JSON path; `serde_json`'s messages are reworded in this module's terms ("expected
+//! a number, found the string \"2\"", "missing required field \"load\""). Numbers that
+//! overflow f64 (e.g. `1e999`) are rejected as not finite. No hostile input overflows the
+//! stack: `meta` is limited to `serde_json`'s 128 levels of nesting, ignored keys are
+//! skipped without recursion, and the typed fields reject anything nested deeper than they
+//! expect. Only `stiffness` rejects unknown keys; a duplicate key among the scene's own
+//! fields, a constraint's fields or anywhere inside `meta` is an error (duplicates of
+//! ignored keys are not checked).
 //!
 //! Matrix Market files are read by the line-based reader in [`matrix_market`] (see there
 //! why it is hand-written), which returns [`Stiffness::Sparse`] (never densified).
@@ -54,9 +58,8 @@
 //! [`write_scene`] writes the same format; a sparse K, or one with N above a threshold,
 //! goes to a sibling `<stem>.mtx` file. Numbers are written in shortest round-trip form, so
 //! `read_scene(write_scene(p))` reproduces K, q and the limits bit for bit. Files are
-//! written with [`write_atomic`] (a temporary file in the
-//! target directory, renamed into place), so an error never leaves a half-written file
-//! behind.
+//! written with [`write_atomic`] (a temporary file in the target directory, renamed into
+//! place), so an error never leaves a half-written file behind.
 
 use crate::error::{Error, Result};
 use crate::provenance::write_atomic;
