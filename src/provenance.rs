@@ -40,7 +40,12 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(|e| Error::io(dir.display(), e))?;
+    let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(|e| {
+        Error::io(
+            path.display(),
+            format!("cannot create temporary file in {}: {e}", dir.display()),
+        )
+    })?;
     tmp.write_all(bytes)
         .map_err(|e| Error::io(path.display(), e))?;
     tmp.persist(path)

@@ -641,13 +641,36 @@ fn malformed_json_reports_line_and_column() {
     let e = scene_err("{\"name\": \"t\",\n\"x\": [1, 2}\n");
     assert_has(&e, &["line 2, column 11", "expected ',' or ']'"]);
     assert_has(&scene_err(""), &["empty"]);
-    assert_has(&scene_err("{\"a\": 1} x"), &["after the end"]);
-    assert_has(&scene_err("{\"a\": 1, \"a\": 2}"), &["duplicate key \"a\""]);
+    let valid = scene(K3, "[0, 0, 0]", "[]");
+    assert_has(
+        &scene_err(&format!("{valid} x")),
+        &["line 1", "unexpected 'x' after the end"],
+    );
+    assert_has(
+        &scene_err(r#"{"name": "a", "name": "b"}"#),
+        &["line 1, column 20", "duplicate key \"name\""],
+    );
     assert_has(&scene_err("{\"a\": \"x\ny\"}"), &["control character"]);
-    assert_has(&scene_err("[1, 2]"), &["expected a JSON object"]);
-    // 10 000 nested arrays: an error, not a stack overflow.
+    assert_has(
+        &scene_err(r#"{"name": "t", "meta": {"seed": 1, "run": {"a": 1, "a": 2}}}"#),
+        &["line 1", "meta.run", "duplicate key \"a\""],
+    );
+    assert_has(
+        &scene_err("[1, 2]"),
+        &[
+            "line 1, column 1",
+            "expected a JSON object",
+            "found an array",
+        ],
+    );
+    // 10 000 nested arrays: an error, not a stack overflow, at the top level (not an
+    // object), in an ignored key (skipped without recursion) and in `meta` (kept: limited).
     let deep = format!("{}{}", "[".repeat(10_000), "]".repeat(10_000));
-    assert_has(&scene_err(&deep), &["nesting deeper than 128"]);
+    assert_has(&scene_err(&deep), &["expected a JSON object"]);
+    let ignored = format!(r#"{{"x": {deep}}}"#);
+    assert_has(&scene_err(&ignored), &["missing required field \"name\""]);
+    let in_meta = format!(r#"{{"name": "t", "meta": {deep}}}"#);
+    assert_has(&scene_err(&in_meta), &["line 1", "nesting deeper than 128"]);
 }
 
 #[test]

@@ -1,0 +1,805 @@
+//! Scene files: one contact problem `K u = q`, `Dᵀu ⋚ û`, stored as JSON with an optional
+//! Matrix Market stiffness.
+//!
+//! # Contract (binding, `shared/notes/methods.md`, "Scene files")
+//!
+//! ```json
+//! {
+//!   "name": "paper-beam",
+//!   "stiffness": {"dense": [[420, 0, 0], [0, 420, 0], [0, 0, 420]]},
+//!   "load": [0, -50, 1],
+//!   "constraints": [{"dof": 1, "limit": 3.0, "kind": "bilateral"}]
+//! }
+//! ```
+//!
+//! * `name` (string), `stiffness`, `load` (N numbers) and `constraints` (an array, possibly
+//!   empty) are required.
+//! * `stiffness` is an object with **exactly one** key: `"dense"` (N rows of N numbers,
+//!   row-major) or `"matrix_market"` (a path, relative to the scene file's directory, to a
+//!   `coordinate real|integer general|symmetric` or `array real|integer general|symmetric`
+//!   Matrix Market file). Any other key, both keys or neither is an error.
+//! * Each constraint is `{"dof": d, "limit": û, "kind": k}` with a **0-based** DOF index `d`
+//!   and `k` one of `bilateral`, `upper`, `lower` (see [`crate::system`]).
+//! * Optional: `"description"` (string), `"units"` (string; documentation only, not kept)
+//!   and `"meta"` (any JSON, kept as [`serde_json::Value`], for provenance such as the
+//!   generator and its seed). Other top-level keys are ignored; extra keys inside a
+//!   constraint are ignored too.
+//!
+//! Units are whatever the user's model uses (the solver never converts); `units` only
+//! documents them.
+//!
+//! # Reading
+//!
+//! [`read_scene`] reads a scene, resolves a Matrix Market stiffness and builds a validated
+//! [`Problem`] (sizes, NaN/Inf, DOF range, duplicate DOFs). Every error is an
+//! [`Error::Io`] naming the file, the place (line and column, or the JSON path such as
+//! `constraints[2].kind`) and the problem, e.g.
+//! `scenes/x.scene.json: constraint 2: DOF 12 is out of range (N = 9, DOFs are 0-based)` or
+//! `K.mtx: line 7: expected 3 fields "row col value", found 2`.
+//!
+//! JSON is read with `serde_json` (its `float_roundtrip` feature converts decimal numbers
+//! correctly rounded, which the bit-for-bit round trip of [`write_scene`] needs) into
+//! `#[derive(Deserialize)]` types, through `serde_path_to_error` so that a type error names
+//! its JSON path; `serde_json`'s messages are reworded in this module's terms ("expected
+//! a number, found the string \"2\"", "missing required field \"load\""). Numbers that
+//! overflow f64 (e.g. `1e999`) are rejected as not finite. No hostile input overflows the
+//! stack: `meta` is limited to `serde_json`'s 128 levels of nesting, ignored keys are
+//! skipped without recursion, and the typed fields reject anything nested deeper than they
+//! expect. Only `stiffness` rejects unknown keys; a duplicate key among the scene's own
+//! fields, a constraint's fields or anywhere inside `meta` is an error (duplicates of
+//! ignored keys are not checked).
+//!
+//! Matrix Market files are read by the line-based reader in [`matrix_market`] (see there
+//! why it is hand-written), which returns [`Stiffness::Sparse`] (never densified).
+//! Dimensions above [`MAX_DIM`] are refused.
+//!
+//! # Writing
+//!
+//! [`write_scene`] writes the same format; a sparse K, or one with N above a threshold,
+//! goes to a sibling `<stem>.mtx` file. Numbers are written in shortest round-trip form, so
+//! `read_scene(write_scene(p))` reproduces K, q and the limits bit for bit. Files are
+//! written with [`write_atomic`] (a temporary file in the target directory, renamed into
+//! place), so an error never leaves a half-written file behind.
+
+use crate::error::{Error, Result};
+use crate::provenance::write_atomic;
+use crate::system::{Constraint, ConstraintKind, Problem, Stiffness};
+use serde::de::{self, value::MapAccessDeserializer, Deserializer, MapAccess, Visitor};
+use serde::Deserialize;
+use std::fmt;
+use std::fs;
+use std::io::Write;
+use std::path::Path;
+
+pub mod matrix_market;
+
+pub use matrix_market::{
+    parse_matrix_market_str, read_matrix_market, write_matrix_market, MAX_DIM,
+};
+
+/// A scene read from disk: a named, validated contact problem.
+#[derive(Clone, Debug)]
+pub struct Scene {
+    /// The scene's `name`.
+    pub name: String,
+    /// The optional `description`.
+    pub description: Option<String>,
+    /// K, q and the constraints, validated by [`Problem::new`].
+    pub problem: Problem,
+    /// The optional `meta` object (provenance: generator, seed, …), kept verbatim.
+    /// `"meta": null` reads as `None`.
+    pub meta: Option<serde_json::Value>,
+}
+
+/// Turns a library error into a bare message (drops the `invalid input: ` prefix, whose
+/// information the wrapping file error already conveys).
+fn bare_message(e: Error) -> String {
+    match e {
+        Error::Input(m) => m,
+        other => other.to_string(),
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Reading scenes
+// ---------------------------------------------------------------------------------------
+
+/// Reads and validates a scene file.
+///
+/// A `matrix_market` stiffness is resolved relative to the scene file's directory. Errors
+/// (unreadable file, invalid UTF-8, malformed JSON, wrong types, missing fields, bad
+/// stiffness file, sizes, NaN/Inf, DOF out of range, duplicate DOFs) are [`Error::Io`] with
+/// the file name and a one-line explanation.
+pub fn read_scene(path: &Path) -> Result<Scene> {
+    let origin = path.display().to_string();
+    let bytes =
+        fs::read(path).map_err(|e| Error::io(&origin, format!("cannot read scene file: {e}")))?;
+    let text = String::from_utf8(bytes).map_err(|e| {
+        Error::io(
+            &origin,
+            format!(
+                "not valid UTF-8 text (first bad byte at offset {}); JSON must be UTF-8",
+                e.utf8_error().valid_up_to()
+            ),
+        )
+    })?;
+    let base = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    parse_scene_str(&text, base, &origin)
+}
+
+/// Parses a scene from JSON text.
+///
+/// `base_dir` is the directory a relative `matrix_market` path is resolved against;
+/// `origin` is the name used in error messages (normally the scene file's path). Used by
+/// [`read_scene`]; handy for tests and fuzzing. Never panics.
+pub fn parse_scene_str(json: &str, base_dir: &Path, origin: &str) -> Result<Scene> {
+    let json = json.strip_prefix('\u{feff}').unwrap_or(json);
+    if json.trim_ascii().is_empty() {
+        return Err(Error::io(
+            origin,
+            "the file is empty (expected a JSON object)",
+        ));
+    }
+    let mut de = serde_json::Deserializer::from_str(json);
+    let raw: Obj<RawScene> = serde_path_to_error::deserialize(&mut de).map_err(|e| {
+        let path = e.path().to_string();
+        Error::io(origin, json_error::describe(e.inner(), Some(&path), json))
+    })?;
+    de.end()
+        .map_err(|e| Error::io(origin, json_error::describe(&e, None, json)))?;
+    let RawScene {
+        name,
+        description,
+        _units: _,
+        meta,
+        stiffness: Obj(stiffness),
+        load,
+        constraints,
+    } = raw.0;
+    let meta = meta.map(|Meta(v)| v);
+    let at = |path: &str, msg: String| Error::io(origin, format!("{path}: {msg}"));
+
+    const EXACTLY_ONE: &str =
+        r#"give exactly one of "dense" (rows of numbers) or "matrix_market" (a file path)"#;
+    let k = match (stiffness.dense, stiffness.matrix_market) {
+        (Some(_), Some(_)) => {
+            return Err(at(
+                "stiffness",
+                format!("both \"dense\" and \"matrix_market\" are present; {EXACTLY_ONE}"),
+            ))
+        }
+        (None, None) => {
+            return Err(at(
+                "stiffness",
+                format!("neither \"dense\" nor \"matrix_market\" is given; {EXACTLY_ONE}"),
+            ))
+        }
+        (Some(rows), None) => {
+            let rows: Vec<Vec<f64>> = rows
+                .into_iter()
+                .map(|r| r.into_iter().map(|Num(x)| x).collect())
+                .collect();
+            Stiffness::from_rows(&rows).map_err(|e| at("stiffness.dense", bare_message(e)))?
+        }
+        (None, Some(rel)) => {
+            if rel.trim().is_empty() {
+                return Err(at("stiffness.matrix_market", "empty file path".into()));
+            }
+            read_matrix_market(&base_dir.join(&rel))
+                .map_err(|e| at("stiffness.matrix_market", e.to_string()))?
+        }
+    };
+    let q = load.into_iter().map(|Num(x)| x).collect();
+    let constraints = constraints
+        .into_iter()
+        .map(|Obj(c)| Constraint {
+            dof: c.dof.0,
+            limit: c.limit.0,
+            kind: c.kind.0,
+        })
+        .collect();
+    let problem =
+        Problem::new(k, q, constraints).map_err(|e| Error::io(origin, bare_message(e)))?;
+    Ok(Scene {
+        name,
+        description,
+        problem,
+        meta,
+    })
+}
+
+// ---------------------------------------------------------------------------------------
+// The scene as written: serde types
+// ---------------------------------------------------------------------------------------
+
+/// A scene file as written, before validation. Unknown top-level keys are ignored (the
+/// contract); `name`, `stiffness`, `load` and `constraints` are required.
+#[derive(Deserialize)]
+struct RawScene {
+    name: String,
+    description: Option<String>,
+    /// `units`: documentation only, checked for type, not kept.
+    #[serde(rename = "units")]
+    _units: Option<String>,
+    meta: Option<Meta>,
+    stiffness: Obj<RawStiffness>,
+    load: Vec<Num>,
+    constraints: Vec<Obj<RawConstraint>>,
+}
+
+/// `{"dense": [[...], ...]}` or `{"matrix_market": "K.mtx"}`: any other key is an error;
+/// "exactly one" is checked after parsing.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawStiffness {
+    dense: Option<Vec<Vec<Num>>>,
+    matrix_market: Option<String>,
+}
+
+/// `{"dof": d, "limit": û, "kind": k}`; extra keys are ignored (the contract).
+#[derive(Deserialize)]
+struct RawConstraint {
+    dof: Dof,
+    limit: Num,
+    kind: Kind,
+}
+
+/// What an object in the scene should look like, for "expected …, found …" messages.
+trait Expecting {
+    const EXPECTING: &'static str;
+}
+
+impl Expecting for RawScene {
+    const EXPECTING: &'static str = "a JSON object {...} (a scene)";
+}
+
+impl Expecting for RawStiffness {
+    const EXPECTING: &'static str =
+        r#"an object {"dense": [[...], ...]} or {"matrix_market": "K.mtx"}"#;
+}
+
+impl Expecting for RawConstraint {
+    const EXPECTING: &'static str = r#"an object {"dof": d, "limit": x, "kind": k}"#;
+}
+
+/// A JSON object only: derived structs would also accept an array of their fields in
+/// order, which no scene file means.
+struct Obj<T>(T);
+
+impl<'de, T: Deserialize<'de> + Expecting> Deserialize<'de> for Obj<T> {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        struct V<T>(std::marker::PhantomData<T>);
+        impl<'de, T: Deserialize<'de> + Expecting> Visitor<'de> for V<T> {
+            type Value = Obj<T>;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str(T::EXPECTING)
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> std::result::Result<Obj<T>, A::Error> {
+                T::deserialize(MapAccessDeserializer::new(map)).map(Obj)
+            }
+        }
+        d.deserialize_map(V(std::marker::PhantomData))
+    }
+}
+
+/// The `meta` value, kept verbatim as a [`serde_json::Value`]; a duplicate key anywhere
+/// inside it is an error (the value would otherwise silently keep the last one).
+struct Meta(serde_json::Value);
+
+impl<'de> Deserialize<'de> for Meta {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        use serde_json::Value;
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = Meta;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("any JSON value")
+            }
+            fn visit_map<A: MapAccess<'de>>(
+                self,
+                mut map: A,
+            ) -> std::result::Result<Meta, A::Error> {
+                let mut out = serde_json::Map::new();
+                while let Some(key) = map.next_key::<String>()? {
+                    if out.contains_key(&key) {
+                        return Err(de::Error::custom(format_args!(
+                            "duplicate key {}",
+                            quote_short(&key)
+                        )));
+                    }
+                    let Meta(v) = map.next_value()?;
+                    out.insert(key, v);
+                }
+                Ok(Meta(Value::Object(out)))
+            }
+            fn visit_seq<A: de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> std::result::Result<Meta, A::Error> {
+                let mut out = Vec::new();
+                while let Some(Meta(v)) = seq.next_element()? {
+                    out.push(v);
+                }
+                Ok(Meta(Value::Array(out)))
+            }
+            fn visit_unit<E>(self) -> std::result::Result<Meta, E> {
+                Ok(Meta(Value::Null))
+            }
+            fn visit_bool<E>(self, b: bool) -> std::result::Result<Meta, E> {
+                Ok(Meta(Value::Bool(b)))
+            }
+            fn visit_u64<E>(self, v: u64) -> std::result::Result<Meta, E> {
+                Ok(Meta(v.into()))
+            }
+            fn visit_i64<E>(self, v: i64) -> std::result::Result<Meta, E> {
+                Ok(Meta(v.into()))
+            }
+            fn visit_f64<E>(self, v: f64) -> std::result::Result<Meta, E> {
+                Ok(Meta(v.into()))
+            }
+            fn visit_str<E>(self, s: &str) -> std::result::Result<Meta, E> {
+                Ok(Meta(s.into()))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// A number (an f64; JSON cannot hold NaN/Inf, and `serde_json` rejects numbers that
+/// overflow f64). A quoted number is an error with a hint.
+struct Num(f64);
+
+impl<'de> Deserialize<'de> for Num {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        struct V;
+        impl Visitor<'_> for V {
+            type Value = Num;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a number")
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> std::result::Result<Num, E> {
+                Ok(Num(v))
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> std::result::Result<Num, E> {
+                Ok(Num(v as f64))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> std::result::Result<Num, E> {
+                Ok(Num(v as f64))
+            }
+            fn visit_str<E: de::Error>(self, s: &str) -> std::result::Result<Num, E> {
+                Err(E::custom(format_args!(
+                    "expected a number, found the string {} (write numbers without quotes)",
+                    quote_short(s)
+                )))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// A 0-based DOF index: a non-negative integer (`4.0` and `4e0` are accepted).
+struct Dof(usize);
+
+impl<'de> Deserialize<'de> for Dof {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        struct V;
+        fn bad<E: de::Error>(shown: impl fmt::Display) -> E {
+            E::custom(format_args!(
+                "expected a non-negative integer DOF index (0-based), found {shown}"
+            ))
+        }
+        impl Visitor<'_> for V {
+            type Value = Dof;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a non-negative integer DOF index (0-based)")
+            }
+            fn visit_u64<E: de::Error>(self, v: u64) -> std::result::Result<Dof, E> {
+                usize::try_from(v).map(Dof).map_err(|_| bad(v))
+            }
+            fn visit_i64<E: de::Error>(self, v: i64) -> std::result::Result<Dof, E> {
+                usize::try_from(v).map(Dof).map_err(|_| bad(v))
+            }
+            fn visit_f64<E: de::Error>(self, v: f64) -> std::result::Result<Dof, E> {
+                if v.fract() == 0.0 && (0.0..9_007_199_254_740_992.0).contains(&v) {
+                    Ok(Dof(v as usize))
+                } else {
+                    Err(bad(format_args!("{v:?}")))
+                }
+            }
+            fn visit_str<E: de::Error>(self, s: &str) -> std::result::Result<Dof, E> {
+                Err(bad(format_args!("the string {}", quote_short(s))))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// `"bilateral"`, `"upper"` or `"lower"`.
+struct Kind(ConstraintKind);
+
+impl<'de> Deserialize<'de> for Kind {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        match String::deserialize(d)?.as_str() {
+            "bilateral" => Ok(Kind(ConstraintKind::Bilateral)),
+            "upper" => Ok(Kind(ConstraintKind::Upper)),
+            "lower" => Ok(Kind(ConstraintKind::Lower)),
+            other => Err(de::Error::custom(format_args!(
+                "unknown kind {} (valid kinds: bilateral, upper, lower)",
+                quote_short(other)
+            ))),
+        }
+    }
+}
+
+/// A string quoted for a message, shortened if long.
+fn quote_short(s: &str) -> String {
+    let shown = clip(s);
+    serde_json::to_string(&shown).unwrap_or(shown)
+}
+
+/// Shortens a token for an error message.
+fn clip(s: &str) -> String {
+    const MAX: usize = 40;
+    if s.chars().count() <= MAX {
+        s.to_owned()
+    } else {
+        let mut t: String = s.chars().take(MAX).collect();
+        t.push('…');
+        t
+    }
+}
+
+// ---------------------------------------------------------------------------------------
+// Writing
+// ---------------------------------------------------------------------------------------
+
+/// Formats an f64 so that Rust's `str::parse::<f64>` and `serde_json` (with `float_roundtrip`) give
+/// back the identical bits: integers below 10¹⁵ as integers, everything else in shortest
+/// round-trip form (`{:?}`, e.g. `0.1`, `-0.0`, `1e-300`). The value must be finite.
+fn fmt_f64(v: f64) -> String {
+    if v.fract() == 0.0 && v.abs() < 1e15 && !(v == 0.0 && v.is_sign_negative()) {
+        format!("{}", v as i64)
+    } else {
+        format!("{v:?}")
+    }
+}
+
+/// Checks what [`Problem::new`] checks, for a problem whose public fields may have been
+/// changed since: anything written must be readable again.
+fn check_writable(p: &Problem) -> std::result::Result<(), String> {
+    let n = p.k.n();
+    if n == 0 {
+        return Err("the stiffness matrix is empty".into());
+    }
+    if p.q.len() != n {
+        return Err(format!(
+            "load vector has {} entries but K is {n}×{n}",
+            p.q.len()
+        ));
+    }
+    if !p.k.all_finite() {
+        return Err("the stiffness matrix contains NaN or Inf (JSON cannot hold them)".into());
+    }
+    if let Some(i) = p.q.iter().position(|v| !v.is_finite()) {
+        return Err(format!("load entry {i} is not finite"));
+    }
+    let mut seen = vec![false; n];
+    for (c, con) in p.constraints.iter().enumerate() {
+        if con.dof >= n {
+            return Err(format!(
+                "constraint {c}: DOF {} is out of range (N = {n})",
+                con.dof
+            ));
+        }
+        if !con.limit.is_finite() {
+            return Err(format!("constraint {c}: limit is not finite"));
+        }
+        if std::mem::replace(&mut seen[con.dof], true) {
+            return Err(format!(
+                "constraint {c}: DOF {} is constrained twice",
+                con.dof
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn write_number_list(w: &mut impl Write, xs: &[f64]) -> std::io::Result<()> {
+    w.write_all(b"[")?;
+    for (i, &x) in xs.iter().enumerate() {
+        if i > 0 {
+            w.write_all(b", ")?;
+        }
+        w.write_all(fmt_f64(x).as_bytes())?;
+    }
+    w.write_all(b"]")
+}
+
+/// Writes a scene file.
+///
+/// The stiffness goes to a sibling Matrix Market file `<stem>.mtx` (where `path` is
+/// `<stem>.scene.json`, or `<stem>.json`) when it is sparse or `N > mtx_threshold`, and
+/// is referenced as `{"matrix_market": "<stem>.mtx"}`; otherwise it is written inline as
+/// dense rows. `meta`, if given, is written as the `"meta"` object. Numbers are written in
+/// shortest round-trip form: [`read_scene`] gives back K, q and the constraints bit for bit
+/// (a dense K written to Matrix Market reads back as sparse storage with identical values;
+/// its exact `+0.0` entries are not stored). Both files are written with
+/// [`write_atomic`] (the `.mtx` first), so an error
+/// never leaves a half-written file.
+pub fn write_scene(
+    path: &Path,
+    scene_name: &str,
+    problem: &Problem,
+    meta: Option<&serde_json::Value>,
+    mtx_threshold: usize,
+) -> Result<()> {
+    let origin = path.display().to_string();
+    check_writable(problem).map_err(|m| Error::io(&origin, format!("cannot write scene: {m}")))?;
+    let file_name = path
+        .file_name()
+        .and_then(|s| s.to_str())
+        .ok_or_else(|| Error::io(&origin, "scene path must end in a UTF-8 file name"))?;
+    let stem = file_name
+        .strip_suffix(".scene.json")
+        .or_else(|| file_name.strip_suffix(".json"))
+        .unwrap_or(file_name);
+    let mtx_name = format!("{stem}.mtx");
+    let use_mtx = problem.k.is_sparse() || problem.n() > mtx_threshold;
+
+    let to_io = |e: serde_json::Error| std::io::Error::other(e.to_string());
+    let body = |w: &mut Vec<u8>| -> std::io::Result<()> {
+        writeln!(w, "{{")?;
+        writeln!(
+            w,
+            "  \"name\": {},",
+            serde_json::to_string(scene_name).map_err(to_io)?
+        )?;
+        if use_mtx {
+            writeln!(
+                w,
+                "  \"stiffness\": {{\"matrix_market\": {}}},",
+                serde_json::to_string(&mtx_name).map_err(to_io)?
+            )?;
+        } else {
+            writeln!(w, "  \"stiffness\": {{\"dense\": [")?;
+            let k = &problem.k;
+            let n = k.n();
+            let mut row = vec![0.0; n];
+            for i in 0..n {
+                for (j, r) in row.iter_mut().enumerate() {
+                    *r = k.get(i, j);
+                }
+                w.write_all(b"    ")?;
+                write_number_list(w, &row)?;
+                writeln!(w, "{}", if i + 1 < n { "," } else { "" })?;
+            }
+            writeln!(w, "  ]}},")?;
+        }
+        w.write_all(b"  \"load\": ")?;
+        write_number_list(w, &problem.q)?;
+        writeln!(w, ",")?;
+        if problem.constraints.is_empty() {
+            write!(w, "  \"constraints\": []")?;
+        } else {
+            writeln!(w, "  \"constraints\": [")?;
+            let m = problem.constraints.len();
+            for (c, con) in problem.constraints.iter().enumerate() {
+                let kind = match con.kind {
+                    ConstraintKind::Bilateral => "bilateral",
+                    ConstraintKind::Upper => "upper",
+                    ConstraintKind::Lower => "lower",
+                };
+                writeln!(
+                    w,
+                    "    {{\"dof\": {}, \"limit\": {}, \"kind\": \"{kind}\"}}{}",
+                    con.dof,
+                    fmt_f64(con.limit),
+                    if c + 1 < m { "," } else { "" }
+                )?;
+            }
+            write!(w, "  ]")?;
+        }
+        if let Some(meta) = meta {
+            let text = serde_json::to_string_pretty(meta).map_err(to_io)?;
+            write!(w, ",\n  \"meta\": {}", text.replace('\n', "\n  "))?;
+        }
+        writeln!(w, "\n}}")
+    };
+
+    // Both files are formatted in memory first, so nothing is written unless both are
+    // complete; the `.mtx` is moved into place before the scene that names it.
+    let mut text = Vec::new();
+    body(&mut text).map_err(|e| Error::io(&origin, format!("cannot write: {e}")))?;
+    if use_mtx {
+        let mtx_path = path.with_file_name(&mtx_name);
+        write_atomic(&mtx_path, &matrix_market::matrix_market_bytes(&problem.k))?;
+    }
+    write_atomic(path, &text)
+}
+
+// ---------------------------------------------------------------------------------------
+// serde_json errors as one-line messages in the module's wording
+// ---------------------------------------------------------------------------------------
+
+mod json_error {
+    use super::{clip, quote_short};
+    use serde_json::error::Category;
+
+    /// Hints for the required top-level fields, appended to "missing required field".
+    const REQUIRED: [(&str, &str); 4] = [
+        ("name", "a string"),
+        (
+            "stiffness",
+            r#"{"dense": [[...], ...]} or {"matrix_market": "K.mtx"}"#,
+        ),
+        ("load", "an array of N numbers"),
+        (
+            "constraints",
+            r#"an array of {"dof", "limit", "kind"} objects; use [] for none"#,
+        ),
+    ];
+
+    /// `line L, column C: <path>: <what was wrong>` for a `serde_json` error at JSON path
+    /// `path` (`None` for errors after the value, e.g. trailing characters). Columns count
+    /// characters (`serde_json` counts bytes). The message is one line, clipped.
+    pub(super) fn describe(e: &serde_json::Error, path: Option<&str>, text: &str) -> String {
+        let (line, byte_col) = (e.line(), e.column());
+        let full = e.to_string();
+        let msg = full
+            .strip_suffix(&format!(" at line {line} column {byte_col}"))
+            .unwrap_or(&full);
+        // The line's text and the byte offset of the character the error points at.
+        let line_text = text.split('\n').nth(line.wrapping_sub(1)).unwrap_or("");
+        let at = byte_col.saturating_sub(1);
+        let col = line_text
+            .get(..at)
+            .map_or(byte_col, |t| t.chars().count() + 1);
+        let place = if line == 0 {
+            String::new()
+        } else {
+            format!("line {line}, column {col}: ")
+        };
+        let what = match e.classify() {
+            Category::Syntax | Category::Eof => {
+                format!("malformed JSON: {}", syntax(msg, line_text, at))
+            }
+            Category::Data | Category::Io => {
+                let path = match path {
+                    None | Some(".") => "scene",
+                    // "unknown field `x`" is about the object, not the path ending in `.x`.
+                    Some(p) if msg.starts_with("unknown field `") => {
+                        p.rsplit_once('.').map_or(p, |(parent, _)| parent)
+                    }
+                    Some(p) => p,
+                };
+                format!("{path}: {}", data(msg, path))
+            }
+        };
+        format!("{place}{}", clip_message(&what))
+    }
+
+    /// Shortens a whole message (echoed keys and strings can be long) and keeps it on one
+    /// line.
+    fn clip_message(m: &str) -> String {
+        const MAX: usize = 400;
+        let m = m.replace(['\n', '\r'], " ");
+        if m.chars().count() <= MAX {
+            m
+        } else {
+            let mut t: String = m.chars().take(MAX).collect();
+            t.push('…');
+            t
+        }
+    }
+
+    /// The character at byte offset `at` of `line`, for "found …".
+    fn found(line: &str, at: usize) -> String {
+        match line.get(at..).and_then(|t| t.chars().next()) {
+            None => "the end of the line or file".into(),
+            Some(c) if c.is_control() => format!("character U+{:04X}", c as u32),
+            Some(c) => format!("'{c}'"),
+        }
+    }
+
+    fn syntax(msg: &str, line: &str, at: usize) -> String {
+        let rest = line.get(at..).unwrap_or("");
+        match msg {
+            "number out of range" => {
+                // The error points into the number: widen to the whole literal.
+                let is_num =
+                    |c: char| c.is_ascii_digit() || matches!(c, '.' | 'e' | 'E' | '+' | '-');
+                let start = line
+                    .get(..at.min(line.len()))
+                    .map_or(at, |t| t.trim_end_matches(is_num).len());
+                let end = at + rest.find(|c: char| !is_num(c)).unwrap_or(rest.len());
+                let literal = line.get(start..end).unwrap_or("");
+                format!(
+                    "number {} is not finite: it overflows f64 (|x| must be at most 1.7976931348623157e308)",
+                    clip(literal)
+                )
+            }
+            "recursion limit exceeded" => "nesting deeper than 128 levels is not supported".into(),
+            "trailing characters" => format!(
+                "unexpected {} after the end of the JSON value",
+                found(line, at)
+            ),
+            _ if msg.starts_with("control character") => {
+                "control character (e.g. a line break) inside a string; escape it".into()
+            }
+            _ => {
+                let msg = msg
+                    .replace('`', "'")
+                    .replace("EOF", "end of file")
+                    .replace("expected value", "expected a value");
+                if ["NaN", "Infinity", "-Infinity", "-NaN"]
+                    .iter()
+                    .any(|w| rest.starts_with(w))
+                {
+                    "NaN and Infinity are not valid JSON numbers (all values must be finite)".into()
+                } else if msg.starts_with("end of file") {
+                    msg
+                } else {
+                    format!("{msg}, found {}", found(line, at))
+                }
+            }
+        }
+    }
+
+    /// Rewords serde's data errors ("invalid type: map, expected a string", "missing field
+    /// `name`", …) as "expected a string, found an object", "missing required field
+    /// \"name\" (a string)", ….
+    fn data(msg: &str, path: &str) -> String {
+        if let Some(rest) = msg.strip_prefix("invalid type: ") {
+            if let Some((unexpected, expected)) = rest.rsplit_once(", expected ") {
+                let expected = expected.replace("a sequence", "an array");
+                return format!("expected {expected}, found {}", found_value(unexpected));
+            }
+        }
+        if let Some(field) = backticked(msg, "missing field `") {
+            let hint = REQUIRED
+                .iter()
+                .find(|(k, _)| path == "scene" && *k == field)
+                .map_or(String::new(), |(_, h)| format!(" ({h})"));
+            return format!("missing required field {}{hint}", quote_short(field));
+        }
+        if let Some(field) = backticked(msg, "duplicate field `") {
+            return format!("duplicate key {}", quote_short(field));
+        }
+        if let Some(field) = backticked(msg, "unknown field `") {
+            return format!(
+                "unknown key {}; give exactly one of \"dense\" (rows of numbers) or \"matrix_market\" (a file path)",
+                quote_short(field)
+            );
+        }
+        msg.to_owned()
+    }
+
+    /// The text between `prefix` and the next backtick.
+    fn backticked<'m>(msg: &'m str, prefix: &str) -> Option<&'m str> {
+        msg.strip_prefix(prefix)?.split('`').next()
+    }
+
+    /// serde's description of a JSON value ("integer `5`", "map", …) in plain words.
+    fn found_value(u: &str) -> String {
+        let ticked = |p: &str| u.strip_prefix(p).map(|v| v.trim_matches('`'));
+        match u {
+            "sequence" => "an array".into(),
+            "map" => "an object".into(),
+            "null" | "unit value" => "null".into(),
+            _ => {
+                if let Some(v) = ticked("integer ").or_else(|| ticked("floating point ")) {
+                    format!("a number ({})", clip(v))
+                } else if let Some(v) = ticked("boolean ") {
+                    format!("a boolean ({v})")
+                } else if let Some(s) = u.strip_prefix("string ") {
+                    format!("the string {}", clip(s))
+                } else {
+                    u.to_owned()
+                }
+            }
+        }
+    }
+}
