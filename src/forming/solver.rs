@@ -27,6 +27,12 @@
 //! 4. **Update** (updated Lagrangian): `ε̄ += ε̄̇ Δt` per layer, thickness (see
 //!    [`ThicknessUpdate`]), `x += v Δt`, punch tip `−= v_punch Δt`.
 //!
+//! [`Simulation::step`] reads as these phases: `prepare_step` (1: BCs, reduced numbering,
+//! candidates, local axes, û), `picard` (2: per iteration `assemble` — material matrix, drag,
+//! holder loads, friction, rotation to local axes — then `solve_contact`, the contact-set
+//! update and the relaxation), `telemetry` (3), `advance` (4), then the geometric
+//! penetration and the snapshots.
+//!
 //! The blank holder is a prescribed force spread as nodal loads `−H_i e_z` over the nodes on the
 //! flat of the die (tributary area); it does not add constraints. This keeps D Boolean and the
 //! holder force exactly the prescribed one, at the price of ignoring where the flange actually
