@@ -27,6 +27,12 @@
 //! 4. **Update** (updated Lagrangian): `ε̄ += ε̄̇ Δt` per layer, thickness (see
 //!    [`ThicknessUpdate`]), `x += v Δt`, punch tip `−= v_punch Δt`.
 //!
+//! [`Simulation::step`] reads as these phases: `prepare_step` (1: BCs, reduced numbering,
+//! candidates, local axes, û), `picard` (2: per iteration `assemble` — material matrix, drag,
+//! holder loads, friction, rotation to local axes — then `solve_contact`, the contact-set
+//! update and the relaxation), `telemetry` (3), `advance` (4), then the geometric
+//! penetration and the snapshots.
+//!
 //! The blank holder is a prescribed force spread as nodal loads `−H_i e_z` over the nodes on the
 //! flat of the die (tributary area); it does not add constraints. This keeps D Boolean and the
 //! holder force exactly the prescribed one, at the price of ignoring where the flange actually
@@ -216,9 +222,280 @@ pub struct Simulation {
     snapshots: Vec<Snapshot>,
 }
 
+/// Reduced DOF numbering: the global DOFs without the essential BCs.
+struct DofNumbering {
+    /// Reduced index of each global DOF (`usize::MAX` where fixed).
+    reduced: Vec<usize>,
+    /// Global index of each reduced DOF.
+    free: Vec<usize>,
+}
+
+impl DofNumbering {
+    fn new(fixed: &[bool]) -> Self {
+        let mut reduced = vec![usize::MAX; fixed.len()];
+        let mut free = Vec::new();
+        for (d, &f) in fixed.iter().enumerate() {
+            if !f {
+                reduced[d] = free.len();
+                free.push(d);
+            }
+        }
+        DofNumbering { reduced, free }
+    }
+}
+
+/// What a step fixes before its Picard iteration (start-of-step geometry): BCs, holder loads,
+/// contact candidates with their local axes and allowed normal velocities, the strategy.
+struct StepSetup {
+    /// Time step Δt (s).
+    dt: f64,
+    /// Number of nodes.
+    nodes: usize,
+    /// Globally fixed DOFs.
+    fixed: Vec<bool>,
+    /// Holder load per node.
+    holder: Vec<f64>,
+    /// Reduced DOF numbering.
+    dofs: DofNumbering,
+    /// Contact candidates, with their reduced DOF.
+    cands: Vec<ContactCandidate>,
+    /// First candidate of each node (one friction term per node).
+    cand_of: Vec<Option<usize>>,
+    /// Local axes `T_i = [e τ 0; 0 0 1]` of the candidate nodes (not the axis node).
+    rot: Vec<Option<Block>>,
+    /// Allowed normal velocity û = V_tool·n − g/Δt per candidate.
+    uhat: Vec<f64>,
+    /// The strategy for the contact rule.
+    method: Method,
+}
+
+/// The μ*, drag and friction coefficients a Picard iteration's system was assembled with.
+struct Coefficients {
+    /// μ* per element and layer.
+    mu: Vec<Vec<f64>>,
+    /// Rigid-mode drag on the v_z diagonals.
+    drag: f64,
+    /// Friction coefficient c per candidate.
+    friction_c: Vec<f64>,
+}
+
+/// A Picard iteration's system `K v = q` in local nodal axes, essential BCs not yet removed.
+struct Assembly {
+    k: BlockTri,
+    q: Vec<f64>,
+    coeffs: Coefficients,
+}
+
+/// One contact solve: the reduced problem with the contact set as bilateral constraints.
+struct ContactSolve {
+    problem: Problem,
+    solution: Solution,
+    /// Candidate index of each constraint (the columns of D).
+    active: Vec<usize>,
+}
+
+/// The result of a step's Picard iteration.
+struct PicardOutcome {
+    /// Accepted global velocities (the last solve's, unrelaxed).
+    v: Vec<f64>,
+    /// Normal force per node from the last solve.
+    normal_force: Vec<f64>,
+    /// The last solve.
+    solve: ContactSolve,
+    /// The coefficients of the last solve's system.
+    coeffs: Coefficients,
+    iterations: usize,
+    factorizations: usize,
+    converged: bool,
+    /// Final relative velocity change.
+    change: f64,
+    /// cond₂ of every iteration's system matrix (if requested).
+    iteration_cond2: Vec<f64>,
+}
+
+/// Telemetry of a step's last solve, taken before the geometry update.
+struct SolveTelemetry {
+    cond2: f64,
+    log10_det: f64,
+    max_penetration: f64,
+    punch_force: f64,
+    clipped: usize,
+    max_penalty: f64,
+    min_penalty: f64,
+    mu_ratio: f64,
+    drag_force: f64,
+}
+
+/// Aitken's dynamic relaxation (Irons–Tuck) of the Picard fixed-point map.
+struct Relaxation {
+    omega: f64,
+    aitken: bool,
+    prev_res: Option<Vec<f64>>,
+}
+
+impl Relaxation {
+    /// Moves `v` to `v_new` if `accept`, else by `ω (v_new − v)`; with Aitken, first
+    /// `ω_k = −ω_{k−1} r_{k−1}ᵀ(r_k − r_{k−1}) / |r_k − r_{k−1}|²`, clamped.
+    fn apply(&mut self, v: &mut [f64], v_new: &[f64], accept: bool) {
+        let res: Vec<f64> = v_new.iter().zip(v.iter()).map(|(a, b)| a - b).collect();
+        if self.aitken {
+            if let Some(prev) = &self.prev_res {
+                let (mut num, mut den) = (0.0, 0.0);
+                for (a, b) in res.iter().zip(prev) {
+                    num += b * (a - b);
+                    den += (a - b) * (a - b);
+                }
+                if den > 0.0 {
+                    self.omega = (-self.omega * num / den).clamp(0.05, 2.0);
+                }
+            }
+        }
+        if accept {
+            v.copy_from_slice(v_new);
+        } else {
+            for (a, r) in v.iter_mut().zip(&res) {
+                *a += self.omega * r;
+            }
+        }
+        self.prev_res = Some(res);
+    }
+}
+
 /// Normal velocity `v·n` of a candidate's node.
 fn vn(v: &[f64], c: &ContactCandidate) -> f64 {
     v[3 * c.node] * c.normal[0] + v[3 * c.node + 1] * c.normal[1]
+}
+
+/// Tangential velocities `(v_t, V_t)` of a candidate's node and its tool.
+fn tangential(v: &[f64], c: &ContactCandidate) -> (f64, f64) {
+    let i = c.node;
+    let vt = v[3 * i] * c.tangent[0] + v[3 * i + 1] * c.tangent[1];
+    let vtt = c.tool_velocity[0] * c.tangent[0] + c.tool_velocity[1] * c.tangent[1];
+    (vt, vtt)
+}
+
+/// Adds one friction term `c ττᵀ` to node `i`'s diagonal block and `c V_t τ` to its load.
+fn add_friction_term(
+    k: &mut BlockTri,
+    q: &mut [f64],
+    i: usize,
+    tau: [f64; 2],
+    vt_tool: f64,
+    c: f64,
+) {
+    for a in 0..2 {
+        for b in 0..2 {
+            k.d[i][a][b] += c * tau[a] * tau[b];
+        }
+        q[3 * i + a] += c * vt_tool * tau[a];
+    }
+}
+
+/// Rotates the candidate nodes' blocks and loads to their local axes `(e, τ)`.
+fn rotate_to_local(rot: &[Option<Block>], k: &mut BlockTri, q: &mut [f64]) {
+    k.rotate(rot);
+    for (i, t) in rot.iter().enumerate() {
+        if let Some(t) = t {
+            let (a, b) = (q[3 * i], q[3 * i + 1]);
+            q[3 * i] = t[0][0] * a + t[1][0] * b;
+            q[3 * i + 1] = t[0][1] * a + t[1][1] * b;
+        }
+    }
+}
+
+/// Picard change `max|v_new − v| / max(max|v_new|, v_punch)` over the nodal velocities
+/// (v_r, v_z); rotation rates β are in other units (rad/s) and follow the velocity gradients.
+fn picard_change(v_new: &[f64], v: &[f64], punch_speed: f64) -> f64 {
+    let (mut vmax, mut dmax) = (0.0f64, 0.0f64);
+    for d in (0..v.len()).filter(|d| d % 3 != 2) {
+        vmax = vmax.max(v_new[d].abs());
+        dmax = dmax.max((v_new[d] - v[d]).abs());
+    }
+    dmax / vmax.max(punch_speed)
+}
+
+impl StepSetup {
+    /// Global velocities (3 per node, global axes) from a reduced local-axes solution.
+    fn global_velocities(&self, u: &[f64]) -> Vec<f64> {
+        let mut v = vec![0.0; 3 * self.nodes];
+        for (j, &d) in self.dofs.free.iter().enumerate() {
+            v[d] = u[j];
+        }
+        for c in &self.cands {
+            if c.node == 0 {
+                continue;
+            }
+            let (p0, p1) = (3 * c.node, 3 * c.node + 1);
+            let (a, b) = (v[p0], v[p1]);
+            v[p0] = a * c.normal[0] + b * c.tangent[0];
+            v[p1] = a * c.normal[1] + b * c.tangent[1];
+        }
+        v
+    }
+
+    /// Normal force `N = (−r_c e)·n` per node of a solve's constraints.
+    fn normal_forces(&self, s: &ContactSolve) -> Vec<f64> {
+        let mut normal_force = vec![0.0; self.nodes];
+        for (k, &ci) in s.active.iter().enumerate() {
+            let c = &self.cands[ci];
+            let r = s.solution.forces[k];
+            let f = [-r * c.dof_direction[0], -r * c.dof_direction[1]];
+            normal_force[c.node] = f[0] * c.normal[0] + f[1] * c.normal[1];
+        }
+        normal_force
+    }
+
+    /// Contact-set update: release tensile contacts, add penetrating candidates (one
+    /// constraint per node).
+    fn update_contact_set(
+        &self,
+        in_contact: &[bool],
+        normal_force: &[f64],
+        v_new: &[f64],
+        punch_speed: f64,
+    ) -> Vec<bool> {
+        let cands = &self.cands;
+        let mut new_set: Vec<bool> = (0..cands.len())
+            .map(|ci| in_contact[ci] && normal_force[cands[ci].node] >= 0.0)
+            .collect();
+        let mut taken = vec![false; self.nodes];
+        for (ci, c) in cands.iter().enumerate() {
+            taken[c.node] |= new_set[ci];
+        }
+        for (ci, c) in cands.iter().enumerate() {
+            if !in_contact[ci]
+                && !taken[c.node]
+                && vn(v_new, c) < self.uhat[ci] - 1e-9 * punch_speed
+            {
+                new_set[ci] = true;
+                taken[c.node] = true;
+            }
+        }
+        new_set
+    }
+
+    /// Punch force `−Σ_punch (N n_z + f τ_z)`, `f = −c (v_t − V_t)` (see module docs).
+    fn punch_force(&self, v: &[f64], friction_c: &[f64], normal_force: &[f64]) -> f64 {
+        let mut punch_force = 0.0;
+        for (ci, c) in self.cands.iter().enumerate() {
+            if c.tool != ToolId::Punch {
+                continue;
+            }
+            let (vt, vtt) = tangential(v, c);
+            let f = -friction_c[ci] * (vt - vtt);
+            punch_force -= normal_force[c.node] * c.normal[1] + f * c.tangent[1];
+        }
+        punch_force
+    }
+
+    /// The tool each node is in contact with after a solve with constraints `active`.
+    fn contact_tools(&self, active: &[usize]) -> Vec<Option<ToolId>> {
+        let mut contact_tool = vec![None; self.nodes];
+        for &ci in active {
+            contact_tool[self.cands[ci].node] = Some(self.cands[ci].tool);
+        }
+        contact_tool
+    }
 }
 
 impl Simulation {
@@ -473,304 +750,332 @@ impl Simulation {
 
     /// Advances one time step; returns its telemetry.
     pub fn step(&mut self) -> Result<StepRecord> {
-        let cfg = self.cfg.clone();
-        let dt = cfg.dt();
-        let nn = self.x.len();
-        let n = 3 * nn;
+        let setup = self.prepare_step();
+        let picard = self.picard(&setup)?;
+        let tel = self.telemetry(&setup, &picard)?;
+        let contact_tool = setup.contact_tools(&picard.solve.active);
+        self.detail = Some(self.step_detail(&setup, &picard, tel.punch_force));
+        self.advance(&picard.v, setup.dt);
+        self.v = picard.v;
+        self.normal_force = picard.normal_force;
+        self.contact_tool = contact_tool;
+        let geometric_penetration = self.geometric_penetration(&setup.cands, &picard.solve.active);
+        self.take_snapshots();
+        Ok(StepRecord {
+            step: self.step,
+            punch_travel: self.travel,
+            punch_force: tel.punch_force,
+            cond2: tel.cond2,
+            log10_det: tel.log10_det,
+            max_penetration: tel.max_penetration,
+            geometric_penetration,
+            volume: self.volume(),
+            iterations: picard.iterations,
+            factorizations: picard.factorizations,
+            converged: picard.converged,
+            picard_change: picard.change,
+            contact_nodes: picard.solve.active.len(),
+            candidates: setup.cands.len(),
+            clipped: tel.clipped,
+            max_penalty: tel.max_penalty,
+            min_penalty: tel.min_penalty,
+            mu_ratio: tel.mu_ratio,
+            drag_force: tel.drag_force,
+            iteration_cond2: picard.iteration_cond2,
+        })
+    }
+
+    /// Step phase 1: BCs, reduced numbering, holder loads, contact candidates with their
+    /// local axes and allowed normal velocities, the strategy.
+    fn prepare_step(&self) -> StepSetup {
+        let dt = self.cfg.dt();
+        let nodes = self.x.len();
         let fixed = self.fixed();
         let holder = self.holder_loads();
         let mut cands = self.candidates(dt, &holder, &fixed);
-        // Reduced DOF numbering.
-        let mut red = vec![usize::MAX; n];
-        let mut free = Vec::new();
-        for d in 0..n {
-            if !fixed[d] {
-                red[d] = free.len();
-                free.push(d);
-            }
-        }
+        let dofs = DofNumbering::new(&fixed);
         for c in cands.iter_mut() {
-            c.dof = if c.node == 0 { red[1] } else { red[3 * c.node] };
+            c.dof = if c.node == 0 {
+                dofs.reduced[1]
+            } else {
+                dofs.reduced[3 * c.node]
+            };
         }
-        // Holder friction on loaded nodes that are not contact candidates (radial sliding).
-        let cand_of: Vec<Option<usize>> = {
-            let mut m = vec![None; nn];
-            for (k, c) in cands.iter().enumerate() {
-                if m[c.node].is_none() {
-                    m[c.node] = Some(k);
-                }
-            }
-            m
-        };
-        let mut rot: Vec<Option<Block>> = vec![None; nn];
-        for c in &cands {
-            if c.node != 0 {
-                let (nv, tv) = (c.dof_direction, c.tangent);
-                rot[c.node] = Some([[nv[0], tv[0], 0.0], [nv[1], tv[1], 0.0], [0.0, 0.0, 1.0]]);
+        let mut cand_of = vec![None; nodes];
+        for (k, c) in cands.iter().enumerate() {
+            if cand_of[c.node].is_none() {
+                cand_of[c.node] = Some(k);
             }
         }
-        let method = match self.rule {
-            ContactRule::Classical { eps } => Method::Constant { eps },
-            ContactRule::Paper { delta } => Method::Paper { delta: delta / dt },
-            ContactRule::Condensed { delta } => Method::Condensed { delta: delta / dt },
-        };
-        let mut v = self.v.clone();
-        let mut iter_cond = Vec::new();
-        let mut iterations = 0;
-        let mut factorizations = 0;
-        let mut converged = false;
-        let mut change = f64::INFINITY;
-        #[allow(clippy::type_complexity)]
-        let mut last: Option<(
-            Problem,
-            Solution,
-            Vec<f64>,
-            Vec<Vec<f64>>,
-            f64,
-            Vec<f64>,
-            Vec<usize>,
-        )> = None;
+        // Local axes T_i = [e τ 0; 0 0 1]; the axis node keeps global axes.
+        let mut rot: Vec<Option<Block>> = vec![None; nodes];
+        for c in cands.iter().filter(|c| c.node != 0) {
+            let (nv, tv) = (c.dof_direction, c.tangent);
+            rot[c.node] = Some([[nv[0], tv[0], 0.0], [nv[1], tv[1], 0.0], [0.0, 0.0, 1.0]]);
+        }
         // Allowed normal velocities û = V_tool·n − g/Δt; the axis node with n = −e_z is
         // constrained on v_z = −v·n (sign −1).
-        let uhat: Vec<f64> = cands
+        let uhat = cands
             .iter()
             .map(|c| {
                 c.tool_velocity[0] * c.normal[0] + c.tool_velocity[1] * c.normal[1] - c.gap / dt
             })
             .collect();
-        let sgn: Vec<f64> = cands.iter().map(|c| c.sign).collect();
-        // Start from the previous step's contacts plus the candidates the current guess
-        // violates.
-        let mut in_contact = vec![false; cands.len()];
-        {
-            let mut taken = vec![false; nn];
-            for pass in 0..2 {
-                for (ci, c) in cands.iter().enumerate() {
-                    let on = if pass == 0 {
-                        self.contact_tool[c.node] == Some(c.tool)
-                    } else {
-                        vn(&v, c) < uhat[ci]
-                    };
-                    if on && !taken[c.node] {
-                        in_contact[ci] = true;
-                        taken[c.node] = true;
-                    }
-                }
-            }
+        let method = match self.rule {
+            ContactRule::Classical { eps } => Method::Constant { eps },
+            ContactRule::Paper { delta } => Method::Paper { delta: delta / dt },
+            ContactRule::Condensed { delta } => Method::Condensed { delta: delta / dt },
+        };
+        StepSetup {
+            dt,
+            nodes,
+            fixed,
+            holder,
+            dofs,
+            cands,
+            cand_of,
+            rot,
+            uhat,
+            method,
         }
-        let mut normal_force: Vec<f64> = self.normal_force.clone();
-        let mut omega = cfg.picard.relaxation;
-        let mut prev_res: Option<Vec<f64>> = None;
-        while iterations < cfg.picard.max_iterations {
-            iterations += 1;
-            let mu = self.mu_star(&v);
-            let mut k = self.material_matrix(&mu);
-            // Rigid-mode drag on v_z.
-            let kzz_max = k.d.iter().map(|b| b[1][1]).fold(0.0, f64::max);
-            let drag = cfg.drag * kzz_max;
-            for b in k.d.iter_mut() {
-                b[1][1] += drag;
-            }
-            let mut q = vec![0.0; n];
-            for i in 0..nn {
-                q[3 * i + 1] -= holder[i];
-            }
-            // Lagged friction c ττᵀ, c V_t τ.
-            let mut fric_c = vec![0.0; cands.len()];
-            let mu_f = cfg.friction;
-            let v0 = cfg.friction_v0;
-            let add_friction =
-                |k: &mut BlockTri, q: &mut [f64], i: usize, tau: [f64; 2], vt_tool: f64, c: f64| {
-                    for a in 0..2 {
-                        for b in 0..2 {
-                            k.d[i][a][b] += c * tau[a] * tau[b];
-                        }
-                        q[3 * i + a] += c * vt_tool * tau[a];
-                    }
+    }
+
+    /// The initial contact set: the previous step's contacts plus the candidates the
+    /// velocity guess `v` violates, at most one per node.
+    fn initial_contact_set(&self, s: &StepSetup, v: &[f64]) -> Vec<bool> {
+        let mut in_contact = vec![false; s.cands.len()];
+        let mut taken = vec![false; s.nodes];
+        for pass in 0..2 {
+            for (ci, c) in s.cands.iter().enumerate() {
+                let on = if pass == 0 {
+                    self.contact_tool[c.node] == Some(c.tool)
+                } else {
+                    vn(v, c) < s.uhat[ci]
                 };
-            if mu_f > 0.0 {
-                for (ci, c) in cands.iter().enumerate() {
-                    if c.node == 0 || cand_of[c.node] != Some(ci) {
-                        continue; // axis: tangent is radial and fixed; one friction per node
-                    }
-                    let i = c.node;
-                    let vt = v[3 * i] * c.tangent[0] + v[3 * i + 1] * c.tangent[1];
-                    let vtt = c.tool_velocity[0] * c.tangent[0] + c.tool_velocity[1] * c.tangent[1];
-                    let p = normal_force[i].max(0.0) + c.holder;
-                    let cc = mu_f * p / ((vt - vtt).powi(2) + v0 * v0).sqrt();
-                    fric_c[ci] = cc;
-                    add_friction(&mut k, &mut q, i, c.tangent, vtt, cc);
-                }
-                for i in 0..nn {
-                    if holder[i] > 0.0 && cand_of[i].is_none() && !fixed[3 * i] {
-                        let cc = mu_f * holder[i] / (v[3 * i].powi(2) + v0 * v0).sqrt();
-                        add_friction(&mut k, &mut q, i, [1.0, 0.0], 0.0, cc);
-                    }
-                }
-            }
-            // Rotate candidate nodes to (n, τ): T_i = [n τ 0; 0 0 1].
-            k.rotate(&rot);
-            for (i, t) in rot.iter().enumerate() {
-                if let Some(t) = t {
-                    let (a, b) = (q[3 * i], q[3 * i + 1]);
-                    q[3 * i] = t[0][0] * a + t[1][0] * b;
-                    q[3 * i + 1] = t[0][1] * a + t[1][1] * b;
-                }
-            }
-            let kmat = k.to_stiffness(&red, free.len())?;
-            let qr: Vec<f64> = free.iter().map(|&d| q[d]).collect();
-            let act_idx: Vec<usize> = (0..cands.len()).filter(|&c| in_contact[c]).collect();
-            let constraints: Vec<Constraint> = act_idx
-                .iter()
-                .map(|&ci| Constraint {
-                    dof: cands[ci].dof,
-                    limit: sgn[ci] * uhat[ci],
-                    kind: ConstraintKind::Bilateral,
-                })
-                .collect();
-            let problem = Problem::new(kmat, qr, constraints)?;
-            let sol = strategy::solve(&problem, method)?;
-            factorizations += sol.stats.factorizations;
-            if sol.u.iter().any(|x| !x.is_finite()) {
-                return Err(Error::Numerical(format!(
-                    "step {}: the velocity solution is not finite",
-                    self.step + 1
-                )));
-            }
-            if cfg.cond_per_iteration {
-                let sys = metrics::system_matrix(&problem, &sol);
-                iter_cond.push(conditioning::cond2(&sys)?.cond2);
-            }
-            // Back to global velocities.
-            let mut v_new = vec![0.0; n];
-            for (j, &d) in free.iter().enumerate() {
-                v_new[d] = sol.u[j];
-            }
-            for c in &cands {
-                if c.node == 0 {
-                    continue;
-                }
-                let (p0, p1) = (3 * c.node, 3 * c.node + 1);
-                let (a, b) = (v_new[p0], v_new[p1]);
-                v_new[p0] = a * c.normal[0] + b * c.tangent[0];
-                v_new[p1] = a * c.normal[1] + b * c.tangent[1];
-            }
-            // Normal forces N = (−r_c e)·n (friction lag, contact-set update).
-            normal_force = vec![0.0; nn];
-            for (k, &ci) in act_idx.iter().enumerate() {
-                let c = &cands[ci];
-                let r = sol.forces[k];
-                let f = [-r * c.dof_direction[0], -r * c.dof_direction[1]];
-                normal_force[c.node] = f[0] * c.normal[0] + f[1] * c.normal[1];
-            }
-            // Contact-set update: release tensile contacts, add penetrating candidates.
-            let mut new_set: Vec<bool> = (0..cands.len())
-                .map(|ci| in_contact[ci] && normal_force[cands[ci].node] >= 0.0)
-                .collect();
-            let mut taken = vec![false; nn];
-            for (ci, c) in cands.iter().enumerate() {
-                taken[c.node] |= new_set[ci];
-            }
-            for (ci, c) in cands.iter().enumerate() {
-                if !in_contact[ci]
-                    && !taken[c.node]
-                    && vn(&v_new, c) < uhat[ci] - 1e-9 * cfg.punch_speed
-                {
-                    new_set[ci] = true;
+                if on && !taken[c.node] {
+                    in_contact[ci] = true;
                     taken[c.node] = true;
                 }
             }
+        }
+        in_contact
+    }
+
+    /// Step phase 2: Picard iteration on `K[μ*(v)] v = q` with the contact-set update and
+    /// (Aitken) relaxation; see the module docs.
+    fn picard(&self, s: &StepSetup) -> Result<PicardOutcome> {
+        let pc = &self.cfg.picard;
+        let vp = self.cfg.punch_speed;
+        let mut v = self.v.clone();
+        let mut in_contact = self.initial_contact_set(s, &v);
+        let mut normal_force = self.normal_force.clone();
+        let mut relax = Relaxation {
+            omega: pc.relaxation,
+            aitken: pc.aitken,
+            prev_res: None,
+        };
+        let (mut iterations, mut factorizations) = (0, 0);
+        let (mut converged, mut change) = (false, f64::INFINITY);
+        let mut iteration_cond2 = Vec::new();
+        let mut last = None;
+        while iterations < pc.max_iterations {
+            iterations += 1;
+            let asm = self.assemble(s, &v, &normal_force);
+            let solve = self.solve_contact(s, &asm, &in_contact)?;
+            factorizations += solve.solution.stats.factorizations;
+            if self.cfg.cond_per_iteration {
+                let sys = metrics::system_matrix(&solve.problem, &solve.solution);
+                iteration_cond2.push(conditioning::cond2(&sys)?.cond2);
+            }
+            let v_new = s.global_velocities(&solve.solution.u);
+            normal_force = s.normal_forces(&solve);
+            let new_set = s.update_contact_set(&in_contact, &normal_force, &v_new, vp);
             let set_changed = new_set != in_contact;
-            // Convergence on the nodal velocities (v_r, v_z); rotation rates β are in other
-            // units (rad/s) and follow the velocity gradients.
-            let (mut vmax, mut dmax) = (0.0f64, 0.0f64);
-            for d in (0..n).filter(|d| d % 3 != 2) {
-                vmax = vmax.max(v_new[d].abs());
-                dmax = dmax.max((v_new[d] - v[d]).abs());
-            }
-            change = dmax / vmax.max(cfg.punch_speed);
-            let done = change <= cfg.picard.tol && !set_changed;
-            // Residual of the fixed-point map and Aitken's dynamic relaxation (Irons–Tuck):
-            // ω_k = −ω_{k−1} r_{k−1}ᵀ(r_k − r_{k−1}) / |r_k − r_{k−1}|², clamped.
-            let res: Vec<f64> = v_new.iter().zip(&v).map(|(a, b)| a - b).collect();
-            if cfg.picard.aitken {
-                if let Some(prev) = &prev_res {
-                    let (mut num, mut den) = (0.0, 0.0);
-                    for (a, b) in res.iter().zip(prev) {
-                        num += b * (a - b);
-                        den += (a - b) * (a - b);
-                    }
-                    if den > 0.0 {
-                        omega = (-omega * num / den).clamp(0.05, 2.0);
-                    }
-                }
-            }
-            if done || iterations >= cfg.picard.max_iterations {
-                v = v_new.clone();
-            } else {
-                for (a, r) in v.iter_mut().zip(&res) {
-                    *a += omega * r;
-                }
-            }
-            prev_res = Some(res);
-            last = Some((problem, sol, fric_c, mu, drag, q, act_idx));
+            change = picard_change(&v_new, &v, vp);
+            let done = change <= pc.tol && !set_changed;
+            relax.apply(&mut v, &v_new, done || iterations >= pc.max_iterations);
+            last = Some((solve, asm.coeffs));
             in_contact = new_set;
             if done {
                 converged = true;
                 break;
             }
         }
-        let (problem, sol, fric_c, mu, drag, _q_loc, act_idx) =
-            last.expect("at least one iteration");
-        let mut contact_tool = vec![None; nn];
-        for &ci in &act_idx {
-            contact_tool[cands[ci].node] = Some(cands[ci].tool);
+        let (solve, coeffs) = last.expect("at least one iteration");
+        Ok(PicardOutcome {
+            v,
+            normal_force,
+            solve,
+            coeffs,
+            iterations,
+            factorizations,
+            converged,
+            change,
+            iteration_cond2,
+        })
+    }
+
+    /// Assembles a Picard iterate's system in local axes: material matrix for μ*(v),
+    /// rigid-mode drag, holder loads, lagged friction, rotation to the candidates' axes.
+    fn assemble(&self, s: &StepSetup, v: &[f64], normal_force: &[f64]) -> Assembly {
+        let mu = self.mu_star(v);
+        let mut k = self.material_matrix(&mu);
+        // Rigid-mode drag on v_z.
+        let kzz_max = k.d.iter().map(|b| b[1][1]).fold(0.0, f64::max);
+        let drag = self.cfg.drag * kzz_max;
+        for b in k.d.iter_mut() {
+            b[1][1] += drag;
         }
-        // Velocity-level penetration of every candidate, in length.
-        let max_penetration = (0..cands.len())
-            .map(|ci| (uhat[ci] - vn(&v, &cands[ci])).max(0.0) * dt)
-            .fold(0.0, f64::max);
-        // Telemetry.
-        let sys = metrics::system_matrix(&problem, &sol);
-        let cond2 = conditioning::cond2(&sys)?.cond2;
-        let log10_det = conditioning::log10_abs_det(&sys)?;
-        let mut punch_force = 0.0;
-        for (ci, c) in cands.iter().enumerate() {
-            if c.tool != ToolId::Punch {
+        let mut q = vec![0.0; 3 * s.nodes];
+        for (i, h) in s.holder.iter().enumerate() {
+            q[3 * i + 1] -= h;
+        }
+        let friction_c = self.add_friction(s, v, normal_force, &mut k, &mut q);
+        rotate_to_local(&s.rot, &mut k, &mut q);
+        Assembly {
+            k,
+            q,
+            coeffs: Coefficients {
+                mu,
+                drag,
+                friction_c,
+            },
+        }
+    }
+
+    /// Lagged regularized Coulomb friction `c ττᵀ`, `c V_t τ` (global axes),
+    /// `c = μ (N + H) / sqrt((v_t − V_t)² + v₀²)`: one term per candidate node (not the axis,
+    /// whose tangent is radial and fixed), radial holder friction on the other loaded nodes.
+    /// Returns c per candidate.
+    fn add_friction(
+        &self,
+        s: &StepSetup,
+        v: &[f64],
+        normal_force: &[f64],
+        k: &mut BlockTri,
+        q: &mut [f64],
+    ) -> Vec<f64> {
+        let mut fric_c = vec![0.0; s.cands.len()];
+        let mu_f = self.cfg.friction;
+        let v0 = self.cfg.friction_v0;
+        if mu_f <= 0.0 {
+            return fric_c;
+        }
+        for (ci, c) in s.cands.iter().enumerate() {
+            if c.node == 0 || s.cand_of[c.node] != Some(ci) {
                 continue;
             }
-            let i = c.node;
-            let vt = v[3 * i] * c.tangent[0] + v[3 * i + 1] * c.tangent[1];
-            let vtt = c.tool_velocity[0] * c.tangent[0] + c.tool_velocity[1] * c.tangent[1];
-            let f = -fric_c[ci] * (vt - vtt);
-            punch_force -= normal_force[i] * c.normal[1] + f * c.tangent[1];
+            let (vt, vtt) = tangential(v, c);
+            let p = normal_force[c.node].max(0.0) + c.holder;
+            let cc = mu_f * p / ((vt - vtt).powi(2) + v0 * v0).sqrt();
+            fric_c[ci] = cc;
+            add_friction_term(k, q, c.node, c.tangent, vtt, cc);
         }
+        for (i, &h) in s.holder.iter().enumerate() {
+            if h > 0.0 && s.cand_of[i].is_none() && !s.fixed[3 * i] {
+                let cc = mu_f * h / (v[3 * i].powi(2) + v0 * v0).sqrt();
+                add_friction_term(k, q, i, [1.0, 0.0], 0.0, cc);
+            }
+        }
+        fric_c
+    }
+
+    /// Removes the essential BCs, makes the contact set bilateral constraints `v·e = sign û`
+    /// and solves with the step's strategy.
+    fn solve_contact(
+        &self,
+        s: &StepSetup,
+        asm: &Assembly,
+        in_contact: &[bool],
+    ) -> Result<ContactSolve> {
+        let kmat = asm.k.to_stiffness(&s.dofs.reduced, s.dofs.free.len())?;
+        let qr: Vec<f64> = s.dofs.free.iter().map(|&d| asm.q[d]).collect();
+        let active: Vec<usize> = (0..s.cands.len()).filter(|&c| in_contact[c]).collect();
+        let constraints: Vec<Constraint> = active
+            .iter()
+            .map(|&ci| Constraint {
+                dof: s.cands[ci].dof,
+                limit: s.cands[ci].sign * s.uhat[ci],
+                kind: ConstraintKind::Bilateral,
+            })
+            .collect();
+        let problem = Problem::new(kmat, qr, constraints)?;
+        let solution = strategy::solve(&problem, s.method)?;
+        if solution.u.iter().any(|x| !x.is_finite()) {
+            return Err(Error::Numerical(format!(
+                "step {}: the velocity solution is not finite",
+                self.step + 1
+            )));
+        }
+        Ok(ContactSolve {
+            problem,
+            solution,
+            active,
+        })
+    }
+
+    /// Step phase 3: telemetry of the last solve (cond₂, log10|det|, penetration, punch
+    /// force, penalty range, μ* spread, drag force).
+    fn telemetry(&self, s: &StepSetup, p: &PicardOutcome) -> Result<SolveTelemetry> {
+        let v = &p.v;
+        // Velocity-level penetration of every candidate, in length.
+        let max_penetration = (0..s.cands.len())
+            .map(|ci| (s.uhat[ci] - vn(v, &s.cands[ci])).max(0.0) * s.dt)
+            .fold(0.0, f64::max);
+        let sys = metrics::system_matrix(&p.solve.problem, &p.solve.solution);
+        let cond2 = conditioning::cond2(&sys)?.cond2;
+        let log10_det = conditioning::log10_abs_det(&sys)?;
+        let punch_force = s.punch_force(v, &p.coeffs.friction_c, &p.normal_force);
+        let sol = &p.solve.solution;
         let active: Vec<f64> = sol.penalties.iter().copied().filter(|&e| e > 0.0).collect();
-        let clipped = sol.stats.clipped;
         let (mut mu_min, mut mu_max) = (f64::INFINITY, 0.0f64);
-        for m in mu.iter().flatten() {
+        for m in p.coeffs.mu.iter().flatten() {
             mu_min = mu_min.min(*m);
             mu_max = mu_max.max(*m);
         }
-        let drag_force: f64 = (0..nn).map(|i| drag * v[3 * i + 1]).sum();
-        let q_glob: Vec<f64> = (0..n)
-            .map(|d| if d % 3 == 1 { -holder[d / 3] } else { 0.0 })
+        let drag = p.coeffs.drag;
+        Ok(SolveTelemetry {
+            cond2,
+            log10_det,
+            max_penetration,
+            punch_force,
+            clipped: sol.stats.clipped,
+            max_penalty: active.iter().copied().fold(0.0, f64::max),
+            min_penalty: if active.is_empty() {
+                0.0
+            } else {
+                active.iter().copied().fold(f64::INFINITY, f64::min)
+            },
+            mu_ratio: mu_max / mu_min,
+            drag_force: (0..s.nodes).map(|i| drag * v[3 * i + 1]).sum(),
+        })
+    }
+
+    /// Everything about the step's last solve, on the start-of-step geometry.
+    fn step_detail(&self, s: &StepSetup, p: &PicardOutcome, punch_force: f64) -> StepDetail {
+        let q = (0..3 * s.nodes)
+            .map(|d| if d % 3 == 1 { -s.holder[d / 3] } else { 0.0 })
             .collect();
-        self.detail = Some(StepDetail {
-            problem: problem.clone(),
-            solution: sol.clone(),
-            candidates: cands.clone(),
-            constraint_candidate: act_idx.clone(),
-            friction_c: fric_c,
-            mu: mu.clone(),
-            v: v.clone(),
+        StepDetail {
+            problem: p.solve.problem.clone(),
+            solution: p.solve.solution.clone(),
+            candidates: s.cands.clone(),
+            constraint_candidate: p.solve.active.clone(),
+            friction_c: p.coeffs.friction_c.clone(),
+            mu: p.coeffs.mu.clone(),
+            v: p.v.clone(),
             x: self.x.clone(),
             t: self.t.clone(),
-            q: q_glob,
-            drag,
+            q,
+            drag: p.coeffs.drag,
             punch_force,
-        });
-        // Update: strains, thickness, geometry.
+        }
+    }
+
+    /// Step phase 4 (updated Lagrangian): `ε̄ += ε̄̇ Δt` per layer, thickness, `x += v Δt`,
+    /// punch travel, step count.
+    fn advance(&mut self, v: &[f64], dt: f64) {
+        let update = self.cfg.thickness_update;
         let ne = self.t.len();
         let areas_old: Vec<f64> = (0..ne)
             .map(|e| ElementGeom::new(self.x[e], self.x[e + 1]).area())
@@ -783,30 +1088,31 @@ impl Simulation {
                 let (a, b) = sr.at(0.5 * x * self.t[e]);
                 self.eps_bar[e][l] += element::effective_rate(a, b) * dt;
             }
-            if cfg.thickness_update == ThicknessUpdate::Rate {
+            if update == ThicknessUpdate::Rate {
                 self.t[e] *= (sr.thickness_rate() * dt).exp();
             }
         }
-        for i in 0..nn {
-            self.x[i][0] += v[3 * i] * dt;
-            self.x[i][1] += v[3 * i + 1] * dt;
+        for (i, x) in self.x.iter_mut().enumerate() {
+            x[0] += v[3 * i] * dt;
+            x[1] += v[3 * i + 1] * dt;
         }
         self.x[0][0] = 0.0;
-        if cfg.thickness_update == ThicknessUpdate::Volume {
+        if update == ThicknessUpdate::Volume {
             for e in 0..ne {
                 let a = ElementGeom::new(self.x[e], self.x[e + 1]).area();
                 self.t[e] *= areas_old[e] / a;
             }
         }
-        self.travel += cfg.punch_speed * dt;
+        self.travel += self.cfg.punch_speed * dt;
         self.step += 1;
-        self.v = v;
-        self.normal_force = normal_force;
-        self.contact_tool = contact_tool;
-        // Geometric penetration after the update.
+    }
+
+    /// Max geometric penetration of the constrained nodes into their tools (current
+    /// geometry).
+    fn geometric_penetration(&self, cands: &[ContactCandidate], active: &[usize]) -> f64 {
         let (punch, die) = (self.punch(), self.die());
         let mut geo = 0.0f64;
-        for &ci in &act_idx {
+        for &ci in active {
             let c = &cands[ci];
             let p = self.x[c.node];
             let half = 0.5 * self.node_thickness(c.node);
@@ -816,41 +1122,20 @@ impl Simulation {
             } - half;
             geo = geo.max(-d);
         }
-        // Snapshots.
-        let h = 0.5 * cfg.travel / cfg.steps as f64;
-        for &s in &cfg.snapshots {
+        geo
+    }
+
+    /// Takes the snapshots whose travel the current travel matches (half a step each side),
+    /// once each.
+    fn take_snapshots(&mut self) {
+        let h = 0.5 * self.cfg.travel / self.cfg.steps as f64;
+        for &s in &self.cfg.snapshots {
             if (self.travel - s).abs() <= h * (1.0 + 1e-9)
                 && !self.snapshots.iter().any(|x| (x.travel - s).abs() <= h)
             {
                 self.snapshots.push(self.snapshot());
             }
         }
-        Ok(StepRecord {
-            step: self.step,
-            punch_travel: self.travel,
-            punch_force,
-            cond2,
-            log10_det,
-            max_penetration,
-            geometric_penetration: geo,
-            volume: self.volume(),
-            iterations,
-            factorizations,
-            converged,
-            picard_change: change,
-            contact_nodes: act_idx.len(),
-            candidates: cands.len(),
-            clipped,
-            max_penalty: active.iter().copied().fold(0.0, f64::max),
-            min_penalty: if active.is_empty() {
-                0.0
-            } else {
-                active.iter().copied().fold(f64::INFINITY, f64::min)
-            },
-            mu_ratio: mu_max / mu_min,
-            drag_force,
-            iteration_cond2: iter_cond,
-        })
     }
 
     /// The current sheet state.
