@@ -64,11 +64,61 @@ enum MmField {
 /// Parses Matrix Market text (see [`read_matrix_market`]); `origin` names the source in
 /// error messages. Never panics.
 pub fn parse_matrix_market_str(text: &str, origin: &str) -> Result<Stiffness> {
-    let at = |line: usize, msg: String| Error::io(origin, format!("line {line}: {msg}"));
+    let src = Src { origin };
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
-    let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
+    let number: fn((usize, &str)) -> (usize, &str) = |(i, l)| (i + 1, l);
+    let mut lines: Lines = text.lines().enumerate().map(number);
+    let h = parse_header(src, &mut lines)?;
+    let (sl, n, declared) = parse_size(src, &mut lines, h)?;
+    let body = Body { h, n, declared, sl };
+    let mut triplets: Vec<(usize, usize, f64)> =
+        Vec::with_capacity(declared.min(1 << 16) * if h.symmetric { 2 } else { 1 });
+    let count = match h.format {
+        MmFormat::Coordinate => read_coordinate(src, lines, body, &mut triplets)?,
+        MmFormat::Array => read_array(src, lines, body, &mut triplets)?,
+    };
+    if count < declared {
+        return Err(Error::io(
+            origin,
+            format!(
+                "truncated: the size line (line {sl}) declares {declared} entries but the file ends after {count}"
+            ),
+        ));
+    }
+    Stiffness::from_triplets(n, &triplets).map_err(|e| Error::io(origin, bare_message(e)))
+}
 
-    // Header.
+/// The header line's format, field and symmetry.
+#[derive(Clone, Copy)]
+struct Header {
+    format: MmFormat,
+    field: MmField,
+    symmetric: bool,
+}
+
+/// The source of the text being parsed, for error messages.
+#[derive(Clone, Copy)]
+struct Src<'a> {
+    origin: &'a str,
+}
+
+impl Src<'_> {
+    /// An error at `line` of the source.
+    fn at(self, line: usize, msg: String) -> Error {
+        Error::io(self.origin, format!("line {line}: {msg}"))
+    }
+}
+
+/// A numbered line iterator over the text (1-based line numbers).
+type Lines<'t> = std::iter::Map<
+    std::iter::Enumerate<std::str::Lines<'t>>,
+    fn((usize, &'t str)) -> (usize, &'t str),
+>;
+
+/// Parses the header line (`%%MatrixMarket matrix <format> <field> <symmetry>`).
+fn parse_header(src: Src, lines: &mut Lines) -> Result<Header> {
+    let origin = src.origin;
+    let at = |line: usize, msg: String| src.at(line, msg);
     const HEADER: &str = "%%MatrixMarket matrix coordinate real general";
     let Some((hl, header)) = lines.next() else {
         return Err(Error::io(
@@ -148,7 +198,18 @@ pub fn parse_matrix_market_str(text: &str, origin: &str) -> Result<Stiffness> {
         _ => return Err(unknown(4, "symmetry", "general or symmetric")),
     };
 
-    // Size line (after comments and blank lines).
+    Ok(Header {
+        format,
+        field,
+        symmetric,
+    })
+}
+
+/// Parses the size line (after comments and blank lines): returns its line number, N and the
+/// number of entries the file declares (all stored ones for `array`).
+fn parse_size(src: Src, lines: &mut Lines, h: Header) -> Result<(usize, usize, usize)> {
+    let (origin, format, symmetric) = (src.origin, h.format, h.symmetric);
+    let at = |line: usize, msg: String| src.at(line, msg);
     let mut size = None;
     for (ln, line) in lines.by_ref() {
         let t = line.trim();
@@ -229,151 +290,174 @@ pub fn parse_matrix_market_str(text: &str, origin: &str) -> Result<Stiffness> {
         ));
     }
 
-    let parse_value = |ln: usize, tok: &str| -> Result<f64> {
-        let v = match field {
-            MmField::Integer => match tok.parse::<i128>() {
-                Ok(i) => i as f64,
-                Err(_) => {
-                    return Err(at(
-                        ln,
-                        format!(
-                            "value \"{}\" is not an integer (the header says \"integer\")",
-                            clip(tok)
-                        ),
-                    ))
+    // ≤ capacity ≤ MAX_DIM², fits in 64-bit usize
+    Ok((sl, n, declared as usize))
+}
+
+/// One value token as f64 (integer or real field, Fortran `D` exponents accepted); errors on
+/// non-numbers and non-finite values.
+fn parse_value(src: Src, field: MmField, ln: usize, tok: &str) -> Result<f64> {
+    let at = |line: usize, msg: String| src.at(line, msg);
+    let v = match field {
+        MmField::Integer => match tok.parse::<i128>() {
+            Ok(i) => i as f64,
+            Err(_) => {
+                return Err(at(
+                    ln,
+                    format!(
+                        "value \"{}\" is not an integer (the header says \"integer\")",
+                        clip(tok)
+                    ),
+                ))
+            }
+        },
+        MmField::Real => match tok.parse::<f64>() {
+            Ok(v) => v,
+            // Fortran-style exponents: 1.5D+03.
+            Err(_) => match tok.replace(['d', 'D'], "e").parse::<f64>() {
+                Ok(v) if tok.contains(['d', 'D']) => v,
+                _ => {
+                    return Err(at(ln, format!("value \"{}\" is not a number", clip(tok))));
                 }
             },
-            MmField::Real => match tok.parse::<f64>() {
-                Ok(v) => v,
-                // Fortran-style exponents: 1.5D+03.
-                Err(_) => match tok.replace(['d', 'D'], "e").parse::<f64>() {
-                    Ok(v) if tok.contains(['d', 'D']) => v,
-                    _ => {
-                        return Err(at(ln, format!("value \"{}\" is not a number", clip(tok))));
-                    }
-                },
-            },
-        };
-        if v.is_finite() {
-            Ok(v)
-        } else {
-            Err(at(
-                ln,
-                format!(
-                    "value \"{}\" is not finite (NaN/Inf, or overflows f64)",
-                    clip(tok)
-                ),
-            ))
-        }
+        },
     };
-
-    let declared = declared as usize; // ≤ capacity ≤ MAX_DIM², fits in 64-bit usize
-    let mut triplets: Vec<(usize, usize, f64)> =
-        Vec::with_capacity(declared.min(1 << 16) * if symmetric { 2 } else { 1 });
-    let mut count = 0usize;
-
-    match format {
-        MmFormat::Coordinate => {
-            // Line numbers of the first strictly-lower / strictly-upper entry (symmetric).
-            let mut lower_at: Option<(usize, usize, usize)> = None;
-            let mut upper_at: Option<(usize, usize, usize)> = None;
-            for (ln, line) in lines {
-                let t = line.trim();
-                if t.is_empty() || t.starts_with('%') {
-                    continue;
-                }
-                let f: Vec<&str> = t.split_ascii_whitespace().take(4).collect();
-                if f.len() != 3 {
-                    let shown = if f.len() == 4 {
-                        "4 or more".to_string()
-                    } else {
-                        f.len().to_string()
-                    };
-                    return Err(at(
-                        ln,
-                        format!("expected 3 fields \"row col value\", found {shown}"),
-                    ));
-                }
-                if count == declared {
-                    return Err(at(
-                        ln,
-                        format!(
-                            "more entries than the {declared} declared on the size line (line {sl})"
-                        ),
-                    ));
-                }
-                let r = parse_index(f[0], n, "row").map_err(|m| at(ln, m))?;
-                let c = parse_index(f[1], n, "column").map_err(|m| at(ln, m))?;
-                let v = parse_value(ln, f[2])?;
-                count += 1;
-                triplets.push((r, c, v));
-                if symmetric && r != c {
-                    if r > c {
-                        lower_at.get_or_insert((ln, r, c));
-                    } else {
-                        upper_at.get_or_insert((ln, r, c));
-                    }
-                    if let (Some((l1, r1, c1)), Some((l2, r2, c2))) = (lower_at, upper_at) {
-                        return Err(at(
-                            ln,
-                            format!(
-                                "symmetric file stores entries on both sides of the diagonal \
-                                 (line {l1}: row {} col {}; line {l2}: row {} col {}); \
-                                 store only the lower triangle (row ≥ col)",
-                                r1 + 1,
-                                c1 + 1,
-                                r2 + 1,
-                                c2 + 1
-                            ),
-                        ));
-                    }
-                    triplets.push((c, r, v));
-                }
-            }
-        }
-        MmFormat::Array => {
-            // Column-major; symmetric stores column j from row j down.
-            let (mut i, mut j) = (0usize, 0usize);
-            for (ln, line) in lines {
-                let t = line.trim();
-                if t.is_empty() || t.starts_with('%') {
-                    continue;
-                }
-                for tok in t.split_ascii_whitespace() {
-                    if count == declared {
-                        return Err(at(
-                            ln,
-                            format!(
-                                "more values than the {declared} expected for a {n}×{n} {storage} array"
-                            ),
-                        ));
-                    }
-                    let v = parse_value(ln, tok)?;
-                    if v.to_bits() != 0 {
-                        triplets.push((i, j, v));
-                        if symmetric && i != j {
-                            triplets.push((j, i, v));
-                        }
-                    }
-                    count += 1;
-                    i += 1;
-                    if i == n {
-                        j += 1;
-                        i = if symmetric { j } else { 0 };
-                    }
-                }
-            }
-        }
-    }
-    if count < declared {
-        return Err(Error::io(
-            origin,
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(at(
+            ln,
             format!(
-                "truncated: the size line (line {sl}) declares {declared} entries but the file ends after {count}"
+                "value \"{}\" is not finite (NaN/Inf, or overflows f64)",
+                clip(tok)
             ),
-        ));
+        ))
     }
-    Stiffness::from_triplets(n, &triplets).map_err(|e| Error::io(origin, bare_message(e)))
+}
+
+/// What a body reader needs: the header, N, the declared entry count and the size line's
+/// number (for messages).
+#[derive(Clone, Copy)]
+struct Body {
+    h: Header,
+    n: usize,
+    declared: usize,
+    sl: usize,
+}
+
+/// Reads the `coordinate` body into `triplets` (symmetric storage expanded); returns the
+/// number of entries read.
+fn read_coordinate(
+    src: Src,
+    lines: Lines,
+    body: Body,
+    triplets: &mut Vec<(usize, usize, f64)>,
+) -> Result<usize> {
+    let Body { h, n, declared, sl } = body;
+    let symmetric = h.symmetric;
+    let at = |line: usize, msg: String| src.at(line, msg);
+    let mut count = 0usize;
+    // Line numbers of the first strictly-lower / strictly-upper entry (symmetric).
+    let mut lower_at: Option<(usize, usize, usize)> = None;
+    let mut upper_at: Option<(usize, usize, usize)> = None;
+    for (ln, line) in lines {
+        let t = line.trim();
+        if t.is_empty() || t.starts_with('%') {
+            continue;
+        }
+        let f: Vec<&str> = t.split_ascii_whitespace().take(4).collect();
+        if f.len() != 3 {
+            let shown = if f.len() == 4 {
+                "4 or more".to_string()
+            } else {
+                f.len().to_string()
+            };
+            return Err(at(
+                ln,
+                format!("expected 3 fields \"row col value\", found {shown}"),
+            ));
+        }
+        if count == declared {
+            return Err(at(
+                ln,
+                format!("more entries than the {declared} declared on the size line (line {sl})"),
+            ));
+        }
+        let r = parse_index(f[0], n, "row").map_err(|m| at(ln, m))?;
+        let c = parse_index(f[1], n, "column").map_err(|m| at(ln, m))?;
+        let v = parse_value(src, h.field, ln, f[2])?;
+        count += 1;
+        triplets.push((r, c, v));
+        if symmetric && r != c {
+            if r > c {
+                lower_at.get_or_insert((ln, r, c));
+            } else {
+                upper_at.get_or_insert((ln, r, c));
+            }
+            if let (Some((l1, r1, c1)), Some((l2, r2, c2))) = (lower_at, upper_at) {
+                return Err(at(
+                    ln,
+                    format!(
+                        "symmetric file stores entries on both sides of the diagonal \
+                         (line {l1}: row {} col {}; line {l2}: row {} col {}); \
+                         store only the lower triangle (row ≥ col)",
+                        r1 + 1,
+                        c1 + 1,
+                        r2 + 1,
+                        c2 + 1
+                    ),
+                ));
+            }
+            triplets.push((c, r, v));
+        }
+    }
+    Ok(count)
+}
+
+/// Reads the `array` body (column-major; symmetric stores column j from row j down) into
+/// `triplets`, skipping exact `+0.0`; returns the number of values read.
+fn read_array(
+    src: Src,
+    lines: Lines,
+    body: Body,
+    triplets: &mut Vec<(usize, usize, f64)>,
+) -> Result<usize> {
+    let Body { h, n, declared, .. } = body;
+    let symmetric = h.symmetric;
+    let storage = if symmetric { "symmetric" } else { "general" };
+    let at = |line: usize, msg: String| src.at(line, msg);
+    let mut count = 0usize;
+    let (mut i, mut j) = (0usize, 0usize);
+    for (ln, line) in lines {
+        let t = line.trim();
+        if t.is_empty() || t.starts_with('%') {
+            continue;
+        }
+        for tok in t.split_ascii_whitespace() {
+            if count == declared {
+                return Err(at(
+                    ln,
+                    format!(
+                        "more values than the {declared} expected for a {n}×{n} {storage} array"
+                    ),
+                ));
+            }
+            let v = parse_value(src, h.field, ln, tok)?;
+            if v.to_bits() != 0 {
+                triplets.push((i, j, v));
+                if symmetric && i != j {
+                    triplets.push((j, i, v));
+                }
+            }
+            count += 1;
+            i += 1;
+            if i == n {
+                j += 1;
+                i = if symmetric { j } else { 0 };
+            }
+        }
+    }
+    Ok(count)
 }
 
 /// Parses a 1-based Matrix Market index into a 0-based one, with a message on failure.
