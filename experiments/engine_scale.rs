@@ -59,17 +59,12 @@ fn run(a: Args) -> Result<()> {
     provenance::write_csv(&a.out.join("rows.csv"), &rows)?;
     let json = serde_json::to_string_pretty(&rows).expect("JSON value");
     provenance::write_atomic(&a.out.join("rows.json"), json.as_bytes())?;
-    let manifest = serde_json::json!({
-        "experiment": "engine_scale",
-        "git_commit": provenance::git_commit(),
-        "command": std::env::args().collect::<Vec<_>>().join(" "),
+    let manifest = provenance::Provenance::new("engine_scale").record(serde_json::json!({
         "config": cfg,
-        "crate_versions": provenance::crate_versions(),
         "threads": 1,
         "timing": "wall time (std::time::Instant) of one strategy::solve, release build",
-    });
-    let manifest = serde_json::to_string_pretty(&manifest).expect("JSON value");
-    provenance::write_atomic(&a.out.join("manifest.json"), manifest.as_bytes())?;
+    }));
+    provenance::write_json(&a.out.join("manifest.json"), &manifest)?;
     let figs = engine_scale::figures(&rows);
     plot::render_panels(&figs, 2, &a.out.join("engine_scale"), (1120, 460))?;
     println!(

@@ -7,7 +7,7 @@ use super::config::{ContactRule, FormingConfig};
 use super::report::{SavedRun, SavedRuns};
 use super::solver::Simulation;
 use crate::error::{Error, Result};
-use crate::provenance::git_commit;
+use crate::provenance::Provenance;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -317,17 +317,16 @@ pub fn run(experiment: &str, cfg: &ExperimentConfig, command: &str) -> Result<Sa
     }
     let wall = t0.elapsed().as_secs_f64();
     let cpu: BTreeMap<String, f64> = runs.iter().map(|(k, v)| (k.clone(), v.seconds)).collect();
-    let provenance = serde_json::json!({
-        "git_commit": git_commit(),
-        "command": command,
-        "crate_version": env!("CARGO_PKG_VERSION"),
+    let mut record = Provenance::new(experiment);
+    record.command = command.to_string();
+    let provenance = record.record(serde_json::json!({
         "threads": rayon::current_num_threads(),
         "wall_seconds": wall,
         "run_seconds": cpu,
         "units": "inch, ton-force, second",
         "penalty": cfg.penalty,
         "delta": cfg.delta,
-    });
+    }));
     Ok(SavedRuns {
         experiment: experiment.to_string(),
         provenance,

@@ -552,8 +552,7 @@ pub struct RunSummary {
     pub rows_per_second: f64,
 }
 
-pub use crate::provenance::crate_versions;
-use crate::provenance::{git_commit, write_atomic};
+use crate::provenance::{write_atomic, Provenance};
 
 fn write_manifest(path: &Path, manifest: &serde_json::Value) -> Result<()> {
     let text = serde_json::to_string_pretty(manifest).expect("a JSON value serializes");
@@ -584,6 +583,60 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
     let per_scene = cfg.rows_per_scene();
 
     // Resume: keep the complete scenes at the head of rows.csv.
+    let done = resume_point(opts, &config_json, (k, n), per_scene)?;
+    let todo = &specs[done.min(specs.len())..];
+
+    let mut manifest = Provenance::new("sweep").record(serde_json::json!({
+        "config": config_json,
+        "seed": cfg.seed,
+        "threads": opts.threads.unwrap_or_else(rayon::current_num_threads),
+        "shard": [k, n],
+        "scenes": specs.len(),
+        "rows_per_scene": per_scene,
+        "status": "running",
+    }));
+    write_manifest(&manifest_path, &manifest)?;
+
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(opts.threads.unwrap_or(0))
+        .build()
+        .map_err(|e| Error::input(format!("cannot start {:?} threads: {e}", opts.threads)))?;
+    faer::set_global_parallelism(faer::Par::Seq);
+    let bar = crate::progress::Progress::new("sweep (scenes)", !opts.progress);
+    bar.set_total(specs.len());
+    bar.set_done(done);
+
+    let outcome = solve_in_order(todo, cfg, opts, &pool, &bar, &rows_path);
+    bar.finish();
+    let rows_written = outcome?;
+    let wall = t_start.elapsed().as_secs_f64();
+    let summary = RunSummary {
+        scenes: specs.len(),
+        resumed_scenes: done.min(specs.len()),
+        rows_written,
+        wall_seconds: wall,
+        rows_per_second: rows_written as f64 / wall.max(1e-9),
+    };
+    manifest["status"] = "complete".into();
+    manifest["wall_seconds"] = wall.into();
+    manifest["rows_written"] = rows_written.into();
+    manifest["rows_per_second"] = summary.rows_per_second.into();
+    manifest["resumed_scenes"] = summary.resumed_scenes.into();
+    write_manifest(&manifest_path, &manifest)?;
+    Ok(summary)
+}
+
+/// Where a `--resume` run picks up: the number of complete scenes at the head of an existing
+/// rows.csv (which is cut back to them), after checking that the manifest was written with
+/// the same config and shard; 0 (and a fresh rows.csv with its header) otherwise.
+fn resume_point(
+    opts: &RunOptions,
+    config_json: &serde_json::Value,
+    (k, n): (usize, usize),
+    per_scene: usize,
+) -> Result<usize> {
+    let rows_path = opts.out.join("rows.csv");
+    let manifest_path = opts.out.join("manifest.json");
     let mut done = 0usize;
     if opts.resume && rows_path.exists() {
         let old: serde_json::Value = std::fs::read_to_string(&manifest_path)
@@ -595,7 +648,7 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
                     "cannot resume: manifest.json missing or unreadable",
                 )
             })?;
-        if old.get("config") != Some(&config_json)
+        if old.get("config") != Some(config_json)
             || old.get("shard") != Some(&serde_json::json!([k, n]))
         {
             return Err(Error::input(format!(
@@ -612,34 +665,23 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
     } else {
         write_atomic(&rows_path, rows::header().as_bytes())?;
     }
-    let todo = &specs[done.min(specs.len())..];
+    Ok(done)
+}
 
-    let mut manifest = serde_json::json!({
-        "tool": "penalty-lab sweep",
-        "git_commit": git_commit(),
-        "config": config_json,
-        "seed": cfg.seed,
-        "crate_versions": crate_versions(),
-        "threads": opts.threads.unwrap_or_else(rayon::current_num_threads),
-        "shard": [k, n],
-        "scenes": specs.len(),
-        "rows_per_scene": per_scene,
-        "status": "running",
-    });
-    write_manifest(&manifest_path, &manifest)?;
-
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(opts.threads.unwrap_or(0))
-        .build()
-        .map_err(|e| Error::input(format!("cannot start {:?} threads: {e}", opts.threads)))?;
-    faer::set_global_parallelism(faer::Par::Seq);
-    let bar = crate::progress::Progress::new("sweep (scenes)", !opts.progress);
-    bar.set_total(specs.len());
-    bar.set_done(done);
-
+/// Solves `todo` on `pool` and appends each scene's rows to rows.csv in scene order as soon
+/// as the prefix is complete (a reorder buffer), writing scene files where asked; returns the
+/// number of rows written or the first error.
+fn solve_in_order(
+    todo: &[(usize, SceneSpec)],
+    cfg: &SweepConfig,
+    opts: &RunOptions,
+    pool: &rayon::ThreadPool,
+    bar: &crate::progress::Progress,
+    rows_path: &Path,
+) -> Result<usize> {
     let mut file = std::fs::OpenOptions::new()
         .append(true)
-        .open(&rows_path)
+        .open(rows_path)
         .map_err(|e| Error::io(rows_path.display(), e))?;
     let (tx, rx) = std::sync::mpsc::channel::<(usize, Result<(Vec<Row>, String)>)>();
     let write_scenes = opts.write_scenes.clone();
@@ -700,23 +742,8 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
             }
         }
     });
-    bar.finish();
-    if let Some(e) = first_error {
-        return Err(e);
+    match first_error {
+        Some(e) => Err(e),
+        None => Ok(rows_written),
     }
-    let wall = t_start.elapsed().as_secs_f64();
-    let summary = RunSummary {
-        scenes: specs.len(),
-        resumed_scenes: done.min(specs.len()),
-        rows_written,
-        wall_seconds: wall,
-        rows_per_second: rows_written as f64 / wall.max(1e-9),
-    };
-    manifest["status"] = "complete".into();
-    manifest["wall_seconds"] = wall.into();
-    manifest["rows_written"] = rows_written.into();
-    manifest["rows_per_second"] = summary.rows_per_second.into();
-    manifest["resumed_scenes"] = summary.resumed_scenes.into();
-    write_manifest(&manifest_path, &manifest)?;
-    Ok(summary)
 }
