@@ -5,7 +5,7 @@
 
 use penalty_lab::linalg::{pcg, DiagonalPattern};
 use penalty_lab::metrics::relative_error;
-use penalty_lab::strategy::condensed::{start_state, BoundState};
+use penalty_lab::strategy::box_qp::{start_state, BoundState};
 use penalty_lab::strategy::{self, condensed, eliminated, lagrange, Context, Method};
 use penalty_lab::sweep::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::system::{ConstraintKind, Problem, Stiffness};

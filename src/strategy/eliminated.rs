@@ -12,7 +12,7 @@
 //! and columns replaced by `K_jj·e_j` (exact, no penalty), so one symbolic Cholesky analysis
 //! serves every iteration. The contact forces are the residuals `r_c = q[d_c] − (K u)[d_c]`
 //! (convention `K u = q − D r`). The primal–dual active-set update is the one of
-//! [`condensed::box_qp`](super::condensed::box_qp). Where many bounds are violated by u0
+//! [`box_qp::box_qp`](super::box_qp::box_qp). Where many bounds are violated by u0
 //! (obstacle-type problems) the start comes from a Moreau–Yosida path following
 //! ([`active_set::path_following`], up to [`PATH_END`]); otherwise both routes start
 //! from the bounds violated by u0 and visit the same active sets in exact arithmetic.
@@ -28,7 +28,7 @@
 //! `condensed` and `lagrange` take this route for sparse K with `n ≥` [`ELIMINATION_MIN_N`]
 //! and distinct constraint DOFs.
 
-use super::condensed::{pdas_update, start_state, BoundState};
+use super::box_qp::{pdas_update, start_state, BoundState};
 use super::{active_set, Context};
 use crate::error::{Error, Result};
 use crate::linalg::{pcg, DiagonalPattern, SparseLlt};

@@ -71,7 +71,7 @@ pub fn solve_eliminated(mut ctx: Context) -> Result<Solution> {
         .unzip();
     let b = super::eliminated::box_solve(&mut ctx, &lo, &hi, None)?;
     let active: Vec<usize> = (0..b.state.len())
-        .filter(|&c| b.state[c] != super::condensed::BoundState::Free)
+        .filter(|&c| b.state[c] != super::box_qp::BoundState::Free)
         .collect();
     let m = b.state.len();
     ctx.stats.converged = true;

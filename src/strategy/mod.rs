@@ -20,6 +20,7 @@
 
 pub mod active_set;
 pub mod augmented;
+pub mod box_qp;
 pub mod condensed;
 pub mod constant;
 pub mod eliminated;

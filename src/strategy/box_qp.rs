@@ -1,0 +1,178 @@
+//! The bound-constrained QP shared by the δ-targeting routes: its state per constraint, the
+//! dense solver in the force variable (for `condensed`'s m×m route), the starting state and
+//! the primal–dual active-set update with its anti-cycling fallback (also used by the sparse
+//! elimination route, [`super::eliminated`]).
+//!
+//! `min ½ (g − g0)ᵀ S⁻¹ (g − g0)` s.t. `lo ≤ g ≤ hi`, S SPD: strictly convex, one solution;
+//! at-bound constraints carry a force `r = S⁻¹(g0 − g)` of the bound's sign, free ones none.
+
+use crate::error::{Error, Result};
+use faer::linalg::solvers::Solve;
+use faer::{Mat, MatRef, Side};
+use std::collections::HashSet;
+
+/// Where a constraint sits in the box QP.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum BoundState {
+    /// Inside its bounds, force 0.
+    Free,
+    /// At the lower bound (`g = lo`).
+    Lo,
+    /// At the upper bound (`g = hi`).
+    Hi,
+}
+
+/// Result of [`box_qp`].
+#[derive(Clone, Debug)]
+pub struct BoxQp {
+    /// Gaps g.
+    pub g: Vec<f64>,
+    /// Forces r = S⁻¹(g0 − g).
+    pub r: Vec<f64>,
+    /// Final state per constraint.
+    pub state: Vec<BoundState>,
+    /// Iterations.
+    pub iterations: usize,
+    /// Active-set size per iteration.
+    pub sizes: Vec<usize>,
+    /// Whether the one-change fallback was needed.
+    pub fallback: bool,
+}
+
+/// Solves `min ½(g − g0)ᵀS⁻¹(g − g0)` s.t. `lo ≤ g ≤ hi` in the force variable
+/// `r = S⁻¹(g0 − g)` (only S is needed, never S⁻¹): at-bound rows solve `S_AA r_A = g0_A − g_A`,
+/// free rows have `r = 0` and `g_F = g0_F − S_FA r_A`. `start`: the initial state (default:
+/// the bounds violated by g0).
+pub fn box_qp(
+    s: MatRef<'_, f64>,
+    g0: &[f64],
+    lo: &[f64],
+    hi: &[f64],
+    start: Option<Vec<BoundState>>,
+) -> Result<BoxQp> {
+    let m = g0.len();
+    // Violation tolerance: rounding level of the gaps.
+    let scale = g0
+        .iter()
+        .chain(lo.iter().filter(|v| v.is_finite()))
+        .chain(hi.iter().filter(|v| v.is_finite()))
+        .fold(0.0f64, |a, v| a.max(v.abs()));
+    let tol = 64.0 * f64::EPSILON * (m as f64).max(1.0) * scale;
+    let mut state = start_state(g0, lo, hi, start);
+    let mut seen: HashSet<Vec<BoundState>> = HashSet::new();
+    let mut fallback = false;
+    let mut sizes = Vec::new();
+    let max_it = 10 * m + 50;
+    for it in 1..=max_it {
+        let act: Vec<usize> = (0..m).filter(|&c| state[c] != BoundState::Free).collect();
+        sizes.push(act.len());
+        let target = |c: usize| match state[c] {
+            BoundState::Hi => hi[c],
+            BoundState::Lo => lo[c],
+            BoundState::Free => f64::NAN,
+        };
+        // r_A = S_AA⁻¹ (g0_A − g*_A).
+        let mut r = vec![0.0; m];
+        if !act.is_empty() {
+            let saa = Mat::from_fn(act.len(), act.len(), |i, j| s[(act[i], act[j])]);
+            let mut rhs = Mat::from_fn(act.len(), 1, |i, _| g0[act[i]] - target(act[i]));
+            match saa.llt(Side::Lower) {
+                Ok(l) => l.solve_in_place(rhs.as_mut()),
+                Err(_) => saa.partial_piv_lu().solve_in_place(rhs.as_mut()),
+            }
+            for (i, &c) in act.iter().enumerate() {
+                r[c] = rhs[(i, 0)];
+            }
+        }
+        if r.iter().any(|v| !v.is_finite()) {
+            return Err(Error::Numerical(
+                "condensed: S_AA is singular (constraints on linearly dependent DOFs?)".into(),
+            ));
+        }
+        // g = g0 − S r (exact at bounds up to rounding; recomputed for all).
+        let g: Vec<f64> = (0..m)
+            .map(|i| g0[i] - act.iter().map(|&c| s[(i, c)] * r[c]).sum::<f64>())
+            .collect();
+        // Violations: wrong-sign forces at bounds, out-of-bound free gaps.
+        let mut changes: Vec<(f64, usize, BoundState)> = Vec::new();
+        for c in 0..m {
+            match state[c] {
+                BoundState::Hi if r[c] < 0.0 => {
+                    changes.push((-r[c] * s[(c, c)], c, BoundState::Free))
+                }
+                BoundState::Lo if r[c] > 0.0 => {
+                    changes.push((r[c] * s[(c, c)], c, BoundState::Free))
+                }
+                BoundState::Free if g[c] > hi[c] + tol => {
+                    changes.push((g[c] - hi[c], c, BoundState::Hi))
+                }
+                BoundState::Free if g[c] < lo[c] - tol => {
+                    changes.push((lo[c] - g[c], c, BoundState::Lo))
+                }
+                _ => {}
+            }
+        }
+        if changes.is_empty() {
+            return Ok(BoxQp {
+                g,
+                r,
+                state,
+                iterations: it,
+                sizes,
+                fallback,
+            });
+        }
+        state = pdas_update(&state, &changes, &mut seen, &mut fallback);
+    }
+    Err(Error::Numerical(format!(
+        "condensed: active set did not converge in {max_it} iterations"
+    )))
+}
+
+/// The starting state of the box problem: `start` if given (a warm start), else the bounds
+/// violated by g0; a pinned constraint (`lo = hi`) starts at its bound.
+pub fn start_state(
+    g0: &[f64],
+    lo: &[f64],
+    hi: &[f64],
+    start: Option<Vec<BoundState>>,
+) -> Vec<BoundState> {
+    match start {
+        Some(s) if s.len() == g0.len() => s,
+        _ => (0..g0.len())
+            .map(|c| {
+                if lo[c] == hi[c] || g0[c] > hi[c] {
+                    BoundState::Hi
+                } else if g0[c] < lo[c] {
+                    BoundState::Lo
+                } else {
+                    BoundState::Free
+                }
+            })
+            .collect(),
+    }
+}
+
+/// One primal–dual active-set update: every change at once (`(weight, constraint, new
+/// state)`), or — once the full update has revisited a state (cycling) — from then on only the
+/// change of largest weight. `seen` collects the visited states.
+pub fn pdas_update(
+    state: &[BoundState],
+    changes: &[(f64, usize, BoundState)],
+    seen: &mut HashSet<Vec<BoundState>>,
+    fallback: &mut bool,
+) -> Vec<BoundState> {
+    seen.insert(state.to_vec());
+    let mut next = state.to_vec();
+    for &(_, c, st) in changes {
+        next[c] = st;
+    }
+    if *fallback || seen.contains(&next) {
+        *fallback = true;
+        if let Some(&(_, c, st)) = changes.iter().max_by(|a, b| a.0.total_cmp(&b.0)) {
+            next = state.to_vec();
+            next[c] = st;
+        }
+    }
+    next
+}
