@@ -94,24 +94,7 @@ pub fn box_qp(
             .map(|i| g0[i] - act.iter().map(|&c| s[(i, c)] * r[c]).sum::<f64>())
             .collect();
         // Violations: wrong-sign forces at bounds, out-of-bound free gaps.
-        let mut changes: Vec<(f64, usize, BoundState)> = Vec::new();
-        for c in 0..m {
-            match state[c] {
-                BoundState::Hi if r[c] < 0.0 => {
-                    changes.push((-r[c] * s[(c, c)], c, BoundState::Free))
-                }
-                BoundState::Lo if r[c] > 0.0 => {
-                    changes.push((r[c] * s[(c, c)], c, BoundState::Free))
-                }
-                BoundState::Free if g[c] > hi[c] + tol => {
-                    changes.push((g[c] - hi[c], c, BoundState::Hi))
-                }
-                BoundState::Free if g[c] < lo[c] - tol => {
-                    changes.push((lo[c] - g[c], c, BoundState::Lo))
-                }
-                _ => {}
-            }
-        }
+        let changes = violations(&state, &r, &g, (lo, hi), tol, false, |c| s[(c, c)]);
         if changes.is_empty() {
             return Ok(BoxQp {
                 g,
@@ -127,6 +110,37 @@ pub fn box_qp(
     Err(Error::Numerical(format!(
         "condensed: active set did not converge in {max_it} iterations"
     )))
+}
+
+/// The primal–dual violations of a state, as `(weight, constraint, new state)`: a constraint
+/// at a bound whose force has the wrong sign goes free (weight `|r_c|·w(c)`, `w` converting
+/// force to gap units), a free one outside its bounds by more than `tol` goes to that bound
+/// (weight: the excess). With `keep_pinned`, pinned constraints (`lo = hi`) never change.
+pub fn violations(
+    state: &[BoundState],
+    r: &[f64],
+    g: &[f64],
+    (lo, hi): (&[f64], &[f64]),
+    tol: f64,
+    keep_pinned: bool,
+    w: impl Fn(usize) -> f64,
+) -> Vec<(f64, usize, BoundState)> {
+    let mut changes = Vec::new();
+    for c in 0..state.len() {
+        match state[c] {
+            _ if keep_pinned && lo[c] == hi[c] => {}
+            BoundState::Hi if r[c] < 0.0 => changes.push((-r[c] * w(c), c, BoundState::Free)),
+            BoundState::Lo if r[c] > 0.0 => changes.push((r[c] * w(c), c, BoundState::Free)),
+            BoundState::Free if g[c] > hi[c] + tol => {
+                changes.push((g[c] - hi[c], c, BoundState::Hi))
+            }
+            BoundState::Free if g[c] < lo[c] - tol => {
+                changes.push((lo[c] - g[c], c, BoundState::Lo))
+            }
+            _ => {}
+        }
+    }
+    changes
 }
 
 /// The starting state of the box problem: `start` if given (a warm start), else the bounds

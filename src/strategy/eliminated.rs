@@ -28,7 +28,7 @@
 //! `condensed` and `lagrange` take this route for sparse K with `n ≥` [`ELIMINATION_MIN_N`]
 //! and distinct constraint DOFs.
 
-use super::box_qp::{pdas_update, start_state, BoundState};
+use super::box_qp::{pdas_update, start_state, violations, BoundState};
 use super::{active_set, Context};
 use crate::error::{Error, Result};
 use crate::linalg::{pcg, DiagonalPattern, SparseLlt};
@@ -115,8 +115,6 @@ pub fn box_solve(
         None => path_following_start(ctx, lo, hi)?,
     };
     let mut state = start_state(&g0, lo, hi, start);
-    let rows = pat.pattern.row_idx().to_vec();
-    let cols = pat.pattern.col_ptr().to_vec();
     let mut seen: HashSet<Vec<BoundState>> = HashSet::new();
     let mut fallback = false;
     let mut sizes = Vec::new();
@@ -143,26 +141,7 @@ pub fn box_solve(
         }
         sizes.push(at_bound);
         // Matrix with prescribed rows/columns replaced by K_jj e_j; rhs q_F − K_FB u_B.
-        vals.copy_from_slice(&pat.values);
-        let mut rhs = problem.q.clone();
-        for j in 0..n {
-            for p in cols[j]..cols[j + 1] {
-                let i = rows[p];
-                if fixed[j] && !fixed[i] {
-                    rhs[i] -= pat.values[p] * u_fix[j];
-                }
-                if (fixed[i] || fixed[j]) && i != j {
-                    vals[p] = 0.0;
-                }
-            }
-        }
-        for j in 0..n {
-            if fixed[j] {
-                let d = if kdiag[j] > 0.0 { kdiag[j] } else { 1.0 };
-                vals[pat.diag[j]] = d;
-                rhs[j] = d * u_fix[j];
-            }
-        }
+        let rhs = eliminate(&pat, &problem.q, &fixed, &u_fix, &kdiag, &mut vals);
         // Few DOFs changed status since the last factorization: PCG with that factor.
         let mut u_cg = None;
         if let (Some((f, f_fixed)), Some(u_prev)) = (&last, &u_last) {
@@ -226,22 +205,12 @@ pub fn box_solve(
             })
             .collect();
         // Changes, weighted in gap units (r / K_dd) for the single-change fallback.
-        let mut changes: Vec<(f64, usize, BoundState)> = Vec::new();
-        for (c, con) in problem.constraints.iter().enumerate() {
-            let w = 1.0 / kdiag[con.dof].abs().max(f64::MIN_POSITIVE);
-            match state[c] {
-                _ if lo[c] == hi[c] => {}
-                BoundState::Hi if r[c] < 0.0 => changes.push((-r[c] * w, c, BoundState::Free)),
-                BoundState::Lo if r[c] > 0.0 => changes.push((r[c] * w, c, BoundState::Free)),
-                BoundState::Free if g[c] > hi[c] + tol => {
-                    changes.push((g[c] - hi[c], c, BoundState::Hi))
-                }
-                BoundState::Free if g[c] < lo[c] - tol => {
-                    changes.push((lo[c] - g[c], c, BoundState::Lo))
-                }
-                _ => {}
-            }
-        }
+        let w = |c: usize| {
+            1.0 / kdiag[problem.constraints[c].dof]
+                .abs()
+                .max(f64::MIN_POSITIVE)
+        };
+        let changes = violations(&state, &r, &g, (lo, hi), tol, true, w);
         if changes.is_empty() {
             ctx.stats.iterations += it;
             ctx.stats.active_set_sizes.extend_from_slice(&sizes);
@@ -308,4 +277,40 @@ fn path_following_start(
     };
     let g = problem.gaps(&u);
     Ok(Some(start_state(&g, lo, hi, None)))
+}
+
+/// Eliminates the prescribed DOFs (`fixed`, values `u_fix`): writes into `vals` K with their
+/// rows and columns replaced by `K_jj e_j` (1 where K_jj ≤ 0) and returns the right-hand side
+/// `q_F − K_FB u_B` (and `K_jj u_j` on the prescribed rows), so the solution keeps them.
+fn eliminate(
+    pat: &DiagonalPattern,
+    q: &[f64],
+    fixed: &[bool],
+    u_fix: &[f64],
+    kdiag: &[f64],
+    vals: &mut [f64],
+) -> Vec<f64> {
+    let n = q.len();
+    let (rows, cols) = (pat.pattern.row_idx(), pat.pattern.col_ptr());
+    vals.copy_from_slice(&pat.values);
+    let mut rhs = q.to_vec();
+    for j in 0..n {
+        for p in cols[j]..cols[j + 1] {
+            let i = rows[p];
+            if fixed[j] && !fixed[i] {
+                rhs[i] -= pat.values[p] * u_fix[j];
+            }
+            if (fixed[i] || fixed[j]) && i != j {
+                vals[p] = 0.0;
+            }
+        }
+    }
+    for j in 0..n {
+        if fixed[j] {
+            let d = if kdiag[j] > 0.0 { kdiag[j] } else { 1.0 };
+            vals[pat.diag[j]] = d;
+            rhs[j] = d * u_fix[j];
+        }
+    }
+    rhs
 }
