@@ -89,21 +89,8 @@ pub fn cond2_saddle_with(
     dofs: &[usize],
     schur_test_max: usize,
 ) -> Result<CondReport> {
-    let n = k.nrows();
-    let m = dofs.len();
-    let mut in_b = vec![false; n];
-    for &d in dofs {
-        if d >= n || std::mem::replace(&mut in_b[d], true) {
-            return Err(Error::input(format!(
-                "saddle-point cond₂: constraint DOF {d} repeated or out of range (N = {n})"
-            )));
-        }
-    }
-    if m == 0 || m >= n {
-        return Err(Error::input(format!(
-            "saddle-point cond₂ needs 0 < m < N (m = {m}, N = {n})"
-        )));
-    }
+    let (n, m) = (k.nrows(), dofs.len());
+    let in_b = constrained_mask(n, dofs)?;
     let pattern = DiagonalPattern::new(k)?;
     let mut shifts = Shifts {
         pattern: &pattern,
@@ -111,19 +98,7 @@ pub fn cond2_saddle_with(
         factorizations: 0,
         work: Vec::new(),
     };
-    // K_FF (rows/columns of B replaced by the identity) for A⁻¹.
-    let (cp, ri) = (pattern.pattern.col_ptr(), pattern.pattern.row_idx());
-    let mut vff = pattern.values.clone();
-    for j in 0..n {
-        for p in cp[j]..cp[j + 1] {
-            if in_b[ri[p]] || in_b[j] {
-                vff[p] = if ri[p] == j { 1.0 } else { 0.0 };
-            }
-        }
-    }
-    let kff = pattern.factor(&vff).ok_or_else(|| {
-        Error::singular("saddle-point matrix is singular: K without the constrained DOFs is not positive definite")
-    })?;
+    let kff = free_block_factor(&pattern, &in_b)?;
     shifts.factorizations += 1;
     let size = n + m;
     // A·[x; y] = [K x + D y; Dᵀ x].
@@ -241,6 +216,43 @@ pub fn cond2_saddle_with(
         route: CondRoute::SparseSaddleInertia,
         certificate: Some(certificate),
         log10_det: None,
+    })
+}
+
+/// The mask of the constrained DOFs B; errors on a repeated or out-of-range DOF and unless
+/// 0 < m < N.
+fn constrained_mask(n: usize, dofs: &[usize]) -> Result<Vec<bool>> {
+    let m = dofs.len();
+    let mut in_b = vec![false; n];
+    for &d in dofs {
+        if d >= n || std::mem::replace(&mut in_b[d], true) {
+            return Err(Error::input(format!(
+                "saddle-point cond₂: constraint DOF {d} repeated or out of range (N = {n})"
+            )));
+        }
+    }
+    if m == 0 || m >= n {
+        return Err(Error::input(format!(
+            "saddle-point cond₂ needs 0 < m < N (m = {m}, N = {n})"
+        )));
+    }
+    Ok(in_b)
+}
+
+/// Cholesky of K_FF, stored as K with the rows and columns of B replaced by the identity (for
+/// the block elimination behind A⁻¹); errors when K_FF is not positive definite.
+fn free_block_factor(pattern: &DiagonalPattern, in_b: &[bool]) -> Result<SparseLlt> {
+    let (cp, ri) = (pattern.pattern.col_ptr(), pattern.pattern.row_idx());
+    let mut vff = pattern.values.clone();
+    for j in 0..in_b.len() {
+        for p in cp[j]..cp[j + 1] {
+            if in_b[ri[p]] || in_b[j] {
+                vff[p] = if ri[p] == j { 1.0 } else { 0.0 };
+            }
+        }
+    }
+    pattern.factor(&vff).ok_or_else(|| {
+        Error::singular("saddle-point matrix is singular: K without the constrained DOFs is not positive definite")
     })
 }
 
