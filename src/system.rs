@@ -25,6 +25,13 @@ pub enum Stiffness {
 }
 
 impl Stiffness {
+    /// `u0 = K⁻¹ q` by one factorization (Cholesky where K is SPD, else LU): the
+    /// unconstrained displacement, e.g. to place obstacles in a generated scene. Errors where
+    /// K is singular to working precision.
+    pub fn solve(&self, q: &[f64]) -> Result<Vec<f64>> {
+        Ok(crate::linalg::Factorization::new(self, true)?.solve(q))
+    }
+
     /// Builds a dense matrix from row-major rows. Errors on ragged or non-square input.
     pub fn from_rows(rows: &[Vec<f64>]) -> Result<Self> {
         let n = rows.len();

@@ -31,12 +31,11 @@
 pub mod report;
 
 use crate::error::{Error, Result};
-use crate::linalg::Factorization;
 use crate::model::beam::{Frame, Section};
 use crate::plot::{Figure, Mark, Scale, Series};
 use crate::progress::Progress;
 use crate::strategy::{self, Method, METHOD_NAMES};
-use crate::system::{Constraint, ConstraintKind, Problem, Stiffness};
+use crate::system::{Constraint, ConstraintKind, Problem};
 use serde::Serialize;
 use std::collections::HashMap;
 use std::time::Instant;
@@ -54,12 +53,6 @@ pub struct PerfScene {
     pub scale: f64,
     /// max_c K\[d_c, d_c\] (ε is relative to it).
     pub k_scale: f64,
-}
-
-/// The unconstrained problem and u0 = K⁻¹q (to place the obstacles).
-fn unconstrained(k: Stiffness, q: Vec<f64>) -> Result<(Problem, Vec<f64>)> {
-    let u0 = Factorization::new(&k, true)?.solve(&q);
-    Ok((Problem::new(k, q, Vec::new())?, u0))
 }
 
 fn scales(p: &Problem, u0: &[f64]) -> (f64, f64) {
@@ -96,7 +89,7 @@ pub fn beam_scene(size: usize, max_constraints: usize) -> Result<PerfScene> {
         let x = i as f64;
         q[dof(i, 1)] = -(1.0 + 0.8 * (2.0 * std::f64::consts::PI * x / 20.0).sin());
     }
-    let (base, u0) = unconstrained(k, q)?;
+    let u0 = k.solve(&q)?;
     let lowest = (1..=n_el).map(|i| u0[dof(i, 1)]).fold(0.0f64, f64::min);
     let stride = n_el.div_ceil(max_constraints.max(1)).max(1);
     let constraints: Vec<Constraint> = (1..=n_el)
@@ -107,7 +100,7 @@ pub fn beam_scene(size: usize, max_constraints: usize) -> Result<PerfScene> {
             kind: ConstraintKind::Lower,
         })
         .collect();
-    let problem = Problem::new(base.k, base.q, constraints)?;
+    let problem = Problem::new(k, q, constraints)?;
     let (scale, k_scale) = scales(&problem, &u0);
     Ok(PerfScene {
         family: "beam".into(),
@@ -118,7 +111,8 @@ pub fn beam_scene(size: usize, max_constraints: usize) -> Result<PerfScene> {
     })
 }
 
-/// The 5-point membrane `4u_ij − Σ neighbours = f h²` on a side×side interior grid
+/// The 5-point membrane `4u_ij − Σ neighbours = f h²` ([`crate::model::membrane::stiffness`])
+/// on a side×side interior grid
 /// (side = round √N, clamped edges, f = −10), pressed onto the paraboloid obstacle
 /// `u ≥ ψ = 0.5·min u0 − |min u0|·((x−½)² + (y−½)²)` sampled at the nodes of a sub-grid of
 /// stride ⌈√(N / max_constraints)⌉ (`lower` constraints).
@@ -126,29 +120,10 @@ pub fn membrane_scene(size: usize, max_constraints: usize) -> Result<PerfScene> 
     let side = ((size as f64).sqrt().round() as usize).max(3);
     let n = side * side;
     let h = 1.0 / (side as f64 + 1.0);
-    let idx = |i: usize, j: usize| i * side + j;
-    let mut t = Vec::with_capacity(5 * n);
-    for i in 0..side {
-        for j in 0..side {
-            let r = idx(i, j);
-            t.push((r, r, 4.0));
-            if i > 0 {
-                t.push((r, idx(i - 1, j), -1.0));
-            }
-            if i + 1 < side {
-                t.push((r, idx(i + 1, j), -1.0));
-            }
-            if j > 0 {
-                t.push((r, idx(i, j - 1), -1.0));
-            }
-            if j + 1 < side {
-                t.push((r, idx(i, j + 1), -1.0));
-            }
-        }
-    }
-    let k = Stiffness::from_triplets(n, &t)?;
+    let idx = |i: usize, j: usize| crate::model::membrane::dof(side, i, j);
+    let k = crate::model::membrane::stiffness(side, 1.0)?;
     let q = vec![-10.0 * h * h; n];
-    let (base, u0) = unconstrained(k, q)?;
+    let u0 = k.solve(&q)?;
     let sag = u0.iter().fold(0.0f64, |a, &v| a.min(v));
     let stride = ((n as f64 / max_constraints.max(1) as f64).sqrt().ceil() as usize).max(1);
     let mut constraints = Vec::new();
@@ -163,7 +138,7 @@ pub fn membrane_scene(size: usize, max_constraints: usize) -> Result<PerfScene> 
             });
         }
     }
-    let problem = Problem::new(base.k, base.q, constraints)?;
+    let problem = Problem::new(k, q, constraints)?;
     let (scale, k_scale) = scales(&problem, &u0);
     Ok(PerfScene {
         family: "membrane".into(),

@@ -178,12 +178,6 @@ pub fn generate(
     })
 }
 
-/// Unconstrained solution of a dense or sparse K (for placing the obstacles).
-fn unconstrained(k: &Stiffness, q: &[f64]) -> Result<Vec<f64>> {
-    let f = crate::linalg::Factorization::new(k, true)?;
-    Ok(f.solve(q))
-}
-
 /// Picks a constraint on `dof` from the unconstrained displacement `u0d`, so that contact
 /// actually happens: bilateral ties anywhere near the path, unilateral obstacles in the load path
 /// (violated by u0), and some obstacles just out of reach.
@@ -251,7 +245,7 @@ fn beam(rng: &mut ChaCha8Rng, cfg: &GeneratorConfig) -> Result<(Problem, serde_j
             }
         }
     }
-    let u0 = unconstrained(&k, &q)?;
+    let u0 = k.solve(&q)?;
     let m_max = free_nodes.len().clamp(1, 8);
     let m = rng.random_range(1..=m_max);
     let mut nodes = free_nodes.clone();
@@ -285,7 +279,7 @@ fn membrane(rng: &mut ChaCha8Rng, cfg: &GeneratorConfig) -> Result<(Problem, ser
     let k = membrane_model::stiffness(side, tension)?;
     let f = -log_uniform(rng, 1.0, 100.0);
     let q = vec![f * h * h; n];
-    let u0 = unconstrained(&k, &q)?;
+    let u0 = k.solve(&q)?;
     let sag = u0.iter().fold(0.0f64, |a, &v| a.min(v));
     // Obstacle: a tilted paraboloid cap below the membrane touching its lower part.
     let level = sag * rng.random_range(0.3..0.8);
@@ -338,7 +332,7 @@ fn spectrum(rng: &mut ChaCha8Rng, cfg: &GeneratorConfig) -> Result<(Problem, ser
     }
     let k = Stiffness::Dense(k);
     let q: Vec<f64> = (0..n).map(|_| rng.random_range(-1.0..1.0)).collect();
-    let u0 = unconstrained(&k, &q)?;
+    let u0 = k.solve(&q)?;
     let m = rng.random_range(1..=(n / 4).clamp(1, 12));
     let mut dofs: Vec<usize> = (0..n).collect();
     for i in 0..m {
