@@ -1,0 +1,490 @@
+//! Drawing one chart: title, mesh, bands, lines, marks, markers, frame.
+
+use plotters::coord::ranged1d::{AsRangedCoord, Ranged, ValueFormatter};
+use plotters::coord::Shift;
+use plotters::element::DashedPathElement;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+use super::*;
+
+// ---------------------------------------------------------------------------------------------
+// Drawing
+// ---------------------------------------------------------------------------------------------
+
+pub(super) fn draw_figure<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    fig: &Figure,
+    prep: &Prepared,
+    scale: f64,
+) -> std::result::Result<(), String> {
+    let (w, h) = area.dim_in_pixel();
+    let st = Style::new(scale);
+    let title_h = if fig.title.is_empty() {
+        0
+    } else {
+        (st.title * 1.9) as i32
+    };
+    let n_x = ((w as f64 / (85.0 * scale)) as usize).clamp(3, 10);
+    let n_y = (((h as i32 - title_h) as f64 / (65.0 * scale)) as usize).clamp(3, 10);
+    let xt = ticks(fig.x_scale, prep.x, n_x);
+    let yt = ticks(fig.y_scale, prep.y, n_y);
+    let (x0, x1) = prep.x;
+    let (y0, y1) = prep.y;
+    let lay = Layout {
+        st,
+        title_h,
+        n_x,
+        n_y,
+    };
+    let log = |r: std::ops::Range<f64>, t: &AxisTicks| {
+        r.log_scale()
+            .with_key_points(t.bold.clone())
+            .with_light_points(t.light.clone())
+    };
+    match (fig.x_scale, fig.y_scale) {
+        (Scale::Linear, Scale::Linear) => {
+            draw_chart(area, fig, prep, &lay, &xt, &yt, x0..x1, y0..y1)
+        }
+        (Scale::Linear, Scale::Log10) => {
+            draw_chart(area, fig, prep, &lay, &xt, &yt, x0..x1, log(y0..y1, &yt))
+        }
+        (Scale::Log10, Scale::Linear) => {
+            draw_chart(area, fig, prep, &lay, &xt, &yt, log(x0..x1, &xt), y0..y1)
+        }
+        (Scale::Log10, Scale::Log10) => draw_chart(
+            area,
+            fig,
+            prep,
+            &lay,
+            &xt,
+            &yt,
+            log(x0..x1, &xt),
+            log(y0..y1, &yt),
+        ),
+    }
+}
+
+/// Sizes decided before the chart is built.
+pub(super) struct Layout {
+    pub(super) st: Style,
+    pub(super) title_h: i32,
+    pub(super) n_x: usize,
+    pub(super) n_y: usize,
+}
+
+/// Splits `(x, y)` pairs into runs of consecutive drawable points.
+pub(super) fn runs(
+    xs: Scale,
+    ys: Scale,
+    pts: impl Iterator<Item = (f64, f64)>,
+) -> Vec<Vec<(f64, f64)>> {
+    let mut out = Vec::new();
+    let mut cur = Vec::new();
+    for (x, y) in pts {
+        if ok(xs, x) && ok(ys, y) {
+            cur.push((x, y));
+        } else if !cur.is_empty() {
+            out.push(std::mem::take(&mut cur));
+        }
+    }
+    if !cur.is_empty() {
+        out.push(cur);
+    }
+    out
+}
+
+/// Band runs: consecutive indices where x, lo and hi are all drawable; each as (x, lo, hi).
+pub(super) fn band_runs(fig: &Figure, b: &Band) -> Vec<Vec<(f64, f64, f64)>> {
+    let mut out = Vec::new();
+    let mut cur = Vec::new();
+    for ((&x, &lo), &hi) in b.x.iter().zip(&b.lo).zip(&b.hi) {
+        if ok(fig.x_scale, x) && ok(fig.y_scale, lo) && ok(fig.y_scale, hi) {
+            cur.push((x, lo, hi));
+        } else if !cur.is_empty() {
+            out.push(std::mem::take(&mut cur));
+        }
+    }
+    if !cur.is_empty() {
+        out.push(cur);
+    }
+    out
+}
+
+/// Normalised position (0..1 on both axes, y up) of a data point.
+pub(super) fn norm(fig: &Figure, prep: &Prepared, (x, y): (f64, f64)) -> (f64, f64) {
+    (
+        (tr(fig.x_scale, x) - prep.xt.0) / (prep.xt.1 - prep.xt.0),
+        (tr(fig.y_scale, y) - prep.yt.0) / (prep.yt.1 - prep.yt.0),
+    )
+}
+
+/// Sample points (normalised coordinates) along a polyline, about 100 per unit length.
+pub(super) fn sample_polyline(pts: &[(f64, f64)], out: &mut Vec<(f64, f64)>) {
+    if let Some(&p) = pts.first() {
+        out.push(p);
+    }
+    for w in pts.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        let d = ((b.0 - a.0).powi(2) + (b.1 - a.1).powi(2)).sqrt();
+        let k = ((d * 100.0).ceil() as usize).clamp(1, 200);
+        for i in 1..=k {
+            let t = i as f64 / k as f64;
+            out.push((a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1)));
+        }
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+pub(super) fn draw_chart<DB, XS, YS>(
+    area: &DrawingArea<DB, Shift>,
+    fig: &Figure,
+    prep: &Prepared,
+    lay: &Layout,
+    xt: &AxisTicks,
+    yt: &AxisTicks,
+    x_spec: XS,
+    y_spec: YS,
+) -> std::result::Result<(), String>
+where
+    DB: DrawingBackend,
+    XS: AsRangedCoord<Value = f64>,
+    YS: AsRangedCoord<Value = f64>,
+    XS::CoordDescType: ValueFormatter<f64>,
+    YS::CoordDescType: ValueFormatter<f64>,
+{
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let st = &lay.st;
+    let scale = st.s;
+    let (w, _) = area.dim_in_pixel();
+
+    // Title strip.
+    let body = if fig.title.is_empty() {
+        area.clone()
+    } else {
+        let th = lay.title_h;
+        let (top, rest) = area.split_vertically(th);
+        top.draw(&Text::new(
+            fig.title.as_str(),
+            ((w / 2) as i32, th / 2 + st.px(3.0)),
+            font(st.title).pos(Pos::new(HPos::Center, VPos::Center)),
+        ))
+        .map_err(e)?;
+        rest
+    };
+    let (n_x, n_y) = (lay.n_x, lay.n_y);
+    let (xfmt, yfmt) = (xt.fmt, yt.fmt);
+    let y_tick_w = yt
+        .bold
+        .iter()
+        .map(|&v| text_width(&yfmt.format(v), st.tick))
+        .fold(text_width("0", st.tick), f64::max);
+    let y_area = (y_tick_w + 16.0 * scale).ceil() as u32;
+    let x_area = if fig.x_label.is_empty() {
+        (st.tick * 2.0) as u32
+    } else {
+        (st.tick * 1.7 + st.label * 1.4) as u32
+    };
+    let top = if fig.y_label.is_empty() {
+        st.px(12.0) as u32
+    } else {
+        (st.label * 2.1) as u32
+    };
+    // Right margin: room for the last x tick label to overhang.
+    let right =
+        (text_width(&xfmt.format(prep.x.1), st.tick) / 2.0 + 10.0 * scale).max(22.0 * scale) as u32;
+
+    let mut chart = ChartBuilder::on(&body)
+        .margin_top(top)
+        .margin_right(right)
+        .margin_left(st.px(10.0) as u32)
+        .margin_bottom(st.px(6.0) as u32)
+        .x_label_area_size(x_area)
+        .y_label_area_size(y_area)
+        .build_cartesian_2d(x_spec, y_spec)
+        .map_err(e)?;
+
+    let (xs, ys) = (fig.x_scale, fig.y_scale);
+    let xf = move |v: &f64| xfmt.format(*v);
+    let yf = move |v: &f64| yfmt.format(*v);
+    {
+        let mut mesh = chart.configure_mesh();
+        mesh.x_labels(n_x)
+            .y_labels(n_y)
+            .x_label_formatter(&xf)
+            .y_label_formatter(&yf)
+            .label_style(font(st.tick))
+            .axis_desc_style(font(st.label))
+            .bold_line_style(RGBColor(220, 220, 220).stroke_width(1))
+            .light_line_style(RGBColor(242, 242, 242).stroke_width(1))
+            .axis_style(BLACK.stroke_width(1))
+            .set_all_tick_mark_size(st.px(5.0))
+            // Minor grid: 2…9 × 10^k on log axes, one line between labels on linear axes.
+            .x_max_light_lines(if xs == Scale::Log10 { 10 } else { 1 })
+            .y_max_light_lines(if ys == Scale::Log10 { 10 } else { 1 });
+        if !fig.x_label.is_empty() {
+            mesh.x_desc(fig.x_label.as_str());
+        }
+        mesh.draw().map_err(e)?;
+    }
+
+    draw_bands(&mut chart, fig, st)?;
+    draw_lines(&mut chart, fig, prep, st)?;
+    draw_marks(&mut chart, fig, st)?;
+    draw_markers(&mut chart, fig, st)?;
+    let legend = draw_legend(&mut chart, fig, prep, st)?;
+    draw_reference_labels(&mut chart, fig, prep, st, legend)?;
+    let (prx, pry) = chart.plotting_area().get_pixel_range();
+    // Frame around the plotting area and the horizontal y label above the y axis.
+    let (bx, by) = area.get_base_pixel();
+    let (ax0, ay0) = (prx.start - bx, pry.start - by);
+    let (ax1, ay1) = (prx.end - bx - 1, pry.end - by - 1);
+    area.draw(&PathElement::new(
+        vec![(ax0, ay0), (ax1, ay0), (ax1, ay1)],
+        BLACK.stroke_width(1),
+    ))
+    .map_err(e)?;
+    if !fig.y_label.is_empty() {
+        let x = (ax0 - y_area as i32 + st.px(4.0)).max(st.px(4.0));
+        area.draw(&Text::new(
+            fig.y_label.as_str(),
+            (x, ay0 - st.px(8.0)),
+            font(st.label).pos(Pos::new(HPos::Left, VPos::Bottom)),
+        ))
+        .map_err(e)?;
+    }
+    Ok(())
+}
+
+/// Spread bands: filled polygons between their lower and upper curves, with edges.
+pub(super) fn draw_bands<'a, DB, X, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    fig: &Figure,
+    st: &Style,
+) -> std::result::Result<(), String>
+where
+    DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    // Bands.
+    for (i, b) in fig.bands.iter().enumerate() {
+        let c = pal(b.color.unwrap_or(i));
+        let polys: Vec<Polygon<(f64, f64)>> = band_runs(fig, b)
+            .into_iter()
+            .map(|run| {
+                let mut p: Vec<(f64, f64)> = run.iter().map(|&(x, _, hi)| (x, hi)).collect();
+                p.extend(run.iter().rev().map(|&(x, lo, _)| (x, lo)));
+                Polygon::new(p, c.mix(0.22).filled())
+            })
+            .collect();
+        let anno = chart.draw_series(polys).map_err(e)?;
+        if !b.label.is_empty() {
+            let r = st.px(7.0);
+            let len = st.px(28.0);
+            anno.label(b.label.as_str()).legend(move |(x, y)| {
+                Rectangle::new([(x, y - r), (x + len, y + r)], c.mix(0.3).filled())
+            });
+        }
+        for run in band_runs(fig, b) {
+            for edge in [
+                run.iter().map(|&(x, lo, _)| (x, lo)).collect::<Vec<_>>(),
+                run.iter().map(|&(x, _, hi)| (x, hi)).collect::<Vec<_>>(),
+            ] {
+                chart
+                    .draw_series(std::iter::once(PathElement::new(
+                        edge,
+                        c.mix(0.45).stroke_width(1),
+                    )))
+                    .map_err(e)?;
+            }
+        }
+    }
+
+    Ok(())
+}
+
+/// Coloured segments and the dashed reference lines (their labels come after the legend).
+pub(super) fn draw_lines<'a, DB, X, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    fig: &Figure,
+    prep: &Prepared,
+    st: &Style,
+) -> std::result::Result<(), String>
+where
+    DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let (xs, ys) = (fig.x_scale, fig.y_scale);
+    // Segments.
+    let seg_w = st.px(3.0).max(1) as u32;
+    chart
+        .draw_series(
+            fig.segments
+                .iter()
+                .filter(|(a, b, _)| ok(xs, a.0) && ok(ys, a.1) && ok(xs, b.0) && ok(ys, b.1))
+                .map(|&(a, b, ci)| PathElement::new(vec![a, b], pal(ci).stroke_width(seg_w))),
+        )
+        .map_err(e)?;
+
+    // Reference lines (labels are written later, away from the legend).
+    let dash = (st.px(8.0) as f64, st.px(5.0) as f64);
+    let ref_style = REF_GREY.stroke_width(st.px(1.5).max(1) as u32);
+    for (y, _) in fig.hlines.iter().filter(|l| ok(ys, l.0)) {
+        chart
+            .draw_series(std::iter::once(DashedPathElement::new(
+                vec![(prep.x.0, *y), (prep.x.1, *y)],
+                dash.0,
+                dash.1,
+                ref_style,
+            )))
+            .map_err(e)?;
+    }
+    for (x, _) in fig.vlines.iter().filter(|l| ok(xs, l.0)) {
+        chart
+            .draw_series(std::iter::once(DashedPathElement::new(
+                vec![(*x, prep.y.0), (*x, prep.y.1)],
+                dash.0,
+                dash.1,
+                ref_style,
+            )))
+            .map_err(e)?;
+    }
+
+    Ok(())
+}
+
+/// The data series in their marks, each with its legend entry.
+pub(super) fn draw_marks<'a, DB, X, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    fig: &Figure,
+    st: &Style,
+) -> std::result::Result<(), String>
+where
+    DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let (xs, ys) = (fig.x_scale, fig.y_scale);
+    let lw = st.px(2.0).max(1) as u32;
+    let dash = (st.px(8.0) as f64, st.px(5.0) as f64);
+    // Series.
+    let len = st.px(28.0);
+    let pr = st.px(4.0).max(2);
+    for (i, s) in fig.series.iter().enumerate() {
+        let c = pal(s.color.unwrap_or(i));
+        let line = c.stroke_width(lw);
+        let rs = runs(xs, ys, s.x.iter().copied().zip(s.y.iter().copied()));
+        let has_label = !s.label.is_empty();
+        match s.mark {
+            Mark::Line => {
+                let anno = chart
+                    .draw_series(rs.into_iter().map(|r| PathElement::new(r, line)))
+                    .map_err(e)?;
+                if has_label {
+                    anno.label(s.label.as_str())
+                        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + len, y)], line));
+                }
+            }
+            Mark::Dashed => {
+                let anno = chart
+                    .draw_series(
+                        rs.into_iter()
+                            .map(|r| DashedPathElement::new(r, dash.0, dash.1, line)),
+                    )
+                    .map_err(e)?;
+                if has_label {
+                    let d = (dash.0 as i32, dash.1 as i32);
+                    anno.label(s.label.as_str()).legend(move |(x, y)| {
+                        EmptyElement::at((x, y))
+                            + PathElement::new(vec![(0, 0), (d.0, 0)], line)
+                            + PathElement::new(vec![(d.0 + d.1, 0), (len, 0)], line)
+                    });
+                }
+            }
+            Mark::Points => {
+                let anno = chart
+                    .draw_series(
+                        rs.into_iter()
+                            .flatten()
+                            .map(|p| Circle::new(p, pr, c.filled())),
+                    )
+                    .map_err(e)?;
+                if has_label {
+                    anno.label(s.label.as_str())
+                        .legend(move |(x, y)| Circle::new((x + len / 2, y), pr, c.filled()));
+                }
+            }
+            Mark::LinePoints => {
+                chart
+                    .draw_series(rs.iter().map(|r| PathElement::new(r.clone(), line)))
+                    .map_err(e)?;
+                let anno = chart
+                    .draw_series(
+                        rs.into_iter()
+                            .flatten()
+                            .map(|p| Circle::new(p, pr, c.filled())),
+                    )
+                    .map_err(e)?;
+                if has_label {
+                    anno.label(s.label.as_str()).legend(move |(x, y)| {
+                        EmptyElement::at((x, y))
+                            + PathElement::new(vec![(0, 0), (len, 0)], line)
+                            + Circle::new((len / 2, 0), pr, c.filled())
+                    });
+                }
+            }
+        }
+    }
+
+    Ok(())
+}
+
+/// Markers: diamonds with a black outline.
+pub(super) fn draw_markers<'a, DB, X, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    fig: &Figure,
+    st: &Style,
+) -> std::result::Result<(), String>
+where
+    DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let (xs, ys) = (fig.x_scale, fig.y_scale);
+    let len = st.px(28.0);
+    // Markers: diamond with a black outline.
+    let r = st.px(9.0);
+    let diamond = move |c: RGBColor| {
+        let pts = vec![(0, -r), (r, 0), (0, r), (-r, 0)];
+        let mut closed = pts.clone();
+        closed.push((0, -r));
+        (
+            Polygon::new(pts, c.filled()),
+            PathElement::new(closed, BLACK.stroke_width(1)),
+        )
+    };
+    for m in &fig.markers {
+        let c = pal(m.color.unwrap_or(BLACK_INDEX));
+        let shown = ok(xs, m.x) && ok(ys, m.y);
+        let anno = chart
+            .draw_series(shown.then(|| {
+                let (poly, outline) = diamond(c);
+                EmptyElement::at((m.x, m.y)) + poly + outline
+            }))
+            .map_err(e)?;
+        if !m.label.is_empty() {
+            anno.label(m.label.as_str()).legend(move |(x, y)| {
+                let (poly, outline) = diamond(c);
+                EmptyElement::at((x + len / 2, y)) + poly + outline
+            });
+        }
+    }
+
+    Ok(())
+}

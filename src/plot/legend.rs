@@ -1,0 +1,238 @@
+//! The legend in the emptiest corner and the reference-line labels placed around it.
+
+use plotters::coord::ranged1d::Ranged;
+use plotters::prelude::*;
+use plotters::style::text_anchor::{HPos, Pos, VPos};
+
+use super::*;
+
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub(super) enum Corner {
+    UpperRight,
+    UpperLeft,
+    LowerRight,
+    LowerLeft,
+}
+
+/// Corner whose legend-sized box (normalised size `w`×`h`) contains the fewest data samples.
+pub(super) fn pick_corner(fig: &Figure, prep: &Prepared, w: f64, h: f64) -> Corner {
+    let mut pts = Vec::new();
+    for s in &fig.series {
+        for run in runs(
+            fig.x_scale,
+            fig.y_scale,
+            s.x.iter().copied().zip(s.y.iter().copied()),
+        ) {
+            let n: Vec<_> = run.iter().map(|&p| norm(fig, prep, p)).collect();
+            match s.mark {
+                Mark::Points => pts.extend(n),
+                _ => sample_polyline(&n, &mut pts),
+            }
+        }
+    }
+    for b in &fig.bands {
+        for run in band_runs(fig, b) {
+            for f in [0.0, 0.25, 0.5, 0.75, 1.0] {
+                let n: Vec<_> = run
+                    .iter()
+                    .map(|&(x, lo, hi)| {
+                        let (u, vlo) = norm(fig, prep, (x, lo));
+                        let (_, vhi) = norm(fig, prep, (x, hi));
+                        (u, vlo + f * (vhi - vlo))
+                    })
+                    .collect();
+                sample_polyline(&n, &mut pts);
+            }
+        }
+    }
+    for m in &fig.markers {
+        if ok(fig.x_scale, m.x) && ok(fig.y_scale, m.y) {
+            // A marker weighs like a short stretch of line.
+            let p = norm(fig, prep, (m.x, m.y));
+            pts.extend(std::iter::repeat_n(p, 20));
+        }
+    }
+    let count = |c: Corner| {
+        pts.iter()
+            .filter(|&&(u, v)| {
+                let in_x = match c {
+                    Corner::UpperLeft | Corner::LowerLeft => u <= w,
+                    _ => u >= 1.0 - w,
+                };
+                let in_y = match c {
+                    Corner::UpperLeft | Corner::UpperRight => v >= 1.0 - h,
+                    _ => v <= h,
+                };
+                in_x && in_y
+            })
+            .count()
+    };
+    [
+        Corner::UpperRight,
+        Corner::UpperLeft,
+        Corner::LowerRight,
+        Corner::LowerLeft,
+    ]
+    .into_iter()
+    .min_by_key(|&c| count(c))
+    .unwrap_or(Corner::UpperRight)
+}
+
+/// The legend in the emptiest corner; returns the corner and the legend's size in
+/// normalised plot coordinates (0×0: no legend).
+pub(super) fn draw_legend<'a, DB, X, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    fig: &Figure,
+    prep: &Prepared,
+    st: &Style,
+) -> std::result::Result<(Corner, (f64, f64)), String>
+where
+    DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let scale = st.s;
+    // Legend in the emptiest corner.
+    let (prx, pry) = chart.plotting_area().get_pixel_range();
+    let (pw, ph) = (
+        (prx.end - prx.start).max(1) as f64,
+        (pry.end - pry.start).max(1) as f64,
+    );
+    let labels: Vec<&str> = fig
+        .bands
+        .iter()
+        .map(|b| b.label.as_str())
+        .chain(fig.series.iter().map(|s| s.label.as_str()))
+        .chain(fig.markers.iter().map(|m| m.label.as_str()))
+        .filter(|l| !l.is_empty())
+        .collect();
+    // Legend size in normalised plot coordinates (0×0: no legend).
+    let mut legend_wh = (0.0, 0.0);
+    let corner = if labels.is_empty() {
+        Corner::UpperRight
+    } else {
+        let lw_px = labels
+            .iter()
+            .map(|l| text_width(l, st.legend))
+            .fold(0.0, f64::max)
+            + 36.0 * scale
+            + 30.0 * scale;
+        let lh_px = labels.len() as f64 * st.legend * 1.25 + 30.0 * scale;
+        legend_wh = (lw_px / pw, lh_px / ph);
+        pick_corner(fig, prep, legend_wh.0, legend_wh.1)
+    };
+    if !labels.is_empty() {
+        let pos = match corner {
+            Corner::UpperRight => SeriesLabelPosition::UpperRight,
+            Corner::UpperLeft => SeriesLabelPosition::UpperLeft,
+            Corner::LowerRight => SeriesLabelPosition::LowerRight,
+            Corner::LowerLeft => SeriesLabelPosition::LowerLeft,
+        };
+        chart
+            .configure_series_labels()
+            .position(pos)
+            .margin(st.px(8.0).max(2) as u32)
+            .legend_area_size(st.px(36.0).max(10) as u32)
+            .label_font(font(st.legend))
+            .background_style(WHITE)
+            .border_style(RGBColor(90, 90, 90))
+            .draw()
+            .map_err(e)?;
+    }
+
+    Ok((corner, legend_wh))
+}
+
+/// Reference-line labels: hline labels at the right end above the line, vline labels at the
+/// top right of the line, each moved to the other end where it would hit the legend.
+pub(super) fn draw_reference_labels<'a, DB, X, Y>(
+    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+    fig: &Figure,
+    prep: &Prepared,
+    st: &Style,
+    (corner, legend_wh): (Corner, (f64, f64)),
+) -> std::result::Result<(), String>
+where
+    DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64>,
+    Y: Ranged<ValueType = f64>,
+{
+    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
+    let (xs, ys) = (fig.x_scale, fig.y_scale);
+    let (prx, pry) = chart.plotting_area().get_pixel_range();
+    let (pw, ph) = (
+        (prx.end - prx.start).max(1) as f64,
+        (pry.end - pry.start).max(1) as f64,
+    );
+    // Reference-line labels: hline labels at the right end above the line, vline labels at the
+    // top right of the line, each moved to the other end where it would hit the legend.
+    let legend_right = matches!(corner, Corner::UpperRight | Corner::LowerRight);
+    let legend_top = matches!(corner, Corner::UpperRight | Corner::UpperLeft);
+    let in_legend_x = |a: f64, b: f64| {
+        if legend_right {
+            b >= 1.0 - legend_wh.0
+        } else {
+            a <= legend_wh.0
+        }
+    };
+    let in_legend_y = |a: f64, b: f64| {
+        if legend_top {
+            b >= 1.0 - legend_wh.1
+        } else {
+            a <= legend_wh.1
+        }
+    };
+    let gap = st.px(5.0);
+    let tw = |l: &str| text_width(l, st.annot) / pw;
+    let th = st.annot * 1.3 / ph;
+    for (y, label) in fig.hlines.iter().filter(|l| ok(ys, l.0) && !l.1.is_empty()) {
+        let v = norm(fig, prep, (prep.x.0, *y)).1;
+        let hits = legend_wh.0 > 0.0 && in_legend_x(1.0 - tw(label), 1.0) && in_legend_y(v, v + th);
+        let (x, dx, hp) = if hits {
+            (prep.x.0, gap, HPos::Left)
+        } else {
+            (prep.x.1, -gap, HPos::Right)
+        };
+        chart
+            .draw_series(std::iter::once(
+                EmptyElement::at((x, *y))
+                    + Text::new(
+                        label.clone(),
+                        (dx, -gap / 2),
+                        font(st.annot)
+                            .color(&REF_GREY)
+                            .pos(Pos::new(hp, VPos::Bottom)),
+                    ),
+            ))
+            .map_err(e)?;
+    }
+    for (x, label) in fig.vlines.iter().filter(|l| ok(xs, l.0) && !l.1.is_empty()) {
+        let u = norm(fig, prep, (*x, prep.y.0)).0;
+        let w = tw(label);
+        // Right of the line unless that runs out of the plot.
+        let (a, b, dx, hp) = if u + w < 0.98 {
+            (u, u + w, gap, HPos::Left)
+        } else {
+            (u - w, u, -gap, HPos::Right)
+        };
+        let hits = legend_wh.0 > 0.0 && in_legend_x(a, b) && in_legend_y(1.0 - th, 1.0);
+        let (y, dy, vp) = if hits {
+            (prep.y.0, -gap, VPos::Bottom)
+        } else {
+            (prep.y.1, gap, VPos::Top)
+        };
+        chart
+            .draw_series(std::iter::once(
+                EmptyElement::at((*x, y))
+                    + Text::new(
+                        label.clone(),
+                        (dx, dy),
+                        font(st.annot).color(&REF_GREY).pos(Pos::new(hp, vp)),
+                    ),
+            ))
+            .map_err(e)?;
+    }
+
+    Ok(())
+}

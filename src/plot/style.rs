@@ -1,0 +1,112 @@
+//! The house style: embedded font, the Okabe–Ito palette, one colour and legend name per method, type sizes.
+
+use std::sync::OnceLock;
+
+use plotters::prelude::*;
+use plotters::style::FontStyle;
+
+use crate::{Error, Result};
+
+/// The embedded font (DejaVu Sans, see `assets/DejaVuSans-LICENSE.txt`).
+pub(super) static FONT_BYTES: &[u8] = include_bytes!("../../assets/DejaVuSans.ttf");
+/// Family name under which the embedded font is registered.
+pub(super) const FONT: &str = "sans-serif";
+
+/// Okabe–Ito colour-blind-friendly palette, in the order used for `color: Some(i)` (taken
+/// modulo 8) and for default colours (series order): blue, vermillion, bluish green, orange,
+/// reddish purple, sky blue, black, yellow.
+pub const PALETTE: [(u8, u8, u8); 8] = [
+    (0, 114, 178),
+    (213, 94, 0),
+    (0, 158, 115),
+    (230, 159, 0),
+    (204, 121, 167),
+    (86, 180, 233),
+    (0, 0, 0),
+    (240, 228, 66),
+];
+
+/// Palette index of black (default colour of [`Marker`](super::Marker)s).
+pub const BLACK_INDEX: usize = 6;
+
+/// Colour of palette entry `i` (modulo the palette length).
+pub(super) fn pal(i: usize) -> RGBColor {
+    let (r, g, b) = PALETTE[i % PALETTE.len()];
+    RGBColor(r, g, b)
+}
+
+/// Grey used for reference lines (`hlines`, `vlines`) and their labels.
+pub(super) const REF_GREY: RGBColor = RGBColor(70, 70, 70);
+
+/// Registers the embedded font once; later calls return the stored outcome.
+pub(super) fn ensure_font() -> Result<()> {
+    static REGISTERED: OnceLock<std::result::Result<(), String>> = OnceLock::new();
+    REGISTERED
+        .get_or_init(|| {
+            plotters::style::register_font(FONT, FontStyle::Normal, FONT_BYTES)
+                .map_err(|_| "embedded font assets/DejaVuSans.ttf is not a valid font".to_string())
+        })
+        .clone()
+        .map_err(Error::Numerical)
+}
+
+/// Pixel sizes for one figure.
+pub(super) struct Style {
+    pub(super) title: f64,
+    pub(super) label: f64,
+    pub(super) tick: f64,
+    pub(super) legend: f64,
+    pub(super) annot: f64,
+    pub(super) s: f64,
+}
+
+impl Style {
+    pub(super) fn new(s: f64) -> Self {
+        Style {
+            title: 24.0 * s,
+            label: 20.0 * s,
+            tick: 17.0 * s,
+            legend: 17.0 * s,
+            annot: 15.0 * s,
+            s,
+        }
+    }
+    pub(super) fn px(&self, v: f64) -> i32 {
+        (v * self.s).round() as i32
+    }
+}
+
+pub(super) fn font(size: f64) -> TextStyle<'static> {
+    TextStyle::from((FONT, size).into_font()).color(&BLACK)
+}
+
+/// Approximate rendered width of `text` in pixels at font size `size` (DejaVu Sans).
+pub(super) fn text_width(text: &str, size: f64) -> f64 {
+    text.chars().count() as f64 * 0.6 * size
+}
+
+/// The palette index of a method: its position in
+/// [`METHOD_NAMES`](crate::strategy::METHOD_NAMES) (one colour per method in every figure).
+/// The forming runs' names map to the rules they use: `classical` → `constant`, `adaptive` →
+/// `paper` (Eq. 28). Unknown names get the last palette entry.
+pub fn method_color(name: &str) -> usize {
+    let name = match name {
+        "classical" => "constant",
+        "adaptive" => "paper",
+        n => n,
+    };
+    crate::strategy::METHOD_NAMES
+        .iter()
+        .position(|x| *x == name)
+        .unwrap_or(PALETTE.len() - 1)
+}
+
+/// The legend name of a method in every figure: the δ-driven rules carry their equation.
+pub fn method_label(name: &str) -> &str {
+    match name {
+        "spring" => "spring (Eq. 17)",
+        "paper" => "paper (Eq. 26–29)",
+        "condensed" => "condensed (exact δ)",
+        n => n,
+    }
+}
