@@ -153,7 +153,6 @@ where
     XS::CoordDescType: ValueFormatter<f64>,
     YS::CoordDescType: ValueFormatter<f64>,
 {
-    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     let st = &lay.st;
     let scale = st.s;
     let (w, _) = area.dim_in_pixel();
@@ -169,7 +168,7 @@ where
             ((w / 2) as i32, th / 2 + st.px(3.0)),
             font(st.title).pos(Pos::new(HPos::Center, VPos::Center)),
         ))
-        .map_err(e)?;
+        .map_err(area_err)?;
         rest
     };
     let (n_x, n_y) = (lay.n_x, lay.n_y);
@@ -202,7 +201,7 @@ where
         .x_label_area_size(x_area)
         .y_label_area_size(y_area)
         .build_cartesian_2d(x_spec, y_spec)
-        .map_err(e)?;
+        .map_err(area_err)?;
 
     let (xs, ys) = (fig.x_scale, fig.y_scale);
     let xf = move |v: &f64| xfmt.format(*v);
@@ -225,7 +224,7 @@ where
         if !fig.x_label.is_empty() {
             mesh.x_desc(fig.x_label.as_str());
         }
-        mesh.draw().map_err(e)?;
+        mesh.draw().map_err(area_err)?;
     }
 
     draw_bands(&mut chart, fig, st)?;
@@ -243,7 +242,7 @@ where
         vec![(ax0, ay0), (ax1, ay0), (ax1, ay1)],
         BLACK.stroke_width(1),
     ))
-    .map_err(e)?;
+    .map_err(area_err)?;
     if !fig.y_label.is_empty() {
         let x = (ax0 - y_area as i32 + st.px(4.0)).max(st.px(4.0));
         area.draw(&Text::new(
@@ -251,7 +250,7 @@ where
             (x, ay0 - st.px(8.0)),
             font(st.label).pos(Pos::new(HPos::Left, VPos::Bottom)),
         ))
-        .map_err(e)?;
+        .map_err(area_err)?;
     }
     Ok(())
 }
@@ -267,8 +266,6 @@ where
     X: Ranged<ValueType = f64>,
     Y: Ranged<ValueType = f64>,
 {
-    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
-    // Bands.
     for (i, b) in fig.bands.iter().enumerate() {
         let c = pal(b.color.unwrap_or(i));
         let polys: Vec<Polygon<(f64, f64)>> = band_runs(fig, b)
@@ -279,10 +276,10 @@ where
                 Polygon::new(p, c.mix(0.22).filled())
             })
             .collect();
-        let anno = chart.draw_series(polys).map_err(e)?;
+        let anno = chart.draw_series(polys).map_err(area_err)?;
         if !b.label.is_empty() {
             let r = st.px(7.0);
-            let len = st.px(28.0);
+            let len = st.legend_sample();
             anno.label(b.label.as_str()).legend(move |(x, y)| {
                 Rectangle::new([(x, y - r), (x + len, y + r)], c.mix(0.3).filled())
             });
@@ -297,7 +294,7 @@ where
                         edge,
                         c.mix(0.45).stroke_width(1),
                     )))
-                    .map_err(e)?;
+                    .map_err(area_err)?;
             }
         }
     }
@@ -317,9 +314,7 @@ where
     X: Ranged<ValueType = f64>,
     Y: Ranged<ValueType = f64>,
 {
-    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     let (xs, ys) = (fig.x_scale, fig.y_scale);
-    // Segments.
     let seg_w = st.px(3.0).max(1) as u32;
     chart
         .draw_series(
@@ -328,10 +323,10 @@ where
                 .filter(|(a, b, _)| ok(xs, a.0) && ok(ys, a.1) && ok(xs, b.0) && ok(ys, b.1))
                 .map(|&(a, b, ci)| PathElement::new(vec![a, b], pal(ci).stroke_width(seg_w))),
         )
-        .map_err(e)?;
+        .map_err(area_err)?;
 
     // Reference lines (labels are written later, away from the legend).
-    let dash = (st.px(8.0) as f64, st.px(5.0) as f64);
+    let dash = st.dash();
     let ref_style = REF_GREY.stroke_width(st.px(1.5).max(1) as u32);
     for (y, _) in fig.hlines.iter().filter(|l| ok(ys, l.0)) {
         chart
@@ -341,7 +336,7 @@ where
                 dash.1,
                 ref_style,
             )))
-            .map_err(e)?;
+            .map_err(area_err)?;
     }
     for (x, _) in fig.vlines.iter().filter(|l| ok(xs, l.0)) {
         chart
@@ -351,7 +346,7 @@ where
                 dash.1,
                 ref_style,
             )))
-            .map_err(e)?;
+            .map_err(area_err)?;
     }
 
     Ok(())
@@ -368,12 +363,10 @@ where
     X: Ranged<ValueType = f64>,
     Y: Ranged<ValueType = f64>,
 {
-    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     let (xs, ys) = (fig.x_scale, fig.y_scale);
-    let lw = st.px(2.0).max(1) as u32;
-    let dash = (st.px(8.0) as f64, st.px(5.0) as f64);
-    // Series.
-    let len = st.px(28.0);
+    let lw = st.line_width();
+    let dash = st.dash();
+    let len = st.legend_sample();
     let pr = st.px(4.0).max(2);
     for (i, s) in fig.series.iter().enumerate() {
         let c = pal(s.color.unwrap_or(i));
@@ -384,7 +377,7 @@ where
             Mark::Line => {
                 let anno = chart
                     .draw_series(rs.into_iter().map(|r| PathElement::new(r, line)))
-                    .map_err(e)?;
+                    .map_err(area_err)?;
                 if has_label {
                     anno.label(s.label.as_str())
                         .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + len, y)], line));
@@ -396,7 +389,7 @@ where
                         rs.into_iter()
                             .map(|r| DashedPathElement::new(r, dash.0, dash.1, line)),
                     )
-                    .map_err(e)?;
+                    .map_err(area_err)?;
                 if has_label {
                     let d = (dash.0 as i32, dash.1 as i32);
                     anno.label(s.label.as_str()).legend(move |(x, y)| {
@@ -413,7 +406,7 @@ where
                             .flatten()
                             .map(|p| Circle::new(p, pr, c.filled())),
                     )
-                    .map_err(e)?;
+                    .map_err(area_err)?;
                 if has_label {
                     anno.label(s.label.as_str())
                         .legend(move |(x, y)| Circle::new((x + len / 2, y), pr, c.filled()));
@@ -422,14 +415,14 @@ where
             Mark::LinePoints => {
                 chart
                     .draw_series(rs.iter().map(|r| PathElement::new(r.clone(), line)))
-                    .map_err(e)?;
+                    .map_err(area_err)?;
                 let anno = chart
                     .draw_series(
                         rs.into_iter()
                             .flatten()
                             .map(|p| Circle::new(p, pr, c.filled())),
                     )
-                    .map_err(e)?;
+                    .map_err(area_err)?;
                 if has_label {
                     anno.label(s.label.as_str()).legend(move |(x, y)| {
                         EmptyElement::at((x, y))
@@ -455,10 +448,8 @@ where
     X: Ranged<ValueType = f64>,
     Y: Ranged<ValueType = f64>,
 {
-    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     let (xs, ys) = (fig.x_scale, fig.y_scale);
-    let len = st.px(28.0);
-    // Markers: diamond with a black outline.
+    let len = st.legend_sample();
     let r = st.px(9.0);
     let diamond = move |c: RGBColor| {
         let pts = vec![(0, -r), (r, 0), (0, r), (-r, 0)];
@@ -477,7 +468,7 @@ where
                 let (poly, outline) = diamond(c);
                 EmptyElement::at((m.x, m.y)) + poly + outline
             }))
-            .map_err(e)?;
+            .map_err(area_err)?;
         if !m.label.is_empty() {
             anno.label(m.label.as_str()).legend(move |(x, y)| {
                 let (poly, outline) = diamond(c);

@@ -91,7 +91,6 @@ where
     X: Ranged<ValueType = f64>,
     Y: Ranged<ValueType = f64>,
 {
-    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     let scale = st.s;
     // Legend in the emptiest corner.
     let (prx, pry) = chart.plotting_area().get_pixel_range();
@@ -138,7 +137,7 @@ where
             .background_style(WHITE)
             .border_style(RGBColor(90, 90, 90))
             .draw()
-            .map_err(e)?;
+            .map_err(area_err)?;
     }
 
     Ok((corner, legend_wh))
@@ -158,7 +157,6 @@ where
     X: Ranged<ValueType = f64>,
     Y: Ranged<ValueType = f64>,
 {
-    let e = |e: DrawingAreaErrorKind<DB::ErrorType>| e.to_string();
     let (xs, ys) = (fig.x_scale, fig.y_scale);
     let (prx, pry) = chart.plotting_area().get_pixel_range();
     let (pw, ph) = (
@@ -205,7 +203,7 @@ where
                             .pos(Pos::new(hp, VPos::Bottom)),
                     ),
             ))
-            .map_err(e)?;
+            .map_err(area_err)?;
     }
     for (x, label) in fig.vlines.iter().filter(|l| ok(xs, l.0) && !l.1.is_empty()) {
         let u = norm(fig, prep, (*x, prep.y.0)).0;
@@ -231,7 +229,7 @@ where
                         font(st.annot).color(&REF_GREY).pos(Pos::new(hp, vp)),
                     ),
             ))
-            .map_err(e)?;
+            .map_err(area_err)?;
     }
 
     Ok(())

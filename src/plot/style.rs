@@ -74,6 +74,26 @@ impl Style {
     pub(super) fn px(&self, v: f64) -> i32 {
         (v * self.s).round() as i32
     }
+
+    /// Width of data lines (px).
+    pub(super) fn line_width(&self) -> u32 {
+        self.px(2.0).max(1) as u32
+    }
+
+    /// Dash and gap lengths of dashed lines (px).
+    pub(super) fn dash(&self) -> (f64, f64) {
+        (self.px(8.0) as f64, self.px(5.0) as f64)
+    }
+
+    /// Length of a legend entry's sample (px).
+    pub(super) fn legend_sample(&self) -> i32 {
+        self.px(28.0)
+    }
+}
+
+/// A drawing-area error as the message `draw_figure` reports.
+pub(super) fn area_err<E: std::error::Error + Send + Sync>(e: DrawingAreaErrorKind<E>) -> String {
+    e.to_string()
 }
 
 pub(super) fn font(size: f64) -> TextStyle<'static> {
