@@ -52,9 +52,7 @@ fn run(a: Args) -> Result<()> {
         cond: !a.no_cond,
         ..Default::default()
     };
-    let progress = Progress::new("engine_scale (solves)", a.quiet);
-    let rows = engine_scale::run(&cfg, &progress)?;
-    progress.finish();
+    let rows = engine_scale::run(&cfg, &Progress::new("engine_scale (solves)", a.quiet))?;
     std::fs::create_dir_all(&a.out).map_err(|e| Error::io(a.out.display(), e))?;
     provenance::write_csv(&a.out.join("rows.csv"), &rows)?;
     let json = serde_json::to_string_pretty(&rows).expect("JSON value");

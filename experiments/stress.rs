@@ -66,14 +66,19 @@ struct Args {
     quiet: bool,
 }
 
+/// Renders the figures from `OUT/eps_study.json` and says how many it wrote.
+fn render(out: &std::path::Path) -> Result<(), Error> {
+    let n = report::render(out)?;
+    eprintln!(
+        "rendered {n} figure files into {}",
+        out.join("figures").display()
+    );
+    Ok(())
+}
+
 fn run(a: &Args) -> Result<(), Error> {
     if a.render_only {
-        let n = report::render(&a.out)?;
-        eprintln!(
-            "rendered {n} figure files into {}",
-            a.out.join("figures").display()
-        );
-        return Ok(());
+        return render(&a.out);
     }
     let r = StressRun {
         seed: a.seed,
@@ -94,11 +99,7 @@ fn run(a: &Args) -> Result<(), Error> {
     let record = report::record(&r, &o);
     report::write(&a.out, &o, &record)?;
     if !a.no_figures && !o.eps_rows.is_empty() {
-        let n = report::render(&a.out)?;
-        eprintln!(
-            "rendered {n} figure files into {}",
-            a.out.join("figures").display()
-        );
+        render(&a.out)?;
     }
     let s = &record["summary"];
     eprintln!(

@@ -249,6 +249,7 @@ pub fn run(cfg: &ScaleConfig, progress: &Progress) -> Result<Vec<ScaleRow>> {
             rows.push(row);
         }
     }
+    progress.finish();
     Ok(rows)
 }
 
