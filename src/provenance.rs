@@ -117,6 +117,12 @@ pub fn write_csv<T: serde::Serialize>(path: &Path, rows: &[T]) -> Result<()> {
     write_atomic(path, &bytes)
 }
 
+/// One CSV cell of an optional number: `{:e}` (shortest round-trip scientific form), empty
+/// for `None`.
+pub fn csv_opt<T: std::fmt::LowerExp>(v: Option<T>) -> String {
+    v.map_or(String::new(), |x| format!("{x:e}"))
+}
+
 /// One CSV record (no line end) from its fields, quoted by the `csv` crate where a field needs
 /// it (delimiter, quote, line break): for tables whose columns are built by hand.
 pub fn csv_line(fields: &[String]) -> String {

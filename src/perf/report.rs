@@ -4,13 +4,9 @@
 use super::{figures, PerfConfig, PerfRow};
 use crate::error::{Error, Result};
 use crate::plot;
-use crate::provenance::{self, Provenance};
+use crate::provenance::{self, csv_opt, Provenance};
 use serde_json::{json, Value};
 use std::path::Path;
-
-fn opt<T: std::fmt::LowerExp>(v: Option<T>) -> String {
-    v.map_or(String::new(), |x| format!("{x:e}"))
-}
 
 /// The rows as CSV (for spreadsheets; `rows.json` keeps every field exactly).
 pub fn csv(rows: &[PerfRow]) -> String {
@@ -30,15 +26,15 @@ pub fn csv(rows: &[PerfRow]) -> String {
             format!("{:e}", r.value),
             format!("{:e}", r.value_rel),
             r.status.clone(),
-            opt(r.seconds),
+            csv_opt(r.seconds),
             r.seconds_all
                 .iter()
                 .map(|s| format!("{s:e}"))
                 .collect::<Vec<_>>()
                 .join(" "),
-            opt(r.max_penetration),
-            opt(r.penetration_rel),
-            opt(r.error_vs_ref),
+            csv_opt(r.max_penetration),
+            csv_opt(r.penetration_rel),
+            csv_opt(r.error_vs_ref),
             r.reference.clone(),
             r.iterations.map_or(String::new(), |v| v.to_string()),
             r.factorizations.map_or(String::new(), |v| v.to_string()),

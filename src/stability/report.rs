@@ -5,7 +5,7 @@ use super::*;
 use crate::error::{Error, Result};
 use crate::plot::{self, Figure};
 use crate::progress::Progress;
-use crate::provenance::{self, Provenance};
+use crate::provenance::{self, csv_opt, Provenance};
 use crate::stats::median;
 use crate::sweep::generate::FAMILY_NAMES;
 use serde_json::{json, Value};
@@ -118,10 +118,6 @@ pub fn write(out: &Path, o: &StressOutput, record: &Value) -> Result<()> {
     provenance::write_json(&out.join("stress.json"), record)
 }
 
-fn opt(v: Option<f64>) -> String {
-    v.map_or(String::new(), |x| format!("{x:e}"))
-}
-
 /// The ε study as CSV (for spreadsheets; `eps_study.json` keeps every field exactly).
 pub fn eps_csv(rows: &[EpsRow]) -> String {
     let mut t = String::from(
@@ -139,24 +135,24 @@ pub fn eps_csv(rows: &[EpsRow]) -> String {
             r.n.to_string(),
             r.m_active.to_string(),
             format!("{:e}", r.eps),
-            opt(r.cond2),
-            opt(r.cond2_f64),
-            opt(r.cond_eps_mach),
-            opt(r.cond2_scaled),
+            csv_opt(r.cond2),
+            csv_opt(r.cond2_f64),
+            csv_opt(r.cond_eps_mach),
+            csv_opt(r.cond2_scaled),
             r.precision_warning.to_string(),
-            opt(r.reference_correction),
-            opt(f.plain),
-            opt(f.refined_working),
-            opt(f.refined_extended),
-            opt(f.equilibrated),
-            opt(f.equilibrated_refined_extended),
+            csv_opt(r.reference_correction),
+            csv_opt(f.plain),
+            csv_opt(f.refined_working),
+            csv_opt(f.refined_extended),
+            csv_opt(f.equilibrated),
+            csv_opt(f.equilibrated_refined_extended),
             r.steps_extended.map_or(String::new(), |s| s.to_string()),
-            opt(r.penalty_error),
-            opt(r.total_error_plain),
-            opt(r.total_error_refined),
+            csv_opt(r.penalty_error),
+            csv_opt(r.total_error_plain),
+            csv_opt(r.total_error_refined),
             r.variant_errors.join(" | "),
             r.strategy_status.clone(),
-            opt(r.strategy_max_penetration),
+            csv_opt(r.strategy_max_penetration),
             r.strategy_warnings.to_string(),
             r.strategy_message.clone(),
         ];
@@ -182,16 +178,16 @@ pub fn strategy_csv(rows: &[StrategyRow]) -> String {
             r.method.clone(),
             r.knob.clone(),
             format!("{:e}", r.value),
-            opt(r.value2),
+            csv_opt(r.value2),
             r.adaptive.to_string(),
             r.status.clone(),
-            opt(r.max_penetration),
-            opt(r.max_penalty),
-            opt(r.cond2_system),
+            csv_opt(r.max_penetration),
+            csv_opt(r.max_penalty),
+            csv_opt(r.cond2_system),
             r.precision_expected.to_string(),
             r.warnings.len().to_string(),
-            opt(r.forward_error),
-            opt(r.error_vs_lagrange),
+            csv_opt(r.forward_error),
+            csv_opt(r.error_vs_lagrange),
             r.message.clone(),
             r.warnings.join(" | "),
         ];
