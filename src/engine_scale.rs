@@ -1,6 +1,6 @@
 //! The contact solve engine at scale: full-contact membranes from 10⁴ to 10⁶ DOFs (issue 9).
 //!
-//! Scene: [`perf::membrane_scene`] with one `lower` constraint per node — the 5-point membrane
+//! Scene: [`scalable::membrane_scene`] with one `lower` constraint per node — the 5-point membrane
 //! under uniform load on a paraboloid obstacle, in contact over part of the domain. For each
 //! size and method ([`ScaleConfig`] knobs, relative to the scene's scales) one complete
 //! `strategy::solve` is timed (wall clock, one thread, factorizations included), then the
@@ -20,7 +20,7 @@
 use crate::conditioning;
 use crate::error::{Error, Result};
 use crate::metrics::{self, MetricSet};
-use crate::perf::{self, PerfScene};
+use crate::model::scalable::{self, PerfScene};
 use crate::plot::{method_color, Figure, Mark, Series};
 use crate::progress::Progress;
 use crate::strategy::{self, Method};
@@ -172,7 +172,7 @@ pub fn run(cfg: &ScaleConfig, progress: &Progress) -> Result<Vec<ScaleRow>> {
     progress.set_total(cfg.sizes.len() * cfg.methods.len());
     let mut rows = Vec::new();
     for &size in &cfg.sizes {
-        let scene = perf::membrane_scene(size, usize::MAX)?;
+        let scene = scalable::membrane_scene(size, usize::MAX)?;
         let p = &scene.problem;
         let (k_cond, seconds_cond_k) = if cfg.cond {
             let t = Instant::now();

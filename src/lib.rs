@@ -14,20 +14,33 @@
 //! * [`strategy`] — the seven strategies and [`strategy::solve`].
 //! * [`metrics`] / [`conditioning`] — exact cond₂ (route recorded), log10|det|, ratios.
 //! * [`linalg`] — factorize once, solve many; log-det from the factor.
-//! * [`model`] — the 1-DOF spring (Eq. 10–17) and Euler–Bernoulli beams (Eq. 30–34).
+//! * [`model`] — the 1-DOF spring (Eq. 10–17), Euler–Bernoulli beams (Eq. 30–34), the 5-point
+//!   membrane; seeded random scenes of those families ([`model::generate`]) and scenes that
+//!   scale to 10⁶ DOFs ([`model::scalable`]).
 //! * [`scene`] — scene files (JSON, Matrix Market) in and out.
-//! * [`sweep`] — randomized scene families, the ε/δ sweep, rows, manifest, figures.
+//! * [`sweep`] — the ε/δ sweep over generated or stored scenes: rows, manifest, figures.
 //! * [`forming`] — the axisymmetric flow-approach sheet-forming solver (paper sections 2, 5;
 //!   Fig. 7).
 //! * [`stability`] — forward error against an extended-precision reference, refinement,
 //!   equilibration, strategies at extreme knobs.
 //! * [`perf`] — time to solution against error per strategy and knob, 1e2–1e6 DOFs.
 //! * [`cond_cost`] — what an exact cond₂ costs by route against one Cholesky.
+//! * [`engine_scale`] — the contact engine from 10⁴ to 10⁶ DOFs with certified cond₂.
 //! * [`study`] — the paper's experiments end to end as library code (the binaries only parse
 //!   flags and print): [`study::paper_beam`] — Sec. 4.2, Eq. 30–37, number by number.
 //! * [`provenance`] — git commit, crate versions and command for every data file.
 //! * [`progress`] — one progress bar (with ETA) for every long run; `--quiet` silences it.
 //! * [`plot`] — one figure style, PNG + SVG.
+//! * [`stats`] — the one median / quantile / log–log slope.
+//!
+//! ## Layers
+//! Dependencies point down only, and no study imports another study (checked by
+//! `tests/architecture.rs`, which also prints the module graph; see the README):
+//! 1. foundation — `error`, `stats`, `progress`, `provenance`;
+//! 2. numerics — `system`, `linalg`, `conditioning`;
+//! 3. core — `model`, `strategy`, `metrics`, `scene`, `plot`;
+//! 4. studies — `sweep`, `perf`, `stability`, `cond_cost`, `engine_scale`, `forming`, `study`;
+//! 5. binaries (`experiments/`) — arguments → study → record → figures.
 //!
 //! ## Glossary (paper symbol → code → units)
 //! | paper | code | meaning | units |

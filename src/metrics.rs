@@ -182,6 +182,24 @@ pub fn precision_warnings(m: &Metrics) -> Vec<String> {
     w
 }
 
+/// The displacement scale max_c |u0\[d_c\]| used by relative δ (falls back to max |u0|, then 1).
+pub fn displacement_scale(problem: &Problem, u0: &[f64]) -> f64 {
+    let s = problem
+        .constraints
+        .iter()
+        .map(|c| u0[c.dof].abs())
+        .fold(0.0f64, f64::max);
+    if s > 0.0 {
+        return s;
+    }
+    let s = u0.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    if s > 0.0 {
+        s
+    } else {
+        1.0
+    }
+}
+
 /// Relative error `‖u − u_ref‖₂ / ‖u_ref‖₂` (absolute if u_ref = 0).
 pub fn relative_error(u: &[f64], u_ref: &[f64]) -> f64 {
     let num: f64 = u

@@ -62,7 +62,7 @@ pub fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<()> {
 
 /// Where a data file comes from: every record (`manifest.json`, `stress.json`, …) carries
 /// these four fields beside the study's own (config, seed, summary, timings).
-#[derive(Clone, Debug, serde::Serialize)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Provenance {
     /// The study (`sweep`, `stress`, …).
     pub experiment: String,

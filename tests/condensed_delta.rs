@@ -5,8 +5,8 @@
 //! error of g0 − g* grows like |g0|/δ. Penalized constraints sit within 1e-6·δ of δ, or the
 //! solution says (in a warning) how close rounding let them get.
 
+use penalty_lab::model::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::strategy::{self, Method};
-use penalty_lab::sweep::generate::{generate, Family, GeneratorConfig};
 
 #[test]
 fn condensed_penetration_never_exceeds_delta_on_the_sweep_families() {

@@ -5,9 +5,9 @@
 
 use penalty_lab::linalg::{pcg, DiagonalPattern};
 use penalty_lab::metrics::relative_error;
+use penalty_lab::model::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::strategy::box_qp::{start_state, BoundState};
 use penalty_lab::strategy::{self, condensed, eliminated, lagrange, Context, Method};
-use penalty_lab::sweep::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::system::{ConstraintKind, Problem, Stiffness};
 
 fn membranes() -> Vec<Problem> {

@@ -114,8 +114,11 @@ fn json_marks_exactly_the_misprints_and_render_only_regenerates_figures() {
     ] {
         assert!(names.contains(&n), "no strategy line for {n}");
     }
-    assert!(v["provenance"]["git_commit"].as_str().is_some());
-    assert_eq!(v["provenance"]["crate_version"], env!("CARGO_PKG_VERSION"));
+    assert_eq!(v["experiment"], "paper_beam");
+    assert!(v["git_commit"].as_str().is_some());
+    assert!(v["command"].as_str().unwrap().contains("paper_beam"));
+    assert_eq!(v["crate_versions"]["penalty-lab"], env!("CARGO_PKG_VERSION"));
+    assert_eq!(v["delta"], 0.1);
     assert!(v["notes"].as_array().unwrap().len() >= 5);
 
     // Figures exist; --render-only regenerates them from the saved data.

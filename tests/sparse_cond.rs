@@ -6,8 +6,8 @@
 
 use penalty_lab::conditioning::{self, sparse, CondRoute};
 use penalty_lab::model::beam::{Frame, Section};
+use penalty_lab::model::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::model::membrane;
-use penalty_lab::sweep::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::system::Stiffness;
 use std::f64::consts::PI;
 

@@ -467,7 +467,7 @@ proptest! {
         let pool = scene_pool();
         let p = &pool[scene % pool.len()];
         let scale = strategy::Prepared::new(p)
-            .map(|pr| penalty_lab::sweep::displacement_scale(p, pr.u0()))
+            .map(|pr| penalty_lab::metrics::displacement_scale(p, pr.u0()))
             .unwrap_or(1.0);
         let kmax = p.constraints.iter().map(|c| p.k.diag(c.dof).abs()).fold(1e-300, f64::max);
         let x = 10f64.powf(k1);

@@ -5,10 +5,10 @@
 //! * generation is a pure function of (seed, family, index): twice, interleaved with other
 //!   scenes, or on another thread, it gives bit-identical K, q, constraints and metadata.
 
+use penalty_lab::metrics::displacement_scale;
 use penalty_lab::metrics::{self, MetricSet};
+use penalty_lab::model::generate::{generate, Family, GeneratedScene, GeneratorConfig};
 use penalty_lab::strategy::{self, Method, Prepared};
-use penalty_lab::sweep::displacement_scale;
-use penalty_lab::sweep::generate::{generate, Family, GeneratedScene, GeneratorConfig};
 use penalty_lab::system::Problem;
 use proptest::prelude::*;
 

@@ -3,11 +3,11 @@
 
 use super::*;
 use crate::error::{Error, Result};
+use crate::model::generate::FAMILY_NAMES;
 use crate::plot::{self, Figure};
 use crate::progress::Progress;
 use crate::provenance::{self, csv_opt, Provenance};
 use crate::stats::median;
-use crate::sweep::generate::FAMILY_NAMES;
 use serde_json::{json, Value};
 use std::path::Path;
 use std::time::Instant;

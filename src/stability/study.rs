@@ -409,7 +409,7 @@ pub fn strategy_study(scene: &StressScene, cfg: &StressConfig) -> Result<Vec<Str
     let p = &scene.problem;
     let u_lag = exact_contact(p).ok().map(|(u, _)| u);
     let scale = strategy::Prepared::new(p)
-        .map(|pr| crate::sweep::displacement_scale(p, pr.u0()))
+        .map(|pr| crate::metrics::displacement_scale(p, pr.u0()))
         .unwrap_or(1.0);
     let kmax = p
         .constraints
@@ -512,7 +512,7 @@ pub fn strategy_study(scene: &StressScene, cfg: &StressConfig) -> Result<Vec<Str
 /// (beams of 3–12 elements, a 10×10 membrane, spectrum matrices of N = 8–40 with eigenvalue
 /// spreads 10¹⁰–10¹⁶).
 pub fn stress_scenes(seed: u64, count: usize, families: &[String]) -> Result<Vec<StressScene>> {
-    use crate::sweep::generate::{generate, Family, GeneratorConfig};
+    use crate::model::generate::{generate, Family, GeneratorConfig};
     let mut out = vec![
         StressScene {
             name: "paper-beam".into(),

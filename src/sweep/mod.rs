@@ -13,16 +13,15 @@
 
 pub mod cli;
 pub mod figures;
-pub mod generate;
 pub mod rows;
 
 use crate::conditioning;
 use crate::error::{Error, Result};
 use crate::metrics::{self, MetricSet};
+use crate::model::generate::{self, Family, GeneratorConfig};
 use crate::scene;
 use crate::strategy::{self, Method, Prepared, METHOD_NAMES};
 use crate::system::Problem;
-use generate::{Family, GeneratorConfig};
 use rows::Row;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -354,24 +353,6 @@ pub fn load(spec: &SceneSpec, cfg: &SweepConfig) -> Result<LoadedScene> {
     }
 }
 
-/// The displacement scale max_c |u0\[d_c\]| used by relative δ (falls back to max |u0|, then 1).
-pub fn displacement_scale(problem: &Problem, u0: &[f64]) -> f64 {
-    let s = problem
-        .constraints
-        .iter()
-        .map(|c| u0[c.dof].abs())
-        .fold(0.0f64, f64::max);
-    if s > 0.0 {
-        return s;
-    }
-    let s = u0.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    if s > 0.0 {
-        s
-    } else {
-        1.0
-    }
-}
-
 /// One job of a scene: a method with its knob.
 #[derive(Clone, Copy, Debug)]
 pub struct Job {
@@ -383,7 +364,9 @@ pub struct Job {
 
 /// The jobs of a scene, in row order (lagrange first).
 pub fn jobs(cfg: &SweepConfig, problem: &Problem, u0: Option<&[f64]>) -> Vec<Job> {
-    let scale = u0.map(|u| displacement_scale(problem, u)).unwrap_or(1.0);
+    let scale = u0
+        .map(|u| crate::metrics::displacement_scale(problem, u))
+        .unwrap_or(1.0);
     let deltas: Vec<(f64, Option<f64>)> = cfg
         .deltas
         .iter()

@@ -196,7 +196,7 @@ fn fig4(study: &Study) -> [Figure; 3] {
     for c in &trans {
         fc = fc.vline(c.x, format!("node {}", c.node));
     }
-    let delta = study.record.provenance.delta;
+    let delta = study.record.delta;
     fc = fc
         .hline(0.0, "")
         .hline(delta, format!("+δ = {delta}"))
@@ -311,7 +311,7 @@ pub fn render_figures(out: &Path, study: &Study) -> Result<Vec<PathBuf>> {
         (2100, 700),
     )?);
     written.extend(render_panels(
-        &cond_vs_eps(&study.cond, study.record.provenance.delta),
+        &cond_vs_eps(&study.cond, study.record.delta),
         2,
         &out.join("cond_vs_eps"),
         (1900, 720),

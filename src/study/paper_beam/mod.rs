@@ -39,7 +39,7 @@ pub use record::{load, save, Record};
 
 use crate::error::Result;
 use crate::model::beam::paper;
-use record::{BeamInfo, ConstraintInfo, Provenance};
+use record::{BeamInfo, ConstraintInfo};
 
 /// δ of the paper's example (mm).
 pub const DELTA: f64 = 0.1;
@@ -120,7 +120,9 @@ pub fn run() -> Result<Study> {
     let condensed_comparison = tables::condensed_comparison(&p, &frame, &s, &ch);
     let cond = cond_vs_eps::cond_rows(&p)?;
     let record = Record {
-        provenance: Provenance::of_this_build(DELTA),
+        provenance: crate::provenance::Provenance::new("paper_beam"),
+        delta: DELTA,
+        paper: "Bednarek, Kowalczyk, Marczewski, Sosnowski, CMMS 2011, Sec. 4.2, Eq. 30-37".into(),
         beam: beam_info(&frame, &p),
         paper_comparison,
         condensed_comparison,

@@ -13,8 +13,14 @@ use std::path::Path;
 /// Everything written to `paper_beam.json`.
 #[derive(Serialize, Deserialize, Debug, Clone)]
 pub struct Record {
-    /// Commit, versions, δ and the paper.
-    pub provenance: Provenance,
+    /// Experiment (`paper_beam`), build commit, crate versions and command: the one record
+    /// header of every data file ([`provenance::Provenance`], flattened).
+    #[serde(flatten)]
+    pub provenance: provenance::Provenance,
+    /// δ of the paper's example.
+    pub delta: f64,
+    /// The paper and the section reproduced.
+    pub paper: String,
     /// The beam: geometry, section, load, constraints.
     pub beam: BeamInfo,
     /// Every number the paper prints for the beam (Eq. 31–37) against ours.
@@ -27,42 +33,6 @@ pub struct Record {
     pub notes: Vec<Note>,
     /// The computations behind the notes.
     pub checks: Value,
-}
-
-/// Where the numbers come from.
-#[derive(Serialize, Deserialize, Debug, Clone)]
-pub struct Provenance {
-    /// `penalty-lab`.
-    pub crate_name: String,
-    /// Version of penalty-lab.
-    pub crate_version: String,
-    /// [`provenance::git_commit`] of the build (`-dirty` when tracked files differed).
-    pub git_commit: String,
-    /// [`provenance::crate_versions`] of the build.
-    #[serde(default)]
-    pub crate_versions: Value,
-    /// `paper_beam`.
-    pub binary: String,
-    /// δ of the paper's example.
-    pub delta: f64,
-    /// The paper and the section reproduced.
-    pub paper: String,
-}
-
-impl Provenance {
-    /// The provenance of this build at δ = `delta`.
-    pub fn of_this_build(delta: f64) -> Self {
-        Provenance {
-            crate_name: env!("CARGO_PKG_NAME").into(),
-            crate_version: env!("CARGO_PKG_VERSION").into(),
-            git_commit: provenance::git_commit(),
-            crate_versions: provenance::crate_versions(),
-            binary: "paper_beam".into(),
-            delta,
-            paper: "Bednarek, Kowalczyk, Marczewski, Sosnowski, CMMS 2011, Sec. 4.2, Eq. 30-37"
-                .into(),
-        }
-    }
 }
 
 /// One constraint of the beam.

@@ -21,17 +21,16 @@ fn header(rec: &Record) -> String {
     let pv = &rec.provenance;
     let commit = pv.git_commit.trim_end_matches("-dirty");
     format!(
-        "The paper's beam (Sec. 4.2, Eq. 30–37): paper vs {} {} (commit {}{}), δ = {}\n\
+        "The paper's beam (Sec. 4.2, Eq. 30–37): paper vs penalty-lab {} (commit {}{}), δ = {}\n\
          agree = |ours − paper| ≤ half a unit of the paper's last printed digit. Units: {}.\n\n",
-        pv.crate_name,
-        pv.crate_version,
+        pv.crate_versions["penalty-lab"].as_str().unwrap_or("?"),
         &commit[..commit.len().min(12)],
         if commit.len() < pv.git_commit.len() {
             ", dirty"
         } else {
             ""
         },
-        pv.delta,
+        rec.delta,
         rec.beam.units
     )
 }
@@ -110,7 +109,7 @@ fn condensed_table(rec: &Record) -> String {
     format!(
         "Condensed strategy (exact δ-targeting, δ = {}) vs methods.md / the requirement, with \
          Eq. 28 (ours) for contrast:\n\n{}\n",
-        rec.provenance.delta,
+        rec.delta,
         table(
             &headers,
             &rows,
