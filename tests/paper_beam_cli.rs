@@ -117,7 +117,10 @@ fn json_marks_exactly_the_misprints_and_render_only_regenerates_figures() {
     assert_eq!(v["experiment"], "paper_beam");
     assert!(v["git_commit"].as_str().is_some());
     assert!(v["command"].as_str().unwrap().contains("paper_beam"));
-    assert_eq!(v["crate_versions"]["penalty-lab"], env!("CARGO_PKG_VERSION"));
+    assert_eq!(
+        v["crate_versions"]["penalty-lab"],
+        env!("CARGO_PKG_VERSION")
+    );
     assert_eq!(v["delta"], 0.1);
     assert!(v["notes"].as_array().unwrap().len() >= 5);
 

@@ -47,44 +47,11 @@ fn f(v: &Value) -> f64 {
     v.as_f64().expect("a number")
 }
 
-#[test]
-fn smoke_json_structure_and_theory_orderings() {
-    let out = tmp("smoke");
-    let v = smoke_json(&out);
-    let eps = f64::EPSILON;
+const FAMILIES: [&str; 2] = ["beam", "membrane"];
 
-    // Manifest.
-    let man = &v["manifest"];
-    assert_eq!(man["experiment"], "runtime_vs_error");
-    assert!(man["git_commit"].is_string());
-    assert_eq!(man["smoke"], true);
-    assert!(man["config"]["sizes"].is_array());
-    assert!(f(&man["wall_seconds"]) > 0.0);
-
-    // Files.
-    for name in ["rows.csv", "manifest.json"] {
-        assert!(out.join(name).exists(), "{name} missing");
-    }
-    let figs: Vec<String> = std::fs::read_dir(out.join("figures"))
-        .expect("figures dir")
-        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-        .collect();
-    for fam in ["beam", "membrane"] {
-        for ext in ["png", "svg"] {
-            let name = format!("time_vs_error_{fam}.{ext}");
-            assert!(figs.contains(&name), "{name} not in {figs:?}");
-        }
-    }
-
-    let rows = v["rows"].as_array().expect("rows");
-    let csv = std::fs::read_to_string(out.join("rows.csv")).unwrap();
-    assert_eq!(
-        csv.lines().count(),
-        rows.len() + 1,
-        "CSV has one line per row"
-    );
-
-    let families = ["beam", "membrane"];
+/// Every row has every field, a known family/method/status, a reason when not `ok`, and
+/// finite positive timings and finite non-negative errors when `ok`. Returns the sizes seen.
+fn assert_rows_well_formed(rows: &[Value]) -> std::collections::BTreeSet<u64> {
     let methods = [
         "constant",
         "scaled",
@@ -117,7 +84,7 @@ fn smoke_json_structure_and_theory_orderings() {
         ] {
             assert!(r.get(key).is_some(), "row lacks {key}: {r}");
         }
-        assert!(families.contains(&r["family"].as_str().unwrap()));
+        assert!(FAMILIES.contains(&r["family"].as_str().unwrap()));
         assert!(methods.contains(&r["method"].as_str().unwrap()));
         let status = r["status"].as_str().unwrap();
         assert!(["ok", "error", "skipped"].contains(&status), "{status}");
@@ -137,10 +104,16 @@ fn smoke_json_structure_and_theory_orderings() {
         assert!(err.is_finite() && err >= 0.0, "{r}");
         assert!(f(&r["penetration_rel"]).is_finite());
     }
-    // Smoke covers two sizes per family.
     assert!(sizes_seen.len() >= 3, "sizes {sizes_seen:?}");
 
-    // Orderings by theory, per scene.
+    sizes_seen
+}
+
+/// Orderings by theory, per scene: lagrange exact and the reference, condensed ≤ δ with its
+/// error shrinking with δ, augmented ≤ tol unless it warned, constant/scaled better at the
+/// largest knob. Returns the number of scenes checked.
+fn assert_theory_orderings(rows: &[Value]) -> usize {
+    let eps = f64::EPSILON;
     let ok = |fam: &str, n: u64, m: &str| -> Vec<&Value> {
         rows.iter()
             .filter(|r| r["family"] == fam && r["n"].as_u64() == Some(n) && r["method"] == m)
@@ -148,7 +121,7 @@ fn smoke_json_structure_and_theory_orderings() {
             .collect()
     };
     let mut checked = 0;
-    for fam in families {
+    for fam in FAMILIES {
         let ns: std::collections::BTreeSet<u64> = rows
             .iter()
             .filter(|r| r["family"] == fam)
@@ -222,6 +195,49 @@ fn smoke_json_structure_and_theory_orderings() {
             checked += 1;
         }
     }
+    checked
+}
+
+#[test]
+fn smoke_json_structure_and_theory_orderings() {
+    let out = tmp("smoke");
+    let v = smoke_json(&out);
+
+    // Manifest.
+    let man = &v["manifest"];
+    assert_eq!(man["experiment"], "runtime_vs_error");
+    assert!(man["git_commit"].is_string());
+    assert_eq!(man["smoke"], true);
+    assert!(man["config"]["sizes"].is_array());
+    assert!(f(&man["wall_seconds"]) > 0.0);
+
+    // Files.
+    for name in ["rows.csv", "manifest.json"] {
+        assert!(out.join(name).exists(), "{name} missing");
+    }
+    let figs: Vec<String> = std::fs::read_dir(out.join("figures"))
+        .expect("figures dir")
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    for fam in ["beam", "membrane"] {
+        for ext in ["png", "svg"] {
+            let name = format!("time_vs_error_{fam}.{ext}");
+            assert!(figs.contains(&name), "{name} not in {figs:?}");
+        }
+    }
+
+    let rows = v["rows"].as_array().expect("rows");
+    let csv = std::fs::read_to_string(out.join("rows.csv")).unwrap();
+    assert_eq!(
+        csv.lines().count(),
+        rows.len() + 1,
+        "CSV has one line per row"
+    );
+
+    let sizes_seen = assert_rows_well_formed(rows);
+    // Smoke covers two sizes per family.
+    assert!(sizes_seen.len() >= 3, "sizes {sizes_seen:?}");
+    let checked = assert_theory_orderings(rows);
     assert!(checked >= 4);
 
     // The figures come from the saved rows: --render-only redraws them from rows.json alone.
