@@ -5,6 +5,7 @@
 //! cargo run --release --bin sweep -- --families beam --count 50 --eps 1e0:1e10:21 --threads 2
 //! cargo run --release --bin sweep -- --scenes-dir scenes/ --out results/files
 //! cargo run --release --bin sweep -- --render-only --out results/sweep
+//! cargo run --release --bin sweep -- merge results/all results/shard-1 results/shard-2
 //! ```
 //!
 //! Writes `OUT/rows.csv`, `OUT/manifest.json` and `OUT/figures/*.{png,svg}`. Bad configuration
@@ -12,7 +13,7 @@
 
 use clap::Parser;
 use penalty_lab::sweep::cli::ConfigArgs;
-use penalty_lab::sweep::{self, figures, rows, RunOptions};
+use penalty_lab::sweep::{self, figures, merge, RunOptions};
 use penalty_lab::Error;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -23,9 +24,14 @@ use std::process::ExitCode;
     version = penalty_lab::provenance::VERSION,
     about = "Sweep penalty ε and allowed penetration δ over randomized contact scenes",
     after_help = "Without arguments: the built-in default (all families, 8 scenes each, all \
-                  methods) into results/sweep.\nExit status: 0 ok, 2 bad configuration or input."
+                  methods) into results/sweep.\n`sweep merge OUT DIR...` merges the shard folders \
+                  of one run (--shard K/N) into OUT.\nExit status: 0 ok, 2 bad configuration \
+                  or input.",
+    args_conflicts_with_subcommands = true
 )]
 struct Args {
+    #[command(subcommand)]
+    merge: Option<Merge>,
     #[command(flatten)]
     config: ConfigArgs,
     /// Output folder.
@@ -46,6 +52,9 @@ struct Args {
     /// Also write every scene as a scene file (re-runnable with `solve`).
     #[arg(long, value_name = "DIR")]
     write_scenes: Option<PathBuf>,
+    /// With --write-scenes: store every K as dense rows, whatever its structure (benchmarks).
+    #[arg(long, requires = "write_scenes")]
+    dense_scenes: bool,
     /// Skip the figures.
     #[arg(long)]
     no_figures: bool,
@@ -54,27 +63,54 @@ struct Args {
     quiet: bool,
 }
 
+#[derive(clap::Subcommand, Debug)]
+enum Merge {
+    /// Merge the shard folders of one run into OUT (rows in scene order, one manifest); refuses
+    /// missing, duplicated, incomplete or foreign shards.
+    Merge {
+        /// Output folder (not one of the shards).
+        out: PathBuf,
+        /// The shard folders, in any order.
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// Skip the figures.
+        #[arg(long)]
+        no_figures: bool,
+    },
+}
+
 /// Renders the figures into `OUT/figures` from `OUT/rows.csv` and says how many it wrote.
 fn render(out: &std::path::Path) -> Result<(), Error> {
-    let (rows, _) = rows::read_rows(&out.join("rows.csv"), false)?;
-    if rows.is_empty() {
-        eprintln!(
+    match figures::render_run(out)?.len() {
+        0 => eprintln!(
             "no rows in {}: no figures rendered",
             out.join("rows.csv").display()
-        );
-        return Ok(());
+        ),
+        k => eprintln!(
+            "rendered {k} figure files into {}",
+            out.join("figures").display()
+        ),
     }
-    let dir = out.join("figures");
-    let files = figures::render_all(&rows, &dir)?;
-    eprintln!(
-        "rendered {} figure files into {}",
-        files.len(),
-        dir.display()
-    );
     Ok(())
 }
 
 fn run(a: &Args) -> Result<(), Error> {
+    if let Some(Merge::Merge {
+        out,
+        dirs,
+        no_figures,
+    }) = &a.merge
+    {
+        let m = merge::merge(out, dirs)?;
+        eprintln!(
+            "sweep merge: {} shards, {} scenes, {} rows → {}",
+            m.shards,
+            m.scenes,
+            m.rows,
+            out.join("rows.csv").display()
+        );
+        return if *no_figures { Ok(()) } else { render(out) };
+    }
     if a.render_only {
         return render(&a.out);
     }
@@ -89,6 +125,7 @@ fn run(a: &Args) -> Result<(), Error> {
         shard,
         resume: a.resume,
         write_scenes: a.write_scenes.clone(),
+        dense_scenes: a.dense_scenes,
         progress: !a.quiet,
     };
     let s = sweep::run(&cfg, &opts)?;

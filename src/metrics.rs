@@ -44,6 +44,13 @@ pub struct Metrics {
     /// Requested metrics that have no exact route for this matrix (e.g. cond₂ of a sparse
     /// indefinite saddle-point matrix above the densify limit), with the reason.
     pub unavailable: Vec<String>,
+    /// Wall time of the cond₂ analyses (s; not serialized).
+    #[serde(skip)]
+    pub seconds_cond: f64,
+    /// Wall time of the determinants (s; near zero where the cond₂ route's factorization gave
+    /// them; not serialized).
+    #[serde(skip)]
+    pub seconds_det: f64,
 }
 
 /// cond₂ of the system matrix, or `None` with a note when no exact route exists for it.
@@ -76,13 +83,23 @@ fn system_cond(
     }
 }
 
-/// `log10|det A|`: read off the cond₂ route's own factorization when it has one, else from a
+/// `log10|det A|` of the system matrix: read off the cond₂ route's own factorization when it
+/// has one; for a saddle point `det K_FF` ([`conditioning::log10_abs_det_saddle`]); else from a
 /// factorization of A.
-fn log10_det(cond: Option<&CondReport>, a: &Stiffness) -> Result<f64> {
-    match cond.and_then(|c| c.log10_det) {
-        Some(v) => Ok(v),
-        None => conditioning::log10_abs_det(a),
+fn log10_det(
+    problem: &Problem,
+    sol: &Solution,
+    cond: Option<&CondReport>,
+    a: &Stiffness,
+) -> Result<f64> {
+    if let Some(v) = cond.and_then(|c| c.log10_det) {
+        return Ok(v);
     }
+    if let SystemKind::SaddlePoint { active } = &sol.system {
+        let dofs: Vec<usize> = active.iter().map(|&c| problem.constraints[c].dof).collect();
+        return conditioning::log10_abs_det_saddle(&problem.k, &dofs);
+    }
+    conditioning::log10_abs_det(a)
 }
 
 /// Largest system size whose two cond₂ analyses (of K and of the system matrix) run side by
@@ -126,8 +143,11 @@ pub fn compute(problem: &Problem, sol: &Solution, set: MetricSet) -> Result<Metr
         out.unavailable = unavailable;
     }
     if set.det {
-        let dk = log10_det(out.cond2_k.as_ref(), &problem.k)?;
-        let ds = log10_det(out.cond2_system.as_ref(), &sys)?;
+        let dk = match out.cond2_k.as_ref().and_then(|c| c.log10_det) {
+            Some(v) => v,
+            None => conditioning::log10_abs_det(&problem.k)?,
+        };
+        let ds = log10_det(problem, sol, out.cond2_system.as_ref(), &sys)?;
         out.log10_det_k = Some(dk);
         out.log10_det_system = Some(ds);
         out.log10_det_ratio = Some(ds - dk);
@@ -150,17 +170,21 @@ pub fn compute_with_k(
     }
     let sys = system_matrix(problem, sol);
     if set.cond {
+        let t = std::time::Instant::now();
         out.cond2_system = system_cond(problem, sol, &sys, &mut out.unavailable)?;
+        out.seconds_cond = t.elapsed().as_secs_f64();
     }
     if set.det {
+        let t = std::time::Instant::now();
         let dk = match log10_det_k {
             Some(v) => v,
             None => conditioning::log10_abs_det(&problem.k)?,
         };
-        let ds = log10_det(out.cond2_system.as_ref(), &sys)?;
+        let ds = log10_det(problem, sol, out.cond2_system.as_ref(), &sys)?;
         out.log10_det_k = Some(dk);
         out.log10_det_system = Some(ds);
         out.log10_det_ratio = Some(ds - dk);
+        out.seconds_det = t.elapsed().as_secs_f64();
     }
     Ok(out)
 }

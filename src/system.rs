@@ -24,6 +24,40 @@ pub enum Stiffness {
     Sparse(SparseColMat<usize, f64>),
 }
 
+/// What a matrix is, whatever its storage ([`Stiffness::structure`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Structure {
+    /// Dimension N.
+    pub n: usize,
+    /// Nonzero entries (both triangles).
+    pub nnz: usize,
+    /// `max |i − j|` over the nonzero entries, natural ordering.
+    pub half_bandwidth: usize,
+}
+
+/// Largest fraction of nonzero entries, nnz / N², for which a matrix is stored sparse.
+///
+/// Measured on this project's families (figures/cond_cost, 2-core AMD EPYC): the sparse
+/// routes (sparse Cholesky with AMD ordering; Lanczos + inertia for cond₂) beat the dense ones
+/// from N ≈ 25–36 for the 5-point membrane (5/N nonzeros) and the frame beam (≈ 9/N, half-
+/// bandwidth 5), i.e. at densities up to ≈ 0.25–0.35; a banded matrix is a sparse one here,
+/// since the AMD ordering keeps a band's fill inside the band.
+pub const SPARSE_MAX_DENSITY: f64 = 0.25;
+
+impl Structure {
+    /// nnz / N².
+    pub fn density(&self) -> f64 {
+        self.nnz as f64 / (self.n as f64 * self.n as f64)
+    }
+
+    /// Sparse storage pays: N ≥ [`crate::conditioning::sparse::SPARSE_ROUTE_MIN_N`] and
+    /// density ≤ [`SPARSE_MAX_DENSITY`].
+    pub fn prefers_sparse(&self) -> bool {
+        self.n >= crate::conditioning::sparse::SPARSE_ROUTE_MIN_N
+            && self.density() <= SPARSE_MAX_DENSITY
+    }
+}
+
 impl Stiffness {
     /// `u0 = K⁻¹ q` by one factorization (Cholesky where K is SPD, else LU): the
     /// unconstrained displacement, e.g. to place obstacles in a generated scene. Errors where
@@ -87,6 +121,59 @@ impl Stiffness {
             )));
         }
         Ok(Stiffness::Sparse(m))
+    }
+
+    /// The structure of the matrix, whatever its storage: N, the number of nonzero entries
+    /// (exact zeros, stored or not, do not count) and the half-bandwidth
+    /// `max |i − j|` over them (natural ordering). O(N²) for dense storage, O(nnz) for sparse.
+    pub fn structure(&self) -> Structure {
+        let (mut nnz, mut half_bandwidth) = (0usize, 0usize);
+        self.for_each_entry(|i, j, v| {
+            if v != 0.0 {
+                nnz += 1;
+                half_bandwidth = half_bandwidth.max(i.abs_diff(j));
+            }
+        });
+        Structure {
+            n: self.n(),
+            nnz,
+            half_bandwidth,
+        }
+    }
+
+    /// The same matrix in the storage [`Structure::prefers_sparse`] chooses: a structurally
+    /// sparse dense matrix becomes sparse (only exact zeros dropped, so every value is kept bit
+    /// for bit), a small or dense-ish sparse one becomes dense (up to
+    /// [`crate::conditioning::DENSIFY_LIMIT`] unknowns). Every later factorization, cond₂ and
+    /// determinant then takes the route that fits the matrix rather than its file format.
+    pub fn in_preferred_storage(self) -> Stiffness {
+        let s = self.structure();
+        match (&self, s.prefers_sparse()) {
+            (Stiffness::Dense(m), true) => {
+                let n = m.nrows();
+                let mut t = Vec::with_capacity(s.nnz);
+                for j in 0..n {
+                    for i in 0..n {
+                        let v = m[(i, j)];
+                        if v != 0.0 {
+                            t.push(Triplet {
+                                row: i,
+                                col: j,
+                                val: v,
+                            });
+                        }
+                    }
+                }
+                Stiffness::Sparse(
+                    SparseColMat::try_new_from_triplets(n, n, &t)
+                        .expect("entries of an n×n matrix are in range"),
+                )
+            }
+            (Stiffness::Sparse(_), false) if s.n <= crate::conditioning::DENSIFY_LIMIT => {
+                Stiffness::Dense(self.to_dense())
+            }
+            _ => self,
+        }
     }
 
     /// Number of rows (= columns).
@@ -336,6 +423,15 @@ impl Problem {
             seen[con.dof] = true;
         }
         Ok(Problem { k, q, constraints })
+    }
+
+    /// The problem with K in its preferred storage ([`Stiffness::in_preferred_storage`]);
+    /// the same values, so the same solution to rounding.
+    pub fn in_preferred_storage(self) -> Problem {
+        Problem {
+            k: self.k.in_preferred_storage(),
+            ..self
+        }
     }
 
     /// Number of DOFs N.

@@ -184,6 +184,166 @@ fn shards_concatenate_into_the_unsharded_rows() {
         cat3.extend(rows_of(&o));
     }
     assert_eq!(cat3, rows_of(&all), "shards 1..3 of 3 ≠ unsharded");
+
+    // `sweep merge` of 4 shards given in any order: the unsharded rows and a complete
+    // manifest that --resume accepts and --render-only draws from.
+    let shards = four_shards(&d);
+    let merged = d.join("merged");
+    let mut args = vec!["merge", s(&merged)];
+    args.extend([3, 1, 4, 2].map(|k| s(&shards[k - 1])));
+    sweep_ok(&d, &args);
+    assert_eq!(
+        rows_of(&merged),
+        rows_of(&all),
+        "merged 4 shards ≠ unsharded"
+    );
+    let m = manifest(&merged);
+    assert_eq!(m["status"], "complete");
+    assert_eq!(m["shard"], serde_json::json!([1, 1]));
+    assert_eq!(m["merged_from"].as_array().unwrap().len(), 4);
+    let o = sweep_ok(
+        &d,
+        &with(&SMALL, &["--no-figures", "--resume", "--out", s(&merged)]),
+    );
+    assert_eq!(rows_of(&merged), rows_of(&all), "{}", stderr(&o));
+    sweep_ok(&d, &["--render-only", "--out", s(&merged)]);
+    assert!(merged.join("figures").read_dir().unwrap().count() > 0);
+}
+
+fn manifest(dir: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("manifest.json")).unwrap()).unwrap()
+}
+
+/// Shards 1..4 of 4 of the SMALL run, in `d/q1` … `d/q4`.
+fn four_shards(d: &Path) -> Vec<PathBuf> {
+    (1..=4)
+        .map(|k| {
+            let o = d.join(format!("q{k}"));
+            let shard = format!("{k}/4");
+            sweep_ok(
+                d,
+                &with(&SMALL, &["--no-figures", "--shard", &shard, "--out", s(&o)]),
+            );
+            o
+        })
+        .collect()
+}
+
+#[test]
+fn merge_refuses_missing_duplicated_foreign_and_incomplete_shards() {
+    let d = tmp_dir("merge_refuses");
+    let q = four_shards(&d);
+    let foreign = d.join("foreign");
+    let other_seed: Vec<&str> = SMALL
+        .iter()
+        .map(|&a| if a == "77" { "78" } else { a })
+        .collect();
+    sweep_ok(
+        &d,
+        &with(
+            &other_seed,
+            &["--no-figures", "--shard", "4/4", "--out", s(&foreign)],
+        ),
+    );
+    let incomplete = d.join("incomplete");
+    std::fs::create_dir_all(&incomplete).unwrap();
+    std::fs::copy(q[3].join("rows.csv"), incomplete.join("rows.csv")).unwrap();
+    let mut m = manifest(&q[3]);
+    m["status"] = "running".into();
+    std::fs::write(incomplete.join("manifest.json"), m.to_string()).unwrap();
+    let out = d.join("out");
+    let cases: [(Vec<&Path>, &str); 5] = [
+        (vec![&q[0], &q[1], &q[3]], "shard 3/4 is missing"),
+        (vec![&q[0], &q[1], &q[1], &q[2], &q[3]], "given twice"),
+        (
+            vec![&q[0], &q[1], &q[2], &foreign],
+            "belongs to another run (config differs",
+        ),
+        (vec![&q[0], &q[1], &q[2], &incomplete], "is not complete"),
+        (
+            vec![&q[0], &q[1], &q[2], &q[3], &d],
+            "no readable manifest.json",
+        ),
+    ];
+    for (dirs, needle) in cases {
+        let mut args = vec!["merge", s(&out)];
+        args.extend(dirs.iter().map(|p| s(p)));
+        let o = sweep_in(&d, &args);
+        let e = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {e}");
+        assert!(
+            e.starts_with("error:") && e.trim_end().lines().count() == 1,
+            "{e}"
+        );
+        assert!(e.contains(needle), "{needle:?} not in {e}");
+        assert!(!out.exists(), "a refused merge wrote {}", out.display());
+    }
+    // OUT may not be one of the shards.
+    let mut args = vec!["merge", s(&q[0])];
+    args.extend(q.iter().map(|p| s(p)));
+    let o = sweep_in(&d, &args);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("is one of the shard folders"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+/// The timing columns: each part non-negative and no larger than the row's total, empty where
+/// the metric was not requested; the manifest's per-method sums are the rows' sums, and it
+/// reports rows/s and a parallel efficiency in (0, 1].
+#[test]
+fn timing_columns_add_up_in_rows_and_manifest() {
+    let d = tmp_dir("timing");
+    for (metrics, cond, det) in [("cond,det", true, true), ("none", false, false)] {
+        let out = d.join(metrics.replace(',', "_"));
+        sweep_ok(
+            &d,
+            &with(
+                &SMALL,
+                &["--metrics", metrics, "--no-figures", "--out", s(&out)],
+            ),
+        );
+        let (rows, _) = rows::read_rows(&out.join("rows.csv"), false).unwrap();
+        let m = manifest(&out);
+        let t = &m["timing"];
+        for r in &rows {
+            let total = r.seconds.unwrap();
+            let parts = [r.seconds_solve, r.seconds_cond, r.seconds_det];
+            assert!(
+                parts.iter().flatten().all(|&p| p >= 0.0 && p <= total),
+                "{r:?}"
+            );
+            assert!(
+                parts.iter().flatten().sum::<f64>() <= total * (1.0 + 1e-9),
+                "{r:?}"
+            );
+            assert!(r.seconds_solve.is_some());
+            let failed = r.warnings.starts_with("error");
+            for (requested, part) in [(cond, r.seconds_cond), (det, r.seconds_det)] {
+                if !requested {
+                    assert!(part.is_none(), "{r:?}");
+                } else if !failed {
+                    assert!(part.is_some(), "{r:?}");
+                }
+            }
+        }
+        for method in ["lagrange", "constant", "condensed"] {
+            let of: Vec<&Row> = rows.iter().filter(|r| r.method == method).collect();
+            let pm = &t["per_method"][method];
+            assert_eq!(pm["rows"], of.len());
+            let sum: f64 = of.iter().map(|r| r.seconds_solve.unwrap()).sum();
+            let got = pm["seconds_solve"].as_f64().unwrap();
+            assert!(
+                (got - sum).abs() <= 1e-12 * sum.max(1e-300) * of.len() as f64,
+                "{method}: {got} vs {sum}"
+            );
+        }
+        assert!(t["rows_per_second"].as_f64().unwrap() > 0.0);
+        let eff = t["parallel_efficiency"].as_f64().unwrap();
+        assert!(eff > 0.0 && eff <= 1.0 + 1e-9, "efficiency {eff}");
+    }
 }
 
 #[test]

@@ -7,7 +7,7 @@
 //! |---|---|---|
 //! | dense symmetric | eigenvalues, `σ_i = |λ_i|` ([`CondRoute::SymmetricEigen`]) | ≈ 4/3 n³ |
 //! | dense unsymmetric | singular values ([`CondRoute::Svd`]) | ≈ 3–4× the eigen route |
-//! | sparse SPD | Lanczos + inertia certificate ([`CondRoute::SparseInertia`], [`sparse`]) | a few sparse Cholesky |
+//! | sparse SPD (by structure: n ≥ 32, ≤ 25 % nonzeros, however stored) | Lanczos + inertia certificate ([`CondRoute::SparseInertia`], [`sparse`]) | a few sparse Cholesky |
 //! | sparse saddle point `[K D; Dᵀ 0]`, Boolean D | block-structure inertia ([`CondRoute::SparseSaddleInertia`], [`saddle`]) | a few sparse Cholesky |
 //! | other sparse | densified, then as above ([`CondRoute::DensifiedSymmetricEigen`] / [`CondRoute::DensifiedSvd`]) | n² memory |
 //!
@@ -119,20 +119,37 @@ pub fn cond2_dense(a: MatRef<'_, f64>, symmetric: bool) -> Result<CondReport> {
     })
 }
 
-/// Exact cond₂ of a [`Stiffness`] by the cheapest exact route (see module docs).
+/// Exact cond₂ of a [`Stiffness`] by the cheapest exact route for its *structure*, whatever
+/// its storage (see module docs): a symmetric matrix that
+/// [`crate::system::Structure::prefers_sparse`] goes to the sparse route (a dense-stored one
+/// is converted first, exactly), anything else to the dense routes (a sparse-stored one is
+/// densified, up to [`DENSIFY_LIMIT`]). A sparse-route matrix that turns out indefinite falls
+/// back to the dense routes too.
 pub fn cond2(a: &Stiffness) -> Result<CondReport> {
     let symmetric = a.is_symmetric();
-    match a {
-        Stiffness::Dense(m) => cond2_dense(m.as_ref(), symmetric),
-        Stiffness::Sparse(m) => {
-            if symmetric && a.n() >= sparse::SPARSE_ROUTE_MIN_N {
-                match cond2_sparse_spd(m) {
-                    Ok(r) => return Ok(r),
-                    // Not positive definite (e.g. a saddle-point matrix): densify below.
-                    Err(Error::Singular(_)) => {}
-                    Err(e) => return Err(e),
+    let structure = a.structure();
+    if symmetric && structure.prefers_sparse() {
+        let converted;
+        let m = match a {
+            Stiffness::Sparse(m) => m,
+            Stiffness::Dense(_) => {
+                converted = a.clone().in_preferred_storage();
+                match &converted {
+                    Stiffness::Sparse(m) => m,
+                    Stiffness::Dense(_) => unreachable!("prefers_sparse converts"),
                 }
             }
+        };
+        match cond2_sparse_spd(m) {
+            Ok(r) => return Ok(r),
+            // Not positive definite (e.g. a saddle-point matrix): the dense routes below.
+            Err(Error::Singular(_)) => {}
+            Err(e) => return Err(e),
+        }
+    }
+    match a {
+        Stiffness::Dense(m) => cond2_dense(m.as_ref(), symmetric),
+        Stiffness::Sparse(_) => {
             if a.n() > DENSIFY_LIMIT {
                 return Err(Error::input(format!(
                     "exact cond₂ of a sparse {n}×{n} matrix needs densifying, which is limited \
@@ -178,6 +195,51 @@ pub fn log10_abs_det(a: &Stiffness) -> Result<f64> {
         Err(Error::Singular(_)) => Ok(f64::NEG_INFINITY),
         Err(e) => Err(e),
     }
+}
+
+/// `log10|det A|` of the saddle-point matrix `A = [K D; Dᵀ 0]` with Boolean D selecting the
+/// distinct DOFs `dofs` (B), without factorizing A: ordering the unknowns (F, B, multipliers),
+///
+/// `A = [K_FF K_FB 0; K_BF K_BB I; 0 I 0]`, and eliminating the identity blocks leaves
+/// `|det A| = det K_FF` (F: the unconstrained DOFs),
+///
+/// so one Cholesky of K_FF (sparse where K is) replaces an LU of the indefinite (N+m)×(N+m)
+/// matrix. `-∞` where K_FF is singular; an error for repeated or out-of-range DOFs.
+pub fn log10_abs_det_saddle(k: &Stiffness, dofs: &[usize]) -> Result<f64> {
+    let n = k.n();
+    let mut constrained = vec![false; n];
+    for &d in dofs {
+        if d >= n || std::mem::replace(&mut constrained[d], true) {
+            return Err(Error::input(format!(
+                "saddle determinant: DOF {d} is out of range or repeated"
+            )));
+        }
+    }
+    let free: Vec<usize> = (0..n).filter(|&i| !constrained[i]).collect();
+    if free.is_empty() {
+        return Ok(0.0); // |det [0 I; I 0]| = 1
+    }
+    let mut index = vec![usize::MAX; n];
+    for (new, &old) in free.iter().enumerate() {
+        index[old] = new;
+    }
+    let kff = match k {
+        Stiffness::Dense(m) => {
+            Stiffness::Dense(faer::Mat::from_fn(free.len(), free.len(), |i, j| {
+                m[(free[i], free[j])]
+            }))
+        }
+        Stiffness::Sparse(_) => {
+            let mut t = Vec::with_capacity(k.nnz());
+            k.for_each_entry(|i, j, v| {
+                if index[i] != usize::MAX && index[j] != usize::MAX {
+                    t.push((index[i], index[j], v));
+                }
+            });
+            Stiffness::from_triplets(free.len(), &t)?
+        }
+    };
+    log10_abs_det(&kff)
 }
 
 fn log10_abs_det_dense_lu(a: &Stiffness) -> Result<f64> {

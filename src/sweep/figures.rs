@@ -113,6 +113,16 @@ pub fn render_all(rows: &[Row], dir: &Path) -> Result<Vec<PathBuf>> {
     Ok(written)
 }
 
+/// Renders the figures of the run in `out` from `out/rows.csv` into `out/figures`: the files
+/// written, or an empty list when rows.csv holds no rows.
+pub fn render_run(out: &Path) -> Result<Vec<PathBuf>> {
+    let (rows, _) = super::rows::read_rows(&out.join("rows.csv"), false)?;
+    if rows.is_empty() {
+        return Ok(Vec::new());
+    }
+    render_all(&rows, &out.join("figures"))
+}
+
 // ---------------------------------------------------------------------------------------------
 // Grouping and statistics
 // ---------------------------------------------------------------------------------------------

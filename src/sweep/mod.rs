@@ -13,6 +13,7 @@
 
 pub mod cli;
 pub mod figures;
+pub mod merge;
 pub mod rows;
 
 use crate::conditioning;
@@ -21,7 +22,7 @@ use crate::metrics::{self, MetricSet};
 use crate::model::generate::{self, Family, GeneratorConfig};
 use crate::scene;
 use crate::strategy::{self, Method, Prepared, METHOD_NAMES};
-use crate::system::Problem;
+use crate::system::{Problem, Structure};
 use rows::Row;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -423,84 +424,185 @@ pub fn jobs(cfg: &SweepConfig, problem: &Problem, u0: Option<&[f64]>) -> Vec<Job
     out
 }
 
-/// Runs every job of one scene. Errors of single jobs become rows with the error in
-/// `warnings`; only an unreadable scene is an error.
-pub fn run_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<(Vec<Row>, LoadedScene)> {
-    let sc = load(spec, cfg)?;
-    let p = &sc.problem;
-    let set = cfg.metric_set();
-    let prepared = Prepared::new(p);
-    let cond_k = if set.cond {
-        conditioning::cond2(&p.k).ok().map(|c| c.cond2)
-    } else {
-        None
-    };
-    let log_det_k = if set.det {
-        conditioning::log10_abs_det(&p.k).ok()
-    } else {
-        None
-    };
-    let prep = prepared.as_ref().ok();
-    let jobs = jobs(cfg, p, prep.map(|x| x.u0()));
-    let mut rows = Vec::with_capacity(jobs.len());
-    let mut u_ref: Option<Vec<f64>> = None;
-    for job in jobs {
-        let t0 = Instant::now();
-        let mut row = Row {
-            scene: sc.name.clone(),
-            family: sc.family.clone(),
-            n: p.n(),
-            m: p.m(),
-            method: job.method.name().to_string(),
-            delta_rel: job.delta_rel,
-            cond2_k: cond_k,
-            ..Default::default()
-        };
-        match job.method {
-            Method::Constant { eps } => row.eps = Some(eps),
-            Method::Scaled { factor } => row.factor = Some(factor),
-            Method::Spring { delta } | Method::Paper { delta } | Method::Condensed { delta } => {
-                row.delta = Some(delta)
-            }
-            Method::Augmented { eps, tol, .. } => {
-                row.eps = Some(eps);
-                row.delta = Some(tol);
-            }
-            Method::Lagrange => {}
-        }
-        let result = strategy::solve_prepared(p, job.method, prep).and_then(|sol| {
-            let m = metrics::compute_with_k(p, &sol, set, log_det_k)?;
-            Ok((sol, m))
-        });
-        match result {
-            Ok((sol, m)) => {
-                let pen: Vec<f64> = sol.penalties.iter().copied().filter(|e| *e > 0.0).collect();
-                if !pen.is_empty() {
-                    row.eps_min = Some(pen.iter().copied().fold(f64::INFINITY, f64::min));
-                    row.eps_max = Some(pen.iter().copied().fold(0.0, f64::max));
-                }
-                row.active = sol.stats.active_set_sizes.last().copied();
-                row.cond2_system = m.cond2_system.map(|c| c.cond2);
-                row.cond_route = m.cond2_system.map(|c| c.route.name().to_string());
-                row.log10_det_ratio = m.log10_det_ratio;
-                row.max_penetration = Some(sol.max_penetration);
-                if matches!(job.method, Method::Lagrange) {
-                    u_ref = Some(sol.u.clone());
-                }
-                row.error_vs_exact = u_ref.as_ref().map(|r| metrics::relative_error(&sol.u, r));
-                row.linear_solves = Some(sol.stats.linear_solves);
-                row.iterations = Some(sol.stats.iterations);
-                row.converged = Some(sol.stats.converged);
-                let mut w = sol.warnings.clone();
-                w.extend(metrics::precision_warnings(&m));
-                row.warnings = w.join("; ");
-            }
-            Err(e) => row.warnings = format!("error: {e}"),
-        }
-        row.seconds = Some(t0.elapsed().as_secs_f64());
-        rows.push(row);
+/// What every row of a scene shares, computed once per scene: the problem in its preferred
+/// storage, K's factorization and u0, cond₂(K) and log10|det K|, and the jobs.
+pub struct SceneWork {
+    /// The scene (K in the storage its structure prefers).
+    pub scene: LoadedScene,
+    /// K's structure.
+    pub structure: Structure,
+    /// K's factorization and u0 (an error where K is singular; every row then says so).
+    pub prepared: Result<Prepared>,
+    /// cond₂(K), when requested and available.
+    pub cond2_k: Option<f64>,
+    /// log10|det K|, when requested and available.
+    pub log10_det_k: Option<f64>,
+    /// The jobs, in row order (lagrange first).
+    pub jobs: Vec<Job>,
+    /// Wall time of each shared step (s): `read`, `prepare`, `cond_k`, `det_k`.
+    pub seconds: SetupSeconds,
+}
+
+/// Wall time of a scene's shared work (s).
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct SetupSeconds {
+    /// Building or reading the scene and choosing its storage.
+    pub read: f64,
+    /// K's factorization and u0.
+    pub prepare: f64,
+    /// cond₂(K).
+    pub cond_k: f64,
+    /// log10|det K| (near zero where cond₂(K)'s factorization gave it).
+    pub det_k: f64,
+}
+
+impl SetupSeconds {
+    /// The sum of the four.
+    pub fn total(&self) -> f64 {
+        self.read + self.prepare + self.cond_k + self.det_k
     }
-    Ok((rows, sc))
+}
+
+fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
+    let t = Instant::now();
+    let v = f();
+    (v, t.elapsed().as_secs_f64())
+}
+
+/// Loads a scene and does its shared work (cond₂(K) beside the factorization of K, on two
+/// threads where the pool has them).
+pub fn prepare_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<SceneWork> {
+    let (loaded, read) = timed(|| {
+        load(spec, cfg).map(|mut sc| {
+            sc.problem = sc.problem.in_preferred_storage();
+            sc
+        })
+    });
+    let scene = loaded?;
+    let p = &scene.problem;
+    let set = cfg.metric_set();
+    let ((prepared, prepare), (cond, cond_k)) = rayon::join(
+        || timed(|| Prepared::new(p)),
+        || timed(|| set.cond.then(|| conditioning::cond2(&p.k).ok()).flatten()),
+    );
+    let (log10_det_k, det_k) = timed(|| {
+        set.det
+            .then(|| match cond.as_ref().and_then(|c| c.log10_det) {
+                Some(v) => Some(v),
+                None => conditioning::log10_abs_det(&p.k).ok(),
+            })
+            .flatten()
+    });
+    let jobs = jobs(cfg, p, prepared.as_ref().ok().map(|x| x.u0()));
+    Ok(SceneWork {
+        structure: p.k.structure(),
+        prepared,
+        cond2_k: cond.map(|c| c.cond2),
+        log10_det_k,
+        jobs,
+        seconds: SetupSeconds {
+            read,
+            prepare,
+            cond_k,
+            det_k,
+        },
+        scene,
+    })
+}
+
+/// One row: `job` solved on the scene with its metrics; `u_ref` is the lagrange solution
+/// (`error_vs_exact`). A failing solve or metric becomes the row's warning, never an error.
+pub fn run_job(
+    work: &SceneWork,
+    job: Job,
+    set: MetricSet,
+    u_ref: Option<&[f64]>,
+) -> (Row, Option<Vec<f64>>) {
+    let t0 = Instant::now();
+    let sc = &work.scene;
+    let p = &sc.problem;
+    let mut row = Row {
+        scene: sc.name.clone(),
+        family: sc.family.clone(),
+        n: p.n(),
+        m: p.m(),
+        storage: if p.k.is_sparse() { "sparse" } else { "dense" }.into(),
+        nnz: work.structure.nnz,
+        half_bandwidth: work.structure.half_bandwidth,
+        method: job.method.name().to_string(),
+        delta_rel: job.delta_rel,
+        cond2_k: work.cond2_k,
+        ..Default::default()
+    };
+    match job.method {
+        Method::Constant { eps } => row.eps = Some(eps),
+        Method::Scaled { factor } => row.factor = Some(factor),
+        Method::Spring { delta } | Method::Paper { delta } | Method::Condensed { delta } => {
+            row.delta = Some(delta)
+        }
+        Method::Augmented { eps, tol, .. } => {
+            row.eps = Some(eps);
+            row.delta = Some(tol);
+        }
+        Method::Lagrange => {}
+    }
+    let prep = work.prepared.as_ref().ok();
+    let (solved, seconds_solve) = timed(|| strategy::solve_prepared(p, job.method, prep));
+    row.seconds_solve = Some(seconds_solve);
+    let mut u_out = None;
+    match solved.and_then(|sol| {
+        let m = metrics::compute_with_k(p, &sol, set, work.log10_det_k)?;
+        Ok((sol, m))
+    }) {
+        Ok((sol, m)) => {
+            let pen: Vec<f64> = sol.penalties.iter().copied().filter(|e| *e > 0.0).collect();
+            if !pen.is_empty() {
+                row.eps_min = Some(pen.iter().copied().fold(f64::INFINITY, f64::min));
+                row.eps_max = Some(pen.iter().copied().fold(0.0, f64::max));
+            }
+            row.active = sol.stats.active_set_sizes.last().copied();
+            row.cond2_system = m.cond2_system.map(|c| c.cond2);
+            row.cond_route = m.cond2_system.map(|c| c.route.name().to_string());
+            row.log10_det_ratio = m.log10_det_ratio;
+            row.max_penetration = Some(sol.max_penetration);
+            row.error_vs_exact = u_ref.map(|r| metrics::relative_error(&sol.u, r));
+            row.linear_solves = Some(sol.stats.linear_solves);
+            row.iterations = Some(sol.stats.iterations);
+            row.converged = Some(sol.stats.converged);
+            row.seconds_cond = set.cond.then_some(m.seconds_cond);
+            row.seconds_det = set.det.then_some(m.seconds_det);
+            let mut w = sol.warnings.clone();
+            w.extend(metrics::precision_warnings(&m));
+            row.warnings = w.join("; ");
+            if matches!(job.method, Method::Lagrange) {
+                row.error_vs_exact = Some(metrics::relative_error(&sol.u, &sol.u));
+                u_out = Some(sol.u);
+            }
+        }
+        Err(e) => row.warnings = format!("error: {e}"),
+    }
+    row.seconds = Some(t0.elapsed().as_secs_f64());
+    (row, u_out)
+}
+
+/// Runs every job of one scene: the shared work, the lagrange reference, then the other jobs
+/// as separate work units on the current rayon pool (rows in job order whatever the thread
+/// count). Errors of single jobs become rows with the error in `warnings`; only an unreadable
+/// scene is an error.
+pub fn run_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<(Vec<Row>, SceneWork)> {
+    use rayon::prelude::*;
+    let work = prepare_scene(spec, cfg)?;
+    let set = cfg.metric_set();
+    let (first, rest) = work.jobs.split_first().expect("lagrange is always a job");
+    let (lag_row, u_ref) = run_job(&work, *first, set, None);
+    let mut rows = Vec::with_capacity(work.jobs.len());
+    rows.push(lag_row);
+    let others: Vec<Row> = rest
+        .par_iter()
+        .map(|&job| run_job(&work, job, set, u_ref.as_deref()).0)
+        .collect();
+    rows.extend(others);
+    Ok((rows, work))
 }
 
 /// Options of a sweep run that do not change its rows.
@@ -516,6 +618,8 @@ pub struct RunOptions {
     pub resume: bool,
     /// Also write every scene as a scene file here.
     pub write_scenes: Option<PathBuf>,
+    /// Store K inline as dense rows in those scene files, whatever its structure.
+    pub dense_scenes: bool,
     /// Show a progress bar (hidden anyway when stderr is not a terminal).
     pub progress: bool,
 }
@@ -589,7 +693,8 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
     bar.set_total(specs.len());
     bar.set_done(done);
 
-    let outcome = solve_in_order(todo, cfg, opts, &pool, &bar, &rows_path);
+    let mut times = Timing::default();
+    let outcome = solve_in_order(todo, cfg, opts, &pool, &bar, &rows_path, &mut times);
     bar.finish();
     let rows_written = outcome?;
     let wall = t_start.elapsed().as_secs_f64();
@@ -605,8 +710,70 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
     manifest["rows_written"] = rows_written.into();
     manifest["rows_per_second"] = summary.rows_per_second.into();
     manifest["resumed_scenes"] = summary.resumed_scenes.into();
+    let threads = opts.threads.unwrap_or_else(|| pool.current_num_threads());
+    manifest["timing"] = times.report(wall, threads);
     write_manifest(&manifest_path, &manifest)?;
     Ok(summary)
+}
+
+/// Where the time of a run went: per method the sums of the rows' timing columns, and the
+/// scenes' shared work ([`SetupSeconds`]).
+#[derive(Clone, Debug, Default)]
+pub struct Timing {
+    per_method: BTreeMap<String, MethodTiming>,
+    setup: SetupSeconds,
+}
+
+/// Sums of one method's rows.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct MethodTiming {
+    /// Rows.
+    pub rows: usize,
+    /// Σ `seconds`.
+    pub seconds: f64,
+    /// Σ `seconds_solve`.
+    pub seconds_solve: f64,
+    /// Σ `seconds_cond`.
+    pub seconds_cond: f64,
+    /// Σ `seconds_det`.
+    pub seconds_det: f64,
+}
+
+impl Timing {
+    /// Adds a scene's rows and shared work.
+    pub fn add(&mut self, rows: &[Row], setup: &SetupSeconds) {
+        for r in rows {
+            let t = self.per_method.entry(r.method.clone()).or_default();
+            t.rows += 1;
+            t.seconds += r.seconds.unwrap_or(0.0);
+            t.seconds_solve += r.seconds_solve.unwrap_or(0.0);
+            t.seconds_cond += r.seconds_cond.unwrap_or(0.0);
+            t.seconds_det += r.seconds_det.unwrap_or(0.0);
+        }
+        self.setup.read += setup.read;
+        self.setup.prepare += setup.prepare;
+        self.setup.cond_k += setup.cond_k;
+        self.setup.det_k += setup.det_k;
+    }
+
+    /// The manifest's `timing` object: per-method sums, the scenes' shared work, the busy
+    /// time (their total), rows per second of wall time, and the parallel efficiency
+    /// busy / (wall · threads) — 1 when every thread was busy all the time (writing rows.csv,
+    /// the manifest and waiting for the last scene count as idle).
+    pub fn report(&self, wall: f64, threads: usize) -> serde_json::Value {
+        let rows: usize = self.per_method.values().map(|t| t.rows).sum();
+        let busy: f64 =
+            self.per_method.values().map(|t| t.seconds).sum::<f64>() + self.setup.total();
+        serde_json::json!({
+            "per_method": self.per_method,
+            "scene_setup": self.setup,
+            "busy_seconds": busy,
+            "wall_seconds": wall,
+            "threads": threads,
+            "rows_per_second": rows as f64 / wall.max(1e-9),
+            "parallel_efficiency": busy / (wall.max(1e-9) * threads.max(1) as f64),
+        })
+    }
 }
 
 /// Where a `--resume` run picks up: the number of complete scenes at the head of an existing
@@ -661,13 +828,16 @@ fn solve_in_order(
     pool: &rayon::ThreadPool,
     bar: &crate::progress::Progress,
     rows_path: &Path,
+    times: &mut Timing,
 ) -> Result<usize> {
     let mut file = std::fs::OpenOptions::new()
         .append(true)
         .open(rows_path)
         .map_err(|e| Error::io(rows_path.display(), e))?;
-    let (tx, rx) = std::sync::mpsc::channel::<(usize, Result<(Vec<Row>, String)>)>();
+    type Done = Result<(Vec<Row>, String, SetupSeconds)>;
+    let (tx, rx) = std::sync::mpsc::channel::<(usize, Done)>();
     let write_scenes = opts.write_scenes.clone();
+    let dense_scenes = opts.dense_scenes;
     let mut rows_written = 0usize;
     let mut first_error: Option<Error> = None;
     std::thread::scope(|s| {
@@ -677,26 +847,34 @@ fn solve_in_order(
                 todo.par_iter()
                     .enumerate()
                     .for_each_with(tx, |tx, (i, (_, spec))| {
-                        let r = run_scene(spec, cfg).and_then(|(rows, sc)| {
+                        let r = run_scene(spec, cfg).and_then(|(rows, work)| {
+                            let sc = &work.scene;
                             if let Some(d) = &write_scenes {
                                 let path = d.join(format!("{}.scene.json", sc.name));
-                                scene::write_scene(
+                                let storage = if dense_scenes {
+                                    scene::Storage::Dense
+                                } else {
+                                    // Dense stays inline, sparse goes to Matrix Market.
+                                    scene::Storage::Auto {
+                                        mtx_threshold: usize::MAX,
+                                    }
+                                };
+                                scene::write_scene_as(
                                     &path,
                                     &sc.name,
                                     &sc.problem,
                                     Some(&sc.meta),
-                                    // Dense stays inline, so a re-run takes the same routes.
-                                    usize::MAX,
+                                    storage,
                                 )?;
                             }
-                            Ok((rows, sc.name))
+                            Ok((rows, sc.name.clone(), work.seconds))
                         });
                         let _ = tx.send((i, r));
                     });
             });
         });
         // Reorder buffer: write scenes in order as soon as the prefix is complete.
-        let mut pending: BTreeMap<usize, Result<(Vec<Row>, String)>> = BTreeMap::new();
+        let mut pending: BTreeMap<usize, Done> = BTreeMap::new();
         let mut next = 0usize;
         for (i, r) in rx {
             pending.insert(i, r);
@@ -704,7 +882,8 @@ fn solve_in_order(
                 next += 1;
                 bar.step("");
                 match r {
-                    Ok((rows, name)) => {
+                    Ok((rows, name, setup)) => {
+                        times.add(&rows, &setup);
                         if first_error.is_none() {
                             let text = rows::format_rows(&rows);
                             if let Err(e) =

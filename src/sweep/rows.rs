@@ -2,8 +2,9 @@
 //!
 //! Columns (in order): see [`COLUMNS`]. Units: `eps*` in stiffness units (force/length of the
 //! scene), `delta` and `max_penetration` in the units of u, `seconds` wall time of the solve
-//! (plus metrics) on one thread. Every column except `seconds` is deterministic: identical for
-//! any thread count and shard split.
+//! plus metrics on one thread, split into `seconds_solve`, `seconds_cond` and `seconds_det`.
+//! Every column except those four ([`TIMING_COLUMNS`]) is deterministic: identical for any
+//! thread count and shard split.
 
 use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
@@ -20,6 +21,13 @@ pub struct Row {
     pub n: usize,
     /// Number of constraints m.
     pub m: usize,
+    /// Storage K was solved in, `dense` or `sparse`, chosen from its structure whatever the
+    /// scene file stored ([`crate::system::Structure::prefers_sparse`]).
+    pub storage: String,
+    /// Nonzero entries of K.
+    pub nnz: usize,
+    /// Half-bandwidth of K (natural ordering).
+    pub half_bandwidth: usize,
     /// Strategy name.
     pub method: String,
     /// Knob ε (constant, augmented).
@@ -54,18 +62,27 @@ pub struct Row {
     pub iterations: Option<usize>,
     /// The strategy's iteration reached its solution (`Stats::converged`); empty on error.
     pub converged: Option<bool>,
-    /// Wall time of this row (s).
+    /// Wall time of this row (s): the solve plus its metrics.
     pub seconds: Option<f64>,
+    /// Wall time of the solve alone (s).
+    pub seconds_solve: Option<f64>,
+    /// Wall time of cond₂ of the system matrix (s).
+    pub seconds_cond: Option<f64>,
+    /// Wall time of the determinant ratio (s).
+    pub seconds_det: Option<f64>,
     /// Warnings and errors, `; `-separated (empty when all is well).
     pub warnings: String,
 }
 
 /// Column names, in file order.
-pub const COLUMNS: [&str; 23] = [
+pub const COLUMNS: [&str; 29] = [
     "scene",
     "family",
     "n",
     "m",
+    "storage",
+    "nnz",
+    "half_bandwidth",
     "method",
     "eps",
     "factor",
@@ -84,8 +101,14 @@ pub const COLUMNS: [&str; 23] = [
     "iterations",
     "converged",
     "seconds",
+    "seconds_solve",
+    "seconds_cond",
+    "seconds_det",
     "warnings",
 ];
+
+/// The timing columns: the only ones that may differ between runs of the same configuration.
+pub const TIMING_COLUMNS: [&str; 4] = ["seconds", "seconds_solve", "seconds_cond", "seconds_det"];
 
 fn f(x: Option<f64>) -> String {
     match x {
@@ -109,6 +132,9 @@ impl Row {
             self.family.clone(),
             self.n.to_string(),
             self.m.to_string(),
+            self.storage.clone(),
+            self.nnz.to_string(),
+            self.half_bandwidth.to_string(),
             self.method.clone(),
             f(self.eps),
             f(self.factor),
@@ -127,6 +153,9 @@ impl Row {
             u(self.iterations),
             self.converged.map(|c| c.to_string()).unwrap_or_default(),
             f(self.seconds),
+            f(self.seconds_solve),
+            f(self.seconds_cond),
+            f(self.seconds_det),
             self.warnings.clone(),
         ]
     }
@@ -135,6 +164,9 @@ impl Row {
     pub fn without_timing(&self) -> Row {
         Row {
             seconds: None,
+            seconds_solve: None,
+            seconds_cond: None,
+            seconds_det: None,
             ..self.clone()
         }
     }
@@ -221,37 +253,48 @@ fn parse_line(line: &str) -> std::result::Result<Row, String> {
             rec.len()
         ));
     }
-    let g = |i: usize| rec.get(i).unwrap_or("");
-    let fl = |i: usize| -> std::result::Result<Option<f64>, String> {
-        match g(i) {
+    let mut cells = rec.iter();
+    let mut next = || cells.next().unwrap_or("");
+    let fl = |s: &str| -> std::result::Result<Option<f64>, String> {
+        match s {
             "inf" => Ok(Some(f64::INFINITY)),
             "-inf" => Ok(Some(f64::NEG_INFINITY)),
             s => parse_opt(s),
         }
     };
+    let whole = |s: &str, what: &str| s.parse::<usize>().map_err(|_| format!("bad {what} '{s}'"));
     Ok(Row {
-        scene: g(0).into(),
-        family: g(1).into(),
-        n: g(2).parse().map_err(|_| "bad n")?,
-        m: g(3).parse().map_err(|_| "bad m")?,
-        method: g(4).into(),
-        eps: fl(5)?,
-        factor: fl(6)?,
-        delta: fl(7)?,
-        delta_rel: fl(8)?,
-        eps_min: fl(9)?,
-        eps_max: fl(10)?,
-        active: parse_opt(g(11))?,
-        cond2_system: fl(12)?,
-        cond2_k: fl(13)?,
-        cond_route: Some(g(14).to_string()).filter(|s| !s.is_empty()),
-        log10_det_ratio: fl(15)?,
-        max_penetration: fl(16)?,
-        error_vs_exact: fl(17)?,
-        linear_solves: parse_opt(g(18))?,
-        iterations: parse_opt(g(19))?,
-        converged: parse_opt(g(20)).map_err(|_| format!("bad converged '{}'", g(20)))?,
-        seconds: fl(21)?,
-        warnings: g(22).into(),
+        scene: next().into(),
+        family: next().into(),
+        n: whole(next(), "n")?,
+        m: whole(next(), "m")?,
+        storage: next().into(),
+        nnz: whole(next(), "nnz")?,
+        half_bandwidth: whole(next(), "half_bandwidth")?,
+        method: next().into(),
+        eps: fl(next())?,
+        factor: fl(next())?,
+        delta: fl(next())?,
+        delta_rel: fl(next())?,
+        eps_min: fl(next())?,
+        eps_max: fl(next())?,
+        active: parse_opt(next())?,
+        cond2_system: fl(next())?,
+        cond2_k: fl(next())?,
+        cond_route: Some(next().to_string()).filter(|s| !s.is_empty()),
+        log10_det_ratio: fl(next())?,
+        max_penetration: fl(next())?,
+        error_vs_exact: fl(next())?,
+        linear_solves: parse_opt(next())?,
+        iterations: parse_opt(next())?,
+        converged: {
+            let c = next();
+            parse_opt(c).map_err(|_| format!("bad converged '{c}'"))?
+        },
+        seconds: fl(next())?,
+        seconds_solve: fl(next())?,
+        seconds_cond: fl(next())?,
+        seconds_det: fl(next())?,
+        warnings: next().into(),
     })
 }
