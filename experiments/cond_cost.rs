@@ -25,10 +25,10 @@ use std::process::ExitCode;
 )]
 struct Args {
     /// Membrane grid sides (n = side²).
-    #[arg(long, value_delimiter = ',', default_values_t = [20usize, 45, 100, 224, 316])]
+    #[arg(long, value_delimiter = ',', default_values_t = [4usize, 6, 10, 14, 20, 45, 100, 224, 316])]
     sides: Vec<usize>,
     /// Cantilever element counts (n = 3·elements).
-    #[arg(long, value_delimiter = ',', default_values_t = [150usize, 700, 3300, 33000])]
+    #[arg(long, value_delimiter = ',', default_values_t = [4usize, 12, 40, 112, 150, 700, 3300, 33000])]
     elements: Vec<usize>,
     /// Repeats per measurement (the median is reported).
     #[arg(long, default_value_t = 5)]

@@ -22,6 +22,9 @@ use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+/// Smallest n used for the least-squares slopes of the figure's legend.
+pub const SLOPE_MIN_N: f64 = 300.0;
+
 /// What to measure.
 #[derive(Clone, Debug, Serialize)]
 pub struct CostConfig {
@@ -225,7 +228,14 @@ pub fn render_figure(rows: &[Row], out: &Path) -> Result<Vec<PathBuf>> {
                 continue;
             }
             let (x, y): (Vec<f64>, Vec<f64>) = pts.into_iter().unzip();
-            let label = match loglog_slope(&x, &y) {
+            // The growth rate is fitted where the asymptotics show (n ≥ SLOPE_MIN_N): the small
+            // sizes measure the sweep's crossover, where fixed costs dominate.
+            let (xs, ys): (Vec<f64>, Vec<f64>) = x
+                .iter()
+                .zip(&y)
+                .filter(|(n, _)| **n >= SLOPE_MIN_N)
+                .unzip();
+            let label = match loglog_slope(&xs, &ys) {
                 Some(s) => format!("{family}: {name} (slope {s:.2})"),
                 None => format!("{family}: {name}"),
             };
