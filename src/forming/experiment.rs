@@ -27,6 +27,9 @@ pub struct ExperimentConfig {
     /// Also run the exact `condensed` rule.
     #[serde(default = "yes")]
     pub condensed: bool,
+    /// Also run the literal reading of Eq. 28 (`paper-literal`).
+    #[serde(default = "yes")]
+    pub paper_literal: bool,
     /// The forming configuration.
     pub forming: FormingConfig,
 }
@@ -42,6 +45,7 @@ impl ExperimentConfig {
             penalty: 1e7,
             delta: 1e-5,
             condensed: true,
+            paper_literal: true,
             forming,
         }
     }
@@ -87,11 +91,13 @@ impl ExperimentConfig {
     /// Checks ε, δ and the forming configuration.
     pub fn validate(&self) -> Result<()> {
         ContactRule::Classical { eps: self.penalty }.validate()?;
-        ContactRule::Paper { delta: self.delta }.validate()?;
+        ContactRule::Condensed { delta: self.delta }.validate()?;
         self.forming.validate()
     }
 
-    /// The runs: `classical`, `adaptive` (Eq. 28–29) and, if enabled, `condensed`.
+    /// The runs: `classical`, `adaptive` (Eq. 28–29 on the current residual,
+    /// [`ContactRule::PaperResidual`]) and, if enabled, `paper-literal`
+    /// ([`ContactRule::PaperLiteral`]) and `condensed`.
     pub fn rules(&self) -> Vec<(String, ContactRule)> {
         let mut v = vec![
             (
@@ -100,9 +106,15 @@ impl ExperimentConfig {
             ),
             (
                 "adaptive".to_string(),
-                ContactRule::Paper { delta: self.delta },
+                ContactRule::PaperResidual { delta: self.delta },
             ),
         ];
+        if self.paper_literal {
+            v.push((
+                "paper-literal".to_string(),
+                ContactRule::PaperLiteral { delta: self.delta },
+            ));
+        }
         if self.condensed {
             v.push((
                 "condensed".to_string(),

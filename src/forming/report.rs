@@ -134,7 +134,12 @@ pub fn load(json: &Path) -> Result<SavedRuns> {
 fn label(name: &str, run: &SavedRun) -> String {
     match run.rule {
         ContactRule::Classical { eps } => format!("{name}: constant ε = {eps:.0e}"),
-        ContactRule::Paper { delta } => format!("{name}: Eq. 28–29, δ = {delta:.0e} in"),
+        ContactRule::PaperResidual { delta } => {
+            format!("{name}: Eq. 28 on the residual, δ = {delta:.0e} in")
+        }
+        ContactRule::PaperLiteral { delta } => {
+            format!("{name}: Eq. 28 literal, δ = {delta:.0e} in")
+        }
         ContactRule::Condensed { delta } => {
             format!("{name}: exact δ-targeting, δ = {delta:.0e} in")
         }

@@ -56,6 +56,12 @@ use crate::system::{Constraint, ConstraintKind, Problem};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
+/// `paper-residual`: the Eq. 18 corrector passes of a Picard iteration (frozen K) stop when
+/// every contact gap is within this fraction of δ of δ ...
+pub const RESIDUAL_RTOL: f64 = 0.05;
+/// ... or at most this many times per Picard iteration.
+pub const RESIDUAL_PASSES: usize = 20;
+
 /// JSON writes non-finite numbers as `null`; read them back as NaN.
 fn null_as_nan<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<f64, D::Error> {
     Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
@@ -431,6 +437,19 @@ impl StepSetup {
             v[p1] = a * c.normal[1] + b * c.tangent[1];
         }
         v
+    }
+
+    /// The reduced local-axes vector of global velocities `v` (inverse of
+    /// `global_velocities`).
+    fn local_reduced(&self, v: &[f64]) -> Vec<f64> {
+        let mut g = v.to_vec();
+        for c in self.cands.iter().filter(|c| c.node != 0) {
+            let (p0, p1) = (3 * c.node, 3 * c.node + 1);
+            let (a, b) = (v[p0], v[p1]);
+            g[p0] = a * c.normal[0] + b * c.normal[1];
+            g[p1] = a * c.tangent[0] + b * c.tangent[1];
+        }
+        self.dofs.free.iter().map(|&d| g[d]).collect()
     }
 
     /// Normal force `N = (−r_c e)·n` per node of a solve's constraints.
@@ -823,7 +842,9 @@ impl Simulation {
             .collect();
         let method = match self.rule {
             ContactRule::Classical { eps } => Method::Constant { eps },
-            ContactRule::Paper { delta } => Method::Paper { delta: delta / dt },
+            ContactRule::PaperLiteral { delta } | ContactRule::PaperResidual { delta } => {
+                Method::Paper { delta: delta / dt }
+            }
             ContactRule::Condensed { delta } => Method::Condensed { delta: delta / dt },
         };
         StepSetup {
@@ -881,7 +902,7 @@ impl Simulation {
         while iterations < pc.max_iterations {
             iterations += 1;
             let asm = self.assemble(s, &v, &normal_force);
-            let solve = self.solve_contact(s, &asm, &in_contact)?;
+            let solve = self.solve_contact(s, &asm, &in_contact, &v)?;
             factorizations += solve.solution.stats.factorizations;
             if self.cfg.cond_per_iteration {
                 let sys = metrics::system_matrix(&solve.problem, &solve.solution);
@@ -981,12 +1002,14 @@ impl Simulation {
     }
 
     /// Removes the essential BCs, makes the contact set bilateral constraints `v·e = sign û`
-    /// and solves with the step's strategy.
+    /// and solves with the step's strategy; `paper-residual` evaluates Eq. 28 at the current
+    /// iterate `v` (global velocities).
     fn solve_contact(
         &self,
         s: &StepSetup,
         asm: &Assembly,
         in_contact: &[bool],
+        v: &[f64],
     ) -> Result<ContactSolve> {
         let kmat = asm.k.to_stiffness(&s.dofs.reduced, s.dofs.free.len())?;
         let qr: Vec<f64> = s.dofs.free.iter().map(|&d| asm.q[d]).collect();
@@ -1000,7 +1023,19 @@ impl Simulation {
             })
             .collect();
         let problem = Problem::new(kmat, qr, constraints)?;
-        let solution = strategy::solve(&problem, s.method)?;
+        let solution = match (self.rule, s.method) {
+            (ContactRule::PaperResidual { .. }, Method::Paper { delta }) => {
+                let u_ref = s.local_reduced(v);
+                strategy::paper::solve_residual(
+                    &problem,
+                    delta,
+                    &u_ref,
+                    RESIDUAL_RTOL,
+                    RESIDUAL_PASSES,
+                )?
+            }
+            (_, method) => strategy::solve(&problem, method)?,
+        };
         if solution.u.iter().any(|x| !x.is_finite()) {
             return Err(Error::Numerical(format!(
                 "step {}: the velocity solution is not finite",
