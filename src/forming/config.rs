@@ -47,8 +47,11 @@ pub struct Picard {
     /// `aitken` this is the first ω of the step.
     pub relaxation: f64,
     /// Aitken's dynamic relaxation (Irons–Tuck): ω updated from the last two residuals
-    /// `r = v_new − v_old`, clamped to [0.05, 2].
+    /// `r = v_new − v_old`, clamped to [0.05, 2]. Used only when `anderson = 0`.
     pub aitken: bool,
+    /// Anderson acceleration depth m (`super::acceleration`); 0 = relaxed (Aitken) Picard.
+    /// The history restarts whenever the contact set changes.
+    pub anderson: usize,
 }
 
 impl Default for Picard {
@@ -58,6 +61,7 @@ impl Default for Picard {
             max_iterations: 40,
             relaxation: 0.7,
             aitken: true,
+            anderson: 3,
         }
     }
 }

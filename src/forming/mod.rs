@@ -4,7 +4,8 @@
 //! `∫ σ_ij δε̇_ij dΩ = ∫ t_i δv_i d(∂Ω)` (Eq. 1), `ε̇_ij = ½(v_i,j + v_j,i)` (Eq. 2),
 //! `s_ij = 2μ* ε̇_ij` (Eq. 3), `μ* = σ̄/(3ε̄̇)` (Eq. 4), discretized to `K[μ*(v)] v = q` (Eq. 6)
 //! and solved with penalty contact `(K + D E Dᵀ) v = q + D E û` (Eq. 9) whose penalties come
-//! from the classical constant ε, the paper's Eq. 28–29 or the exact `condensed` rule.
+//! from the classical constant ε, the paper's Eq. 28–29 (two readings) or the exact `condensed`
+//! rule.
 //!
 //! * [`material`] — Eq. 4 with the hardening of Eq. 38 (as printed and continuous), cut-off.
 //! * [`element`] — the 2-node linear bending shell element (velocities + rotation rate).
@@ -32,8 +33,9 @@
 //! ## Modelling choices (defaults in [`config::FormingConfig`])
 //! * μ* through the thickness from the RMS rate ([`config::MuThroughThickness`]); per-layer
 //!   μ* makes Picard drift in plastic-hinge modes, mid-surface μ* over-stiffens pure bending.
-//! * Picard with Aitken relaxation, converged on the nodal velocities (`v_r`, `v_z`) at 1e-3
-//!   relative with an unchanged contact set, capped at 40 iterations (the cap is reported).
+//! * Picard with Anderson acceleration (depth 3, [`acceleration`]), converged on the nodal
+//!   velocities (`v_r`, `v_z`) at 1e-3 relative with an unchanged contact set, capped at 40
+//!   iterations; a capped step is recorded with its final change and counted in the summary.
 //! * Contact constraints are offered to the strategies as `bilateral` on the Picard-level
 //!   contact set (D holds only the active contact DOFs, as in the paper's Eq. 7); the set is
 //!   updated every iteration (tensile contacts released, penetrating candidates added).
@@ -43,6 +45,7 @@
 // Index loops mirror the element/assembly formulas (i, j are matrix indices).
 #![allow(clippy::needless_range_loop)]
 
+pub mod acceleration;
 pub mod assembly;
 pub mod config;
 pub mod element;

@@ -19,8 +19,13 @@
 //!    [`crate::strategy::solve`]: `constant {ε}`, `paper {δ/Δt}` or `condensed {δ/Δt}`. The
 //!    contact set is then updated (contacts with a tensile normal force released, penetrating
 //!    candidates added). Converged when `max|v_new − v| ≤ tol · max(max|v_new|, v_punch)`
-//!    over the nodal velocities and the contact set did not change; otherwise
-//!    `v ← v + ω (v_new − v)` with Aitken's ω. The accepted velocity is the last solve's
+//!    over the nodal velocities and the contact set did not change; otherwise the next
+//!    iterate comes from Anderson acceleration ([`super::acceleration`], depth 3, history
+//!    restarted when the contact set changes or the residual grows), or with
+//!    `picard.anderson = 0` from `v ← v + ω (v_new − v)` with Aitken's ω. A step that reaches
+//!    the iteration cap is recorded `converged = false` with its final change; the run
+//!    summary counts such steps and the validity guards reject a run with more than 5 % of
+//!    them. The accepted velocity is the last solve's
 //!    (unrelaxed) output, so the penalty rule's guarantees hold for it exactly.
 //! 3. **Telemetry** of the last solve: exact cond₂ and log10|det| of the system matrix
 //!    `K + D E Dᵀ` ([`crate::metrics::system_matrix`]), punch force, penetration, …
@@ -44,6 +49,7 @@
 //! force (r_c = ε_c g_c from the strategy), f = −c (v_t − V_t) the friction force.
 //! [`Simulation::equilibrium_punch_force`] recomputes it from the element internal forces.
 
+use super::acceleration::Anderson;
 use super::assembly::{Block, BlockTri};
 use super::config::{ContactRule, FormingConfig, MuThroughThickness, ThicknessUpdate};
 use super::element::{self, ElementGeom};
@@ -895,6 +901,7 @@ impl Simulation {
             aitken: pc.aitken,
             prev_res: None,
         };
+        let mut anderson = Anderson::new(pc.anderson, pc.relaxation);
         let (mut iterations, mut factorizations) = (0, 0);
         let (mut converged, mut change) = (false, f64::INFINITY);
         let mut iteration_cond2 = Vec::new();
@@ -914,7 +921,17 @@ impl Simulation {
             let set_changed = new_set != in_contact;
             change = picard_change(&v_new, &v, vp);
             let done = change <= pc.tol && !set_changed;
-            relax.apply(&mut v, &v_new, done || iterations >= pc.max_iterations);
+            let accept = done || iterations >= pc.max_iterations;
+            if pc.anderson == 0 {
+                relax.apply(&mut v, &v_new, accept);
+            } else if accept {
+                v.copy_from_slice(&v_new);
+            } else {
+                if set_changed {
+                    anderson.reset();
+                }
+                anderson.apply(&mut v, &v_new);
+            }
             last = Some((solve, asm.coeffs));
             in_contact = new_set;
             if done {
