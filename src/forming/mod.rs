@@ -13,6 +13,8 @@
 //! * [`config`] — every parameter, TOML, the Woo-like and Ghosh–Hecker presets.
 //! * [`solver`] — steps, Picard on μ*, contact in local nodal axes, friction, telemetry.
 //! * [`report`] — JSON/CSV of runs and the figures (Fig. 7 and friends).
+//! * [`validity`] — the guards that reject a run outside the model's domain (exit status 3).
+//! * [`acceleration`] — Anderson acceleration of the Picard iteration.
 //!
 //! Units: inch, ton-force, second.
 //!
@@ -54,6 +56,7 @@ pub mod material;
 pub mod report;
 pub mod solver;
 pub mod tools;
+pub mod validity;
 
 pub use config::{ContactRule, FormingConfig, ThicknessUpdate};
 pub use material::{Hardening, Material};

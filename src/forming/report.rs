@@ -29,6 +29,12 @@ pub struct SavedRun {
     pub snapshots: Vec<Snapshot>,
     /// Wall time (s).
     pub seconds: f64,
+    /// This run stayed inside the model's domain ([`super::validity`]).
+    #[serde(default = "valid_default")]
+    pub valid: bool,
+    /// Why not (empty when valid).
+    #[serde(default)]
+    pub invalid_reasons: Vec<String>,
 }
 
 impl From<&RunResult> for SavedRun {
@@ -43,6 +49,8 @@ impl From<&RunResult> for SavedRun {
             steps: r.steps.clone(),
             snapshots: r.snapshots.clone(),
             seconds: r.seconds,
+            valid: true,
+            invalid_reasons: Vec::new(),
         }
     }
 }
@@ -56,13 +64,30 @@ pub struct SavedRuns {
     pub provenance: serde_json::Value,
     /// The configuration shared by the runs.
     pub config: FormingConfig,
-    /// Runs by name (`classical`, `adaptive`, `condensed`).
+    /// Runs by name (`classical`, `adaptive`, `paper-literal`, `condensed`).
     pub runs: BTreeMap<String, SavedRun>,
+    /// Every run stayed inside the model's domain ([`super::validity`]).
+    #[serde(default = "valid_default")]
+    pub valid: bool,
+    /// Why not (empty when valid).
+    #[serde(default)]
+    pub invalid_reasons: Vec<String>,
 }
 
-/// Writes one run's step table as CSV.
-pub fn write_steps_csv(path: &Path, steps: &[StepRecord]) -> Result<()> {
-    let mut w = csv::Writer::from_path(path).map_err(|e| Error::io(path.display(), e))?;
+fn valid_default() -> bool {
+    true
+}
+
+/// Writes one run's step table as CSV; a run outside the model's domain (`invalid` = its
+/// reasons, non-empty) gets a first comment line `# valid: false; <reasons>`.
+pub fn write_steps_csv(path: &Path, steps: &[StepRecord], invalid: &[String]) -> Result<()> {
+    let mut file = std::fs::File::create(path).map_err(|e| Error::io(path.display(), e))?;
+    if !invalid.is_empty() {
+        use std::io::Write;
+        writeln!(file, "# valid: false; {}", invalid.join("; "))
+            .map_err(|e| Error::io(path.display(), e))?;
+    }
+    let mut w = csv::Writer::from_writer(file);
     w.write_record([
         "step",
         "punch_travel",
@@ -72,6 +97,7 @@ pub fn write_steps_csv(path: &Path, steps: &[StepRecord]) -> Result<()> {
         "max_penetration",
         "geometric_penetration",
         "volume",
+        "rim_r",
         "iterations",
         "converged",
         "picard_change",
@@ -95,6 +121,7 @@ pub fn write_steps_csv(path: &Path, steps: &[StepRecord]) -> Result<()> {
             s.max_penetration.to_string(),
             s.geometric_penetration.to_string(),
             s.volume.to_string(),
+            s.rim_r.to_string(),
             s.iterations.to_string(),
             s.converged.to_string(),
             s.picard_change.to_string(),
@@ -120,7 +147,15 @@ pub fn save(dir: &Path, stem: &str, doc: &SavedRuns) -> Result<PathBuf> {
         .map_err(|e| Error::Numerical(format!("cannot serialize results: {e}")))?;
     std::fs::write(&json, text).map_err(|e| Error::io(json.display(), e))?;
     for (name, run) in &doc.runs {
-        write_steps_csv(&dir.join(format!("steps_{name}.csv")), &run.steps)?;
+        let mut reasons = doc.invalid_reasons.clone();
+        reasons.extend(
+            run.invalid_reasons
+                .iter()
+                .filter(|r| !reasons.contains(r))
+                .cloned()
+                .collect::<Vec<_>>(),
+        );
+        write_steps_csv(&dir.join(format!("steps_{name}.csv")), &run.steps, &reasons)?;
     }
     Ok(json)
 }
@@ -132,6 +167,15 @@ pub fn load(json: &Path) -> Result<SavedRuns> {
 }
 
 fn label(name: &str, run: &SavedRun) -> String {
+    let text = rule_label(name, run);
+    if run.valid {
+        text
+    } else {
+        format!("{text} [INVALID run]")
+    }
+}
+
+fn rule_label(name: &str, run: &SavedRun) -> String {
     match run.rule {
         ContactRule::Classical { eps } => format!("{name}: constant ε = {eps:.0e}"),
         ContactRule::PaperResidual { delta } => {
@@ -156,6 +200,8 @@ pub fn render_figures(
     cond_stem: &str,
 ) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
+    let marked = invalid_title(doc, title);
+    let title = marked.as_str();
     let fig7 = if cond_stem.starts_with("fig7") {
         " (paper Fig. 7)"
     } else {
@@ -208,11 +254,12 @@ pub fn render_figures(
         .runs
         .iter()
         .map(|(name, run)| {
-            let mut f = Figure::new(
-                label(name, run),
-                "initial radius (in)",
-                "thickness strain ln(t/t₀)",
-            );
+            let panel = if doc.valid {
+                label(name, run)
+            } else {
+                format!("INVALID {}", label(name, run))
+            };
+            let mut f = Figure::new(panel, "initial radius (in)", "thickness strain ln(t/t₀)");
             for (k, s) in run.snapshots.iter().enumerate() {
                 f = f.with_series(
                     Series::new(
@@ -249,6 +296,23 @@ pub fn render_figures(
         )?);
     }
     Ok(files)
+}
+
+/// The figure title prefix: `title`, or for a run outside the model's domain
+/// `INVALID (<first reason>[, +k more]) <title>`.
+fn invalid_title(doc: &SavedRuns, title: &str) -> String {
+    match doc.invalid_reasons.split_first() {
+        None if doc.valid => title.to_string(),
+        None => format!("INVALID {title}"),
+        Some((first, rest)) => {
+            let more = if rest.is_empty() {
+                String::new()
+            } else {
+                format!(", +{} more", rest.len())
+            };
+            format!("INVALID ({first}{more}) {title}")
+        }
+    }
 }
 
 fn profiles_figure(cfg: &FormingConfig, name: &str, run: &SavedRun, title: &str) -> Figure {

@@ -95,6 +95,9 @@ pub struct StepRecord {
     pub geometric_penetration: f64,
     /// Sheet volume after the update (in³).
     pub volume: f64,
+    /// Radius of the blank rim (last node) after the update (in).
+    #[serde(default)]
+    pub rim_r: f64,
     /// Picard iterations.
     pub iterations: usize,
     /// Matrix factorizations over all Picard iterations (strategy statistics).
@@ -555,19 +558,39 @@ impl Simulation {
 
     /// Runs all steps and returns the telemetry.
     pub fn run(cfg: &FormingConfig, rule: ContactRule) -> Result<RunResult> {
+        match Simulation::run_until_failure(cfg, rule)? {
+            (r, None) => Ok(r),
+            (_, Some(e)) => Err(e),
+        }
+    }
+
+    /// Runs all steps, or up to the first step that fails; returns the telemetry of the steps
+    /// done and that step's error. Bad input is still an error.
+    pub fn run_until_failure(
+        cfg: &FormingConfig,
+        rule: ContactRule,
+    ) -> Result<(RunResult, Option<Error>)> {
         let t0 = Instant::now();
         let mut sim = Simulation::new(cfg, rule)?;
         let mut steps = Vec::with_capacity(cfg.steps);
+        let mut failure = None;
         for _ in 0..cfg.steps {
-            steps.push(sim.step()?);
+            match sim.step() {
+                Ok(s) => steps.push(s),
+                Err(e) => {
+                    failure = Some(e);
+                    break;
+                }
+            }
         }
-        Ok(RunResult {
+        let r = RunResult {
             config: cfg.clone(),
             rule,
             steps,
             snapshots: sim.snapshots.clone(),
             seconds: t0.elapsed().as_secs_f64(),
-        })
+        };
+        Ok((r, failure))
     }
 
     /// Node coordinates (r, z).
@@ -795,6 +818,7 @@ impl Simulation {
             max_penetration: tel.max_penetration,
             geometric_penetration,
             volume: self.volume(),
+            rim_r: self.x.last().map_or(f64::NAN, |p| p[0]),
             iterations: picard.iterations,
             factorizations: picard.factorizations,
             converged: picard.converged,
