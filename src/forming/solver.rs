@@ -57,6 +57,7 @@ use super::tools::{Die, Punch, ToolId};
 use crate::conditioning;
 use crate::error::{Error, Result};
 use crate::metrics;
+use crate::stability;
 use crate::strategy::{self, Method, Solution};
 use crate::system::{Constraint, ConstraintKind, Problem};
 use serde::{Deserialize, Serialize};
@@ -67,6 +68,10 @@ use std::time::Instant;
 pub const RESIDUAL_RTOL: f64 = 0.05;
 /// ... or at most this many times per Picard iteration.
 pub const RESIDUAL_PASSES: usize = 20;
+
+fn nan() -> f64 {
+    f64::NAN
+}
 
 /// JSON writes non-finite numbers as `null`; read them back as NaN.
 fn null_as_nan<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<f64, D::Error> {
@@ -88,6 +93,22 @@ pub struct StepRecord {
     /// log10|det| of that matrix.
     #[serde(deserialize_with = "null_as_nan")]
     pub log10_det: f64,
+    /// Exact cond₂ of K alone: the step's material matrix with the rigid-mode drag, in the
+    /// same local axes and reduced numbering, without any contact term (no penalty, no
+    /// friction) — the paper's "system of equation without any contact conditions".
+    #[serde(default = "nan", deserialize_with = "null_as_nan")]
+    pub cond2_k: f64,
+    /// `log10|det(K + D E Dᵀ)| − log10|det K|` with K as in `cond2_k` (the paper's "ratio of
+    /// main determinants"; friction is part of the numerator).
+    #[serde(default = "nan", deserialize_with = "null_as_nan")]
+    pub log10_det_ratio: f64,
+    /// cond₂ of the diagonally equilibrated system matrix `S (K + D E Dᵀ) S`,
+    /// `S = diag(2^k_i) ≈ diag(A_ii^{-1/2})` (`crate::stability::equilibration`).
+    #[serde(default = "nan", deserialize_with = "null_as_nan")]
+    pub cond2_equilibrated: f64,
+    /// cond₂ of the equilibrated K alone.
+    #[serde(default = "nan", deserialize_with = "null_as_nan")]
+    pub cond2_k_equilibrated: f64,
     /// Max penetration of the last solve, in length: `max_c p_c · Δt` (in) — the quantity δ
     /// bounds.
     pub max_penetration: f64,
@@ -332,6 +353,10 @@ struct PicardOutcome {
 struct SolveTelemetry {
     cond2: f64,
     log10_det: f64,
+    cond2_k: f64,
+    log10_det_ratio: f64,
+    cond2_equilibrated: f64,
+    cond2_k_equilibrated: f64,
     max_penetration: f64,
     punch_force: f64,
     clipped: usize,
@@ -815,6 +840,10 @@ impl Simulation {
             punch_force: tel.punch_force,
             cond2: tel.cond2,
             log10_det: tel.log10_det,
+            cond2_k: tel.cond2_k,
+            log10_det_ratio: tel.log10_det_ratio,
+            cond2_equilibrated: tel.cond2_equilibrated,
+            cond2_k_equilibrated: tel.cond2_k_equilibrated,
             max_penetration: tel.max_penetration,
             geometric_penetration,
             volume: self.volume(),
@@ -1090,6 +1119,17 @@ impl Simulation {
         })
     }
 
+    /// K alone for the last solve's coefficients: material matrix and drag, rotated to the
+    /// candidates' local axes, essential BCs removed; no penalty, no friction.
+    fn k_alone(&self, s: &StepSetup, c: &Coefficients) -> Result<crate::system::Stiffness> {
+        let mut k = self.material_matrix(&c.mu);
+        for b in k.d.iter_mut() {
+            b[1][1] += c.drag;
+        }
+        k.rotate(&s.rot);
+        k.to_stiffness(&s.dofs.reduced, s.dofs.free.len())
+    }
+
     /// Step phase 3: telemetry of the last solve (cond₂, log10|det|, penetration, punch
     /// force, penalty range, μ* spread, drag force).
     fn telemetry(&self, s: &StepSetup, p: &PicardOutcome) -> Result<SolveTelemetry> {
@@ -1101,6 +1141,15 @@ impl Simulation {
         let sys = metrics::system_matrix(&p.solve.problem, &p.solve.solution);
         let cond2 = conditioning::cond2(&sys)?.cond2;
         let log10_det = conditioning::log10_abs_det(&sys)?;
+        let k_alone = self.k_alone(s, &p.coeffs)?;
+        let cond2_k = conditioning::cond2(&k_alone)?.cond2;
+        let log10_det_ratio = log10_det - conditioning::log10_abs_det(&k_alone)?;
+        let equilibrated = |a: &crate::system::Stiffness| {
+            conditioning::cond2(&stability::refine::scaled(a, &stability::equilibration(a)))
+                .map(|r| r.cond2)
+        };
+        let cond2_equilibrated = equilibrated(&sys)?;
+        let cond2_k_equilibrated = equilibrated(&k_alone)?;
         let punch_force = s.punch_force(v, &p.coeffs.friction_c, &p.normal_force);
         let sol = &p.solve.solution;
         let active: Vec<f64> = sol.penalties.iter().copied().filter(|&e| e > 0.0).collect();
@@ -1113,6 +1162,10 @@ impl Simulation {
         Ok(SolveTelemetry {
             cond2,
             log10_det,
+            cond2_k,
+            log10_det_ratio,
+            cond2_equilibrated,
+            cond2_k_equilibrated,
             max_penetration,
             punch_force,
             clipped: sol.stats.clipped,
