@@ -1,6 +1,7 @@
 //! `deep_drawing`: the paper's second example (Woo-like deep draw, forming.md defaults) with
-//! the classical penalty (ε = 1e7), the paper's Eq. 28–29 (`adaptive`, δ = 1e-5 in) and the
-//! exact `condensed` rule — the paper's Fig. 7.
+//! the classical penalty (ε = 1e7), Eq. 28 on the contact rows' residual (`adaptive`,
+//! δ = 1e-5 in), Eq. 28–29 as printed (`paper-literal`, a diagnostic) and the exact
+//! `condensed` rule — the paper's Fig. 7.
 //!
 //! ```text
 //! cargo run --release --bin deep_drawing -- --out figures/deep_drawing

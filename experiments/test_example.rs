@@ -10,7 +10,8 @@
 //! cargo run --release --bin test_example -- --render-only --out figures/test_example
 //! ```
 //!
-//! `--json` prints `cond2_classical`, `cond2_adaptive` (Eq. 28–29) and `cond2_condensed` at
+//! `--json` prints `cond2_classical`, `cond2_adaptive` (Eq. 28 on the residual) and
+//! `cond2_condensed` at
 //! the **representative step = the last step (full punch travel)**, their medians over all
 //! steps, and the per-step series of every run. Bad input exits with status 2; a run outside the
 //! model's domain with status 3 (`--allow-invalid` keeps it, marked `"valid": false`).

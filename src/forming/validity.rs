@@ -27,6 +27,11 @@ pub const MAX_UNCONVERGED_FRACTION: f64 = 0.05;
 /// Largest geometric penetration of a node into a tool, as a fraction of the thickness.
 pub const MAX_GEOMETRIC_PENETRATION: f64 = 0.5;
 
+/// `x ≤ limit`, false for NaN (a NaN value is never within a limit).
+fn at_most(x: f64, limit: f64) -> bool {
+    x.partial_cmp(&limit).is_some_and(|o| o.is_le())
+}
+
 /// The reasons why a configuration is outside the model's domain before it runs: a step
 /// longer than [`MAX_STEP_FRACTION`] of an initial element.
 pub fn check_config(cfg: &FormingConfig) -> Vec<String> {
@@ -58,7 +63,7 @@ pub fn check(name: &str, cfg: &FormingConfig, steps: &[StepRecord]) -> Vec<Strin
     let v0 = std::f64::consts::PI * cfg.blank_radius.powi(2) * cfg.thickness;
     if let Some(s) = steps
         .iter()
-        .find(|s| !((s.volume - v0).abs() <= MAX_VOLUME_DRIFT * v0))
+        .find(|s| !at_most((s.volume - v0).abs(), MAX_VOLUME_DRIFT * v0))
     {
         out.push(format!(
             "{name}: volume drift {:.2} % at step {} (limit {:.0} %)",
@@ -69,7 +74,7 @@ pub fn check(name: &str, cfg: &FormingConfig, steps: &[StepRecord]) -> Vec<Strin
     }
     if !cfg.clamped_rim {
         let flat = cfg.die.opening_radius + cfg.die.profile_radius;
-        if let Some(s) = steps.iter().find(|s| !(s.rim_r >= flat)) {
+        if let Some(s) = steps.iter().find(|s| !at_most(flat, s.rim_r)) {
             let what = if s.rim_r < cfg.die.opening_radius {
                 "drawn through the die"
             } else {
@@ -85,7 +90,7 @@ pub fn check(name: &str, cfg: &FormingConfig, steps: &[StepRecord]) -> Vec<Strin
     let pen_limit = MAX_GEOMETRIC_PENETRATION * cfg.thickness;
     if let Some(s) = steps
         .iter()
-        .find(|s| !(s.geometric_penetration <= pen_limit))
+        .find(|s| !at_most(s.geometric_penetration, pen_limit))
     {
         out.push(format!(
             "{name}: a node went through a tool at step {} (geometric penetration {:.3e} in > \
