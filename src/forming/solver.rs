@@ -131,7 +131,8 @@ pub struct StepRecord {
     pub contact_nodes: usize,
     /// Contact candidates of the step (nodes close enough to a tool).
     pub candidates: usize,
-    /// Constraints whose penalty came out negative and was clipped to 0 (paper Eq. 28).
+    /// Constraints whose Eq. 28 penalty came out ≤ 0: clipped to 0 and released
+    /// (`paper-literal`), or floored at K_dd and corrected to δ (`paper-residual`).
     pub clipped: usize,
     /// Largest and smallest penalty ε_c among the active constraints (ton-force·s/in).
     pub max_penalty: f64,
