@@ -95,6 +95,17 @@ fn assert_refinement_changes_every_rule_by_under_3_percent(fine: &SavedRuns, wha
         let rel = (f1 - f0).abs() / f0.abs();
         assert!(rel < 0.03, "{name}, {what}: {f0} → {f1} ({rel:.4})");
     }
+    // The adaptive run keeps its targets on the refined discretization too.
+    assert!(fine.valid, "{what}: {:?}", fine.invalid_reasons);
+    let a = &fine.runs["adaptive"].steps;
+    let converged = a.iter().filter(|s| s.converged).count();
+    assert!(
+        converged * 100 >= 95 * a.len(),
+        "{what}: {converged}/{}",
+        a.len()
+    );
+    let pen = a.iter().map(|s| s.max_penetration).fold(0.0, f64::max);
+    assert!(pen <= 3.0 * DELTA, "{what}: max penetration {pen:.3e}");
 }
 
 #[test]
