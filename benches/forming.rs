@@ -19,7 +19,11 @@ fn bench_step(c: &mut Criterion) {
         .measurement_time(Duration::from_secs(2));
     let rules = [
         ("classical", ContactRule::Classical { eps: 1e7 }),
-        ("adaptive_eq28", ContactRule::Paper { delta: 1e-5 }),
+        (
+            "adaptive_residual",
+            ContactRule::PaperResidual { delta: 1e-5 },
+        ),
+        ("paper_literal", ContactRule::PaperLiteral { delta: 1e-5 }),
         ("condensed", ContactRule::Condensed { delta: 1e-5 }),
     ];
     for (name, rule) in rules {

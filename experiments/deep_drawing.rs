@@ -1,6 +1,7 @@
 //! `deep_drawing`: the paper's second example (Woo-like deep draw, forming.md defaults) with
-//! the classical penalty (ε = 1e7), the paper's Eq. 28–29 (`adaptive`, δ = 1e-5 in) and the
-//! exact `condensed` rule — the paper's Fig. 7.
+//! the classical penalty (ε = 1e7), Eq. 28 on the contact rows' residual (`adaptive`,
+//! δ = 1e-5 in), Eq. 28–29 as printed (`paper-literal`, a diagnostic) and the exact
+//! `condensed` rule — the paper's Fig. 7.
 //!
 //! ```text
 //! cargo run --release --bin deep_drawing -- --out figures/deep_drawing
@@ -10,7 +11,8 @@
 //!
 //! `--out DIR` writes `deep_drawing.json` (provenance, config, every step and snapshot),
 //! `steps_<run>.csv` and the figures (rendered from the saved JSON). Bad input exits with
-//! status 2 and one line on stderr.
+//! status 2 and one line on stderr; a run outside the model's domain with status 3 (see
+//! `--help`; `--allow-invalid` keeps it, marked `"valid": false`).
 
 use clap::Parser;
 use penalty_lab::forming::experiment::{self, Cli, Experiment};
@@ -23,8 +25,10 @@ use std::process::ExitCode;
     name = "deep_drawing",
     version = penalty_lab::provenance::VERSION,
     about = "Woo-like hemispherical-punch deep draw: classical vs adaptive penalty (paper Fig. 7)",
-    after_help = "Default travel 1.0 in. Units: inch, ton-force, second. Exit status: 0 ok, 2 bad \
-                  input or failed run."
+    after_help = format!(
+        "Default travel 1.0 in. Units: inch, ton-force, second. {}",
+        experiment::EXIT_STATUSES
+    )
 )]
 struct Args {
     #[command(flatten)]

@@ -10,9 +10,11 @@
 //! cargo run --release --bin test_example -- --render-only --out figures/test_example
 //! ```
 //!
-//! `--json` prints `cond2_classical`, `cond2_adaptive` (Eq. 28–29) and `cond2_condensed` at
+//! `--json` prints `cond2_classical`, `cond2_adaptive` (Eq. 28 on the residual) and
+//! `cond2_condensed` at
 //! the **representative step = the last step (full punch travel)**, their medians over all
-//! steps, and the per-step series of every run. Bad input exits with status 2.
+//! steps, and the per-step series of every run. Bad input exits with status 2; a run outside the
+//! model's domain with status 3 (`--allow-invalid` keeps it, marked `"valid": false`).
 
 use clap::Parser;
 use penalty_lab::forming::experiment::{self, Cli, Experiment};
@@ -25,8 +27,10 @@ use std::process::ExitCode;
     name = "test_example",
     version = penalty_lab::provenance::VERSION,
     about = "Clamped hemispherical-punch stretching (paper's first example): classical vs adaptive penalty",
-    after_help = "Default travel 0.8 in. Units: inch, ton-force, second. Exit status: 0 ok, 2 bad \
-                  input or failed run."
+    after_help = format!(
+        "Default travel 0.8 in. Units: inch, ton-force, second. {}",
+        experiment::EXIT_STATUSES
+    )
 )]
 struct Args {
     #[command(flatten)]
@@ -66,6 +70,8 @@ fn run(a: &Args) -> Result<(), Error> {
             "median_cond2_adaptive": median("adaptive"),
             "median_cond2_condensed": median("condensed"),
             "paper": {"cond2_classical": 2.705008e5, "cond2_adaptive": 3.721074e2},
+            "valid": doc.valid,
+            "invalid_reasons": doc.invalid_reasons,
             "runs": doc.runs,
             "provenance": doc.provenance,
         });

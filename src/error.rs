@@ -1,5 +1,5 @@
 //! One error type for the library. Binaries map every variant to exit status 2 with the
-//! message on one line of stderr.
+//! message on one line of stderr, except [`Error::OutsideModel`] (exit status 3).
 
 use thiserror::Error as ThisError;
 
@@ -25,6 +25,10 @@ pub enum Error {
     /// A numerical routine failed (e.g. an eigenvalue iteration did not converge).
     #[error("numerical failure: {0}")]
     Numerical(String),
+    /// A simulation ran but left the domain of its model (e.g. a forming run whose blank was
+    /// drawn off the holder); the message lists the reasons. Exit status 3.
+    #[error("run outside the model: {0}")]
+    OutsideModel(String),
 }
 
 impl Error {
@@ -49,7 +53,7 @@ impl Error {
 pub type Result<T> = std::result::Result<T, Error>;
 
 /// The `main` of every binary: runs `f`; an error becomes its message on one line of stderr
-/// and exit status 2, a panic (a bug, never expected) one line asking for a report and exit
+/// and exit status 2 (3 for [`Error::OutsideModel`]), a panic (a bug, never expected) one line asking for a report and exit
 /// status 2 — never a backtrace or a half-written line.
 pub fn run_main(f: impl FnOnce() -> Result<()> + std::panic::UnwindSafe) -> std::process::ExitCode {
     std::panic::set_hook(Box::new(|_| {}));
@@ -57,7 +61,12 @@ pub fn run_main(f: impl FnOnce() -> Result<()> + std::panic::UnwindSafe) -> std:
         Ok(Ok(())) => std::process::ExitCode::SUCCESS,
         Ok(Err(e)) => {
             eprintln!("error: {e}");
-            std::process::ExitCode::from(2)
+            let status = if matches!(e, Error::OutsideModel(_)) {
+                3
+            } else {
+                2
+            };
+            std::process::ExitCode::from(status)
         }
         Err(p) => {
             let msg = p

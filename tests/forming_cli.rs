@@ -112,3 +112,52 @@ fn json_shapes_and_out_files() {
     assert_eq!(v["cond2_adaptive"], last("adaptive"));
     assert!(v["cond2_classical"].as_f64().unwrap() > 0.0);
 }
+
+#[test]
+fn runs_outside_the_model_exit_3_with_one_line_and_allow_invalid_keeps_them_marked() {
+    // --travel 100 pushes the punch 100 in through a 2.2 in blank (issue 11).
+    for bin in [DD, TE] {
+        let o = run(bin, &["--travel", "100", "--json"]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(3), "{bin}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{bin}: {err}");
+        assert!(err.contains("outside the model"), "{bin}: {err}");
+        assert!(o.stdout.is_empty(), "{bin}: printed a result");
+        let o = run(bin, &["--travel", "100", "--json", "--allow-invalid"]);
+        assert_eq!(o.status.code(), Some(0), "{bin}");
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(v["valid"], false, "{bin}");
+        let reasons = v["invalid_reasons"].as_array().unwrap();
+        assert!(
+            reasons
+                .iter()
+                .any(|r| r.as_str().unwrap().contains("longer than")),
+            "{bin}: {reasons:?}"
+        );
+    }
+    let o = run(DD, &["--help"]);
+    let help = String::from_utf8_lossy(&o.stdout);
+    assert!(help.contains("3 the run left") && help.contains("--allow-invalid"));
+}
+
+#[test]
+fn the_default_run_is_valid_and_a_small_blank_is_drawn_off_the_holder() {
+    let o = run(DD, &["--json"]);
+    assert_eq!(o.status.code(), Some(0));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["valid"], true, "{:?}", v["invalid_reasons"]);
+    // A 1.4 in blank on a die whose flat starts at 1.313 in: the rim is drawn off the flat
+    // (under the holder) around 0.6 in of travel.
+    let dir = std::env::temp_dir().join(format!("pl_forming_flange_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let toml = dir.join("small_blank.toml");
+    std::fs::write(&toml, "[forming]\nblank_radius = 1.4\n").unwrap();
+    let toml = toml.to_str().unwrap();
+    let o = run(DD, &["--config", toml, "--json"]);
+    assert_eq!(o.status.code(), Some(3));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("drawn off the holder"));
+    let o = run(DD, &["--config", toml, "--json", "--allow-invalid"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["valid"], false);
+    assert_eq!(v["runs"]["adaptive"]["valid"], false);
+}

@@ -113,13 +113,13 @@ fn condensed_penetration_is_at_most_delta_at_converged_steps() {
 }
 
 #[test]
-fn paper_eq28_exceeds_delta_on_the_draw_and_says_so() {
+fn literal_eq28_exceeds_delta_on_the_draw_and_says_so() {
     // What is true for the literal Eq. 28 (forming.md warns about it): the penetration is not
     // bounded by δ — at stationary-tool nodes ε comes out ≤ 0 and is clipped (reported per step
     // in `clipped`), and Eq. 28 ignores the coupling of the contact DOFs. Documented in
     // figures/deep_drawing/README.md; if this test starts failing, update that README.
-    let run = &default_runs().runs["adaptive"];
-    assert_eq!(run.rule, ContactRule::Paper { delta: DELTA });
+    let run = &default_runs().runs["paper-literal"];
+    assert_eq!(run.rule, ContactRule::PaperLiteral { delta: DELTA });
     let worst = run
         .steps
         .iter()

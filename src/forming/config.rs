@@ -47,8 +47,11 @@ pub struct Picard {
     /// `aitken` this is the first ω of the step.
     pub relaxation: f64,
     /// Aitken's dynamic relaxation (Irons–Tuck): ω updated from the last two residuals
-    /// `r = v_new − v_old`, clamped to [0.05, 2].
+    /// `r = v_new − v_old`, clamped to [0.05, 2]. Used only when `anderson = 0`.
     pub aitken: bool,
+    /// Anderson acceleration depth m (`super::acceleration`); 0 = relaxed (Aitken) Picard.
+    /// The history restarts whenever the contact set changes.
+    pub anderson: usize,
 }
 
 impl Default for Picard {
@@ -58,6 +61,7 @@ impl Default for Picard {
             max_iterations: 40,
             relaxation: 0.7,
             aitken: true,
+            anderson: 3,
         }
     }
 }
@@ -315,18 +319,33 @@ impl FormingConfig {
     }
 }
 
-/// The contact rule: the classical constant penalty, the paper's Eq. 28–29, or the exact
-/// δ-targeting `condensed` rule. δ is a length (in); the solver uses δ/Δt in velocity units.
+/// The contact rule: the classical constant penalty, the paper's Eq. 28–29 in two readings, or
+/// the exact δ-targeting `condensed` rule. δ is a length (in); the solver uses δ/Δt in
+/// velocity units.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(tag = "rule", rename_all = "lowercase")]
+#[serde(tag = "rule", rename_all = "kebab-case")]
 pub enum ContactRule {
     /// One ε (ton-force·s/in) for every active contact DOF (Eq. 9).
     Classical {
         /// ε.
         eps: f64,
     },
-    /// Eq. 28–29 per contact DOF and per Picard iteration.
-    Paper {
+    /// Eq. 28–29 literally, per contact DOF and per Picard iteration: the force estimate is
+    /// `|K̄û − q̄|` with every unconstrained velocity taken as zero. On a stationary tool
+    /// (û = 0) with no load of its own (q̄ = 0) it gives `ε = −(K̄δ1)/δ < 0`: the node is
+    /// clipped and released while it penetrates (the issue-11 failure; kept for comparison).
+    #[serde(alias = "paper")]
+    PaperLiteral {
+        /// Allowed penetration δ (in).
+        delta: f64,
+    },
+    /// Eq. 28–29 on the contact rows' current residual: the force estimate is
+    /// `|(K ũ − q)_c|`, `ũ` = the current Picard iterate with the contact DOFs at û
+    /// (`crate::strategy::paper::eq28_at`), so a node on a stationary tool gets the force it
+    /// carries. Reduces to the literal reading when the iterate is zero; at a converged
+    /// Picard step every compressive contact ends at penetration δ. The default `adaptive`
+    /// run.
+    PaperResidual {
         /// Allowed penetration δ (in).
         delta: f64,
     },
@@ -338,11 +357,12 @@ pub enum ContactRule {
 }
 
 impl ContactRule {
-    /// Short name: `classical`, `paper`, `condensed`.
+    /// Short name: `classical`, `paper-literal`, `paper-residual`, `condensed`.
     pub fn name(&self) -> &'static str {
         match self {
             ContactRule::Classical { .. } => "classical",
-            ContactRule::Paper { .. } => "paper",
+            ContactRule::PaperLiteral { .. } => "paper-literal",
+            ContactRule::PaperResidual { .. } => "paper-residual",
             ContactRule::Condensed { .. } => "condensed",
         }
     }
@@ -351,7 +371,9 @@ impl ContactRule {
     pub fn delta(&self) -> Option<f64> {
         match *self {
             ContactRule::Classical { .. } => None,
-            ContactRule::Paper { delta } | ContactRule::Condensed { delta } => Some(delta),
+            ContactRule::PaperLiteral { delta }
+            | ContactRule::PaperResidual { delta }
+            | ContactRule::Condensed { delta } => Some(delta),
         }
     }
 
@@ -359,7 +381,7 @@ impl ContactRule {
     pub fn validate(&self) -> Result<()> {
         let (what, v) = match *self {
             ContactRule::Classical { eps } => ("penalty ε", eps),
-            ContactRule::Paper { delta } | ContactRule::Condensed { delta } => ("δ", delta),
+            _ => ("δ", self.delta().unwrap_or(f64::NAN)),
         };
         if v.is_finite() && v > 0.0 {
             Ok(())

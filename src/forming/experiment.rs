@@ -27,6 +27,9 @@ pub struct ExperimentConfig {
     /// Also run the exact `condensed` rule.
     #[serde(default = "yes")]
     pub condensed: bool,
+    /// Also run the literal reading of Eq. 28 (`paper-literal`).
+    #[serde(default = "yes")]
+    pub paper_literal: bool,
     /// The forming configuration.
     pub forming: FormingConfig,
 }
@@ -42,6 +45,7 @@ impl ExperimentConfig {
             penalty: 1e7,
             delta: 1e-5,
             condensed: true,
+            paper_literal: true,
             forming,
         }
     }
@@ -87,11 +91,13 @@ impl ExperimentConfig {
     /// Checks ε, δ and the forming configuration.
     pub fn validate(&self) -> Result<()> {
         ContactRule::Classical { eps: self.penalty }.validate()?;
-        ContactRule::Paper { delta: self.delta }.validate()?;
+        ContactRule::Condensed { delta: self.delta }.validate()?;
         self.forming.validate()
     }
 
-    /// The runs: `classical`, `adaptive` (Eq. 28–29) and, if enabled, `condensed`.
+    /// The runs: `classical`, `adaptive` (Eq. 28–29 on the current residual,
+    /// [`ContactRule::PaperResidual`]) and, if enabled, `paper-literal`
+    /// ([`ContactRule::PaperLiteral`]) and `condensed`.
     pub fn rules(&self) -> Vec<(String, ContactRule)> {
         let mut v = vec![
             (
@@ -100,9 +106,15 @@ impl ExperimentConfig {
             ),
             (
                 "adaptive".to_string(),
-                ContactRule::Paper { delta: self.delta },
+                ContactRule::PaperResidual { delta: self.delta },
             ),
         ];
+        if self.paper_literal {
+            v.push((
+                "paper-literal".to_string(),
+                ContactRule::PaperLiteral { delta: self.delta },
+            ));
+        }
         if self.condensed {
             v.push((
                 "condensed".to_string(),
@@ -187,10 +199,23 @@ pub struct Cli {
     /// Allowed penetration δ in inches for the adaptive runs (default 1e-5).
     #[arg(long, allow_negative_numbers = true)]
     pub delta: Option<f64>,
-    /// TOML file: `penalty`, `delta`, `condensed`, and a `[forming]` table; flags override it.
+    /// TOML file: `penalty`, `delta`, `condensed`, `paper_literal`, and a `[forming]` table;
+    /// flags override it.
     #[arg(long, value_name = "FILE.toml")]
     pub config: Option<PathBuf>,
+    /// Complete (status 0) a run that left the model's domain, with `"valid": false` and the
+    /// reasons in the JSON, the CSV files and the figure titles (without it: status 3).
+    #[arg(long)]
+    pub allow_invalid: bool,
 }
+
+/// The exit statuses of the experiment binaries, for their `--help`.
+pub const EXIT_STATUSES: &str = "Exit status: 0 ok; 2 bad input or a failed run; 3 the run left \
+     the model's domain (blank drawn off the holder or through the die, a node through a tool, \
+     volume drift > 1 %, a step longer than half an element, Picard unconverged in > 5 % of the \
+     steps; the paper-literal run is a diagnostic whose own validity is reported per run): one \
+     line on stderr names the reasons, and nothing is written; --allow-invalid completes such \
+     a run with \"valid\": false.";
 
 /// What an experiment binary passes besides its flags.
 #[derive(Clone, Copy, Debug)]
@@ -238,7 +263,13 @@ impl Cli {
         }
         let cfg = self.config((exp.preset)())?;
         let command = std::env::args().collect::<Vec<_>>().join(" ");
-        let doc = run(exp.name, &cfg, &command)?;
+        let doc = run_with(exp.name, &cfg, &command, self.allow_invalid)?;
+        if !doc.valid && !self.allow_invalid {
+            return Err(Error::OutsideModel(format!(
+                "{} (rerun with --allow-invalid to keep the outputs)",
+                doc.invalid_reasons.join("; ")
+            )));
+        }
         if let Some(dir) = &self.out {
             let json = super::report::save(dir, exp.name, &doc)?;
             let saved = super::report::load(&json)?;
@@ -248,26 +279,36 @@ impl Cli {
     }
 }
 
-/// One line per run: steps, converged steps, median cond₂, final punch force, mean Picard
-/// iterations, max penetration, clipped penalties, seconds.
+/// One line per run: steps, Picard-converged steps, the largest final change of a step that
+/// stopped at the cap (`-` if none did), median cond₂, final punch force, mean Picard
+/// iterations, max penetration, clipped (Eq. 28 literal) or floored (Eq. 28 at the residual)
+/// penalties, seconds, validity; then one line per reason of an invalid run.
 pub fn summary_table(doc: &SavedRuns) -> String {
     let mut out = format!(
-        "{:<10} {:>6} {:>9} {:>12} {:>12} {:>10} {:>12} {:>8} {:>7}\n",
+        "{:<13} {:>5} {:>9} {:>10} {:>11} {:>11} {:>9} {:>12} {:>7} {:>6} {:>6}\n",
         "run",
         "steps",
         "converged",
+        "cap change",
         "median cond",
         "final force",
         "mean iter",
         "max pen (in)",
         "clipped",
-        "sec"
+        "sec",
+        "valid"
     );
     for (name, r) in &doc.runs {
         let mut c: Vec<f64> = r.steps.iter().map(|s| s.cond2).collect();
         c.sort_by(f64::total_cmp);
         let med = c.get(c.len() / 2).copied().unwrap_or(f64::NAN);
         let conv = r.steps.iter().filter(|s| s.converged).count();
+        let capped = r
+            .steps
+            .iter()
+            .filter(|s| !s.converged)
+            .map(|s| s.picard_change)
+            .fold(None, |a: Option<f64>, x| Some(a.map_or(x, |a| a.max(x))));
         let it: f64 =
             r.steps.iter().map(|s| s.iterations as f64).sum::<f64>() / r.steps.len().max(1) as f64;
         let pen = r
@@ -278,42 +319,93 @@ pub fn summary_table(doc: &SavedRuns) -> String {
         let clip: usize = r.steps.iter().map(|s| s.clipped).sum();
         let f = r.steps.last().map_or(f64::NAN, |s| s.punch_force);
         out.push_str(&format!(
-            "{name:<10} {:>6} {:>9} {:>12.3e} {:>12.4} {:>10.1} {:>12.2e} {:>8} {:>7.2}\n",
+            "{name:<13} {:>5} {:>9} {:>10} {:>11.3e} {:>11.4} {:>9.1} {:>12.2e} {:>7} {:>6.2} {:>6}\n",
             r.steps.len(),
             conv,
+            capped.map_or("-".to_string(), |x| format!("{x:.2e}")),
             med,
             f,
             it,
             pen,
             clip,
-            r.seconds
+            r.seconds,
+            if r.valid { "yes" } else { "NO" }
         ));
+    }
+    for r in doc.runs.values() {
+        for reason in &r.invalid_reasons {
+            out.push_str(&format!("invalid: {reason}\n"));
+        }
     }
     out
 }
 
-/// Runs every rule of `cfg` (in parallel) and assembles the saved document.
+/// Runs every rule of `cfg` (in parallel) and assembles the saved document, with the
+/// validity guards ([`super::validity`]) applied per run and to the document (every run but
+/// the diagnostic `paper-literal` one, see [`diagnostic_only`]). A run that fails numerically keeps the steps
+/// it did: the failure is one of the document's invalid reasons if the configuration or the
+/// steps done already left the model's domain (or the caller allows invalid runs,
+/// `keep_failed`), and an error (exit status 2) otherwise.
 pub fn run(experiment: &str, cfg: &ExperimentConfig, command: &str) -> Result<SavedRuns> {
+    run_with(experiment, cfg, command, false)
+}
+
+/// Is a run of this rule a diagnostic only (its validity is reported per run and does not
+/// decide the document's)? The literal reading of Eq. 28 is kept to show how it fails
+/// (issue 11): its Picard loop stalls in most steps of the draw by design of the comparison.
+pub fn diagnostic_only(rule: &ContactRule) -> bool {
+    matches!(rule, ContactRule::PaperLiteral { .. })
+}
+
+/// [`run`], keeping the runs that failed numerically as invalid when `keep_failed`.
+pub fn run_with(
+    experiment: &str,
+    cfg: &ExperimentConfig,
+    command: &str,
+    keep_failed: bool,
+) -> Result<SavedRuns> {
     cfg.validate()?;
     let t0 = Instant::now();
     let rules = cfg.rules();
-    let results: Vec<Result<(String, SavedRun)>> = {
+    let results: Vec<Result<(String, SavedRun, Option<Error>)>> = {
         use rayon::prelude::*;
         rules
             .par_iter()
             .map(|(name, rule)| {
-                let r = Simulation::run(&cfg.forming, *rule).map_err(|e| match e {
-                    Error::Input(m) => Error::Input(m),
-                    e => Error::Numerical(format!("{name} run: {e}")),
-                })?;
-                Ok((name.clone(), SavedRun::from(&r)))
+                let (r, failure) = Simulation::run_until_failure(&cfg.forming, *rule)?;
+                Ok((name.clone(), SavedRun::from(&r), failure))
             })
             .collect()
     };
     let mut runs = BTreeMap::new();
+    let mut reasons = super::validity::check_config(&cfg.forming);
+    let mut failures = Vec::new();
     for r in results {
-        let (k, v) = r?;
-        runs.insert(k, v);
+        let (name, mut run, failure) = r?;
+        let mut own = super::validity::check(&name, &cfg.forming, &run.steps);
+        if let Some(e) = failure {
+            let step = run.steps.len() + 1;
+            let e = Error::Numerical(format!("{name} run, step {step}: {e}"));
+            own.push(e.to_string());
+            if !diagnostic_only(&run.rule) {
+                failures.push(e);
+            }
+        }
+        if !diagnostic_only(&run.rule) {
+            reasons.extend(own.iter().cloned());
+        }
+        run.valid = own.is_empty();
+        run.invalid_reasons = own;
+        runs.insert(name, run);
+    }
+    // Numerical failures are already among the reasons (per run); they decide between an
+    // invalid document and a failed run.
+    reasons.retain(|r| !r.starts_with("numerical failure"));
+    if let Some(first) = failures.first() {
+        if reasons.is_empty() && !keep_failed {
+            return Err(Error::Numerical(first.to_string()));
+        }
+        reasons.extend(failures.iter().map(|e| e.to_string()));
     }
     let wall = t0.elapsed().as_secs_f64();
     let cpu: BTreeMap<String, f64> = runs.iter().map(|(k, v)| (k.clone(), v.seconds)).collect();
@@ -332,5 +424,7 @@ pub fn run(experiment: &str, cfg: &ExperimentConfig, command: &str) -> Result<Sa
         provenance,
         config: cfg.forming.clone(),
         runs,
+        valid: reasons.is_empty(),
+        invalid_reasons: reasons,
     })
 }

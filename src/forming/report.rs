@@ -1,5 +1,6 @@
 //! Outputs of forming runs: step tables (CSV), the JSON document, and the figures — the
-//! paper's Fig. 7 (cond₂ of the system matrix per step, log scale), punch force vs travel,
+//! paper's Fig. 7 (four panels: cond₂ of the system matrix and of K alone per step, the
+//! ratio to classical, the determinant ratio, the equilibrated cond₂), punch force vs travel,
 //! thickness strain ln(t/t₀) vs initial radius at several depths, deformed profiles with the
 //! tools. Figures are rendered from the saved JSON ([`SavedRuns`]), never from live state.
 
@@ -29,6 +30,12 @@ pub struct SavedRun {
     pub snapshots: Vec<Snapshot>,
     /// Wall time (s).
     pub seconds: f64,
+    /// This run stayed inside the model's domain ([`super::validity`]).
+    #[serde(default = "valid_default")]
+    pub valid: bool,
+    /// Why not (empty when valid).
+    #[serde(default)]
+    pub invalid_reasons: Vec<String>,
 }
 
 impl From<&RunResult> for SavedRun {
@@ -43,6 +50,8 @@ impl From<&RunResult> for SavedRun {
             steps: r.steps.clone(),
             snapshots: r.snapshots.clone(),
             seconds: r.seconds,
+            valid: true,
+            invalid_reasons: Vec::new(),
         }
     }
 }
@@ -56,22 +65,44 @@ pub struct SavedRuns {
     pub provenance: serde_json::Value,
     /// The configuration shared by the runs.
     pub config: FormingConfig,
-    /// Runs by name (`classical`, `adaptive`, `condensed`).
+    /// Runs by name (`classical`, `adaptive`, `paper-literal`, `condensed`).
     pub runs: BTreeMap<String, SavedRun>,
+    /// Every run stayed inside the model's domain ([`super::validity`]).
+    #[serde(default = "valid_default")]
+    pub valid: bool,
+    /// Why not (empty when valid).
+    #[serde(default)]
+    pub invalid_reasons: Vec<String>,
 }
 
-/// Writes one run's step table as CSV.
-pub fn write_steps_csv(path: &Path, steps: &[StepRecord]) -> Result<()> {
-    let mut w = csv::Writer::from_path(path).map_err(|e| Error::io(path.display(), e))?;
+fn valid_default() -> bool {
+    true
+}
+
+/// Writes one run's step table as CSV; a run outside the model's domain (`invalid` = its
+/// reasons, non-empty) gets a first comment line `# valid: false; <reasons>`.
+pub fn write_steps_csv(path: &Path, steps: &[StepRecord], invalid: &[String]) -> Result<()> {
+    let mut file = std::fs::File::create(path).map_err(|e| Error::io(path.display(), e))?;
+    if !invalid.is_empty() {
+        use std::io::Write;
+        writeln!(file, "# valid: false; {}", invalid.join("; "))
+            .map_err(|e| Error::io(path.display(), e))?;
+    }
+    let mut w = csv::Writer::from_writer(file);
     w.write_record([
         "step",
         "punch_travel",
         "punch_force",
         "cond2",
         "log10_det",
+        "cond2_k",
+        "log10_det_ratio",
+        "cond2_equilibrated",
+        "cond2_k_equilibrated",
         "max_penetration",
         "geometric_penetration",
         "volume",
+        "rim_r",
         "iterations",
         "converged",
         "picard_change",
@@ -92,9 +123,14 @@ pub fn write_steps_csv(path: &Path, steps: &[StepRecord]) -> Result<()> {
             s.punch_force.to_string(),
             s.cond2.to_string(),
             s.log10_det.to_string(),
+            s.cond2_k.to_string(),
+            s.log10_det_ratio.to_string(),
+            s.cond2_equilibrated.to_string(),
+            s.cond2_k_equilibrated.to_string(),
             s.max_penetration.to_string(),
             s.geometric_penetration.to_string(),
             s.volume.to_string(),
+            s.rim_r.to_string(),
             s.iterations.to_string(),
             s.converged.to_string(),
             s.picard_change.to_string(),
@@ -120,7 +156,15 @@ pub fn save(dir: &Path, stem: &str, doc: &SavedRuns) -> Result<PathBuf> {
         .map_err(|e| Error::Numerical(format!("cannot serialize results: {e}")))?;
     std::fs::write(&json, text).map_err(|e| Error::io(json.display(), e))?;
     for (name, run) in &doc.runs {
-        write_steps_csv(&dir.join(format!("steps_{name}.csv")), &run.steps)?;
+        let mut reasons = doc.invalid_reasons.clone();
+        reasons.extend(
+            run.invalid_reasons
+                .iter()
+                .filter(|r| !reasons.contains(r))
+                .cloned()
+                .collect::<Vec<_>>(),
+        );
+        write_steps_csv(&dir.join(format!("steps_{name}.csv")), &run.steps, &reasons)?;
     }
     Ok(json)
 }
@@ -132,9 +176,23 @@ pub fn load(json: &Path) -> Result<SavedRuns> {
 }
 
 fn label(name: &str, run: &SavedRun) -> String {
+    let text = rule_label(name, run);
+    if run.valid {
+        text
+    } else {
+        format!("{text} [INVALID run]")
+    }
+}
+
+fn rule_label(name: &str, run: &SavedRun) -> String {
     match run.rule {
         ContactRule::Classical { eps } => format!("{name}: constant ε = {eps:.0e}"),
-        ContactRule::Paper { delta } => format!("{name}: Eq. 28–29, δ = {delta:.0e} in"),
+        ContactRule::PaperResidual { delta } => {
+            format!("{name}: Eq. 28 on the residual, δ = {delta:.0e} in")
+        }
+        ContactRule::PaperLiteral { delta } => {
+            format!("{name}: Eq. 28 literal, δ = {delta:.0e} in")
+        }
         ContactRule::Condensed { delta } => {
             format!("{name}: exact δ-targeting, δ = {delta:.0e} in")
         }
@@ -151,29 +209,20 @@ pub fn render_figures(
     cond_stem: &str,
 ) -> Result<Vec<PathBuf>> {
     let mut files = Vec::new();
+    let marked = invalid_title(doc, title);
+    let title = marked.as_str();
     let fig7 = if cond_stem.starts_with("fig7") {
         " (paper Fig. 7)"
     } else {
         ""
     };
-    let mut f7 = Figure::new(
-        format!("{title}: condition number of the main system per step{fig7}"),
-        "time step",
-        "cond₂(K + D E Dᵀ)",
-    )
-    .scales(Scale::Linear, Scale::Log10);
-    for (name, run) in &doc.runs {
-        f7 = f7.with_series(
-            Series::new(
-                label(name, run),
-                run.steps.iter().map(|s| s.step as f64).collect(),
-                run.steps.iter().map(|s| s.cond2).collect(),
-                Mark::Line,
-            )
-            .color(method_color(name)),
-        );
-    }
-    files.extend(render(&f7, &dir.join(cond_stem))?);
+    let panels = condition_panels(doc, title, fig7);
+    files.extend(render_panels(
+        &panels,
+        2,
+        &dir.join(cond_stem),
+        (1400, 1040),
+    )?);
     // Punch force vs travel.
     let mut ff = Figure::new(
         format!("{title}: punch force"),
@@ -203,11 +252,12 @@ pub fn render_figures(
         .runs
         .iter()
         .map(|(name, run)| {
-            let mut f = Figure::new(
-                label(name, run),
-                "initial radius (in)",
-                "thickness strain ln(t/t₀)",
-            );
+            let panel = if doc.valid {
+                label(name, run)
+            } else {
+                format!("INVALID {}", label(name, run))
+            };
+            let mut f = Figure::new(panel, "initial radius (in)", "thickness strain ln(t/t₀)");
             for (k, s) in run.snapshots.iter().enumerate() {
                 f = f.with_series(
                     Series::new(
@@ -244,6 +294,104 @@ pub fn render_figures(
         )?);
     }
     Ok(files)
+}
+
+/// `(step, y)` of one run's steps.
+fn per_step(run: &SavedRun, y: impl Fn(&StepRecord) -> f64) -> (Vec<f64>, Vec<f64>) {
+    (
+        run.steps.iter().map(|s| s.step as f64).collect(),
+        run.steps.iter().map(y).collect(),
+    )
+}
+
+/// The four panels of the condition figure (paper Fig. 7 and its claims): (a) cond₂ of the
+/// main system of every run and of K alone (no contact terms); (b) cond₂(classical) /
+/// cond₂(run) per step; (c) log10 |K + D E Dᵀ| / |K|; (d) cond₂ after diagonal
+/// equilibration (the scaling hypothesis for our absolute levels).
+fn condition_panels(doc: &SavedRuns, title: &str, fig7: &str) -> Vec<Figure> {
+    let mut a = Figure::new(
+        format!("{title}: (a) cond₂ of the main system per step{fig7}"),
+        "time step",
+        "cond₂",
+    )
+    .scales(Scale::Linear, Scale::Log10);
+    let mut b = Figure::new(
+        "(b) cond₂(classical) / cond₂(run): > 1 = better than classical",
+        "time step",
+        "ratio",
+    )
+    .scales(Scale::Linear, Scale::Log10)
+    .hline(1.0, "1")
+    .hline(100.0, "100");
+    let mut c = Figure::new(
+        "(c) determinant ratio log10 |K + D E Dᵀ| / |K|",
+        "time step",
+        "log10 det ratio",
+    );
+    let mut d = Figure::new(
+        "(d) cond₂ after diagonal equilibration S A S, S ≈ diag(A)^(-1/2)",
+        "time step",
+        "cond₂ (equilibrated)",
+    )
+    .scales(Scale::Linear, Scale::Log10);
+    let classical = doc.runs.get("classical");
+    for (name, run) in &doc.runs {
+        let col = method_color(name);
+        let (x, y) = per_step(run, |s| s.cond2);
+        a = a.with_series(Series::new(label(name, run), x, y, Mark::Line).color(col));
+        if let (Some(cl), false) = (classical, name == "classical") {
+            let ratio = cl
+                .steps
+                .iter()
+                .zip(&run.steps)
+                .map(|(c, r)| c.cond2 / r.cond2);
+            let x = run.steps.iter().map(|s| s.step as f64).collect();
+            b = b.with_series(Series::new(name.clone(), x, ratio.collect(), Mark::Line).color(col));
+        }
+        let (x, y) = per_step(run, |s| s.log10_det_ratio);
+        c = c.with_series(Series::new(name.clone(), x, y, Mark::Line).color(col));
+        let (x, y) = per_step(run, |s| s.cond2_equilibrated);
+        d = d.with_series(Series::new(name.clone(), x, y, Mark::Line).color(col));
+    }
+    // K alone of one run (its μ* field; the runs' K alone agree to a few per cent).
+    if let Some((name, run)) = doc
+        .runs
+        .get_key_value("adaptive")
+        .or_else(|| doc.runs.iter().next())
+    {
+        let k = method_color("K alone");
+        let (x, y) = per_step(run, |s| s.cond2_k);
+        a = a.with_series(
+            Series::new(
+                format!("K alone, no contact terms ({name} run)"),
+                x,
+                y,
+                Mark::Dashed,
+            )
+            .color(k),
+        );
+        let (x, y) = per_step(run, |s| s.cond2_k_equilibrated);
+        d = d
+            .with_series(Series::new(format!("K alone ({name} run)"), x, y, Mark::Dashed).color(k));
+    }
+    vec![a, b, c, d]
+}
+
+/// The figure title prefix: `title`, or for a run outside the model's domain
+/// `INVALID (<first reason>[, +k more]) <title>`.
+fn invalid_title(doc: &SavedRuns, title: &str) -> String {
+    match doc.invalid_reasons.split_first() {
+        None if doc.valid => title.to_string(),
+        None => format!("INVALID {title}"),
+        Some((first, rest)) => {
+            let more = if rest.is_empty() {
+                String::new()
+            } else {
+                format!(", +{} more", rest.len())
+            };
+            format!("INVALID ({first}{more}) {title}")
+        }
+    }
 }
 
 fn profiles_figure(cfg: &FormingConfig, name: &str, run: &SavedRun, title: &str) -> Figure {

@@ -19,8 +19,13 @@
 //!    [`crate::strategy::solve`]: `constant {ε}`, `paper {δ/Δt}` or `condensed {δ/Δt}`. The
 //!    contact set is then updated (contacts with a tensile normal force released, penetrating
 //!    candidates added). Converged when `max|v_new − v| ≤ tol · max(max|v_new|, v_punch)`
-//!    over the nodal velocities and the contact set did not change; otherwise
-//!    `v ← v + ω (v_new − v)` with Aitken's ω. The accepted velocity is the last solve's
+//!    over the nodal velocities and the contact set did not change; otherwise the next
+//!    iterate comes from Anderson acceleration ([`super::acceleration`], depth 3, history
+//!    restarted when the contact set changes or the residual grows), or with
+//!    `picard.anderson = 0` from `v ← v + ω (v_new − v)` with Aitken's ω. A step that reaches
+//!    the iteration cap is recorded `converged = false` with its final change; the run
+//!    summary counts such steps and the validity guards reject a run with more than 5 % of
+//!    them. The accepted velocity is the last solve's
 //!    (unrelaxed) output, so the penalty rule's guarantees hold for it exactly.
 //! 3. **Telemetry** of the last solve: exact cond₂ and log10|det| of the system matrix
 //!    `K + D E Dᵀ` ([`crate::metrics::system_matrix`]), punch force, penetration, …
@@ -44,6 +49,7 @@
 //! force (r_c = ε_c g_c from the strategy), f = −c (v_t − V_t) the friction force.
 //! [`Simulation::equilibrium_punch_force`] recomputes it from the element internal forces.
 
+use super::acceleration::Anderson;
 use super::assembly::{Block, BlockTri};
 use super::config::{ContactRule, FormingConfig, MuThroughThickness, ThicknessUpdate};
 use super::element::{self, ElementGeom};
@@ -51,10 +57,21 @@ use super::tools::{Die, Punch, ToolId};
 use crate::conditioning;
 use crate::error::{Error, Result};
 use crate::metrics;
+use crate::stability;
 use crate::strategy::{self, Method, Solution};
 use crate::system::{Constraint, ConstraintKind, Problem};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
+
+/// `paper-residual`: the Eq. 18 corrector passes of a Picard iteration (frozen K) stop when
+/// every contact gap is within this fraction of δ of δ ...
+pub const RESIDUAL_RTOL: f64 = 0.05;
+/// ... or at most this many times per Picard iteration.
+pub const RESIDUAL_PASSES: usize = 20;
+
+fn nan() -> f64 {
+    f64::NAN
+}
 
 /// JSON writes non-finite numbers as `null`; read them back as NaN.
 fn null_as_nan<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<f64, D::Error> {
@@ -76,6 +93,22 @@ pub struct StepRecord {
     /// log10|det| of that matrix.
     #[serde(deserialize_with = "null_as_nan")]
     pub log10_det: f64,
+    /// Exact cond₂ of K alone: the step's material matrix with the rigid-mode drag, in the
+    /// same local axes and reduced numbering, without any contact term (no penalty, no
+    /// friction) — the paper's "system of equation without any contact conditions".
+    #[serde(default = "nan", deserialize_with = "null_as_nan")]
+    pub cond2_k: f64,
+    /// `log10|det(K + D E Dᵀ)| − log10|det K|` with K as in `cond2_k` (the paper's "ratio of
+    /// main determinants"; friction is part of the numerator).
+    #[serde(default = "nan", deserialize_with = "null_as_nan")]
+    pub log10_det_ratio: f64,
+    /// cond₂ of the diagonally equilibrated system matrix `S (K + D E Dᵀ) S`,
+    /// `S = diag(2^k_i) ≈ diag(A_ii^{-1/2})` (`crate::stability::equilibration`).
+    #[serde(default = "nan", deserialize_with = "null_as_nan")]
+    pub cond2_equilibrated: f64,
+    /// cond₂ of the equilibrated K alone.
+    #[serde(default = "nan", deserialize_with = "null_as_nan")]
+    pub cond2_k_equilibrated: f64,
     /// Max penetration of the last solve, in length: `max_c p_c · Δt` (in) — the quantity δ
     /// bounds.
     pub max_penetration: f64,
@@ -83,6 +116,9 @@ pub struct StepRecord {
     pub geometric_penetration: f64,
     /// Sheet volume after the update (in³).
     pub volume: f64,
+    /// Radius of the blank rim (last node) after the update (in).
+    #[serde(default)]
+    pub rim_r: f64,
     /// Picard iterations.
     pub iterations: usize,
     /// Matrix factorizations over all Picard iterations (strategy statistics).
@@ -95,7 +131,8 @@ pub struct StepRecord {
     pub contact_nodes: usize,
     /// Contact candidates of the step (nodes close enough to a tool).
     pub candidates: usize,
-    /// Constraints whose penalty came out negative and was clipped to 0 (paper Eq. 28).
+    /// Constraints whose Eq. 28 penalty came out ≤ 0: clipped to 0 and released
+    /// (`paper-literal`), or floored at K_dd and corrected to δ (`paper-residual`).
     pub clipped: usize,
     /// Largest and smallest penalty ε_c among the active constraints (ton-force·s/in).
     pub max_penalty: f64,
@@ -317,6 +354,10 @@ struct PicardOutcome {
 struct SolveTelemetry {
     cond2: f64,
     log10_det: f64,
+    cond2_k: f64,
+    log10_det_ratio: f64,
+    cond2_equilibrated: f64,
+    cond2_k_equilibrated: f64,
     max_penetration: f64,
     punch_force: f64,
     clipped: usize,
@@ -433,6 +474,19 @@ impl StepSetup {
         v
     }
 
+    /// The reduced local-axes vector of global velocities `v` (inverse of
+    /// `global_velocities`).
+    fn local_reduced(&self, v: &[f64]) -> Vec<f64> {
+        let mut g = v.to_vec();
+        for c in self.cands.iter().filter(|c| c.node != 0) {
+            let (p0, p1) = (3 * c.node, 3 * c.node + 1);
+            let (a, b) = (v[p0], v[p1]);
+            g[p0] = a * c.normal[0] + b * c.normal[1];
+            g[p1] = a * c.tangent[0] + b * c.tangent[1];
+        }
+        self.dofs.free.iter().map(|&d| g[d]).collect()
+    }
+
     /// Normal force `N = (−r_c e)·n` per node of a solve's constraints.
     fn normal_forces(&self, s: &ContactSolve) -> Vec<f64> {
         let mut normal_force = vec![0.0; self.nodes];
@@ -530,19 +584,39 @@ impl Simulation {
 
     /// Runs all steps and returns the telemetry.
     pub fn run(cfg: &FormingConfig, rule: ContactRule) -> Result<RunResult> {
+        match Simulation::run_until_failure(cfg, rule)? {
+            (r, None) => Ok(r),
+            (_, Some(e)) => Err(e),
+        }
+    }
+
+    /// Runs all steps, or up to the first step that fails; returns the telemetry of the steps
+    /// done and that step's error. Bad input is still an error.
+    pub fn run_until_failure(
+        cfg: &FormingConfig,
+        rule: ContactRule,
+    ) -> Result<(RunResult, Option<Error>)> {
         let t0 = Instant::now();
         let mut sim = Simulation::new(cfg, rule)?;
         let mut steps = Vec::with_capacity(cfg.steps);
+        let mut failure = None;
         for _ in 0..cfg.steps {
-            steps.push(sim.step()?);
+            match sim.step() {
+                Ok(s) => steps.push(s),
+                Err(e) => {
+                    failure = Some(e);
+                    break;
+                }
+            }
         }
-        Ok(RunResult {
+        let r = RunResult {
             config: cfg.clone(),
             rule,
             steps,
             snapshots: sim.snapshots.clone(),
             seconds: t0.elapsed().as_secs_f64(),
-        })
+        };
+        Ok((r, failure))
     }
 
     /// Node coordinates (r, z).
@@ -767,9 +841,14 @@ impl Simulation {
             punch_force: tel.punch_force,
             cond2: tel.cond2,
             log10_det: tel.log10_det,
+            cond2_k: tel.cond2_k,
+            log10_det_ratio: tel.log10_det_ratio,
+            cond2_equilibrated: tel.cond2_equilibrated,
+            cond2_k_equilibrated: tel.cond2_k_equilibrated,
             max_penetration: tel.max_penetration,
             geometric_penetration,
             volume: self.volume(),
+            rim_r: self.x.last().map_or(f64::NAN, |p| p[0]),
             iterations: picard.iterations,
             factorizations: picard.factorizations,
             converged: picard.converged,
@@ -823,7 +902,9 @@ impl Simulation {
             .collect();
         let method = match self.rule {
             ContactRule::Classical { eps } => Method::Constant { eps },
-            ContactRule::Paper { delta } => Method::Paper { delta: delta / dt },
+            ContactRule::PaperLiteral { delta } | ContactRule::PaperResidual { delta } => {
+                Method::Paper { delta: delta / dt }
+            }
             ContactRule::Condensed { delta } => Method::Condensed { delta: delta / dt },
         };
         StepSetup {
@@ -874,6 +955,7 @@ impl Simulation {
             aitken: pc.aitken,
             prev_res: None,
         };
+        let mut anderson = Anderson::new(pc.anderson, pc.relaxation);
         let (mut iterations, mut factorizations) = (0, 0);
         let (mut converged, mut change) = (false, f64::INFINITY);
         let mut iteration_cond2 = Vec::new();
@@ -881,7 +963,7 @@ impl Simulation {
         while iterations < pc.max_iterations {
             iterations += 1;
             let asm = self.assemble(s, &v, &normal_force);
-            let solve = self.solve_contact(s, &asm, &in_contact)?;
+            let solve = self.solve_contact(s, &asm, &in_contact, &v)?;
             factorizations += solve.solution.stats.factorizations;
             if self.cfg.cond_per_iteration {
                 let sys = metrics::system_matrix(&solve.problem, &solve.solution);
@@ -893,7 +975,17 @@ impl Simulation {
             let set_changed = new_set != in_contact;
             change = picard_change(&v_new, &v, vp);
             let done = change <= pc.tol && !set_changed;
-            relax.apply(&mut v, &v_new, done || iterations >= pc.max_iterations);
+            let accept = done || iterations >= pc.max_iterations;
+            if pc.anderson == 0 {
+                relax.apply(&mut v, &v_new, accept);
+            } else if accept {
+                v.copy_from_slice(&v_new);
+            } else {
+                if set_changed {
+                    anderson.reset();
+                }
+                anderson.apply(&mut v, &v_new);
+            }
             last = Some((solve, asm.coeffs));
             in_contact = new_set;
             if done {
@@ -981,12 +1073,14 @@ impl Simulation {
     }
 
     /// Removes the essential BCs, makes the contact set bilateral constraints `v·e = sign û`
-    /// and solves with the step's strategy.
+    /// and solves with the step's strategy; `paper-residual` evaluates Eq. 28 at the current
+    /// iterate `v` (global velocities).
     fn solve_contact(
         &self,
         s: &StepSetup,
         asm: &Assembly,
         in_contact: &[bool],
+        v: &[f64],
     ) -> Result<ContactSolve> {
         let kmat = asm.k.to_stiffness(&s.dofs.reduced, s.dofs.free.len())?;
         let qr: Vec<f64> = s.dofs.free.iter().map(|&d| asm.q[d]).collect();
@@ -1000,7 +1094,19 @@ impl Simulation {
             })
             .collect();
         let problem = Problem::new(kmat, qr, constraints)?;
-        let solution = strategy::solve(&problem, s.method)?;
+        let solution = match (self.rule, s.method) {
+            (ContactRule::PaperResidual { .. }, Method::Paper { delta }) => {
+                let u_ref = s.local_reduced(v);
+                strategy::paper::solve_residual(
+                    &problem,
+                    delta,
+                    &u_ref,
+                    RESIDUAL_RTOL,
+                    RESIDUAL_PASSES,
+                )?
+            }
+            (_, method) => strategy::solve(&problem, method)?,
+        };
         if solution.u.iter().any(|x| !x.is_finite()) {
             return Err(Error::Numerical(format!(
                 "step {}: the velocity solution is not finite",
@@ -1014,6 +1120,17 @@ impl Simulation {
         })
     }
 
+    /// K alone for the last solve's coefficients: material matrix and drag, rotated to the
+    /// candidates' local axes, essential BCs removed; no penalty, no friction.
+    fn k_alone(&self, s: &StepSetup, c: &Coefficients) -> Result<crate::system::Stiffness> {
+        let mut k = self.material_matrix(&c.mu);
+        for b in k.d.iter_mut() {
+            b[1][1] += c.drag;
+        }
+        k.rotate(&s.rot);
+        k.to_stiffness(&s.dofs.reduced, s.dofs.free.len())
+    }
+
     /// Step phase 3: telemetry of the last solve (cond₂, log10|det|, penetration, punch
     /// force, penalty range, μ* spread, drag force).
     fn telemetry(&self, s: &StepSetup, p: &PicardOutcome) -> Result<SolveTelemetry> {
@@ -1025,6 +1142,15 @@ impl Simulation {
         let sys = metrics::system_matrix(&p.solve.problem, &p.solve.solution);
         let cond2 = conditioning::cond2(&sys)?.cond2;
         let log10_det = conditioning::log10_abs_det(&sys)?;
+        let k_alone = self.k_alone(s, &p.coeffs)?;
+        let cond2_k = conditioning::cond2(&k_alone)?.cond2;
+        let log10_det_ratio = log10_det - conditioning::log10_abs_det(&k_alone)?;
+        let equilibrated = |a: &crate::system::Stiffness| {
+            conditioning::cond2(&stability::refine::scaled(a, &stability::equilibration(a)))
+                .map(|r| r.cond2)
+        };
+        let cond2_equilibrated = equilibrated(&sys)?;
+        let cond2_k_equilibrated = equilibrated(&k_alone)?;
         let punch_force = s.punch_force(v, &p.coeffs.friction_c, &p.normal_force);
         let sol = &p.solve.solution;
         let active: Vec<f64> = sol.penalties.iter().copied().filter(|&e| e > 0.0).collect();
@@ -1037,6 +1163,10 @@ impl Simulation {
         Ok(SolveTelemetry {
             cond2,
             log10_det,
+            cond2_k,
+            log10_det_ratio,
+            cond2_equilibrated,
+            cond2_k_equilibrated,
             max_penetration,
             punch_force,
             clipped: sol.stats.clipped,

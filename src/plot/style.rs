@@ -107,12 +107,17 @@ pub(super) fn text_width(text: &str, size: f64) -> f64 {
 
 /// The palette index of a method: its position in
 /// [`METHOD_NAMES`](crate::strategy::METHOD_NAMES) (one colour per method in every figure).
-/// The forming runs' names map to the rules they use: `classical` → `constant`, `adaptive` →
-/// `paper` (Eq. 28). Unknown names get the last palette entry.
+/// The forming runs' names map to the rules they use: `classical` → `constant`, `adaptive`
+/// and `paper-residual` → `paper` (Eq. 28 on the residual), `paper-literal` (Eq. 28 as
+/// printed) → `spring`'s colour (both drop the coupling to the unconstrained DOFs; `spring`
+/// never appears in a forming figure), `K alone` (no contact terms) → black. Unknown names
+/// get the last palette entry.
 pub fn method_color(name: &str) -> usize {
     let name = match name {
         "classical" => "constant",
-        "adaptive" => "paper",
+        "adaptive" | "paper-residual" => "paper",
+        "paper-literal" => "spring",
+        "K alone" => return BLACK_INDEX,
         n => n,
     };
     crate::strategy::METHOD_NAMES
@@ -127,6 +132,8 @@ pub fn method_label(name: &str) -> &str {
         "spring" => "spring (Eq. 17)",
         "paper" => "paper (Eq. 26–29)",
         "condensed" => "condensed (exact δ)",
+        "adaptive" | "paper-residual" => "adaptive (Eq. 28 on the residual)",
+        "paper-literal" => "paper-literal (Eq. 28 as printed)",
         n => n,
     }
 }
