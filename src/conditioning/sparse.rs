@@ -358,8 +358,10 @@ pub(crate) fn bracket(theta: f64, tol: f64, mut upper: impl FnMut(f64) -> bool) 
         lo = Some(s);
         h *= 8.0;
     }
-    // Downward search for a lower bound (if the upward search did not already give one).
-    let mut h = 0.5 * tol;
+    // Downward search for a lower bound (if the upward search did not already give one),
+    // from at most half the estimate: where the rounding floor makes `tol` ≥ 2 (cond₂ ≳
+    // 1/(32 ε_mach)) a first step of tol/2 would never be tried and leave no lower bound.
+    let mut h = (0.5 * tol).min(0.5);
     while lo.is_none() && h < 1.0 {
         let s = theta * (1.0 - h);
         if upper(s) {
@@ -469,7 +471,31 @@ pub fn extreme_eigenvalues(
 
 #[cfg(test)]
 mod tests {
-    use super::tridiagonal_max_eigenvalue;
+    use super::{bracket, tridiagonal_max_eigenvalue};
+
+    /// A bracket closes around the eigenvalue even when the rounding floor makes the target
+    /// width ≥ 2 (cond₂ ≳ 1/(32 ε_mach)): the 9 900-DOF cantilever of `cond_cost` once got
+    /// λ_max ∈ [0, 4.8e10] because the downward search started at tol/2 ≥ 1.
+    #[test]
+    fn bracket_closes_with_a_wide_target() {
+        for (lambda, theta, tol) in [
+            (1.5, 1.0, 6.6),
+            (0.9, 1.0, 6.6),
+            (1.0, 1.0, 3e4),
+            (1.2, 1.0, 1e-11),
+        ] {
+            let (lo, hi) = bracket(theta, tol, |s| s >= lambda);
+            assert!(
+                lo > 0.0 && hi.is_finite(),
+                "λ {lambda}, tol {tol}: [{lo}, {hi}]"
+            );
+            assert!(lo <= lambda && lambda <= hi, "λ {lambda} ∉ [{lo}, {hi}]");
+            assert!(
+                hi / lo - 1.0 <= tol.max(1e-11) * 1.0001,
+                "λ {lambda}, tol {tol}: [{lo}, {hi}]"
+            );
+        }
+    }
     use rand::{Rng, SeedableRng};
 
     /// λ_max of T from faer's dense symmetric eigenvalues (the independent reference).
