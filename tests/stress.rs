@@ -292,14 +292,8 @@ fn equilibration_is_exact_and_rescues_refused_factorizations() {
             }
             Err(err) => {
                 assert!(err.to_string().contains("singular"), "{err}");
-                let s = stability::equilibration(&sys.matrix());
-                let scaled = penalty_lab::system::Stiffness::from_triplets(p.n(), &{
-                    let mut t = Vec::new();
-                    sys.matrix()
-                        .for_each_entry(|i, j, v| t.push((i, j, s[i] * v * s[j])));
-                    t
-                })
-                .unwrap();
+                let a = sys.matrix();
+                let scaled = a.scaled(&a.equilibration());
                 let c = penalty_lab::conditioning::cond2(&scaled).unwrap().cond2;
                 let ue = sys.reference().unwrap().u;
                 let err = rel(&e.x, &ue);

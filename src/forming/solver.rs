@@ -57,7 +57,6 @@ use super::tools::{Die, Punch, ToolId};
 use crate::conditioning;
 use crate::error::{Error, Result};
 use crate::metrics;
-use crate::stability;
 use crate::strategy::{self, Method, Solution};
 use crate::system::{Constraint, ConstraintKind, Problem};
 use serde::{Deserialize, Serialize};
@@ -103,7 +102,7 @@ pub struct StepRecord {
     #[serde(default = "nan", deserialize_with = "null_as_nan")]
     pub log10_det_ratio: f64,
     /// cond₂ of the diagonally equilibrated system matrix `S (K + D E Dᵀ) S`,
-    /// `S = diag(2^k_i) ≈ diag(A_ii^{-1/2})` (`crate::stability::equilibration`).
+    /// `S = diag(2^k_i) ≈ diag(A_ii^{-1/2})` (`Stiffness::equilibration`).
     #[serde(default = "nan", deserialize_with = "null_as_nan")]
     pub cond2_equilibrated: f64,
     /// cond₂ of the equilibrated K alone.
@@ -1146,8 +1145,7 @@ impl Simulation {
         let cond2_k = conditioning::cond2(&k_alone)?.cond2;
         let log10_det_ratio = log10_det - conditioning::log10_abs_det(&k_alone)?;
         let equilibrated = |a: &crate::system::Stiffness| {
-            conditioning::cond2(&stability::refine::scaled(a, &stability::equilibration(a)))
-                .map(|r| r.cond2)
+            conditioning::cond2(&a.scaled(&a.equilibration())).map(|r| r.cond2)
         };
         let cond2_equilibrated = equilibrated(&sys)?;
         let cond2_k_equilibrated = equilibrated(&k_alone)?;

@@ -66,35 +66,6 @@ pub struct RefinedSolve {
     pub scaling_spread: f64,
 }
 
-/// Power-of-two scaling `s_i = 2^round(−log2|a_ii| / 2)` (1 for a zero or non-finite diagonal).
-pub fn equilibration(a: &Stiffness) -> Vec<f64> {
-    (0..a.n())
-        .map(|i| {
-            let d = a.diag(i).abs();
-            if d > 0.0 && d.is_finite() {
-                let k = (-d.log2() / 2.0).round().clamp(-500.0, 500.0);
-                2f64.powi(k as i32)
-            } else {
-                1.0
-            }
-        })
-        .collect()
-}
-
-pub(crate) fn scaled(a: &Stiffness, s: &[f64]) -> Stiffness {
-    match a {
-        Stiffness::Dense(m) => {
-            let n = m.nrows();
-            Stiffness::Dense(faer::Mat::from_fn(n, n, |i, j| s[i] * m[(i, j)] * s[j]))
-        }
-        Stiffness::Sparse(_) => {
-            let mut t = Vec::with_capacity(a.nnz());
-            a.for_each_entry(|i, j, v| t.push((i, j, s[i] * v * s[j])));
-            Stiffness::from_triplets(a.n(), &t).expect("same pattern")
-        }
-    }
-}
-
 fn inf_norm(v: &[f64]) -> f64 {
     v.iter().fold(0.0f64, |a, x| a.max(x.abs()))
 }
@@ -116,8 +87,8 @@ pub fn solve(sys: &PenalizedSystem, opts: SolveOptions) -> Result<RefinedSolve> 
     let b = sys.rhs();
     let symmetric = a.is_symmetric();
     let (s, f) = if opts.equilibrate {
-        let s = equilibration(&a);
-        let f = Factorization::new(&scaled(&a, &s), symmetric)?;
+        let s = a.equilibration();
+        let f = Factorization::new(&a.scaled(&s), symmetric)?;
         (Some(s), f)
     } else {
         (None, Factorization::new(&a, symmetric)?)

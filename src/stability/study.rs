@@ -174,7 +174,7 @@ pub struct EpsRow {
     pub cond2_f64: Option<f64>,
     /// cond₂ · ε_mach: the classical forward-error bound.
     pub cond_eps_mach: Option<f64>,
-    /// cond₂ of the equilibrated matrix `S A S` ([`equilibration`]): it bounds Cholesky's
+    /// cond₂ of the equilibrated matrix `S A S` ([`Stiffness::equilibration`]): it bounds Cholesky's
     /// forward error in the S⁻¹-weighted norm (van der Sluis; Demmel 1989), and is far below
     /// cond₂ when the ill-conditioning is a matter of diagonal scale, as with a few huge
     /// penalties. Against the plain 2-norm error it is an empirical predictor only (see the
@@ -280,7 +280,7 @@ pub fn eps_study(scene: &StressScene, cfg: &StressConfig) -> Result<Vec<EpsRow>>
         let sys = PenalizedSystem::new(p, &pen)?;
         let a = sys.matrix();
         let cond2_f64 = cond_of(&a);
-        let cond2_scaled = cond_of(&scaled(&a, &equilibration(&a)));
+        let cond2_scaled = cond_of(&a.scaled(&a.equilibration()));
         let cond2 = sys.cond2_extended().ok();
         let reference = sys.reference().ok();
         let mut forward = VariantErrors::default();
