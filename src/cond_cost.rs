@@ -230,11 +230,8 @@ pub fn render_figure(rows: &[Row], out: &Path) -> Result<Vec<PathBuf>> {
             let (x, y): (Vec<f64>, Vec<f64>) = pts.into_iter().unzip();
             // The growth rate is fitted where the asymptotics show (n ≥ SLOPE_MIN_N): the small
             // sizes measure the sweep's crossover, where fixed costs dominate.
-            let (xs, ys): (Vec<f64>, Vec<f64>) = x
-                .iter()
-                .zip(&y)
-                .filter(|(n, _)| **n >= SLOPE_MIN_N)
-                .unzip();
+            let (xs, ys): (Vec<f64>, Vec<f64>) =
+                x.iter().zip(&y).filter(|(n, _)| **n >= SLOPE_MIN_N).unzip();
             let label = match loglog_slope(&xs, &ys) {
                 Some(s) => format!("{family}: {name} (slope {s:.2})"),
                 None => format!("{family}: {name}"),

@@ -537,9 +537,10 @@ pub fn run_job(
     match job.method {
         Method::Constant { eps } => row.eps = Some(eps),
         Method::Scaled { factor } => row.factor = Some(factor),
-        Method::Spring { delta } | Method::Paper { delta } | Method::Condensed { delta } => {
-            row.delta = Some(delta)
-        }
+        Method::Spring { delta }
+        | Method::Paper { delta }
+        | Method::Condensed { delta }
+        | Method::Optimal { delta } => row.delta = Some(delta),
         Method::Augmented { eps, tol, .. } => {
             row.eps = Some(eps);
             row.delta = Some(tol);

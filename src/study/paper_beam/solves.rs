@@ -70,7 +70,10 @@ fn knob_text(m: &Method) -> String {
     match *m {
         Method::Constant { eps } => format!("ε = {}", fmt_e(eps, 1)),
         Method::Scaled { factor } => format!("ε_c = {factor}·K[d,d]"),
-        Method::Spring { delta } | Method::Paper { delta } | Method::Condensed { delta } => {
+        Method::Spring { delta }
+        | Method::Paper { delta }
+        | Method::Condensed { delta }
+        | Method::Optimal { delta } => {
             format!("δ = {delta}")
         }
         Method::Lagrange => "exact".into(),
