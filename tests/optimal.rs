@@ -77,3 +77,32 @@ proptest! {
         }
     }
 }
+
+/// `paper_beam` records the optimum next to Eq. 28 and condensed, and along the δ grid of
+/// `cond_vs_delta` the optimum is feasible and never above a feasible Eq. 28 / condensed.
+#[test]
+fn paper_beam_study_records_the_optimum() {
+    let study = penalty_lab::study::paper_beam::run().unwrap();
+    let o = study.record.optimum.clone().unwrap();
+    assert!(o.cond2 <= o.outside_cond2 * (1.0 + 1e-3));
+    assert!(o.cond2 <= o.cond2_condensed && o.cond2 <= o.cond2_paper);
+    assert!(o.cond2_lower_bound <= o.cond2);
+    assert_eq!(o.penalties.len(), 3);
+    for r in study.cond_delta.iter().filter(|r| r.series == "optimal") {
+        let d = r.delta.unwrap();
+        assert!(r.max_penetration <= d, "δ = {d}: {}", r.max_penetration);
+        for other in study
+            .cond_delta
+            .iter()
+            .filter(|x| x.delta == Some(d) && x.series != "optimal" && x.max_penetration <= d)
+        {
+            assert!(
+                r.cond2 <= other.cond2 * (1.0 + 1e-12 * 9.0 * other.cond2),
+                "δ = {d}: optimal {} > {} {}",
+                r.cond2,
+                other.series,
+                other.cond2
+            );
+        }
+    }
+}
