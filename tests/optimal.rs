@@ -106,3 +106,41 @@ fn paper_beam_study_records_the_optimum() {
         }
     }
 }
+
+/// The sweep's beam scenes: every spring / paper / condensed row has `cond_ratio_to_optimal`
+/// at its δ, and a feasible rule's ratio is ≥ 1 (to rounding).
+#[test]
+fn sweep_rows_carry_the_ratio_to_the_optimum() {
+    use penalty_lab::model::generate::Family;
+    use penalty_lab::sweep::{run_scene, SceneSpec, SweepConfig};
+    let cfg = SweepConfig {
+        count: 1,
+        ..Default::default()
+    };
+    for index in 0..3 {
+        let spec = SceneSpec::Generated {
+            family: Family::Beam,
+            index,
+        };
+        let (rows, _) = run_scene(&spec, &cfg).unwrap();
+        let mut with_ratio = 0;
+        for r in &rows {
+            if !matches!(r.method.as_str(), "spring" | "paper" | "condensed") {
+                continue;
+            }
+            let (Some(ratio), Some(pen), Some(d), Some(c)) = (
+                r.cond_ratio_to_optimal,
+                r.max_penetration,
+                r.delta,
+                r.cond2_system,
+            ) else {
+                panic!("row without ratio: {r:?}");
+            };
+            with_ratio += 1;
+            if pen <= d {
+                assert!(ratio >= 1.0 - 1e-12 * r.n as f64 * c, "{r:?}");
+            }
+        }
+        assert_eq!(with_ratio, 3 * cfg.deltas_rel.len());
+    }
+}
