@@ -584,7 +584,13 @@ fn pareto(fam: &Fam) -> Figure {
     };
 
     // The optimal frontier first, so that the strategies' curves are drawn over it.
-    for set in delta_sets(&fam.method("optimal")) {
+    // Rows skipped outside `optimal_families` have no cond₂: no legend entry without data.
+    let optimal: Vec<&Row> = fam
+        .method("optimal")
+        .into_iter()
+        .filter(|r| r.cond2_system.is_some())
+        .collect();
+    for set in delta_sets(&optimal) {
         let ks: Vec<f64> = set.groups.iter().map(|g| g.0).collect();
         let unit = if set.relative { "·|u0|" } else { "" };
         fig = add(
