@@ -132,6 +132,7 @@ pub fn method_label(name: &str) -> &str {
         "spring" => "spring (Eq. 17)",
         "paper" => "paper (Eq. 26–29)",
         "condensed" => "condensed (exact δ)",
+        "optimal" => "optimal (min cond₂ at δ)",
         "adaptive" | "paper-residual" => "adaptive (Eq. 28 on the residual)",
         "paper-literal" => "paper-literal (Eq. 28 as printed)",
         n => n,

@@ -7,6 +7,7 @@
 //! | [`spring`] | δ | ε_c = (q_d − k(û + sδ)) / (sδ), k = K\[d,d\], s = sign g0_c | Eq. 17 |
 //! | [`paper`] | δ | ε_c = (\|K̄û − q̄\|_c − (K̄δ1)_c) / δ, K̄ = DᵀKD | Eq. 26–29 |
 //! | [`condensed`] | δ | ε = S⁻¹(g0 − g*) ./ g*, S = DᵀK⁻¹D, \|g*_c\| = δ | (ours) |
+//! | [`optimal`] | δ | min cond₂(K + DEDᵀ) s.t. penetration ≤ δ (smoothed spectrum, barrier, multi-start) | (ours) |
 //! | [`lagrange`] | — | saddle point `[K D; Dᵀ 0]`, active set | exact |
 //! | [`augmented`] | ε, tol | Uzawa: λ ← λ + ε g until max penetration ≤ tol | — |
 //!
@@ -25,6 +26,7 @@ pub mod condensed;
 pub mod constant;
 pub mod eliminated;
 pub mod lagrange;
+pub mod optimal;
 pub mod paper;
 pub mod scaled;
 pub mod spring;
@@ -69,6 +71,11 @@ pub enum Method {
         /// Allowed penetration δ (> 0).
         delta: f64,
     },
+    /// The cond-optimal penalties: min cond₂(K + D E Dᵀ) with every penetration ≤ δ.
+    Optimal {
+        /// Allowed penetration δ (> 0).
+        delta: f64,
+    },
     /// Lagrange multipliers (exact).
     Lagrange,
     /// Augmented Lagrangian (Uzawa).
@@ -83,7 +90,7 @@ pub enum Method {
 }
 
 /// Names accepted by [`Method::from_name`].
-pub const METHOD_NAMES: [&str; 7] = [
+pub const METHOD_NAMES: [&str; 8] = [
     "constant",
     "scaled",
     "spring",
@@ -91,6 +98,7 @@ pub const METHOD_NAMES: [&str; 7] = [
     "condensed",
     "lagrange",
     "augmented",
+    "optimal",
 ];
 
 /// A strategy's name as a command-line choice (`--method`, `--methods`): the same names as
@@ -111,6 +119,8 @@ pub enum MethodName {
     Lagrange,
     /// Augmented Lagrangian.
     Augmented,
+    /// The cond-optimal penalties for δ.
+    Optimal,
 }
 
 impl MethodName {
@@ -127,7 +137,7 @@ pub struct Knobs {
     pub eps: Option<f64>,
     /// Factor for `scaled`.
     pub factor: Option<f64>,
-    /// δ for `spring`, `paper`, `condensed`.
+    /// δ for `spring`, `paper`, `condensed`, `optimal`.
     pub delta: Option<f64>,
     /// Tolerance for `augmented`.
     pub tol: Option<f64>,
@@ -164,6 +174,9 @@ impl Method {
             "condensed" => Method::Condensed {
                 delta: positive(name, "--delta", k.delta)?,
             },
+            "optimal" => Method::Optimal {
+                delta: positive(name, "--delta", k.delta)?,
+            },
             "lagrange" => Method::Lagrange,
             "augmented" => Method::Augmented {
                 eps: positive(name, "--eps", k.eps)?,
@@ -187,6 +200,7 @@ impl Method {
             Method::Spring { .. } => "spring",
             Method::Paper { .. } => "paper",
             Method::Condensed { .. } => "condensed",
+            Method::Optimal { .. } => "optimal",
             Method::Lagrange => "lagrange",
             Method::Augmented { .. } => "augmented",
         }
@@ -195,9 +209,10 @@ impl Method {
     /// δ if the method has one.
     pub fn delta(&self) -> Option<f64> {
         match *self {
-            Method::Spring { delta } | Method::Paper { delta } | Method::Condensed { delta } => {
-                Some(delta)
-            }
+            Method::Spring { delta }
+            | Method::Paper { delta }
+            | Method::Condensed { delta }
+            | Method::Optimal { delta } => Some(delta),
             _ => None,
         }
     }
@@ -240,6 +255,10 @@ pub struct Stats {
     /// iteration changed few constraints (elimination route; see
     /// [`eliminated`]).
     pub cg_iterations: usize,
+    /// `optimal`: the optimality report (KKT residual, starts agreeing, certified lower
+    /// bound); absent for the other methods.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub optimal: Option<optimal::OptimalReport>,
 }
 
 /// The final system matrix of a solve (for metrics).
@@ -301,6 +320,7 @@ pub fn solve_prepared(
         Method::Spring { delta } => spring::solve(ctx, delta),
         Method::Paper { delta } => paper::solve(ctx, delta),
         Method::Condensed { delta } => condensed::solve(ctx, delta),
+        Method::Optimal { delta } => optimal::solve(ctx, delta),
         Method::Lagrange => lagrange::solve(ctx),
         Method::Augmented { eps, tol, adaptive } => augmented::solve(ctx, eps, tol, adaptive),
     }

@@ -99,6 +99,9 @@ pub fn solve_scene(
         "active_set_sizes": sol.stats.active_set_sizes,
         "clipped": sol.stats.clipped,
         "system": sol.system,
+        "optimality": sol.stats.optimal.as_ref().map(|o| finite_or_null(Some(o.optimality))),
+        "starts_agreeing": sol.stats.optimal.as_ref().map(|o| o.starts_agreeing),
+        "cond2_lower_bound": sol.stats.optimal.as_ref().map(|o| finite_or_null(Some(o.cond2_lower_bound))),
         "seconds": seconds,
         "warnings": warnings,
     }))
@@ -152,8 +155,15 @@ pub fn table(v: &Value) -> String {
         "factorizations",
         "iterations",
         "converged",
+        "optimality",
+        "starts_agreeing",
+        "cond2_lower_bound",
         "seconds",
     ] {
+        if v[key].is_null() && matches!(key, "optimality" | "starts_agreeing" | "cond2_lower_bound")
+        {
+            continue;
+        }
         let s = match &v[key] {
             Value::Number(n) if n.is_f64() => format!("{:.6e}", n.as_f64().unwrap_or(f64::NAN)),
             other => other.to_string(),

@@ -18,7 +18,7 @@
 //! |---|---|---|
 //! | `cond_vs_eps_<family>` | ε (log) | cond₂(K + D E Dᵀ) (log) |
 //! | `penetration_vs_eps_<family>` | ε (log) | max penetration (log)¹ |
-//! | `pareto_<family>` | max penetration (log)¹ | cond₂(K + D E Dᵀ) (log) |
+//! | `pareto_<family>` | max penetration (log)¹ | cond₂(K + D E Dᵀ) (log); the `optimal` frontier drawn first, under the strategies |
 //! | `log_det_ratio_vs_eps_<family>` | ε (log) | log10\|det(K + D E Dᵀ)\| − log10\|det K\| |
 //!
 //! ¹ Relative to each scene's displacement scale max_c |u0\[d_c\]| when that is known for every
@@ -583,6 +583,26 @@ fn pareto(fam: &Fam) -> Figure {
         _ => String::new(),
     };
 
+    // The optimal frontier first, so that the strategies' curves are drawn over it.
+    // Rows skipped outside `optimal_families` have no cond₂: no legend entry without data.
+    let optimal: Vec<&Row> = fam
+        .method("optimal")
+        .into_iter()
+        .filter(|r| r.cond2_system.is_some())
+        .collect();
+    for set in delta_sets(&optimal) {
+        let ks: Vec<f64> = set.groups.iter().map(|g| g.0).collect();
+        let unit = if set.relative { "·|u0|" } else { "" };
+        fig = add(
+            fig,
+            format!(
+                "optimal frontier (min cond₂ at δ), δ = {}{unit}",
+                range(&ks)
+            ),
+            &set.groups,
+            method_color("optimal"),
+        );
+    }
     let constant = groups(&fam.method("constant"), |r| r.eps);
     let ks: Vec<f64> = constant.iter().map(|g| g.0).collect();
     fig = add(

@@ -121,6 +121,10 @@ pub struct SweepConfig {
     pub generator: GeneratorConfig,
     /// Run over every `*.scene.json` in this folder instead of generating.
     pub scenes_dir: Option<PathBuf>,
+    /// Families on which `optimal` runs (`file` for scene files); its rows on other families
+    /// say so in `warnings`. The default, beam and files, keeps the default sweep under a
+    /// minute: one optimisation costs tens to hundreds of dense eigendecompositions.
+    pub optimal_families: Vec<String>,
 }
 
 impl Default for SweepConfig {
@@ -144,6 +148,7 @@ impl Default for SweepConfig {
             metrics: vec!["cond".into(), "det".into()],
             generator: GeneratorConfig::default(),
             scenes_dir: None,
+            optimal_families: vec!["beam".into(), "file".into()],
         }
     }
 }
@@ -189,6 +194,14 @@ impl SweepConfig {
                 return Err(Error::input(format!(
                     "unknown method '{m}' (valid: {})",
                     METHOD_NAMES.join(", ")
+                )));
+            }
+        }
+        for f in &self.optimal_families {
+            if f != "file" && Family::from_name(f).is_err() {
+                return Err(Error::input(format!(
+                    "optimal_families: unknown family '{f}' (valid: {}, file)",
+                    generate::FAMILY_NAMES.join(", ")
                 )));
             }
         }
@@ -242,7 +255,7 @@ impl SweepConfig {
             r += match m.as_str() {
                 "constant" => self.eps.n,
                 "scaled" => self.factors.len(),
-                "spring" | "paper" | "condensed" | "augmented" => nd,
+                "spring" | "paper" | "condensed" | "optimal" | "augmented" => nd,
                 _ => 0,
             };
         }
@@ -403,12 +416,13 @@ pub fn jobs(cfg: &SweepConfig, problem: &Problem, u0: Option<&[f64]>) -> Vec<Job
                 method: Method::Scaled { factor },
                 delta_rel: None,
             })),
-            "spring" | "paper" | "condensed" | "augmented" => {
+            "spring" | "paper" | "condensed" | "optimal" | "augmented" => {
                 out.extend(deltas.iter().map(|&(delta, delta_rel)| Job {
                     method: match m.as_str() {
                         "spring" => Method::Spring { delta },
                         "paper" => Method::Paper { delta },
                         "condensed" => Method::Condensed { delta },
+                        "optimal" => Method::Optimal { delta },
                         _ => Method::Augmented {
                             eps: aug_eps,
                             tol: delta,
@@ -510,15 +524,8 @@ pub fn prepare_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<SceneWork> {
     })
 }
 
-/// One row: `job` solved on the scene with its metrics; `u_ref` is the lagrange solution
-/// (`error_vs_exact`). A failing solve or metric becomes the row's warning, never an error.
-pub fn run_job(
-    work: &SceneWork,
-    job: Job,
-    set: MetricSet,
-    u_ref: Option<&[f64]>,
-) -> (Row, Option<Vec<f64>>) {
-    let t0 = Instant::now();
+/// A row with the scene's columns and the job's knobs, before solving.
+fn base_row(work: &SceneWork, job: Job) -> Row {
     let sc = &work.scene;
     let p = &sc.problem;
     let mut row = Row {
@@ -537,15 +544,43 @@ pub fn run_job(
     match job.method {
         Method::Constant { eps } => row.eps = Some(eps),
         Method::Scaled { factor } => row.factor = Some(factor),
-        Method::Spring { delta } | Method::Paper { delta } | Method::Condensed { delta } => {
-            row.delta = Some(delta)
-        }
+        Method::Spring { delta }
+        | Method::Paper { delta }
+        | Method::Condensed { delta }
+        | Method::Optimal { delta } => row.delta = Some(delta),
         Method::Augmented { eps, tol, .. } => {
             row.eps = Some(eps);
             row.delta = Some(tol);
         }
         Method::Lagrange => {}
     }
+    row
+}
+
+/// The row of an `optimal` job on a family outside `optimal_families`: no solve, the reason
+/// in `warnings`.
+fn skipped_row(work: &SceneWork, job: Job, cfg: &SweepConfig) -> Row {
+    let mut row = base_row(work, job);
+    row.seconds = Some(0.0);
+    row.seconds_solve = Some(0.0);
+    row.warnings = format!(
+        "skipped: optimal runs on the families {:?} only (optimal_families)",
+        cfg.optimal_families
+    );
+    row
+}
+
+/// One row: `job` solved on the scene with its metrics; `u_ref` is the lagrange solution
+/// (`error_vs_exact`). A failing solve or metric becomes the row's warning, never an error.
+pub fn run_job(
+    work: &SceneWork,
+    job: Job,
+    set: MetricSet,
+    u_ref: Option<&[f64]>,
+) -> (Row, Option<Vec<f64>>) {
+    let t0 = Instant::now();
+    let p = &work.scene.problem;
+    let mut row = base_row(work, job);
     let prep = work.prepared.as_ref().ok();
     let (solved, seconds_solve) = timed(|| strategy::solve_prepared(p, job.method, prep));
     row.seconds_solve = Some(seconds_solve);
@@ -599,10 +634,44 @@ pub fn run_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<(Vec<Row>, Scene
     rows.push(lag_row);
     let others: Vec<Row> = rest
         .par_iter()
-        .map(|&job| run_job(&work, job, set, u_ref.as_deref()).0)
+        .map(|&job| {
+            let skip = matches!(job.method, Method::Optimal { .. })
+                && !cfg.optimal_families.contains(&work.scene.family);
+            if skip {
+                skipped_row(&work, job, cfg)
+            } else {
+                run_job(&work, job, set, u_ref.as_deref()).0
+            }
+        })
         .collect();
     rows.extend(others);
+    set_ratios_to_optimal(&mut rows);
     Ok((rows, work))
+}
+
+/// Fills `cond_ratio_to_optimal` on one scene's rows: every δ-driven row (spring, paper,
+/// condensed, optimal) whose δ has an `optimal` row with a cond₂ gets cond₂ / cond₂(optimal).
+pub fn set_ratios_to_optimal(rows: &mut [Row]) {
+    let optima: Vec<(f64, f64)> = rows
+        .iter()
+        .filter(|r| r.method == "optimal")
+        .filter_map(|r| Some((r.delta?, r.cond2_system?)))
+        .filter(|(_, c)| c.is_finite() && *c > 0.0)
+        .collect();
+    for r in rows.iter_mut() {
+        if !matches!(
+            r.method.as_str(),
+            "spring" | "paper" | "condensed" | "optimal"
+        ) {
+            continue;
+        }
+        let (Some(d), Some(c)) = (r.delta, r.cond2_system) else {
+            continue;
+        };
+        if let Some(&(_, best)) = optima.iter().find(|(od, _)| *od == d) {
+            r.cond_ratio_to_optimal = Some(c / best);
+        }
+    }
 }
 
 /// Options of a sweep run that do not change its rows.

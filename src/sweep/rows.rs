@@ -70,12 +70,16 @@ pub struct Row {
     pub seconds_cond: Option<f64>,
     /// Wall time of the determinant ratio (s).
     pub seconds_det: Option<f64>,
+    /// δ-driven rows (spring, paper, condensed, optimal): cond2_system over the cond₂ of
+    /// `optimal` at the same scene and δ, where the optimum was computed (≥ 1 up to rounding
+    /// for feasible rows; a rule whose penetration exceeds δ may go below 1).
+    pub cond_ratio_to_optimal: Option<f64>,
     /// Warnings and errors, `; `-separated (empty when all is well).
     pub warnings: String,
 }
 
 /// Column names, in file order.
-pub const COLUMNS: [&str; 29] = [
+pub const COLUMNS: [&str; 30] = [
     "scene",
     "family",
     "n",
@@ -104,6 +108,7 @@ pub const COLUMNS: [&str; 29] = [
     "seconds_solve",
     "seconds_cond",
     "seconds_det",
+    "cond_ratio_to_optimal",
     "warnings",
 ];
 
@@ -156,6 +161,7 @@ impl Row {
             f(self.seconds_solve),
             f(self.seconds_cond),
             f(self.seconds_det),
+            f(self.cond_ratio_to_optimal),
             self.warnings.clone(),
         ]
     }
@@ -295,6 +301,7 @@ fn parse_line(line: &str) -> std::result::Result<Row, String> {
         seconds_solve: fl(next())?,
         seconds_cond: fl(next())?,
         seconds_det: fl(next())?,
+        cond_ratio_to_optimal: fl(next())?,
         warnings: next().into(),
     })
 }

@@ -120,3 +120,43 @@ pub fn cond_rows(p: &Problem) -> Result<Vec<CondRow>> {
     }
     Ok(rows)
 }
+
+/// Number of δ values of `cond_vs_delta.csv`, log-spaced over `[DELTA_LO, DELTA_HI]` (the
+/// paper's δ = 0.1 is on the grid).
+pub const N_DELTA: usize = 31;
+/// Smallest δ of `cond_vs_delta.csv`.
+pub const DELTA_LO: f64 = 1e-3;
+/// Largest δ of `cond_vs_delta.csv`.
+pub const DELTA_HI: f64 = 1.0;
+
+/// The rows of `cond_vs_delta.csv`: `paper` (Eq. 28), `condensed`, `spring` and `optimal` at
+/// every δ of the log grid (`series`, `delta`, the penalties, cond₂, max penetration).
+pub fn cond_delta_rows(p: &Problem) -> Result<Vec<CondRow>> {
+    let (a, b) = (DELTA_LO.log10(), DELTA_HI.log10());
+    let mut rows = Vec::new();
+    for name in ["paper", "condensed", "spring", "optimal"] {
+        for i in 0..N_DELTA {
+            let delta = 10f64.powf(a + (b - a) * i as f64 / (N_DELTA - 1) as f64);
+            let method = match name {
+                "paper" => Method::Paper { delta },
+                "condensed" => Method::Condensed { delta },
+                "spring" => Method::Spring { delta },
+                _ => Method::Optimal { delta },
+            };
+            let s = solve_with_metrics(p, method)?;
+            let e = &s.sol.penalties;
+            rows.push(CondRow {
+                series: name.into(),
+                delta: Some(delta),
+                eps: e.iter().copied().fold(0.0, f64::max),
+                eps_1: e[0],
+                eps_2: e[1],
+                eps_3: e[2],
+                cond2: s.cond2,
+                max_penetration: s.sol.max_penetration,
+                log10_det_ratio: s.log10_det_ratio,
+            });
+        }
+    }
+    Ok(rows)
+}

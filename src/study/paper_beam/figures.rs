@@ -1,5 +1,6 @@
 //! The figures of the study, drawn from the saved data only (so `--render-only` reproduces
-//! them): `fig3_deflection_free`, `fig4_deflection_contact` and `cond_vs_eps` (PNG + SVG).
+//! them): `fig3_deflection_free`, `fig4_deflection_contact`, `cond_vs_eps` and
+//! `cond_vs_delta` (PNG + SVG).
 
 use super::cond_vs_eps::CondRow;
 use super::deflection::DeflectionRow;
@@ -18,6 +19,7 @@ fn color_of(solution: &str) -> usize {
         "condensed" => 2,
         "lagrange" => 6,
         "spring" => 3,
+        "optimal" => 6,
         "uniform" => 0,
         _ => 4,
     }
@@ -300,6 +302,46 @@ fn cond_vs_eps(cond: &[CondRow], delta: f64) -> [Figure; 2] {
     [f1, f2]
 }
 
+/// `cond_vs_delta`: cond₂ against δ for Eq. 28, `condensed`, `spring` and the cond-optimal
+/// penalties, with the certified lower bound of the optimum.
+fn cond_vs_delta(rows: &[CondRow], lower: Option<f64>, delta: f64) -> Figure {
+    let mut f = Figure::new(
+        format!(
+            "condition number reachable at allowed penetration δ (dashed: the paper's δ = {delta})"
+        ),
+        "allowed penetration δ [mm]",
+        "cond₂(K + D E Dᵀ)",
+    )
+    .log_log();
+    for (s, name) in [
+        ("paper", "Eq. 28 (paper)"),
+        ("spring", "spring Eq. 17 (penetration may exceed δ)"),
+        ("condensed", "condensed (every penalized gap at δ)"),
+        ("optimal", "optimal (min cond₂ s.t. penetration ≤ δ)"),
+    ] {
+        let pts: Vec<&CondRow> = rows.iter().filter(|r| r.series == s).collect();
+        f = f.with_series(
+            Series::new(
+                name,
+                pts.iter().filter_map(|r| r.delta).collect(),
+                pts.iter().map(|r| r.cond2).collect(),
+                Mark::LinePoints,
+            )
+            .color(color_of(s)),
+        );
+    }
+    if let Some(lb) = lower {
+        f = f.hline(
+            lb,
+            format!(
+                "certified lower bound λmax(K)/λmin(K_FF) = {}",
+                fmt_e(lb, 4)
+            ),
+        );
+    }
+    f.vline(delta, "")
+}
+
 /// Renders the three figures into `out` from a saved study ([`super::load`]); returns the
 /// files written.
 pub fn render_figures(out: &Path, study: &Study) -> Result<Vec<PathBuf>> {
@@ -316,5 +358,12 @@ pub fn render_figures(out: &Path, study: &Study) -> Result<Vec<PathBuf>> {
         &out.join("cond_vs_eps"),
         (1900, 720),
     )?);
+    if !study.cond_delta.is_empty() {
+        let lower = study.record.optimum.as_ref().map(|o| o.cond2_lower_bound);
+        written.extend(render(
+            &cond_vs_delta(&study.cond_delta, lower, study.record.delta),
+            &out.join("cond_vs_delta"),
+        )?);
+    }
     Ok(written)
 }

@@ -12,7 +12,7 @@
 //!   ([`CondRow`]).
 //!
 //! [`figures::render_figures`] draws `fig3_deflection_free`, `fig4_deflection_contact` and
-//! `cond_vs_eps` (PNG + SVG) from what [`load`] reads back, never from live state;
+//! `cond_vs_eps`, `cond_vs_delta` (PNG + SVG) from what [`load`] reads back, never from live state;
 //! [`summary::text`] is the printed report.
 //!
 //! * [`printed`] — the paper's printed numbers (one copy, also used by the tests).
@@ -35,7 +35,7 @@ mod tables;
 
 pub use cond_vs_eps::CondRow;
 pub use deflection::DeflectionRow;
-pub use record::{load, save, Record};
+pub use record::{load, save, Optimum, Record};
 
 use crate::error::Result;
 use crate::model::beam::paper;
@@ -60,6 +60,8 @@ pub const JSON_FILE: &str = "paper_beam.json";
 pub const DEFLECTION_FILE: &str = "deflection.csv";
 /// The cond₂-against-ε file name.
 pub const COND_FILE: &str = "cond_vs_eps.csv";
+/// The cond₂-against-δ file name (Eq. 28, condensed, spring, optimal).
+pub const COND_DELTA_FILE: &str = "cond_vs_delta.csv";
 
 /// The outcome of the study: the record and the data behind the figures.
 #[derive(Clone, Debug)]
@@ -70,6 +72,8 @@ pub struct Study {
     pub deflection: Vec<DeflectionRow>,
     /// `cond_vs_eps.csv`.
     pub cond: Vec<CondRow>,
+    /// `cond_vs_delta.csv`.
+    pub cond_delta: Vec<CondRow>,
 }
 
 /// The beam of Fig. 2 as recorded.
@@ -119,6 +123,8 @@ pub fn run() -> Result<Study> {
     let paper_comparison = tables::paper_comparison(&p, &frame, &s, &ch);
     let condensed_comparison = tables::condensed_comparison(&p, &frame, &s, &ch);
     let cond = cond_vs_eps::cond_rows(&p)?;
+    let cond_delta = cond_vs_eps::cond_delta_rows(&p)?;
+    let optimum = optimum(&s);
     let record = Record {
         provenance: crate::provenance::Provenance::new("paper_beam"),
         delta: DELTA,
@@ -129,6 +135,7 @@ pub fn run() -> Result<Study> {
         notes: notes::notes(&s, &ch, &cond),
         checks: ch.to_json(&s),
         strategies: s.strategies.clone(),
+        optimum: Some(optimum),
     };
     let mut deflection = deflection::deflection_rows(&frame, "free", &s.u0);
     for (name, u) in [
@@ -142,5 +149,32 @@ pub fn run() -> Result<Study> {
         record,
         deflection,
         cond,
+        cond_delta,
     })
+}
+
+/// The optimum at δ next to Eq. 28 and `condensed` (ours: the paper prints none).
+fn optimum(s: &solves::Solves) -> Optimum {
+    let o = &s.opt.sol;
+    let rep = o.stats.optimal.clone().unwrap_or_default();
+    Optimum {
+        delta: DELTA,
+        cond2: s.opt.cond2,
+        penalties: o.penalties.clone(),
+        gaps: o.gaps.clone(),
+        at_delta: o
+            .gaps
+            .iter()
+            .enumerate()
+            .filter(|(_, g)| g.abs() >= DELTA * (1.0 - 1e-4))
+            .map(|(c, _)| c + 1)
+            .collect(),
+        cond2_paper: s.pap.cond2,
+        cond2_condensed: s.con.cond2,
+        cond2_lower_bound: rep.cond2_lower_bound,
+        optimality: rep.optimality,
+        starts: rep.starts,
+        starts_agreeing: rep.starts_agreeing,
+        outside_cond2: printed::OUTSIDE_OPTIMUM_COND2,
+    }
 }

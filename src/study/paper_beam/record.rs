@@ -3,7 +3,7 @@
 
 use super::cond_vs_eps::CondRow;
 use super::deflection::DeflectionRow;
-use super::{Study, COND_FILE, DEFLECTION_FILE, JSON_FILE};
+use super::{Study, COND_DELTA_FILE, COND_FILE, DEFLECTION_FILE, JSON_FILE};
 use crate::error::{Error, Result};
 use crate::provenance;
 use serde::{Deserialize, Serialize};
@@ -29,6 +29,9 @@ pub struct Record {
     pub condensed_comparison: Vec<Row>,
     /// One line per strategy.
     pub strategies: Vec<StrategyLine>,
+    /// The cond-optimal penalties at δ (`optimal`, ours: the paper does not print it).
+    #[serde(default)]
+    pub optimum: Option<Optimum>,
     /// Explanations of every difference, with the numbers computed for them.
     pub notes: Vec<Note>,
     /// The computations behind the notes.
@@ -108,6 +111,37 @@ pub struct Row {
     pub note: String,
 }
 
+/// The cond-optimal penalties at the paper's δ (`strategy::optimal`), next to Eq. 28 and
+/// `condensed`. The paper prints no optimum, so every number here is ours; the issue quotes an
+/// outside optimiser's 219.6 for comparison.
+#[derive(Serialize, Deserialize, Debug, Clone)]
+pub struct Optimum {
+    /// δ.
+    pub delta: f64,
+    /// cond₂ of the optimal system.
+    pub cond2: f64,
+    /// Its penalties ε_c.
+    pub penalties: Vec<f64>,
+    /// Its signed gaps g_c.
+    pub gaps: Vec<f64>,
+    /// Constraints at penetration δ (relative 1e-4), 1-based.
+    pub at_delta: Vec<usize>,
+    /// cond₂ of Eq. 28 (paper) at δ.
+    pub cond2_paper: f64,
+    /// cond₂ of `condensed` at δ.
+    pub cond2_condensed: f64,
+    /// Certified lower bound λ_max(K)/λ_min(K_FF).
+    pub cond2_lower_bound: f64,
+    /// KKT residual of the optimiser.
+    pub optimality: f64,
+    /// Optimised starts and how many agreed within 1e-3.
+    pub starts: usize,
+    /// Optimised starts within 1e-3 of the best.
+    pub starts_agreeing: usize,
+    /// The outside optimiser's cond₂ quoted in issue 12.
+    pub outside_cond2: f64,
+}
+
 /// One strategy on the beam.
 #[derive(Serialize, Deserialize, Debug, Clone)]
 pub struct StrategyLine {
@@ -163,6 +197,7 @@ pub fn save(out: &Path, study: &Study) -> Result<()> {
     provenance::write_atomic(&out.join(JSON_FILE), (text + "\n").as_bytes())?;
     provenance::write_csv(&out.join(DEFLECTION_FILE), &study.deflection)?;
     provenance::write_csv(&out.join(COND_FILE), &study.cond)?;
+    provenance::write_csv(&out.join(COND_DELTA_FILE), &study.cond_delta)?;
     Ok(())
 }
 
@@ -188,5 +223,6 @@ pub fn load(out: &Path) -> Result<Study> {
         record,
         deflection: read_csv::<DeflectionRow>(&out.join(DEFLECTION_FILE))?,
         cond: read_csv::<CondRow>(&out.join(COND_FILE))?,
+        cond_delta: read_csv::<CondRow>(&out.join(COND_DELTA_FILE))?,
     })
 }

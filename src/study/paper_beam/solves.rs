@@ -50,6 +50,8 @@ pub struct Solves {
     pub pap: Solved,
     /// `condensed` at δ.
     pub con: Solved,
+    /// `optimal` (the cond-optimal penalties) at δ.
+    pub opt: Solved,
     /// One line per strategy.
     pub strategies: Vec<StrategyLine>,
     /// The uniform ε whose max penetration is δ.
@@ -70,7 +72,10 @@ fn knob_text(m: &Method) -> String {
     match *m {
         Method::Constant { eps } => format!("ε = {}", fmt_e(eps, 1)),
         Method::Scaled { factor } => format!("ε_c = {factor}·K[d,d]"),
-        Method::Spring { delta } | Method::Paper { delta } | Method::Condensed { delta } => {
+        Method::Spring { delta }
+        | Method::Paper { delta }
+        | Method::Condensed { delta }
+        | Method::Optimal { delta } => {
             format!("δ = {delta}")
         }
         Method::Lagrange => "exact".into(),
@@ -152,6 +157,13 @@ pub fn solve_all(p: &Problem) -> Result<Solves> {
             u_ref,
         ),
     ];
+    let opt = solve_with_metrics(p, Method::Optimal { delta: DELTA })?;
+    strategies.push(strategy_line(
+        "optimal",
+        &Method::Optimal { delta: DELTA },
+        &opt,
+        u_ref,
+    ));
     for (name, m) in &other_methods(p) {
         let s = if *m == Method::Lagrange {
             lag.clone()
@@ -183,6 +195,7 @@ pub fn solve_all(p: &Problem) -> Result<Solves> {
         lag,
         pap,
         con,
+        opt,
         strategies,
         eps_tuned,
         tuned,

@@ -2,7 +2,7 @@
 //! strategies and the notes as aligned text (the binary prints it).
 
 use super::printed::format_like;
-use super::record::{Record, Row, StrategyLine};
+use super::record::{Optimum, Record, Row, StrategyLine};
 use crate::study::text::{fmt_e, fmt_g, table, wrap};
 
 fn agree_text(a: Option<bool>) -> String {
@@ -192,6 +192,30 @@ fn strategies_table(rec: &Record) -> String {
     )
 }
 
+/// The cond-optimal penalties next to Eq. 28 and `condensed` (ours: the paper prints none).
+fn optimum_text(o: &Optimum) -> String {
+    let v = |x: &[f64]| x.iter().map(|e| fmt_g(*e)).collect::<Vec<_>>().join(", ");
+    let at: Vec<String> = o.at_delta.iter().map(|c| c.to_string()).collect();
+    format!(
+        "The cond-optimal penalties at δ = {} (ours; the paper prints no optimum; issue 12 quotes \
+         an outside optimiser at {}):\n  cond₂ optimal {} (Eq. 28 {}, condensed {}; certified \
+         lower bound {}), ε = ({}), gaps = ({}); at δ: constraint(s) {}; KKT residual {}, \
+         {} of {} optimised starts agree.\n\n",
+        o.delta,
+        o.outside_cond2,
+        fmt_g(o.cond2),
+        fmt_g(o.cond2_paper),
+        fmt_g(o.cond2_condensed),
+        fmt_g(o.cond2_lower_bound),
+        v(&o.penalties),
+        v(&o.gaps),
+        at.join(", "),
+        fmt_e(o.optimality, 1),
+        o.starts_agreeing,
+        o.starts
+    )
+}
+
 /// The report printed by `paper_beam`: header, the paper and condensed comparisons, every
 /// strategy and the notes, as text.
 pub fn text(rec: &Record) -> String {
@@ -199,6 +223,9 @@ pub fn text(rec: &Record) -> String {
     out.push_str(&paper_table(rec));
     out.push_str(&condensed_table(rec));
     out.push_str(&strategies_table(rec));
+    if let Some(o) = &rec.optimum {
+        out.push_str(&optimum_text(o));
+    }
     out.push_str("Notes on every difference:\n\n");
     for n in &rec.notes {
         out.push_str(&format!("({}) {}\n", n.key, n.title));
