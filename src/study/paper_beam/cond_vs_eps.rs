@@ -97,28 +97,35 @@ pub fn cond_rows(p: &Problem) -> Result<Vec<CondRow>> {
     }
     for name in ["paper", "condensed", "spring"] {
         for delta in DELTAS {
-            let method = match name {
-                "paper" => Method::Paper { delta },
-                "condensed" => Method::Condensed { delta },
-                _ => Method::Spring { delta },
-            };
-            let s = solve_with_metrics(p, method)?;
-            let e = &s.sol.penalties;
-            debug_assert_eq!(e.len(), m);
-            rows.push(CondRow {
-                series: name.into(),
-                delta: Some(delta),
-                eps: e.iter().copied().fold(0.0, f64::max),
-                eps_1: e[0],
-                eps_2: e[1],
-                eps_3: e[2],
-                cond2: s.cond2,
-                max_penetration: s.sol.max_penetration,
-                log10_det_ratio: s.log10_det_ratio,
-            });
+            let row = delta_row(p, name, delta)?;
+            debug_assert_eq!(m, 3);
+            rows.push(row);
         }
     }
     Ok(rows)
+}
+
+/// One δ-driven row: strategy `name` (`paper`, `condensed`, `spring` or `optimal`) at δ.
+fn delta_row(p: &Problem, name: &str, delta: f64) -> Result<CondRow> {
+    let method = match name {
+        "paper" => Method::Paper { delta },
+        "condensed" => Method::Condensed { delta },
+        "spring" => Method::Spring { delta },
+        _ => Method::Optimal { delta },
+    };
+    let s = solve_with_metrics(p, method)?;
+    let e = &s.sol.penalties;
+    Ok(CondRow {
+        series: name.into(),
+        delta: Some(delta),
+        eps: e.iter().copied().fold(0.0, f64::max),
+        eps_1: e[0],
+        eps_2: e[1],
+        eps_3: e[2],
+        cond2: s.cond2,
+        max_penetration: s.sol.max_penetration,
+        log10_det_ratio: s.log10_det_ratio,
+    })
 }
 
 /// Number of δ values of `cond_vs_delta.csv`, log-spaced over `[DELTA_LO, DELTA_HI]` (the
@@ -137,25 +144,7 @@ pub fn cond_delta_rows(p: &Problem) -> Result<Vec<CondRow>> {
     for name in ["paper", "condensed", "spring", "optimal"] {
         for i in 0..N_DELTA {
             let delta = 10f64.powf(a + (b - a) * i as f64 / (N_DELTA - 1) as f64);
-            let method = match name {
-                "paper" => Method::Paper { delta },
-                "condensed" => Method::Condensed { delta },
-                "spring" => Method::Spring { delta },
-                _ => Method::Optimal { delta },
-            };
-            let s = solve_with_metrics(p, method)?;
-            let e = &s.sol.penalties;
-            rows.push(CondRow {
-                series: name.into(),
-                delta: Some(delta),
-                eps: e.iter().copied().fold(0.0, f64::max),
-                eps_1: e[0],
-                eps_2: e[1],
-                eps_3: e[2],
-                cond2: s.cond2,
-                max_penetration: s.sol.max_penetration,
-                log10_det_ratio: s.log10_det_ratio,
-            });
+            rows.push(delta_row(p, name, delta)?);
         }
     }
     Ok(rows)
