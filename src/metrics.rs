@@ -92,14 +92,13 @@ fn log10_det(
     cond: Option<&CondReport>,
     a: &Stiffness,
 ) -> Result<f64> {
-    if let Some(v) = cond.and_then(|c| c.log10_det) {
-        return Ok(v);
+    match &sol.system {
+        SystemKind::SaddlePoint { active } if cond.and_then(|c| c.log10_det).is_none() => {
+            let dofs: Vec<usize> = active.iter().map(|&c| problem.constraints[c].dof).collect();
+            conditioning::log10_abs_det_saddle(&problem.k, &dofs)
+        }
+        _ => conditioning::log10_abs_det_after(a, cond),
     }
-    if let SystemKind::SaddlePoint { active } = &sol.system {
-        let dofs: Vec<usize> = active.iter().map(|&c| problem.constraints[c].dof).collect();
-        return conditioning::log10_abs_det_saddle(&problem.k, &dofs);
-    }
-    conditioning::log10_abs_det(a)
 }
 
 /// Largest system size whose two cond₂ analyses (of K and of the system matrix) run side by
@@ -143,10 +142,7 @@ pub fn compute(problem: &Problem, sol: &Solution, set: MetricSet) -> Result<Metr
         out.unavailable = unavailable;
     }
     if set.det {
-        let dk = match out.cond2_k.as_ref().and_then(|c| c.log10_det) {
-            Some(v) => v,
-            None => conditioning::log10_abs_det(&problem.k)?,
-        };
+        let dk = conditioning::log10_abs_det_after(&problem.k, out.cond2_k.as_ref())?;
         let ds = log10_det(problem, sol, out.cond2_system.as_ref(), &sys)?;
         out.log10_det_k = Some(dk);
         out.log10_det_system = Some(ds);

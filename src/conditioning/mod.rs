@@ -183,6 +183,16 @@ pub fn cond2_sparse_spd(a: &faer::sparse::SparseColMat<usize, f64>) -> Result<Co
     })
 }
 
+/// `log10|det A|` read off the factorization a cond₂ route already made of A (`cond`'s
+/// `log10_det`, the sparse SPD route), else [`log10_abs_det`]: the determinant never costs a
+/// second factorization of a matrix whose cond₂ was taken.
+pub fn log10_abs_det_after(a: &Stiffness, cond: Option<&CondReport>) -> Result<f64> {
+    match cond.and_then(|c| c.log10_det) {
+        Some(v) => Ok(v),
+        None => log10_abs_det(a),
+    }
+}
+
 /// `log10|det A|` from a factorization; `-∞` when A is singular to working precision.
 pub fn log10_abs_det(a: &Stiffness) -> Result<f64> {
     let symmetric = a.is_symmetric();

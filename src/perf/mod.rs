@@ -537,6 +537,17 @@ pub fn run(cfg: &PerfConfig, progress: &Progress) -> Result<Vec<PerfRow>> {
 /// Errors below this are drawn at this value on log axes.
 pub const PLOT_FLOOR: f64 = 1e-17;
 
+/// One method's points as a line-and-points series in the method's colour.
+fn method_series(method: &str, pts: &[(f64, f64)]) -> Series {
+    Series::new(
+        method,
+        pts.iter().map(|p| p.0).collect(),
+        pts.iter().map(|p| p.1).collect(),
+        Mark::LinePoints,
+    )
+    .color(crate::plot::method_color(method))
+}
+
 /// Figures: per family, time against `‖u − u_ref‖/‖u_ref‖` and time against relative max
 /// penetration, one panel per size, one line per strategy through its knob values (lagrange,
 /// exact, as a horizontal line at its time); and time against N per strategy (at the middle
@@ -553,7 +564,6 @@ pub fn figures(rows: &[PerfRow]) -> Vec<(String, Vec<Figure>)> {
             methods.push(&r.method);
         }
     }
-    let color = crate::plot::method_color;
     for fam in &families {
         let mut sizes: Vec<usize> = rows
             .iter()
@@ -602,15 +612,7 @@ pub fn figures(rows: &[PerfRow]) -> Vec<(String, Vec<Figure>)> {
                         continue;
                     }
                     any = true;
-                    fig = fig.with_series(
-                        Series::new(
-                            *m,
-                            pts.iter().map(|p| p.0).collect(),
-                            pts.iter().map(|p| p.1).collect(),
-                            Mark::LinePoints,
-                        )
-                        .color(color(m)),
-                    );
+                    fig = fig.with_series(method_series(m, &pts));
                 }
                 if any {
                     panels.push(fig);
@@ -652,15 +654,7 @@ pub fn figures(rows: &[PerfRow]) -> Vec<(String, Vec<Figure>)> {
                 continue;
             }
             any = true;
-            fig = fig.with_series(
-                Series::new(
-                    *m,
-                    pts.iter().map(|p| p.0).collect(),
-                    pts.iter().map(|p| p.1).collect(),
-                    Mark::LinePoints,
-                )
-                .color(color(m)),
-            );
+            fig = fig.with_series(method_series(m, &pts));
         }
         if any {
             panels.push(fig);

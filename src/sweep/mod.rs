@@ -501,10 +501,7 @@ pub fn prepare_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<SceneWork> {
     );
     let (log10_det_k, det_k) = timed(|| {
         set.det
-            .then(|| match cond.as_ref().and_then(|c| c.log10_det) {
-                Some(v) => Some(v),
-                None => conditioning::log10_abs_det(&p.k).ok(),
-            })
+            .then(|| conditioning::log10_abs_det_after(&p.k, cond.as_ref()).ok())
             .flatten()
     });
     let jobs = jobs(cfg, p, prepared.as_ref().ok().map(|x| x.u0()));
