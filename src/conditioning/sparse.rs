@@ -217,11 +217,13 @@ fn tridiagonal_max_eigenvalue(a: &[f64], b: &[f64], mut lower: f64, upper: f64) 
 }
 
 /// Largest eigenvalue of a symmetric positive operator by plain Lanczos (no stored vectors):
-/// returns (estimate, steps, converged). Stops when the top Ritz value stagnates to `1e-14`
-/// relative over 5 steps, on an invariant subspace, or after `max_steps`.
+/// returns (estimate, steps, converged). Stops when the top Ritz value θ stagnates to
+/// `stagnation(θ)` relative over [`CHECK_EVERY`] steps ([`STAGNATION`] where the estimate
+/// is wanted to rounding), on an invariant subspace, or after `max_steps`.
 pub(crate) fn lanczos_max(
     n: usize,
     max_steps: usize,
+    stagnation: impl Fn(f64) -> f64,
     mut apply: impl FnMut(&[f64], &mut [f64]),
 ) -> Result<(f64, usize, bool)> {
     // Deterministic start vector with every component nonzero (so no eigenvector is missed).
@@ -272,7 +274,7 @@ pub(crate) fn lanczos_max(
             };
             let stagnated = history
                 .last()
-                .is_some_and(|&prev| (theta - prev).abs() <= 1e-14 * theta.abs());
+                .is_some_and(|&prev| (theta - prev).abs() <= stagnation(theta) * theta.abs());
             history.push(theta);
             upper = theta;
             if stagnated || beta <= 1e-300 || beta <= f64::EPSILON * theta.abs() * 1e-2 {
@@ -294,6 +296,10 @@ pub(crate) fn lanczos_max(
         false,
     ))
 }
+
+/// Relative stagnation of the top Ritz value at which [`lanczos_max`] stops when the
+/// estimate is wanted to rounding.
+pub(crate) const STAGNATION: f64 = 1e-14;
 
 /// Steps between two Ritz-value evaluations of [`lanczos_max`]; the stagnation test compares
 /// values this many steps apart.
@@ -341,13 +347,20 @@ pub(crate) fn bracket_tol(cond_est: f64) -> f64 {
     BRACKET_TOL.max(64.0 * f64::EPSILON * cond_est)
 }
 
+/// Relative offset, in units of the target width, of the first two inertia tests of
+/// [`bracket`] from the estimate: `(1 + 0.45 t) / (1 − 0.45 t) − 1 < t` for every t ≤ 0.2.
+const FIRST_STEP: f64 = 0.45;
+
 /// Brackets an extreme eigenvalue near the estimate `theta > 0`: `upper(σ)` must return true iff
 /// σ is an upper bound of the eigenvalue (from an inertia test). Returns (lo, hi) with
 /// `hi / lo − 1 ≤ tol`, or wider if 60 tests did not get there.
 pub(crate) fn bracket(theta: f64, tol: f64, mut upper: impl FnMut(f64) -> bool) -> (f64, f64) {
     let mut lo = None;
     let mut hi = None;
-    let mut h = 0.5 * tol;
+    // First tests at θ(1 ± FIRST_STEP·tol): a bracket of relative width < tol when the
+    // estimate is good, so two tests settle it (at ±tol/2 the width was just over tol and
+    // every bracket paid a third test).
+    let mut h = FIRST_STEP * tol;
     // Upward search for an upper bound.
     for _ in 0..40 {
         let s = theta * (1.0 + h);
@@ -361,7 +374,7 @@ pub(crate) fn bracket(theta: f64, tol: f64, mut upper: impl FnMut(f64) -> bool) 
     // Downward search for a lower bound (if the upward search did not already give one),
     // from at most half the estimate: where the rounding floor makes `tol` ≥ 2 (cond₂ ≳
     // 1/(32 ε_mach)) a first step of tol/2 would never be tried and leave no lower bound.
-    let mut h = (0.5 * tol).min(0.5);
+    let mut h = (FIRST_STEP * tol).min(0.5);
     while lo.is_none() && h < 1.0 {
         let s = theta * (1.0 - h);
         if upper(s) {
@@ -407,21 +420,36 @@ pub fn extreme_eigenvalues(
     // the top of the spectrum is clustered and it has not settled, shift-invert Lanczos on
     // (σ₀I − A)⁻¹ with σ₀ just above the Gershgorin bound, where λ_max = σ₀ − 1/ν_max is well
     // separated.
-    let (inv_max, s2, _) = lanczos_max(n, max_steps, |x, y| {
-        y.copy_from_slice(x);
-        chol.solve_vec_in_place(y);
-    })?;
+    let (inv_max, s2, _) = lanczos_max(
+        n,
+        max_steps,
+        |_| STAGNATION,
+        |x, y| {
+            y.copy_from_slice(x);
+            chol.solve_vec_in_place(y);
+        },
+    )?;
     drop(chol);
     let lmin_est = 1.0 / inv_max;
-    let (mut lmax_est, mut s1, converged) =
-        lanczos_max(n, PLAIN_LANCZOS_STEPS, |x, y| fam.pattern.matvec(x, y))?;
+    // λ_max is wanted only to a fraction of the bracket width it will be certified to,
+    // `bracket_tol(θ / λ_min)` (θ ≤ λ_max, so the fraction is conservative): far fewer steps
+    // where the rounding floor of an ill-conditioned A makes that width wide.
+    let wanted = |theta: f64| (bracket_tol(theta * inv_max) / 64.0).max(STAGNATION);
+    let (mut lmax_est, mut s1, converged) = lanczos_max(n, PLAIN_LANCZOS_STEPS, wanted, |x, y| {
+        fam.pattern.matvec(x, y)
+    })?;
     if !converged {
         let sigma0 = gershgorin_max(a) * (1.0 + 1e-8);
         if let Some(f) = fam.factor(-1.0, sigma0) {
-            let (nu, s, _) = lanczos_max(n, max_steps, |x, y| {
-                y.copy_from_slice(x);
-                f.solve_vec_in_place(y);
-            })?;
+            let (nu, s, _) = lanczos_max(
+                n,
+                max_steps,
+                |_| STAGNATION,
+                |x, y| {
+                    y.copy_from_slice(x);
+                    f.solve_vec_in_place(y);
+                },
+            )?;
             s1 += s;
             if nu > 0.0 && nu.is_finite() {
                 lmax_est = lmax_est.max(sigma0 - 1.0 / nu);
@@ -496,6 +524,21 @@ mod tests {
             );
         }
     }
+    /// With an exact estimate a bracket costs two inertia tests (one each side), not three:
+    /// the first tests must land inside the target width.
+    #[test]
+    fn exact_estimate_costs_two_tests() {
+        for tol in [1e-11, 1e-6, 0.1, 0.2] {
+            let mut tests = 0;
+            let (lo, hi) = bracket(3.0, tol, |s| {
+                tests += 1;
+                s >= 3.0
+            });
+            assert_eq!(tests, 2, "tol {tol}: [{lo}, {hi}]");
+            assert!(lo <= 3.0 && 3.0 <= hi && hi / lo - 1.0 <= tol);
+        }
+    }
+
     use rand::{Rng, SeedableRng};
 
     /// λ_max of T from faer's dense symmetric eigenvalues (the independent reference).
