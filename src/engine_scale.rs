@@ -203,6 +203,7 @@ pub fn run(cfg: &ScaleConfig, progress: &Progress) -> Result<Vec<ScaleRow>> {
                         det: false,
                     },
                     None,
+                    None,
                 )?;
                 let route = match (&met.cond2_system, met.unavailable.first()) {
                     (Some(c), _) => c.route.name().to_string(),

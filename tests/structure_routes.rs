@@ -173,3 +173,66 @@ fn saddle_determinant_is_det_k_ff() {
     let d = p.constraints[0].dof;
     assert!(conditioning::log10_abs_det_saddle(&p.k, &[d, d]).is_err());
 }
+
+/// Issue 10's reuse along the knob grid: K's Ritz vectors (kept by `cond2_warm`) start the
+/// Lanczos runs of every `K + εP` of the scene. The certified cond₂ agrees with the cold
+/// start's and with the dense SVD within the brackets, in fewer Lanczos steps over the grid.
+#[test]
+fn warm_starts_from_k_keep_the_certified_value_in_fewer_steps() {
+    let (mut cold_steps, mut warm_steps) = (0usize, 0usize);
+    for (name, p) in scenes() {
+        let p = p.in_preferred_storage();
+        if !p.k.is_sparse() {
+            continue;
+        }
+        let (rk, ritz) = conditioning::cond2_warm(&p.k, None, true).unwrap();
+        let ritz = ritz.expect("the sparse route keeps Ritz vectors");
+        // K's Ritz vectors are unit vectors whose Rayleigh quotients sit in K's brackets.
+        let c = rk.certificate.unwrap();
+        for (y, lo, hi) in [
+            (&ritz.top, c.lambda_max_lo, c.lambda_max_hi),
+            (&ritz.bottom, c.lambda_min_lo, c.lambda_min_hi),
+        ] {
+            let ky = p.k.matvec(y);
+            let rho: f64 = y.iter().zip(&ky).map(|(a, b)| a * b).sum();
+            let unit: f64 = y.iter().map(|a| a * a).sum();
+            assert!(
+                (unit - 1.0).abs() <= 1e3 * f64::EPSILON,
+                "{name}: ‖y‖² = {unit}"
+            );
+            let t = 64.0 * p.n() as f64 * f64::EPSILON * rk.cond2;
+            assert!(
+                lo * (1.0 - t) <= rho && rho <= hi * (1.0 + t),
+                "{name}: ρ {rho} ∉ [{lo}, {hi}]"
+            );
+        }
+        let d = p.k.diag(p.constraints[0].dof).abs();
+        for eps in [1e-3 * d, d, 1e4 * d] {
+            let adds: Vec<(usize, f64)> = p.constraints.iter().map(|c| (c.dof, eps)).collect();
+            let a = p.k.with_diagonal_added(&adds);
+            let cold = conditioning::cond2(&a).unwrap();
+            let (warm, none) = conditioning::cond2_warm(&a, Some(&ritz), false).unwrap();
+            assert!(none.is_none(), "vectors returned though not asked for");
+            let (cc, cw) = (cold.certificate.unwrap(), warm.certificate.unwrap());
+            cold_steps += cc.lanczos_steps;
+            warm_steps += cw.lanczos_steps;
+            let (clo, chi) = cc.cond2_bounds();
+            let (wlo, whi) = cw.cond2_bounds();
+            let svd = reference::cond2_nalgebra(&a);
+            let t = 8.0 * a.n() as f64 * f64::EPSILON * svd;
+            assert!(
+                wlo <= chi * (1.0 + t) && clo <= whi * (1.0 + t),
+                "{name} ε {eps:e}: warm [{wlo:e}, {whi:e}] vs cold [{clo:e}, {chi:e}]"
+            );
+            assert!(
+                wlo * (1.0 - t) <= svd && svd <= whi * (1.0 + t),
+                "{name} ε {eps:e}: SVD {svd:e} ∉ [{wlo:e}, {whi:e}]"
+            );
+        }
+    }
+    eprintln!("Lanczos steps over the grid: {warm_steps} warm, {cold_steps} cold");
+    assert!(
+        warm_steps * 4 <= cold_steps * 3,
+        "warm starts took {warm_steps} Lanczos steps against {cold_steps} cold"
+    );
+}

@@ -126,6 +126,18 @@ pub fn cond2_dense(a: MatRef<'_, f64>, symmetric: bool) -> Result<CondReport> {
 /// densified, up to [`DENSIFY_LIMIT`]). A sparse-route matrix that turns out indefinite falls
 /// back to the dense routes too.
 pub fn cond2(a: &Stiffness) -> Result<CondReport> {
+    cond2_warm(a, None, false).map(|(r, _)| r)
+}
+
+/// [`cond2`] whose sparse SPD route starts its Lanczos runs from `starts` (the Ritz vectors
+/// of a nearby matrix, e.g. K for `K + D E Dᵀ`: fewer steps, same certified result) and, with
+/// `keep_ritz`, also returns the Ritz vectors of `a` (sparse SPD route only, `n ≤`
+/// [`sparse::RITZ_VECTOR_MAX_N`]).
+pub fn cond2_warm(
+    a: &Stiffness,
+    starts: Option<&sparse::RitzStarts>,
+    keep_ritz: bool,
+) -> Result<(CondReport, Option<sparse::RitzStarts>)> {
     let symmetric = a.is_symmetric();
     let structure = a.structure();
     if symmetric && structure.prefers_sparse() {
@@ -140,7 +152,7 @@ pub fn cond2(a: &Stiffness) -> Result<CondReport> {
                 }
             }
         };
-        match cond2_sparse_spd(m) {
+        match cond2_sparse_spd_warm(m, starts, keep_ritz) {
             Ok(r) => return Ok(r),
             // Not positive definite (e.g. a saddle-point matrix): the dense routes below.
             Err(Error::Singular(_)) => {}
@@ -148,7 +160,7 @@ pub fn cond2(a: &Stiffness) -> Result<CondReport> {
         }
     }
     match a {
-        Stiffness::Dense(m) => cond2_dense(m.as_ref(), symmetric),
+        Stiffness::Dense(m) => Ok((cond2_dense(m.as_ref(), symmetric)?, None)),
         Stiffness::Sparse(_) => {
             if a.n() > DENSIFY_LIMIT {
                 return Err(Error::input(format!(
@@ -163,7 +175,7 @@ pub fn cond2(a: &Stiffness) -> Result<CondReport> {
             } else {
                 CondRoute::DensifiedSvd
             };
-            Ok(r)
+            Ok((r, None))
         }
     }
 }
@@ -172,15 +184,24 @@ pub fn cond2(a: &Stiffness) -> Result<CondReport> {
 /// inertia counts), without densifying. Errors with [`Error::Singular`] if A is not positive
 /// definite.
 pub fn cond2_sparse_spd(a: &faer::sparse::SparseColMat<usize, f64>) -> Result<CondReport> {
-    let s = sparse::extreme_eigenvalues(a, sparse::MAX_LANCZOS_STEPS)?;
-    Ok(CondReport {
+    cond2_sparse_spd_warm(a, None, false).map(|(r, _)| r)
+}
+
+fn cond2_sparse_spd_warm(
+    a: &faer::sparse::SparseColMat<usize, f64>,
+    starts: Option<&sparse::RitzStarts>,
+    keep_ritz: bool,
+) -> Result<(CondReport, Option<sparse::RitzStarts>)> {
+    let s = sparse::extreme_eigenvalues(a, sparse::MAX_LANCZOS_STEPS, starts, keep_ritz)?;
+    let report = CondReport {
         cond2: s.lambda_max / s.lambda_min,
         sigma_max: s.lambda_max,
         sigma_min: s.lambda_min,
         route: CondRoute::SparseInertia,
         certificate: Some(s.certificate),
         log10_det: Some(s.log10_det),
-    })
+    };
+    Ok((report, s.ritz))
 }
 
 /// `log10|det A|` read off the factorization a cond₂ route already made of A (`cond`'s

@@ -75,6 +75,21 @@ impl Certificate {
     }
 }
 
+/// Unit eigenvector estimates (Ritz vectors) of λ_max and λ_min of a matrix: Lanczos starts
+/// for the cond₂ of a nearby matrix (a sweep takes them from K once per scene and starts every
+/// `K + D E Dᵀ` of the scene from them, see [`extreme_eigenvalues`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct RitzStarts {
+    /// Near the eigenvector of λ_max.
+    pub top: Vec<f64>,
+    /// Near the eigenvector of λ_min.
+    pub bottom: Vec<f64>,
+}
+
+/// Largest dimension for which [`extreme_eigenvalues`] keeps Lanczos vectors to return
+/// [`RitzStarts`] (memory: steps · n words, at most 400 · 20 000 · 8 B = 64 MB).
+pub const RITZ_VECTOR_MAX_N: usize = 20_000;
+
 /// Result of [`extreme_eigenvalues`].
 #[derive(Clone, Debug)]
 pub struct SparseSpectrum {
@@ -86,6 +101,8 @@ pub struct SparseSpectrum {
     pub certificate: Certificate,
     /// `log10 det A` from the Cholesky factor of A (free by-product).
     pub log10_det: f64,
+    /// The Ritz vectors of both ends, where asked for and `n ≤` [`RITZ_VECTOR_MAX_N`].
+    pub ritz: Option<RitzStarts>,
 }
 
 /// `αA + σI` for many shifts σ, sharing one symbolic Cholesky analysis.
@@ -224,14 +241,65 @@ pub(crate) fn lanczos_max(
     n: usize,
     max_steps: usize,
     stagnation: impl Fn(f64) -> f64,
-    mut apply: impl FnMut(&[f64], &mut [f64]),
+    apply: impl FnMut(&[f64], &mut [f64]),
 ) -> Result<(f64, usize, bool)> {
-    // Deterministic start vector with every component nonzero (so no eigenvector is missed).
+    let r = lanczos(n, max_steps, stagnation, None, false, apply)?;
+    Ok((r.theta, r.steps, r.converged))
+}
+
+/// What one Lanczos run found.
+pub(crate) struct LanczosRun {
+    /// The top Ritz value.
+    pub theta: f64,
+    /// Products with the operator.
+    pub steps: usize,
+    /// Whether θ stagnated (or the Krylov space became invariant) before `max_steps`.
+    pub converged: bool,
+    /// The unit Ritz vector of θ, where asked for.
+    pub vector: Option<Vec<f64>>,
+}
+
+/// Weight of the generic start vector mixed into a warm start: keeps every eigenvector's
+/// component nonzero, so a start orthogonal to the new top eigenvector still finds it.
+const WARM_MIX: f64 = 1e-2;
+
+/// [`lanczos_max`] with an optional warm start (a unit vector near the wanted eigenvector,
+/// e.g. the Ritz vector of a nearby matrix; the Ritz value is then checked every
+/// [`CHECK_EVERY_WARM`] steps, since few are needed) and, with `keep_vector`, the Ritz vector
+/// `y = Q_k s` of θ (`s` by inverse iteration on `T_k`), which stores the k Lanczos vectors
+/// (memory k·n).
+pub(crate) fn lanczos(
+    n: usize,
+    max_steps: usize,
+    stagnation: impl Fn(f64) -> f64,
+    start: Option<&[f64]>,
+    keep_vector: bool,
+    mut apply: impl FnMut(&[f64], &mut [f64]),
+) -> Result<LanczosRun> {
+    // Deterministic generic start vector with every component nonzero (so no eigenvector is
+    // missed), plus the warm start where there is one.
     let mut q: Vec<f64> = (0..n)
         .map(|i| 1.0 + 0.5 * ((i as f64 * 0.618_033_988_749_895).fract() - 0.5))
         .collect();
     let nq = norm(&q);
     q.iter_mut().for_each(|x| *x /= nq);
+    let warm = start.filter(|v| v.len() == n && v.iter().all(|x| x.is_finite()));
+    let check_every = if warm.is_some() {
+        CHECK_EVERY_WARM
+    } else {
+        CHECK_EVERY
+    };
+    if let Some(v) = warm {
+        let nv = norm(v);
+        if nv > 0.0 {
+            for (qi, vi) in q.iter_mut().zip(v) {
+                *qi = WARM_MIX * *qi + vi / nv;
+            }
+            let nq = norm(&q);
+            q.iter_mut().for_each(|x| *x /= nq);
+        }
+    }
+    let mut basis: Vec<f64> = Vec::new();
     let mut q_prev = vec![0.0; n];
     let mut w = vec![0.0; n];
     let (mut alphas, mut betas) = (Vec::new(), Vec::new());
@@ -239,7 +307,13 @@ pub(crate) fn lanczos_max(
     let mut history: Vec<f64> = Vec::new();
     let mut steps = 0;
     let mut upper = 0.0f64;
+    let ritz = |alphas: &[f64], betas: &[f64], basis: &[f64], theta: f64| {
+        keep_vector.then(|| ritz_vector(alphas, &betas[..alphas.len() - 1], basis, theta))
+    };
     for _ in 0..max_steps.min(n).max(1) {
+        if keep_vector {
+            basis.extend_from_slice(&q);
+        }
         apply(&q, &mut w);
         steps += 1;
         let alpha = dot(&w, &q);
@@ -260,10 +334,10 @@ pub(crate) fn lanczos_max(
         } else {
             upper.max(alpha) + beta_prev
         };
-        // The top Ritz value every CHECK_EVERY steps (its O(k) solve dominated small problems
-        // when done at every step), and wherever the recurrence may stop.
+        // The top Ritz value every `check_every` steps (its O(k) solve dominated small
+        // problems when done at every step), and wherever the recurrence may stop.
         let may_stop = beta <= 1e-300 || beta <= f64::EPSILON * upper.abs() * 1e-2;
-        if steps % CHECK_EVERY == 0 || may_stop {
+        if steps % check_every == 0 || may_stop {
             let theta = match history.last() {
                 Some(&prev) => tridiagonal_max_eigenvalue(&alphas, &betas, prev, upper),
                 None if steps == 1 => alpha,
@@ -278,7 +352,13 @@ pub(crate) fn lanczos_max(
             history.push(theta);
             upper = theta;
             if stagnated || beta <= 1e-300 || beta <= f64::EPSILON * theta.abs() * 1e-2 {
-                return Ok((theta, steps, true));
+                let vector = ritz(&alphas, &betas, &basis, theta);
+                return Ok(LanczosRun {
+                    theta,
+                    steps,
+                    converged: true,
+                    vector,
+                });
             }
         }
         betas.push(beta);
@@ -290,11 +370,61 @@ pub(crate) fn lanczos_max(
     }
     // Out of steps: the top Ritz value of the last tridiagonal.
     let (lo, hi) = gershgorin(&alphas, &betas);
-    Ok((
-        tridiagonal_max_eigenvalue(&alphas, &betas, lo, hi),
+    let theta = tridiagonal_max_eigenvalue(&alphas, &betas, lo, hi);
+    let vector = ritz(&alphas, &betas, &basis, theta);
+    Ok(LanczosRun {
+        theta,
         steps,
-        false,
-    ))
+        converged: false,
+        vector,
+    })
+}
+
+/// The unit Ritz vector `y = Q_k s` of the top eigenvalue θ of `T_k` (diagonal `a`,
+/// off-diagonal `b`; `basis` holds the k Lanczos vectors one after the other): `s` by two
+/// steps of inverse iteration with `T_k − μI`, μ just above θ (θ is an upper bound of
+/// `λ_max(T_k)` to rounding, so `T_k − μI ≺ 0` and its LDLᵀ needs no pivoting).
+fn ritz_vector(a: &[f64], b: &[f64], basis: &[f64], theta: f64) -> Vec<f64> {
+    let k = a.len();
+    let n = basis.len() / k;
+    let scale = a.iter().chain(b).fold(0.0f64, |m, x| m.max(x.abs()));
+    let mu = theta + 1e-12 * scale.max(f64::MIN_POSITIVE);
+    // LDLᵀ of T − μI: pivots d, multipliers l.
+    let mut d = vec![0.0; k];
+    let mut l = vec![0.0; k];
+    for i in 0..k {
+        d[i] = a[i] - mu;
+        if i > 0 {
+            l[i] = b[i - 1] / d[i - 1];
+            d[i] -= l[i] * b[i - 1];
+        }
+        if d[i] == 0.0 || !d[i].is_finite() {
+            d[i] = -f64::EPSILON * scale.max(f64::MIN_POSITIVE);
+        }
+    }
+    let mut s = vec![1.0; k];
+    for _ in 0..2 {
+        for i in 1..k {
+            s[i] -= l[i] * s[i - 1];
+        }
+        for i in 0..k {
+            s[i] /= d[i];
+        }
+        for i in (0..k.saturating_sub(1)).rev() {
+            s[i] -= l[i + 1] * s[i + 1];
+        }
+        let ns = norm(&s);
+        s.iter_mut().for_each(|x| *x /= ns);
+    }
+    let mut y = vec![0.0; n];
+    for (j, sj) in s.iter().enumerate() {
+        for (yi, qi) in y.iter_mut().zip(&basis[j * n..(j + 1) * n]) {
+            *yi += sj * qi;
+        }
+    }
+    let ny = norm(&y);
+    y.iter_mut().for_each(|x| *x /= ny);
+    y
 }
 
 /// Relative stagnation of the top Ritz value at which [`lanczos_max`] stops when the
@@ -304,6 +434,9 @@ pub(crate) const STAGNATION: f64 = 1e-14;
 /// Steps between two Ritz-value evaluations of [`lanczos_max`]; the stagnation test compares
 /// values this many steps apart.
 const CHECK_EVERY: usize = 5;
+
+/// [`CHECK_EVERY`] of a warm-started [`lanczos`] run.
+const CHECK_EVERY_WARM: usize = 2;
 
 /// Gershgorin interval of the symmetric tridiagonal (diagonal `a`, off-diagonal `b`).
 fn gershgorin(a: &[f64], b: &[f64]) -> (f64, f64) {
@@ -399,11 +532,74 @@ pub(crate) fn bracket(theta: f64, tol: f64, mut upper: impl FnMut(f64) -> bool) 
     (lo, hi)
 }
 
+/// An interval `[lo, hi]` that contains the exact Rayleigh quotient `ρ(y) = yᵀAy / yᵀy` of A
+/// (its values on `pattern`), from its floating-point evaluation and the standard error
+/// bounds (Higham, *Accuracy and Stability*, §3.1–3.5; u = ε_mach/2, γ_k = ku/(1 − ku)):
+/// `z = fl(Ay)` has `|z − Ay| ≤ γ_k |A||y|` with k the most entries of a column, and
+/// `fl(yᵀz)` is within `γ_n |y|ᵀ|z|` of `yᵀz`, so `yᵀAy` is within
+/// `E = γ_n |y|ᵀ|z| + γ_k |y|ᵀ|A||y|` of the computed numerator; `yᵀy` within `γ_n` relative
+/// of its computed value. The bound is inflated by 2 and the divisions by 8u for the
+/// rounding of the bound itself. None unless the numerator is certainly positive.
+fn rayleigh_interval(pattern: &DiagonalPattern, y: &[f64]) -> Option<(f64, f64)> {
+    let n = y.len();
+    let (cp, ri) = (pattern.pattern.col_ptr(), pattern.pattern.row_idx());
+    let mut z = vec![0.0; n];
+    pattern.matvec(y, &mut z);
+    let mut abs_form = 0.0; // |y|ᵀ|A||y|
+    let mut k = 0usize;
+    for (j, &yj) in y.iter().enumerate() {
+        k = k.max(cp[j + 1] - cp[j]);
+        for p in cp[j]..cp[j + 1] {
+            abs_form += (pattern.values[p] * yj).abs() * y[ri[p]].abs();
+        }
+    }
+    let num = dot(y, &z);
+    let den = dot(y, y);
+    let abs_num: f64 = y.iter().zip(&z).map(|(a, b)| (a * b).abs()).sum();
+    let u = 0.5 * f64::EPSILON;
+    let gamma = |m: usize| (m as f64 * u) / (1.0 - m as f64 * u);
+    let e = 2.0 * (gamma(n) * abs_num + gamma(k) * abs_form);
+    let g = 2.0 * gamma(n);
+    let lo = (num - e) / (den * (1.0 + g)) * (1.0 - 8.0 * u);
+    let hi = (num + e) / (den * (1.0 - g)) * (1.0 + 8.0 * u);
+    (lo > 0.0 && hi.is_finite() && den > 0.0).then_some((lo, hi))
+}
+
+/// A bracket of an eigenvalue from a proven lower bound `lo` (e.g. a Rayleigh quotient of
+/// λ_max): one inertia test at `lo(1 + 0.9 tol)` where the bound is sharp, else [`bracket`]
+/// from there (`upper(σ)` true iff σ is an upper bound).
+fn bracket_above(lo: f64, tol: f64, mut upper: impl FnMut(f64) -> bool) -> (f64, f64) {
+    let s = lo * (1.0 + 0.9 * tol);
+    if upper(s) {
+        return (lo, s);
+    }
+    let (l, h) = bracket(s, tol, upper);
+    (l.max(s), h)
+}
+
+/// A bracket of an eigenvalue from a proven upper bound `hi` (e.g. a Rayleigh quotient of
+/// λ_min): one inertia test at `hi / (1 + 0.9 tol)` where the bound is sharp, else [`bracket`]
+/// from there.
+fn bracket_below(hi: f64, tol: f64, mut upper: impl FnMut(f64) -> bool) -> (f64, f64) {
+    let s = hi / (1.0 + 0.9 * tol);
+    if !upper(s) {
+        return (s, hi);
+    }
+    let (l, h) = bracket(s, tol, upper);
+    (l, h.min(s))
+}
+
 /// λ_max and λ_min of the sparse SPD matrix `a` (both triangles stored), certified by inertia.
 /// Errors with [`Error::Singular`] if A is not positive definite (its Cholesky fails).
+///
+/// `starts` (of the same dimension; ignored otherwise) start the two Lanczos runs from the
+/// Ritz vectors of a nearby matrix — the estimates then settle in fewer steps; the
+/// certificate does not depend on them. `keep_ritz` returns this matrix's Ritz vectors.
 pub fn extreme_eigenvalues(
     a: &SparseColMat<usize, f64>,
     max_steps: usize,
+    starts: Option<&RitzStarts>,
+    keep_ritz: bool,
 ) -> Result<SparseSpectrum> {
     let n = a.nrows();
     if n == 0 {
@@ -420,39 +616,52 @@ pub fn extreme_eigenvalues(
     // the top of the spectrum is clustered and it has not settled, shift-invert Lanczos on
     // (σ₀I − A)⁻¹ with σ₀ just above the Gershgorin bound, where λ_max = σ₀ − 1/ν_max is well
     // separated.
-    let (inv_max, s2, _) = lanczos_max(
+    // Ritz vectors (stored Lanczos bases) wherever they fit: they give the Rayleigh-quotient
+    // side of each bracket.
+    let keep = n <= RITZ_VECTOR_MAX_N;
+    let run_min = lanczos(
         n,
         max_steps,
         |_| STAGNATION,
+        starts.map(|s| s.bottom.as_slice()),
+        keep,
         |x, y| {
             y.copy_from_slice(x);
             chol.solve_vec_in_place(y);
         },
     )?;
+    let (inv_max, s2) = (run_min.theta, run_min.steps);
     drop(chol);
     let lmin_est = 1.0 / inv_max;
     // λ_max is wanted only to a fraction of the bracket width it will be certified to,
     // `bracket_tol(θ / λ_min)` (θ ≤ λ_max, so the fraction is conservative): far fewer steps
     // where the rounding floor of an ill-conditioned A makes that width wide.
     let wanted = |theta: f64| (bracket_tol(theta * inv_max) / 64.0).max(STAGNATION);
-    let (mut lmax_est, mut s1, converged) = lanczos_max(n, PLAIN_LANCZOS_STEPS, wanted, |x, y| {
+    let top_start = starts.map(|s| s.top.as_slice());
+    let run_max = lanczos(n, PLAIN_LANCZOS_STEPS, wanted, top_start, keep, |x, y| {
         fam.pattern.matvec(x, y)
     })?;
-    if !converged {
+    let (mut lmax_est, mut s1) = (run_max.theta, run_max.steps);
+    let mut top_vector = run_max.vector;
+    if !run_max.converged {
         let sigma0 = gershgorin_max(a) * (1.0 + 1e-8);
         if let Some(f) = fam.factor(-1.0, sigma0) {
-            let (nu, s, _) = lanczos_max(
+            let run = lanczos(
                 n,
                 max_steps,
                 |_| STAGNATION,
+                top_start,
+                keep,
                 |x, y| {
                     y.copy_from_slice(x);
                     f.solve_vec_in_place(y);
                 },
             )?;
-            s1 += s;
-            if nu > 0.0 && nu.is_finite() {
-                lmax_est = lmax_est.max(sigma0 - 1.0 / nu);
+            s1 += run.steps;
+            let nu = run.theta;
+            if nu > 0.0 && nu.is_finite() && sigma0 - 1.0 / nu > lmax_est {
+                lmax_est = sigma0 - 1.0 / nu;
+                top_vector = run.vector;
             }
         }
     }
@@ -465,9 +674,26 @@ pub fn extreme_eigenvalues(
     // Phase 2: inertia brackets. λ_max < σ ⇔ σI − A ≻ 0; λ_min ≤ σ ⇔ A − σI ⊁ 0. Both ends
     // to the same relative width: cond₂ cannot be known better than the rounding floor of
     // λ_min, so a narrower λ_max bracket would only cost factorizations.
+    //
+    // Where the Ritz vectors are at hand, one side of each bracket is a Rayleigh quotient
+    // instead (Courant–Fischer: ρ(y) = yᵀAy / yᵀy ∈ [λ_min, λ_max] for every y ≠ 0, with its
+    // rounding bounded, [`rayleigh_interval`]) and one inertia test closes it: λ_max ≥ ρ(y_top)
+    // and λ_max < σ = ρ(1 + 0.9 tol) if σI − A ≻ 0; λ_min ≤ ρ(y_bottom) and λ_min > σ =
+    // ρ / (1 + 0.9 tol) if A − σI ≻ 0. A test that fails falls back to the two-sided search.
     let tol = bracket_tol(lmax_est / lmin_est);
-    let (max_lo, max_hi) = bracket(lmax_est, tol, |s| fam.is_pd(-1.0, s));
-    let (min_lo, min_hi) = bracket(lmin_est, tol, |s| !fam.is_pd(1.0, -s));
+    let rayleigh = |y: &Option<Vec<f64>>| {
+        y.as_deref()
+            .and_then(|y| rayleigh_interval(&fam.pattern, y))
+    };
+    let (top_rq, bottom_rq) = (rayleigh(&top_vector), rayleigh(&run_min.vector));
+    let (max_lo, max_hi) = match top_rq {
+        Some((lo, _)) => bracket_above(lo, tol, |s| fam.is_pd(-1.0, s)),
+        None => bracket(lmax_est, tol, |s| fam.is_pd(-1.0, s)),
+    };
+    let (min_lo, min_hi) = match bottom_rq {
+        Some((_, hi)) => bracket_below(hi, tol, |s| !fam.is_pd(1.0, -s)),
+        None => bracket(lmin_est, tol, |s| !fam.is_pd(1.0, -s)),
+    };
     let certificate = Certificate {
         lambda_max_lo: max_lo,
         lambda_max_hi: max_hi,
@@ -494,6 +720,10 @@ pub fn extreme_eigenvalues(
         lambda_min,
         certificate,
         log10_det,
+        ritz: top_vector
+            .zip(run_min.vector)
+            .filter(|_| keep_ritz)
+            .map(|(top, bottom)| RitzStarts { top, bottom }),
     })
 }
 
@@ -524,6 +754,45 @@ mod tests {
             );
         }
     }
+    /// The Rayleigh interval of the exact (rounded) eigenvectors of the second-difference
+    /// matrix contains the closed-form eigenvalues λ_j = 2 − 2cos(jπ/(n+1)) and is no wider
+    /// than the rounding floor of λ_min it is used at (64·ε_mach·cond₂ relative).
+    #[test]
+    fn rayleigh_interval_contains_the_closed_form_eigenvalues() {
+        use crate::linalg::DiagonalPattern;
+        use faer::sparse::{SparseColMat, Triplet};
+        for n in [2usize, 40, 1000] {
+            let mut t = Vec::new();
+            for i in 0..n {
+                t.push(Triplet::new(i, i, 2.0));
+                if i + 1 < n {
+                    t.push(Triplet::new(i, i + 1, -1.0));
+                    t.push(Triplet::new(i + 1, i, -1.0));
+                }
+            }
+            let a = SparseColMat::try_new_from_triplets(n, n, &t).unwrap();
+            let pattern = DiagonalPattern::new(&a).unwrap();
+            let th = std::f64::consts::PI / (n as f64 + 1.0);
+            let lambda = |j: usize| 2.0 - 2.0 * (j as f64 * th).cos();
+            let cond = lambda(n) / lambda(1);
+            for j in [1, n] {
+                let y: Vec<f64> = (1..=n).map(|i| (i as f64 * j as f64 * th).sin()).collect();
+                let (lo, hi) = super::rayleigh_interval(&pattern, &y).expect("positive");
+                let l = lambda(j);
+                // The closed form itself carries a few ulps of rounding.
+                let slack = 4.0 * f64::EPSILON * l;
+                assert!(
+                    lo - slack <= l && l <= hi + slack,
+                    "n {n} j {j}: {l} ∉ [{lo}, {hi}]"
+                );
+                assert!(
+                    hi / lo - 1.0 <= 64.0 * f64::EPSILON * cond,
+                    "n {n} j {j}: [{lo}, {hi}]"
+                );
+            }
+        }
+    }
+
     /// With an exact estimate a bracket costs two inertia tests (one each side), not three:
     /// the first tests must land inside the target width.
     #[test]

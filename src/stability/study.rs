@@ -318,6 +318,7 @@ pub fn eps_study(scene: &StressScene, cfg: &StressConfig) -> Result<Vec<EpsRow>>
                     det: false,
                 },
                 None,
+                None,
             )
             .unwrap_or_default();
             s.warnings.len() + metrics::precision_warnings(&m).len()
@@ -461,6 +462,7 @@ pub fn strategy_study(scene: &StressScene, cfg: &StressConfig) -> Result<Vec<Str
                     cond: true,
                     det: false,
                 },
+                None,
                 None,
             ) {
                 cond2_system = m.cond2_system.map(|c| c.cond2).and_then(finite);

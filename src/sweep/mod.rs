@@ -17,6 +17,7 @@ pub mod merge;
 pub mod rows;
 
 use crate::conditioning;
+use crate::conditioning::sparse::RitzStarts;
 use crate::error::{Error, Result};
 use crate::metrics::{self, MetricSet};
 use crate::model::generate::{self, Family, GeneratorConfig};
@@ -451,6 +452,10 @@ pub struct SceneWork {
     pub cond2_k: Option<f64>,
     /// log10|det K|, when requested and available.
     pub log10_det_k: Option<f64>,
+    /// K's Ritz vectors of λ_max and λ_min (sparse route): every job's cond₂ starts its
+    /// Lanczos runs from them. Shared by the scene's jobs rather than passed from one ε to the
+    /// next, so each row is computed the same way whatever the thread count and order.
+    pub ritz_k: Option<RitzStarts>,
     /// The jobs, in row order (lagrange first).
     pub jobs: Vec<Job>,
     /// Wall time of each shared step (s): `read`, `prepare`, `cond_k`, `det_k`.
@@ -497,8 +502,15 @@ pub fn prepare_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<SceneWork> {
     let set = cfg.metric_set();
     let ((prepared, prepare), (cond, cond_k)) = rayon::join(
         || timed(|| Prepared::new(p)),
-        || timed(|| set.cond.then(|| conditioning::cond2(&p.k).ok()).flatten()),
+        || {
+            timed(|| {
+                set.cond
+                    .then(|| conditioning::cond2_warm(&p.k, None, true).ok())
+                    .flatten()
+            })
+        },
     );
+    let (cond, ritz_k) = cond.unzip();
     let (log10_det_k, det_k) = timed(|| {
         set.det
             .then(|| conditioning::log10_abs_det_after(&p.k, cond.as_ref()).ok())
@@ -510,6 +522,7 @@ pub fn prepare_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<SceneWork> {
         prepared,
         cond2_k: cond.map(|c| c.cond2),
         log10_det_k,
+        ritz_k: ritz_k.flatten(),
         jobs,
         seconds: SetupSeconds {
             read,
@@ -583,7 +596,7 @@ pub fn run_job(
     row.seconds_solve = Some(seconds_solve);
     let mut u_out = None;
     match solved.and_then(|sol| {
-        let m = metrics::compute_with_k(p, &sol, set, work.log10_det_k)?;
+        let m = metrics::compute_with_k(p, &sol, set, work.log10_det_k, work.ritz_k.as_ref())?;
         Ok((sol, m))
     }) {
         Ok((sol, m)) => {
