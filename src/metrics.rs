@@ -128,15 +128,25 @@ pub fn compute(problem: &Problem, sol: &Solution, set: MetricSet) -> Result<Metr
     }
     let sys = system_matrix(problem, sol);
     if set.cond {
-        // Two independent analyses, each sequential inside: the same results for any number
-        // of threads. Side by side up to SIDE_BY_SIDE_MAX_N, one after the other above it.
+        // Where K's Ritz vectors are kept (n ≤ RITZ_VECTOR_MAX_N) the system's cond₂ starts
+        // from them, after K's, exactly as a sweep does (`compute_with_k`): the same rows bit
+        // for bit. Above, two independent analyses, each sequential inside (the same results
+        // for any number of threads): side by side up to SIDE_BY_SIDE_MAX_N, one after the
+        // other above it.
         let mut unavailable = Vec::new();
         let cond_k = || conditioning::cond2(&problem.k);
-        let cond_sys = |notes: &mut Vec<String>| system_cond(problem, sol, &sys, None, notes);
-        let (k, system) = if sys.n() <= SIDE_BY_SIDE_MAX_N {
-            rayon::join(cond_k, || cond_sys(&mut unavailable))
+        let cond_sys = |notes: &mut Vec<String>, starts: Option<&RitzStarts>| {
+            system_cond(problem, sol, &sys, starts, notes)
+        };
+        let (k, system) = if problem.n() <= conditioning::sparse::RITZ_VECTOR_MAX_N {
+            match conditioning::cond2_warm(&problem.k, None, true) {
+                Ok((k, ritz)) => (Ok(k), cond_sys(&mut unavailable, ritz.as_ref())),
+                Err(e) => (Err(e), Ok(None)),
+            }
+        } else if sys.n() <= SIDE_BY_SIDE_MAX_N {
+            rayon::join(cond_k, || cond_sys(&mut unavailable, None))
         } else {
-            (cond_k(), cond_sys(&mut unavailable))
+            (cond_k(), cond_sys(&mut unavailable, None))
         };
         out.cond2_k = Some(k?);
         out.cond2_system = system?;
