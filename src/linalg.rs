@@ -352,6 +352,15 @@ pub struct Factorization {
     pivot_ratio: f64,
 }
 
+impl std::fmt::Debug for Factorization {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Factorization")
+            .field("kind", &self.kind())
+            .field("n", &self.n)
+            .finish_non_exhaustive()
+    }
+}
+
 impl Factorization {
     /// Factorizes `a`. `symmetric` selects Cholesky first (pass `a.is_symmetric()` when unsure).
     /// Errors with [`Error::Singular`] when the matrix is singular to working precision.

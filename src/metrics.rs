@@ -5,7 +5,7 @@
 //! The final system matrix is `K + D E Dᵀ` for the penalty strategies and the saddle-point
 //! matrix `[K D_A; D_Aᵀ 0]` for `lagrange`.
 
-use crate::conditioning::{self, sparse::RitzStarts, CondReport};
+use crate::conditioning::{self, sparse::RitzStarts, CondReport, Reuse};
 use crate::error::{Error, Result};
 use crate::strategy::{lagrange, penalized_matrix, Solution, SystemKind};
 use crate::system::{Problem, Stiffness};
@@ -74,7 +74,12 @@ fn system_cond(
             }
         }
     }
-    match conditioning::cond2_warm(sys, starts, false) {
+    let reuse = Reuse {
+        starts,
+        factor: sol.factor.as_deref(),
+        keep_ritz: false,
+    };
+    match conditioning::cond2_warm(sys, reuse) {
         Ok((r, _)) => Ok(Some(r)),
         Err(Error::Input(msg)) => {
             unavailable.push(format!("cond2 of the system matrix not computed: {msg}"));
@@ -139,7 +144,11 @@ pub fn compute(problem: &Problem, sol: &Solution, set: MetricSet) -> Result<Metr
             system_cond(problem, sol, &sys, starts, notes)
         };
         let (k, system) = if problem.n() <= conditioning::sparse::RITZ_VECTOR_MAX_N {
-            match conditioning::cond2_warm(&problem.k, None, true) {
+            let reuse = Reuse {
+                keep_ritz: true,
+                ..Reuse::default()
+            };
+            match conditioning::cond2_warm(&problem.k, reuse) {
                 Ok((k, ritz)) => (Ok(k), cond_sys(&mut unavailable, ritz.as_ref())),
                 Err(e) => (Err(e), Ok(None)),
             }

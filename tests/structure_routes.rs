@@ -3,7 +3,7 @@
 //! certified bracket, and the saddle-point determinant identity |det [K D; Dᵀ 0]| = det K_FF
 //! agrees with an LU of the whole matrix.
 
-use penalty_lab::conditioning::{self, reference, sparse::SPARSE_ROUTE_MIN_N, CondRoute};
+use penalty_lab::conditioning::{self, reference, sparse::SPARSE_ROUTE_MIN_N, CondRoute, Reuse};
 use penalty_lab::model::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::strategy::lagrange::saddle_matrix;
 use penalty_lab::system::{Problem, Stiffness, SPARSE_MAX_DENSITY};
@@ -185,7 +185,11 @@ fn warm_starts_from_k_keep_the_certified_value_in_fewer_steps() {
         if !p.k.is_sparse() {
             continue;
         }
-        let (rk, ritz) = conditioning::cond2_warm(&p.k, None, true).unwrap();
+        let keep = Reuse {
+            keep_ritz: true,
+            ..Reuse::default()
+        };
+        let (rk, ritz) = conditioning::cond2_warm(&p.k, keep).unwrap();
         let ritz = ritz.expect("the sparse route keeps Ritz vectors");
         // K's Ritz vectors are unit vectors whose Rayleigh quotients sit in K's brackets.
         let c = rk.certificate.unwrap();
@@ -211,7 +215,11 @@ fn warm_starts_from_k_keep_the_certified_value_in_fewer_steps() {
             let adds: Vec<(usize, f64)> = p.constraints.iter().map(|c| (c.dof, eps)).collect();
             let a = p.k.with_diagonal_added(&adds);
             let cold = conditioning::cond2(&a).unwrap();
-            let (warm, none) = conditioning::cond2_warm(&a, Some(&ritz), false).unwrap();
+            let warm_start = Reuse {
+                starts: Some(&ritz),
+                ..Reuse::default()
+            };
+            let (warm, none) = conditioning::cond2_warm(&a, warm_start).unwrap();
             assert!(none.is_none(), "vectors returned though not asked for");
             let (cc, cw) = (cold.certificate.unwrap(), warm.certificate.unwrap());
             cold_steps += cc.lanczos_steps;

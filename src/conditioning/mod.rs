@@ -126,17 +126,29 @@ pub fn cond2_dense(a: MatRef<'_, f64>, symmetric: bool) -> Result<CondReport> {
 /// densified, up to [`DENSIFY_LIMIT`]). A sparse-route matrix that turns out indefinite falls
 /// back to the dense routes too.
 pub fn cond2(a: &Stiffness) -> Result<CondReport> {
-    cond2_warm(a, None, false).map(|(r, _)| r)
+    cond2_warm(a, Reuse::default()).map(|(r, _)| r)
 }
 
-/// [`cond2`] whose sparse SPD route starts its Lanczos runs from `starts` (the Ritz vectors
-/// of a nearby matrix, e.g. K for `K + D E Dᵀ`: fewer steps, same certified result) and, with
-/// `keep_ritz`, also returns the Ritz vectors of `a` (sparse SPD route only, `n ≤`
-/// [`sparse::RITZ_VECTOR_MAX_N`]).
+/// What a cond₂ may reuse from work already done ([`cond2_warm`]); nothing by default.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Reuse<'a> {
+    /// Ritz vectors of a nearby matrix (e.g. K for `K + D E Dᵀ`) to start Lanczos from.
+    pub starts: Option<&'a sparse::RitzStarts>,
+    /// A sparse Cholesky factor of this very matrix (e.g. the solver's last one): the λ_min
+    /// Lanczos run solves with it and `log10 det` is read off it, instead of a new factor.
+    pub factor: Option<&'a Factorization>,
+    /// Return the Ritz vectors of this matrix (sparse SPD route, `n ≤`
+    /// [`sparse::RITZ_VECTOR_MAX_N`]).
+    pub keep_ritz: bool,
+}
+
+/// [`cond2`] reusing earlier work: the sparse SPD route starts its Lanczos runs from
+/// `reuse.starts` (fewer steps, same certified result), solves with `reuse.factor` where it
+/// is a sparse Cholesky of `a` (one factorization fewer), and with `reuse.keep_ritz` also
+/// returns the Ritz vectors of `a`.
 pub fn cond2_warm(
     a: &Stiffness,
-    starts: Option<&sparse::RitzStarts>,
-    keep_ritz: bool,
+    reuse: Reuse<'_>,
 ) -> Result<(CondReport, Option<sparse::RitzStarts>)> {
     let symmetric = a.is_symmetric();
     let structure = a.structure();
@@ -152,7 +164,7 @@ pub fn cond2_warm(
                 }
             }
         };
-        match cond2_sparse_spd_warm(m, starts, keep_ritz) {
+        match cond2_sparse_spd_warm(m, reuse) {
             Ok(r) => return Ok(r),
             // Not positive definite (e.g. a saddle-point matrix): the dense routes below.
             Err(Error::Singular(_)) => {}
@@ -184,15 +196,14 @@ pub fn cond2_warm(
 /// inertia counts), without densifying. Errors with [`Error::Singular`] if A is not positive
 /// definite.
 pub fn cond2_sparse_spd(a: &faer::sparse::SparseColMat<usize, f64>) -> Result<CondReport> {
-    cond2_sparse_spd_warm(a, None, false).map(|(r, _)| r)
+    cond2_sparse_spd_warm(a, Reuse::default()).map(|(r, _)| r)
 }
 
 fn cond2_sparse_spd_warm(
     a: &faer::sparse::SparseColMat<usize, f64>,
-    starts: Option<&sparse::RitzStarts>,
-    keep_ritz: bool,
+    reuse: Reuse<'_>,
 ) -> Result<(CondReport, Option<sparse::RitzStarts>)> {
-    let s = sparse::extreme_eigenvalues(a, sparse::MAX_LANCZOS_STEPS, starts, keep_ritz)?;
+    let s = sparse::extreme_eigenvalues(a, sparse::MAX_LANCZOS_STEPS, reuse)?;
     let report = CondReport {
         cond2: s.lambda_max / s.lambda_min,
         sigma_max: s.lambda_max,

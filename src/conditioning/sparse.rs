@@ -4,12 +4,18 @@
 //!
 //! 1. **Estimate** by Lanczos: on A (matrix–vector products) for λ_max, and on A⁻¹ (solves with
 //!    the sparse Cholesky factor of A) for λ_min = 1 / λ_max(A⁻¹). The extreme Ritz value of the
-//!    tridiagonal `T_k` is found by Sturm bisection; no Lanczos vectors are stored (memory O(n)).
-//! 2. **Certify** by inertia (Sylvester's law): a sparse Cholesky factorization of `σI − A`
+//!    tridiagonal `T_k` is found by Laguerre's method. Up to [`RITZ_VECTOR_MAX_N`] unknowns the
+//!    Lanczos vectors are kept and the Ritz vectors y of both ends formed (memory k·n);
+//!    above, no vectors are stored (memory O(n)).
+//! 2. **Certify.** Inertia (Sylvester's law): a sparse Cholesky factorization of `σI − A`
 //!    succeeds iff every eigenvalue of A is below σ, one of `A − σI` iff every eigenvalue is
-//!    above σ. Each factorization reuses one symbolic analysis of the pattern of A (with its
-//!    diagonal). The estimate is bracketed, `lo ≤ λ ≤ hi`, by one success and one failure, then
-//!    the bracket is narrowed by geometric bisection until `hi / lo − 1 ≤ tol`.
+//!    above σ. Courant–Fischer: the Rayleigh quotient `ρ(y) = yᵀAy / yᵀy` lies in
+//!    `[λ_min, λ_max]` for every y, so `ρ(y_top) ≤ λ_max` and `λ_min ≤ ρ(y_bottom)` (evaluated
+//!    with its rounding bounded, `rayleigh_interval`). Each end gets a bracket `lo ≤ λ ≤ hi`:
+//!    with a Ritz vector, its Rayleigh quotient is one side and one inertia test just beyond
+//!    it the other; without (or when that test fails), inertia tests on both sides of the
+//!    estimate, narrowed by geometric bisection until `hi / lo − 1 ≤ tol`. Every shifted
+//!    factorization reuses one symbolic analysis of the pattern of A (with its diagonal).
 //!
 //! The bracket is the certificate: it holds up to the backward error of Cholesky,
 //! `‖ΔA‖ ≲ c·ε_mach·‖A‖`, so the attainable relative width at λ_min is about
@@ -18,17 +24,25 @@
 //! (`bracket_tol`; a narrower λ_max bracket would not make cond₂ better known), and the width
 //! actually reached is reported in [`Certificate`].
 //!
-//! Cost: one symbolic analysis, one Cholesky of A (dropped after the λ_min estimate: one factor
-//! in memory at a time), `k` products and `k` solves (k ≲ 100–300), one shift-invert factor
-//! where the top of the spectrum is clustered, and 2 shifted Cholesky tests per end when the
-//! estimate is within the target width (more where it is not). Memory: O(nnz of the factor).
+//! **Reuse** ([`super::Reuse`]): a sweep computes many matrices `K + D E Dᵀ` of one K. K's
+//! Ritz vectors ([`RitzStarts`]) start both Lanczos runs of each of them (about half the
+//! steps), and the solver's own sparse Cholesky factor of the system replaces the
+//! factorization of A. The certificate never depends on either.
+//!
+//! Cost: one symbolic analysis, one Cholesky of A (or none, reused; dropped after the λ_min
+//! estimate: one factor in memory at a time), `k` products and `k` solves (k ≈ 5–100), one
+//! shift-invert factor where the top of the spectrum is clustered, and one shifted Cholesky
+//! test per end where the Rayleigh quotient is within the target width (two or more
+//! otherwise). Memory: O(nnz of the factor), plus k·n for the Ritz vectors.
 //!
 //! Use it for large sparse SPD matrices (membranes, assembled frames); [`super::cond2`] picks it
 //! automatically above [`SPARSE_ROUTE_MIN_N`].
 
+use super::Reuse;
 use crate::error::{Error, Result};
-use crate::linalg::{DiagonalPattern, SparseLlt};
+use crate::linalg::{DiagonalPattern, FactorKind, SparseLlt};
 use faer::sparse::SparseColMat;
+use faer::MatMut;
 use serde::Serialize;
 
 /// Below this dimension [`super::cond2`] densifies sparse matrices and
@@ -592,24 +606,38 @@ fn bracket_below(hi: f64, tol: f64, mut upper: impl FnMut(f64) -> bool) -> (f64,
 /// λ_max and λ_min of the sparse SPD matrix `a` (both triangles stored), certified by inertia.
 /// Errors with [`Error::Singular`] if A is not positive definite (its Cholesky fails).
 ///
-/// `starts` (of the same dimension; ignored otherwise) start the two Lanczos runs from the
-/// Ritz vectors of a nearby matrix — the estimates then settle in fewer steps; the
-/// certificate does not depend on them. `keep_ritz` returns this matrix's Ritz vectors.
+/// `reuse.starts` (of the same dimension; ignored otherwise) start the two Lanczos runs from
+/// the Ritz vectors of a nearby matrix — the estimates then settle in fewer steps; the
+/// certificate does not depend on them. `reuse.factor`, a sparse Cholesky factor of `a`
+/// itself, replaces the factorization of A (not counted in the certificate's
+/// `factorizations`). `reuse.keep_ritz` returns this matrix's Ritz vectors.
 pub fn extreme_eigenvalues(
     a: &SparseColMat<usize, f64>,
     max_steps: usize,
-    starts: Option<&RitzStarts>,
-    keep_ritz: bool,
+    reuse: Reuse<'_>,
 ) -> Result<SparseSpectrum> {
+    let (starts, keep_ritz) = (reuse.starts, reuse.keep_ritz);
     let n = a.nrows();
     if n == 0 {
         return Err(Error::input("empty matrix has no condition number"));
     }
     let mut fam = ShiftFamily::new(a)?;
-    let chol = fam.factor(1.0, 0.0).ok_or_else(|| {
-        Error::singular("sparse Cholesky of A failed: A is not positive definite".to_string())
-    })?;
-    let log10_det: f64 = chol.l_diagonal().iter().map(|d| 2.0 * d.log10()).sum();
+    // A's own factor: the caller's sparse Cholesky of A where it passes one, else a new one
+    // (which also proves A ≻ 0).
+    let given = reuse
+        .factor
+        .filter(|f| f.kind() == FactorKind::SparseCholesky && f.n() == n);
+    let own = match given {
+        Some(_) => None,
+        None => Some(fam.factor(1.0, 0.0).ok_or_else(|| {
+            Error::singular("sparse Cholesky of A failed: A is not positive definite".to_string())
+        })?),
+    };
+    let log10_det: f64 = match (&own, given) {
+        (Some(chol), _) => chol.l_diagonal().iter().map(|d| 2.0 * d.log10()).sum(),
+        (None, Some(f)) => f.log10_abs_det().unwrap_or(f64::NAN),
+        (None, None) => unreachable!("one of the two factors exists"),
+    };
 
     // Phase 1: estimates. λ_min = 1/λ_max(A⁻¹) by Lanczos with the factor of A, which is then
     // dropped (one factor in memory at a time). λ_max: plain Lanczos on A (products only); if
@@ -627,11 +655,17 @@ pub fn extreme_eigenvalues(
         keep,
         |x, y| {
             y.copy_from_slice(x);
-            chol.solve_vec_in_place(y);
+            match (&own, given) {
+                (Some(chol), _) => chol.solve_vec_in_place(y),
+                (None, Some(f)) => {
+                    f.solve_mat_in_place(MatMut::from_column_major_slice_mut(y, n, 1))
+                }
+                (None, None) => unreachable!("one of the two factors exists"),
+            }
         },
     )?;
     let (inv_max, s2) = (run_min.theta, run_min.steps);
-    drop(chol);
+    drop(own);
     let lmin_est = 1.0 / inv_max;
     // λ_max is wanted only to a fraction of the bracket width it will be certified to,
     // `bracket_tol(θ / λ_min)` (θ ≤ λ_max, so the fraction is conservative): far fewer steps

@@ -32,7 +32,7 @@ pub mod scaled;
 pub mod spring;
 
 use crate::error::{Error, Result};
-use crate::linalg::Factorization;
+use crate::linalg::{FactorKind, Factorization};
 use crate::system::{Problem, Stiffness};
 use serde::Serialize;
 use std::sync::Arc;
@@ -295,6 +295,12 @@ pub struct Solution {
     pub stats: Stats,
     /// Human-readable warnings (assumption failures, non-convergence).
     pub warnings: Vec<String>,
+    /// The sparse Cholesky factor of the final penalized system `K + D E Dᵀ`, where the
+    /// solve's last factorization is of exactly that matrix (`penalties` bit for bit) and
+    /// N ≤ [`crate::conditioning::sparse::RITZ_VECTOR_MAX_N`]: the system's cond₂ solves with
+    /// it instead of factorizing the matrix again. Not serialized.
+    #[serde(skip)]
+    pub factor: Option<Arc<Factorization>>,
 }
 
 /// Solves `problem` with `method`.
@@ -495,6 +501,16 @@ impl<'a> Context<'a> {
         let forces =
             forces.unwrap_or_else(|| penalties.iter().zip(&gaps).map(|(e, g)| e * g).collect());
         let max_penetration = self.problem.max_penetration(&u);
+        let factor = match self.last {
+            Some((eps, f))
+                if eps == penalties
+                    && f.kind() == FactorKind::SparseCholesky
+                    && f.n() <= crate::conditioning::sparse::RITZ_VECTOR_MAX_N =>
+            {
+                Some(Arc::new(f))
+            }
+            _ => None,
+        };
         Solution {
             method,
             u,
@@ -505,6 +521,7 @@ impl<'a> Context<'a> {
             system,
             stats: self.stats,
             warnings,
+            factor,
         }
     }
 }

@@ -505,7 +505,13 @@ pub fn prepare_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<SceneWork> {
         || {
             timed(|| {
                 set.cond
-                    .then(|| conditioning::cond2_warm(&p.k, None, true).ok())
+                    .then(|| {
+                        let reuse = conditioning::Reuse {
+                            keep_ritz: true,
+                            ..Default::default()
+                        };
+                        conditioning::cond2_warm(&p.k, reuse).ok()
+                    })
                     .flatten()
             })
         },
