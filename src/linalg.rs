@@ -493,6 +493,12 @@ impl Factorization {
         }
     }
 
+    /// Solves `A x = b` in place (`x` holds b on entry).
+    pub fn solve_vec_in_place(&self, x: &mut [f64]) {
+        let n = x.len();
+        self.solve_mat_in_place(MatMut::from_column_major_slice_mut(x, n, 1));
+    }
+
     /// Solves `A x = b`.
     pub fn solve(&self, b: &[f64]) -> Vec<f64> {
         let mut x = Mat::from_fn(self.n, 1, |i, _| b[i]);

@@ -144,11 +144,7 @@ pub fn compute(problem: &Problem, sol: &Solution, set: MetricSet) -> Result<Metr
             system_cond(problem, sol, &sys, starts, notes)
         };
         let (k, system) = if problem.n() <= conditioning::sparse::RITZ_VECTOR_MAX_N {
-            let reuse = Reuse {
-                keep_ritz: true,
-                ..Reuse::default()
-            };
-            match conditioning::cond2_warm(&problem.k, reuse) {
+            match conditioning::cond2_warm(&problem.k, Reuse::keeping_ritz()) {
                 Ok((k, ritz)) => (Ok(k), cond_sys(&mut unavailable, ritz.as_ref())),
                 Err(e) => (Err(e), Ok(None)),
             }

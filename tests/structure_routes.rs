@@ -185,11 +185,7 @@ fn warm_starts_from_k_keep_the_certified_value_in_fewer_steps() {
         if !p.k.is_sparse() {
             continue;
         }
-        let keep = Reuse {
-            keep_ritz: true,
-            ..Reuse::default()
-        };
-        let (rk, ritz) = conditioning::cond2_warm(&p.k, keep).unwrap();
+        let (rk, ritz) = conditioning::cond2_warm(&p.k, Reuse::keeping_ritz()).unwrap();
         let ritz = ritz.expect("the sparse route keeps Ritz vectors");
         // K's Ritz vectors are unit vectors whose Rayleigh quotients sit in K's brackets.
         let c = rk.certificate.unwrap();

@@ -142,6 +142,16 @@ pub struct Reuse<'a> {
     pub keep_ritz: bool,
 }
 
+impl Reuse<'_> {
+    /// Nothing to reuse, but return the Ritz vectors (of K, for its systems to start from).
+    pub fn keeping_ritz() -> Self {
+        Reuse {
+            keep_ritz: true,
+            ..Reuse::default()
+        }
+    }
+}
+
 /// [`cond2`] reusing earlier work: the sparse SPD route starts its Lanczos runs from
 /// `reuse.starts` (fewer steps, same certified result), solves with `reuse.factor` where it
 /// is a sparse Cholesky of `a` (one factorization fewer), and with `reuse.keep_ritz` also

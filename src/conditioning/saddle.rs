@@ -40,9 +40,7 @@
 //! each), 2–4 shifted Cholesky factorizations per certified end; memory O(nnz of the factor).
 //! Use it for the `lagrange` system of a sparse K (the metrics pick it automatically).
 
-use super::sparse::{
-    bracket, bracket_tol, lanczos_max, Certificate, MAX_LANCZOS_STEPS, STAGNATION,
-};
+use super::sparse::{bracket, bracket_tol, lanczos_max, Certificate, MAX_LANCZOS_STEPS};
 use super::{CondReport, CondRoute};
 use crate::error::{Error, Result};
 use crate::linalg::{DiagonalPattern, SparseLlt};
@@ -151,11 +149,11 @@ pub fn cond2_saddle_with(
     };
     let mut lanczos_steps = 0;
     // λ⁺_min first: its estimate sets the bracket width of both ends (sparse::bracket_tol).
-    let (inv_pos, st, _) = lanczos_max(size, steps, |_| STAGNATION, |x, y| apply_inv(x, y, 1.0))?;
+    let (inv_pos, st, _) = lanczos_max(size, steps, |x, y| apply_inv(x, y, 1.0))?;
     lanczos_steps += st;
     let pos_min_est = 1.0 / usable("1/λ⁺_min", inv_pos)?;
     // σ_max: λ_max, and −λ_min only where one test does not already show −λ_min < λ_max.
-    let (lmax_est, st, _) = lanczos_max(size, steps, |_| STAGNATION, |x, y| apply_a(x, y, 1.0))?;
+    let (lmax_est, st, _) = lanczos_max(size, steps, |x, y| apply_a(x, y, 1.0))?;
     lanczos_steps += st;
     let lmax_est = usable("λ_max", lmax_est)?;
     let tol = bracket_tol(lmax_est / pos_min_est);
@@ -163,7 +161,7 @@ pub fn cond2_saddle_with(
     let sigma_max = if max_lo > 0.0 && shifts.is_pd(1.0, max_lo, -1.0 / max_lo) {
         (max_lo, max_hi)
     } else {
-        let (est, st, _) = lanczos_max(size, steps, |_| STAGNATION, |x, y| apply_a(x, y, -1.0))?;
+        let (est, st, _) = lanczos_max(size, steps, |x, y| apply_a(x, y, -1.0))?;
         lanczos_steps += st;
         let est = usable("−λ_min", est)?;
         let (lo, hi) = bracket(est, tol, |s| shifts.is_pd(1.0, s, -1.0 / s));
@@ -178,8 +176,7 @@ pub fn cond2_saddle_with(
     let (sigma_min, value) = if pmin_hi < s0 {
         ((pmin_lo, pmin_hi), (pmin_lo * pmin_hi).sqrt())
     } else {
-        let (inv_neg, st, _) =
-            lanczos_max(size, steps, |_| STAGNATION, |x, y| apply_inv(x, y, -1.0))?;
+        let (inv_neg, st, _) = lanczos_max(size, steps, |x, y| apply_inv(x, y, -1.0))?;
         lanczos_steps += st;
         let near_est = 1.0 / usable("−1/λ⁻_max", inv_neg)?;
         let tol = tol.max(bracket_tol(sigma_max.1 / near_est));

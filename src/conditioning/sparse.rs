@@ -40,9 +40,8 @@
 
 use super::Reuse;
 use crate::error::{Error, Result};
-use crate::linalg::{DiagonalPattern, FactorKind, SparseLlt};
+use crate::linalg::{DiagonalPattern, FactorKind, Factorization, SparseLlt};
 use faer::sparse::SparseColMat;
-use faer::MatMut;
 use serde::Serialize;
 
 /// Below this dimension [`super::cond2`] densifies sparse matrices and
@@ -248,16 +247,15 @@ fn tridiagonal_max_eigenvalue(a: &[f64], b: &[f64], mut lower: f64, upper: f64) 
 }
 
 /// Largest eigenvalue of a symmetric positive operator by plain Lanczos (no stored vectors):
-/// returns (estimate, steps, converged). Stops when the top Ritz value θ stagnates to
-/// `stagnation(θ)` relative over [`CHECK_EVERY`] steps ([`STAGNATION`] where the estimate
-/// is wanted to rounding), on an invariant subspace, or after `max_steps`.
+/// returns (estimate, steps, converged). Stops when the top Ritz value stagnates to
+/// [`STAGNATION`] relative over [`CHECK_EVERY`] steps, on an invariant subspace, or after
+/// `max_steps`.
 pub(crate) fn lanczos_max(
     n: usize,
     max_steps: usize,
-    stagnation: impl Fn(f64) -> f64,
     apply: impl FnMut(&[f64], &mut [f64]),
 ) -> Result<(f64, usize, bool)> {
-    let r = lanczos(n, max_steps, stagnation, None, false, apply)?;
+    let r = lanczos(n, max_steps, |_| STAGNATION, None, false, apply)?;
     Ok((r.theta, r.steps, r.converged))
 }
 
@@ -277,7 +275,8 @@ pub(crate) struct LanczosRun {
 /// component nonzero, so a start orthogonal to the new top eigenvector still finds it.
 const WARM_MIX: f64 = 1e-2;
 
-/// [`lanczos_max`] with an optional warm start (a unit vector near the wanted eigenvector,
+/// [`lanczos_max`] with its own stagnation test (`stagnation(θ)` relative), an optional warm
+/// start (a unit vector near the wanted eigenvector,
 /// e.g. the Ritz vector of a nearby matrix; the Ritz value is then checked every
 /// [`CHECK_EVERY_WARM`] steps, since few are needed) and, with `keep_vector`, the Ritz vector
 /// `y = Q_k s` of θ (`s` by inverse iteration on `T_k`), which stores the k Lanczos vectors
@@ -441,9 +440,9 @@ fn ritz_vector(a: &[f64], b: &[f64], basis: &[f64], theta: f64) -> Vec<f64> {
     y
 }
 
-/// Relative stagnation of the top Ritz value at which [`lanczos_max`] stops when the
-/// estimate is wanted to rounding.
-pub(crate) const STAGNATION: f64 = 1e-14;
+/// Relative stagnation of the top Ritz value at which [`lanczos_max`] stops (the estimate
+/// wanted to rounding).
+const STAGNATION: f64 = 1e-14;
 
 /// Steps between two Ritz-value evaluations of [`lanczos_max`]; the stagnation test compares
 /// values this many steps apart.
@@ -546,6 +545,30 @@ pub(crate) fn bracket(theta: f64, tol: f64, mut upper: impl FnMut(f64) -> bool) 
     (lo, hi)
 }
 
+/// The Cholesky factor of A that the λ_min estimate solves with: one of our own, or the
+/// caller's ([`Reuse::factor`]).
+enum FactorOfA<'a> {
+    Own(SparseLlt),
+    Given(&'a Factorization),
+}
+
+impl FactorOfA<'_> {
+    fn solve_vec_in_place(&self, x: &mut [f64]) {
+        match self {
+            FactorOfA::Own(f) => f.solve_vec_in_place(x),
+            FactorOfA::Given(f) => f.solve_vec_in_place(x),
+        }
+    }
+
+    /// `log10 det A` (NaN if the given factor did not record it).
+    fn log10_det(&self) -> f64 {
+        match self {
+            FactorOfA::Own(f) => f.l_diagonal().iter().map(|d| 2.0 * d.log10()).sum(),
+            FactorOfA::Given(f) => f.log10_abs_det().unwrap_or(f64::NAN),
+        }
+    }
+}
+
 /// An interval `[lo, hi]` that contains the exact Rayleigh quotient `ρ(y) = yᵀAy / yᵀy` of A
 /// (its values on `pattern`), from its floating-point evaluation and the standard error
 /// bounds (Higham, *Accuracy and Stability*, §3.1–3.5; u = ε_mach/2, γ_k = ku/(1 − ku)):
@@ -622,22 +645,18 @@ pub fn extreme_eigenvalues(
         return Err(Error::input("empty matrix has no condition number"));
     }
     let mut fam = ShiftFamily::new(a)?;
-    // A's own factor: the caller's sparse Cholesky of A where it passes one, else a new one
+    // A's factor: the caller's sparse Cholesky of A where it passes one, else a new one
     // (which also proves A ≻ 0).
-    let given = reuse
+    let factor_of_a = match reuse
         .factor
-        .filter(|f| f.kind() == FactorKind::SparseCholesky && f.n() == n);
-    let own = match given {
-        Some(_) => None,
-        None => Some(fam.factor(1.0, 0.0).ok_or_else(|| {
+        .filter(|f| f.kind() == FactorKind::SparseCholesky && f.n() == n)
+    {
+        Some(f) => FactorOfA::Given(f),
+        None => FactorOfA::Own(fam.factor(1.0, 0.0).ok_or_else(|| {
             Error::singular("sparse Cholesky of A failed: A is not positive definite".to_string())
         })?),
     };
-    let log10_det: f64 = match (&own, given) {
-        (Some(chol), _) => chol.l_diagonal().iter().map(|d| 2.0 * d.log10()).sum(),
-        (None, Some(f)) => f.log10_abs_det().unwrap_or(f64::NAN),
-        (None, None) => unreachable!("one of the two factors exists"),
-    };
+    let log10_det = factor_of_a.log10_det();
 
     // Phase 1: estimates. λ_min = 1/λ_max(A⁻¹) by Lanczos with the factor of A, which is then
     // dropped (one factor in memory at a time). λ_max: plain Lanczos on A (products only); if
@@ -655,17 +674,11 @@ pub fn extreme_eigenvalues(
         keep,
         |x, y| {
             y.copy_from_slice(x);
-            match (&own, given) {
-                (Some(chol), _) => chol.solve_vec_in_place(y),
-                (None, Some(f)) => {
-                    f.solve_mat_in_place(MatMut::from_column_major_slice_mut(y, n, 1))
-                }
-                (None, None) => unreachable!("one of the two factors exists"),
-            }
+            factor_of_a.solve_vec_in_place(y);
         },
     )?;
     let (inv_max, s2) = (run_min.theta, run_min.steps);
-    drop(own);
+    drop(factor_of_a);
     let lmin_est = 1.0 / inv_max;
     // λ_max is wanted only to a fraction of the bracket width it will be certified to,
     // `bracket_tol(θ / λ_min)` (θ ≤ λ_max, so the fraction is conservative): far fewer steps

@@ -16,8 +16,7 @@ pub mod figures;
 pub mod merge;
 pub mod rows;
 
-use crate::conditioning;
-use crate::conditioning::sparse::RitzStarts;
+use crate::conditioning::{self, sparse::RitzStarts, Reuse};
 use crate::error::{Error, Result};
 use crate::metrics::{self, MetricSet};
 use crate::model::generate::{self, Family, GeneratorConfig};
@@ -505,13 +504,7 @@ pub fn prepare_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<SceneWork> {
         || {
             timed(|| {
                 set.cond
-                    .then(|| {
-                        let reuse = conditioning::Reuse {
-                            keep_ritz: true,
-                            ..Default::default()
-                        };
-                        conditioning::cond2_warm(&p.k, reuse).ok()
-                    })
+                    .then(|| conditioning::cond2_warm(&p.k, Reuse::keeping_ritz()).ok())
                     .flatten()
             })
         },
