@@ -47,6 +47,10 @@ struct Args {
     /// Skip cond₂ and log-det metrics (they cost O(N³) for dense systems).
     #[arg(long)]
     no_metrics: bool,
+    /// Start constant, scaled and condensed from the exact contact set (a lagrange solve
+    /// first), as every sweep row does: reproduces a sweep row's iteration counts.
+    #[arg(long)]
+    exact_start: bool,
     /// Print one JSON object instead of a table.
     #[arg(long)]
     json: bool,
@@ -62,7 +66,7 @@ fn main() -> ExitCode {
             tol: args.tol,
             adaptive: args.adaptive,
         };
-        let v = solve_scene(&args.scene, args.method, knobs, args.no_metrics)?;
+        let v = solve_scene(&args.scene, args.method, knobs, args.no_metrics, args.exact_start)?;
         if args.json {
             println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
         } else {

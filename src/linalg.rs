@@ -132,6 +132,14 @@ impl SparseLlt {
         }
     }
 
+    /// Is the factor supernodal? faer chooses the supernodal structure where the
+    /// factorization costs more than 40 flops per entry of L; below that (simplicial), one
+    /// numeric factorization costs only a few solves with the factor (measured on the
+    /// 400-DOF membrane: 46 µs against 6.3 µs).
+    pub fn is_supernodal(&self) -> bool {
+        matches!(self.symbolic.raw(), SymbolicCholeskyRaw::Supernodal(_))
+    }
+
     /// The symbolic analysis (to reuse for a matrix of the same pattern).
     pub fn symbolic(&self) -> Arc<SymbolicCholesky<usize>> {
         self.symbolic.clone()

@@ -988,7 +988,7 @@ fn solve_args(row: &Row) -> Vec<String> {
         "lagrange" => {}
         m => panic!("unexpected method {m}"),
     }
-    a.push("--json".into());
+    a.extend(["--exact-start".into(), "--json".into()]);
     a
 }
 

@@ -666,10 +666,19 @@ pub fn extreme_eigenvalues(
     // Ritz vectors (stored Lanczos bases) wherever they fit: they give the Rayleigh-quotient
     // side of each bracket.
     let keep = n <= RITZ_VECTOR_MAX_N;
+    // λ_min is wanted only to a fraction of the bracket width it will be certified to,
+    // `bracket_tol(cond₂)`, with cond₂ bounded below by `max_i A_ii · θ` (A_ii ≤ λ_max and
+    // θ ≤ 1/λ_min for the top Ritz value θ of A⁻¹), so the fraction is conservative.
+    let max_diag = fam
+        .pattern
+        .diag
+        .iter()
+        .map(|&p| fam.pattern.values[p])
+        .fold(0.0f64, f64::max);
     let run_min = lanczos(
         n,
         max_steps,
-        |_| STAGNATION,
+        |theta| (bracket_tol(max_diag * theta) / 64.0).max(STAGNATION),
         starts.map(|s| s.bottom.as_slice()),
         keep,
         |x, y| {

@@ -185,13 +185,9 @@ pub fn parse_scene_str(json: &str, base_dir: &Path, origin: &str) -> Result<Scen
                 format!("neither \"dense\" nor \"matrix_market\" is given; {EXACTLY_ONE}"),
             ))
         }
-        (Some(rows), None) => {
-            let rows: Vec<Vec<f64>> = rows
-                .into_iter()
-                .map(|r| r.into_iter().map(|Num(x)| x).collect())
-                .collect();
-            Stiffness::from_rows(&rows).map_err(|e| at("stiffness.dense", bare_message(e)))?
-        }
+        (Some(rows), None) => rows
+            .into_stiffness()
+            .map_err(|e| at("stiffness.dense", bare_message(e)))?,
         (None, Some(rel)) => {
             if rel.trim().is_empty() {
                 return Err(at("stiffness.matrix_market", "empty file path".into()));
@@ -243,8 +239,105 @@ struct RawScene {
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct RawStiffness {
-    dense: Option<Vec<Vec<Num>>>,
+    dense: Option<DenseRows>,
     matrix_market: Option<String>,
+}
+
+/// `"dense"`: N rows of N numbers, kept as the nonzero entries and the length of each row
+/// (checked square by [`DenseRows::into_stiffness`]). A dense scene of the sweep's folder is
+/// ≈ 98 % zeros: not storing them as `Vec<Vec<f64>>` rows first halves the time the sweep
+/// spends reading it (allocations and first-touch page faults, which two threads contend
+/// for).
+struct DenseRows {
+    /// Entries per row, in order.
+    row_lens: Vec<usize>,
+    /// `(row, column, value)` of the nonzero entries, row by row.
+    entries: Vec<(usize, usize, f64)>,
+}
+
+impl DenseRows {
+    /// The dense K (errors on an empty or non-square matrix, as [`Stiffness::from_rows`]).
+    fn into_stiffness(self) -> Result<Stiffness> {
+        let n = self.row_lens.len();
+        if n == 0 {
+            return Err(Error::input("stiffness matrix is empty (0×0)"));
+        }
+        if let Some((i, len)) = self.row_lens.iter().enumerate().find(|(_, &l)| l != n) {
+            return Err(Error::input(format!(
+                "stiffness matrix is not square: row {i} has {len} entries, expected {n}"
+            )));
+        }
+        let mut m = faer::Mat::zeros(n, n);
+        for (i, j, v) in self.entries {
+            m[(i, j)] = v;
+        }
+        Ok(Stiffness::Dense(m))
+    }
+}
+
+impl<'de> Deserialize<'de> for DenseRows {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        /// One row: its numbers appended to `entries` (nonzeros only), its length returned.
+        struct Row<'a> {
+            row: usize,
+            entries: &'a mut Vec<(usize, usize, f64)>,
+        }
+        impl<'de> de::DeserializeSeed<'de> for Row<'_> {
+            type Value = usize;
+            fn deserialize<D: Deserializer<'de>>(
+                self,
+                d: D,
+            ) -> std::result::Result<usize, D::Error> {
+                d.deserialize_seq(self)
+            }
+        }
+        impl<'de> Visitor<'de> for Row<'_> {
+            type Value = usize;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("an array of numbers (a row)")
+            }
+            fn visit_seq<A: de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> std::result::Result<usize, A::Error> {
+                let mut len = 0;
+                while let Some(Num(x)) = seq.next_element()? {
+                    if x != 0.0 {
+                        self.entries.push((self.row, len, x));
+                    }
+                    len += 1;
+                }
+                Ok(len)
+            }
+        }
+        struct Rows;
+        impl<'de> Visitor<'de> for Rows {
+            type Value = DenseRows;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("an array of rows (arrays of numbers)")
+            }
+            fn visit_seq<A: de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> std::result::Result<DenseRows, A::Error> {
+                let mut out = DenseRows {
+                    row_lens: Vec::new(),
+                    entries: Vec::new(),
+                };
+                loop {
+                    let row = Row {
+                        row: out.row_lens.len(),
+                        entries: &mut out.entries,
+                    };
+                    match seq.next_element_seed(row)? {
+                        Some(len) => out.row_lens.push(len),
+                        None => return Ok(out),
+                    }
+                }
+            }
+        }
+        d.deserialize_seq(Rows)
+    }
 }
 
 /// `{"dof": d, "limit": û, "kind": k}`; extra keys are ignored (the contract).

@@ -466,9 +466,12 @@ pub fn path_following(
 }
 
 /// Drives a fixed-energy rule (ε_c = `eps[c]` while penalized) to the minimizer of its energy
-/// with [`newton`], started from u0 (or from every constraint active when K is singular or
-/// every constraint is bilateral). On an unsymmetric K there is no energy: [`fixed_point`] is
-/// used, and the result says so.
+/// with [`newton`], started from the exact contact set where the context carries one
+/// ([`super::Prepared::with_contact_set`]: the sweep passes its lagrange row's), else from u0
+/// (by path following on obstacle-type problems), or from every constraint active when K is
+/// singular or every constraint is bilateral. The energy is strictly convex, so the start
+/// changes the iterations, not the minimizer. On an unsymmetric K there is no energy:
+/// [`fixed_point`] is used, and the result says so.
 pub fn fixed_energy(mut ctx: Context, method: Method, eps: Vec<f64>) -> Result<Solution> {
     if !ctx.symmetric {
         let label = format!("{} (unsymmetric K: no energy to descend)", method.name());
@@ -493,13 +496,16 @@ pub fn fixed_energy(mut ctx: Context, method: Method, eps: Vec<f64>) -> Result<S
         .zip(&eps)
         .map(|(c, &e)| e / problem.k.diag(c.dof).abs())
         .fold(0.0f64, f64::max);
-    let path = if all_bilateral {
+    let contact_set = ctx.contact_set().filter(|_| !all_bilateral);
+    let path = if all_bilateral || contact_set.is_some() {
         None
     } else {
         path_following(&mut ctx, &eps, &limits, t_end)?
     };
     let start = if all_bilateral {
         Start::Set(vec![true; problem.m()])
+    } else if let Some(set) = contact_set {
+        Start::Set(set)
     } else if let Some(u) = path {
         Start::Point {
             u,

@@ -205,10 +205,36 @@ fn finish_guarded(mut ctx: Context, delta: f64, g: Guarded) -> Solution {
 }
 
 /// The elimination route: the box problem in u-space, `ε_c = r_c / g*_c` at the bounds.
+/// Where the context carries the exact contact set ([`super::Prepared::with_contact_set`]),
+/// the first attempt starts with those constraints at their bound on the penetration side
+/// (bilateral: the side of g0) and the rest free; the box problem has one solution, so the
+/// start changes only the iterations.
 pub fn solve_eliminated(mut ctx: Context, delta: f64) -> Result<Solution> {
     let problem = ctx.problem;
     let (lo, hi) = bounds(problem, delta);
+    let mut first = match ctx.contact_set() {
+        Some(set) => {
+            let g0 = ctx.g0()?;
+            Some(
+                problem
+                    .constraints
+                    .iter()
+                    .zip(set)
+                    .zip(g0)
+                    .map(|((con, on), g)| match (on, con.kind) {
+                        (false, _) => BoundState::Free,
+                        (true, ConstraintKind::Upper) => BoundState::Hi,
+                        (true, ConstraintKind::Lower) => BoundState::Lo,
+                        (true, ConstraintKind::Bilateral) if g >= 0.0 => BoundState::Hi,
+                        (true, ConstraintKind::Bilateral) => BoundState::Lo,
+                    })
+                    .collect(),
+            )
+        }
+        None => None,
+    };
     let g = guarded(problem, delta, lo, hi, |lo, hi, start| {
+        let start = start.or_else(|| first.take());
         let b = super::eliminated::box_solve(&mut ctx, lo, hi, start)?;
         Ok(Attempt {
             u: b.u,

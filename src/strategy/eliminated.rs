@@ -18,11 +18,16 @@
 //! from the bounds violated by u0 and visit the same active sets in exact arithmetic.
 //!
 //! Cost per iteration: one numeric sparse Cholesky and one solve — or, when at most
-//! [`PCG_MAX_CHANGED`] DOFs changed status since the last factorization, conjugate gradients
-//! preconditioned by that factor (`M⁻¹A = I + rank ≤ 2·changed`), accepted at a normwise
-//! backward error ≤ `16√N·ε_mach` and abandoned for a fresh factorization after
-//! `2·changed +` [`PCG_EXTRA_ITERATIONS`] iterations (`Stats::cg_iterations`). One factor is
-//! kept at a time; memory O(nnz of the factor). Measured (README, Performance): the path
+//! [`PCG_MAX_CHANGED`] DOFs changed status since the last factorization and that factor is
+//! supernodal, conjugate gradients preconditioned by it (`M⁻¹A = I + rank ≤ 2·changed`),
+//! accepted at a normwise backward error ≤ `16√N·ε_mach` and abandoned for a fresh
+//! factorization after `2·changed +` [`PCG_EXTRA_ITERATIONS`] iterations
+//! (`Stats::cg_iterations`). A simplicial factor (faer's choice below 40 flops per entry of
+//! L: the sweep's 36–400-DOF scenes) costs only a few solves to recompute (46 µs against
+//! 6.3 µs per solve on the 400-DOF membrane), less than the ≥ 6 PCG iterations a change
+//! allows, so it is always refactorized: on the sweep's 20-file folder this cut the
+//! lagrange solves from 600 to ≈ 300 µs on the largest membrane. One factor is kept at a
+//! time; memory O(nnz of the factor). Measured (README, Performance): the path
 //! following cuts the 10⁶-DOF membrane from ≈ 160 to 19 factorizations.
 //!
 //! `condensed` and `lagrange` take this route for sparse K with `n ≥` [`ELIMINATION_MIN_N`]
@@ -152,7 +157,7 @@ pub fn box_solve(
         let mut u_cg = None;
         if let (Some((f, f_fixed)), Some(u_prev)) = (&last, &u_last) {
             let changed = f_fixed.iter().zip(&fixed).filter(|(a, b)| a != b).count();
-            if changed <= PCG_MAX_CHANGED {
+            if changed <= PCG_MAX_CHANGED && f.is_supernodal() {
                 let mut x = u_prev.clone();
                 for j in 0..n {
                     if fixed[j] {

@@ -310,7 +310,9 @@ pub fn solve(problem: &Problem, method: Method) -> Result<Solution> {
 
 /// Solves `problem` with `method`, reusing K's factorization and u0 from `prepared` (a sweep
 /// prepares each scene once). [`Stats`] are the same as without `prepared`: the prepared
-/// factorization and u0 solve are counted when the method uses them.
+/// factorization and u0 solve are counted when the method uses them. A contact set in
+/// `prepared` ([`Prepared::with_contact_set`]) changes where the fixed-energy rules start,
+/// and so their iteration counts, not their solution.
 pub fn solve_prepared(
     problem: &Problem,
     method: Method,
@@ -333,12 +335,14 @@ pub fn solve_prepared(
 }
 
 /// K's factorization and the unconstrained solution u0 = K⁻¹q, computed once per problem and
-/// shared by every strategy run on it.
+/// shared by every strategy run on it; optionally the exact contact set
+/// ([`Prepared::with_contact_set`]).
 #[derive(Clone)]
 pub struct Prepared {
     k_factor: Arc<Factorization>,
     u0: Arc<Vec<f64>>,
     symmetric: bool,
+    contact_set: Option<Arc<Vec<bool>>>,
 }
 
 impl Prepared {
@@ -350,7 +354,22 @@ impl Prepared {
             k_factor: ctx.k_factor.expect("computed by u0"),
             u0: ctx.u0.expect("computed"),
             symmetric: ctx.symmetric,
+            contact_set: None,
         })
+    }
+
+    /// The same, with the exact contact set `set[c]` (constraint c active in the `lagrange`
+    /// solution, [`Solution::contact_set`]) as the start of the rules whose answer does not
+    /// depend on where they start: the fixed-energy rules (`constant`, `scaled`; their Newton
+    /// iteration starts from `H_A⁻¹ b_A` on that set instead of from u0,
+    /// [`active_set::fixed_energy`]) and `condensed` on its elimination route (that set at
+    /// its bounds). Both problems have one solution, so the start changes only the iterations
+    /// it takes (on the membranes, where the contact boundary moves one ring of nodes per
+    /// iteration from u0, 6–7 solves become 1–3); `Stats` count the rule's own work, not the
+    /// lagrange solve that found the set. A set of the wrong length is ignored.
+    pub fn with_contact_set(mut self, set: Vec<bool>) -> Self {
+        self.contact_set = Some(Arc::new(set));
+        self
     }
 
     /// u0 = K⁻¹q.
@@ -372,6 +391,9 @@ pub struct Context<'a> {
     pub symmetric: bool,
     k_factor: Option<Arc<Factorization>>,
     u0: Option<Arc<Vec<f64>>>,
+    /// The exact contact set, where a [`Prepared`] carried one: where the fixed-energy rules
+    /// start.
+    contact_set: Option<Arc<Vec<bool>>>,
     /// Last penalized factorization and the penalties it was built with (reused when the
     /// penalties repeat, e.g. Uzawa updates at fixed ε).
     last: Option<(Vec<f64>, Factorization)>,
@@ -391,6 +413,7 @@ impl<'a> Context<'a> {
             symmetric: problem.k.is_symmetric(),
             k_factor: None,
             u0: None,
+            contact_set: None,
             last: None,
             uncharged: (false, false),
             stats: Stats::default(),
@@ -404,6 +427,7 @@ impl<'a> Context<'a> {
             symmetric: p.symmetric,
             k_factor: Some(p.k_factor.clone()),
             u0: Some(p.u0.clone()),
+            contact_set: p.contact_set.clone(),
             last: None,
             uncharged: (true, true),
             stats: Stats::default(),
@@ -443,6 +467,15 @@ impl<'a> Context<'a> {
             self.u0 = Some(Arc::new(u0));
         }
         Ok(self.u0.as_deref().map(|v| v.as_slice()).expect("just set"))
+    }
+
+    /// The exact contact set carried by a [`Prepared`] ([`Prepared::with_contact_set`]), if it
+    /// has one entry per constraint.
+    pub fn contact_set(&self) -> Option<Vec<bool>> {
+        self.contact_set
+            .as_deref()
+            .filter(|s| s.len() == self.problem.m())
+            .cloned()
     }
 
     /// Unconstrained gaps g0 = Dᵀu0 − û.
@@ -522,6 +555,23 @@ impl<'a> Context<'a> {
             stats: self.stats,
             warnings,
             factor,
+        }
+    }
+}
+
+impl Solution {
+    /// The contact set of a saddle-point (`lagrange`) solution: `set[c]` iff constraint c is in
+    /// its final system; None for the other systems.
+    pub fn contact_set(&self) -> Option<Vec<bool>> {
+        match &self.system {
+            SystemKind::SaddlePoint { active } => {
+                let mut set = vec![false; self.penalties.len()];
+                for &c in active {
+                    *set.get_mut(c)? = true;
+                }
+                Some(set)
+            }
+            SystemKind::Penalized => None,
         }
     }
 }

@@ -19,13 +19,17 @@ fn finite_or_null(x: Option<f64>) -> Value {
 /// Reads `scene`, solves it with `method` (its knobs from `knobs`; `augmented` without ε or
 /// tolerance gets ε = max `K[d,d]` over the constrained DOFs and tol = 1e-9·max(1, max|û|)),
 /// computes the metrics unless `no_metrics`, and returns the `solve --json` object (contract in
-/// `shared/notes/methods.md`). Errors on unreadable scenes, bad knobs, singular systems and a
-/// non-finite solution.
+/// `shared/notes/methods.md`). With `exact_start`, the scene is first solved by `lagrange`
+/// and constant, scaled and condensed start from its contact set, as every `sweep` row does
+/// ([`strategy::Prepared::with_contact_set`]; the lagrange solve is not in the statistics or
+/// `seconds`). Errors on unreadable scenes, bad knobs, singular systems and a non-finite
+/// solution.
 pub fn solve_scene(
     scene: &Path,
     name: MethodName,
     knobs: Knobs,
     no_metrics: bool,
+    exact_start: bool,
 ) -> Result<Value> {
     let sc = scene::read_scene(scene)?;
     let p = &sc.problem;
@@ -49,8 +53,22 @@ pub fn solve_scene(
         }
     }
     let method = Method::from_name(name.as_str(), knobs)?;
+    let prepared = if exact_start {
+        // The sweep's order: K prepared once, lagrange on it, its contact set for the rest.
+        strategy::Prepared::new(p).ok().and_then(|prep| {
+            let set = strategy::solve_prepared(p, Method::Lagrange, Some(&prep))
+                .ok()?
+                .contact_set()?;
+            Some(prep.with_contact_set(set))
+        })
+    } else {
+        None
+    };
     let t0 = Instant::now();
-    let sol = strategy::solve(p, method)?;
+    let sol = match &prepared {
+        Some(prep) => strategy::solve_prepared(p, method, Some(prep))?,
+        None => strategy::solve(p, method)?,
+    };
     let seconds = t0.elapsed().as_secs_f64();
     let set = if no_metrics {
         MetricSet::default()

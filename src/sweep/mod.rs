@@ -579,18 +579,31 @@ fn skipped_row(work: &SceneWork, job: Job, cfg: &SweepConfig) -> Row {
     row
 }
 
-/// One row: `job` solved on the scene with its metrics; `u_ref` is the lagrange solution
-/// (`error_vs_exact`). A failing solve or metric becomes the row's warning, never an error.
+/// What the lagrange row gives the other rows of its scene.
+pub struct Reference {
+    /// The exact solution (`error_vs_exact`).
+    pub u: Vec<f64>,
+    /// The scene's [`Prepared`] with the exact contact set
+    /// ([`Prepared::with_contact_set`]): where the fixed-energy rules start.
+    pub prepared: Option<Prepared>,
+}
+
+/// One row: `job` solved on the scene with its metrics; `reference` is what the lagrange row
+/// gave (`error_vs_exact`, the contact set), and the lagrange row returns it. A failing solve
+/// or metric becomes the row's warning, never an error.
 pub fn run_job(
     work: &SceneWork,
     job: Job,
     set: MetricSet,
-    u_ref: Option<&[f64]>,
-) -> (Row, Option<Vec<f64>>) {
+    reference: Option<&Reference>,
+) -> (Row, Option<Reference>) {
     let t0 = Instant::now();
     let p = &work.scene.problem;
     let mut row = base_row(work, job);
-    let prep = work.prepared.as_ref().ok();
+    let u_ref = reference.map(|r| r.u.as_slice());
+    let prep = reference
+        .and_then(|r| r.prepared.as_ref())
+        .or(work.prepared.as_ref().ok());
     let (solved, seconds_solve) = timed(|| strategy::solve_prepared(p, job.method, prep));
     row.seconds_solve = Some(seconds_solve);
     let mut u_out = None;
@@ -620,7 +633,13 @@ pub fn run_job(
             row.warnings = w.join("; ");
             if matches!(job.method, Method::Lagrange) {
                 row.error_vs_exact = Some(metrics::relative_error(&sol.u, &sol.u));
-                u_out = Some(sol.u);
+                let prepared = work
+                    .prepared
+                    .as_ref()
+                    .ok()
+                    .zip(sol.contact_set())
+                    .map(|(p, set)| p.clone().with_contact_set(set));
+                u_out = Some(Reference { u: sol.u, prepared });
             }
         }
         Err(e) => row.warnings = format!("error: {e}"),
@@ -638,7 +657,7 @@ pub fn run_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<(Vec<Row>, Scene
     let work = prepare_scene(spec, cfg)?;
     let set = cfg.metric_set();
     let (first, rest) = work.jobs.split_first().expect("lagrange is always a job");
-    let (lag_row, u_ref) = run_job(&work, *first, set, None);
+    let (lag_row, reference) = run_job(&work, *first, set, None);
     let mut rows = Vec::with_capacity(work.jobs.len());
     rows.push(lag_row);
     let others: Vec<Row> = rest
@@ -649,7 +668,7 @@ pub fn run_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<(Vec<Row>, Scene
             if skip {
                 skipped_row(&work, job, cfg)
             } else {
-                run_job(&work, job, set, u_ref.as_deref()).0
+                run_job(&work, job, set, reference.as_ref()).0
             }
         })
         .collect();
