@@ -251,7 +251,7 @@ struct RawStiffness {
 struct DenseRows {
     /// Entries per row, in order.
     row_lens: Vec<usize>,
-    /// `(row, column, value)` of the nonzero entries, row by row.
+    /// `(row, column, value)` of the entries other than +0.0, row by row.
     entries: Vec<(usize, usize, f64)>,
 }
 
@@ -302,7 +302,8 @@ impl<'de> Deserialize<'de> for DenseRows {
             ) -> std::result::Result<usize, A::Error> {
                 let mut len = 0;
                 while let Some(Num(x)) = seq.next_element()? {
-                    if x != 0.0 {
+                    // +0.0 only: −0.0 is kept, so the round trip stays bit for bit.
+                    if x.to_bits() != 0 {
                         self.entries.push((self.row, len, x));
                     }
                     len += 1;
