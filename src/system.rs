@@ -294,14 +294,32 @@ impl Stiffness {
                 let n = m.nrows();
                 (0..n).all(|j| (0..j).all(|i| (m[(i, j)] - m[(j, i)]).abs() <= tol))
             }
-            Stiffness::Sparse(_) => {
-                let mut ok = true;
-                self.for_each_entry(|i, j, v| {
-                    if i != j && (v - self.get(j, i)).abs() > tol {
-                        ok = false;
+            Stiffness::Sparse(m) => {
+                // Column j of Kᵀ (row j of K) merged with column j of K, both sorted: O(nnz).
+                let Ok(t) = m.as_ref().transpose().to_col_major() else {
+                    return false;
+                };
+                let (a, b) = (m.symbolic(), t.symbolic());
+                let (av, bv) = (m.val(), t.val());
+                (0..m.ncols()).all(|j| {
+                    let (mut p, pe) = (a.col_ptr()[j], a.col_ptr()[j + 1]);
+                    let (mut q, qe) = (b.col_ptr()[j], b.col_ptr()[j + 1]);
+                    while p < pe || q < qe {
+                        let ri = if p < pe { a.row_idx()[p] } else { usize::MAX };
+                        let rt = if q < qe { b.row_idx()[q] } else { usize::MAX };
+                        let (x, y) = match ri.cmp(&rt) {
+                            std::cmp::Ordering::Less => (av[p], 0.0),
+                            std::cmp::Ordering::Greater => (0.0, bv[q]),
+                            std::cmp::Ordering::Equal => (av[p], bv[q]),
+                        };
+                        if (x - y).abs() > tol {
+                            return false;
+                        }
+                        p += usize::from(ri <= rt);
+                        q += usize::from(rt <= ri);
                     }
-                });
-                ok
+                    true
+                })
             }
         }
     }
