@@ -66,7 +66,13 @@ fn main() -> ExitCode {
             tol: args.tol,
             adaptive: args.adaptive,
         };
-        let v = solve_scene(&args.scene, args.method, knobs, args.no_metrics, args.exact_start)?;
+        let v = solve_scene(
+            &args.scene,
+            args.method,
+            knobs,
+            args.no_metrics,
+            args.exact_start,
+        )?;
         if args.json {
             println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
         } else {
