@@ -1,7 +1,8 @@
 //! The elimination route of `condensed` and `lagrange` (large sparse K) against the dense
 //! routes on the same problems: same final active sets, same u, penalties and forces to
 //! rounding; from the same start, the same active sets at every iteration. The path-following
-//! start and the PCG reuse of factors change the work, not the answer.
+//! start, the exact contact set as a start and the PCG reuse of factors change the work, not
+//! the answer.
 
 use penalty_lab::linalg::{pcg, DiagonalPattern};
 use penalty_lab::metrics::relative_error;
@@ -223,4 +224,49 @@ fn pcg_with_a_nearby_factor() {
     // 3 rows changed: M⁻¹A − I has rank ≤ 6.
     assert!(out.iterations <= 2 * 3 + 1, "{} iterations", out.iterations);
     assert!(relative_error(&x, &x_direct) <= tol_u(p));
+}
+
+/// The exact contact set as a start (`Prepared::with_contact_set`, what every sweep row gets
+/// from its lagrange row): constant and condensed reach the same answer — same penalized set,
+/// u to rounding (`64·N·ε_mach·cond₂` of the final system, cond₂ ≤ (σ_max(K) + ε)/σ_min(K)
+/// for constant, cond₂(K) for condensed's prescribed-DOF system) — in no more iterations,
+/// and in fewer over the ε grid.
+#[test]
+fn exact_contact_start_same_answer_fewer_iterations() {
+    use penalty_lab::conditioning;
+    use penalty_lab::strategy::Prepared;
+    let support = |u: &[f64]| -> Vec<bool> { u.iter().map(|&e| e != 0.0).collect() };
+    for p in membranes() {
+        let n = p.n() as f64;
+        let ck = conditioning::cond2(&p.k).unwrap();
+        let prep = Prepared::new(&p).unwrap();
+        let lag = strategy::solve_prepared(&p, Method::Lagrange, Some(&prep)).unwrap();
+        let warm = prep.clone().with_contact_set(lag.contact_set().unwrap());
+        let (mut cold_its, mut warm_its) = (0, 0);
+        for eps in [1e-1, 1e1, 1e3, 1e5] {
+            let m = Method::Constant { eps };
+            let a = strategy::solve_prepared(&p, m, Some(&prep)).unwrap();
+            let b = strategy::solve_prepared(&p, m, Some(&warm)).unwrap();
+            assert!(a.stats.converged && b.stats.converged);
+            assert_eq!(support(&a.penalties), support(&b.penalties), "ε = {eps:e}");
+            let tol = 64.0 * n * f64::EPSILON * (ck.sigma_max + eps) / ck.sigma_min;
+            let err = relative_error(&b.u, &a.u);
+            assert!(err <= tol, "ε = {eps:e}: {err:e} > {tol:e}");
+            assert!(b.stats.iterations <= a.stats.iterations, "ε = {eps:e}");
+            cold_its += a.stats.iterations;
+            warm_its += b.stats.iterations;
+        }
+        assert!(
+            warm_its < cold_its,
+            "from u0 {cold_its}, from the contact set {warm_its}"
+        );
+        let delta = 1e-2 * scale(&p);
+        let m = Method::Condensed { delta };
+        let a = strategy::solve_prepared(&p, m, Some(&prep)).unwrap();
+        let b = strategy::solve_prepared(&p, m, Some(&warm)).unwrap();
+        assert!(b.max_penetration <= delta);
+        assert_eq!(support(&a.penalties), support(&b.penalties));
+        assert!(relative_error(&b.u, &a.u) <= tol_u(&p));
+        assert!(b.stats.iterations <= a.stats.iterations);
+    }
 }
