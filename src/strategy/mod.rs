@@ -470,11 +470,12 @@ impl<'a> Context<'a> {
     }
 
     /// The exact contact set carried by a [`Prepared`] ([`Prepared::with_contact_set`]), if it
-    /// has one entry per constraint.
+    /// has one entry per constraint and is not empty (an empty contact set says no more than
+    /// u0, which the rules then start from, without solving with K again).
     pub fn contact_set(&self) -> Option<Vec<bool>> {
         self.contact_set
             .as_deref()
-            .filter(|s| s.len() == self.problem.m())
+            .filter(|s| s.len() == self.problem.m() && s.contains(&true))
             .cloned()
     }
 
