@@ -134,8 +134,8 @@ impl SparseLlt {
 
     /// Is the factor supernodal? faer chooses the supernodal structure where the
     /// factorization costs more than 40 flops per entry of L; below that (simplicial), one
-    /// numeric factorization costs only a few solves with the factor (measured on the
-    /// 400-DOF membrane: 46 µs against 6.3 µs).
+    /// numeric factorization costs only a few solves with the factor (Σ c_j² against
+    /// 4 Σ c_j flops for the column counts c_j of L: 3.3 solves on the 400-DOF membrane).
     pub fn is_supernodal(&self) -> bool {
         matches!(self.symbolic.raw(), SymbolicCholeskyRaw::Supernodal(_))
     }
