@@ -68,19 +68,36 @@ impl Stiffness {
 
     /// Builds a dense matrix from row-major rows. Errors on ragged or non-square input.
     pub fn from_rows(rows: &[Vec<f64>]) -> Result<Self> {
-        let n = rows.len();
+        let lens: Vec<usize> = rows.iter().map(Vec::len).collect();
+        let entries = rows
+            .iter()
+            .enumerate()
+            .flat_map(|(i, r)| r.iter().enumerate().map(move |(j, &v)| (i, j, v)));
+        Self::from_row_entries(&lens, entries)
+    }
+
+    /// A dense matrix from the length of each row and its entries `(row, column, value)`,
+    /// where an entry of row i has a column below `row_lens[i]` (entries not given are 0):
+    /// [`Stiffness::from_rows`] without the rows themselves (the scene reader keeps only the
+    /// nonzeros). Errors on ragged or non-square input.
+    pub(crate) fn from_row_entries(
+        row_lens: &[usize],
+        entries: impl IntoIterator<Item = (usize, usize, f64)>,
+    ) -> Result<Self> {
+        let n = row_lens.len();
         if n == 0 {
             return Err(Error::input("stiffness matrix is empty (0×0)"));
         }
-        for (i, r) in rows.iter().enumerate() {
-            if r.len() != n {
-                return Err(Error::input(format!(
-                    "stiffness matrix is not square: row {i} has {} entries, expected {n}",
-                    r.len()
-                )));
-            }
+        if let Some((i, len)) = row_lens.iter().enumerate().find(|(_, &l)| l != n) {
+            return Err(Error::input(format!(
+                "stiffness matrix is not square: row {i} has {len} entries, expected {n}"
+            )));
         }
-        Ok(Stiffness::Dense(Mat::from_fn(n, n, |i, j| rows[i][j])))
+        let mut m = Mat::zeros(n, n);
+        for (i, j, v) in entries {
+            m[(i, j)] = v;
+        }
+        Ok(Stiffness::Dense(m))
     }
 
     /// Builds a sparse matrix from (row, col, value) triplets; duplicates are summed.

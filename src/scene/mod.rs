@@ -185,8 +185,7 @@ pub fn parse_scene_str(json: &str, base_dir: &Path, origin: &str) -> Result<Scen
                 format!("neither \"dense\" nor \"matrix_market\" is given; {EXACTLY_ONE}"),
             ))
         }
-        (Some(rows), None) => rows
-            .into_stiffness()
+        (Some(rows), None) => Stiffness::from_row_entries(&rows.row_lens, rows.entries)
             .map_err(|e| at("stiffness.dense", bare_message(e)))?,
         (None, Some(rel)) => {
             if rel.trim().is_empty() {
@@ -244,7 +243,7 @@ struct RawStiffness {
 }
 
 /// `"dense"`: N rows of N numbers, kept as the nonzero entries and the length of each row
-/// (checked square by [`DenseRows::into_stiffness`]). A dense scene of the sweep's folder is
+/// (checked square by `Stiffness::from_row_entries`). A dense scene of the sweep's folder is
 /// ≈ 98 % zeros: not storing them as `Vec<Vec<f64>>` rows first halves the time the sweep
 /// spends reading it (allocations and first-touch page faults, which two threads contend
 /// for).
@@ -253,26 +252,6 @@ struct DenseRows {
     row_lens: Vec<usize>,
     /// `(row, column, value)` of the entries other than +0.0, row by row.
     entries: Vec<(usize, usize, f64)>,
-}
-
-impl DenseRows {
-    /// The dense K (errors on an empty or non-square matrix, as [`Stiffness::from_rows`]).
-    fn into_stiffness(self) -> Result<Stiffness> {
-        let n = self.row_lens.len();
-        if n == 0 {
-            return Err(Error::input("stiffness matrix is empty (0×0)"));
-        }
-        if let Some((i, len)) = self.row_lens.iter().enumerate().find(|(_, &l)| l != n) {
-            return Err(Error::input(format!(
-                "stiffness matrix is not square: row {i} has {len} entries, expected {n}"
-            )));
-        }
-        let mut m = faer::Mat::zeros(n, n);
-        for (i, j, v) in self.entries {
-            m[(i, j)] = v;
-        }
-        Ok(Stiffness::Dense(m))
-    }
 }
 
 impl<'de> Deserialize<'de> for DenseRows {

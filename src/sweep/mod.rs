@@ -584,7 +584,7 @@ pub struct Reference {
     /// The exact solution (`error_vs_exact`).
     pub u: Vec<f64>,
     /// The scene's [`Prepared`] with the exact contact set
-    /// ([`Prepared::with_contact_set`]): where the fixed-energy rules start.
+    /// ([`Prepared::with_contact_set`]): where constant, scaled and condensed start.
     pub prepared: Option<Prepared>,
 }
 
