@@ -58,6 +58,20 @@ impl Structure {
     }
 }
 
+/// N for rows of lengths `row_lens`, all N; errors on an empty or non-square matrix.
+fn square_rows(row_lens: &[usize]) -> Result<usize> {
+    let n = row_lens.len();
+    if n == 0 {
+        return Err(Error::input("stiffness matrix is empty (0×0)"));
+    }
+    if let Some((i, len)) = row_lens.iter().enumerate().find(|(_, &l)| l != n) {
+        return Err(Error::input(format!(
+            "stiffness matrix is not square: row {i} has {len} entries, expected {n}"
+        )));
+    }
+    Ok(n)
+}
+
 impl Stiffness {
     /// `u0 = K⁻¹ q` by one factorization (Cholesky where K is SPD, else LU): the
     /// unconstrained displacement, e.g. to place obstacles in a generated scene. Errors where
@@ -84,20 +98,45 @@ impl Stiffness {
         row_lens: &[usize],
         entries: impl IntoIterator<Item = (usize, usize, f64)>,
     ) -> Result<Self> {
-        let n = row_lens.len();
-        if n == 0 {
-            return Err(Error::input("stiffness matrix is empty (0×0)"));
-        }
-        if let Some((i, len)) = row_lens.iter().enumerate().find(|(_, &l)| l != n) {
-            return Err(Error::input(format!(
-                "stiffness matrix is not square: row {i} has {len} entries, expected {n}"
-            )));
-        }
+        let n = square_rows(row_lens)?;
         let mut m = Mat::zeros(n, n);
         for (i, j, v) in entries {
             m[(i, j)] = v;
         }
         Ok(Stiffness::Dense(m))
+    }
+
+    /// [`Stiffness::from_row_entries`] in the storage its structure prefers: bit for bit
+    /// `from_row_entries(..)?.in_preferred_storage()`, without the N×N intermediate where
+    /// that is sparse (the same nonzero entries, `v != 0.0`, become the same CSC matrix).
+    pub(crate) fn from_row_entries_preferred(
+        row_lens: &[usize],
+        entries: Vec<(usize, usize, f64)>,
+    ) -> Result<Self> {
+        let n = square_rows(row_lens)?;
+        let mut s = Structure {
+            n,
+            nnz: 0,
+            half_bandwidth: 0,
+        };
+        for &(i, j, v) in &entries {
+            if v != 0.0 {
+                s.nnz += 1;
+                s.half_bandwidth = s.half_bandwidth.max(i.abs_diff(j));
+            }
+        }
+        if !s.prefers_sparse() {
+            return Self::from_row_entries(row_lens, entries);
+        }
+        let t: Vec<Triplet<usize, usize, f64>> = entries
+            .into_iter()
+            .filter(|e| e.2 != 0.0)
+            .map(|(row, col, val)| Triplet { row, col, val })
+            .collect();
+        Ok(Stiffness::Sparse(
+            SparseColMat::try_new_from_triplets(n, n, &t)
+                .expect("entries of an n×n matrix are in range"),
+        ))
     }
 
     /// Builds a sparse matrix from (row, col, value) triplets; duplicates are summed.

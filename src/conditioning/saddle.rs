@@ -40,11 +40,14 @@
 //! each), 2–4 shifted Cholesky factorizations per certified end; memory O(nnz of the factor).
 //! Use it for the `lagrange` system of a sparse K (the metrics pick it automatically).
 
-use super::sparse::{bracket, bracket_tol, lanczos_max, Certificate, MAX_LANCZOS_STEPS};
+use super::sparse::{
+    bracket, bracket_above, bracket_tol, lanczos, rayleigh_interval, Certificate,
+    MAX_LANCZOS_STEPS, RITZ_VECTOR_MAX_N, STAGNATION,
+};
 use super::{CondReport, CondRoute};
 use crate::error::{Error, Result};
-use crate::linalg::{DiagonalPattern, SparseLlt};
-use faer::sparse::SparseColMat;
+use crate::linalg::{symmetric_matvec, DiagonalPattern, SparseLlt};
+use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 use faer::Side;
 
 /// Largest m for which the fourth end (λ⁻_max) is certified by the m×m test `λ_min(M(s)) ≥ s`.
@@ -100,42 +103,25 @@ pub fn cond2_saddle_with(
     };
     let kff = free_block_factor(&pattern, &in_b)?;
     shifts.factorizations += 1;
+
+    // |det A| = det K_FF (module `conditioning`, `log10_abs_det_saddle`): the B rows of the
+    // stored factor are the identity.
+    let log10_det: f64 = kff.l_diagonal().iter().map(|d| 2.0 * d.log10()).sum();
     let size = n + m;
+    let (a_pattern, a_values) = saddle_csc(&pattern, dofs);
     // A·[x; y] = [K x + D y; Dᵀ x].
     let apply_a = |v: &[f64], out: &mut [f64], sign: f64| {
-        let (x, y) = v.split_at(n);
-        let (ox, oy) = out.split_at_mut(n);
-        pattern.matvec(x, ox);
-        for (c, &d) in dofs.iter().enumerate() {
-            ox[d] += y[c];
-            oy[c] = x[d];
+        symmetric_matvec(a_pattern.as_ref(), &a_values, v, out);
+        if sign < 0.0 {
+            out.iter_mut().for_each(|o| *o = -*o);
         }
-        out.iter_mut().for_each(|o| *o *= sign);
     };
-    // A⁻¹·[f; g] by block elimination with K_FF.
-    let apply_inv = |v: &[f64], out: &mut [f64], sign: f64| {
-        let (f, g) = v.split_at(n);
-        let (x, y) = out.split_at_mut(n);
-        // x_B = g; K_FF x_F = f_F − K_FB g.
-        let mut xb = vec![0.0; n];
-        for (c, &d) in dofs.iter().enumerate() {
-            xb[d] = g[c];
-        }
-        let mut kxb = vec![0.0; n];
-        pattern.matvec(&xb, &mut kxb);
-        for i in 0..n {
-            x[i] = if in_b[i] { xb[i] } else { f[i] - kxb[i] };
-        }
-        kff.solve_vec_in_place(x);
-        for (c, &d) in dofs.iter().enumerate() {
-            x[d] = g[c];
-        }
-        let mut kx = vec![0.0; n];
-        pattern.matvec(x, &mut kx);
-        for (c, &d) in dofs.iter().enumerate() {
-            y[c] = f[d] - kx[d];
-        }
-        out.iter_mut().for_each(|o| *o *= sign);
+    let mut inverse = BlockInverse {
+        pattern: &pattern,
+        dofs,
+        in_b: &in_b,
+        kff: &kff,
+        kxb: vec![0.0; n],
     };
     let steps = MAX_LANCZOS_STEPS;
     let usable = |what: &str, v: f64| {
@@ -147,38 +133,91 @@ pub fn cond2_saddle_with(
             )))
         }
     };
+    // Each estimate is wanted only to 1/64 of the bracket width it will be certified to,
+    // `bracket_tol(cond₂)` (as in the SPD route), with cond₂ bounded below by what is known
+    // when the run starts: cond₂ ≥ λ_max / λ⁺_min ≥ max_i K_ii · θ for the top Ritz value θ
+    // of A⁻¹ (K_ii = e_iᵀ A e_i ≤ λ_max), then by the estimates found so far.
+    let max_diag = pattern
+        .diag
+        .iter()
+        .map(|&p| pattern.values[p])
+        .fold(0.0f64, f64::max);
+    let wanted = |bound: f64| (bracket_tol(bound) / 64.0).max(STAGNATION);
     let mut lanczos_steps = 0;
     // λ⁺_min first: its estimate sets the bracket width of both ends (sparse::bracket_tol).
-    let (inv_pos, st, _) = lanczos_max(size, steps, |x, y| apply_inv(x, y, 1.0))?;
-    lanczos_steps += st;
-    let pos_min_est = 1.0 / usable("1/λ⁺_min", inv_pos)?;
+    let run = lanczos(
+        size,
+        steps,
+        |t| wanted(max_diag * t),
+        None,
+        false,
+        |x, y| inverse.apply(x, y, 1.0),
+    )?;
+    lanczos_steps += run.steps;
+
+    let inv_pos = usable("1/λ⁺_min", run.theta)?;
+    let pos_min_est = 1.0 / inv_pos;
     // σ_max: λ_max, and −λ_min only where one test does not already show −λ_min < λ_max.
-    let (lmax_est, st, _) = lanczos_max(size, steps, |x, y| apply_a(x, y, 1.0))?;
-    lanczos_steps += st;
-    let lmax_est = usable("λ_max", lmax_est)?;
+    // λ_max is the top of A's spectrum, so the Rayleigh quotient of its Ritz vector is one
+    // side of its bracket (Courant–Fischer, as in the SPD route) and one test the other.
+    let keep = size <= RITZ_VECTOR_MAX_N;
+    let run = lanczos(
+        size,
+        steps,
+        |t| wanted(t * inv_pos),
+        None,
+        keep,
+        |x, y| apply_a(x, y, 1.0),
+    )?;
+    lanczos_steps += run.steps;
+    let lmax_est = usable("λ_max", run.theta)?;
+
     let tol = bracket_tol(lmax_est / pos_min_est);
-    let (max_lo, max_hi) = bracket(lmax_est, tol, |s| shifts.is_pd(-1.0, s, -1.0 / s));
+    let top_rq = run
+        .vector
+        .as_deref()
+        .and_then(|y| rayleigh_interval(a_pattern.as_ref(), &a_values, y));
+    let (max_lo, max_hi) = match top_rq {
+        Some((lo, _)) => bracket_above(lo, tol, |s| shifts.is_pd(-1.0, s, -1.0 / s)),
+        None => bracket(lmax_est, tol, |s| shifts.is_pd(-1.0, s, -1.0 / s)),
+    };
     let sigma_max = if max_lo > 0.0 && shifts.is_pd(1.0, max_lo, -1.0 / max_lo) {
         (max_lo, max_hi)
     } else {
-        let (est, st, _) = lanczos_max(size, steps, |x, y| apply_a(x, y, -1.0))?;
-        lanczos_steps += st;
-        let est = usable("−λ_min", est)?;
+        let run = lanczos(
+            size,
+            steps,
+            |t| wanted(t * inv_pos),
+            None,
+            false,
+            |x, y| apply_a(x, y, -1.0),
+        )?;
+        lanczos_steps += run.steps;
+        let est = usable("−λ_min", run.theta)?;
         let (lo, hi) = bracket(est, tol, |s| shifts.is_pd(1.0, s, -1.0 / s));
         (max_lo.max(lo), max_hi.max(hi))
     };
+
     // σ_min: λ⁺_min, and −λ⁻_max unless s₀ already shows −λ⁻_max > λ⁺_min.
     let tol = tol.max(bracket_tol(sigma_max.1 / pos_min_est));
     let (pmin_lo, pmin_hi) = bracket(pos_min_est, tol, |s| !shifts.is_pd(1.0, -s, 1.0 / s));
+
     // s₀: s·(g_B + s) < 1 ⇒ no eigenvalue in (−s, 0).
     let g_b = gershgorin_b(k, &in_b);
     let s0 = 2.0 / (g_b + (g_b * g_b + 4.0).sqrt()) * (1.0 - 1e-12);
     let (sigma_min, value) = if pmin_hi < s0 {
         ((pmin_lo, pmin_hi), (pmin_lo * pmin_hi).sqrt())
     } else {
-        let (inv_neg, st, _) = lanczos_max(size, steps, |x, y| apply_inv(x, y, -1.0))?;
-        lanczos_steps += st;
-        let near_est = 1.0 / usable("−1/λ⁻_max", inv_neg)?;
+        let run = lanczos(
+            size,
+            steps,
+            |t| wanted(sigma_max.0 * t),
+            None,
+            false,
+            |x, y| inverse.apply(x, y, -1.0),
+        )?;
+        lanczos_steps += run.steps;
+        let near_est = 1.0 / usable("−1/λ⁻_max", run.theta)?;
         let tol = tol.max(bracket_tol(sigma_max.1 / near_est));
         if m <= schur_test_max {
             let (lo, hi) = bracket(near_est, tol, |s| {
@@ -193,6 +232,7 @@ pub fn cond2_saddle_with(
             (b, v)
         }
     };
+
     let certificate = Certificate {
         lambda_max_lo: sigma_max.0,
         lambda_max_hi: sigma_max.1,
@@ -215,8 +255,95 @@ pub fn cond2_saddle_with(
         sigma_min: smin,
         route: CondRoute::SparseSaddleInertia,
         certificate: Some(certificate),
-        log10_det: None,
+        log10_det: Some(log10_det),
     })
+}
+
+/// `[K D; Dᵀ 0]` in CSC with both triangles (K's columns from `pattern`, then the unit
+/// entries of D and Dᵀ), for products and Rayleigh quotients.
+fn saddle_csc(
+    pattern: &DiagonalPattern,
+    dofs: &[usize],
+) -> (SymbolicSparseColMat<usize>, Vec<f64>) {
+    let (n, m) = (pattern.n(), dofs.len());
+    let mut column_of = vec![usize::MAX; n];
+    for (c, &d) in dofs.iter().enumerate() {
+        column_of[d] = c;
+    }
+    let (cp, ri) = (pattern.pattern.col_ptr(), pattern.pattern.row_idx());
+    let mut col_ptr = Vec::with_capacity(n + m + 1);
+    let mut row_idx = Vec::with_capacity(ri.len() + 2 * m);
+    let mut values = Vec::with_capacity(ri.len() + 2 * m);
+    col_ptr.push(0);
+    for j in 0..n {
+        row_idx.extend_from_slice(&ri[cp[j]..cp[j + 1]]);
+        values.extend_from_slice(&pattern.values[cp[j]..cp[j + 1]]);
+        if column_of[j] != usize::MAX {
+            row_idx.push(n + column_of[j]);
+            values.push(1.0);
+        }
+        col_ptr.push(row_idx.len());
+    }
+    for &d in dofs {
+        row_idx.push(d);
+        values.push(1.0);
+        col_ptr.push(row_idx.len());
+    }
+    let size = n + m;
+    (
+        SymbolicSparseColMat::new_checked(size, size, col_ptr, None, row_idx),
+        values,
+    )
+}
+
+/// `±A⁻¹` by block elimination with the factor of K_FF: for `A [x; y] = [f; g]`, `x_B = g`,
+/// `K_FF x_F = f_F − K_FB g`, `y = f_B − (K x)_B`. K enters only through its B columns
+/// (K symmetric: `(K x)_B` is those columns against x), so a product costs one solve and
+/// O(n + nnz of K's B columns).
+struct BlockInverse<'a> {
+    pattern: &'a DiagonalPattern,
+    dofs: &'a [usize],
+    in_b: &'a [bool],
+    kff: &'a SparseLlt,
+    /// K_{·B} g.
+    kxb: Vec<f64>,
+}
+
+impl BlockInverse<'_> {
+    fn apply(&mut self, v: &[f64], out: &mut [f64], sign: f64) {
+        let n = self.in_b.len();
+        let (f, g) = v.split_at(n);
+        let (x, y) = out.split_at_mut(n);
+        let (cp, ri) = (
+            self.pattern.pattern.col_ptr(),
+            self.pattern.pattern.row_idx(),
+        );
+        let vals = &self.pattern.values;
+        self.kxb.iter_mut().for_each(|e| *e = 0.0);
+        for (c, &d) in self.dofs.iter().enumerate() {
+            for p in cp[d]..cp[d + 1] {
+                self.kxb[ri[p]] += vals[p] * g[c];
+            }
+        }
+        for i in 0..n {
+            x[i] = if self.in_b[i] {
+                0.0
+            } else {
+                f[i] - self.kxb[i]
+            };
+        }
+        self.kff.solve_vec_in_place(x);
+        for (c, &d) in self.dofs.iter().enumerate() {
+            x[d] = g[c];
+        }
+        for (c, &d) in self.dofs.iter().enumerate() {
+            let kx_d: f64 = (cp[d]..cp[d + 1]).map(|p| vals[p] * x[ri[p]]).sum();
+            y[c] = f[d] - kx_d;
+        }
+        if sign < 0.0 {
+            out.iter_mut().for_each(|o| *o = -*o);
+        }
+    }
 }
 
 /// The mask of the constrained DOFs B; errors on a repeated or out-of-range DOF and unless

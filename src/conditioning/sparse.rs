@@ -40,8 +40,8 @@
 
 use super::Reuse;
 use crate::error::{Error, Result};
-use crate::linalg::{DiagonalPattern, FactorKind, Factorization, SparseLlt};
-use faer::sparse::SparseColMat;
+use crate::linalg::{symmetric_matvec, DiagonalPattern, FactorKind, Factorization, SparseLlt};
+use faer::sparse::{SparseColMat, SymbolicSparseColMatRef};
 use serde::Serialize;
 
 /// Below this dimension [`super::cond2`] densifies sparse matrices and
@@ -260,19 +260,6 @@ fn tridiagonal_max_eigenvalue(a: &[f64], b: &[f64], mut lower: f64, upper: f64) 
     hi
 }
 
-/// Largest eigenvalue of a symmetric positive operator by plain Lanczos (no stored vectors):
-/// returns (estimate, steps, converged). Stops when the top Ritz value stagnates to
-/// [`STAGNATION`] relative over [`CHECK_EVERY`] steps, on an invariant subspace, or after
-/// `max_steps`.
-pub(crate) fn lanczos_max(
-    n: usize,
-    max_steps: usize,
-    apply: impl FnMut(&[f64], &mut [f64]),
-) -> Result<(f64, usize, bool)> {
-    let r = lanczos(n, max_steps, |_| STAGNATION, None, false, apply)?;
-    Ok((r.theta, r.steps, r.converged))
-}
-
 /// What one Lanczos run found.
 pub(crate) struct LanczosRun {
     /// The top Ritz value.
@@ -289,9 +276,10 @@ pub(crate) struct LanczosRun {
 /// component nonzero, so a start orthogonal to the new top eigenvector still finds it.
 const WARM_MIX: f64 = 1e-2;
 
-/// [`lanczos_max`] with its own stagnation test (`stagnation(θ)` relative), an optional warm
-/// start (a unit vector near the wanted eigenvector,
-/// e.g. the Ritz vector of a nearby matrix; the Ritz value is then checked every
+/// Largest eigenvalue of a symmetric operator by plain Lanczos: stops when the top Ritz value
+/// θ stagnates to `stagnation(θ)` relative over [`CHECK_EVERY`] steps, on an invariant
+/// subspace, or after `max_steps`. With an optional warm start (a unit vector near the wanted
+/// eigenvector, e.g. the Ritz vector of a nearby matrix; the Ritz value is then checked every
 /// [`CHECK_EVERY_WARM`] steps, since few are needed) and, with `keep_vector`, the Ritz vector
 /// `y = Q_k s` of θ (`s` by inverse iteration on `T_k`), which stores the k Lanczos vectors
 /// (memory k·n).
@@ -454,11 +442,11 @@ fn ritz_vector(a: &[f64], b: &[f64], basis: &[f64], theta: f64) -> Vec<f64> {
     y
 }
 
-/// Relative stagnation of the top Ritz value at which [`lanczos_max`] stops (the estimate
-/// wanted to rounding).
-const STAGNATION: f64 = 1e-14;
+/// Smallest relative stagnation of the top Ritz value at which [`lanczos`] stops (the
+/// estimate wanted to rounding).
+pub(crate) const STAGNATION: f64 = 1e-14;
 
-/// Steps between two Ritz-value evaluations of [`lanczos_max`]; the stagnation test compares
+/// Steps between two Ritz-value evaluations of [`lanczos`]; the stagnation test compares
 /// values this many steps apart.
 const CHECK_EVERY: usize = 5;
 
@@ -583,25 +571,29 @@ impl FactorOfA<'_> {
     }
 }
 
-/// An interval `[lo, hi]` that contains the exact Rayleigh quotient `ρ(y) = yᵀAy / yᵀy` of A
-/// (its values on `pattern`), from its floating-point evaluation and the standard error
+/// An interval `[lo, hi]` that contains the exact Rayleigh quotient `ρ(y) = yᵀAy / yᵀy` of the
+/// symmetric A (`values` on `pattern`, both triangles stored), from its floating-point evaluation and the standard error
 /// bounds (Higham, *Accuracy and Stability*, §3.1–3.5; u = ε_mach/2, γ_k = ku/(1 − ku)):
 /// `z = fl(Ay)` has `|z − Ay| ≤ γ_k |A||y|` with k the most entries of a column, and
 /// `fl(yᵀz)` is within `γ_n |y|ᵀ|z|` of `yᵀz`, so `yᵀAy` is within
 /// `E = γ_n |y|ᵀ|z| + γ_k |y|ᵀ|A||y|` of the computed numerator; `yᵀy` within `γ_n` relative
 /// of its computed value. The bound is inflated by 2 and the divisions by 8u for the
 /// rounding of the bound itself. None unless the numerator is certainly positive.
-fn rayleigh_interval(pattern: &DiagonalPattern, y: &[f64]) -> Option<(f64, f64)> {
+pub(crate) fn rayleigh_interval(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+    values: &[f64],
+    y: &[f64],
+) -> Option<(f64, f64)> {
     let n = y.len();
-    let (cp, ri) = (pattern.pattern.col_ptr(), pattern.pattern.row_idx());
+    let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
     let mut z = vec![0.0; n];
-    pattern.matvec(y, &mut z);
+    symmetric_matvec(pattern, values, y, &mut z);
     let mut abs_form = 0.0; // |y|ᵀ|A||y|
     let mut k = 0usize;
     for (j, &yj) in y.iter().enumerate() {
         k = k.max(cp[j + 1] - cp[j]);
         for p in cp[j]..cp[j + 1] {
-            abs_form += (pattern.values[p] * yj).abs() * y[ri[p]].abs();
+            abs_form += (values[p] * yj).abs() * y[ri[p]].abs();
         }
     }
     let num = dot(y, &z);
@@ -619,7 +611,7 @@ fn rayleigh_interval(pattern: &DiagonalPattern, y: &[f64]) -> Option<(f64, f64)>
 /// A bracket of an eigenvalue from a proven lower bound `lo` (e.g. a Rayleigh quotient of
 /// λ_max): one inertia test at `lo(1 + 0.9 tol)` where the bound is sharp, else [`bracket`]
 /// from there (`upper(σ)` true iff σ is an upper bound).
-fn bracket_above(lo: f64, tol: f64, mut upper: impl FnMut(f64) -> bool) -> (f64, f64) {
+pub(crate) fn bracket_above(lo: f64, tol: f64, mut upper: impl FnMut(f64) -> bool) -> (f64, f64) {
     let s = lo * (1.0 + 0.9 * tol);
     if upper(s) {
         return (lo, s);
@@ -753,16 +745,30 @@ pub fn extreme_eigenvalues(
     let tol = bracket_tol(lmax_est / lmin_est);
     let rayleigh = |y: &Option<Vec<f64>>| {
         y.as_deref()
-            .and_then(|y| rayleigh_interval(&fam.pattern, y))
+            .and_then(|y| rayleigh_interval(fam.pattern.pattern.as_ref(), &fam.pattern.values, y))
     };
     let (top_rq, bottom_rq) = (rayleigh(&top_vector), rayleigh(&run_min.vector));
     let (max_lo, max_hi) = match top_rq {
-        Some((lo, _)) => bracket_above(lo, tol, |s| fam.is_pd(-1.0, s)),
-        None => bracket(lmax_est, tol, |s| fam.is_pd(-1.0, s)),
+        Some((lo, _)) if lo * (1.0 + tol) >= lmax_est => {
+            bracket_above(lo, tol, |s| fam.is_pd(-1.0, s))
+        }
+        rq => {
+            let (l, h) = bracket(lmax_est, tol, |s| fam.is_pd(-1.0, s));
+            (rq.map_or(l, |(lo, _)| l.max(lo)), h)
+        }
     };
+    // The Rayleigh quotient of the bottom Ritz vector is one side only where it is sharp: y
+    // is accurate in the norm of A⁻¹, and where A is stiff in some directions (a large
+    // penalty ε) a tiny error of y there inflates yᵀAy by ε·error² — the Lanczos estimate
+    // (1/θ ≥ λ_min) is then far closer, and the two-sided search starts from it.
     let (min_lo, min_hi) = match bottom_rq {
-        Some((_, hi)) => bracket_below(hi, tol, |s| !fam.is_pd(1.0, -s)),
-        None => bracket(lmin_est, tol, |s| !fam.is_pd(1.0, -s)),
+        Some((_, hi)) if hi <= lmin_est * (1.0 + tol) => {
+            bracket_below(hi, tol, |s| !fam.is_pd(1.0, -s))
+        }
+        rq => {
+            let (l, h) = bracket(lmin_est, tol, |s| !fam.is_pd(1.0, -s));
+            (l, rq.map_or(h, |(_, hi)| h.min(hi)))
+        }
     };
     let certificate = Certificate {
         lambda_max_lo: max_lo,
@@ -847,7 +853,9 @@ mod tests {
             let cond = lambda(n) / lambda(1);
             for j in [1, n] {
                 let y: Vec<f64> = (1..=n).map(|i| (i as f64 * j as f64 * th).sin()).collect();
-                let (lo, hi) = super::rayleigh_interval(&pattern, &y).expect("positive");
+                let (lo, hi) =
+                    super::rayleigh_interval(pattern.pattern.as_ref(), &pattern.values, &y)
+                        .expect("positive");
                 let l = lambda(j);
                 // The closed form itself carries a few ulps of rounding.
                 let slack = 4.0 * f64::EPSILON * l;

@@ -111,6 +111,18 @@ fn bare_message(e: Error) -> String {
 /// stiffness file, sizes, NaN/Inf, DOF out of range, duplicate DOFs) are [`Error::Io`] with
 /// the file name and a one-line explanation.
 pub fn read_scene(path: &Path) -> Result<Scene> {
+    read(path, false)
+}
+
+/// [`read_scene`] with K in the storage its structure prefers: bit for bit
+/// `read_scene(path)?.problem.in_preferred_storage()`, but a structurally sparse matrix
+/// written `"dense"` is built straight from its nonzero entries, without the N×N
+/// intermediate and its two N² scans (the sweep reads scene folders this way).
+pub fn read_scene_preferred(path: &Path) -> Result<Scene> {
+    read(path, true)
+}
+
+fn read(path: &Path, preferred: bool) -> Result<Scene> {
     let origin = path.display().to_string();
     let bytes =
         fs::read(path).map_err(|e| Error::io(&origin, format!("cannot read scene file: {e}")))?;
@@ -127,7 +139,7 @@ pub fn read_scene(path: &Path) -> Result<Scene> {
         Some(p) if !p.as_os_str().is_empty() => p,
         _ => Path::new("."),
     };
-    parse_scene_str(&text, base, &origin)
+    parse_scene(&text, base, &origin, preferred)
 }
 
 /// Parses a scene from JSON text.
@@ -136,6 +148,11 @@ pub fn read_scene(path: &Path) -> Result<Scene> {
 /// `origin` is the name used in error messages (normally the scene file's path). Used by
 /// [`read_scene`]; handy for tests and fuzzing. Never panics.
 pub fn parse_scene_str(json: &str, base_dir: &Path, origin: &str) -> Result<Scene> {
+    parse_scene(json, base_dir, origin, false)
+}
+
+/// [`parse_scene_str`], with K in its preferred storage where `preferred`.
+fn parse_scene(json: &str, base_dir: &Path, origin: &str, preferred: bool) -> Result<Scene> {
     let json = json.strip_prefix('\u{feff}').unwrap_or(json);
     if json.trim_ascii().is_empty() {
         return Err(Error::io(
@@ -185,14 +202,23 @@ pub fn parse_scene_str(json: &str, base_dir: &Path, origin: &str) -> Result<Scen
                 format!("neither \"dense\" nor \"matrix_market\" is given; {EXACTLY_ONE}"),
             ))
         }
-        (Some(rows), None) => Stiffness::from_row_entries(&rows.row_lens, rows.entries)
-            .map_err(|e| at("stiffness.dense", bare_message(e)))?,
+        (Some(rows), None) => if preferred {
+            Stiffness::from_row_entries_preferred(&rows.row_lens, rows.entries)
+        } else {
+            Stiffness::from_row_entries(&rows.row_lens, rows.entries)
+        }
+        .map_err(|e| at("stiffness.dense", bare_message(e)))?,
         (None, Some(rel)) => {
             if rel.trim().is_empty() {
                 return Err(at("stiffness.matrix_market", "empty file path".into()));
             }
-            read_matrix_market(&base_dir.join(&rel))
-                .map_err(|e| at("stiffness.matrix_market", e.to_string()))?
+            let k = read_matrix_market(&base_dir.join(&rel))
+                .map_err(|e| at("stiffness.matrix_market", e.to_string()))?;
+            if preferred {
+                k.in_preferred_storage()
+            } else {
+                k
+            }
         }
     };
     let q = load.into_iter().map(|Num(x)| x).collect();

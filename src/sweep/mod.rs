@@ -349,7 +349,7 @@ pub fn load(spec: &SceneSpec, cfg: &SweepConfig) -> Result<LoadedScene> {
             })
         }
         SceneSpec::File(path) => {
-            let s = scene::read_scene(path)?;
+            let s = scene::read_scene_preferred(path)?;
             let family = s
                 .meta
                 .as_ref()
