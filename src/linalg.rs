@@ -16,7 +16,7 @@ use crate::system::Stiffness;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::solvers::{PartialPivLu, Solve};
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, LltRef, SymbolicCholesky, SymbolicCholeskyRaw,
+    factorize_symbolic_cholesky, simplicial, LltRef, SymbolicCholesky, SymbolicCholeskyRaw,
 };
 use faer::sparse::linalg::solvers::Lu as SparseLu;
 use faer::sparse::{SparseColMat, SymbolicSparseColMat, SymbolicSparseColMatRef};
@@ -37,6 +37,26 @@ pub enum FactorKind {
     SparseLu,
 }
 
+/// The cached permuted upper triangle of the pattern `pat` analysed as `symbolic` (the same
+/// analysis, by pointer, and the same pattern), if any.
+fn cached_permutation(
+    symbolic: &Arc<SymbolicCholesky<usize>>,
+    pat: SymbolicSparseColMatRef<'_, usize>,
+) -> Option<Arc<PermutedUpper>> {
+    if pat.col_nnz().is_some() {
+        return None;
+    }
+    let cache = SYMBOLIC_CACHE.lock().unwrap_or_else(|e| e.into_inner());
+    cache
+        .iter()
+        .find(|e| {
+            Arc::ptr_eq(&e.symbolic, symbolic)
+                && e.col_ptr == pat.col_ptr()
+                && e.row_idx == pat.row_idx()
+        })
+        .and_then(|e| e.permuted.clone())
+}
+
 /// Number of patterns whose symbolic Cholesky analysis [`SparseLlt::analyze`] keeps.
 pub const SYMBOLIC_CACHE_LEN: usize = 2;
 
@@ -45,6 +65,8 @@ struct CachedSymbolic {
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
     symbolic: Arc<SymbolicCholesky<usize>>,
+    /// The permuted upper triangle, where the analysis is simplicial with a permutation.
+    permuted: Option<Arc<PermutedUpper>>,
 }
 
 /// The last [`SYMBOLIC_CACHE_LEN`] analyses, oldest first.
@@ -82,6 +104,7 @@ impl SparseLlt {
         .map(Arc::new)
         .map_err(|e| Error::Numerical(format!("sparse symbolic Cholesky failed: {e:?}")))?;
         if let Some((cp, ri)) = key {
+            let permuted = PermutedUpper::new(pat, &symbolic).map(Arc::new);
             let mut cache = SYMBOLIC_CACHE.lock().unwrap_or_else(|e| e.into_inner());
             if cache.len() == SYMBOLIC_CACHE_LEN {
                 cache.remove(0);
@@ -90,6 +113,7 @@ impl SparseLlt {
                 col_ptr: cp.to_vec(),
                 row_idx: ri.to_vec(),
                 symbolic: symbolic.clone(),
+                permuted,
             });
         }
         Ok(symbolic)
@@ -108,6 +132,9 @@ impl SparseLlt {
         symbolic: Arc<SymbolicCholesky<usize>>,
         a: faer::sparse::SparseColMatRef<'_, usize, f64>,
     ) -> Option<Self> {
+        if let Some(pu) = cached_permutation(&symbolic, a.symbolic()) {
+            return Self::factorize_permuted(symbolic, &pu, a.val());
+        }
         let mut values = recycled_values(symbolic.len_val());
         let par = Par::Seq;
         let req = symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default());
@@ -123,6 +150,38 @@ impl SparseLlt {
                     Default::default(),
                 )
                 .is_ok()
+        });
+        if ok {
+            Some(SparseLlt { symbolic, values })
+        } else {
+            recycle_values(values);
+            None
+        }
+    }
+
+    /// The simplicial numeric factorization of the matrix with values `a_values` on the
+    /// cached pattern whose permuted upper triangle is `pu`.
+    fn factorize_permuted(
+        symbolic: Arc<SymbolicCholesky<usize>>,
+        pu: &PermutedUpper,
+        a_values: &[f64],
+    ) -> Option<Self> {
+        let SymbolicCholeskyRaw::Simplicial(s) = symbolic.raw() else {
+            unreachable!("a permuted upper triangle is kept for simplicial analyses only")
+        };
+        let upper: Vec<f64> = pu.map.iter().map(|&p| a_values[p]).collect();
+        let a = faer::sparse::SparseColMatRef::new(pu.pattern.as_ref(), &upper);
+        let mut values = recycled_values(s.len_val());
+        let req = simplicial::factorize_simplicial_numeric_llt_scratch::<usize, f64>(s.nrows());
+        let ok = with_scratch(req, |stack| {
+            simplicial::factorize_simplicial_numeric_llt(
+                &mut values,
+                a,
+                Default::default(),
+                s,
+                stack,
+            )
+            .is_ok()
         });
         if ok {
             Some(SparseLlt { symbolic, values })
@@ -333,6 +392,66 @@ pub struct DiagonalPattern {
     pub diag: Vec<usize>,
     /// Symbolic Cholesky analysis of the pattern.
     pub symbolic: Arc<SymbolicCholesky<usize>>,
+}
+
+/// The pattern of the upper triangle of `PAPᵀ` (columns unsorted, as faer's
+/// `permute_self_adjoint_to_unsorted` leaves them) and, for each of its entries, the position
+/// of the same entry of A in [`DiagonalPattern::values`].
+///
+/// faer's `factorize_numeric_llt` permutes A again at every factorization (a scatter of the
+/// whole matrix, ≈ 15 % of a factorization of the sweep's matrices). The symbolic cache
+/// ([`SparseLlt::analyze`]) permutes each pattern once, and every numeric factorization of a
+/// cached pattern gathers its values through `map` and calls faer's simplicial numeric
+/// factorization directly, on the same permuted matrix faer would build (so the same
+/// factor, bit for bit).
+struct PermutedUpper {
+    pattern: SymbolicSparseColMat<usize>,
+    map: Vec<usize>,
+}
+
+impl PermutedUpper {
+    /// None unless `symbolic` is simplicial with a permutation.
+    fn new(
+        pattern: SymbolicSparseColMatRef<'_, usize>,
+        symbolic: &SymbolicCholesky<usize>,
+    ) -> Option<Self> {
+        if !matches!(symbolic.raw(), SymbolicCholeskyRaw::Simplicial(_)) {
+            return None;
+        }
+        let perm = symbolic.perm()?;
+        let n = pattern.nrows();
+        // The entries' own positions as values (exact in f64 up to 2⁵³) travel through the
+        // permutation and come out as the map.
+        let positions: Vec<f64> = (0..pattern.row_idx().len()).map(|p| p as f64).collect();
+        let a = faer::sparse::SparseColMatRef::new(pattern, &positions);
+        let lower = (0..n)
+            .map(|j| {
+                let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+                ri[cp[j]..cp[j + 1]].iter().filter(|&&i| i >= j).count()
+            })
+            .sum::<usize>();
+        let mut val = vec![0.0; lower];
+        let mut col_ptr = vec![0usize; n + 1];
+        let mut row_idx = vec![0usize; lower];
+        let req = faer::sparse::utils::permute_self_adjoint_scratch::<usize>(n);
+        with_scratch(req, |stack| {
+            faer::sparse::utils::permute_self_adjoint_to_unsorted(
+                &mut val,
+                &mut col_ptr,
+                &mut row_idx,
+                a,
+                perm,
+                Side::Lower,
+                Side::Upper,
+                stack,
+            );
+        });
+        let pattern = SymbolicSparseColMat::new_unsorted_checked(n, n, col_ptr, None, row_idx);
+        Some(PermutedUpper {
+            pattern,
+            map: val.iter().map(|&p| p as usize).collect(),
+        })
+    }
 }
 
 impl DiagonalPattern {

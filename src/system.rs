@@ -58,6 +58,33 @@ impl Structure {
     }
 }
 
+/// Is the sparse matrix (sorted CSC) structurally symmetric with mirror entries equal bit for
+/// bit? The common case of [`Stiffness::is_symmetric`], decided in one pass without a
+/// transpose: the upper entries of column i are met in row order as the columns j < i are
+/// scanned for their mirrors, so one cursor per column walks them.
+fn exactly_symmetric(m: &SparseColMat<usize, f64>) -> bool {
+    let n = m.ncols();
+    let (cp, ri, v) = (m.symbolic().col_ptr(), m.symbolic().row_idx(), m.val());
+    if m.symbolic().col_nnz().is_some() {
+        return false;
+    }
+    let mut next = cp[..n].to_vec();
+    for j in 0..n {
+        for p in cp[j]..cp[j + 1] {
+            let i = ri[p];
+            if i > j {
+                let q = next[i];
+                if q >= cp[i + 1] || ri[q] != j || v[q] != v[p] {
+                    return false;
+                }
+                next[i] = q + 1;
+            }
+        }
+    }
+    // Every upper entry was some lower entry's mirror.
+    (0..n).all(|i| next[i] == cp[i] + ri[cp[i]..cp[i + 1]].partition_point(|&r| r < i))
+}
+
 /// N for rows of lengths `row_lens`, all N; errors on an empty or non-square matrix.
 fn square_rows(row_lens: &[usize]) -> Result<usize> {
     let n = row_lens.len();
@@ -344,6 +371,11 @@ impl Stiffness {
     /// `true` if `|K[i,j] − K[j,i]| ≤ 8 ε_mach · max|K|` for all pairs: the test that
     /// selects the symmetric (eigenvalue) routes and Cholesky.
     pub fn is_symmetric(&self) -> bool {
+        if let Stiffness::Sparse(m) = self {
+            if exactly_symmetric(m) {
+                return true;
+            }
+        }
         let tol = 8.0 * f64::EPSILON * self.max_abs();
         match self {
             Stiffness::Dense(m) => {
