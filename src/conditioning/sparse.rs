@@ -191,26 +191,31 @@ fn tridiagonal_max_eigenvalue(a: &[f64], b: &[f64], mut lower: f64, upper: f64) 
     let kf = k as f64;
     for _ in 0..40 {
         // G = p'/p = Σ d_i'/d_i and H = G² − p''/p = −Σ (d_i''/d_i − (d_i'/d_i)²).
-        let (mut d, mut d1, mut d2) = (1.0f64, 0.0f64, 0.0f64);
+        // One division per pivot: with q = 1/d_{i−1}, d_i = a_i − x − b²q,
+        // d_i' = −1 + b² d_{i−1}' q², d_i'' = b² (d_{i−1}'' q² − 2 d_{i−1}'² q³).
+        let (mut d1, mut d2) = (0.0f64, 0.0f64);
         let (mut g, mut h) = (0.0f64, 0.0f64);
         let mut negative_definite = true;
+        let mut q = 0.0f64;
         for i in 0..k {
-            if i == 0 {
-                (d, d1, d2) = (a[0] - x, -1.0, 0.0);
+            let d = if i == 0 {
+                (d1, d2) = (-1.0, 0.0);
+                a[0] - x
             } else {
                 let b2 = b[i - 1] * b[i - 1];
-                let (p, p1, p2) = (d, d1, d2);
-                d = a[i] - x - b2 / p;
-                d1 = -1.0 + b2 * p1 / (p * p);
-                d2 = b2 * (p2 / (p * p) - 2.0 * p1 * p1 / (p * p * p));
-            }
+                let q2 = q * q;
+                d2 = b2 * (d2 * q2 - 2.0 * d1 * d1 * q2 * q);
+                d1 = -1.0 + b2 * d1 * q2;
+                a[i] - x - b2 * q
+            };
             if !(d < 0.0 && d.is_finite()) {
                 negative_definite = false;
                 break;
             }
-            let r = d1 / d;
+            q = d.recip();
+            let r = d1 * q;
             g += r;
-            h -= d2 / d - r * r;
+            h -= d2 * q - r * r;
         }
         if !negative_definite {
             // T − xI has a pivot ≥ 0, so λ_max ≥ x: a lower bound (rounding put the last
