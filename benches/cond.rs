@@ -1,6 +1,7 @@
 //! Exact cond₂ by route against one Cholesky of the same matrix (the floor of any exact
 //! method): sparse inertia route, dense symmetric eigenvalues, dense SVD — on the membrane
-//! stiffness (5-point Laplacian) at several sizes, single-threaded.
+//! stiffness (5-point Laplacian) at several sizes, single-threaded; and one sparse solve of
+//! one right-hand side by the one-vector path against faer's multi-RHS solve.
 //!
 //! `cargo bench --bench cond`. For larger sizes and a table, see `cargo run --release --bin
 //! cond_cost`.
@@ -8,6 +9,7 @@
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use penalty_lab::conditioning::{cond2_dense, cond2_sparse_spd};
 use penalty_lab::linalg::Factorization;
+use penalty_lab::model::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::model::membrane;
 use penalty_lab::system::Stiffness;
 use std::hint::black_box;
@@ -43,5 +45,47 @@ fn bench_cond(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench_cond);
+/// One solve with a sparse Cholesky factor of one right-hand side: the one-vector path
+/// (`Factorization::solve_vec_in_place`, simplicial factors) against faer's multi-RHS solve
+/// of the same factor (`solve_mat_in_place` with one column), on the 400-DOF membrane and a
+/// generated beam — the sizes of issue 10's scene folder.
+fn bench_one_vector_solve(c: &mut Criterion) {
+    let mut g = c.benchmark_group("one_vector_solve");
+    g.sample_size(20)
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(1));
+    let beam = generate(Family::Beam, 0, 2011, &GeneratorConfig::default())
+        .expect("valid beam")
+        .problem
+        .in_preferred_storage()
+        .k;
+    let membrane = membrane::stiffness(20, 1.0).expect("valid membrane");
+    for (name, a) in [("membrane", membrane), ("beam", beam)] {
+        let f = Factorization::new(&a, true).expect("SPD");
+        let n = a.n();
+        let b: Vec<f64> = (0..n).map(|i| (i % 7) as f64 - 3.0).collect();
+        g.bench_function(BenchmarkId::new(format!("{name}/one_vector"), n), |bench| {
+            let mut x = b.clone();
+            bench.iter(|| {
+                x.copy_from_slice(&b);
+                f.solve_vec_in_place(black_box(&mut x));
+            })
+        });
+        g.bench_function(
+            BenchmarkId::new(format!("{name}/faer_multi_rhs"), n),
+            |bench| {
+                let mut x = faer::Mat::<f64>::zeros(n, 1);
+                bench.iter(|| {
+                    for (i, v) in b.iter().enumerate() {
+                        x[(i, 0)] = *v;
+                    }
+                    f.solve_mat_in_place(black_box(x.as_mut()));
+                })
+            },
+        );
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench_cond, bench_one_vector_solve);
 criterion_main!(benches);

@@ -240,12 +240,12 @@ impl SparseLlt {
     /// Solves `A x = b` in place (`x` holds b on entry).
     ///
     /// A simplicial factor is solved here by the same two column sweeps faer runs (same
-    /// operations in the same order, so the same bits): faer's solve is written for any
-    /// number of right-hand sides through strided matrix views and a scratch stack, and for
-    /// one vector on the small factors of a sweep that bookkeeping costs as much as the
-    /// arithmetic (7.0 → 3.1 µs per solve on the 400-DOF membrane, 3.5 → 1.2 µs on a
-    /// 276-DOF beam; 2-core AMD EPYC, `cargo bench --bench kernels -- solve`). Supernodal
-    /// factors go to faer.
+    /// operations in the same order, so the same bits; `tests/kernels.rs`): faer's solve is
+    /// written for any number of right-hand sides through strided matrix views and a
+    /// scratch stack, which on the small factors of a sweep costs a quarter of the solve
+    /// (median 6.0 → 4.5 µs on the 400-DOF membrane, 1.7 → 1.5 µs on a 138-DOF beam; 2-core
+    /// AMD EPYC, `cargo bench --bench cond -- one_vector_solve`). Supernodal factors go to
+    /// faer.
     pub fn solve_vec_in_place(&self, x: &mut [f64]) {
         let n = x.len();
         match self.symbolic.raw() {

@@ -166,6 +166,17 @@ fn saddle_determinant_is_det_k_ff() {
                 "{name} ({}): {ours} vs LU {lu} (tol {t:e})",
                 if p.k.is_sparse() { "sparse" } else { "dense" }
             );
+            // The sparse saddle cond₂ route reports the same determinant from its K_FF factor.
+            if let Stiffness::Sparse(k) = &p.k {
+                if p.n() >= SPARSE_ROUTE_MIN_N && dofs.len() < p.n() {
+                    let r = conditioning::saddle::cond2_saddle(k, &dofs).unwrap();
+                    let d = r.log10_det.expect("the saddle route returns det K_FF");
+                    assert!(
+                        (d - lu).abs() <= t * lu.abs().max(1.0),
+                        "{name}: saddle route {d} vs LU {lu} (tol {t:e})"
+                    );
+                }
+            }
         }
     }
     // Repeated DOFs are refused, not silently wrong.
