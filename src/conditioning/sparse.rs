@@ -166,7 +166,18 @@ impl ShiftFamily {
 /// where a step lands at or just below λ_max by rounding (about half of the sweep's calls:
 /// a gallop up from that lower bound), a pivot vanishes or 40 steps are not enough (bisection).
 /// O(k) per step instead of the O(60 k) of a bisection from the Gershgorin interval.
-fn tridiagonal_max_eigenvalue(a: &[f64], b: &[f64], mut lower: f64, upper: f64) -> f64 {
+///
+/// `guess`, where given inside (lower, upper), is tried first as the start: Laguerre from a
+/// start just above λ_max settles in one or two steps, from the loose `upper` in three or
+/// four. A guess below λ_max (a pivot ≥ 0) only raises `lower`, and Laguerre starts from
+/// `upper` as without it.
+fn tridiagonal_max_eigenvalue(
+    a: &[f64],
+    b: &[f64],
+    mut lower: f64,
+    upper: f64,
+    guess: Option<f64>,
+) -> f64 {
     let k = a.len();
     // Number of eigenvalues < x (LDLᵀ of T − xI).
     let count = |x: f64| {
@@ -188,6 +199,11 @@ fn tridiagonal_max_eigenvalue(a: &[f64], b: &[f64], mut lower: f64, upper: f64) 
     // T − xI negative: T − xI ≺ 0).
     let mut above = upper;
     let mut x = upper;
+    let mut trying_guess = false;
+    if let Some(g) = guess.filter(|&g| g > lower && g < upper) {
+        x = g;
+        trying_guess = true;
+    }
     let kf = k as f64;
     for _ in 0..40 {
         // G = p'/p = Σ d_i'/d_i and H = G² − p''/p = −Σ (d_i''/d_i − (d_i'/d_i)²).
@@ -219,10 +235,15 @@ fn tridiagonal_max_eigenvalue(a: &[f64], b: &[f64], mut lower: f64, upper: f64) 
         }
         if !negative_definite {
             // T − xI has a pivot ≥ 0, so λ_max ≥ x: a lower bound (rounding put the last
-            // step at or just below λ_max).
+            // step at or just below λ_max, or the guess was low).
             lower = lower.max(x);
+            if std::mem::take(&mut trying_guess) {
+                x = upper;
+                continue;
+            }
             break;
         }
+        trying_guess = false;
         if !(g.is_finite() && g > 0.0 && h.is_finite()) {
             break;
         }
@@ -358,12 +379,17 @@ pub(crate) fn lanczos(
         // problems when done at every step), and wherever the recurrence may stop.
         let may_stop = beta <= 1e-300 || beta <= f64::EPSILON * upper.abs() * 1e-2;
         if steps % check_every == 0 || may_stop {
+            // Guess: the last change again, doubled (the changes shrink as θ converges).
+            let guess = match history[..] {
+                [.., pp, p] => Some(p + 2.0 * (p - pp).abs() + 8.0 * f64::EPSILON * p.abs()),
+                _ => None,
+            };
             let theta = match history.last() {
-                Some(&prev) => tridiagonal_max_eigenvalue(&alphas, &betas, prev, upper),
+                Some(&prev) => tridiagonal_max_eigenvalue(&alphas, &betas, prev, upper, guess),
                 None if steps == 1 => alpha,
                 None => {
                     let (lo, hi) = gershgorin(&alphas, &betas);
-                    tridiagonal_max_eigenvalue(&alphas, &betas, lo, hi)
+                    tridiagonal_max_eigenvalue(&alphas, &betas, lo, hi, None)
                 }
             };
             let stagnated = history
@@ -390,7 +416,7 @@ pub(crate) fn lanczos(
     }
     // Out of steps: the top Ritz value of the last tridiagonal.
     let (lo, hi) = gershgorin(&alphas, &betas);
-    let theta = tridiagonal_max_eigenvalue(&alphas, &betas, lo, hi);
+    let theta = tridiagonal_max_eigenvalue(&alphas, &betas, lo, hi, None);
     let vector = ritz(&alphas, &betas, &basis, theta);
     Ok(LanczosRun {
         theta,
@@ -952,16 +978,30 @@ mod tests {
             let tol = 8.0 * k as f64 * f64::EPSILON * norm.max(1.0);
             let exact = dense_max(a, b);
             let (lo, hi) = super::gershgorin(a, b);
-            let got = tridiagonal_max_eigenvalue(a, b, lo, hi);
+            let got = tridiagonal_max_eigenvalue(a, b, lo, hi, None);
             assert!((got - exact).abs() <= tol, "k={k}: {got} vs {exact}");
             if k > 1 {
                 let prev = dense_max(&a[..k - 1], &b[..k - 2]);
                 let upper = prev.max(a[k - 1]) + b[k - 2].abs();
-                let got = tridiagonal_max_eigenvalue(a, b, prev, upper);
+                let got = tridiagonal_max_eigenvalue(a, b, prev, upper, None);
                 assert!(
                     (got - exact).abs() <= tol,
                     "k={k} (bracket): {got} vs {exact}"
                 );
+                // Guesses above λ_max, below it, at it, and outside the bracket.
+                for g in [
+                    exact + 1e-3 * (upper - exact),
+                    exact + 0.5 * (upper - exact),
+                    0.5 * (prev + exact),
+                    exact,
+                    upper + 1.0,
+                ] {
+                    let got = tridiagonal_max_eigenvalue(a, b, prev, upper, Some(g));
+                    assert!(
+                        (got - exact).abs() <= tol,
+                        "k={k} (guess {g}): {got} vs {exact}"
+                    );
+                }
             }
         }
     }
