@@ -363,8 +363,8 @@ pub(crate) fn lanczos(
                 "Lanczos produced a non-finite value (matrix contains NaN/Inf?)".into(),
             ));
         }
-        for i in 0..n {
-            w[i] -= alpha * q[i] + beta_prev * q_prev[i];
+        for ((wi, qi), pi) in w.iter_mut().zip(&q).zip(&q_prev) {
+            *wi -= alpha * qi + beta_prev * pi;
         }
         alphas.push(alpha);
         let beta = norm(&w);
@@ -409,8 +409,9 @@ pub(crate) fn lanczos(
         }
         betas.push(beta);
         std::mem::swap(&mut q_prev, &mut q);
-        for i in 0..n {
-            q[i] = w[i] / beta;
+        let inv_beta = beta.recip();
+        for (qi, wi) in q.iter_mut().zip(&w) {
+            *qi = wi * inv_beta;
         }
         beta_prev = beta;
     }
