@@ -5,7 +5,12 @@
 //! e.g. a saddle-point matrix) or the matrix is unsymmetric, partial-pivoting LU is used. Dense
 //! matrices use faer's dense factorizations, sparse ones faer's sparse Cholesky (with the
 //! symbolic analysis kept for reuse — process-wide for the last two patterns,
-//! [`SparseLlt::analyze`]) or sparse LU.
+//! [`SparseLlt::analyze`], together with the fill-reducing permutation of a simplicial
+//! pattern applied once, so a numeric factorization of a cached pattern skips faer's
+//! per-call permutation) or sparse LU. One right-hand side of a simplicial factor is solved
+//! by the same sweeps as faer's solve without its multi-RHS bookkeeping
+//! ([`SparseLlt::solve_vec_in_place`]). Both give faer's results bit for bit
+//! (`tests/kernels.rs`).
 //!
 //! A factor whose smallest pivot is at the rounding level of the largest
 //! (`pivot ≤ ε_mach · max pivot`) is reported as [`Error::Singular`]: K is singular to working
@@ -132,57 +137,45 @@ impl SparseLlt {
         symbolic: Arc<SymbolicCholesky<usize>>,
         a: faer::sparse::SparseColMatRef<'_, usize, f64>,
     ) -> Option<Self> {
-        if let Some(pu) = cached_permutation(&symbolic, a.symbolic()) {
-            return Self::factorize_permuted(symbolic, &pu, a.val());
-        }
         let mut values = recycled_values(symbolic.len_val());
-        let par = Par::Seq;
-        let req = symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default());
-        let ok = with_scratch(req, |stack| {
-            symbolic
-                .factorize_numeric_llt(
-                    &mut values,
-                    a,
-                    Side::Lower,
-                    Default::default(),
-                    par,
-                    stack,
-                    Default::default(),
-                )
-                .is_ok()
-        });
-        if ok {
-            Some(SparseLlt { symbolic, values })
-        } else {
-            recycle_values(values);
-            None
-        }
-    }
-
-    /// The simplicial numeric factorization of the matrix with values `a_values` on the
-    /// cached pattern whose permuted upper triangle is `pu`.
-    fn factorize_permuted(
-        symbolic: Arc<SymbolicCholesky<usize>>,
-        pu: &PermutedUpper,
-        a_values: &[f64],
-    ) -> Option<Self> {
-        let SymbolicCholeskyRaw::Simplicial(s) = symbolic.raw() else {
-            unreachable!("a permuted upper triangle is kept for simplicial analyses only")
+        let permuted = cached_permutation(&symbolic, a.symbolic());
+        let ok = match (&permuted, symbolic.raw()) {
+            // A cached simplicial pattern: faer's simplicial numeric factorization of the
+            // permuted upper triangle, gathered through the cached map (`PermutedUpper`).
+            (Some(pu), SymbolicCholeskyRaw::Simplicial(s)) => {
+                let upper: Vec<f64> = pu.map.iter().map(|&p| a.val()[p]).collect();
+                let pa = faer::sparse::SparseColMatRef::new(pu.pattern.as_ref(), &upper);
+                let req =
+                    simplicial::factorize_simplicial_numeric_llt_scratch::<usize, f64>(s.nrows());
+                with_scratch(req, |stack| {
+                    simplicial::factorize_simplicial_numeric_llt(
+                        &mut values,
+                        pa,
+                        Default::default(),
+                        s,
+                        stack,
+                    )
+                    .is_ok()
+                })
+            }
+            _ => {
+                let par = Par::Seq;
+                let req = symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default());
+                with_scratch(req, |stack| {
+                    symbolic
+                        .factorize_numeric_llt(
+                            &mut values,
+                            a,
+                            Side::Lower,
+                            Default::default(),
+                            par,
+                            stack,
+                            Default::default(),
+                        )
+                        .is_ok()
+                })
+            }
         };
-        let upper: Vec<f64> = pu.map.iter().map(|&p| a_values[p]).collect();
-        let a = faer::sparse::SparseColMatRef::new(pu.pattern.as_ref(), &upper);
-        let mut values = recycled_values(s.len_val());
-        let req = simplicial::factorize_simplicial_numeric_llt_scratch::<usize, f64>(s.nrows());
-        let ok = with_scratch(req, |stack| {
-            simplicial::factorize_simplicial_numeric_llt(
-                &mut values,
-                a,
-                Default::default(),
-                s,
-                stack,
-            )
-            .is_ok()
-        });
         if ok {
             Some(SparseLlt { symbolic, values })
         } else {
