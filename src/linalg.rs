@@ -51,15 +51,41 @@ fn cached_permutation(
     if pat.col_nnz().is_some() {
         return None;
     }
-    let cache = SYMBOLIC_CACHE.lock().unwrap_or_else(|e| e.into_inner());
-    cache
-        .iter()
-        .find(|e| {
-            Arc::ptr_eq(&e.symbolic, symbolic)
-                && e.col_ptr == pat.col_ptr()
-                && e.row_idx == pat.row_idx()
-        })
-        .and_then(|e| e.permuted.clone())
+    let same = |s: &Arc<SymbolicCholesky<usize>>, cp: &[usize], ri: &[usize]| {
+        Arc::ptr_eq(s, symbolic) && cp == pat.col_ptr() && ri == pat.row_idx()
+    };
+    // This thread's copy first: the process-wide cache is behind a lock, which every
+    // factorization of two threads would otherwise contend for.
+    let local = PERMUTED.with(|l| {
+        l.borrow()
+            .iter()
+            .find(|(s, pu)| same(s, &pu.col_ptr, &pu.row_idx))
+            .map(|(_, pu)| pu.clone())
+    });
+    if local.is_some() {
+        return local;
+    }
+    let found = {
+        let cache = SYMBOLIC_CACHE.lock().unwrap_or_else(|e| e.into_inner());
+        cache
+            .iter()
+            .find(|e| same(&e.symbolic, &e.col_ptr, &e.row_idx))
+            .and_then(|e| e.permuted.clone())
+    }?;
+    PERMUTED.with(|l| {
+        let mut l = l.borrow_mut();
+        if l.len() == SYMBOLIC_CACHE_LEN {
+            l.remove(0);
+        }
+        l.push((symbolic.clone(), found.clone()));
+    });
+    Some(found)
+}
+
+thread_local! {
+    /// This thread's recently used entries of the process-wide cache's permutations.
+    static PERMUTED: std::cell::RefCell<Vec<(Arc<SymbolicCholesky<usize>>, Arc<PermutedUpper>)>> =
+        const { std::cell::RefCell::new(Vec::new()) };
 }
 
 /// Number of patterns whose symbolic Cholesky analysis [`SparseLlt::analyze`] keeps.
@@ -400,6 +426,9 @@ pub struct DiagonalPattern {
 struct PermutedUpper {
     pattern: SymbolicSparseColMat<usize>,
     map: Vec<usize>,
+    /// The pattern of A it was made from (column pointers and row indices).
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
 }
 
 impl PermutedUpper {
@@ -439,10 +468,12 @@ impl PermutedUpper {
                 stack,
             );
         });
-        let pattern = SymbolicSparseColMat::new_unsorted_checked(n, n, col_ptr, None, row_idx);
+        let permuted = SymbolicSparseColMat::new_unsorted_checked(n, n, col_ptr, None, row_idx);
         Some(PermutedUpper {
-            pattern,
+            pattern: permuted,
             map: val.iter().map(|&p| p as usize).collect(),
+            col_ptr: pattern.col_ptr().to_vec(),
+            row_idx: pattern.row_idx().to_vec(),
         })
     }
 }
