@@ -51,40 +51,42 @@ fn cached_permutation(
     if pat.col_nnz().is_some() {
         return None;
     }
-    let same = |s: &Arc<SymbolicCholesky<usize>>, cp: &[usize], ri: &[usize]| {
-        Arc::ptr_eq(s, symbolic) && cp == pat.col_ptr() && ri == pat.row_idx()
-    };
-    // This thread's copy first: the process-wide cache is behind a lock, which every
-    // factorization of two threads would otherwise contend for.
-    let local = PERMUTED.with(|l| {
-        l.borrow()
-            .iter()
-            .find(|(s, pu)| same(s, &pu.col_ptr, &pu.row_idx))
-            .map(|(_, pu)| pu.clone())
-    });
+    cached(|e| {
+        Arc::ptr_eq(&e.symbolic, symbolic)
+            && e.col_ptr == pat.col_ptr()
+            && e.row_idx == pat.row_idx()
+    })?
+    .permuted
+    .clone()
+}
+
+/// The cached analysis that `hit` accepts: this thread's recent entries first, then the
+/// process-wide cache (whose entry is then kept on this thread too). The process-wide cache
+/// is behind a lock that every factorization of two threads would otherwise contend for.
+fn cached(hit: impl Fn(&CachedSymbolic) -> bool) -> Option<Arc<CachedSymbolic>> {
+    let local = LOCAL_SYMBOLIC.with(|l| l.borrow().iter().find(|e| hit(e)).cloned());
     if local.is_some() {
         return local;
     }
     let found = {
         let cache = SYMBOLIC_CACHE.lock().unwrap_or_else(|e| e.into_inner());
-        cache
-            .iter()
-            .find(|e| same(&e.symbolic, &e.col_ptr, &e.row_idx))
-            .and_then(|e| e.permuted.clone())
+        cache.iter().find(|e| hit(e)).cloned()
     }?;
-    PERMUTED.with(|l| {
-        let mut l = l.borrow_mut();
-        if l.len() == SYMBOLIC_CACHE_LEN {
-            l.remove(0);
-        }
-        l.push((symbolic.clone(), found.clone()));
-    });
+    LOCAL_SYMBOLIC.with(|l| push_bounded(&mut l.borrow_mut(), found.clone()));
     Some(found)
 }
 
+/// Appends `e`, dropping the oldest entry beyond [`SYMBOLIC_CACHE_LEN`].
+fn push_bounded(list: &mut Vec<Arc<CachedSymbolic>>, e: Arc<CachedSymbolic>) {
+    if list.len() == SYMBOLIC_CACHE_LEN {
+        list.remove(0);
+    }
+    list.push(e);
+}
+
 thread_local! {
-    /// This thread's recently used entries of the process-wide cache's permutations.
-    static PERMUTED: std::cell::RefCell<Vec<(Arc<SymbolicCholesky<usize>>, Arc<PermutedUpper>)>> =
+    /// This thread's recently used entries of [`SYMBOLIC_CACHE`].
+    static LOCAL_SYMBOLIC: std::cell::RefCell<Vec<Arc<CachedSymbolic>>> =
         const { std::cell::RefCell::new(Vec::new()) };
 }
 
@@ -101,7 +103,7 @@ struct CachedSymbolic {
 }
 
 /// The last [`SYMBOLIC_CACHE_LEN`] analyses, oldest first.
-static SYMBOLIC_CACHE: Mutex<Vec<CachedSymbolic>> = Mutex::new(Vec::new());
+static SYMBOLIC_CACHE: Mutex<Vec<Arc<CachedSymbolic>>> = Mutex::new(Vec::new());
 
 /// Sparse Cholesky factor with access to its diagonal (for log-det) and a shareable symbolic
 /// analysis (same pattern ⇒ reuse across penalty values).
@@ -113,16 +115,16 @@ pub struct SparseLlt {
 impl SparseLlt {
     /// Symbolic analysis of the lower triangle of `a` (AMD ordering, supernodal or simplicial
     /// structure). The analyses of the last [`SYMBOLIC_CACHE_LEN`] patterns are kept
-    /// process-wide and returned for an identical pattern (compared entry by entry): a solve
-    /// and the cond₂ of K and of the penalized system share one analysis. The analysis depends
-    /// only on the pattern, so a cached one is the one a new analysis would compute.
+    /// process-wide (and the last ones each thread used, on that thread) and returned for an
+    /// identical pattern (compared entry by entry): a solve and the cond₂ of K and of the
+    /// penalized system share one analysis. The analysis depends only on the pattern, so a
+    /// cached one is the one a new analysis would compute.
     pub fn analyze(a: &SparseColMat<usize, f64>) -> Result<Arc<SymbolicCholesky<usize>>> {
         let pat = a.symbolic();
         let key = (pat.col_nnz().is_none() && pat.nrows() == pat.ncols())
             .then(|| (pat.col_ptr(), pat.row_idx()));
         if let Some((cp, ri)) = key {
-            let cache = SYMBOLIC_CACHE.lock().unwrap_or_else(|e| e.into_inner());
-            if let Some(e) = cache.iter().find(|e| e.col_ptr == cp && e.row_idx == ri) {
+            if let Some(e) = cached(|e| e.col_ptr == cp && e.row_idx == ri) {
                 return Ok(e.symbolic.clone());
             }
         }
@@ -135,17 +137,16 @@ impl SparseLlt {
         .map(Arc::new)
         .map_err(|e| Error::Numerical(format!("sparse symbolic Cholesky failed: {e:?}")))?;
         if let Some((cp, ri)) = key {
-            let permuted = PermutedUpper::new(pat, &symbolic).map(Arc::new);
-            let mut cache = SYMBOLIC_CACHE.lock().unwrap_or_else(|e| e.into_inner());
-            if cache.len() == SYMBOLIC_CACHE_LEN {
-                cache.remove(0);
-            }
-            cache.push(CachedSymbolic {
+            let entry = Arc::new(CachedSymbolic {
                 col_ptr: cp.to_vec(),
                 row_idx: ri.to_vec(),
                 symbolic: symbolic.clone(),
-                permuted,
+                permuted: PermutedUpper::new(pat, &symbolic).map(Arc::new),
             });
+            let mut cache = SYMBOLIC_CACHE.lock().unwrap_or_else(|e| e.into_inner());
+            push_bounded(&mut cache, entry.clone());
+            drop(cache);
+            LOCAL_SYMBOLIC.with(|l| push_bounded(&mut l.borrow_mut(), entry));
         }
         Ok(symbolic)
     }
@@ -426,9 +427,6 @@ pub struct DiagonalPattern {
 struct PermutedUpper {
     pattern: SymbolicSparseColMat<usize>,
     map: Vec<usize>,
-    /// The pattern of A it was made from (column pointers and row indices).
-    col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
 }
 
 impl PermutedUpper {
@@ -472,8 +470,6 @@ impl PermutedUpper {
         Some(PermutedUpper {
             pattern: permuted,
             map: val.iter().map(|&p| p as usize).collect(),
-            col_ptr: pattern.col_ptr().to_vec(),
-            row_idx: pattern.row_idx().to_vec(),
         })
     }
 }
