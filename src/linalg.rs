@@ -257,6 +257,11 @@ impl SparseLlt {
         }
     }
 
+    /// `log10 det A = Σ 2 log10 L_ii`.
+    pub fn log10_det(&self) -> f64 {
+        self.l_diagonal().iter().map(|d| 2.0 * d.log10()).sum()
+    }
+
     /// Solves `A x = b` in place (`x` holds b on entry).
     ///
     /// A simplicial factor is solved here by the same two column sweeps faer runs (same
@@ -444,12 +449,10 @@ impl PermutedUpper {
         // permutation and come out as the map.
         let positions: Vec<f64> = (0..pattern.row_idx().len()).map(|p| p as f64).collect();
         let a = faer::sparse::SparseColMatRef::new(pattern, &positions);
-        let lower = (0..n)
-            .map(|j| {
-                let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
-                ri[cp[j]..cp[j + 1]].iter().filter(|&&i| i >= j).count()
-            })
-            .sum::<usize>();
+        let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+        let lower: usize = (0..n)
+            .map(|j| ri[cp[j]..cp[j + 1]].iter().filter(|&&i| i >= j).count())
+            .sum();
         let mut val = vec![0.0; lower];
         let mut col_ptr = vec![0usize; n + 1];
         let mut row_idx = vec![0usize; lower];

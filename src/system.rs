@@ -45,6 +45,23 @@ pub struct Structure {
 pub const SPARSE_MAX_DENSITY: f64 = 0.25;
 
 impl Structure {
+    /// An N×N matrix with no entry counted yet ([`Structure::count`] adds them).
+    fn empty(n: usize) -> Self {
+        Structure {
+            n,
+            nnz: 0,
+            half_bandwidth: 0,
+        }
+    }
+
+    /// Counts entry (i, j) = v: exact zeros (±0.0), stored or not, do not count.
+    fn count(&mut self, i: usize, j: usize, v: f64) {
+        if v != 0.0 {
+            self.nnz += 1;
+            self.half_bandwidth = self.half_bandwidth.max(i.abs_diff(j));
+        }
+    }
+
     /// nnz / N².
     pub fn density(&self) -> f64 {
         self.nnz as f64 / (self.n as f64 * self.n as f64)
@@ -83,6 +100,24 @@ fn exactly_symmetric(m: &SparseColMat<usize, f64>) -> bool {
     }
     // Every upper entry was some lower entry's mirror.
     (0..n).all(|i| next[i] == cp[i] + ri[cp[i]..cp[i + 1]].partition_point(|&r| r < i))
+}
+
+/// The sparse N×N matrix of the given entries other than ±0.0 (each position at most once,
+/// all in range): the conversion [`Stiffness::in_preferred_storage`] makes, whatever order
+/// the entries come in.
+fn sparse_of_nonzeros(
+    n: usize,
+    entries: impl IntoIterator<Item = (usize, usize, f64)>,
+) -> Stiffness {
+    let t: Vec<Triplet<usize, usize, f64>> = entries
+        .into_iter()
+        .filter(|e| e.2 != 0.0)
+        .map(|(row, col, val)| Triplet { row, col, val })
+        .collect();
+    Stiffness::Sparse(
+        SparseColMat::try_new_from_triplets(n, n, &t)
+            .expect("entries of an n×n matrix are in range"),
+    )
 }
 
 /// N for rows of lengths `row_lens`, all N; errors on an empty or non-square matrix.
@@ -141,29 +176,14 @@ impl Stiffness {
         entries: Vec<(usize, usize, f64)>,
     ) -> Result<Self> {
         let n = square_rows(row_lens)?;
-        let mut s = Structure {
-            n,
-            nnz: 0,
-            half_bandwidth: 0,
-        };
+        let mut s = Structure::empty(n);
         for &(i, j, v) in &entries {
-            if v != 0.0 {
-                s.nnz += 1;
-                s.half_bandwidth = s.half_bandwidth.max(i.abs_diff(j));
-            }
+            s.count(i, j, v);
         }
         if !s.prefers_sparse() {
             return Self::from_row_entries(row_lens, entries);
         }
-        let t: Vec<Triplet<usize, usize, f64>> = entries
-            .into_iter()
-            .filter(|e| e.2 != 0.0)
-            .map(|(row, col, val)| Triplet { row, col, val })
-            .collect();
-        Ok(Stiffness::Sparse(
-            SparseColMat::try_new_from_triplets(n, n, &t)
-                .expect("entries of an n×n matrix are in range"),
-        ))
+        Ok(sparse_of_nonzeros(n, entries))
     }
 
     /// Builds a sparse matrix from (row, col, value) triplets; duplicates are summed.
@@ -210,18 +230,9 @@ impl Stiffness {
     /// (exact zeros, stored or not, do not count) and the half-bandwidth
     /// `max |i − j|` over them (natural ordering). O(N²) for dense storage, O(nnz) for sparse.
     pub fn structure(&self) -> Structure {
-        let (mut nnz, mut half_bandwidth) = (0usize, 0usize);
-        self.for_each_entry(|i, j, v| {
-            if v != 0.0 {
-                nnz += 1;
-                half_bandwidth = half_bandwidth.max(i.abs_diff(j));
-            }
-        });
-        Structure {
-            n: self.n(),
-            nnz,
-            half_bandwidth,
-        }
+        let mut s = Structure::empty(self.n());
+        self.for_each_entry(|i, j, v| s.count(i, j, v));
+        s
     }
 
     /// The same matrix in the storage [`Structure::prefers_sparse`] chooses: a structurally
@@ -234,22 +245,9 @@ impl Stiffness {
         match (&self, s.prefers_sparse()) {
             (Stiffness::Dense(m), true) => {
                 let n = m.nrows();
-                let mut t = Vec::with_capacity(s.nnz);
-                for j in 0..n {
-                    for i in 0..n {
-                        let v = m[(i, j)];
-                        if v != 0.0 {
-                            t.push(Triplet {
-                                row: i,
-                                col: j,
-                                val: v,
-                            });
-                        }
-                    }
-                }
-                Stiffness::Sparse(
-                    SparseColMat::try_new_from_triplets(n, n, &t)
-                        .expect("entries of an n×n matrix are in range"),
+                sparse_of_nonzeros(
+                    n,
+                    (0..n).flat_map(|j| (0..n).map(move |i| (i, j, m[(i, j)]))),
                 )
             }
             (Stiffness::Sparse(_), false) if s.n <= crate::conditioning::DENSIFY_LIMIT => {

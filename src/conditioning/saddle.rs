@@ -46,8 +46,8 @@
 //! Use it for the `lagrange` system of a sparse K (the metrics pick it automatically).
 
 use super::sparse::{
-    bracket, bracket_above, bracket_tol, lanczos, rayleigh_interval, Certificate,
-    MAX_LANCZOS_STEPS, RITZ_VECTOR_MAX_N, STAGNATION,
+    bracket, bracket_tol, bracket_top, lanczos, rayleigh_interval, Certificate, MAX_LANCZOS_STEPS,
+    RITZ_VECTOR_MAX_N, STAGNATION,
 };
 use super::{CondReport, CondRoute};
 use crate::error::{Error, Result};
@@ -111,7 +111,7 @@ pub fn cond2_saddle_with(
 
     // |det A| = det K_FF (module `conditioning`, `log10_abs_det_saddle`): the B rows of the
     // stored factor are the identity.
-    let log10_det: f64 = kff.l_diagonal().iter().map(|d| 2.0 * d.log10()).sum();
+    let log10_det = kff.log10_det();
     let size = n + m;
     let (a_pattern, a_values) = saddle_csc(&pattern, dofs);
     // A·[x; y] = [K x + D y; Dᵀ x].
@@ -182,10 +182,7 @@ pub fn cond2_saddle_with(
         .vector
         .as_deref()
         .and_then(|y| rayleigh_interval(a_pattern.as_ref(), &a_values, y));
-    let (max_lo, max_hi) = match top_rq {
-        Some((lo, _)) => bracket_above(lo, tol, |s| shifts.is_pd(-1.0, s, -1.0 / s)),
-        None => bracket(lmax_est, tol, |s| shifts.is_pd(-1.0, s, -1.0 / s)),
-    };
+    let (max_lo, max_hi) = bracket_top(top_rq, lmax_est, tol, |s| shifts.is_pd(-1.0, s, -1.0 / s));
     let sigma_max = if max_lo > 0.0 && shifts.is_pd(1.0, max_lo, -1.0 / max_lo) {
         (max_lo, max_hi)
     } else {

@@ -614,7 +614,7 @@ impl FactorOfA<'_> {
     /// `log10 det A` (NaN if the given factor did not record it).
     fn log10_det(&self) -> f64 {
         match self {
-            FactorOfA::Own(f) => f.l_diagonal().iter().map(|d| 2.0 * d.log10()).sum(),
+            FactorOfA::Own(f) => f.log10_det(),
             FactorOfA::Given(f) => f.log10_abs_det().unwrap_or(f64::NAN),
         }
     }
@@ -660,13 +660,33 @@ pub(crate) fn rayleigh_interval(
 /// A bracket of an eigenvalue from a proven lower bound `lo` (e.g. a Rayleigh quotient of
 /// λ_max): one inertia test at `lo(1 + 0.9 tol)` where the bound is sharp, else [`bracket`]
 /// from there (`upper(σ)` true iff σ is an upper bound).
-pub(crate) fn bracket_above(lo: f64, tol: f64, mut upper: impl FnMut(f64) -> bool) -> (f64, f64) {
+fn bracket_above(lo: f64, tol: f64, mut upper: impl FnMut(f64) -> bool) -> (f64, f64) {
     let s = lo * (1.0 + 0.9 * tol);
     if upper(s) {
         return (lo, s);
     }
     let (l, h) = bracket(s, tol, upper);
     (l.max(s), h)
+}
+
+/// The bracket of the top eigenvalue, estimated `est`, with `rq` the certified interval of a
+/// Rayleigh quotient of its Ritz vector (a lower bound, Courant–Fischer) where there is one:
+/// [`bracket_above`] from it where it is sharp (within `tol` of the estimate), else the
+/// two-sided [`bracket`] around the estimate, raised to the quotient (`upper(σ)` true iff σ
+/// is an upper bound).
+pub(crate) fn bracket_top(
+    rq: Option<(f64, f64)>,
+    est: f64,
+    tol: f64,
+    upper: impl FnMut(f64) -> bool,
+) -> (f64, f64) {
+    match rq {
+        Some((lo, _)) if lo * (1.0 + tol) >= est => bracket_above(lo, tol, upper),
+        rq => {
+            let (l, h) = bracket(est, tol, upper);
+            (rq.map_or(l, |(lo, _)| l.max(lo)), h)
+        }
+    }
 }
 
 /// A bracket of an eigenvalue from a proven upper bound `hi` (e.g. a Rayleigh quotient of
@@ -797,15 +817,7 @@ pub fn extreme_eigenvalues(
             .and_then(|y| rayleigh_interval(fam.pattern.pattern.as_ref(), &fam.pattern.values, y))
     };
     let (top_rq, bottom_rq) = (rayleigh(&top_vector), rayleigh(&run_min.vector));
-    let (max_lo, max_hi) = match top_rq {
-        Some((lo, _)) if lo * (1.0 + tol) >= lmax_est => {
-            bracket_above(lo, tol, |s| fam.is_pd(-1.0, s))
-        }
-        rq => {
-            let (l, h) = bracket(lmax_est, tol, |s| fam.is_pd(-1.0, s));
-            (rq.map_or(l, |(lo, _)| l.max(lo)), h)
-        }
-    };
+    let (max_lo, max_hi) = bracket_top(top_rq, lmax_est, tol, |s| fam.is_pd(-1.0, s));
     // The Rayleigh quotient of the bottom Ritz vector is one side only where it is sharp: y
     // is accurate in the norm of A⁻¹, and where A is stiff in some directions (a large
     // penalty ε) a tiny error of y there inflates yᵀAy by ε·error² — the Lanczos estimate
