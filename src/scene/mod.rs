@@ -71,6 +71,7 @@ use std::fs;
 use std::io::Write;
 use std::path::Path;
 
+mod dense_block;
 pub mod matrix_market;
 
 pub use matrix_market::{
@@ -151,6 +152,18 @@ pub fn parse_scene_str(json: &str, base_dir: &Path, origin: &str) -> Result<Scen
     parse_scene(json, base_dir, origin, false)
 }
 
+/// The scene with its `stiffness.dense` block read by [`dense_block`] and the rest by
+/// `serde_json` (the block replaced by `[]`), or `None` where that fast path does not apply
+/// or the patched text is refused (the caller then parses the original text).
+fn read_fast(json: &str) -> Option<Obj<RawScene>> {
+    let block = dense_block::find(json)?;
+    let patched = [&json[..block.start], "[]", &json[block.end..]].concat();
+    let mut raw: Obj<RawScene> = serde_json::from_str(&patched).ok()?;
+    let dense = raw.0.stiffness.0.dense.as_mut()?;
+    *dense = block.rows;
+    Some(raw)
+}
+
 /// [`parse_scene_str`], with K in its preferred storage where `preferred`.
 fn parse_scene(json: &str, base_dir: &Path, origin: &str, preferred: bool) -> Result<Scene> {
     let json = json.strip_prefix('\u{feff}').unwrap_or(json);
@@ -160,20 +173,25 @@ fn parse_scene(json: &str, base_dir: &Path, origin: &str, preferred: bool) -> Re
             "the file is empty (expected a JSON object)",
         ));
     }
-    // Fast path: plain serde_json. Only a file that fails is parsed again through
+    // Fast paths: the dense block read by `dense_block` and the rest by plain serde_json,
+    // else plain serde_json. Only a file that fails is parsed again through
     // serde_path_to_error, whose path tracking costs ≈ 10 % of a dense sweep's run time.
-    let raw: Obj<RawScene> = match serde_json::from_str(json) {
-        Ok(raw) => raw,
-        Err(_) => {
-            let mut de = serde_json::Deserializer::from_str(json);
-            let raw: Obj<RawScene> = serde_path_to_error::deserialize(&mut de).map_err(|e| {
-                let path = e.path().to_string();
-                Error::io(origin, json_error::describe(e.inner(), Some(&path), json))
-            })?;
-            de.end()
-                .map_err(|e| Error::io(origin, json_error::describe(&e, None, json)))?;
-            raw
-        }
+    let raw: Obj<RawScene> = match read_fast(json) {
+        Some(raw) => raw,
+        None => match serde_json::from_str(json) {
+            Ok(raw) => raw,
+            Err(_) => {
+                let mut de = serde_json::Deserializer::from_str(json);
+                let raw: Obj<RawScene> =
+                    serde_path_to_error::deserialize(&mut de).map_err(|e| {
+                        let path = e.path().to_string();
+                        Error::io(origin, json_error::describe(e.inner(), Some(&path), json))
+                    })?;
+                de.end()
+                    .map_err(|e| Error::io(origin, json_error::describe(&e, None, json)))?;
+                raw
+            }
+        },
     };
     let RawScene {
         name,
