@@ -1,14 +1,15 @@
 //! Exact cond₂ by route against one Cholesky of the same matrix (the floor of any exact
 //! method): sparse inertia route, dense symmetric eigenvalues, dense SVD — on the membrane
 //! stiffness (5-point Laplacian) at several sizes, single-threaded; and one sparse solve of
-//! one right-hand side by the one-vector path against faer's multi-RHS solve.
+//! one right-hand side by the one-vector path against faer's multi-RHS solve, and one numeric
+//! factorization of a cached simplicial pattern against faer's.
 //!
 //! `cargo bench --bench cond`. For larger sizes and a table, see `cargo run --release --bin
 //! cond_cost`.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
 use penalty_lab::conditioning::{cond2_dense, cond2_sparse_spd};
-use penalty_lab::linalg::Factorization;
+use penalty_lab::linalg::{DiagonalPattern, Factorization};
 use penalty_lab::model::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::model::membrane;
 use penalty_lab::system::Stiffness;
@@ -87,5 +88,59 @@ fn bench_one_vector_solve(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench_cond, bench_one_vector_solve);
+/// One numeric sparse Cholesky of a cached simplicial pattern: ours (`DiagonalPattern::factor`:
+/// permutation gathered through the cached map, row structure precomputed) against faer's
+/// `factorize_numeric_llt` with the same symbolic analysis (which permutes A and walks the
+/// elimination tree at every call), on the membrane and beam of `one_vector_solve`.
+fn bench_simplicial_numeric(c: &mut Criterion) {
+    use faer::dyn_stack::{MemBuffer, MemStack};
+    let mut g = c.benchmark_group("simplicial_numeric");
+    g.sample_size(20)
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(1));
+    let beam = generate(Family::Beam, 0, 2011, &GeneratorConfig::default())
+        .expect("valid beam")
+        .problem
+        .in_preferred_storage()
+        .k;
+    let membrane = membrane::stiffness(20, 1.0).expect("valid membrane");
+    for (name, a) in [("membrane", membrane), ("beam", beam)] {
+        let Stiffness::Sparse(m) = a else {
+            panic!("{name}: expected sparse storage")
+        };
+        let n = m.nrows();
+        let pattern = DiagonalPattern::new(&m).expect("valid pattern");
+        g.bench_function(BenchmarkId::new(format!("{name}/ours"), n), |bench| {
+            bench.iter(|| pattern.factor(black_box(&pattern.values)).expect("SPD"))
+        });
+        let a = faer::sparse::SparseColMat::new(pattern.pattern.clone(), pattern.values.clone());
+        let symbolic = pattern.symbolic.clone();
+        let mut values = vec![0.0; symbolic.len_val()];
+        let req = symbolic.factorize_numeric_llt_scratch::<f64>(faer::Par::Seq, Default::default());
+        let mut mem = MemBuffer::new(req);
+        g.bench_function(BenchmarkId::new(format!("{name}/faer"), n), |bench| {
+            bench.iter(|| {
+                symbolic
+                    .factorize_numeric_llt(
+                        black_box(&mut values),
+                        a.as_ref(),
+                        faer::Side::Lower,
+                        Default::default(),
+                        faer::Par::Seq,
+                        MemStack::new(&mut mem),
+                        Default::default(),
+                    )
+                    .expect("SPD");
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(
+    benches,
+    bench_cond,
+    bench_one_vector_solve,
+    bench_simplicial_numeric
+);
 criterion_main!(benches);

@@ -1,6 +1,7 @@
 //! The kernels the sweep's speed rests on, against independent implementations: the
-//! one-vector simplicial solve and the cached-permutation factorization (`linalg`) against
-//! faer's own sparse Cholesky, bit for bit; the one-pass sparse symmetry check against the
+//! one-vector simplicial solve and the cached-pattern factorization (`linalg`: permutation
+//! applied once, row structure precomputed) against faer's own sparse Cholesky, bit for bit
+//! (on the sweep's families and on random patterns); the one-pass sparse symmetry check against the
 //! dense one; the preferred-storage scene reader against reading then converting.
 
 use faer::linalg::solvers::Solve;
@@ -93,6 +94,53 @@ fn shifted_factorizations_from_the_cached_permutation_are_faers() {
         let mut v: Vec<f64> = pattern.values.iter().map(|x| -x).collect();
         v[pattern.diag[0]] -= 1.0;
         assert!(pattern.factor(&v).is_none(), "{name}: −A is not SPD");
+    }
+}
+
+/// The precomputed-row-structure factorization on seeded random sparsity patterns (random
+/// graphs, so AMD orderings and elimination trees of every shape): faer's factor bit for
+/// bit, and a shift past λ_min refused on both paths.
+#[test]
+fn random_patterns_factor_as_faer_does() {
+    let mut rng = ChaCha8Rng::seed_from_u64(43);
+    for case in 0..60 {
+        let n = rng.random_range(1..90);
+        let density = rng.random_range(0.01..0.3);
+        let mut t = Vec::new();
+        let mut row_sum = vec![0.0f64; n];
+        for j in 0..n {
+            for i in j + 1..n {
+                if rng.random_bool(density) {
+                    let v: f64 = rng.random_range(-1.0..1.0);
+                    t.push(Triplet::new(i, j, v));
+                    t.push(Triplet::new(j, i, v));
+                    row_sum[i] += v.abs();
+                    row_sum[j] += v.abs();
+                }
+            }
+        }
+        for (i, r) in row_sum.iter().enumerate() {
+            t.push(Triplet::new(i, i, r + rng.random_range(0.01..1.0)));
+        }
+        let a = SparseColMat::try_new_from_triplets(n, n, &t).unwrap();
+        let pattern = DiagonalPattern::new(&a).unwrap();
+        let b = rhs(n);
+        let ours = pattern
+            .factor(&pattern.values)
+            .expect("diagonally dominant");
+        let mut x = b.clone();
+        ours.solve_vec_in_place(&mut x);
+        assert!(same_bits(&x, &faer_solve(&a, &b)), "case {case} (n {n})");
+        // Past the Gershgorin bound: not positive definite.
+        let big = row_sum.iter().fold(0.0f64, |m, r| m.max(2.0 * r + 1.0));
+        let mut v = pattern.values.clone();
+        for &p in &pattern.diag {
+            v[p] -= big;
+        }
+        assert!(
+            pattern.factor(&v).is_none(),
+            "case {case}: A − σI with σ > λ_max"
+        );
     }
 }
 

@@ -392,7 +392,12 @@ mod tests {
         stiffness.shuffle(rng);
         let mut members = vec![
             "\"name\": \"s \\\"stiffness\\\": {\\\"dense\\\": [[9]]} \\\\\"".to_string(),
-            format!("\"stiffness\"{}:{}{{{}}}", ws(rng), ws(rng), stiffness.join(",")),
+            format!(
+                "\"stiffness\"{}:{}{{{}}}",
+                ws(rng),
+                ws(rng),
+                stiffness.join(",")
+            ),
             format!(
                 "\"load\": [{}]",
                 (0..n).map(|_| number(rng)).collect::<Vec<_>>().join(",")
@@ -400,7 +405,8 @@ mod tests {
             "\"constraints\": [{\"dof\": 0, \"limit\": -0.5, \"kind\": \"upper\"}]".into(),
         ];
         if rng.random_bool(0.5) {
-            members.push(r#""meta": {"stiffness": {"dense": [[7]]}, "x": [1, {"y": "]}"}]}"#.into());
+            members
+                .push(r#""meta": {"stiffness": {"dense": [[7]]}, "x": [1, {"y": "]}"}]}"#.into());
         }
         if rng.random_bool(0.5) {
             members.push(r#""other": [[[]], {"a": "\"{["}, true, null, -1.5e3]"#.into());
@@ -453,9 +459,15 @@ mod tests {
             ("\"stiffness\"", "\"st\\u0069ffness\""),
             ("\"dense\"", "\"d\\u0065nse\""),
             ("\"dense\": [[1, 0], [0, 2]]", "\"dense\": null"),
-            ("\"dense\": [[1, 0], [0, 2]]", "\"dense\": [[1, 0], [0, 2]], \"dense\": [[3]]"),
+            (
+                "\"dense\": [[1, 0], [0, 2]]",
+                "\"dense\": [[1, 0], [0, 2]], \"dense\": [[3]]",
+            ),
             ("{\"dense\"", "{\"matrix_market\": 1, \"dense\""),
-            ("\"constraints\": []", "\"constraints\": [], \"stiffness\": 1"),
+            (
+                "\"constraints\": []",
+                "\"constraints\": [], \"stiffness\": 1",
+            ),
             ("\"constraints\": []}", "\"constraints\": []} x"),
             ("\"load\": [0, 0]", "\"load\": [0, 0"),
             ("{\"name\"", "[{\"name\""),
