@@ -121,7 +121,13 @@ impl SparseLlt {
     /// penalized system share one analysis. The analysis depends only on the pattern, so a
     /// cached one is the one a new analysis would compute.
     pub fn analyze(a: &SparseColMat<usize, f64>) -> Result<Arc<SymbolicCholesky<usize>>> {
-        let pat = a.symbolic();
+        Self::analyze_pattern(a.symbolic())
+    }
+
+    /// [`SparseLlt::analyze`] of a pattern.
+    pub fn analyze_pattern(
+        pat: SymbolicSparseColMatRef<'_, usize>,
+    ) -> Result<Arc<SymbolicCholesky<usize>>> {
         let key = (pat.col_nnz().is_none() && pat.nrows() == pat.ncols())
             .then(|| (pat.col_ptr(), pat.row_idx()));
         if let Some((cp, ri)) = key {
@@ -130,7 +136,7 @@ impl SparseLlt {
             }
         }
         let symbolic = factorize_symbolic_cholesky(
-            a.symbolic(),
+            pat,
             Side::Lower,
             Default::default(),
             Default::default(),
@@ -165,9 +171,19 @@ impl SparseLlt {
         symbolic: Arc<SymbolicCholesky<usize>>,
         a: faer::sparse::SparseColMatRef<'_, usize, f64>,
     ) -> Option<Self> {
-        let mut values = recycled_values(symbolic.len_val());
         let permuted = cached_permutation(&symbolic, a.symbolic());
-        let ok = match (&permuted, symbolic.raw()) {
+        Self::factorize_permuted(symbolic, permuted.as_deref(), a)
+    }
+
+    /// [`SparseLlt::factorize_ref`] with the cached permutation of the pattern already looked
+    /// up (`permuted`, where there is one).
+    fn factorize_permuted(
+        symbolic: Arc<SymbolicCholesky<usize>>,
+        permuted: Option<&PermutedUpper>,
+        a: faer::sparse::SparseColMatRef<'_, usize, f64>,
+    ) -> Option<Self> {
+        let mut values = recycled_values(symbolic.len_val());
+        let ok = match (permuted, symbolic.raw()) {
             // A cached simplicial pattern: faer's simplicial numeric factorization of the
             // permuted upper triangle, gathered through the cached map (`PermutedUpper`).
             (Some(pu), SymbolicCholeskyRaw::Simplicial(s)) => {
@@ -405,6 +421,8 @@ pub struct DiagonalPattern {
     pub diag: Vec<usize>,
     /// Symbolic Cholesky analysis of the pattern.
     pub symbolic: Arc<SymbolicCholesky<usize>>,
+    /// The cached permutation of the pattern (looked up once, not at every factorization).
+    permuted: Option<Arc<PermutedUpper>>,
 }
 
 /// The pattern of the upper triangle of `PAPᵀ` (columns unsorted, as faer's
@@ -616,13 +634,14 @@ impl DiagonalPattern {
             col_ptr.push(row_idx.len());
         }
         let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
-        let probe = SparseColMat::new(pattern.clone(), values.clone());
-        let symbolic = SparseLlt::analyze(&probe)?;
+        let symbolic = SparseLlt::analyze_pattern(pattern.as_ref())?;
+        let permuted = cached_permutation(&symbolic, pattern.as_ref());
         Ok(DiagonalPattern {
             pattern,
             values,
             diag,
             symbolic,
+            permuted,
         })
     }
 
@@ -630,7 +649,7 @@ impl DiagonalPattern {
     /// definite).
     pub fn factor(&self, values: &[f64]) -> Option<SparseLlt> {
         let m = faer::sparse::SparseColMatRef::new(self.pattern.as_ref(), values);
-        SparseLlt::factorize_ref(self.symbolic.clone(), m)
+        SparseLlt::factorize_permuted(self.symbolic.clone(), self.permuted.as_deref(), m)
     }
 
     /// `y = A x` with A's values on this pattern (both triangles stored). Every user holds a
