@@ -182,7 +182,12 @@ impl SparseLlt {
         permuted: Option<&PermutedUpper>,
         a: faer::sparse::SparseColMatRef<'_, usize, f64>,
     ) -> Option<Self> {
-        let mut values = recycled_values(symbolic.len_val());
+        // Our kernel writes every entry of L: its buffer need not be zeroed first.
+        let ours = matches!(
+            (permuted, symbolic.raw()),
+            (Some(_), SymbolicCholeskyRaw::Simplicial(_))
+        );
+        let mut values = recycled_values(symbolic.len_val(), !ours);
         let ok = match (permuted, symbolic.raw()) {
             // A cached simplicial pattern: faer's simplicial numeric factorization of the
             // permuted upper triangle, gathered through the cached map (`PermutedUpper`).
@@ -387,13 +392,18 @@ fn simplicial_llt_solve(cp: &[usize], ri: &[usize], l: &[f64], w: &mut [f64]) {
     }
 }
 
-/// A zeroed value buffer of length `len`, reusing the spare one if it is large enough.
-fn recycled_values(len: usize) -> Vec<f64> {
+/// A value buffer of length `len`, reusing the spare one if it is large enough: zeroed where
+/// `zeroed`, else holding whatever the spare held (for a kernel that writes every entry).
+fn recycled_values(len: usize, zeroed: bool) -> Vec<f64> {
     let mut v = SPARE_VALUES.with(|s| std::mem::take(&mut *s.borrow_mut()));
     if v.capacity() < len {
         return vec![0.0; len];
     }
-    v.clear();
+    if zeroed {
+        v.clear();
+    } else {
+        v.truncate(len);
+    }
     v.resize(len, 0.0);
     v
 }
