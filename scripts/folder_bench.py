@@ -6,11 +6,14 @@ scene files with every K stored dense, timed in one run.
 
 1. Writes the folder (scripts/folder.toml: 10 beams of 36–336 DOFs, 10 membranes of
    100–400 DOFs) with `sweep --write-scenes DIR --dense-scenes`.
-2. Times, `REPEATS` times each and interleaved, `sweep --scenes-dir` with 1 and 2 threads
-   (13 ε, 2 relative δ for constant, paper, condensed; cond and det), and
-   scripts/numpy_sweep.py with OpenBLAS's default threads and with one thread.
-3. Prints a Markdown table of the medians and writes OUT/folder_bench.json (the scene folder
-   and the sweep outputs live in a temporary folder, removed at the end).
+2. Times `ROUNDS` rounds, each of `SWEEPS` runs of `sweep --scenes-dir` with 1 and 2
+   threads alternating (13 ε, 2 relative δ for constant, paper, condensed; cond and det),
+   then scripts/numpy_sweep.py with OpenBLAS's default threads and with one thread.
+3. Prints a Markdown table of the medians over all runs, and the ratios paired by round
+   (median over rounds of: 1-thread / 2-thread sweep, NumPy / 2-thread sweep, each sweep
+   side the round's median): this VM's speed drifts by up to 40 % over seconds, and runs
+   side by side share its state of the moment. Writes OUT/folder_bench.json (the scene
+   folder and the sweep outputs live in a temporary folder, removed at the end).
 
 Not part of the build or the tests. Needs numpy.
 """
@@ -26,7 +29,8 @@ import time
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SWEEP = os.path.join(ROOT, "target", "release", "sweep")
 CONFIG = os.path.join(ROOT, "scripts", "folder.toml")
-REPEATS = 5
+ROUNDS = 7
+SWEEPS = 3
 
 
 def sweep(args):
@@ -55,27 +59,44 @@ def main():
            "--dense-scenes"])
     times = {"sweep 1 thread": [], "sweep 2 threads": [], "numpy (OpenBLAS default threads)": [],
              "numpy (1 thread)": []}
+    rounds = []
     inner = {}
-    for _ in range(REPEATS):
-        for t in (1, 2):
-            times[f"sweep {t} thread{'s' if t > 1 else ''}"].append(
-                sweep(["--scenes-dir", scenes, "--threads", str(t), "--out", os.path.join(scratch, f"t{t}")]))
+    for _ in range(ROUNDS):
+        one, two = [], []
+        for _ in range(SWEEPS):
+            one.append(sweep(["--scenes-dir", scenes, "--threads", "1", "--out", os.path.join(scratch, "t1")]))
+            two.append(sweep(["--scenes-dir", scenes, "--threads", "2", "--out", os.path.join(scratch, "t2")]))
+        times["sweep 1 thread"] += one
+        times["sweep 2 threads"] += two
+        numpy = {}
         for label, threads in (("numpy (OpenBLAS default threads)", None), ("numpy (1 thread)", 1)):
             wall, report = numpy_run(scenes, threads)
             times[label].append(wall)
+            numpy[label] = wall
             inner[label] = report
+        m1, m2 = statistics.median(one), statistics.median(two)
+        rounds.append({"sweep_1_thread": m1, "sweep_2_threads": m2,
+                       "threads_speedup": m1 / m2,
+                       "numpy_over_sweep_2_threads": numpy["numpy (OpenBLAS default threads)"] / m2})
     med = {k: statistics.median(v) for k, v in times.items()}
     manifest = json.load(open(os.path.join(scratch, "t2", "manifest.json")))
     rows = manifest["rows_written"]
     print(f"| run ({rows} rows, {inner['numpy (1 thread)']['systems']} NumPy systems) | median wall (s) "
-          f"of {REPEATS} | NumPy default / this |")
+          f"of {len(times['sweep 1 thread'])} / {ROUNDS} | NumPy default / this |")
     print("|---|---:|---:|")
     base = med["numpy (OpenBLAS default threads)"]
     for k, v in med.items():
         print(f"| {k} | {v:.3f} | {base / v:.1f}× |")
-    print(f"\n2 threads vs 1 thread: {med['sweep 1 thread'] / med['sweep 2 threads']:.2f}×")
+    paired = {}
+    for key, label in (("numpy_over_sweep_2_threads", "NumPy / 2-thread sweep"),
+                       ("threads_speedup", "2 threads vs 1 thread")):
+        vals = [r[key] for r in rounds]
+        paired[key] = {"median": statistics.median(vals), "min": min(vals), "max": max(vals)}
+        print(f"\n{label}, paired by round: {statistics.median(vals):.2f}× "
+              f"(rounds {min(vals):.2f}–{max(vals):.2f}×)")
     shutil.rmtree(scratch)
-    json.dump({"medians_seconds": med, "all_seconds": times, "numpy_inner": inner,
+    json.dump({"medians_seconds": med, "all_seconds": times, "rounds": rounds, "paired": paired,
+               "numpy_inner": inner,
                "sweep_manifest_timing": manifest.get("timing"), "git_commit": manifest.get("git_commit")},
               open(os.path.join(out, "folder_bench.json"), "w"), indent=1)
 
