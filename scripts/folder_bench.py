@@ -12,7 +12,9 @@ scene files with every K stored dense, timed in one run.
 3. Prints a Markdown table of the medians over all runs, and the ratios paired by round
    (median over rounds of: 1-thread / 2-thread sweep, NumPy / 2-thread sweep, each sweep
    side the round's median): this VM's speed drifts by up to 40 % over seconds, and runs
-   side by side share its state of the moment. Writes OUT/folder_bench.json (the scene
+   side by side share its state of the moment; the thread ratio is given both for the
+   process wall and for the runs' own `wall_seconds` (manifest: without process start and
+   exit, ≈ 3 ms of each run). Writes OUT/folder_bench.json (the scene
    folder and the sweep outputs live in a temporary folder, removed at the end).
 
 Not part of the build or the tests. Needs numpy.
@@ -40,6 +42,12 @@ def sweep(args):
     return time.perf_counter() - t
 
 
+def timed_sweep(scenes, threads, out):
+    """(process wall, the run's own `wall_seconds` from its manifest) of one sweep."""
+    wall = sweep(["--scenes-dir", scenes, "--threads", str(threads), "--out", out])
+    return wall, json.load(open(os.path.join(out, "manifest.json")))["wall_seconds"]
+
+
 def numpy_run(scenes, threads):
     env = dict(os.environ)
     if threads:
@@ -59,15 +67,20 @@ def main():
            "--dense-scenes"])
     times = {"sweep 1 thread": [], "sweep 2 threads": [], "numpy (OpenBLAS default threads)": [],
              "numpy (1 thread)": []}
+    own = {"sweep 1 thread": [], "sweep 2 threads": []}  # manifests' wall_seconds
     rounds = []
     inner = {}
     for _ in range(ROUNDS):
-        one, two = [], []
+        one, two, own1, own2 = [], [], [], []
         for _ in range(SWEEPS):
-            one.append(sweep(["--scenes-dir", scenes, "--threads", "1", "--out", os.path.join(scratch, "t1")]))
-            two.append(sweep(["--scenes-dir", scenes, "--threads", "2", "--out", os.path.join(scratch, "t2")]))
+            for threads, walls, owns in ((1, one, own1), (2, two, own2)):
+                wall, inside = timed_sweep(scenes, threads, os.path.join(scratch, f"t{threads}"))
+                walls.append(wall)
+                owns.append(inside)
         times["sweep 1 thread"] += one
         times["sweep 2 threads"] += two
+        own["sweep 1 thread"] += own1
+        own["sweep 2 threads"] += own2
         numpy = {}
         for label, threads in (("numpy (OpenBLAS default threads)", None), ("numpy (1 thread)", 1)):
             wall, report = numpy_run(scenes, threads)
@@ -77,6 +90,7 @@ def main():
         m1, m2 = statistics.median(one), statistics.median(two)
         rounds.append({"sweep_1_thread": m1, "sweep_2_threads": m2,
                        "threads_speedup": m1 / m2,
+                       "threads_speedup_in_process": statistics.median(own1) / statistics.median(own2),
                        "numpy_over_sweep_2_threads": numpy["numpy (OpenBLAS default threads)"] / m2})
     med = {k: statistics.median(v) for k, v in times.items()}
     manifest = json.load(open(os.path.join(scratch, "t2", "manifest.json")))
@@ -89,13 +103,16 @@ def main():
         print(f"| {k} | {v:.3f} | {base / v:.1f}× |")
     paired = {}
     for key, label in (("numpy_over_sweep_2_threads", "NumPy / 2-thread sweep"),
-                       ("threads_speedup", "2 threads vs 1 thread")):
+                       ("threads_speedup", "2 threads vs 1 thread"),
+                       ("threads_speedup_in_process",
+                        "2 threads vs 1 thread, the runs' own wall_seconds (no process start/exit)")):
         vals = [r[key] for r in rounds]
         paired[key] = {"median": statistics.median(vals), "min": min(vals), "max": max(vals)}
         print(f"\n{label}, paired by round: {statistics.median(vals):.2f}× "
               f"(rounds {min(vals):.2f}–{max(vals):.2f}×)")
     shutil.rmtree(scratch)
-    json.dump({"medians_seconds": med, "all_seconds": times, "rounds": rounds, "paired": paired,
+    json.dump({"medians_seconds": med, "all_seconds": times, "manifest_wall_seconds": own,
+               "rounds": rounds, "paired": paired,
                "numpy_inner": inner,
                "sweep_manifest_timing": manifest.get("timing"), "git_commit": manifest.get("git_commit")},
               open(os.path.join(out, "folder_bench.json"), "w"), indent=1)
