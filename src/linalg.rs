@@ -135,14 +135,10 @@ impl SparseLlt {
                 return Ok(e.symbolic.clone());
             }
         }
-        let symbolic = factorize_symbolic_cholesky(
-            pat,
-            Side::Lower,
-            Default::default(),
-            Default::default(),
-        )
-        .map(Arc::new)
-        .map_err(|e| Error::Numerical(format!("sparse symbolic Cholesky failed: {e:?}")))?;
+        let symbolic =
+            factorize_symbolic_cholesky(pat, Side::Lower, Default::default(), Default::default())
+                .map(Arc::new)
+                .map_err(|e| Error::Numerical(format!("sparse symbolic Cholesky failed: {e:?}")))?;
         if let Some((cp, ri)) = key {
             let entry = Arc::new(CachedSymbolic {
                 col_ptr: cp.to_vec(),
