@@ -46,6 +46,18 @@ fn bench_cond(c: &mut Criterion) {
     g.finish();
 }
 
+/// The 400-DOF membrane and a generated beam (138 DOFs) — the sizes of issue 10's scene
+/// folder — in their preferred (sparse) storage.
+fn folder_sizes() -> [(&'static str, Stiffness); 2] {
+    let beam = generate(Family::Beam, 0, 2011, &GeneratorConfig::default())
+        .expect("valid beam")
+        .problem
+        .in_preferred_storage()
+        .k;
+    let membrane = membrane::stiffness(20, 1.0).expect("valid membrane");
+    [("membrane", membrane), ("beam", beam)]
+}
+
 /// One solve with a sparse Cholesky factor of one right-hand side: the one-vector path
 /// (`Factorization::solve_vec_in_place`, simplicial factors) against faer's multi-RHS solve
 /// of the same factor (`solve_mat_in_place` with one column), on the 400-DOF membrane and a
@@ -55,13 +67,7 @@ fn bench_one_vector_solve(c: &mut Criterion) {
     g.sample_size(20)
         .warm_up_time(Duration::from_millis(300))
         .measurement_time(Duration::from_secs(1));
-    let beam = generate(Family::Beam, 0, 2011, &GeneratorConfig::default())
-        .expect("valid beam")
-        .problem
-        .in_preferred_storage()
-        .k;
-    let membrane = membrane::stiffness(20, 1.0).expect("valid membrane");
-    for (name, a) in [("membrane", membrane), ("beam", beam)] {
+    for (name, a) in folder_sizes() {
         let f = Factorization::new(&a, true).expect("SPD");
         let n = a.n();
         let b: Vec<f64> = (0..n).map(|i| (i % 7) as f64 - 3.0).collect();
@@ -98,13 +104,7 @@ fn bench_simplicial_numeric(c: &mut Criterion) {
     g.sample_size(20)
         .warm_up_time(Duration::from_millis(300))
         .measurement_time(Duration::from_secs(1));
-    let beam = generate(Family::Beam, 0, 2011, &GeneratorConfig::default())
-        .expect("valid beam")
-        .problem
-        .in_preferred_storage()
-        .k;
-    let membrane = membrane::stiffness(20, 1.0).expect("valid membrane");
-    for (name, a) in [("membrane", membrane), ("beam", beam)] {
+    for (name, a) in folder_sizes() {
         let Stiffness::Sparse(m) = a else {
             panic!("{name}: expected sparse storage")
         };

@@ -226,34 +226,47 @@ impl<'a> Cursor<'a> {
             row_lens: Vec::new(),
             entries: Vec::new(),
         };
-        self.expect(b'[')?;
-        self.ws();
-        if self.peek()? == b']' {
-            self.i += 1;
+        if self.open_array()? {
             return Some(out);
         }
         loop {
             let row = out.row_lens.len();
             let len = self.row(row, &mut out.entries)?;
             out.row_lens.push(len);
-            self.ws();
-            match self.peek()? {
-                b',' => self.i += 1,
-                b']' => {
-                    self.i += 1;
-                    return Some(out);
-                }
-                _ => return None,
+            if self.after_element()? {
+                return Some(out);
             }
         }
     }
 
-    /// One row `[n, …]`: its entries other than +0.0 appended, its length returned.
-    fn row(&mut self, row: usize, entries: &mut Vec<(usize, usize, f64)>) -> Option<usize> {
+    /// `[` (whitespace first): `Some(true)` past `[]` (an empty array), `Some(false)` past
+    /// the `[` of one with elements, `None` if no array starts here.
+    fn open_array(&mut self) -> Option<bool> {
         self.expect(b'[')?;
         self.ws();
-        if self.peek()? == b']' {
+        let empty = self.peek()? == b']';
+        if empty {
             self.i += 1;
+        }
+        Some(empty)
+    }
+
+    /// After an array element: `Some(false)` past a `,` (another element follows),
+    /// `Some(true)` past the closing `]`, `None` otherwise.
+    fn after_element(&mut self) -> Option<bool> {
+        self.ws();
+        let closed = match self.peek()? {
+            b',' => false,
+            b']' => true,
+            _ => return None,
+        };
+        self.i += 1;
+        Some(closed)
+    }
+
+    /// One row `[n, …]`: its entries other than +0.0 appended, its length returned.
+    fn row(&mut self, row: usize, entries: &mut Vec<(usize, usize, f64)>) -> Option<usize> {
+        if self.open_array()? {
             return Some(0);
         }
         let mut len = 0;
@@ -271,14 +284,8 @@ impl<'a> Cursor<'a> {
                 entries.push((row, len, x));
             }
             len += 1;
-            self.ws();
-            match self.peek()? {
-                b',' => self.i += 1,
-                b']' => {
-                    self.i += 1;
-                    return Some(len);
-                }
-                _ => return None,
+            if self.after_element()? {
+                return Some(len);
             }
         }
     }
