@@ -47,9 +47,13 @@ use serde::Serialize;
 /// Below this dimension [`super::cond2`] densifies sparse matrices and
 /// [`crate::system::Structure::prefers_sparse`] keeps them dense: dense eigenvalues are
 /// cheaper than several sparse factorizations for small n. Measured (`cond_cost --sides
-/// 3,4,5,6 --elements 3,4,8,12`, 2-core AMD EPYC, figures/cond_cost): the sparse exact route
-/// costs 12–28 µs against 3–24 µs for dense eigenvalues at n = 9–25 and wins from n ≈ 25–36
-/// on the membrane and beam families (38 µs against 46 µs at n = 36).
+/// 3,4,5,6 --elements 3,4,8,12`, 2-core AMD EPYC): the sparse exact route costs 10–14 µs
+/// against 4–10 µs for dense eigenvalues at n = 9–16 and wins from n ≈ 24–25 on the membrane
+/// and beam families (13–16 µs against 21–27 µs there, 17–30 µs against 48–57 µs at n = 36).
+/// It was 25–36 before the sparse factorization kernel of 766d162
+/// (`linalg::simplicial_llt_numeric`). The threshold stays at 32: it also chooses the
+/// storage and, through [`crate::strategy::eliminated::ELIMINATION_MIN_N`], the solve route,
+/// and between n = 24 and 32 the two cond₂ routes differ by ≤ 15 µs per matrix.
 pub const SPARSE_ROUTE_MIN_N: usize = 32;
 
 /// Lanczos step limit per end (estimates only: the inertia phase corrects a poor estimate).
