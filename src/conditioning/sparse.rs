@@ -52,8 +52,8 @@ use serde::Serialize;
 /// and beam families (13–16 µs against 21–27 µs there, 17–30 µs against 48–57 µs at n = 36).
 /// It was 25–36 before the sparse factorization kernel of 766d162
 /// (`linalg::simplicial_llt_numeric`). The threshold stays at 32: it also chooses the
-/// storage and, through [`crate::strategy::eliminated::ELIMINATION_MIN_N`], the solve route,
-/// and between n = 24 and 32 the two cond₂ routes differ by ≤ 15 µs per matrix.
+/// storage and (as the strategies' `ELIMINATION_MIN_N`) the solve route, and between n = 24
+/// and 32 the two cond₂ routes differ by ≤ 15 µs per matrix.
 pub const SPARSE_ROUTE_MIN_N: usize = 32;
 
 /// Lanczos step limit per end (estimates only: the inertia phase corrects a poor estimate).
