@@ -178,22 +178,21 @@ impl SparseLlt {
         permuted: Option<&PermutedUpper>,
         a: faer::sparse::SparseColMatRef<'_, usize, f64>,
     ) -> Option<Self> {
-        // Our kernel writes every entry of L: its buffer need not be zeroed first.
-        let ours = matches!(
-            (permuted, symbolic.raw()),
-            (Some(_), SymbolicCholeskyRaw::Simplicial(_))
-        );
-        let mut values = recycled_values(symbolic.len_val(), !ours);
-        let ok = match (permuted, symbolic.raw()) {
+        let len = symbolic.len_val();
+        let (ok, values) = match (permuted, symbolic.raw()) {
             // A cached simplicial pattern: faer's simplicial numeric factorization of the
             // permuted upper triangle, gathered through the cached map (`PermutedUpper`).
+            // Our kernel writes every entry of L, so its buffer need not be zeroed first.
             (Some(pu), SymbolicCholeskyRaw::Simplicial(s)) => {
-                simplicial_llt_numeric(pu, a.val(), s.col_ptr(), s.row_idx(), &mut values)
+                let mut values = recycled_values(len, false);
+                let ok = simplicial_llt_numeric(pu, a.val(), s.col_ptr(), s.row_idx(), &mut values);
+                (ok, values)
             }
             _ => {
+                let mut values = recycled_values(len, true);
                 let par = Par::Seq;
                 let req = symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default());
-                with_scratch(req, |stack| {
+                let ok = with_scratch(req, |stack| {
                     symbolic
                         .factorize_numeric_llt(
                             &mut values,
@@ -205,7 +204,8 @@ impl SparseLlt {
                             Default::default(),
                         )
                         .is_ok()
-                })
+                });
+                (ok, values)
             }
         };
         if ok {
@@ -560,9 +560,9 @@ impl PermutedUpper {
         pattern: SymbolicSparseColMatRef<'_, usize>,
         symbolic: &SymbolicCholesky<usize>,
     ) -> Option<Self> {
-        if !matches!(symbolic.raw(), SymbolicCholeskyRaw::Simplicial(_)) {
+        let SymbolicCholeskyRaw::Simplicial(s) = symbolic.raw() else {
             return None;
-        }
+        };
         let perm = symbolic.perm()?;
         let n = pattern.nrows();
         // The entries' own positions as values (exact in f64 up to 2⁵³) travel through the
@@ -590,9 +590,6 @@ impl PermutedUpper {
             );
         });
         let permuted = SymbolicSparseColMat::new_unsorted_checked(n, n, col_ptr, None, row_idx);
-        let SymbolicCholeskyRaw::Simplicial(s) = symbolic.raw() else {
-            return None;
-        };
         let (reach_ptr, reach) = reach_lists(permuted.as_ref(), s.col_ptr(), s.row_idx());
         Some(PermutedUpper {
             pattern: permuted,
