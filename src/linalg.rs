@@ -667,6 +667,15 @@ impl DiagonalPattern {
     pub fn n(&self) -> usize {
         self.diag.len()
     }
+
+    /// `max_i A_ii` (0 if every diagonal entry is ≤ 0): a lower bound of λ_max, the Rayleigh
+    /// quotient of a unit vector.
+    pub fn max_diagonal(&self) -> f64 {
+        self.diag
+            .iter()
+            .map(|&p| self.values[p])
+            .fold(0.0f64, f64::max)
+    }
 }
 
 /// `y = A x` for a symmetric A stored in CSC with both triangles (`pattern`, `values`), formed

@@ -46,8 +46,8 @@
 //! Use it for the `lagrange` system of a sparse K (the metrics pick it automatically).
 
 use super::sparse::{
-    bracket, bracket_tol, bracket_top, lanczos, rayleigh_interval, Certificate, MAX_LANCZOS_STEPS,
-    RITZ_VECTOR_MAX_N, STAGNATION,
+    bracket, bracket_tol, bracket_top, lanczos, rayleigh_interval, wanted_stagnation, Certificate,
+    MAX_LANCZOS_STEPS, RITZ_VECTOR_MAX_N,
 };
 use super::{CondReport, CondRoute};
 use crate::error::{Error, Result};
@@ -142,18 +142,13 @@ pub fn cond2_saddle_with(
     // `bracket_tol(cond₂)` (as in the SPD route), with cond₂ bounded below by what is known
     // when the run starts: cond₂ ≥ λ_max / λ⁺_min ≥ max_i K_ii · θ for the top Ritz value θ
     // of A⁻¹ (K_ii = e_iᵀ A e_i ≤ λ_max), then by the estimates found so far.
-    let max_diag = pattern
-        .diag
-        .iter()
-        .map(|&p| pattern.values[p])
-        .fold(0.0f64, f64::max);
-    let wanted = |bound: f64| (bracket_tol(bound) / 64.0).max(STAGNATION);
+    let max_diag = pattern.max_diagonal();
     let mut lanczos_steps = 0;
     // λ⁺_min first: its estimate sets the bracket width of both ends (sparse::bracket_tol).
     let run = lanczos(
         size,
         steps,
-        |t| wanted(max_diag * t),
+        |t| wanted_stagnation(max_diag * t),
         None,
         false,
         |x, y| inverse.apply(x, y, 1.0),
@@ -169,7 +164,7 @@ pub fn cond2_saddle_with(
     let run = lanczos(
         size,
         steps,
-        |t| wanted(t * inv_pos),
+        |t| wanted_stagnation(t * inv_pos),
         None,
         keep,
         |x, y| apply_a(x, y, 1.0),
@@ -189,7 +184,7 @@ pub fn cond2_saddle_with(
         let run = lanczos(
             size,
             steps,
-            |t| wanted(t * inv_pos),
+            |t| wanted_stagnation(t * inv_pos),
             None,
             false,
             |x, y| apply_a(x, y, -1.0),
@@ -213,7 +208,7 @@ pub fn cond2_saddle_with(
         let run = lanczos(
             size,
             steps,
-            |t| wanted(sigma_max.0 * t),
+            |t| wanted_stagnation(sigma_max.0 * t),
             None,
             false,
             |x, y| inverse.apply(x, y, -1.0),

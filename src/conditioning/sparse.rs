@@ -548,6 +548,12 @@ pub(crate) fn bracket_tol(cond_est: f64) -> f64 {
     BRACKET_TOL.max(64.0 * f64::EPSILON * cond_est)
 }
 
+/// The relative stagnation at which a Lanczos estimate is good enough for a bracket of a
+/// matrix with `cond₂ ≥ cond_bound`: 1/64 of [`bracket_tol`], no finer than [`STAGNATION`].
+pub(crate) fn wanted_stagnation(cond_bound: f64) -> f64 {
+    (bracket_tol(cond_bound) / 64.0).max(STAGNATION)
+}
+
 /// Relative offset, in units of the target width, of the first two inertia tests of
 /// [`bracket`] from the estimate: `(1 + 0.45 t) / (1 − 0.45 t) − 1 < t` for every t ≤ 0.2.
 const FIRST_STEP: f64 = 0.45;
@@ -748,16 +754,11 @@ pub fn extreme_eigenvalues(
     // λ_min is wanted only to a fraction of the bracket width it will be certified to,
     // `bracket_tol(cond₂)`, with cond₂ bounded below by `max_i A_ii · θ` (A_ii ≤ λ_max and
     // θ ≤ 1/λ_min for the top Ritz value θ of A⁻¹), so the fraction is conservative.
-    let max_diag = fam
-        .pattern
-        .diag
-        .iter()
-        .map(|&p| fam.pattern.values[p])
-        .fold(0.0f64, f64::max);
+    let max_diag = fam.pattern.max_diagonal();
     let run_min = lanczos(
         n,
         max_steps,
-        |theta| (bracket_tol(max_diag * theta) / 64.0).max(STAGNATION),
+        |theta| wanted_stagnation(max_diag * theta),
         starts.map(|s| s.bottom.as_slice()),
         keep,
         |x, y| {
@@ -771,7 +772,7 @@ pub fn extreme_eigenvalues(
     // λ_max is wanted only to a fraction of the bracket width it will be certified to,
     // `bracket_tol(θ / λ_min)` (θ ≤ λ_max, so the fraction is conservative): far fewer steps
     // where the rounding floor of an ill-conditioned A makes that width wide.
-    let wanted = |theta: f64| (bracket_tol(theta * inv_max) / 64.0).max(STAGNATION);
+    let wanted = |theta: f64| wanted_stagnation(theta * inv_max);
     let top_start = starts.map(|s| s.top.as_slice());
     let run_max = lanczos(n, PLAIN_LANCZOS_STEPS, wanted, top_start, keep, |x, y| {
         fam.pattern.matvec(x, y)
