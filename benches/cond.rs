@@ -7,7 +7,8 @@
 //! `cargo bench --bench cond`. For larger sizes and a table, see `cargo run --release --bin
 //! cond_cost`.
 
-use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use criterion::measurement::WallTime;
+use criterion::{criterion_group, criterion_main, BenchmarkGroup, BenchmarkId, Criterion};
 use penalty_lab::conditioning::{cond2_dense, cond2_sparse_spd};
 use penalty_lab::linalg::{DiagonalPattern, Factorization};
 use penalty_lab::model::generate::{generate, Family, GeneratorConfig};
@@ -58,15 +59,21 @@ fn folder_sizes() -> [(&'static str, Stiffness); 2] {
     [("membrane", membrane), ("beam", beam)]
 }
 
+/// A group for microsecond kernels: 20 samples, 0.3 s warm-up, 1 s of measurement.
+fn kernel_group<'a>(c: &'a mut Criterion, name: &str) -> BenchmarkGroup<'a, WallTime> {
+    let mut g = c.benchmark_group(name);
+    g.sample_size(20)
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(1));
+    g
+}
+
 /// One solve with a sparse Cholesky factor of one right-hand side: the one-vector path
 /// (`Factorization::solve_vec_in_place`, simplicial factors) against faer's multi-RHS solve
 /// of the same factor (`solve_mat_in_place` with one column), on the 400-DOF membrane and a
 /// generated beam — the sizes of issue 10's scene folder.
 fn bench_one_vector_solve(c: &mut Criterion) {
-    let mut g = c.benchmark_group("one_vector_solve");
-    g.sample_size(20)
-        .warm_up_time(Duration::from_millis(300))
-        .measurement_time(Duration::from_secs(1));
+    let mut g = kernel_group(c, "one_vector_solve");
     for (name, a) in folder_sizes() {
         let f = Factorization::new(&a, true).expect("SPD");
         let n = a.n();
@@ -100,10 +107,7 @@ fn bench_one_vector_solve(c: &mut Criterion) {
 /// elimination tree at every call), on the membrane and beam of `one_vector_solve`.
 fn bench_simplicial_numeric(c: &mut Criterion) {
     use faer::dyn_stack::{MemBuffer, MemStack};
-    let mut g = c.benchmark_group("simplicial_numeric");
-    g.sample_size(20)
-        .warm_up_time(Duration::from_millis(300))
-        .measurement_time(Duration::from_secs(1));
+    let mut g = kernel_group(c, "simplicial_numeric");
     for (name, a) in folder_sizes() {
         let Stiffness::Sparse(m) = a else {
             panic!("{name}: expected sparse storage")
