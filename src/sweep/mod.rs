@@ -915,9 +915,59 @@ fn resume_point(
     Ok(done)
 }
 
+/// The reorder buffer: scenes finish in any order on the workers; whichever worker completes
+/// the next scene in order appends it and every completed scene after it to rows.csv (one
+/// write and flush per scene), so rows land in scene order with no thread of their own.
+struct InOrder<'a> {
+    file: std::fs::File,
+    rows_path: &'a Path,
+    /// Finished scenes waiting for an earlier one: (rows, their CSV text, shared work).
+    pending: BTreeMap<usize, Finished>,
+    next: usize,
+    rows_written: usize,
+    times: &'a mut Timing,
+    /// The error of the earliest failed scene (or of a write); nothing is written after it.
+    error: Option<(usize, Error)>,
+}
+
+/// A solved scene: its rows, their CSV text and its shared work.
+type Finished = (Vec<Row>, String, SetupSeconds);
+
+impl InOrder<'_> {
+    /// Files scene `i`'s outcome and writes the complete prefix.
+    fn finish(&mut self, i: usize, done: Result<Finished>) {
+        match done {
+            Ok(f) => {
+                self.pending.insert(i, f);
+            }
+            Err(e) => {
+                if self.error.as_ref().is_none_or(|(j, _)| i < *j) {
+                    self.error = Some((i, e));
+                }
+            }
+        }
+        while let Some((rows, text, setup)) = self.pending.remove(&self.next) {
+            self.times.add(&rows, &setup);
+            if self.error.as_ref().is_some_and(|(j, _)| *j <= self.next) {
+                break;
+            }
+            self.next += 1;
+            match self
+                .file
+                .write_all(text.as_bytes())
+                .and_then(|_| self.file.flush())
+            {
+                Ok(()) => self.rows_written += rows.len(),
+                Err(e) => self.error = Some((0, Error::io(self.rows_path.display(), e))),
+            }
+        }
+    }
+}
+
 /// Solves `todo` on `pool` and appends each scene's rows to rows.csv in scene order as soon
-/// as the prefix is complete (a reorder buffer), writing scene files where asked; returns the
-/// number of rows written or the first error.
+/// as the prefix is complete ([`InOrder`]), writing scene files where asked; returns the
+/// number of rows written or the first error. After an error, scenes not yet started are
+/// skipped. The rows are formatted on the workers; the calling thread only waits.
 fn solve_in_order(
     todo: &[(usize, SceneSpec)],
     cfg: &SweepConfig,
@@ -927,82 +977,62 @@ fn solve_in_order(
     rows_path: &Path,
     times: &mut Timing,
 ) -> Result<usize> {
-    let mut file = std::fs::OpenOptions::new()
+    let file = std::fs::OpenOptions::new()
         .append(true)
         .open(rows_path)
         .map_err(|e| Error::io(rows_path.display(), e))?;
-    type Done = Result<(Vec<Row>, String, SetupSeconds)>;
-    let (tx, rx) = std::sync::mpsc::channel::<(usize, Done)>();
-    let write_scenes = opts.write_scenes.clone();
-    let dense_scenes = opts.dense_scenes;
-    let mut rows_written = 0usize;
-    let mut first_error: Option<Error> = None;
-    std::thread::scope(|s| {
-        s.spawn(|| {
-            pool.install(|| {
-                use rayon::prelude::*;
-                todo.par_iter()
-                    .enumerate()
-                    .for_each_with(tx, |tx, (i, (_, spec))| {
-                        let r = run_scene(spec, cfg).and_then(|(rows, work)| {
-                            let sc = &work.scene;
-                            if let Some(d) = &write_scenes {
-                                let path = d.join(format!("{}.scene.json", sc.name));
-                                let storage = if dense_scenes {
-                                    scene::Storage::Dense
-                                } else {
-                                    // Dense stays inline, sparse goes to Matrix Market.
-                                    scene::Storage::Auto {
-                                        mtx_threshold: usize::MAX,
-                                    }
-                                };
-                                scene::write_scene_as(
-                                    &path,
-                                    &sc.name,
-                                    &sc.problem,
-                                    Some(&sc.meta),
-                                    storage,
-                                )?;
-                            }
-                            Ok((rows, sc.name.clone(), work.seconds))
-                        });
-                        let _ = tx.send((i, r));
-                    });
-            });
-        });
-        // Reorder buffer: write scenes in order as soon as the prefix is complete.
-        let mut pending: BTreeMap<usize, Done> = BTreeMap::new();
-        let mut next = 0usize;
-        for (i, r) in rx {
-            pending.insert(i, r);
-            while let Some(r) = pending.remove(&next) {
-                next += 1;
-                bar.step("");
-                match r {
-                    Ok((rows, name, setup)) => {
-                        times.add(&rows, &setup);
-                        if first_error.is_none() {
-                            let text = rows::format_rows(&rows);
-                            if let Err(e) =
-                                file.write_all(text.as_bytes()).and_then(|_| file.flush())
-                            {
-                                first_error = Some(Error::io(rows_path.display(), e));
-                            }
-                            rows_written += rows.len();
-                            bar.message(name);
-                        }
-                    }
-                    Err(e) => {
-                        if first_error.is_none() {
-                            first_error = Some(e);
-                        }
-                    }
-                }
-            }
-        }
+    let state = std::sync::Mutex::new(InOrder {
+        file,
+        rows_path,
+        pending: BTreeMap::new(),
+        next: 0,
+        rows_written: 0,
+        times,
+        error: None,
     });
-    match first_error {
-        Some(e) => Err(e),
-        None => Ok(rows_written),
+    use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
+    let failed = AtomicBool::new(false);
+    pool.install(|| {
+        use rayon::prelude::*;
+        todo.par_iter().enumerate().for_each(|(i, (_, spec))| {
+            if failed.load(Relaxed) {
+                return; // nothing after the failed scene would be written
+            }
+            let done = run_scene(spec, cfg).and_then(|(rows, work)| {
+                if let Some(d) = &opts.write_scenes {
+                    write_scene_file(d, &work.scene, opts.dense_scenes)?;
+                }
+                bar.message(work.scene.name.clone());
+                let text = rows::format_rows(&rows);
+                Ok((rows, text, work.seconds))
+            });
+            failed.fetch_or(done.is_err(), Relaxed);
+            let mut state = state
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
+            state.finish(i, done);
+            bar.step("");
+        });
+    });
+    let state = state
+        .into_inner()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    match state.error {
+        Some((_, e)) => Err(e),
+        None => Ok(state.rows_written),
     }
+}
+
+/// Writes `scene` to `DIR/NAME.scene.json`: K as dense rows with `dense`, otherwise dense
+/// inline and sparse as Matrix Market beside it.
+fn write_scene_file(dir: &Path, sc: &LoadedScene, dense: bool) -> Result<()> {
+    let path = dir.join(format!("{}.scene.json", sc.name));
+    let storage = if dense {
+        scene::Storage::Dense
+    } else {
+        scene::Storage::Auto {
+            mtx_threshold: usize::MAX,
+        }
+    };
+    scene::write_scene_as(&path, &sc.name, &sc.problem, Some(&sc.meta), storage)
 }
