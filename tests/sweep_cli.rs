@@ -949,6 +949,48 @@ fn scenes_dir_reproduces_the_generated_rows() {
     }
 }
 
+/// A malformed scene file stops the run with exit 2 and a message naming it; rows.csv then
+/// holds exactly the complete scenes before it, in order (whatever the thread count), the
+/// manifest still says `running`, and once the file is repaired `--resume` completes the rows.
+#[test]
+fn a_malformed_scene_file_keeps_the_scenes_before_it_and_resumes() {
+    let (_, files, scenes) = generated_and_file_runs("malformed_scene");
+    let d = scenes.parent().unwrap().to_path_buf();
+    let per_scene = files.len() / 4;
+    let broken = scenes.join("spectrum-0000.scene.json");
+    let good = std::fs::read(&broken).unwrap();
+    std::fs::write(&broken, &good[..good.len() / 2]).unwrap();
+    let out = d.join("broken");
+    let args = [
+        "--eps",
+        "1e0:1e8:3",
+        "--factors",
+        "10",
+        "--deltas-rel",
+        "1e-2",
+        "--no-figures",
+        "--threads",
+        "2",
+        "--scenes-dir",
+        s(&scenes),
+        "--out",
+        s(&out),
+    ];
+    let o = sweep_in(&d, &args);
+    assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
+    assert!(
+        stderr(&o).contains("spectrum-0000.scene.json"),
+        "{}",
+        stderr(&o)
+    );
+    assert_eq!(rows_of(&out), files[..2 * per_scene]);
+    assert_eq!(manifest(&out)["status"], "running");
+    std::fs::write(&broken, &good).unwrap();
+    sweep_ok(&d, &with(&args, &["--resume"]));
+    assert_eq!(rows_of(&out), files);
+    assert_eq!(manifest(&out)["resumed_scenes"], 2);
+}
+
 /// The raw JSON number of a top-level key of `solve --json`'s pretty output, parsed with Rust's
 /// correctly rounded parser (`None` for `null`).
 fn top_level_number(json: &str, key: &str) -> Option<f64> {

@@ -766,32 +766,40 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
     let config_json = serde_json::to_value(cfg).map_err(|e| Error::Numerical(e.to_string()))?;
     let per_scene = cfg.rows_per_scene();
 
-    // Resume: keep the complete scenes at the head of rows.csv.
-    let done = resume_point(opts, &config_json, (k, n), per_scene)?;
+    // Resume: keep the complete scenes at the head of rows.csv; a fresh run writes its header
+    // beside the first scenes (`start` below).
+    let resumed = resume_point(opts, &config_json, (k, n), per_scene)?;
+    let done = resumed.unwrap_or(0);
     let todo = &specs[done.min(specs.len())..];
-
-    let mut manifest = Provenance::new("sweep").record(serde_json::json!({
-        "config": config_json,
-        "seed": cfg.seed,
-        "threads": opts.threads.unwrap_or_else(rayon::current_num_threads),
-        "shard": [k, n],
-        "scenes": specs.len(),
-        "rows_per_scene": per_scene,
-        "status": "running",
-    }));
-    write_manifest(&manifest_path, &manifest)?;
 
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.threads.unwrap_or(0))
         .build()
         .map_err(|e| Error::input(format!("cannot start {:?} threads: {e}", opts.threads)))?;
     faer::set_global_parallelism(faer::Par::Seq);
+    let threads = pool.current_num_threads();
+    let mut manifest = Provenance::new("sweep").record(serde_json::json!({
+        "config": config_json,
+        "seed": cfg.seed,
+        "threads": threads,
+        "shard": [k, n],
+        "scenes": specs.len(),
+        "rows_per_scene": per_scene,
+        "status": "running",
+    }));
     let bar = crate::progress::Progress::new("sweep (scenes)", !opts.progress);
     bar.set_total(specs.len());
     bar.set_done(done);
 
+    // rows.csv's header (fresh runs) and the running manifest, both before any row.
+    let start = || -> Result<()> {
+        if resumed.is_none() {
+            write_atomic(&rows_path, rows::header().as_bytes())?;
+        }
+        write_manifest(&manifest_path, &manifest)
+    };
     let mut times = Timing::default();
-    let outcome = solve_in_order(todo, cfg, opts, &pool, &bar, &rows_path, &mut times);
+    let outcome = solve_in_order(todo, cfg, opts, &pool, &bar, &rows_path, start, &mut times);
     bar.finish();
     let rows_written = outcome?;
     let wall = t_start.elapsed().as_secs_f64();
@@ -807,7 +815,6 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
     manifest["rows_written"] = rows_written.into();
     manifest["rows_per_second"] = summary.rows_per_second.into();
     manifest["resumed_scenes"] = summary.resumed_scenes.into();
-    let threads = opts.threads.unwrap_or_else(|| pool.current_num_threads());
     manifest["timing"] = times.report(wall, threads);
     write_manifest(&manifest_path, &manifest)?;
     Ok(summary)
@@ -875,17 +882,19 @@ impl Timing {
 
 /// Where a `--resume` run picks up: the number of complete scenes at the head of an existing
 /// rows.csv (which is cut back to them), after checking that the manifest was written with
-/// the same config and shard; 0 (and a fresh rows.csv with its header) otherwise.
+/// the same config and shard; `None` for a fresh run (nothing written).
 fn resume_point(
     opts: &RunOptions,
     config_json: &serde_json::Value,
     (k, n): (usize, usize),
     per_scene: usize,
-) -> Result<usize> {
+) -> Result<Option<usize>> {
     let rows_path = opts.out.join("rows.csv");
     let manifest_path = opts.out.join("manifest.json");
-    let mut done = 0usize;
-    if opts.resume && rows_path.exists() {
+    if !(opts.resume && rows_path.exists()) {
+        return Ok(None);
+    }
+    {
         let old: serde_json::Value = std::fs::read_to_string(&manifest_path)
             .ok()
             .and_then(|t| serde_json::from_str(&t).ok())
@@ -904,24 +913,23 @@ fn resume_point(
             )));
         }
         let (rows, _) = rows::read_rows(&rows_path, true)?;
-        done = rows.len() / per_scene;
+        let done = rows.len() / per_scene;
         let keep = &rows[..done * per_scene];
         let mut text = rows::header();
         text.push_str(&rows::format_rows(keep));
         write_atomic(&rows_path, text.as_bytes())?;
-    } else {
-        write_atomic(&rows_path, rows::header().as_bytes())?;
+        Ok(Some(done))
     }
-    Ok(done)
 }
 
 /// The reorder buffer: scenes finish in any order on the workers; whichever worker completes
 /// the next scene in order appends it and every completed scene after it to rows.csv (one
 /// write and flush per scene), so rows land in scene order with no thread of their own.
 struct InOrder<'a> {
-    file: std::fs::File,
+    /// rows.csv open for appending, once its header and the manifest are written.
+    file: Option<std::fs::File>,
     rows_path: &'a Path,
-    /// Finished scenes waiting for an earlier one: (rows, their CSV text, shared work).
+    /// Finished scenes waiting for an earlier one (or for the file).
     pending: BTreeMap<usize, Finished>,
     next: usize,
     rows_written: usize,
@@ -940,25 +948,35 @@ impl InOrder<'_> {
             Ok(f) => {
                 self.pending.insert(i, f);
             }
-            Err(e) => {
-                if self.error.as_ref().is_none_or(|(j, _)| i < *j) {
-                    self.error = Some((i, e));
-                }
-            }
+            Err(e) => self.fail(i, e),
         }
+        self.write_prefix();
+    }
+
+    /// Records the error of scene `i` (0 for the start: it precedes every scene's).
+    fn fail(&mut self, i: usize, e: Error) {
+        if self.error.as_ref().is_none_or(|(j, _)| i < *j) {
+            self.error = Some((i, e));
+        }
+    }
+
+    /// Appends the finished scenes that follow the last written one.
+    fn write_prefix(&mut self) {
+        let Some(file) = self.file.as_mut() else {
+            return;
+        };
         while let Some((rows, text, setup)) = self.pending.remove(&self.next) {
             self.times.add(&rows, &setup);
             if self.error.as_ref().is_some_and(|(j, _)| *j <= self.next) {
                 break;
             }
             self.next += 1;
-            match self
-                .file
-                .write_all(text.as_bytes())
-                .and_then(|_| self.file.flush())
-            {
+            match file.write_all(text.as_bytes()).and_then(|_| file.flush()) {
                 Ok(()) => self.rows_written += rows.len(),
-                Err(e) => self.error = Some((0, Error::io(self.rows_path.display(), e))),
+                Err(e) => {
+                    self.error = Some((0, Error::io(self.rows_path.display(), e)));
+                    break;
+                }
             }
         }
     }
@@ -966,8 +984,11 @@ impl InOrder<'_> {
 
 /// Solves `todo` on `pool` and appends each scene's rows to rows.csv in scene order as soon
 /// as the prefix is complete ([`InOrder`]), writing scene files where asked; returns the
-/// number of rows written or the first error. After an error, scenes not yet started are
-/// skipped. The rows are formatted on the workers; the calling thread only waits.
+/// number of rows written or the first error. `start` (rows.csv's header, the running
+/// manifest) runs on one worker while the others begin the first scenes; no row is written
+/// before it is done. After an error, scenes after the failed one are not started. The rows are
+/// formatted on the workers; the calling thread only waits.
+#[allow(clippy::too_many_arguments)]
 fn solve_in_order(
     todo: &[(usize, SceneSpec)],
     cfg: &SweepConfig,
@@ -975,14 +996,13 @@ fn solve_in_order(
     pool: &rayon::ThreadPool,
     bar: &crate::progress::Progress,
     rows_path: &Path,
+    start: impl FnOnce() -> Result<()> + Send,
     times: &mut Timing,
 ) -> Result<usize> {
-    let file = std::fs::OpenOptions::new()
-        .append(true)
-        .open(rows_path)
-        .map_err(|e| Error::io(rows_path.display(), e))?;
-    let state = std::sync::Mutex::new(InOrder {
-        file,
+    use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
+    use std::sync::{Mutex, PoisonError};
+    let state = Mutex::new(InOrder {
+        file: None,
         rows_path,
         pending: BTreeMap::new(),
         next: 0,
@@ -990,12 +1010,31 @@ fn solve_in_order(
         times,
         error: None,
     });
-    use std::sync::atomic::{AtomicBool, Ordering::Relaxed};
-    let failed = AtomicBool::new(false);
-    pool.install(|| {
+    // The earliest failed scene (0 when the start failed): later scenes are not started.
+    let failed = AtomicUsize::new(usize::MAX);
+    let open = || {
+        let opened = start().and_then(|()| {
+            std::fs::OpenOptions::new()
+                .append(true)
+                .open(rows_path)
+                .map_err(|e| Error::io(rows_path.display(), e))
+        });
+        let mut state = state.lock().unwrap_or_else(PoisonError::into_inner);
+        match opened {
+            Ok(file) => {
+                state.file = Some(file);
+                state.write_prefix();
+            }
+            Err(e) => {
+                failed.store(0, Relaxed);
+                state.fail(0, e);
+            }
+        }
+    };
+    let solve = || {
         use rayon::prelude::*;
         todo.par_iter().enumerate().for_each(|(i, (_, spec))| {
-            if failed.load(Relaxed) {
+            if i > failed.load(Relaxed) {
                 return; // nothing after the failed scene would be written
             }
             let done = run_scene(spec, cfg).and_then(|(rows, work)| {
@@ -1006,17 +1045,16 @@ fn solve_in_order(
                 let text = rows::format_rows(&rows);
                 Ok((rows, text, work.seconds))
             });
-            failed.fetch_or(done.is_err(), Relaxed);
-            let mut state = state
-                .lock()
-                .unwrap_or_else(std::sync::PoisonError::into_inner);
+            if done.is_err() {
+                failed.fetch_min(i, Relaxed);
+            }
+            let mut state = state.lock().unwrap_or_else(PoisonError::into_inner);
             state.finish(i, done);
             bar.step("");
         });
-    });
-    let state = state
-        .into_inner()
-        .unwrap_or_else(std::sync::PoisonError::into_inner);
+    };
+    pool.install(|| rayon::join(open, solve));
+    let state = state.into_inner().unwrap_or_else(PoisonError::into_inner);
     match state.error {
         Some((_, e)) => Err(e),
         None => Ok(state.rows_written),
