@@ -662,6 +662,7 @@ pub fn run_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<(Vec<Row>, Scene
     rows.push(lag_row);
     let others: Vec<Row> = rest
         .par_iter()
+        .with_max_len(1)
         .map(|&job| {
             let skip = matches!(job.method, Method::Optimal { .. })
                 && !cfg.optimal_families.contains(&work.scene.family);
@@ -1033,25 +1034,28 @@ fn solve_in_order(
     };
     let solve = || {
         use rayon::prelude::*;
-        todo.par_iter().enumerate().for_each(|(i, (_, spec))| {
-            if i > failed.load(Relaxed) {
-                return; // nothing after the failed scene would be written
-            }
-            let done = run_scene(spec, cfg).and_then(|(rows, work)| {
-                if let Some(d) = &opts.write_scenes {
-                    write_scene_file(d, &work.scene, opts.dense_scenes)?;
+        todo.par_iter()
+            .enumerate()
+            .with_max_len(1)
+            .for_each(|(i, (_, spec))| {
+                if i > failed.load(Relaxed) {
+                    return; // nothing after the failed scene would be written
                 }
-                bar.message(work.scene.name.clone());
-                let text = rows::format_rows(&rows);
-                Ok((rows, text, work.seconds))
+                let done = run_scene(spec, cfg).and_then(|(rows, work)| {
+                    if let Some(d) = &opts.write_scenes {
+                        write_scene_file(d, &work.scene, opts.dense_scenes)?;
+                    }
+                    bar.message(work.scene.name.clone());
+                    let text = rows::format_rows(&rows);
+                    Ok((rows, text, work.seconds))
+                });
+                if done.is_err() {
+                    failed.fetch_min(i, Relaxed);
+                }
+                let mut state = state.lock().unwrap_or_else(PoisonError::into_inner);
+                state.finish(i, done);
+                bar.step("");
             });
-            if done.is_err() {
-                failed.fetch_min(i, Relaxed);
-            }
-            let mut state = state.lock().unwrap_or_else(PoisonError::into_inner);
-            state.finish(i, done);
-            bar.step("");
-        });
     };
     pool.install(|| rayon::join(open, solve));
     let state = state.into_inner().unwrap_or_else(PoisonError::into_inner);
