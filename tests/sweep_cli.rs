@@ -877,19 +877,22 @@ fn toml_config_with_unknown_field_is_a_one_line_error() {
 // ---------------------------------------------------------------------------------------------
 
 /// Writes the scenes of a small 2-family run and reruns them from the files.
+/// The knobs of the scene-file runs.
+const FILE_RUN_KNOBS: [&str; 7] = [
+    "--eps",
+    "1e0:1e8:3",
+    "--factors",
+    "10",
+    "--deltas-rel",
+    "1e-2",
+    "--no-figures",
+];
+
 /// Returns (generated rows, file rows, scenes folder).
 fn generated_and_file_runs(tag: &str) -> (Vec<Row>, Vec<Row>, PathBuf) {
     let d = tmp_dir(tag);
     let (gen, files, scenes) = (d.join("gen"), d.join("files"), d.join("scenes"));
-    let knobs = [
-        "--eps",
-        "1e0:1e8:3",
-        "--factors",
-        "10",
-        "--deltas-rel",
-        "1e-2",
-        "--no-figures",
-    ];
+    let knobs = FILE_RUN_KNOBS;
     sweep_ok(
         &d,
         &with(
@@ -961,21 +964,17 @@ fn a_malformed_scene_file_keeps_the_scenes_before_it_and_resumes() {
     let good = std::fs::read(&broken).unwrap();
     std::fs::write(&broken, &good[..good.len() / 2]).unwrap();
     let out = d.join("broken");
-    let args = [
-        "--eps",
-        "1e0:1e8:3",
-        "--factors",
-        "10",
-        "--deltas-rel",
-        "1e-2",
-        "--no-figures",
-        "--threads",
-        "2",
-        "--scenes-dir",
-        s(&scenes),
-        "--out",
-        s(&out),
-    ];
+    let args = with(
+        &FILE_RUN_KNOBS,
+        &[
+            "--threads",
+            "2",
+            "--scenes-dir",
+            s(&scenes),
+            "--out",
+            s(&out),
+        ],
+    );
     let o = sweep_in(&d, &args);
     assert_eq!(o.status.code(), Some(2), "{}", stderr(&o));
     assert!(
@@ -1147,15 +1146,7 @@ fn scenes_dir_reproduces_large_dense_scenes() {
         "large",
         "families = [\"beam\"]\ncount = 1\nseed = 2011\n[generator]\nbeam_elements = [140, 150]\n",
     );
-    let knobs = [
-        "--eps",
-        "1e0:1e8:3",
-        "--factors",
-        "10",
-        "--deltas-rel",
-        "1e-2",
-        "--no-figures",
-    ];
+    let knobs = FILE_RUN_KNOBS;
     sweep_ok(
         &d,
         &with(
