@@ -254,9 +254,8 @@ pub fn solve_dense(mut ctx: Context, delta: f64) -> Result<Solution> {
     let m = problem.m();
     let n = problem.n();
     let dofs: Vec<usize> = problem.constraints.iter().map(|c| c.dof).collect();
-    // W = K⁻¹ D (N×m), S = Dᵀ W.
-    let w = ctx.k_factor()?.solve_unit_columns(&dofs);
-    ctx.stats.linear_solves += m;
+    // W = K⁻¹ D (N×m, shared by the solves of one `Prepared`), S = Dᵀ W.
+    let w = ctx.constraint_columns()?;
     let s = Mat::from_fn(m, m, |i, j| w[(dofs[i], j)]);
     let (lo, hi) = bounds(problem, delta);
     let g = guarded(problem, delta, lo, hi, |lo, hi, start| {
@@ -275,4 +274,47 @@ pub fn solve_dense(mut ctx: Context, delta: f64) -> Result<Solution> {
         })
     })?;
     Ok(finish_guarded(ctx, delta, g))
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::model::generate::{generate, Family, GeneratorConfig};
+    use crate::strategy::{solve, solve_prepared, Method, Prepared};
+
+    /// W = K⁻¹D is computed by the first `condensed` solve of a [`Prepared`] and shared by the
+    /// next ones, which agree bit for bit — u, penalties and statistics — with solves that
+    /// compute everything themselves.
+    #[test]
+    fn constraint_columns_are_shared_and_change_nothing() {
+        let cfg = GeneratorConfig::default();
+        for (family, index) in [(Family::Spectrum, 3), (Family::Beam, 1)] {
+            let p = generate(family, index, 2011, &cfg).unwrap().problem;
+            assert!(!super::super::eliminated::applies(&p), "the dense route");
+            let prep = Prepared::new(&p).unwrap();
+            let scale = p
+                .constraints
+                .iter()
+                .map(|c| prep.u0()[c.dof].abs())
+                .fold(0.0, f64::max);
+            assert!(prep.constraint_columns.get().is_none());
+            let mut first = None;
+            for r in [1e-1, 1e-2, 1e-4] {
+                let m = Method::Condensed { delta: r * scale };
+                let shared = solve_prepared(&p, m, Some(&prep)).unwrap();
+                let own = solve(&p, m).unwrap();
+                let w = prep
+                    .constraint_columns
+                    .get()
+                    .expect("filled by the first solve");
+                let w = std::sync::Arc::as_ptr(w);
+                assert_eq!(*first.get_or_insert(w), w, "computed once");
+                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&shared.u), bits(&own.u));
+                assert_eq!(bits(&shared.penalties), bits(&own.penalties));
+                assert_eq!(shared.stats.linear_solves, own.stats.linear_solves);
+                assert_eq!(shared.stats.factorizations, own.stats.factorizations);
+                assert_eq!(shared.stats.iterations, own.stats.iterations);
+            }
+        }
+    }
 }

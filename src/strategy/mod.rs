@@ -335,7 +335,8 @@ pub fn solve_prepared(
 }
 
 /// K's factorization and the unconstrained solution u0 = K⁻¹q, computed once per problem and
-/// shared by every strategy run on it; optionally the exact contact set
+/// shared by every strategy run on it; W = K⁻¹D, computed by the first rule that needs it
+/// (`condensed`'s S = DᵀW) and shared from then on; optionally the exact contact set
 /// ([`Prepared::with_contact_set`]).
 #[derive(Clone)]
 pub struct Prepared {
@@ -343,7 +344,11 @@ pub struct Prepared {
     u0: Arc<Vec<f64>>,
     symmetric: bool,
     contact_set: Option<Arc<Vec<bool>>>,
+    constraint_columns: ConstraintColumns,
 }
+
+/// W = K⁻¹D (N×m), filled once and shared by the clones that hold it.
+type ConstraintColumns = Arc<std::sync::OnceLock<Arc<faer::Mat<f64>>>>;
 
 impl Prepared {
     /// Factorizes K and solves for u0. Errors if K is singular.
@@ -355,6 +360,7 @@ impl Prepared {
             u0: ctx.u0.expect("computed"),
             symmetric: ctx.symmetric,
             contact_set: None,
+            constraint_columns: ConstraintColumns::default(),
         })
     }
 
@@ -397,6 +403,8 @@ pub struct Context<'a> {
     /// Last penalized factorization and the penalties it was built with (reused when the
     /// penalties repeat, e.g. Uzawa updates at fixed ε).
     last: Option<(Vec<f64>, Factorization)>,
+    /// W = K⁻¹D, shared with the [`Prepared`] this context came from.
+    constraint_columns: ConstraintColumns,
     /// Work done by a [`Prepared`] that is charged to this solve the first time it is used,
     /// so that statistics do not depend on whether K was prepared in advance:
     /// (factorization of K not yet counted, u0 solve not yet counted).
@@ -415,6 +423,7 @@ impl<'a> Context<'a> {
             u0: None,
             contact_set: None,
             last: None,
+            constraint_columns: ConstraintColumns::default(),
             uncharged: (false, false),
             stats: Stats::default(),
         }
@@ -429,9 +438,23 @@ impl<'a> Context<'a> {
             u0: Some(p.u0.clone()),
             contact_set: p.contact_set.clone(),
             last: None,
+            constraint_columns: p.constraint_columns.clone(),
             uncharged: (true, true),
             stats: Stats::default(),
         }
+    }
+
+    /// W = K⁻¹D (N×m: column c is K⁻¹e_{d_c}), computed once per [`Prepared`] and shared by
+    /// every solve from it (the δ values of a sweep scene); its m solves are counted in every
+    /// call's statistics all the same, so they do not depend on the sharing. Errors if K is
+    /// singular.
+    pub fn constraint_columns(&mut self) -> Result<Arc<faer::Mat<f64>>> {
+        let cell = self.constraint_columns.clone();
+        let dofs: Vec<usize> = self.problem.constraints.iter().map(|c| c.dof).collect();
+        let factor = self.k_factor()?;
+        let w = cell.get_or_init(|| Arc::new(factor.solve_unit_columns(&dofs)));
+        self.stats.linear_solves += dofs.len();
+        Ok(w.clone())
     }
 
     /// Factorization of K (computed once). Errors if K is singular.
