@@ -805,7 +805,8 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
         write_manifest(&manifest_path, &manifest)
     };
     let mut times = Timing::default();
-    let outcome = solve_in_order(todo, cfg, opts, &pool, &bar, &rows_path, start, &mut times);
+    let writer = InOrder::new(&rows_path, &mut times);
+    let outcome = solve_in_order(todo, cfg, opts, &pool, &bar, writer, start);
     bar.finish();
     let rows_written = outcome?;
     let wall = t_start.elapsed().as_secs_f64();
@@ -947,7 +948,20 @@ struct InOrder<'a> {
 /// A solved scene: its rows, their CSV text and its shared work.
 type Finished = (Vec<Row>, String, SetupSeconds);
 
-impl InOrder<'_> {
+impl<'a> InOrder<'a> {
+    /// Nothing written yet; rows go to `rows_path` once it is opened, their timing to `times`.
+    fn new(rows_path: &'a Path, times: &'a mut Timing) -> Self {
+        InOrder {
+            file: None,
+            rows_path,
+            pending: BTreeMap::new(),
+            next: 0,
+            rows_written: 0,
+            times,
+            error: None,
+        }
+    }
+
     /// Files scene `i`'s outcome and writes the complete prefix.
     fn finish(&mut self, i: usize, done: Result<Finished>) {
         match done {
@@ -994,28 +1008,19 @@ impl InOrder<'_> {
 /// manifest) runs on one worker while the others begin the first scenes; no row is written
 /// before it is done. After an error, scenes after the failed one are not started. The rows are
 /// formatted on the workers; the calling thread only waits.
-#[allow(clippy::too_many_arguments)]
 fn solve_in_order(
     todo: &[(usize, SceneSpec)],
     cfg: &SweepConfig,
     opts: &RunOptions,
     pool: &rayon::ThreadPool,
     bar: &crate::progress::Progress,
-    rows_path: &Path,
+    writer: InOrder<'_>,
     start: impl FnOnce() -> Result<()> + Send,
-    times: &mut Timing,
 ) -> Result<usize> {
     use std::sync::atomic::{AtomicUsize, Ordering::Relaxed};
     use std::sync::{Mutex, PoisonError};
-    let state = Mutex::new(InOrder {
-        file: None,
-        rows_path,
-        pending: BTreeMap::new(),
-        next: 0,
-        rows_written: 0,
-        times,
-        error: None,
-    });
+    let rows_path = writer.rows_path;
+    let state = Mutex::new(writer);
     // The earliest failed scene (0 when the start failed): later scenes are not started.
     let failed = AtomicUsize::new(usize::MAX);
     let open = || {
