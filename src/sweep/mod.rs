@@ -655,8 +655,8 @@ pub fn run_job(
 
 /// Runs every job of one scene: the shared work, the lagrange reference, then the other jobs
 /// as separate work units on the current rayon pool, one task each (rows in job order
-/// whatever the thread count). Errors of single jobs become rows with the error in `warnings`; only an unreadable
-/// scene is an error.
+/// whatever the thread count). Errors of single jobs become rows with the error in
+/// `warnings`; only an unreadable scene is an error.
 pub fn run_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<(Vec<Row>, SceneWork)> {
     use rayon::prelude::*;
     let work = prepare_scene(spec, cfg)?;
@@ -901,32 +901,30 @@ fn resume_point(
     if !(opts.resume && rows_path.exists()) {
         return Ok(None);
     }
+    let old: serde_json::Value = std::fs::read_to_string(&manifest_path)
+        .ok()
+        .and_then(|t| serde_json::from_str(&t).ok())
+        .ok_or_else(|| {
+            Error::io(
+                manifest_path.display(),
+                "cannot resume: manifest.json missing or unreadable",
+            )
+        })?;
+    if old.get("config") != Some(config_json)
+        || old.get("shard") != Some(&serde_json::json!([k, n]))
     {
-        let old: serde_json::Value = std::fs::read_to_string(&manifest_path)
-            .ok()
-            .and_then(|t| serde_json::from_str(&t).ok())
-            .ok_or_else(|| {
-                Error::io(
-                    manifest_path.display(),
-                    "cannot resume: manifest.json missing or unreadable",
-                )
-            })?;
-        if old.get("config") != Some(config_json)
-            || old.get("shard") != Some(&serde_json::json!([k, n]))
-        {
-            return Err(Error::input(format!(
-                "cannot resume in {}: it was produced with a different config or shard; use another --out",
-                opts.out.display()
-            )));
-        }
-        let (rows, _) = rows::read_rows(&rows_path, true)?;
-        let done = rows.len() / per_scene;
-        let keep = &rows[..done * per_scene];
-        let mut text = rows::header();
-        text.push_str(&rows::format_rows(keep));
-        write_atomic(&rows_path, text.as_bytes())?;
-        Ok(Some(done))
+        return Err(Error::input(format!(
+            "cannot resume in {}: it was produced with a different config or shard; use another --out",
+            opts.out.display()
+        )));
     }
+    let (rows, _) = rows::read_rows(&rows_path, true)?;
+    let done = rows.len() / per_scene;
+    let keep = &rows[..done * per_scene];
+    let mut text = rows::header();
+    text.push_str(&rows::format_rows(keep));
+    write_atomic(&rows_path, text.as_bytes())?;
+    Ok(Some(done))
 }
 
 /// The reorder buffer: scenes finish in any order on the workers; whichever worker completes
@@ -1062,8 +1060,10 @@ fn solve_in_order(
                 if done.is_err() {
                     failed.fetch_min(i, Relaxed);
                 }
-                let mut state = state.lock().unwrap_or_else(PoisonError::into_inner);
-                state.finish(i, done);
+                state
+                    .lock()
+                    .unwrap_or_else(PoisonError::into_inner)
+                    .finish(i, done);
                 bar.step("");
             });
     };
