@@ -32,11 +32,12 @@
 //! * [`progress`] — one progress bar (with ETA) for every long run; `--quiet` silences it.
 //! * [`plot`] — one figure style, PNG + SVG.
 //! * [`stats`] — the one median / quantile / log–log slope.
+//! * [`dd`] — double-double arithmetic (extended-precision references and certificates).
 //!
 //! ## Layers
 //! Dependencies point down only, and no study imports another study (checked by
 //! `tests/architecture.rs`, which also prints the module graph; see the README):
-//! 1. foundation — `error`, `stats`, `progress`, `provenance`;
+//! 1. foundation — `error`, `stats`, `progress`, `provenance`, `dd`;
 //! 2. numerics — `system`, `linalg`, `conditioning`;
 //! 3. core — `model`, `strategy`, `metrics`, `scene`, `plot`;
 //! 4. studies — `sweep`, `perf`, `stability`, `cond_cost`, `engine_scale`, `forming`, `study`;
@@ -68,6 +69,7 @@
 
 pub mod cond_cost;
 pub mod conditioning;
+pub mod dd;
 pub mod engine_scale;
 pub mod error;
 pub mod forming;

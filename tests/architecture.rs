@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 /// The layers of `src/lib.rs`, lowest first.
 const LAYERS: &[&[&str]] = &[
-    &["error", "stats", "progress", "provenance"],
+    &["error", "stats", "progress", "provenance", "dd"],
     &["system", "linalg", "conditioning"],
     &["model", "strategy", "metrics", "scene", "plot"],
     &[

@@ -14,7 +14,7 @@ use penalty_lab::system::{Problem, Stiffness};
 use std::path::Path;
 
 fn elasticity() -> Vec<Problem> {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/data/elasticity");
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/elasticity");
     [
         "elasticity-quad-block",
         "elasticity-p2-strip",

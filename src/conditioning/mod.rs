@@ -17,6 +17,7 @@
 //! The [`reference`](mod@reference) module recomputes cond₂ with nalgebra (and LAPACK behind the `lapack`
 //! feature) as an independent cross-check.
 
+pub mod certify;
 pub mod saddle;
 pub mod sparse;
 
@@ -44,6 +45,8 @@ pub enum CondRoute {
     /// Sparse saddle-point `[K D; Dᵀ 0]` (Boolean D): Lanczos estimates of the four extreme
     /// |λ| certified by inertia through the block structure, see [`saddle`].
     SparseSaddleInertia,
+    /// Dense SPD: the certified route of [`sparse`] on the full pattern.
+    DenseInertia,
 }
 
 impl CondRoute {
@@ -56,22 +59,36 @@ impl CondRoute {
             CondRoute::DensifiedSvd => "densified_svd",
             CondRoute::SparseInertia => "sparse_inertia",
             CondRoute::SparseSaddleInertia => "sparse_saddle_inertia",
+            CondRoute::DenseInertia => "dense_inertia",
         }
     }
 }
 
-/// An exact 2-norm condition number with the extreme singular values and the route taken.
+/// A 2-norm condition number: the best estimate, the bounds around it, the extreme singular
+/// values and the route taken.
+///
+/// `cond2` is the ratio of the route's converged estimates (Lanczos Ritz values, or the dense
+/// routine's values): tested against outside references to `max(1e-12, 4·ε_mach·cond₂)`
+/// relative (module docs). `cond2_lo ≤ cond₂ ≤ cond2_hi` are bounds; where `bounds_proven`
+/// they are proven for the stored matrix including every rounding ([`certify`]).
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct CondReport {
-    /// `σ_max / σ_min` (+∞ if σ_min = 0).
+    /// `σ_max / σ_min` (+∞ if σ_min = 0): the best estimate.
     pub cond2: f64,
-    /// Largest singular value.
+    /// Lower bound of cond₂.
+    pub cond2_lo: f64,
+    /// Upper bound of cond₂ (+∞ where σ_min could not be bounded away from 0).
+    pub cond2_hi: f64,
+    /// Whether `[cond2_lo, cond2_hi]` is proven ([`certify`]); false where a bracket end
+    /// rests on a Cholesky test that *failed* (the saddle-point route's inertia counts).
+    pub bounds_proven: bool,
+    /// Largest singular value (estimate).
     pub sigma_max: f64,
-    /// Smallest singular value.
+    /// Smallest singular value (estimate).
     pub sigma_min: f64,
     /// Route taken.
     pub route: CondRoute,
-    /// Inertia brackets of λ_max and λ_min (sparse route only).
+    /// Brackets of σ_max and σ_min (the certified routes).
     pub certificate: Option<sparse::Certificate>,
     /// `log10|det A|` when the route factorized A itself (sparse SPD route: free by-product,
     /// so the metrics do not factorize A again).
@@ -79,44 +96,212 @@ pub struct CondReport {
     pub log10_det: Option<f64>,
 }
 
+impl CondReport {
+    /// The report of a certified route: estimates `sigma_max`, `sigma_min` (already inside
+    /// the certificate's brackets) and cond₂'s bounds from the brackets, rounded outwards.
+    pub fn with_certificate(
+        sigma_max: f64,
+        sigma_min: f64,
+        route: CondRoute,
+        certificate: sparse::Certificate,
+        bounds_proven: bool,
+        log10_det: Option<f64>,
+    ) -> Self {
+        let (lo, hi) = certificate.cond2_bounds();
+        CondReport {
+            cond2: ratio(sigma_max, sigma_min),
+            cond2_lo: lo,
+            cond2_hi: hi,
+            bounds_proven,
+            sigma_max,
+            sigma_min,
+            route,
+            certificate: Some(certificate),
+            log10_det,
+        }
+    }
+
+    /// Relative width `cond2_hi / cond2_lo − 1` of the bounds (+∞ where unbounded).
+    pub fn relative_width(&self) -> f64 {
+        if self.cond2_lo > 0.0 {
+            self.cond2_hi / self.cond2_lo - 1.0
+        } else {
+            f64::INFINITY
+        }
+    }
+}
+
+/// `a / b`, +∞ where b = 0.
+fn ratio(a: f64, b: f64) -> f64 {
+    if b > 0.0 {
+        a / b
+    } else {
+        f64::INFINITY
+    }
+}
+
 /// Largest dimension for which a sparse matrix is densified to get an exact condition number.
 pub const DENSIFY_LIMIT: usize = 6000;
 
-/// Exact cond₂ of a dense matrix; `symmetric` selects the eigenvalue route.
+/// cond₂ of a dense matrix; `symmetric` selects the eigenvalue routes.
+///
+/// * Symmetric with a positive diagonal: the certified SPD route ([`sparse`], on the full
+///   pattern; [`CondRoute::DenseInertia`]) — λ_min from Cholesky solves, as accurate as the
+///   equilibrated matrix allows, with proven bounds. An indefinite matrix falls through.
+/// * Other symmetric: eigenvalues and eigenvectors, `σ = |λ|` ([`CondRoute::SymmetricEigen`]).
+/// * Unsymmetric: the SVD ([`CondRoute::Svd`]).
+///
+/// The last two are bounded by Kahan's residual theorem ([`residual_radius`]).
 pub fn cond2_dense(a: MatRef<'_, f64>, symmetric: bool) -> Result<CondReport> {
-    let (smax, smin, route) = if symmetric {
-        let ev = a
-            .self_adjoint_eigenvalues(Side::Lower)
+    let n = a.nrows();
+    if n == 0 || a.ncols() != n {
+        return Err(Error::input("cond₂ needs a non-empty square matrix"));
+    }
+    if !(0..n).all(|j| (0..n).all(|i| a[(i, j)].is_finite())) {
+        return Err(Error::Numerical(
+            "singular values are not finite (matrix contains NaN/Inf?)".into(),
+        ));
+    }
+    if symmetric && (0..n).all(|i| a[(i, i)] > 0.0) {
+        let mut t = Vec::new();
+        for j in 0..n {
+            for i in 0..n {
+                if a[(i, j)] != 0.0 || i == j {
+                    t.push(faer::sparse::Triplet::new(i, j, a[(i, j)]));
+                }
+            }
+        }
+        let sp = faer::sparse::SparseColMat::try_new_from_triplets(n, n, &t)
+            .map_err(|e| Error::Numerical(format!("dense to sparse: {e:?}")))?;
+        match sparse::extreme_eigenvalues(&sp, sparse::MAX_LANCZOS_STEPS, Reuse::default()) {
+            Ok(s) => {
+                return Ok(CondReport::with_certificate(
+                    s.lambda_max,
+                    s.lambda_min,
+                    CondRoute::DenseInertia,
+                    s.certificate,
+                    true,
+                    Some(s.log10_det),
+                ))
+            }
+            Err(Error::Singular(_)) => {}
+            Err(e) => return Err(e),
+        }
+    }
+    // θ: the computed |λ| or σ, ascending; radius: Kahan's bound on |θ_i − σ_i|.
+    let (mut theta, radius, route) = if symmetric {
+        let e = a
+            .self_adjoint_eigen(Side::Lower)
             .map_err(|e| Error::Numerical(format!("symmetric eigenvalues failed: {e:?}")))?;
-        let smax = ev.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let smin = ev.iter().fold(f64::INFINITY, |m, v| m.min(v.abs()));
-        (smax, smin, CondRoute::SymmetricEigen)
+        let lambda: Vec<f64> = (0..n).map(|i| e.S()[i]).collect();
+        let r = residual_radius(a, e.U(), &lambda, e.U(), &lambda, false);
+        let theta: Vec<f64> = lambda.iter().map(|l| l.abs()).collect();
+        (theta, r, CondRoute::SymmetricEigen)
     } else {
-        let sv = a
-            .singular_values()
+        let svd = a
+            .svd()
             .map_err(|e| Error::Numerical(format!("singular values failed: {e:?}")))?;
-        let smax = sv.first().copied().unwrap_or(0.0);
-        let smin = sv.last().copied().unwrap_or(0.0);
-        (smax, smin, CondRoute::Svd)
+        let sigma: Vec<f64> = (0..n).map(|i| svd.S()[i]).collect();
+        let r = residual_radius(a, svd.V(), &sigma, svd.U(), &sigma, true);
+        (sigma, r, CondRoute::Svd)
     };
+    theta.sort_by(f64::total_cmp);
+    let (smin, smax) = (theta[0], theta[n - 1]);
     if !(smax.is_finite() && smin.is_finite()) {
         return Err(Error::Numerical(
             "singular values are not finite (matrix contains NaN/Inf?)".into(),
         ));
     }
-    let cond2 = if smin > 0.0 {
-        smax / smin
-    } else {
-        f64::INFINITY
+    let up = |x: f64| x * (1.0 + 4.0 * f64::EPSILON);
+    let down = |x: f64| x * (1.0 - 4.0 * f64::EPSILON);
+    let certificate = sparse::Certificate {
+        lambda_max_lo: down(smax - radius).max(0.0),
+        lambda_max_hi: up(smax + radius),
+        lambda_min_lo: down(smin - radius).max(0.0),
+        lambda_min_hi: up(smin + radius),
+        lanczos_steps: 0,
+        factorizations: 0,
     };
-    Ok(CondReport {
-        cond2,
-        sigma_max: smax,
-        sigma_min: smin,
+    Ok(CondReport::with_certificate(
+        smax,
+        smin,
         route,
-        certificate: None,
-        log10_det: None,
-    })
+        certificate,
+        radius.is_finite(),
+        None,
+    ))
+}
+
+/// Kahan's residual bound (Parlett, *The Symmetric Eigenvalue Problem*, Thm 11.5.1; Kahan
+/// 1967): for a symmetric J and any X of full rank with `R = JX − XΘ`, Θ diagonal, the
+/// eigenvalues of J can be paired with the θ_i so that `|λ − θ_i| ≤ ‖R‖₂ / σ_min(X)`, and
+/// `σ_min(X)² ≥ 1 − ‖XᵀX − I‖₂`. For a symmetric A, J = A and X = V̂ (eigenvectors), so the
+/// sorted |λ| and |θ| differ by at most the radius; for the SVD `A ≈ ÛΣ̂V̂ᵀ`, J is the
+/// Jordan–Wielandt matrix `[0 A; Aᵀ 0]` (eigenvalues ±σ_i) with `X = [Û Û; V̂ −V̂]/√2`, whence
+/// `‖R‖_F² = ‖AV̂ − ÛΣ̂‖_F² + ‖AᵀÛ − V̂Σ̂‖_F²` and `‖XᵀX − I‖_F ≤ ‖ÛᵀÛ − I‖_F + ‖V̂ᵀV̂ − I‖_F`.
+/// Residuals are formed in f64 with their rounding bounded entrywise by
+/// `γ_{n+1}(|A||V̂| + |Û||Σ̂|)` (Higham, *Accuracy and Stability*, §3.5). Returns the radius
+/// (+∞ if X is not provably of full rank). Cost O(n³); the vectors come with the dense routine.
+///
+/// `v`, `sv`: right vectors and values; `u`, `su`: left ones (the same for a symmetric A);
+/// `svd`: also bound `AᵀÛ − V̂Σ̂`.
+pub fn residual_radius(
+    a: MatRef<'_, f64>,
+    v: MatRef<'_, f64>,
+    sv: &[f64],
+    u: MatRef<'_, f64>,
+    su: &[f64],
+    svd: bool,
+) -> f64 {
+    let n = a.nrows();
+    let g = certify::gamma(n + 2);
+    // ‖M X − Y diag(s)‖_F² with its rounding, M = A or Aᵀ.
+    let residual = |transpose: bool, x: MatRef<'_, f64>, y: MatRef<'_, f64>, s: &[f64]| {
+        let mut sum = 0.0f64;
+        for j in 0..n {
+            for i in 0..n {
+                let (mut r, mut abs) = (0.0f64, 0.0f64);
+                for k in 0..n {
+                    let m = if transpose { a[(k, i)] } else { a[(i, k)] };
+                    r += m * x[(k, j)];
+                    abs += (m * x[(k, j)]).abs();
+                }
+                let ys = y[(i, j)] * s[j];
+                let bound = (r - ys).abs() + g * (abs + ys.abs());
+                sum += bound * bound;
+            }
+        }
+        sum * (1.0 + certify::gamma(n * n + 2))
+    };
+    // ‖XᵀX − I‖_F with its rounding.
+    let defect = |x: MatRef<'_, f64>| {
+        let mut sum = 0.0f64;
+        for j in 0..n {
+            for i in 0..n {
+                let (mut d, mut abs) = (0.0f64, 0.0f64);
+                for k in 0..n {
+                    d += x[(k, i)] * x[(k, j)];
+                    abs += (x[(k, i)] * x[(k, j)]).abs();
+                }
+                let e = (d - if i == j { 1.0 } else { 0.0 }).abs() + g * (abs + 1.0);
+                sum += e * e;
+            }
+        }
+        (sum * (1.0 + certify::gamma(n * n + 2))).sqrt()
+    };
+    let (r2, eta) = if svd {
+        (
+            residual(false, v, u, su) + residual(true, u, v, sv),
+            defect(u) + defect(v),
+        )
+    } else {
+        (residual(false, v, u, su), defect(v))
+    };
+    let eta = eta * (1.0 + 8.0 * f64::EPSILON);
+    if !(eta < 1.0 && r2.is_finite()) {
+        return f64::INFINITY;
+    }
+    (r2.sqrt() / (1.0 - eta).sqrt()) * (1.0 + 8.0 * f64::EPSILON)
 }
 
 /// Exact cond₂ of a [`Stiffness`] by the cheapest exact route for its *structure*, whatever
@@ -192,10 +377,10 @@ pub fn cond2_warm(
                 )));
             }
             let mut r = cond2_dense(a.to_dense().as_ref(), symmetric)?;
-            r.route = if symmetric {
-                CondRoute::DensifiedSymmetricEigen
-            } else {
-                CondRoute::DensifiedSvd
+            r.route = match r.route {
+                CondRoute::SymmetricEigen => CondRoute::DensifiedSymmetricEigen,
+                CondRoute::Svd => CondRoute::DensifiedSvd,
+                other => other,
             };
             Ok((r, None))
         }
@@ -214,14 +399,14 @@ fn cond2_sparse_spd_warm(
     reuse: Reuse<'_>,
 ) -> Result<(CondReport, Option<sparse::RitzStarts>)> {
     let s = sparse::extreme_eigenvalues(a, sparse::MAX_LANCZOS_STEPS, reuse)?;
-    let report = CondReport {
-        cond2: s.lambda_max / s.lambda_min,
-        sigma_max: s.lambda_max,
-        sigma_min: s.lambda_min,
-        route: CondRoute::SparseInertia,
-        certificate: Some(s.certificate),
-        log10_det: Some(s.log10_det),
-    };
+    let report = CondReport::with_certificate(
+        s.lambda_max,
+        s.lambda_min,
+        CondRoute::SparseInertia,
+        s.certificate,
+        true,
+        Some(s.log10_det),
+    );
     Ok((report, s.ritz))
 }
 

@@ -46,8 +46,8 @@
 //! Use it for the `lagrange` system of a sparse K (the metrics pick it automatically).
 
 use super::sparse::{
-    bracket, bracket_tol, bracket_top, lanczos, rayleigh_interval, wanted_stagnation, Certificate,
-    MAX_LANCZOS_STEPS, RITZ_VECTOR_MAX_N,
+    bracket, bracket_tol, bracket_top, lanczos, rayleigh_interval, Certificate, MAX_LANCZOS_STEPS,
+    RITZ_VECTOR_MAX_N, STAGNATION,
 };
 use super::{CondReport, CondRoute};
 use crate::error::{Error, Result};
@@ -142,13 +142,12 @@ pub fn cond2_saddle_with(
     // `bracket_tol(cond₂)` (as in the SPD route), with cond₂ bounded below by what is known
     // when the run starts: cond₂ ≥ λ_max / λ⁺_min ≥ max_i K_ii · θ for the top Ritz value θ
     // of A⁻¹ (K_ii = e_iᵀ A e_i ≤ λ_max), then by the estimates found so far.
-    let max_diag = pattern.max_diagonal();
     let mut lanczos_steps = 0;
     // λ⁺_min first: its estimate sets the bracket width of both ends (sparse::bracket_tol).
     let run = lanczos(
         size,
         steps,
-        |t| wanted_stagnation(max_diag * t),
+        |_| STAGNATION,
         None,
         false,
         |x, y| inverse.apply(x, y, 1.0),
@@ -164,13 +163,14 @@ pub fn cond2_saddle_with(
     let run = lanczos(
         size,
         steps,
-        |t| wanted_stagnation(t * inv_pos),
+        |_| STAGNATION,
         None,
         keep,
         |x, y| apply_a(x, y, 1.0),
     )?;
     lanczos_steps += run.steps;
     let lmax_est = usable("λ_max", run.theta)?;
+    let mut smax_est = lmax_est;
 
     let tol = bracket_tol(lmax_est / pos_min_est);
     let top_rq = run
@@ -184,7 +184,7 @@ pub fn cond2_saddle_with(
         let run = lanczos(
             size,
             steps,
-            |t| wanted_stagnation(t * inv_pos),
+            |_| STAGNATION,
             None,
             false,
             |x, y| apply_a(x, y, -1.0),
@@ -192,6 +192,7 @@ pub fn cond2_saddle_with(
         lanczos_steps += run.steps;
         let est = usable("−λ_min", run.theta)?;
         let (lo, hi) = bracket(est, tol, |s| shifts.is_pd(1.0, s, -1.0 / s));
+        smax_est = smax_est.max(est);
         (max_lo.max(lo), max_hi.max(hi))
     };
 
@@ -203,12 +204,12 @@ pub fn cond2_saddle_with(
     let g_b = gershgorin_b(k, &in_b);
     let s0 = 2.0 / (g_b + (g_b * g_b + 4.0).sqrt()) * (1.0 - 1e-12);
     let (sigma_min, value) = if pmin_hi < s0 {
-        ((pmin_lo, pmin_hi), (pmin_lo * pmin_hi).sqrt())
+        ((pmin_lo, pmin_hi), pos_min_est)
     } else {
         let run = lanczos(
             size,
             steps,
-            |t| wanted_stagnation(sigma_max.0 * t),
+            |_| STAGNATION,
             None,
             false,
             |x, y| inverse.apply(x, y, -1.0),
@@ -230,12 +231,11 @@ pub fn cond2_saddle_with(
                 })
             };
             let b = (pmin_lo.min(lo), pmin_hi.min(hi));
-            (b, (b.0 * b.1).sqrt())
+            (b, pos_min_est.min(near_est))
         } else {
             // Only certified ends: [min(λ⁺_lo, s₀), λ⁺_hi]; the estimate inside as the value.
             let b = (pmin_lo.min(s0), pmin_hi);
-            let v = (pmin_lo * pmin_hi).sqrt().min(near_est).clamp(b.0, b.1);
-            (b, v)
+            (b, pos_min_est.min(near_est))
         }
     };
 
@@ -253,16 +253,17 @@ pub fn cond2_saddle_with(
             sigma_max.0, sigma_max.1, sigma_min.0, sigma_min.1
         )));
     }
-    let smax = (sigma_max.0 * sigma_max.1).sqrt();
-    let smin = value;
-    Ok(CondReport {
-        cond2: smax / smin,
-        sigma_max: smax,
-        sigma_min: smin,
-        route: CondRoute::SparseSaddleInertia,
-        certificate: Some(certificate),
-        log10_det: Some(log10_det),
-    })
+    // The converged estimates, clamped into the brackets.
+    let smax = smax_est.clamp(sigma_max.0, sigma_max.1);
+    let smin = value.clamp(sigma_min.0, sigma_min.1);
+    Ok(CondReport::with_certificate(
+        smax,
+        smin,
+        CondRoute::SparseSaddleInertia,
+        certificate,
+        false,
+        Some(log10_det),
+    ))
 }
 
 /// `[K D; Dᵀ 0]` in CSC with both triangles (K's columns from `pattern`, then the unit

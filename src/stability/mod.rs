@@ -39,7 +39,7 @@
 
 //!
 //! # Layout
-//! [`dd`]: double-double arithmetic and LU; [`system`]: the exactly formed penalized system and
+//! [`dd`]: the double-double LU (arithmetic in [`crate::dd`]); [`system`]: the exactly formed penalized system and
 //! its reference; [`refine`]: f64 solves with refinement and equilibration; [`study`]: the
 //! studies; [`report`]: CSV, summary and record of a run; [`figures`](mod@figures): its figures.
 
@@ -51,7 +51,7 @@ pub mod report;
 pub mod study;
 pub mod system;
 
-pub use dd::{two_prod, two_sum, Dd};
+pub use crate::dd::{two_prod, two_sum, Dd};
 pub use figures::*;
 pub use refine::*;
 pub use study::*;

@@ -1,6 +1,5 @@
 //! One scene, one strategy, every metric: the `solve` binary's study and its table.
 
-use crate::conditioning;
 use crate::error::{Error, Result};
 use crate::metrics::{self, MetricSet};
 use crate::scene;
@@ -103,8 +102,11 @@ pub fn solve_scene(
         "cond2_system": finite_or_null(m.cond2_system.map(|c| c.cond2)),
         "cond_route_K": m.cond2_k.map(|c| c.route.name()),
         "cond_route_system": m.cond2_system.map(|c| c.route.name()),
-        "cond2_K_bounds": bounds(m.cond2_k),
-        "cond2_system_bounds": bounds(m.cond2_system),
+        "cond2_K_lo": finite_or_null(m.cond2_k.map(|c| c.cond2_lo)),
+        "cond2_K_hi": finite_or_null(m.cond2_k.map(|c| c.cond2_hi)),
+        "cond2_system_lo": finite_or_null(m.cond2_system.map(|c| c.cond2_lo)),
+        "cond2_system_hi": finite_or_null(m.cond2_system.map(|c| c.cond2_hi)),
+        "cond2_bounds_proven": m.cond2_system.map(|c| c.bounds_proven && m.cond2_k.is_none_or(|k| k.bounds_proven)),
         "log10_det_K": finite_or_null(m.log10_det_k),
         "log10_det_system": finite_or_null(m.log10_det_system),
         "log10_det_ratio": finite_or_null(m.log10_det_ratio),
@@ -123,18 +125,6 @@ pub fn solve_scene(
         "seconds": seconds,
         "warnings": warnings,
     }))
-}
-
-/// The certified bracket `[lo, hi]` of a sparse-route cond₂ (null where not certified or
-/// unbounded).
-fn bounds(c: Option<conditioning::CondReport>) -> Value {
-    match c.and_then(|c| c.certificate) {
-        Some(cert) => {
-            let (lo, hi) = cert.cond2_bounds();
-            json!([finite_or_null(Some(lo)), finite_or_null(Some(hi))])
-        }
-        None => Value::Null,
-    }
 }
 
 fn fmt_vec(v: &Value) -> String {
@@ -165,7 +155,8 @@ pub fn table(v: &Value) -> String {
         "cond2_K",
         "cond2_system",
         "cond_route_system",
-        "cond2_system_bounds",
+        "cond2_system_lo",
+        "cond2_system_hi",
         "log10_det_K",
         "log10_det_system",
         "log10_det_ratio",

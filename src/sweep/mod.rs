@@ -454,6 +454,8 @@ pub struct SceneWork {
     pub prepared: Result<Prepared>,
     /// cond₂(K), when requested and available.
     pub cond2_k: Option<f64>,
+    /// Its bounds `[cond2_lo, cond2_hi]`.
+    pub cond2_k_bounds: Option<(f64, f64)>,
     /// log10|det K|, when requested and available.
     pub log10_det_k: Option<f64>,
     /// K's Ritz vectors of λ_max and λ_min (sparse route): every job's cond₂ starts its
@@ -525,6 +527,7 @@ pub fn prepare_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<SceneWork> {
         structure: p.k.structure(),
         prepared,
         cond2_k: cond.map(|c| c.cond2),
+        cond2_k_bounds: cond.map(|c| (c.cond2_lo, c.cond2_hi)),
         log10_det_k,
         ritz_k: ritz_k.flatten(),
         jobs,
@@ -553,6 +556,8 @@ fn base_row(work: &SceneWork, job: Job) -> Row {
         method: job.method.name().to_string(),
         delta_rel: job.delta_rel,
         cond2_k: work.cond2_k,
+        cond2_k_lo: work.cond2_k_bounds.map(|b| b.0),
+        cond2_k_hi: work.cond2_k_bounds.map(|b| b.1),
         ..Default::default()
     };
     match job.method {
@@ -624,6 +629,8 @@ pub fn run_job(
             }
             row.active = sol.stats.active_set_sizes.last().copied();
             row.cond2_system = m.cond2_system.map(|c| c.cond2);
+            row.cond2_system_lo = m.cond2_system.map(|c| c.cond2_lo);
+            row.cond2_system_hi = m.cond2_system.map(|c| c.cond2_hi);
             row.cond_route = m.cond2_system.map(|c| c.route.name().to_string());
             row.log10_det_ratio = m.log10_det_ratio;
             row.max_penetration = Some(sol.max_penetration);

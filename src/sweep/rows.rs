@@ -48,6 +48,14 @@ pub struct Row {
     pub cond2_system: Option<f64>,
     /// cond₂ of K.
     pub cond2_k: Option<f64>,
+    /// Lower bound of cond₂ of the system matrix ([`crate::conditioning::CondReport`]).
+    pub cond2_system_lo: Option<f64>,
+    /// Upper bound of cond₂ of the system matrix.
+    pub cond2_system_hi: Option<f64>,
+    /// Lower bound of cond₂(K).
+    pub cond2_k_lo: Option<f64>,
+    /// Upper bound of cond₂(K).
+    pub cond2_k_hi: Option<f64>,
     /// Route of the system cond.
     pub cond_route: Option<String>,
     /// log10|det system| − log10|det K|.
@@ -79,7 +87,7 @@ pub struct Row {
 }
 
 /// Column names, in file order.
-pub const COLUMNS: [&str; 30] = [
+pub const COLUMNS: [&str; 34] = [
     "scene",
     "family",
     "n",
@@ -97,6 +105,10 @@ pub const COLUMNS: [&str; 30] = [
     "active",
     "cond2_system",
     "cond2_K",
+    "cond2_system_lo",
+    "cond2_system_hi",
+    "cond2_K_lo",
+    "cond2_K_hi",
     "cond_route",
     "log10_det_ratio",
     "max_penetration",
@@ -178,6 +190,10 @@ impl Row {
         c.whole(self.active)?;
         c.float(self.cond2_system)?;
         c.float(self.cond2_k)?;
+        c.float(self.cond2_system_lo)?;
+        c.float(self.cond2_system_hi)?;
+        c.float(self.cond2_k_lo)?;
+        c.float(self.cond2_k_hi)?;
         c.text(self.cond_route.as_deref().unwrap_or(""))?;
         c.float(self.log10_det_ratio)?;
         c.float(self.max_penetration)?;
@@ -326,6 +342,10 @@ fn parse_record(rec: &csv::StringRecord) -> std::result::Result<Row, String> {
         active: parse_opt(next())?,
         cond2_system: fl(next())?,
         cond2_k: fl(next())?,
+        cond2_system_lo: fl(next())?,
+        cond2_system_hi: fl(next())?,
+        cond2_k_lo: fl(next())?,
+        cond2_k_hi: fl(next())?,
         cond_route: Some(next().to_string()).filter(|s| !s.is_empty()),
         log10_det_ratio: fl(next())?,
         max_penetration: fl(next())?,
@@ -381,6 +401,10 @@ mod tests {
                 wh(r.active),
                 fl(r.cond2_system),
                 fl(r.cond2_k),
+                fl(r.cond2_system_lo),
+                fl(r.cond2_system_hi),
+                fl(r.cond2_k_lo),
+                fl(r.cond2_k_hi),
                 r.cond_route.clone().unwrap_or_default(),
                 fl(r.log10_det_ratio),
                 fl(r.max_penetration),
@@ -457,6 +481,10 @@ mod tests {
                     active: w(0),
                     cond2_system: x(6),
                     cond2_k: x(7),
+                    cond2_system_lo: x(15),
+                    cond2_system_hi: x(16),
+                    cond2_k_lo: x(17),
+                    cond2_k_hi: x(18),
                     cond_route: (i % 3 != 0).then(|| texts[(i + 3) % texts.len()].into()),
                     log10_det_ratio: x(8),
                     max_penetration: x(9),

@@ -1,0 +1,324 @@
+//! What the cond₂ certificates prove, and the rigorous pieces they are built from.
+//!
+//! Every bound below holds for the *stored* matrix A (its floating-point entries, exact as
+//! given) under the standard model of IEEE double arithmetic with round to nearest,
+//! `fl(a ∘ b) = (a ∘ b)(1 + δ)`, `|δ| ≤ u = ε_mach/2`, without underflow (fused multiply–adds
+//! only remove roundings). Nothing rests on a converged estimate: estimates choose *where* to
+//! test, the theorems below decide *what* the test proves. u, `γ_k = ku/(1 − ku)`.
+//!
+//! **Lemma 1 (a Cholesky test that succeeds).** Let B̃ be symmetric with floating-point
+//! entries and let floating-point Cholesky of B̃ run to completion, L̂ with positive pivots.
+//! Then `L̂L̂ᵀ = B̃ + ΔB` with `|ΔB| ≤ γ_{r+1}|L̂||L̂ᵀ|` (Demmel 1989; Higham, *Accuracy and
+//! Stability of Numerical Algorithms*, 2nd ed., Thm 10.3, with the inner-product length n
+//! replaced by r, the largest row count of L̂: structurally zero terms add exact zeros, and
+//! the bound holds for any order of summation, blocked or not). With `c` the largest column
+//! count of L̂, Cauchy–Schwarz over each column gives
+//! `|x|ᵀ|L̂||L̂ᵀ||x| = Σ_k (Σ_i |l̂_ik||x_i|)² ≤ c Σ_i ‖l̂_i‖² x_i²`, and
+//! `‖l̂_i‖² = (B̃ + ΔB)_ii ≤ b̃_ii / (1 − γ_{r+1})`, so for every x
+//!
+//! `xᵀB̃x ≥ −m₀ Σ_i b̃_ii x_i²`,  `m₀ = c·γ_{r+1}/(1 − γ_{r+1})`.
+//!
+//! A shifted test matrix is formed in floating point, `b̃_ii = fl(±a_ii + σ)`: one rounding
+//! on the diagonal, so the exact `B = ±A + σI` satisfies `xᵀBx ≥ −m Σ_i b̃_ii x_i²` with
+//! `m = m₀ + 2u` ([`Margin`]). r and c come from the symbolic factorization
+//! ([`Margin::of`]); they are the true counts of the sparse factor (explicit zeros of relaxed
+//! supernodes only enlarge them).
+//!
+//! **Corollary 2 (λ_max from above).** If Cholesky of `fl(σI − A)` succeeds,
+//! `λ_max(A) ≤ σ + m·max_i b̃_ii` ([`Margin::upper_from_test`]).
+//!
+//! **Corollary 3 (λ_min from below, normwise).** If Cholesky of `fl(A − σI)` succeeds,
+//! `λ_min(A) ≥ σ − m·max_i b̃_ii`.
+//!
+//! **Theorem 4 (λ_min from below, graded).** With `ŝ_i = fl(√a_ii)` and `Ĥ = Ŝ⁻¹AŜ⁻¹` (exactly
+//! congruent to A), let `h ≤ λ_min(Ĥ)`. If Cholesky of `fl(A − σI)` succeeds, σ > 0, then
+//! `λ_min(A) ≥ σ / (1 + (1 + 5u)·m / h)`. Proof: `b̃_ii ≤ (1 + u)a_ii ≤ (1 + 4u)ŝ_i²`, so for a
+//! unit x, `xᵀAx − σ ≥ −m(1 + 5u)‖Ŝx‖²` and `xᵀAx = (Ŝx)ᵀĤ(Ŝx) ≥ h‖Ŝx‖²`. This is the
+//! Demmel–Veselić observation ("Jacobi's method is more accurate than QR", SIAM J. Matrix
+//! Anal. Appl. 13, 1992) made rigorous: the loss relative to λ_min is `≈ m·cond₂(Ĥ)`, not
+//! `m·cond₂(A)` — orders of magnitude apart for `K + D E Dᵀ` with a large ε.
+//!
+//! **Lemma 5 (h).** `h̃_ij = fl(fl(a_ij/ŝ_i)/ŝ_j) = ĥ_ij(1 + θ)`, `|θ| ≤ γ₂`. If Cholesky of
+//! `fl(H̃ − τI)` succeeds, Corollary 3 and `‖Ĥ − H̃‖₂ ≤ γ₂/(1 − γ₂)·max_i Σ_j |h̃_ij|` give
+//! `λ_min(Ĥ) ≥ τ − m·max_i c̃_ii − γ₂/(1 − γ₂)·max_i Σ_j |h̃_ij|` ([`Margin::graded_floor`]).
+//!
+//! **Lemma 6 (upper bounds from vectors).** For any y ≠ 0, `λ_min ≤ ρ(y) ≤ λ_max` with
+//! `ρ(y) = yᵀAy / yᵀy` (Courant–Fischer), and for any x̂,
+//! `yᵀA⁻¹y ≥ 2x̂ᵀy − x̂ᵀAx̂` (expand `(x̂ − A⁻¹y)ᵀA(x̂ − A⁻¹y) ≥ 0`), so
+//! `λ_min ≤ yᵀy / (2x̂ᵀy − x̂ᵀAx̂)` where the denominator is positive. With x̂ a computed
+//! `A⁻¹y` the gap of this bound is `(x̂ − A⁻¹y)ᵀA(x̂ − A⁻¹y)`, quadratic in the solve error
+//! — sharp even where ρ(y) is not (a graded A inflates ρ(y) by the stiff components of the
+//! error of y). The quadratic forms are evaluated in double-double ([`crate::dd`]): every
+//! product exact (two_prod), every sum with relative error ≤ 3u²/(1 − 4u) (Joldes, Muller &
+//! Popescu 2017), so `|fl_dd(xᵀAx) − xᵀAx| ≤ 16(k + n)u²·|x|ᵀ|A||x|` (k: most entries of a
+//! column) — the rounding of the evaluation is far below the ε_mach level of the bounds.
+//!
+//! What is *not* proven: that the reported point value (the ratio of the converged Lanczos
+//! estimates, or the dense routine's) equals the exact value; it is tested against
+//! outside references, and it is clamped into the proven bracket.
+
+use crate::dd::Dd;
+use faer::sparse::linalg::cholesky::{SymbolicCholesky, SymbolicCholeskyRaw};
+use faer::sparse::SymbolicSparseColMatRef;
+
+/// Unit roundoff u = ε_mach / 2.
+pub(crate) const U: f64 = f64::EPSILON / 2.0;
+
+/// `γ_k = ku / (1 − ku)`.
+pub(crate) fn gamma(k: usize) -> f64 {
+    let t = k as f64 * U;
+    t / (1.0 - t)
+}
+
+/// `x` rounded away from zero by a few units (for bounds computed in plain f64 from
+/// non-negative terms: each of the few operations that formed `x` is covered).
+fn up(x: f64) -> f64 {
+    x * (1.0 + 8.0 * U)
+}
+
+fn down(x: f64) -> f64 {
+    x * (1.0 - 8.0 * U)
+}
+
+/// The backward-error margin `m` of a successful Cholesky test (Lemma 1 in the module doc).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Margin {
+    /// `m = c·γ_{r+1}/(1 − γ_{r+1}) + 2u`, rounded up.
+    pub m: f64,
+}
+
+impl Margin {
+    /// The margin for factors with largest row count `r` and column count `c` (diagonal
+    /// included).
+    pub fn from_counts(r: usize, c: usize) -> Self {
+        let g = gamma(r + 1);
+        Margin {
+            m: up(c as f64 * g / (1.0 - g) + 2.0 * U),
+        }
+    }
+
+    /// The margin for every factor of one symbolic analysis.
+    pub fn of(symbolic: &SymbolicCholesky<usize>) -> Self {
+        let (r, c) = factor_counts(symbolic);
+        Self::from_counts(r, c)
+    }
+
+    /// Corollary 2: `λ_max ≤ σ + m·max_i b̃_ii` after Cholesky of `fl(σI − A)` succeeded
+    /// (`max_b`: the largest diagonal entry of the test matrix as stored).
+    pub fn upper_from_test(&self, sigma: f64, max_b: f64) -> f64 {
+        up(sigma + up(self.m * max_b))
+    }
+
+    /// Corollary 3 and Theorem 4: the better lower bound of λ_min after Cholesky of
+    /// `fl(A − σI)` succeeded; `h` a proven lower bound of λ_min(Ŝ⁻¹AŜ⁻¹) where there is one.
+    pub fn lower_from_test(&self, sigma: f64, max_b: f64, h: Option<f64>) -> f64 {
+        let normwise = down(sigma - up(self.m * max_b));
+        let graded = h.filter(|&h| h > 0.0).map_or(0.0, |h| {
+            down(sigma / up(1.0 + up(self.m * (1.0 + 5.0 * U)) / h))
+        });
+        normwise.max(graded).max(0.0)
+    }
+
+    /// Lemma 5: `λ_min(Ĥ) ≥ τ − m·max_i c̃_ii − γ₂/(1 − γ₂)·rowsum` after Cholesky of
+    /// `fl(H̃ − τI)` succeeded (`max_c`: its largest stored diagonal entry; `rowsum`:
+    /// `max_i Σ_j |h̃_ij|`).
+    pub fn graded_floor(&self, tau: f64, max_c: f64, rowsum: f64) -> f64 {
+        let g2 = gamma(2);
+        down(tau - up(self.m * max_c) - up(g2 / (1.0 - g2) * rowsum))
+    }
+}
+
+/// The largest row count r and column count c of the Cholesky factor of a symbolic analysis
+/// (diagonal included; permutation-invariant).
+pub(crate) fn factor_counts(symbolic: &SymbolicCholesky<usize>) -> (usize, usize) {
+    match symbolic.raw() {
+        SymbolicCholeskyRaw::Simplicial(s) => {
+            let (cp, ri) = (s.col_ptr(), s.row_idx());
+            let n = s.nrows();
+            let mut rows = vec![0usize; n];
+            let mut c = 0;
+            for j in 0..n {
+                c = c.max(cp[j + 1] - cp[j]);
+                for &i in &ri[cp[j]..cp[j + 1]] {
+                    rows[i] += 1;
+                }
+            }
+            // A simplicial factor may leave the diagonal implicit: count it once more.
+            (rows.into_iter().max().unwrap_or(0) + 1, c + 1)
+        }
+        SymbolicCholeskyRaw::Supernodal(s) => {
+            let n = s.nrows();
+            let (begin, end) = (s.supernode_begin(), s.supernode_end());
+            let (rp, ri) = (s.col_ptr_for_row_idx(), s.row_idx());
+            let mut rows = vec![0usize; n];
+            let mut c = 0;
+            for k in 0..s.n_supernodes() {
+                let (b, e) = (begin[k], end[k]);
+                let w = e - b;
+                let below = &ri[rp[k]..rp[k + 1]];
+                c = c.max(w + below.len());
+                for (t, r) in rows[b..e].iter_mut().enumerate() {
+                    *r += t + 1;
+                }
+                for &i in below {
+                    rows[i] += w;
+                }
+            }
+            (rows.into_iter().max().unwrap_or(0), c)
+        }
+    }
+}
+
+/// A rigorous interval `[lo, hi]` of a real number computed in double-double with the error
+/// bound `err` (absolute).
+fn interval(v: Dd, err: f64) -> (f64, f64) {
+    let f = v.to_f64();
+    // The conversion to f64 is one more rounding (≤ u|f|); the subtraction/addition another.
+    let slack = up(err + 2.0 * U * f.abs());
+    (
+        f - slack - 2.0 * U * (f.abs() + slack),
+        f + slack + 2.0 * U * (f.abs() + slack),
+    )
+}
+
+/// `xᵀy` in double-double, as a rigorous interval.
+pub(crate) fn dot_interval(x: &[f64], y: &[f64]) -> (f64, f64) {
+    let mut s = Dd::ZERO;
+    let mut abs = 0.0f64;
+    for (a, b) in x.iter().zip(y) {
+        s = s + Dd::prod(*a, *b);
+        abs += (a * b).abs();
+    }
+    let n = x.len().min(y.len());
+    interval(s, up(16.0 * (n as f64 + 2.0) * U * U * up(abs)))
+}
+
+/// `xᵀAx` for the symmetric A (`values` on `pattern`, both triangles stored), in
+/// double-double, as a rigorous interval (Lemma 6 in the module doc).
+pub(crate) fn quadratic_form_interval(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+    values: &[f64],
+    x: &[f64],
+) -> (f64, f64) {
+    let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+    let n = x.len();
+    let mut s = Dd::ZERO;
+    let mut abs = 0.0f64;
+    let mut k = 0usize;
+    for (j, &xj) in x.iter().enumerate() {
+        let (a, b) = (cp[j], cp[j + 1]);
+        k = k.max(b - a);
+        let mut z = Dd::ZERO;
+        for (&i, &v) in ri[a..b].iter().zip(&values[a..b]) {
+            z = z + Dd::prod(v, x[i]);
+            abs += (v * x[i]).abs() * xj.abs();
+        }
+        s = s + z * Dd::from_f64(xj);
+    }
+    interval(s, up(16.0 * ((k + n) as f64 + 2.0) * U * U * up(abs)))
+}
+
+/// Rigorous `[lo, hi] ∋ ρ(y) = yᵀAy / yᵀy` (None for y = 0 or a non-finite value).
+pub(crate) fn rayleigh(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+    values: &[f64],
+    y: &[f64],
+) -> Option<(f64, f64)> {
+    let (nl, nh) = quadratic_form_interval(pattern, values, y);
+    let (dl, dh) = dot_interval(y, y);
+    if !(dl > 0.0 && nl.is_finite() && nh.is_finite()) {
+        return None;
+    }
+    let lo = if nl >= 0.0 {
+        down(nl / dh)
+    } else {
+        up(nl / dl)
+    };
+    let hi = if nh >= 0.0 {
+        up(nh / dl)
+    } else {
+        down(nh / dh)
+    };
+    Some((lo, hi))
+}
+
+/// Lemma 6: a rigorous upper bound of λ_min(A) from y and an approximate `x̂ ≈ A⁻¹y`:
+/// `yᵀy / (2x̂ᵀy − x̂ᵀAx̂)` (None where the denominator is not certainly positive).
+pub(crate) fn inverse_rayleigh_upper(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+    values: &[f64],
+    y: &[f64],
+    x_hat: &[f64],
+) -> Option<f64> {
+    let (xy_lo, _) = dot_interval(x_hat, y);
+    let (_, xax_hi) = quadratic_form_interval(pattern, values, x_hat);
+    let (_, yy_hi) = dot_interval(y, y);
+    let g = down(2.0 * xy_lo - xax_hi);
+    let g = g - 4.0 * U * (2.0 * xy_lo.abs() + xax_hi.abs());
+    (g > 0.0 && yy_hi.is_finite()).then(|| up(yy_hi / g))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use faer::sparse::{SparseColMat, Triplet};
+
+    fn second_difference(n: usize) -> SparseColMat<usize, f64> {
+        let mut t = Vec::new();
+        for i in 0..n {
+            t.push(Triplet::new(i, i, 2.0));
+            if i + 1 < n {
+                t.push(Triplet::new(i, i + 1, -1.0));
+                t.push(Triplet::new(i + 1, i, -1.0));
+            }
+        }
+        SparseColMat::try_new_from_triplets(n, n, &t).unwrap()
+    }
+
+    /// The rigorous quadratic form contains the exact rational value (computed in i128 on
+    /// integer data scaled by a power of two) and is a few ulps wide.
+    #[test]
+    fn quadratic_form_interval_contains_the_exact_value() {
+        let n = 50;
+        let a = second_difference(n);
+        // x_i = (i² mod 97 − 48) / 64: exact in f64, and xᵀAx exact in i128 (× 64²).
+        let xi: Vec<i128> = (0..n as i128).map(|i| (i * i) % 97 - 48).collect();
+        let x: Vec<f64> = xi.iter().map(|&v| v as f64 / 64.0).collect();
+        let mut exact = 0i128;
+        for i in 0..n {
+            exact += 2 * xi[i] * xi[i];
+            if i + 1 < n {
+                exact -= 2 * xi[i] * xi[i + 1];
+            }
+        }
+        let exact = exact as f64 / 4096.0;
+        let (lo, hi) = quadratic_form_interval(a.symbolic(), a.val(), &x);
+        assert!(lo <= exact && exact <= hi, "{exact} ∉ [{lo}, {hi}]");
+        assert!(hi - lo <= 64.0 * f64::EPSILON * exact.abs(), "[{lo}, {hi}]");
+    }
+
+    /// Lemma 6 on the second difference: the inverse Rayleigh bound with an exact eigenvector
+    /// and a solve contains λ_1 = 2 − 2cos(π/(n+1)) from above, to a few ulps.
+    #[test]
+    fn inverse_rayleigh_bounds_lambda_min_from_above() {
+        let n = 200;
+        let a = second_difference(n);
+        let th = std::f64::consts::PI / (n as f64 + 1.0);
+        let l1 = 2.0 - 2.0 * th.cos();
+        let y: Vec<f64> = (1..=n).map(|i| (i as f64 * th).sin()).collect();
+        let x: Vec<f64> = y.iter().map(|v| v / l1).collect();
+        let hi = inverse_rayleigh_upper(a.symbolic(), a.val(), &y, &x).unwrap();
+        assert!(hi >= l1 * (1.0 - 4.0 * f64::EPSILON), "{hi} < {l1}");
+        assert!(hi <= l1 * (1.0 + 1e-12), "{hi} vs {l1}");
+    }
+
+    /// The counts of a tridiagonal factor: two per row and column, each possibly counted once
+    /// more for an implicit diagonal, never fewer.
+    #[test]
+    fn counts_of_a_tridiagonal_factor() {
+        let a = second_difference(40);
+        let s = crate::linalg::SparseLlt::analyze(&a).unwrap();
+        let (r, c) = factor_counts(&s);
+        assert!((2..=4).contains(&r) && (2..=4).contains(&c), "r {r}, c {c}");
+    }
+}
