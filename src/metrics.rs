@@ -204,10 +204,40 @@ pub fn compute_with_k(
     Ok(out)
 }
 
+/// A solution's warnings followed by [`precision_warnings`], without saying twice that K is
+/// not positive definite (the strategy and cond₂(K) may both find it).
+pub fn warnings(sol: &Solution, m: &Metrics) -> Vec<String> {
+    let mut w = sol.warnings.clone();
+    let said = |w: &[String]| {
+        w.iter()
+            .any(|x| x.starts_with(crate::strategy::NOT_SPD_WARNING))
+    };
+    for x in precision_warnings(m) {
+        if !(x.starts_with(crate::strategy::NOT_SPD_WARNING) && said(&w)) {
+            w.push(x);
+        }
+    }
+    w
+}
+
 /// Warnings derived from metrics: digits lost when `cond₂(system) · ε_mach > 1e-6`, and the
 /// metrics that could not be computed.
 pub fn precision_warnings(m: &Metrics) -> Vec<String> {
     let mut w = m.unavailable.clone();
+    if let Some(k) = m.cond2_k {
+        // A symmetric K whose certified (Cholesky-based) route failed went to the eigenvalues.
+        if matches!(
+            k.route,
+            conditioning::CondRoute::SymmetricEigen
+                | conditioning::CondRoute::DensifiedSymmetricEigen
+        ) {
+            w.push(format!(
+                "{} (cond₂(K) found it indefinite: σ_min = {:e})",
+                crate::strategy::NOT_SPD_WARNING,
+                k.sigma_min
+            ));
+        }
+    }
     if let Some(c) = m.cond2_system {
         if c.cond2 * f64::EPSILON > DIGITS_LOST_THRESHOLD {
             w.push(format!(

@@ -207,3 +207,47 @@ fn method_names_are_the_strategy_names() {
         assert_eq!(m.to_possible_value().unwrap().get_name(), m.as_str());
     }
 }
+
+/// A symmetric K that is not positive definite is outside every strategy's energy model:
+/// `solve` says so once (strategy and cond₂(K) both notice), and a positive definite K gets no
+/// such warning. The JSON carries the cond₂ bounds around the value.
+#[test]
+fn indefinite_k_is_flagged_once() {
+    let dir = tmpdir("indefinite");
+    let path = dir.join("indefinite.scene.json");
+    std::fs::write(
+        &path,
+        r#"{"name": "indefinite", "stiffness": {"dense": [[1, 0], [0, -1]]}, "load": [1, 1],
+            "constraints": [{"dof": 0, "limit": 0.5, "kind": "upper"}]}"#,
+    )
+    .unwrap();
+    let p = path.to_str().unwrap();
+    for args in [
+        vec![p, "--method", "constant", "--eps", "10", "--json"],
+        vec![p, "--method", "lagrange", "--json"],
+    ] {
+        let (code, out, err) = solve(&args);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        let w: Vec<String> = serde_json::from_value(v["warnings"].clone()).unwrap();
+        let flagged = w
+            .iter()
+            .filter(|x| x.contains("not positive definite"))
+            .count();
+        assert_eq!(flagged, 1, "{w:?}");
+    }
+    let (code, out, _) = solve(&[SCENE, "--method", "paper", "--delta", "0.1", "--json"]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(!v["warnings"].to_string().contains("not positive definite"));
+    let (lo, c, hi) = (
+        v["cond2_system_lo"].as_f64().unwrap(),
+        v["cond2_system"].as_f64().unwrap(),
+        v["cond2_system_hi"].as_f64().unwrap(),
+    );
+    assert!(
+        lo <= c && c <= hi && hi / lo - 1.0 < 1e-9,
+        "[{lo}, {hi}] ∌ {c}"
+    );
+    std::fs::remove_dir_all(dir).ok();
+}

@@ -48,16 +48,18 @@
 //! `λ_min ≤ yᵀy / (2x̂ᵀy − x̂ᵀAx̂)` where the denominator is positive. With x̂ a computed
 //! `A⁻¹y` the gap of this bound is `(x̂ − A⁻¹y)ᵀA(x̂ − A⁻¹y)`, quadratic in the solve error
 //! — sharp even where ρ(y) is not (a graded A inflates ρ(y) by the stiff components of the
-//! error of y). The quadratic forms are evaluated in double-double ([`crate::dd`]): every
-//! product exact (two_prod), every sum with relative error ≤ 3u²/(1 − 4u) (Joldes, Muller &
-//! Popescu 2017), so `|fl_dd(xᵀAx) − xᵀAx| ≤ 16(k + n)u²·|x|ᵀ|A||x|` (k: most entries of a
-//! column) — the rounding of the evaluation is far below the ε_mach level of the bounds.
+//! error of y). It is evaluated as `x̂ᵀ(y + r)`, `r = y − Ax̂`, both by compensated dot
+//! products (Dot2 of Ogita, Rump & Oishi, SIAM J. Sci. Comput. 26, 2005: every product exact
+//! by two_prod, [`crate::dd`], error ≤ u|result| + γ_N²·Σ|terms|) — the rounding of the
+//! evaluation is far below the ε_mach level of the bounds. `λ_max ≥ ρ(y_top)` is evaluated in
+//! f64 with the standard bounds (Higham §3.1–3.5; at the top of the spectrum they cost only
+//! ≈ k·ε relative).
 //!
 //! What is *not* proven: that the reported point value (the ratio of the converged Lanczos
 //! estimates, or the dense routine's) equals the exact value; it is tested against
 //! outside references, and it is clamped into the proven bracket.
 
-use crate::dd::Dd;
+use crate::dd::{two_prod, two_sum, Dd};
 use faer::sparse::linalg::cholesky::{SymbolicCholesky, SymbolicCholeskyRaw};
 use faer::sparse::SymbolicSparseColMatRef;
 
@@ -193,69 +195,56 @@ pub(crate) fn dot_interval(x: &[f64], y: &[f64]) -> (f64, f64) {
     interval(s, up(16.0 * (n as f64 + 2.0) * U * U * up(abs)))
 }
 
-/// `xᵀAx` for the symmetric A (`values` on `pattern`, both triangles stored), in
-/// double-double, as a rigorous interval (Lemma 6 in the module doc).
-pub(crate) fn quadratic_form_interval(
-    pattern: SymbolicSparseColMatRef<'_, usize>,
-    values: &[f64],
-    x: &[f64],
-) -> (f64, f64) {
-    let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
-    let n = x.len();
-    let mut s = Dd::ZERO;
-    let mut abs = 0.0f64;
-    let mut k = 0usize;
-    for (j, &xj) in x.iter().enumerate() {
-        let (a, b) = (cp[j], cp[j + 1]);
-        k = k.max(b - a);
-        let mut z = Dd::ZERO;
-        for (&i, &v) in ri[a..b].iter().zip(&values[a..b]) {
-            z = z + Dd::prod(v, x[i]);
-            abs += (v * x[i]).abs() * xj.abs();
-        }
-        s = s + z * Dd::from_f64(xj);
-    }
-    interval(s, up(16.0 * ((k + n) as f64 + 2.0) * U * U * up(abs)))
-}
-
-/// Rigorous `[lo, hi] ∋ ρ(y) = yᵀAy / yᵀy` (None for y = 0 or a non-finite value).
-pub(crate) fn rayleigh(
-    pattern: SymbolicSparseColMatRef<'_, usize>,
-    values: &[f64],
-    y: &[f64],
-) -> Option<(f64, f64)> {
-    let (nl, nh) = quadratic_form_interval(pattern, values, y);
-    let (dl, dh) = dot_interval(y, y);
-    if !(dl > 0.0 && nl.is_finite() && nh.is_finite()) {
-        return None;
-    }
-    let lo = if nl >= 0.0 {
-        down(nl / dh)
-    } else {
-        up(nl / dl)
-    };
-    let hi = if nh >= 0.0 {
-        up(nh / dl)
-    } else {
-        down(nh / dh)
-    };
-    Some((lo, hi))
-}
-
 /// Lemma 6: a rigorous upper bound of λ_min(A) from y and an approximate `x̂ ≈ A⁻¹y`:
-/// `yᵀy / (2x̂ᵀy − x̂ᵀAx̂)` (None where the denominator is not certainly positive).
+/// `yᵀy / g`, `g = 2x̂ᵀy − x̂ᵀAx̂ = x̂ᵀ(y + r)` with the residual `r = y − Ax̂` (None where g is
+/// not certainly positive).
+///
+/// Both sums are compensated dot products (Dot2 of Ogita, Rump & Oishi, "Accurate sum and dot
+/// product", SIAM J. Sci. Comput. 26, 2005: `|res − xᵀy| ≤ u|xᵀy| + γ_N²|x|ᵀ|y|` for N
+/// terms), so the cancellation in r (|r| ≪ |y| for a good solve; in f64 it would cost
+/// k·ε·cond₂ relative) leaves an error of order u² — the bound is as sharp as the solve.
 pub(crate) fn inverse_rayleigh_upper(
     pattern: SymbolicSparseColMatRef<'_, usize>,
     values: &[f64],
     y: &[f64],
     x_hat: &[f64],
 ) -> Option<f64> {
-    let (xy_lo, _) = dot_interval(x_hat, y);
-    let (_, xax_hi) = quadratic_form_interval(pattern, values, x_hat);
+    let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+    let n = y.len();
+    // r_j = y_j − Σ_i a_ij x̂_i by Dot2 over the column (A symmetric), with its error bound
+    // e_j = (u|r̂_j| + γ_{k+1}²(|y_j| + Σ_i |a_ij x̂_i|)) / (1 − u); then
+    // g = Σ_j (x̂_j y_j + x̂_j r̂_j) by Dot2, |ĝ − x̂ᵀ(y + r̂)| ≤ u|ĝ|/(1 − u) + γ_2n² Σ|terms|,
+    // and |x̂ᵀ(r̂ − r)| ≤ Σ_j |x̂_j| e_j.
+    let (mut gp, mut gs) = (0.0f64, 0.0f64);
+    let (mut gabs, mut rerr) = (0.0f64, 0.0f64);
+    let mut k = 0usize;
+    for (j, (&xj, &yj)) in x_hat.iter().zip(y).enumerate() {
+        let (a, b) = (cp[j], cp[j + 1]);
+        k = k.max(b - a);
+        let (mut p, mut s) = (yj, 0.0f64);
+        let mut abs = yj.abs();
+        for (&i, &v) in ri[a..b].iter().zip(&values[a..b]) {
+            let (h, e) = two_prod(-v, x_hat[i]);
+            let (t, q) = two_sum(p, h);
+            p = t;
+            s += q + e;
+            abs += (v * x_hat[i]).abs();
+        }
+        let r = p + s;
+        rerr += xj.abs() * up(U * r.abs() + gamma(k + 1).powi(2) * abs);
+        for (u, v) in [(xj, yj), (xj, r)] {
+            let (h, e) = two_prod(u, v);
+            let (t, q) = two_sum(gp, h);
+            gp = t;
+            gs += q + e;
+            gabs += (u * v).abs();
+        }
+    }
+    let g = gp + gs;
+    let err = up(up(U * g.abs()) + up(gamma(2 * n).powi(2) * gabs) + up(rerr));
     let (_, yy_hi) = dot_interval(y, y);
-    let g = down(2.0 * xy_lo - xax_hi);
-    let g = g - 4.0 * U * (2.0 * xy_lo.abs() + xax_hi.abs());
-    (g > 0.0 && yy_hi.is_finite()).then(|| up(yy_hi / g))
+    let lo = down(g - err);
+    (lo > 0.0 && yy_hi.is_finite()).then(|| up(yy_hi / lo))
 }
 
 #[cfg(test)]
@@ -275,26 +264,23 @@ mod tests {
         SparseColMat::try_new_from_triplets(n, n, &t).unwrap()
     }
 
-    /// The rigorous quadratic form contains the exact rational value (computed in i128 on
-    /// integer data scaled by a power of two) and is a few ulps wide.
+    /// The rigorous dot product contains the exact value (i128 on integer data scaled by a
+    /// power of two) and is a few ulps wide, also under heavy cancellation.
     #[test]
-    fn quadratic_form_interval_contains_the_exact_value() {
-        let n = 50;
-        let a = second_difference(n);
-        // x_i = (i² mod 97 − 48) / 64: exact in f64, and xᵀAx exact in i128 (× 64²).
-        let xi: Vec<i128> = (0..n as i128).map(|i| (i * i) % 97 - 48).collect();
-        let x: Vec<f64> = xi.iter().map(|&v| v as f64 / 64.0).collect();
-        let mut exact = 0i128;
-        for i in 0..n {
-            exact += 2 * xi[i] * xi[i];
-            if i + 1 < n {
-                exact -= 2 * xi[i] * xi[i + 1];
-            }
-        }
-        let exact = exact as f64 / 4096.0;
-        let (lo, hi) = quadratic_form_interval(a.symbolic(), a.val(), &x);
+    fn dot_interval_contains_the_exact_value() {
+        let n = 500i128;
+        let xi: Vec<i128> = (0..n).map(|i| (i * i) % 97 - 48).collect();
+        let yi: Vec<i128> = (0..n).map(|i| (i * 7) % 53 - 26).collect();
+        let x: Vec<f64> = xi.iter().map(|&v| v as f64 * 1e8).collect();
+        let y: Vec<f64> = yi.iter().map(|&v| v as f64 / 64.0).collect();
+        let exact: i128 = xi.iter().zip(&yi).map(|(a, b)| a * b).sum();
+        let exact = exact as f64 * 1e8 / 64.0;
+        let (lo, hi) = dot_interval(&x, &y);
         assert!(lo <= exact && exact <= hi, "{exact} ∉ [{lo}, {hi}]");
-        assert!(hi - lo <= 64.0 * f64::EPSILON * exact.abs(), "[{lo}, {hi}]");
+        assert!(
+            hi - lo <= 64.0 * f64::EPSILON * exact.abs().max(1e8),
+            "[{lo}, {hi}]"
+        );
     }
 
     /// Lemma 6 on the second difference: the inverse Rayleigh bound with an exact eigenvector

@@ -41,6 +41,12 @@
 //! rows and columns of B, factored once; `|det A| = det K_FF` comes with it): for
 //! `A [x; y] = [f; g]`, `x_B = g`, `K_FF x_F = f_F − K_FB g`, `y = f_B − (K x)_B`.
 //!
+//! **Value and bounds.** The reported σ_max and σ_min are the converged Lanczos estimates
+//! (stagnation 1e-14), clamped into the brackets. The brackets are *not* proven in the sense
+//! of [`super::certify`]: their ends come from Cholesky tests that succeed *and* tests that
+//! fail, and a failed floating-point Cholesky proves nothing; `CondReport::bounds_proven` is
+//! false for this route. Their target width is `max(1e-11, 64·ε_mach·cond₂)`.
+//!
 //! Cost: one Cholesky of K_FF, Lanczos products and solves (O(nnz) and O(nnz of the factor)
 //! each), 2–4 shifted Cholesky factorizations per certified end; memory O(nnz of the factor).
 //! Use it for the `lagrange` system of a sparse K (the metrics pick it automatically).

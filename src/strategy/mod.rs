@@ -322,7 +322,8 @@ pub fn solve_prepared(
         Some(p) => Context::from_prepared(problem, p),
         None => Context::new(problem),
     };
-    match method {
+    let not_spd = not_spd_warning(problem, prepared);
+    let mut sol = match method {
         Method::Constant { eps } => constant::solve(ctx, eps),
         Method::Scaled { factor } => scaled::solve(ctx, factor),
         Method::Spring { delta } => spring::solve(ctx, delta),
@@ -331,8 +332,41 @@ pub fn solve_prepared(
         Method::Optimal { delta } => optimal::solve(ctx, delta),
         Method::Lagrange => lagrange::solve(ctx),
         Method::Augmented { eps, tol, adaptive } => augmented::solve(ctx, eps, tol, adaptive),
+    }?;
+    sol.warnings.extend(not_spd);
+    Ok(sol)
+}
+
+/// The warning for a symmetric K that is not positive definite, where that shows without
+/// extra work: a diagonal entry ≤ 0, or a prepared factorization of K that is not Cholesky.
+/// Every strategy here assumes the energy ½uᵀKu − qᵀu (+ penalty terms) is convex; without
+/// it the "solution" is only a stationary point. `metrics` says the same when cond₂(K) finds
+/// K indefinite ([`NOT_SPD_WARNING`]).
+fn not_spd_warning(problem: &Problem, prepared: Option<&Prepared>) -> Option<String> {
+    let k = &problem.k;
+    if !k.is_symmetric() {
+        return None;
+    }
+    let bad_diagonal = (0..k.n()).find(|&i| k.diag(i) <= 0.0 || k.diag(i).is_nan());
+    let lu = prepared.is_some_and(|p| {
+        matches!(
+            p.k_factor().kind(),
+            crate::linalg::FactorKind::DenseLu | crate::linalg::FactorKind::SparseLu
+        )
+    });
+    match bad_diagonal {
+        Some(i) => Some(format!(
+            "{NOT_SPD_WARNING} (K[{i},{i}] = {:e} ≤ 0)",
+            k.diag(i)
+        )),
+        None => lu.then(|| format!("{NOT_SPD_WARNING} (its Cholesky factorization failed)")),
     }
 }
+
+/// The start of the warning for a symmetric K that is not positive definite.
+pub const NOT_SPD_WARNING: &str = "K is symmetric but not positive definite: the energy the \
+     strategies minimize is not convex, so u is a stationary point, not a minimizer, and \
+     penetrations and penalties have no energy meaning";
 
 /// K's factorization and the unconstrained solution u0 = K⁻¹q, computed once per problem and
 /// shared by every strategy run on it; W = K⁻¹D, computed by the first rule that needs it

@@ -75,8 +75,7 @@ pub fn solve_scene(
         MetricSet::ALL
     };
     let m = metrics::compute(p, &sol, set)?;
-    let mut warnings = sol.warnings.clone();
-    warnings.extend(metrics::precision_warnings(&m));
+    let mut warnings = metrics::warnings(&sol, &m);
     if let Some(c) = m.cond2_system {
         if !c.cond2.is_finite() {
             warnings.push("the system matrix is singular (cond2 = ∞)".into());

@@ -640,9 +640,7 @@ pub fn run_job(
             row.converged = Some(sol.stats.converged);
             row.seconds_cond = set.cond.then_some(m.seconds_cond);
             row.seconds_det = set.det.then_some(m.seconds_det);
-            let mut w = sol.warnings.clone();
-            w.extend(metrics::precision_warnings(&m));
-            row.warnings = w.join("; ");
+            row.warnings = metrics::warnings(&sol, &m).join("; ");
             if matches!(job.method, Method::Lagrange) {
                 row.error_vs_exact = Some(metrics::relative_error(&sol.u, &sol.u));
                 let prepared = work
