@@ -11,7 +11,7 @@
 //!
 //! ## Tour
 //! * [`system`] — K (dense or sparse), q, constraints (`bilateral`/`upper`/`lower`), gaps.
-//! * [`strategy`] — the seven strategies and [`strategy::solve`].
+//! * [`strategy`] — the eight strategies and [`strategy::solve`].
 //! * [`metrics`] / [`conditioning`] — exact cond₂ (route recorded), log10|det|, ratios.
 //! * [`linalg`] — factorize once, solve many; log-det from the factor.
 //! * [`model`] — the 1-DOF spring (Eq. 10–17), Euler–Bernoulli beams (Eq. 30–34), the 5-point

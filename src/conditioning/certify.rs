@@ -64,10 +64,10 @@ use faer::sparse::linalg::cholesky::{SymbolicCholesky, SymbolicCholeskyRaw};
 use faer::sparse::SymbolicSparseColMatRef;
 
 /// Unit roundoff u = ε_mach / 2.
-pub(crate) const U: f64 = f64::EPSILON / 2.0;
+pub const U: f64 = f64::EPSILON / 2.0;
 
 /// `γ_k = ku / (1 − ku)`.
-pub(crate) fn gamma(k: usize) -> f64 {
+pub fn gamma(k: usize) -> f64 {
     let t = k as f64 * U;
     t / (1.0 - t)
 }
@@ -84,7 +84,7 @@ fn down(x: f64) -> f64 {
 
 /// The backward-error margin `m` of a successful Cholesky test (Lemma 1 in the module doc).
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Margin {
+pub struct Margin {
     /// `m = c·γ_{r+1}/(1 − γ_{r+1}) + 2u`, rounded up.
     pub m: f64,
 }
@@ -132,7 +132,7 @@ impl Margin {
 
 /// The largest row count r and column count c of the Cholesky factor of a symbolic analysis
 /// (diagonal included; permutation-invariant).
-pub(crate) fn factor_counts(symbolic: &SymbolicCholesky<usize>) -> (usize, usize) {
+pub fn factor_counts(symbolic: &SymbolicCholesky<usize>) -> (usize, usize) {
     match symbolic.raw() {
         SymbolicCholeskyRaw::Simplicial(s) => {
             let (cp, ri) = (s.col_ptr(), s.row_idx());
@@ -184,7 +184,7 @@ fn interval(v: Dd, err: f64) -> (f64, f64) {
 }
 
 /// `xᵀy` in double-double, as a rigorous interval.
-pub(crate) fn dot_interval(x: &[f64], y: &[f64]) -> (f64, f64) {
+pub fn dot_interval(x: &[f64], y: &[f64]) -> (f64, f64) {
     let mut s = Dd::ZERO;
     let mut abs = 0.0f64;
     for (a, b) in x.iter().zip(y) {
@@ -203,7 +203,7 @@ pub(crate) fn dot_interval(x: &[f64], y: &[f64]) -> (f64, f64) {
 /// product", SIAM J. Sci. Comput. 26, 2005: `|res − xᵀy| ≤ u|xᵀy| + γ_N²|x|ᵀ|y|` for N
 /// terms), so the cancellation in r (|r| ≪ |y| for a good solve; in f64 it would cost
 /// k·ε·cond₂ relative) leaves an error of order u² — the bound is as sharp as the solve.
-pub(crate) fn inverse_rayleigh_upper(
+pub fn inverse_rayleigh_upper(
     pattern: SymbolicSparseColMatRef<'_, usize>,
     values: &[f64],
     y: &[f64],

@@ -604,14 +604,14 @@ fn second_pass(
     y
 }
 
-/// Smallest relative stagnation of the top Ritz value at which [`lanczos`] stops (the
+/// Smallest relative stagnation of the top Ritz value at which the Lanczos runs stop (the
 /// estimate wanted to rounding).
-pub(crate) const STAGNATION: f64 = 1e-14;
+pub const STAGNATION: f64 = 1e-14;
 
 /// The stagnation at which plain Lanczos on A stops for λ_max: the top of the spectrum
-/// converges fastest, and a change below 1e-13 over [`CHECK_EVERY`] steps leaves an error far
+/// converges fastest, and a change below 1e-13 over a few steps leaves an error far
 /// below the 1e-12 floor of the cond₂ contract (its share of that budget).
-pub(crate) const TOP_STAGNATION: f64 = 1e-13;
+pub const TOP_STAGNATION: f64 = 1e-13;
 
 /// Steps between two Ritz-value evaluations of [`lanczos`]; the stagnation test compares
 /// values this many steps apart.

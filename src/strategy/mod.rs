@@ -1,4 +1,4 @@
-//! Contact strategies: seven ways to enforce `Dᵀu ⋚ û` on `K u = q`.
+//! Contact strategies: eight ways to enforce `Dᵀu ⋚ û` on `K u = q`.
 //!
 //! | name | knob | penalty ε_c (or method) | paper |
 //! |---|---|---|---|
