@@ -3,7 +3,8 @@
 //!
 //! Reference: the extreme eigenvalues by bisection with inertia counts (Sylvester's law: the
 //! negative pivots of LDLᵀ of `A − σI`) in double-double arithmetic (≈ 32 digits), to 1e-25
-//! relative — independent of every route under test. (faer's dense eigenvalues were tried as
+//! relative (`conditioning::reference::extreme_eigenvalues_dd`) — independent of every route
+//! under test. (faer's dense eigenvalues were tried as
 //! the reference first: on a graded banded matrix of this family, cond₂ 1.5e10, their λ_min
 //! was 3.71 where the exact value is 1.355, an error of 1.2e-10·‖A‖.)
 //!
@@ -11,8 +12,7 @@
 //! `cond2_lo ≤ reference ≤ cond2_hi` (one unit of slack for the reference's own rounding to
 //! f64). No wider tolerance.
 
-use penalty_lab::conditioning;
-use penalty_lab::dd::Dd;
+use penalty_lab::conditioning::{self, reference};
 use penalty_lab::system::Stiffness;
 use proptest::prelude::*;
 use proptest::test_runner::FileFailurePersistence;
@@ -32,94 +32,9 @@ fn stiffness(n: usize, a: &[f64]) -> Stiffness {
         .in_preferred_storage()
 }
 
-/// Number of eigenvalues of the symmetric `a` below σ (Sylvester's law of inertia): the
-/// negative pivots of the LDLᵀ factorization of `A − σI` without pivoting, in double-double,
-/// within the band of `a` (fill stays inside it).
-fn count_below(n: usize, a: &[f64], bw: usize, sigma: Dd) -> usize {
-    // Band storage: row i holds columns i−bw..=i (lower triangle).
-    let w = bw + 1;
-    let mut l = vec![Dd::ZERO; n * w];
-    let mut d = vec![Dd::ZERO; n];
-    let mut negative = 0;
-    for i in 0..n {
-        let lo = i.saturating_sub(bw);
-        for j in lo..=i {
-            // l_ij d_j = a_ij − Σ_{k<j} l_ik d_k l_jk
-            let mut s = Dd::from_f64(a[i * n + j]);
-            if i == j {
-                s = s - sigma;
-            }
-            for k in lo.max(j.saturating_sub(bw))..j {
-                s = s - l[i * w + (k + bw - i)] * d[k] * l[j * w + (k + bw - j)];
-            }
-            if i == j {
-                if s.hi == 0.0 {
-                    s = Dd::from_f64(-f64::MIN_POSITIVE);
-                }
-                d[i] = s;
-                if s.hi < 0.0 {
-                    negative += 1;
-                }
-            } else {
-                l[i * w + (j + bw - i)] = s / d[j];
-            }
-        }
-    }
-    negative
-}
-
-/// The k-th smallest eigenvalue (k = 0: λ_min, k = n−1: λ_max) of the symmetric `a`, by
-/// bisection on [`count_below`] inside the Gershgorin interval, to ≈ 1e-25 relative.
-fn eigenvalue(n: usize, a: &[f64], k: usize) -> f64 {
-    let bw = (0..n)
-        .flat_map(|i| {
-            (0..i)
-                .filter(move |&j| a[i * n + j] != 0.0)
-                .map(move |j| i - j)
-        })
-        .max()
-        .unwrap_or(0);
-    let radius = |i: usize| {
-        (0..n)
-            .filter(|&j| j != i)
-            .map(|j| a[i * n + j].abs())
-            .sum::<f64>()
-    };
-    let mut lo = Dd::from_f64(
-        (0..n)
-            .map(|i| a[i * n + i] - radius(i))
-            .fold(f64::INFINITY, f64::min)
-            - 1.0,
-    );
-    let mut hi = Dd::from_f64((0..n).map(|i| a[i * n + i] + radius(i)).fold(0.0, f64::max) + 1.0);
-    // The smallest eigenvalue of an SPD matrix is positive: bisect geometrically from there.
-    if k == 0 && lo.hi <= 0.0 {
-        lo = Dd::from_f64(f64::MIN_POSITIVE.sqrt());
-        while count_below(n, a, bw, lo) > 0 {
-            lo = lo * Dd::from_f64(1e-8);
-        }
-    }
-    for _ in 0..400 {
-        let mid = if lo.hi > 0.0 && hi.hi / lo.hi > 4.0 {
-            Dd::from_f64((lo.hi * hi.hi).sqrt())
-        } else {
-            (lo + hi) * Dd::from_f64(0.5)
-        };
-        if count_below(n, a, bw, mid) > k {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-        if (hi - lo).hi <= 1e-25 * hi.hi.abs() {
-            break;
-        }
-    }
-    ((lo + hi) * Dd::from_f64(0.5)).to_f64()
-}
-
 /// (λ_max, λ_min) of the symmetric positive definite `a` in double-double.
 fn reference(n: usize, a: &[f64]) -> (f64, f64) {
-    (eigenvalue(n, a, n - 1), eigenvalue(n, a, 0))
+    reference::extreme_eigenvalues_dd(&stiffness(n, a))
 }
 
 /// The matrix families, row-major.

@@ -857,8 +857,61 @@ pub fn extreme_eigenvalues(
     };
     let log10_det = factor_of_a.log10_det();
     let margin = Margin::of(&fam.pattern.symbolic);
-    let max_diag = fam.pattern.max_diagonal();
+    let est = estimate(a, &mut fam, factor_of_a, margin, max_steps, starts)?;
+    let (max_lo, max_hi, min_lo, min_hi) = certify_ends(&mut fam, &est, margin);
+    let certificate = Certificate {
+        lambda_max_lo: max_lo,
+        lambda_max_hi: max_hi,
+        lambda_min_lo: min_lo,
+        lambda_min_hi: min_hi,
+        lanczos_steps: est.steps,
+        factorizations: fam.factorizations,
+    };
+    if !(max_lo > 0.0 && min_hi.is_finite() && min_hi > 0.0) {
+        return Err(Error::Numerical(format!(
+            "the eigenvalue brackets did not close: λ_max ∈ [{max_lo:e}, {max_hi:e}], \
+             λ_min ∈ [{min_lo:e}, {min_hi:e}]"
+        )));
+    }
+    Ok(SparseSpectrum {
+        lambda_max: est.lmax.clamp(max_lo, max_hi),
+        lambda_min: est.lmin.clamp(min_lo, min_hi),
+        certificate,
+        log10_det,
+        ritz: est
+            .top
+            .filter(|_| keep_ritz && n <= RITZ_VECTOR_MAX_N)
+            .map(|top| RitzStarts {
+                top,
+                bottom: est.bottom,
+            }),
+    })
+}
 
+/// Phase 1 of [`extreme_eigenvalues`]: the converged Lanczos estimates of both ends, their
+/// Ritz vectors, x̂ = A⁻¹y_bottom and, where the graded bound can gain, a rough λ_min of the
+/// equilibrated matrix. The factor of A is dropped at the end (one factor alive at a time).
+struct Estimates {
+    lmax: f64,
+    lmin: f64,
+    top: Option<Vec<f64>>,
+    bottom: Vec<f64>,
+    x_hat: Vec<f64>,
+    s_hat: Vec<f64>,
+    h_est: Option<f64>,
+    steps: usize,
+}
+
+fn estimate(
+    a: &SparseColMat<usize, f64>,
+    fam: &mut ShiftFamily,
+    factor_of_a: FactorOfA<'_>,
+    margin: Margin,
+    max_steps: usize,
+    starts: Option<&RitzStarts>,
+) -> Result<Estimates> {
+    let n = a.nrows();
+    let max_diag = fam.pattern.max_diagonal();
     // Phase 1: estimates, each converged to STAGNATION. λ_min = 1/λ_max(A⁻¹) by Lanczos with
     // the factor of A: Cholesky's backward error is componentwise, so the solves — and the
     // estimate — are as accurate as the equilibrated matrix allows (Demmel–Veselić), where a
@@ -964,7 +1017,26 @@ pub fn extreme_eigenvalues(
         )));
     }
 
-    // Phase 2: the certificate (certify). λ_max ∈ [ρ(y_top), Cor. 2]; λ_min ∈ [Cor. 3 or
+    Ok(Estimates {
+        lmax: lmax_est,
+        lmin: lmin_est,
+        top: top_vector,
+        bottom: y_bottom,
+        x_hat,
+        s_hat,
+        h_est,
+        steps: s1 + s2 + s3,
+    })
+}
+
+/// Phase 2 of [`extreme_eigenvalues`]: the proven brackets `(λ_max lo, hi, λ_min lo, hi)`
+/// around the estimates ([`certify`]).
+fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin) -> (f64, f64, f64, f64) {
+    let max_diag = fam.pattern.max_diagonal();
+    let (lmax_est, lmin_est) = (est.lmax, est.lmin);
+    let (top_vector, y_bottom, x_hat, s_hat, h_est) =
+        (&est.top, &est.bottom, &est.x_hat, &est.s_hat, est.h_est);
+    // The certificate. λ_max ∈ [ρ(y_top), Cor. 2]; λ_min ∈ [Cor. 3 or
     // Thm 4, min(ρ(y_bottom), Lemma 6)]. The tests start just outside the estimates (by the
     // bound's own margin) and step out ×8 until the floating-point Cholesky succeeds.
     let (pat, vals) = (fam.pattern.pattern.as_ref(), fam.pattern.values.as_slice());
@@ -974,7 +1046,7 @@ pub fn extreme_eigenvalues(
     let top_rq = top_vector
         .as_deref()
         .and_then(|y| rayleigh_interval(pat, vals, y));
-    let bottom_inv = certify::inverse_rayleigh_upper(pat, vals, &y_bottom, &x_hat);
+    let bottom_inv = certify::inverse_rayleigh_upper(pat, vals, y_bottom, x_hat);
     let max_lo = top_rq.map_or(max_diag, |(lo, _)| lo.max(max_diag));
     let max_hi = {
         let base = lmax_est.max(max_lo);
@@ -1003,7 +1075,7 @@ pub fn extreme_eigenvalues(
     let h = h_est.and_then(|est| {
         [0.9, 0.5, 0.125, 0.02].into_iter().find_map(|f| {
             let tau = f * est;
-            let (max_c, rowsum) = fam.test_scaled(&s_hat, tau)?;
+            let (max_c, rowsum) = fam.test_scaled(s_hat, tau)?;
             Some(margin.graded_floor(tau, max_c, rowsum)).filter(|&h| h > 0.0)
         })
     });
@@ -1028,32 +1100,31 @@ pub fn extreme_eigenvalues(
         }
         lo
     };
-    let certificate = Certificate {
-        lambda_max_lo: max_lo,
-        lambda_max_hi: max_hi,
-        lambda_min_lo: min_lo,
-        lambda_min_hi: min_hi,
-        lanczos_steps: s1 + s2 + s3,
-        factorizations: fam.factorizations,
-    };
-    if !(max_lo > 0.0 && min_hi.is_finite() && min_hi > 0.0) {
-        return Err(Error::Numerical(format!(
-            "the eigenvalue brackets did not close: λ_max ∈ [{max_lo:e}, {max_hi:e}], \
-             λ_min ∈ [{min_lo:e}, {min_hi:e}]"
-        )));
+    (max_lo, max_hi, min_lo, min_hi)
+}
+
+/// The uncertified estimates of [`extreme_eigenvalues`], `(λ_max, λ_min)`: the same converged
+/// Lanczos runs without the certificate's Cholesky tests — for a comparison of routes
+/// (`cond_accuracy`); no bound comes with them. Errors with [`Error::Singular`] if the Cholesky
+/// factorization of A fails.
+pub fn estimate_extremes(a: &SparseColMat<usize, f64>) -> Result<(f64, f64)> {
+    if a.nrows() == 0 {
+        return Err(Error::input("empty matrix has no condition number"));
     }
-    Ok(SparseSpectrum {
-        lambda_max: lmax_est.clamp(max_lo, max_hi),
-        lambda_min: lmin_est.clamp(min_lo, min_hi),
-        certificate,
-        log10_det,
-        ritz: top_vector
-            .filter(|_| keep_ritz && n <= RITZ_VECTOR_MAX_N)
-            .map(|top| RitzStarts {
-                top,
-                bottom: y_bottom,
-            }),
-    })
+    let mut fam = ShiftFamily::new(a)?;
+    let f = fam.factor(1.0, 0.0).ok_or_else(|| {
+        Error::singular("sparse Cholesky of A failed: A is not positive definite".to_string())
+    })?;
+    let margin = Margin::of(&fam.pattern.symbolic);
+    let est = estimate(
+        a,
+        &mut fam,
+        FactorOfA::Own(f),
+        margin,
+        MAX_LANCZOS_STEPS,
+        None,
+    )?;
+    Ok((est.lmax, est.lmin))
 }
 
 /// Relative width of the normwise lower bound of λ_min (`m·max_i A_ii / λ_min`, certify,

@@ -7,6 +7,7 @@
 //! * [`solve`] — one scene file, one strategy, every metric (the `solve` binary).
 //! * [`text`] — the number formats, aligned tables and wrapped notes of the printed reports.
 
+pub mod cond_accuracy;
 pub mod paper_beam;
 pub mod solve;
 pub mod text;

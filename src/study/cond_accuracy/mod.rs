@@ -1,0 +1,329 @@
+//! Run time against error for cond₂ itself, route by route (the `cond_accuracy` experiment).
+//!
+//! Matrices: `K + ε_c·e_d e_dᵀ` on every constraint DOF d of a scene, `ε_c = f·K_dd` with f from
+//! 0 (K alone) to 1e12, for generated `beam`, `membrane` and `spectrum` scenes and the outside
+//! elasticity scenes given as files. Reference: [`reference::extreme_eigenvalues_dd`]
+//! (bisection with double-double inertia counts, ≈ 1e-25 relative), independent of every route.
+//!
+//! Routes, each timed (median of `repeats`, one thread):
+//! * `dense_svd`, `dense_eigen` — faer's singular values / symmetric eigenvalues of the
+//!   densified matrix;
+//! * `certified` — [`conditioning::cond2`], the default (value + proven bounds);
+//! * `lanczos_estimate` — the same converged Lanczos runs without the certificate
+//!   ([`sparse::estimate_extremes`]): what the bounds cost;
+//! * `condest_1norm` — Hager's 1-norm estimate `‖A‖₁·est‖A⁻¹‖₁` with one Cholesky factor
+//!   (Hager 1984; Higham, *Accuracy and Stability*, Alg. 15.1): the cheap anchor, an estimate
+//!   of κ₁, not κ₂ (`n^{-1}κ₁ ≤ κ₂ ≤ n·κ₁`), so its "error" says how far a 1-norm condition
+//!   estimate is from cond₂.
+
+use crate::conditioning::{self, reference, sparse};
+use crate::error::{Error, Result};
+use crate::linalg::Factorization;
+use crate::model::generate::{generate, Family, GeneratorConfig};
+use crate::system::{Problem, Stiffness};
+use serde::{Deserialize, Serialize};
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// What to measure.
+#[derive(Clone, Debug, Serialize)]
+pub struct Config {
+    /// Generated scenes per family (beam, membrane, spectrum).
+    pub per_family: usize,
+    /// Seed of the generated scenes.
+    pub seed: u64,
+    /// Penalty factors f (ε_c = f·K_dd; 0 = K alone).
+    pub factors: Vec<f64>,
+    /// Scene files measured besides the generated ones (e.g. the elasticity scenes).
+    pub scene_files: Vec<PathBuf>,
+    /// Repeats per timing (the median is reported), ≥ 1.
+    pub repeats: usize,
+}
+
+/// One matrix, one route.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Row {
+    /// Scene family or file stem.
+    pub family: String,
+    /// Scene name.
+    pub scene: String,
+    /// Unknowns.
+    pub n: usize,
+    /// Penalty factor f.
+    pub factor: f64,
+    /// Reference cond₂ (double-double bisection).
+    pub cond2_ref: f64,
+    /// Route (`dense_svd`, `dense_eigen`, `certified`, `lanczos_estimate`, `condest_1norm`).
+    pub route: String,
+    /// The value the route reports.
+    pub value: f64,
+    /// |value / cond2_ref − 1|.
+    pub rel_error: f64,
+    /// The contract `max(1e-12, 4·ε_mach·cond2_ref)`.
+    pub contract: f64,
+    /// Relative width of the route's bounds (`certified` only).
+    pub bounds_width: Option<f64>,
+    /// Median wall time (s).
+    pub seconds: f64,
+}
+
+/// The route names, in figure order.
+pub const ROUTES: [&str; 5] = [
+    "dense_svd",
+    "dense_eigen",
+    "certified",
+    "lanczos_estimate",
+    "condest_1norm",
+];
+
+fn median_time<T>(repeats: usize, mut f: impl FnMut() -> Result<T>) -> Result<(f64, T)> {
+    let mut times = Vec::new();
+    let mut last = None;
+    for _ in 0..repeats.max(1) {
+        let t = Instant::now();
+        last = Some(f()?);
+        times.push(t.elapsed().as_secs_f64());
+    }
+    let med = crate::stats::median(&times).expect("one repeat at least");
+    Ok((med, last.expect("one repeat at least")))
+}
+
+/// Hager's estimate of `‖A⁻¹‖₁` for a symmetric A with factor `f` (at most 5 iterations).
+fn inverse_one_norm(f: &Factorization, n: usize) -> f64 {
+    let mut x = vec![1.0 / n as f64; n];
+    let mut est = 0.0;
+    for it in 0..5 {
+        let y = f.solve(&x);
+        est = y.iter().map(|v| v.abs()).sum::<f64>();
+        let xi: Vec<f64> = y
+            .iter()
+            .map(|v| if *v >= 0.0 { 1.0 } else { -1.0 })
+            .collect();
+        let z = f.solve(&xi);
+        let (j, zj) =
+            z.iter().enumerate().fold(
+                (0, 0.0f64),
+                |b, (i, v)| if v.abs() > b.1 { (i, v.abs()) } else { b },
+            );
+        let ztx: f64 = z.iter().zip(&x).map(|(a, b)| a * b).sum();
+        if it > 0 && zj <= ztx {
+            break;
+        }
+        x = vec![0.0; n];
+        x[j] = 1.0;
+    }
+    est
+}
+
+/// `‖A‖₁` (max absolute column sum).
+fn one_norm(a: &Stiffness) -> f64 {
+    let mut cols = vec![0.0f64; a.n()];
+    a.for_each_entry(|_, j, v| cols[j] += v.abs());
+    cols.into_iter().fold(0.0, f64::max)
+}
+
+/// Every route on `a` against its reference.
+fn measure(
+    family: &str,
+    scene: &str,
+    factor: f64,
+    a: &Stiffness,
+    repeats: usize,
+) -> Result<Vec<Row>> {
+    let n = a.n();
+    let (lmax, lmin) = reference::extreme_eigenvalues_dd(a);
+    let cond2_ref = lmax / lmin;
+    let dense = a.to_dense();
+    let sparse_a = match a.clone().in_preferred_storage() {
+        Stiffness::Sparse(m) => m,
+        Stiffness::Dense(_) => match Stiffness::from_triplets(n, &{
+            let mut t = Vec::new();
+            a.for_each_entry(|i, j, v| t.push((i, j, v)));
+            t
+        })? {
+            Stiffness::Sparse(m) => m,
+            Stiffness::Dense(_) => return Err(Error::Numerical("no sparse form".into())),
+        },
+    };
+    let mut out = Vec::new();
+    let mut push = |route: &str, seconds: f64, value: f64, bounds_width: Option<f64>| {
+        out.push(Row {
+            family: family.into(),
+            scene: scene.into(),
+            n,
+            factor,
+            cond2_ref,
+            route: route.into(),
+            value,
+            rel_error: (value / cond2_ref - 1.0).abs(),
+            contract: (4.0 * f64::EPSILON * cond2_ref).max(1e-12),
+            bounds_width,
+            seconds,
+        })
+    };
+    let ratio = |v: &[f64]| {
+        let mx = v.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let mn = v.iter().fold(f64::INFINITY, |m, x| m.min(x.abs()));
+        mx / mn
+    };
+    let (t, sv) = median_time(repeats, || {
+        dense
+            .singular_values()
+            .map_err(|e| Error::Numerical(format!("SVD: {e:?}")))
+    })?;
+    push("dense_svd", t, ratio(&sv), None);
+    let (t, ev) = median_time(repeats, || {
+        dense
+            .self_adjoint_eigenvalues(faer::Side::Lower)
+            .map_err(|e| Error::Numerical(format!("eigen: {e:?}")))
+    })?;
+    push("dense_eigen", t, ratio(&ev), None);
+    let (t, r) = median_time(repeats, || conditioning::cond2(a))?;
+    push("certified", t, r.cond2, Some(r.relative_width()));
+    let (t, (mx, mn)) = median_time(repeats, || sparse::estimate_extremes(&sparse_a))?;
+    push("lanczos_estimate", t, mx / mn, None);
+    let (t, k1) = median_time(repeats, || {
+        let f = Factorization::new(a, true)?;
+        Ok(one_norm(a) * inverse_one_norm(&f, n))
+    })?;
+    push("condest_1norm", t, k1, None);
+    Ok(out)
+}
+
+/// `K + Σ_c f·K_dd e_d e_dᵀ` over the constraint DOFs of `p`.
+fn penalized(p: &Problem, factor: f64) -> Stiffness {
+    if factor == 0.0 {
+        return p.k.clone();
+    }
+    let adds: Vec<(usize, f64)> = p
+        .constraints
+        .iter()
+        .map(|c| (c.dof, factor * p.k.diag(c.dof)))
+        .collect();
+    p.k.with_diagonal_added(&adds)
+}
+
+/// Measures every matrix of `cfg`, calling `step` after each (progress).
+pub fn run(cfg: &Config, mut step: impl FnMut(&str)) -> Result<Vec<Row>> {
+    if cfg.repeats == 0 {
+        return Err(Error::input("--repeats must be ≥ 1"));
+    }
+    if let Some(f) = cfg.factors.iter().find(|f| !(f.is_finite() && **f >= 0.0)) {
+        return Err(Error::input(format!(
+            "penalty factor {f} is not finite and ≥ 0"
+        )));
+    }
+    let mut scenes: Vec<(String, String, Problem)> = Vec::new();
+    let gen = GeneratorConfig::default();
+    for family in [Family::Beam, Family::Membrane, Family::Spectrum] {
+        for i in 0..cfg.per_family {
+            let s = generate(family, i, cfg.seed, &gen)?;
+            scenes.push((family.name().into(), s.name.clone(), s.problem));
+        }
+    }
+    for path in &cfg.scene_files {
+        let s = crate::scene::read_scene(path)?;
+        scenes.push(("elasticity".into(), s.name.clone(), s.problem));
+    }
+    let mut rows = Vec::new();
+    for (family, name, p) in &scenes {
+        for &f in &cfg.factors {
+            rows.extend(measure(family, name, f, &penalized(p, f), cfg.repeats)?);
+            step(&format!("{name}, f = {f:e}"));
+        }
+    }
+    Ok(rows)
+}
+
+/// Per route: median time, median and largest error, and how many values meet the contract.
+pub fn summary(rows: &[Row]) -> Vec<(String, f64, f64, f64, usize, usize)> {
+    ROUTES
+        .iter()
+        .map(|&route| {
+            let r: Vec<&Row> = rows.iter().filter(|x| x.route == route).collect();
+            let t: Vec<f64> = r.iter().map(|x| x.seconds).collect();
+            let e: Vec<f64> = r.iter().map(|x| x.rel_error).collect();
+            let within = r.iter().filter(|x| x.rel_error <= x.contract).count();
+            (
+                route.to_string(),
+                crate::stats::median(&t).unwrap_or(f64::NAN),
+                crate::stats::median(&e).unwrap_or(f64::NAN),
+                e.iter().copied().fold(0.0, f64::max),
+                within,
+                r.len(),
+            )
+        })
+        .collect()
+}
+
+/// The saved data (`cond_accuracy.json`): the record and the rows.
+#[derive(Serialize, Deserialize)]
+pub struct Document {
+    /// [`crate::provenance::Provenance::record`] of the run with its configuration.
+    pub provenance: serde_json::Value,
+    /// One row per matrix and route.
+    pub rows: Vec<Row>,
+}
+
+/// Writes `cond_accuracy.json` (record + rows) and `cond_accuracy.csv` into `out`.
+pub fn save(out: &std::path::Path, cfg: &Config, rows: &[Row]) -> Result<()> {
+    use crate::provenance::{self, Provenance};
+    std::fs::create_dir_all(out).map_err(|e| Error::io(out.display(), e))?;
+    let doc = Document {
+        provenance: Provenance::new("cond_accuracy")
+            .record(serde_json::json!({ "config": cfg, "threads": 1 })),
+        rows: rows.to_vec(),
+    };
+    provenance::write_json(&out.join("cond_accuracy.json"), &doc)?;
+    provenance::write_csv(&out.join("cond_accuracy.csv"), rows)
+}
+
+/// Reads the rows back from `OUT/cond_accuracy.json`.
+pub fn load(out: &std::path::Path) -> Result<Vec<Row>> {
+    let path = out.join("cond_accuracy.json");
+    let text = std::fs::read_to_string(&path).map_err(|e| Error::io(path.display(), e))?;
+    let doc: Document = serde_json::from_str(&text)
+        .map_err(|e| Error::input(format!("{}: {e}", path.display())))?;
+    Ok(doc.rows)
+}
+
+/// Smallest error drawn (an exact value has error 0, which a log axis cannot show).
+pub const ERROR_FLOOR: f64 = 1e-17;
+
+/// Renders `OUT/cond_accuracy.{png,svg}`: relative error of cond₂ against wall time, one
+/// marker colour per route, log–log; errors below [`ERROR_FLOOR`] drawn at it.
+pub fn render_figure(rows: &[Row], out: &std::path::Path) -> Result<Vec<PathBuf>> {
+    use crate::plot::{render, Figure, Mark, Series};
+    let mut fig = Figure::new(
+        "cond₂ by route: relative error against the double-double reference vs wall time",
+        "wall time (s, median, 1 thread)",
+        "|cond₂ / reference − 1|",
+    )
+    .log_log()
+    .with_size(1000, 650);
+    for (k, route) in ROUTES.iter().enumerate() {
+        let (x, y): (Vec<f64>, Vec<f64>) = rows
+            .iter()
+            .filter(|r| r.route == *route)
+            .map(|r| (r.seconds, r.rel_error.max(ERROR_FLOOR)))
+            .unzip();
+        if !x.is_empty() {
+            fig = fig.with_series(Series::new(*route, x, y, Mark::Points).color(k));
+        }
+    }
+    render(&fig, &out.join("cond_accuracy"))
+}
+
+/// The per-route summary as a Markdown table.
+pub fn table(rows: &[Row]) -> String {
+    let mut t = String::from(
+        "| route | median time (s) | median error | largest error | within max(1e-12, 4ε·cond₂) |\n\
+         |---|---:|---:|---:|---:|\n",
+    );
+    for (route, time, med, max, within, total) in summary(rows) {
+        t.push_str(&format!(
+            "| `{route}` | {time:.2e} | {med:.1e} | {max:.1e} | {within} / {total} |\n"
+        ));
+    }
+    t
+}
