@@ -16,11 +16,10 @@ use crate::model::membrane;
 use crate::plot::{render, Figure, Mark, Series};
 use crate::progress::Progress;
 use crate::provenance::{self, Provenance};
-use crate::stats::loglog_slope;
+use crate::stats::{loglog_slope, median_time};
 use crate::system::Stiffness;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 /// Smallest n used for the least-squares slopes of the figure's legend.
 pub const SLOPE_MIN_N: f64 = 300.0;
@@ -145,20 +144,6 @@ fn null_is_infinite<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Resu
     Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::INFINITY))
 }
 
-/// Median wall time of `repeats` runs of `f` and its last result.
-fn time<T>(repeats: usize, mut f: impl FnMut() -> Result<T>) -> Result<(f64, T)> {
-    let mut times = Vec::with_capacity(repeats);
-    let mut last = None;
-    for _ in 0..repeats.max(1) {
-        let t0 = Instant::now();
-        let r = f()?;
-        times.push(t0.elapsed().as_secs_f64());
-        last = Some(r);
-    }
-    let med = crate::stats::median(&times).expect("at least one repeat");
-    Ok((med, last.expect("at least one repeat")))
-}
-
 /// Times every route on the sparse matrix `a`: `repeats` runs each (median), the dense
 /// routes only up to `dense_max` unknowns.
 pub fn measure(family: &str, a: &Stiffness, repeats: usize, dense_max: usize) -> Result<Row> {
@@ -166,16 +151,16 @@ pub fn measure(family: &str, a: &Stiffness, repeats: usize, dense_max: usize) ->
         return Err(Error::input("cond_cost measures sparse matrices"));
     };
     let n = a.n();
-    let (cholesky_s, _) = time(repeats, || Factorization::new(a, true))?;
-    let (sparse_exact_s, r) = time(repeats, || cond2_sparse_spd(m))?;
+    let (cholesky_s, _) = median_time(repeats, || Factorization::new(a, true))?;
+    let (sparse_exact_s, r) = median_time(repeats, || cond2_sparse_spd(m))?;
     let c = r.certificate.expect("sparse route has a certificate");
     let (lo, hi) = c.cond2_bounds();
     let (mut dense_eigen_s, mut dense_svd_s, mut rel_diff) = (None, None, None);
     if n <= dense_max {
         let d = a.to_dense();
-        let (t, _) = time(repeats, || cond2_dense(d.as_ref(), true))?;
+        let (t, _) = median_time(repeats, || cond2_dense(d.as_ref(), true))?;
         dense_eigen_s = Some(t);
-        let (t, s) = time(repeats, || cond2_dense(d.as_ref(), false))?;
+        let (t, s) = median_time(repeats, || cond2_dense(d.as_ref(), false))?;
         dense_svd_s = Some(t);
         rel_diff = Some((r.cond2 - s.cond2).abs() / s.cond2);
     }

@@ -34,6 +34,39 @@
 //! * [`stats`] — the one median / quantile / log–log slope.
 //! * [`dd`] — double-double arithmetic (extended-precision references and certificates).
 //!
+//! ## Using the library: one scene, one strategy, its cond₂
+//! The `solve` binary in a few lines — a scene (K, q, constraints), a strategy, the system it
+//! ends with and that system's cond₂ with its bounds:
+//! ```
+//! use penalty_lab::conditioning::cond2;
+//! use penalty_lab::metrics::system_matrix;
+//! use penalty_lab::model::beam::{Frame, Section};
+//! use penalty_lab::strategy::{solve, Method};
+//! use penalty_lab::system::{Constraint, ConstraintKind, Problem};
+//!
+//! // The paper's beam (Eq. 30–34): three frame elements, three bilateral ties.
+//! let k = Frame::cantilever(3, 30.0, Section::rectangle(2100.0, 1.0, 1.0))?.assemble(false)?;
+//! let q = vec![0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -50.0, 1.0, 0.0];
+//! let kind = ConstraintKind::Bilateral;
+//! let constraints = [(4, 3.0), (6, -1.0), (7, 30.0)]
+//!     .map(|(dof, limit)| Constraint { dof, limit, kind })
+//!     .to_vec();
+//! let beam = Problem::new(k, q, constraints)?;
+//!
+//! // Eq. 28 at δ = 0.1: ε = (501.9, 1390, 557) and cond₂ = 513.871, as the paper prints.
+//! let sol = solve(&beam, Method::Paper { delta: 0.1 })?;
+//! let c = cond2(&system_matrix(&beam, &sol))?;
+//! assert!((c.cond2 - 513.871).abs() < 5e-4);
+//! assert!(c.bounds_proven && c.cond2_lo <= c.cond2 && c.cond2 <= c.cond2_hi);
+//!
+//! // Our exact δ-targeting rule: every gap exactly δ, a better-conditioned system.
+//! let exact = solve(&beam, Method::Condensed { delta: 0.1 })?;
+//! assert!(exact.gaps.iter().all(|g| (g.abs() - 0.1).abs() < 1e-9));
+//! assert!(cond2(&system_matrix(&beam, &exact))?.cond2 < c.cond2);
+//! # Ok::<(), penalty_lab::Error>(())
+//! ```
+//! Scene files: [`scene::read_scene`]; every metric at once: [`metrics::compute`].
+//!
 //! ## Layers
 //! Dependencies point down only, and no study imports another study (checked by
 //! `tests/architecture.rs`, which also prints the module graph; see the README):

@@ -31,6 +31,23 @@ pub fn median(v: &[f64]) -> Option<f64> {
     Some(quantile(&mut v.to_vec(), 0.5))
 }
 
+/// Runs `f` `repeats` times (at least once) and returns the median wall time (s) and the
+/// last result; the first error ends it.
+pub fn median_time<T, E>(
+    repeats: usize,
+    mut f: impl FnMut() -> Result<T, E>,
+) -> Result<(f64, T), E> {
+    let mut times = Vec::with_capacity(repeats.max(1));
+    let mut last = None;
+    for _ in 0..repeats.max(1) {
+        let t0 = std::time::Instant::now();
+        last = Some(f()?);
+        times.push(t0.elapsed().as_secs_f64());
+    }
+    let med = median(&times).unwrap_or(f64::NAN);
+    Ok((med, last.expect("at least one run")))
+}
+
 /// Least-squares slope of ln y against ln x over the points with x, y > 0 (the exponent p of
 /// a power law y ∝ xᵖ); `None` with fewer than two such points or no spread in x.
 pub fn loglog_slope(x: &[f64], y: &[f64]) -> Option<f64> {

@@ -195,6 +195,37 @@ pub fn dot_interval(x: &[f64], y: &[f64]) -> (f64, f64) {
     interval(s, up(16.0 * (n as f64 + 2.0) * U * U * up(abs)))
 }
 
+/// `r_j = y_j − Σ_i a_ij x_i` for every column j of the symmetric A by compensated dot
+/// products (Dot2 of Ogita, Rump & Oishi 2005), with a bound `e_j ≥ |r̂_j − r_j|`:
+/// `e_j = (u|r̂_j| + γ_{k+1}²(|y_j| + Σ_i |a_ij x_i|))` rounded up.
+fn residual_dot2(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+    values: &[f64],
+    x: &[f64],
+    y: &[f64],
+) -> Vec<(f64, f64)> {
+    let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+    let k = (0..y.len()).map(|j| cp[j + 1] - cp[j]).max().unwrap_or(0);
+    let g2 = gamma(k + 1).powi(2);
+    y.iter()
+        .enumerate()
+        .map(|(j, &yj)| {
+            let (a, b) = (cp[j], cp[j + 1]);
+            let (mut p, mut s) = (yj, 0.0f64);
+            let mut abs = yj.abs();
+            for (&i, &v) in ri[a..b].iter().zip(&values[a..b]) {
+                let (h, e) = two_prod(-v, x[i]);
+                let (t, q) = two_sum(p, h);
+                p = t;
+                s += q + e;
+                abs += (v * x[i]).abs();
+            }
+            let r = p + s;
+            (r, up(U * r.abs() + g2 * abs))
+        })
+        .collect()
+}
+
 /// Lemma 6: a rigorous upper bound of λ_min(A) from y and an approximate `x̂ ≈ A⁻¹y`:
 /// `yᵀy / g`, `g = 2x̂ᵀy − x̂ᵀAx̂ = x̂ᵀ(y + r)` with the residual `r = y − Ax̂` (None where g is
 /// not certainly positive).
@@ -209,29 +240,17 @@ pub fn inverse_rayleigh_upper(
     y: &[f64],
     x_hat: &[f64],
 ) -> Option<f64> {
-    let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+    // g = Σ_j (x̂_j y_j + x̂_j r̂_j) by Dot2: |ĝ − x̂ᵀ(y + r̂)| ≤ u|ĝ| + γ_2n² Σ|terms|, and
+    // |x̂ᵀ(r̂ − r)| ≤ Σ_j |x̂_j| e_j.
     let n = y.len();
-    // r_j = y_j − Σ_i a_ij x̂_i by Dot2 over the column (A symmetric), with its error bound
-    // e_j = (u|r̂_j| + γ_{k+1}²(|y_j| + Σ_i |a_ij x̂_i|)) / (1 − u); then
-    // g = Σ_j (x̂_j y_j + x̂_j r̂_j) by Dot2, |ĝ − x̂ᵀ(y + r̂)| ≤ u|ĝ|/(1 − u) + γ_2n² Σ|terms|,
-    // and |x̂ᵀ(r̂ − r)| ≤ Σ_j |x̂_j| e_j.
     let (mut gp, mut gs) = (0.0f64, 0.0f64);
     let (mut gabs, mut rerr) = (0.0f64, 0.0f64);
-    let mut k = 0usize;
-    for (j, (&xj, &yj)) in x_hat.iter().zip(y).enumerate() {
-        let (a, b) = (cp[j], cp[j + 1]);
-        k = k.max(b - a);
-        let (mut p, mut s) = (yj, 0.0f64);
-        let mut abs = yj.abs();
-        for (&i, &v) in ri[a..b].iter().zip(&values[a..b]) {
-            let (h, e) = two_prod(-v, x_hat[i]);
-            let (t, q) = two_sum(p, h);
-            p = t;
-            s += q + e;
-            abs += (v * x_hat[i]).abs();
-        }
-        let r = p + s;
-        rerr += xj.abs() * up(U * r.abs() + gamma(k + 1).powi(2) * abs);
+    for ((&xj, &yj), (r, e)) in x_hat
+        .iter()
+        .zip(y)
+        .zip(residual_dot2(pattern, values, x_hat, y))
+    {
+        rerr += xj.abs() * e;
         for (u, v) in [(xj, yj), (xj, r)] {
             let (h, e) = two_prod(u, v);
             let (t, q) = two_sum(gp, h);
@@ -245,6 +264,28 @@ pub fn inverse_rayleigh_upper(
     let (_, yy_hi) = dot_interval(y, y);
     let lo = down(g - err);
     (lo > 0.0 && yy_hi.is_finite()).then(|| up(yy_hi / lo))
+}
+
+/// A rigorous upper bound of `‖Ax‖₂` for the square A (`values` on `pattern`, CSC, both
+/// triangles of a symmetric matrix stored) from a right-hand side y with `x ≈ A⁻¹y`: the
+/// residual `r = y − Ax` by compensated dot products (Ogita, Rump & Oishi 2005), then
+/// `‖Ax‖ = ‖y − r‖ ≤ ‖y − r̂‖ + ‖r̂ − r‖` with every rounding bounded. Sharp where x is a good
+/// solve (|r| ≪ |y|): an f64 product Ax would carry k·ε·‖|A||x|‖ of rounding, ≈ k·ε·cond₂
+/// relative for a vector near the bottom of the spectrum.
+pub fn image_norm_upper(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+    values: &[f64],
+    x: &[f64],
+    y: &[f64],
+) -> f64 {
+    let (mut sq, mut err2) = (0.0f64, 0.0f64);
+    for (&yj, (r, e)) in y.iter().zip(residual_dot2(pattern, values, x, y)) {
+        // |fl(y_j − r̂_j) − (y_j − r̂_j)| ≤ u|fl(·)|.
+        let d = up((yj - r).abs() * (1.0 + 2.0 * U));
+        sq += d * d;
+        err2 += e * e;
+    }
+    up(up(sq.sqrt()) + up(err2.sqrt())) * (1.0 + gamma(2 * y.len() + 2))
 }
 
 #[cfg(test)]

@@ -25,8 +25,8 @@
 //! **Bounds.** Every report carries `cond2_lo ≤ cond₂ ≤ cond2_hi`. On the SPD routes they are
 //! proven for the stored matrix including the rounding of the Cholesky factorizations they
 //! rest on ([`certify`]); on the dense eigen/SVD routes by Kahan's residual theorem
-//! ([`residual_radius`]); on the saddle-point route they are brackets from inertia tests, not
-//! proven (`bounds_proven = false`, see [`saddle`]).
+//! ([`residual_radius`]); on the saddle-point route proven where that pins cond₂ within a
+//! factor of 2, else the search's inertia brackets with `bounds_proven = false` ([`saddle`]).
 //!
 //! `log10|det A|` is read off a factorization (never the raw determinant, which overflows at
 //! n ≈ 1600): the determinant ratio of the paper is `log10|det(K+DEDᵀ)| − log10|det K|`.

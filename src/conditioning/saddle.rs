@@ -42,15 +42,22 @@
 //! `A [x; y] = [f; g]`, `x_B = g`, `K_FF x_F = f_F − K_FB g`, `y = f_B − (K x)_B`.
 //!
 //! **Value and bounds.** The reported σ_max and σ_min are the converged Lanczos estimates
-//! (stagnation 1e-14), clamped into the brackets. The brackets are *not* proven in the sense
-//! of [`super::certify`]: their ends come from Cholesky tests that succeed *and* tests that
-//! fail, and a failed floating-point Cholesky proves nothing; `CondReport::bounds_proven` is
-//! false for this route. Their target width is `max(1e-11, 64·ε_mach·cond₂)`.
+//! (stagnation 1e-14), clamped into the brackets. The brackets are proven as in
+//! [`super::certify`]: σ_max ≥ |ρ(y_top)|, σ_max < s once `−H(s) ≻ 0` and `H(−s) ≻ 0` are
+//! *verified* (a Cholesky test shifted down by its backward-error margin, so that success
+//! proves definiteness of the exact matrix); σ_min ≤ ‖Ax̂‖/‖x̂‖ for x̂ = A⁻¹y, y a Ritz vector
+//! of A⁻¹ (compensated residual, `certify::image_norm_upper`); σ_min ≥ s once `H(s) ≻ 0` is
+//! verified, since then σ_min ≥ min(s, s₀). Where that bracket would leave cond₂ uncertain by
+//! more than a factor of 2 (σ_min far above s₀ — the elasticity scenes, whose fourth end the
+//! m×m Schur test decides with unverified solves — or a margin m·cond₂ ≳ 1) the inertia
+//! brackets of the search are reported instead, with `CondReport::bounds_proven = false`;
+//! their target width is `max(1e-11, 64·ε_mach·cond₂)`.
 //!
 //! Cost: one Cholesky of K_FF, Lanczos products and solves (O(nnz) and O(nnz of the factor)
 //! each), 2–4 shifted Cholesky factorizations per certified end; memory O(nnz of the factor).
 //! Use it for the `lagrange` system of a sparse K (the metrics pick it automatically).
 
+use super::certify::{self, Margin};
 use super::sparse::{
     bracket, bracket_tol, bracket_top, lanczos, rayleigh_interval, Certificate, MAX_LANCZOS_STEPS,
     RITZ_VECTOR_MAX_N, STAGNATION,
@@ -86,6 +93,28 @@ impl Shifts<'_> {
     }
     fn is_pd(&mut self, alpha: f64, sigma: f64, beta: f64) -> bool {
         self.factor(alpha, sigma, beta).is_some()
+    }
+
+    /// A proof that `T = αK + σI + β1_B ≻ 0` (β = ±1/s as passed, its own rounding
+    /// included): Cholesky of the matrix shifted further down by
+    /// `c = m·max_i b_ii + 6u·max_i(|αk_ii| + |σ| + |β|)` succeeds. By [`certify`]'s Lemma 1
+    /// the stored shifted matrix B̃ has `xᵀB̃x ≥ −m·max_i b̃_ii`, and T differs from `B̃ + cI`
+    /// by the diagonal roundings of its formation (≤ 6u·max_i(…) with the rounding of β
+    /// against the exact ±1/s), so `xᵀTx ≥ c − m·max b − 6u·max(…) > 0`.
+    fn verified_pd(&mut self, alpha: f64, sigma: f64, beta: f64, margin: Margin) -> bool {
+        let (mut max_b, mut max_e) = (f64::NEG_INFINITY, 0.0f64);
+        for (j, &p) in self.pattern.diag.iter().enumerate() {
+            let k = alpha * self.pattern.values[p];
+            let b = if self.in_b[j] { beta } else { 0.0 };
+            max_b = max_b.max(k + sigma + b);
+            max_e = max_e.max(k.abs() + sigma.abs() + b.abs());
+        }
+        if max_b.is_nan() || max_b <= 0.0 {
+            return false;
+        }
+        let u = certify::U;
+        let c = (margin.m * max_b + 6.0 * u * max_e) * (1.0 + 16.0 * u);
+        self.is_pd(alpha, sigma - c, beta)
     }
 }
 
@@ -155,10 +184,12 @@ pub fn cond2_saddle_with(
         steps,
         |_| STAGNATION,
         None,
-        false,
+        true,
         |x, y| inverse.apply(x, y, 1.0),
     )?;
     lanczos_steps += run.steps;
+    // Ritz vectors of A⁻¹'s extreme eigenvalues: the vectors of σ_min's proven upper bound.
+    let mut bottom_vectors: Vec<Vec<f64>> = run.vector.into_iter().collect();
 
     let inv_pos = usable("1/λ⁺_min", run.theta)?;
     let pos_min_est = 1.0 / inv_pos;
@@ -217,10 +248,11 @@ pub fn cond2_saddle_with(
             steps,
             |_| STAGNATION,
             None,
-            false,
+            true,
             |x, y| inverse.apply(x, y, -1.0),
         )?;
         lanczos_steps += run.steps;
+        bottom_vectors.extend(run.vector);
         let near_est = 1.0 / usable("−1/λ⁻_max", run.theta)?;
         let tol = tol.max(bracket_tol(sigma_max.1 / near_est));
         if m <= schur_test_max {
@@ -245,6 +277,70 @@ pub fn cond2_saddle_with(
         }
     };
 
+    // The proven brackets (certify): σ_max ≥ |ρ(y_top)| and σ_max < s once both −H(s) ≻ 0
+    // and H(−s) ≻ 0 are verified; σ_min ≤ ‖Ax̂‖/‖x̂‖ for x̂ = A⁻¹y (y a Ritz vector of A⁻¹),
+    // and σ_min ≥ s once H(s) ≻ 0 is verified (λ⁺_min > s) and s ≤ s₀ (no eigenvalue in
+    // (−s, 0)). Where σ_min lies above s₀ (the m×m Schur test decided the fourth end) the
+    // inertia brackets above are reported, not proven.
+    let margin = Margin::of(&pattern.symbolic);
+    let smax_est = smax_est.max(sigma_max.0);
+    let proven_max_lo = top_rq
+        .map_or(0.0, |(lo, _)| lo)
+        .max(sigma_max_floor(&pattern));
+    let mut proven_max_hi = f64::INFINITY;
+    let mut w = (4.0 * margin.m).max(4.0 * f64::EPSILON);
+    for _ in 0..PROOF_TRIES {
+        let s = smax_est * (1.0 + w);
+        if shifts.verified_pd(-1.0, s, -1.0 / s, margin)
+            && shifts.verified_pd(1.0, s, -1.0 / s, margin)
+        {
+            proven_max_hi = s;
+            break;
+        }
+        w *= 8.0;
+    }
+    let mut proven_min_hi = f64::INFINITY;
+    for y in &bottom_vectors {
+        let mut x = vec![0.0; size];
+        inverse.apply(y, &mut x, 1.0);
+        let nx = certify::dot_interval(&x, &x).0.sqrt() * (1.0 - 4.0 * f64::EPSILON);
+        let ax = certify::image_norm_upper(a_pattern.as_ref(), &a_values, &x, y);
+        if nx > 0.0 {
+            proven_min_hi = proven_min_hi.min(ax / nx * (1.0 + 4.0 * f64::EPSILON));
+        }
+    }
+    let mut proven_min_lo = None;
+    let base = value.min(proven_min_hi);
+    let mut w = (4.0 * margin.m * sigma_max.1 / base).max(4.0 * f64::EPSILON);
+    for _ in 0..PROOF_TRIES {
+        let s = base * (1.0 - w);
+        if s.is_nan() || s <= 0.0 {
+            break;
+        }
+        if shifts.verified_pd(1.0, -s, 1.0 / s, margin) {
+            // λ⁺_min > s, and no eigenvalue in (−s₀, 0): σ_min ≥ min(s, s₀).
+            proven_min_lo = Some(s.min(s0));
+            break;
+        }
+        w *= 8.0;
+    }
+    // The proven bracket is reported where it is informative (cond₂ known within a factor of
+    // 2 or better); past that (σ_min far above s₀, or a margin m·cond₂ ≳ 1) the search's
+    // inertia bracket is reported, flagged as not proven.
+    let proven = match proven_min_lo {
+        Some(lo) if proven_max_hi.is_finite() && proven_min_hi.is_finite() && lo > 0.0 => {
+            proven_max_hi / lo <= 2.0 * proven_max_lo / proven_min_hi
+        }
+        _ => false,
+    };
+    let (sigma_max, sigma_min) = if proven {
+        (
+            (proven_max_lo, proven_max_hi),
+            (proven_min_lo.unwrap_or(0.0), proven_min_hi),
+        )
+    } else {
+        (sigma_max, sigma_min)
+    };
     let certificate = Certificate {
         lambda_max_lo: sigma_max.0,
         lambda_max_hi: sigma_max.1,
@@ -267,9 +363,22 @@ pub fn cond2_saddle_with(
         smin,
         CondRoute::SparseSaddleInertia,
         certificate,
-        false,
+        proven,
         Some(log10_det),
     ))
+}
+
+/// Verified tests per proven bracket end before it is given up (each ×8 further out).
+const PROOF_TRIES: usize = 24;
+
+/// `max_i |K_ii| ≤ σ_max` (the Rayleigh quotient of a unit vector of the N block).
+fn sigma_max_floor(pattern: &DiagonalPattern) -> f64 {
+    pattern
+        .diag
+        .iter()
+        .map(|&p| pattern.values[p].abs())
+        .fold(0.0, f64::max)
+        * (1.0 - 4.0 * f64::EPSILON)
 }
 
 /// `[K D; Dᵀ 0]` in CSC with both triangles (K's columns from `pattern`, then the unit

@@ -20,10 +20,10 @@ use crate::conditioning::{self, reference, sparse};
 use crate::error::{Error, Result};
 use crate::linalg::Factorization;
 use crate::model::generate::{generate, Family, GeneratorConfig};
+use crate::stats::median_time;
 use crate::system::{Problem, Stiffness};
 use serde::{Deserialize, Serialize};
 use std::path::PathBuf;
-use std::time::Instant;
 
 /// What to measure.
 #[derive(Clone, Debug, Serialize)]
@@ -75,18 +75,6 @@ pub const ROUTES: [&str; 5] = [
     "lanczos_estimate",
     "condest_1norm",
 ];
-
-fn median_time<T>(repeats: usize, mut f: impl FnMut() -> Result<T>) -> Result<(f64, T)> {
-    let mut times = Vec::new();
-    let mut last = None;
-    for _ in 0..repeats.max(1) {
-        let t = Instant::now();
-        last = Some(f()?);
-        times.push(t.elapsed().as_secs_f64());
-    }
-    let med = crate::stats::median(&times).expect("one repeat at least");
-    Ok((med, last.expect("one repeat at least")))
-}
 
 /// Hager's estimate of `‖A⁻¹‖₁` for a symmetric A with factor `f` (at most 5 iterations).
 fn inverse_one_norm(f: &Factorization, n: usize) -> f64 {
