@@ -51,6 +51,10 @@ struct Args {
     /// first), as every sweep row does: reproduces a sweep row's iteration counts.
     #[arg(long)]
     exact_start: bool,
+    /// Relative accuracy asked of the cond₂ values, in (0, 1) (default: the accuracy
+    /// contract, max(1e-12, 4·ε_mach·cond₂)); looser is faster, the bounds stay proven.
+    #[arg(long, allow_negative_numbers = true)]
+    cond_tol: Option<f64>,
     /// Print one JSON object instead of a table.
     #[arg(long)]
     json: bool,
@@ -72,6 +76,7 @@ fn main() -> ExitCode {
             knobs,
             args.no_metrics,
             args.exact_start,
+            args.cond_tol,
         )?;
         if args.json {
             println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());

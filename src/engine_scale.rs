@@ -201,6 +201,7 @@ pub fn run(cfg: &ScaleConfig, progress: &Progress) -> Result<Vec<ScaleRow>> {
                     MetricSet {
                         cond: true,
                         det: false,
+                        cond_tol: None,
                     },
                     None,
                     None,

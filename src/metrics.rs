@@ -12,12 +12,16 @@ use crate::system::{Problem, Stiffness};
 use serde::Serialize;
 
 /// Which metrics to compute.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct MetricSet {
     /// Exact cond₂ of K and of the system matrix.
     pub cond: bool,
     /// log10|det| of K and of the system matrix, and their ratio.
     pub det: bool,
+    /// Relative accuracy asked of the cond₂ values (`--cond-tol`; `None`: the contract,
+    /// `max(1e-12, 4·ε_mach·cond₂)`). A looser tolerance stops the Lanczos runs earlier; the
+    /// bounds are proven either way.
+    pub cond_tol: Option<f64>,
 }
 
 impl MetricSet {
@@ -25,6 +29,7 @@ impl MetricSet {
     pub const ALL: MetricSet = MetricSet {
         cond: true,
         det: true,
+        cond_tol: None,
     };
 }
 
@@ -59,6 +64,7 @@ fn system_cond(
     sol: &Solution,
     sys: &Stiffness,
     starts: Option<&RitzStarts>,
+    tol: Option<f64>,
     unavailable: &mut Vec<String>,
 ) -> Result<Option<CondReport>> {
     // A sparse saddle point with Boolean D: block-structure route, never densified.
@@ -78,6 +84,7 @@ fn system_cond(
         starts,
         factor: sol.factor.as_deref(),
         keep_ritz: false,
+        tol,
     };
     match conditioning::cond2_warm(sys, reuse) {
         Ok((r, _)) => Ok(Some(r)),
@@ -139,12 +146,28 @@ pub fn compute(problem: &Problem, sol: &Solution, set: MetricSet) -> Result<Metr
         // for any number of threads): side by side up to SIDE_BY_SIDE_MAX_N, one after the
         // other above it.
         let mut unavailable = Vec::new();
-        let cond_k = || conditioning::cond2(&problem.k);
+        let tol = set.cond_tol;
+        let cond_k = || {
+            conditioning::cond2_warm(
+                &problem.k,
+                Reuse {
+                    tol,
+                    ..Reuse::default()
+                },
+            )
+            .map(|(r, _)| r)
+        };
         let cond_sys = |notes: &mut Vec<String>, starts: Option<&RitzStarts>| {
-            system_cond(problem, sol, &sys, starts, notes)
+            system_cond(problem, sol, &sys, starts, tol, notes)
         };
         let (k, system) = if problem.n() <= conditioning::sparse::RITZ_VECTOR_MAX_N {
-            match conditioning::cond2_warm(&problem.k, Reuse::keeping_ritz()) {
+            match conditioning::cond2_warm(
+                &problem.k,
+                Reuse {
+                    tol,
+                    ..Reuse::keeping_ritz()
+                },
+            ) {
                 Ok((k, ritz)) => (Ok(k), cond_sys(&mut unavailable, ritz.as_ref())),
                 Err(e) => (Err(e), Ok(None)),
             }
@@ -186,7 +209,14 @@ pub fn compute_with_k(
     let sys = system_matrix(problem, sol);
     if set.cond {
         let t = std::time::Instant::now();
-        out.cond2_system = system_cond(problem, sol, &sys, starts, &mut out.unavailable)?;
+        out.cond2_system = system_cond(
+            problem,
+            sol,
+            &sys,
+            starts,
+            set.cond_tol,
+            &mut out.unavailable,
+        )?;
         out.seconds_cond = t.elapsed().as_secs_f64();
     }
     if set.det {

@@ -144,6 +144,7 @@ fn metrics_use_the_saddle_route() {
         MetricSet {
             cond: true,
             det: false,
+            cond_tol: None,
         },
     )
     .unwrap();

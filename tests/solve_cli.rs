@@ -251,3 +251,39 @@ fn indefinite_k_is_flagged_once() {
     );
     std::fs::remove_dir_all(dir).ok();
 }
+
+/// `--cond-tol`: a looser accuracy asked of cond₂ is honoured (the value within it of the
+/// default one, its bounds still containing the default value), recorded in the JSON, and a
+/// tolerance outside (0, 1) is bad input.
+#[test]
+fn cond_tol_loosens_the_value_and_keeps_the_bounds() {
+    let scene = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenes/bed_cantilever.scene.json"
+    );
+    let run = |extra: &[&str]| {
+        let mut args = vec![scene, "--method", "constant", "--eps", "1e8", "--json"];
+        args.extend_from_slice(extra);
+        let (code, out, err) = solve(&args);
+        assert_eq!(code, 0, "{err}");
+        serde_json::from_str::<serde_json::Value>(&out).unwrap()
+    };
+    let exact = run(&[]);
+    let loose = run(&["--cond-tol", "1e-4"]);
+    assert_eq!(loose["cond_tol"].as_f64(), Some(1e-4));
+    assert!(exact["cond_tol"].is_null());
+    for key in ["cond2_K", "cond2_system"] {
+        let (e, l) = (exact[key].as_f64().unwrap(), loose[key].as_f64().unwrap());
+        assert!((l / e - 1.0).abs() <= 1e-4, "{key}: {l} vs {e}");
+        let (lo, hi) = (
+            loose[format!("{key}_lo")].as_f64().unwrap(),
+            loose[format!("{key}_hi")].as_f64().unwrap(),
+        );
+        assert!(lo <= e && e <= hi, "{key}: {e} ∉ [{lo}, {hi}]");
+    }
+    for bad in ["0", "1", "-0.001", "nan"] {
+        let (code, _, err) = solve(&[scene, "--method", "lagrange", "--cond-tol", bad]);
+        assert_eq!(code, 2, "{bad}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+    }
+}

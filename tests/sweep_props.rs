@@ -83,7 +83,7 @@ proptest! {
         for (c, e) in sol.penalties.iter().enumerate() {
             prop_assert!(e.is_finite() && *e >= 0.0, "{}: ε[{c}] = {e}", g.name);
         }
-        let m = metrics::compute(p, &sol, MetricSet { cond: true, det: false })
+        let m = metrics::compute(p, &sol, MetricSet { cond: true, det: false , cond_tol: None})
             .expect("cond of the system");
         let cond = m.cond2_system.expect("asked for cond").cond2;
         let u_inf = sol.u.iter().fold(0.0f64, |a, v| a.max(v.abs()));

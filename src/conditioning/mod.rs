@@ -341,6 +341,10 @@ pub struct Reuse<'a> {
     /// Return the Ritz vectors of this matrix (sparse SPD route, `n ≤`
     /// [`sparse::RITZ_VECTOR_MAX_N`]).
     pub keep_ritz: bool,
+    /// Relative accuracy asked of the value (`None`: the contract): the SPD routes stop their
+    /// Lanczos runs at a stagnation of tol/8 (never below their defaults). The bounds are
+    /// proven whatever the tolerance; the dense and saddle routes always run to the contract.
+    pub tol: Option<f64>,
 }
 
 impl Reuse<'_> {

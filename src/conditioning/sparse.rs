@@ -857,7 +857,15 @@ pub fn extreme_eigenvalues(
     };
     let log10_det = factor_of_a.log10_det();
     let margin = Margin::of(&fam.pattern.symbolic);
-    let est = estimate(a, &mut fam, factor_of_a, margin, max_steps, starts)?;
+    let est = estimate(
+        a,
+        &mut fam,
+        factor_of_a,
+        margin,
+        max_steps,
+        starts,
+        reuse.tol,
+    )?;
     let (max_lo, max_hi, min_lo, min_hi) = certify_ends(&mut fam, &est, margin);
     let certificate = Certificate {
         lambda_max_lo: max_lo,
@@ -909,8 +917,14 @@ fn estimate(
     margin: Margin,
     max_steps: usize,
     starts: Option<&RitzStarts>,
+    tol: Option<f64>,
 ) -> Result<Estimates> {
     let n = a.nrows();
+    // A tolerance asked for loosens both runs' stopping rule, never below the defaults.
+    let (bottom_stag, top_stag) = match tol {
+        Some(t) => ((t / 8.0).max(STAGNATION), (t / 8.0).max(TOP_STAGNATION)),
+        None => (STAGNATION, TOP_STAGNATION),
+    };
     let max_diag = fam.pattern.max_diagonal();
     // Phase 1: estimates, each converged to STAGNATION. λ_min = 1/λ_max(A⁻¹) by Lanczos with
     // the factor of A: Cholesky's backward error is componentwise, so the solves — and the
@@ -920,7 +934,7 @@ fn estimate(
     let run_min = lanczos(
         n,
         max_steps,
-        |_| STAGNATION,
+        |_| bottom_stag,
         starts.map(|s| s.bottom.as_slice()),
         true,
         |x, y| {
@@ -982,7 +996,7 @@ fn estimate(
     let run_max = lanczos(
         n,
         PLAIN_LANCZOS_STEPS,
-        |_| TOP_STAGNATION,
+        |_| top_stag,
         top_start,
         true,
         |x, y| fam.pattern.matvec(x, y),
@@ -995,7 +1009,7 @@ fn estimate(
             let run = lanczos(
                 n,
                 max_steps,
-                |_| STAGNATION,
+                |_| bottom_stag,
                 top_start,
                 true,
                 |x, y| {
@@ -1122,6 +1136,7 @@ pub fn estimate_extremes(a: &SparseColMat<usize, f64>) -> Result<(f64, f64)> {
         FactorOfA::Own(f),
         margin,
         MAX_LANCZOS_STEPS,
+        None,
         None,
     )?;
     Ok((est.lmax, est.lmin))

@@ -316,6 +316,7 @@ pub fn eps_study(scene: &StressScene, cfg: &StressConfig) -> Result<Vec<EpsRow>>
                 MetricSet {
                     cond: true,
                     det: false,
+                    cond_tol: None,
                 },
                 None,
                 None,
@@ -461,6 +462,7 @@ pub fn strategy_study(scene: &StressScene, cfg: &StressConfig) -> Result<Vec<Str
                 MetricSet {
                     cond: true,
                     det: false,
+                    cond_tol: None,
                 },
                 None,
                 None,

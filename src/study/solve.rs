@@ -21,15 +21,22 @@ fn finite_or_null(x: Option<f64>) -> Value {
 /// `shared/notes/methods.md`). With `exact_start`, the scene is first solved by `lagrange`
 /// and constant, scaled and condensed start from its contact set, as every `sweep` row does
 /// ([`strategy::Prepared::with_contact_set`]; the lagrange solve is not in the statistics or
-/// `seconds`). Errors on unreadable scenes, bad knobs, singular systems and a non-finite
-/// solution.
+/// `seconds`). `cond_tol` is the relative accuracy asked of the cond₂ values ([`MetricSet::cond_tol`];
+/// `None`: the contract). Errors on unreadable scenes, bad knobs, a `cond_tol` outside (0, 1),
+/// singular systems and a non-finite solution.
 pub fn solve_scene(
     scene: &Path,
     name: MethodName,
     knobs: Knobs,
     no_metrics: bool,
     exact_start: bool,
+    cond_tol: Option<f64>,
 ) -> Result<Value> {
+    if let Some(t) = cond_tol {
+        if !(t.is_finite() && t > 0.0 && t < 1.0) {
+            return Err(Error::input(format!("--cond-tol {t} is not in (0, 1)")));
+        }
+    }
     let sc = scene::read_scene(scene)?;
     let p = &sc.problem;
     let mut knobs = knobs;
@@ -72,7 +79,10 @@ pub fn solve_scene(
     let set = if no_metrics {
         MetricSet::default()
     } else {
-        MetricSet::ALL
+        MetricSet {
+            cond_tol,
+            ..MetricSet::ALL
+        }
     };
     let m = metrics::compute(p, &sol, set)?;
     let mut warnings = metrics::warnings(&sol, &m);
@@ -105,6 +115,7 @@ pub fn solve_scene(
         "cond2_K_hi": finite_or_null(m.cond2_k.map(|c| c.cond2_hi)),
         "cond2_system_lo": finite_or_null(m.cond2_system.map(|c| c.cond2_lo)),
         "cond2_system_hi": finite_or_null(m.cond2_system.map(|c| c.cond2_hi)),
+        "cond_tol": cond_tol,
         "cond2_bounds_proven": m.cond2_system.map(|c| c.bounds_proven && m.cond2_k.is_none_or(|k| k.bounds_proven)),
         "log10_det_K": finite_or_null(m.log10_det_k),
         "log10_det_system": finite_or_null(m.log10_det_system),

@@ -41,6 +41,10 @@ pub struct ConfigArgs {
     /// Metrics, comma-separated: cond, det ("none" for neither).
     #[arg(long, value_delimiter = ',')]
     metrics: Option<Vec<String>>,
+    /// Relative accuracy asked of every cond₂, in (0, 1) (default: the accuracy contract,
+    /// max(1e-12, 4·ε_mach·cond₂)); looser is faster, the bounds stay proven.
+    #[arg(long, allow_negative_numbers = true)]
+    cond_tol: Option<f64>,
 }
 
 impl ConfigArgs {
@@ -88,6 +92,9 @@ impl ConfigArgs {
                 .map(|s| s.trim().to_string())
                 .filter(|s| s != "none")
                 .collect();
+        }
+        if let Some(t) = a.cond_tol {
+            c.cond_tol = Some(t);
         }
         if let Some(d) = &a.scenes_dir {
             c.scenes_dir = Some(d.clone());

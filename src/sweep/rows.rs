@@ -56,6 +56,8 @@ pub struct Row {
     pub cond2_k_lo: Option<f64>,
     /// Upper bound of cond₂(K).
     pub cond2_k_hi: Option<f64>,
+    /// The relative accuracy asked of the cond₂ values (`--cond-tol`; empty: the contract).
+    pub cond_tol: Option<f64>,
     /// Route of the system cond.
     pub cond_route: Option<String>,
     /// log10|det system| − log10|det K|.
@@ -87,7 +89,7 @@ pub struct Row {
 }
 
 /// Column names, in file order.
-pub const COLUMNS: [&str; 34] = [
+pub const COLUMNS: [&str; 35] = [
     "scene",
     "family",
     "n",
@@ -109,6 +111,7 @@ pub const COLUMNS: [&str; 34] = [
     "cond2_system_hi",
     "cond2_K_lo",
     "cond2_K_hi",
+    "cond_tol",
     "cond_route",
     "log10_det_ratio",
     "max_penetration",
@@ -194,6 +197,7 @@ impl Row {
         c.float(self.cond2_system_hi)?;
         c.float(self.cond2_k_lo)?;
         c.float(self.cond2_k_hi)?;
+        c.float(self.cond_tol)?;
         c.text(self.cond_route.as_deref().unwrap_or(""))?;
         c.float(self.log10_det_ratio)?;
         c.float(self.max_penetration)?;
@@ -346,6 +350,7 @@ fn parse_record(rec: &csv::StringRecord) -> std::result::Result<Row, String> {
         cond2_system_hi: fl(next())?,
         cond2_k_lo: fl(next())?,
         cond2_k_hi: fl(next())?,
+        cond_tol: fl(next())?,
         cond_route: Some(next().to_string()).filter(|s| !s.is_empty()),
         log10_det_ratio: fl(next())?,
         max_penetration: fl(next())?,
@@ -405,6 +410,7 @@ mod tests {
                 fl(r.cond2_system_hi),
                 fl(r.cond2_k_lo),
                 fl(r.cond2_k_hi),
+                fl(r.cond_tol),
                 r.cond_route.clone().unwrap_or_default(),
                 fl(r.log10_det_ratio),
                 fl(r.max_penetration),
@@ -485,6 +491,7 @@ mod tests {
                     cond2_system_hi: x(16),
                     cond2_k_lo: x(17),
                     cond2_k_hi: x(18),
+                    cond_tol: x(19),
                     cond_route: (i % 3 != 0).then(|| texts[(i + 3) % texts.len()].into()),
                     log10_det_ratio: x(8),
                     max_penetration: x(9),
