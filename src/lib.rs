@@ -12,7 +12,8 @@
 //! ## Tour
 //! * [`system`] — K (dense or sparse), q, constraints (`bilateral`/`upper`/`lower`), gaps.
 //! * [`strategy`] — the eight strategies and [`strategy::solve`].
-//! * [`metrics`] / [`conditioning`] — exact cond₂ (route recorded), log10|det|, ratios.
+//! * [`metrics`] / [`conditioning`] — cond₂ with its accuracy contract and bounds (route
+//!   recorded; what the bounds prove: [`conditioning::certify`]), log10|det|, ratios.
 //! * [`linalg`] — factorize once, solve many; log-det from the factor.
 //! * [`model`] — the 1-DOF spring (Eq. 10–17), Euler–Bernoulli beams (Eq. 30–34), the 5-point
 //!   membrane; seeded random scenes of those families ([`model::generate`]) and scenes that
@@ -27,7 +28,9 @@
 //! * [`cond_cost`] — what an exact cond₂ costs by route against one Cholesky.
 //! * [`engine_scale`] — the contact engine from 10⁴ to 10⁶ DOFs with certified cond₂.
 //! * [`study`] — the paper's experiments end to end as library code (the binaries only parse
-//!   flags and print): [`study::paper_beam`] — Sec. 4.2, Eq. 30–37, number by number.
+//!   flags and print): [`study::paper_beam`] — Sec. 4.2, Eq. 30–37, number by number;
+//!   [`study::solve`] — one scene, one strategy; [`study::cond_accuracy`] — cond₂ by route,
+//!   time against error.
 //! * [`provenance`] — git commit, crate versions and command for every data file.
 //! * [`progress`] — one progress bar (with ETA) for every long run; `--quiet` silences it.
 //! * [`plot`] — one figure style, PNG + SVG.

@@ -272,10 +272,9 @@ impl SparseLlt {
     /// A simplicial factor is solved here by the same two column sweeps faer runs (same
     /// operations in the same order, so the same bits; `tests/kernels.rs`): faer's solve is
     /// written for any number of right-hand sides through strided matrix views and a
-    /// scratch stack, which on the small factors of a sweep costs a quarter of the solve
-    /// (median 6.0 → 4.5 µs on the 400-DOF membrane, 1.7 → 1.5 µs on a 138-DOF beam; 2-core
-    /// AMD EPYC, `cargo bench --bench cond -- one_vector_solve`). Supernodal factors go to
-    /// faer.
+    /// scratch stack, which on the small factors of a sweep costs up to a quarter of the
+    /// solve (`cargo bench --bench cond -- one_vector_solve`; docs/performance.md).
+    /// Supernodal factors go to faer.
     pub fn solve_vec_in_place(&self, x: &mut [f64]) {
         let n = x.len();
         match self.symbolic.raw() {
@@ -505,10 +504,9 @@ fn reach_lists(
 /// `L_kj = x_j · (1/L_jj)`, `x_i −= L_ij L_kj` for the column's rows computed so far,
 /// `L_kk = √(a_kk − Σ L_kj²)` — so the same factor bit for bit (`tests/kernels.rs`). What it
 /// saves per factorization is faer's `ereach` tree walk of every row, one reciprocal per
-/// entry of L (taken once per column here) and the scratch set-up. Measured against faer's
-/// `factorize_numeric_llt` with the same analysis (`cargo bench --bench cond --
-/// simplicial_numeric`, 2-core AMD EPYC): 20.9 against 34.0 µs on the 400-DOF membrane,
-/// 2.3 against 4.5 µs on a 138-DOF beam.
+/// entry of L (taken once per column here) and the scratch set-up: 1.6–2× faster than faer's
+/// `factorize_numeric_llt` with the same analysis on the sweep's matrices (`cargo bench
+/// --bench cond -- simplicial_numeric`; docs/performance.md).
 /// `a_vals`: A's values, gathered through `pu.map`. False where a pivot is not positive.
 fn simplicial_llt_numeric(
     pu: &PermutedUpper,

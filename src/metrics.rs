@@ -115,10 +115,9 @@ fn log10_det(
 }
 
 /// Largest system size whose two cond₂ analyses (of K and of the system matrix) run side by
-/// side on two threads. Above it they run one after the other, so peak memory is one route's:
-/// measured end to end (`solve --method condensed --delta 1e-7`, 2-core AMD EPYC) on the
-/// 10⁶-DOF membrane, side by side took 47 s and 2.39 GB, one after the other 57 s and
-/// 1.62 GB; on the 10⁵-DOF one side by side takes 2.85 s instead of 3.9 s for 80 MB more.
+/// side on two threads. Above it they run one after the other, so peak memory is one route's
+/// (at 10⁶ DOFs side by side saved ≈ 20 % of the time for ≈ 1.5× the memory; at 10⁵ it is
+/// faster for little memory; docs/performance.md).
 pub const SIDE_BY_SIDE_MAX_N: usize = 250_000;
 
 /// Threshold on `cond₂ · ε_mach` above which fewer than ~10 digits are reliable.

@@ -37,9 +37,9 @@ pub struct Structure {
 
 /// Largest fraction of nonzero entries, nnz / N², for which a matrix is stored sparse.
 ///
-/// Measured on this project's families (figures/cond_cost, 2-core AMD EPYC): the sparse
-/// routes (sparse Cholesky with AMD ordering; Lanczos + inertia for cond₂) beat the dense ones
-/// from N ≈ 25–36 for the 5-point membrane (5/N nonzeros) and the frame beam (≈ 9/N, half-
+/// On this project's families (`cond_cost`, docs/performance.md) the sparse routes (sparse
+/// Cholesky with AMD ordering; Lanczos + certificate for cond₂) beat the dense ones from
+/// N ≈ 25–36 for the 5-point membrane (5/N nonzeros) and the frame beam (≈ 9/N, half-
 /// bandwidth 5), i.e. at densities up to ≈ 0.25–0.35; a banded matrix is a sparse one here,
 /// since the AMD ordering keeps a band's fill inside the band.
 pub const SPARSE_MAX_DENSITY: f64 = 0.25;

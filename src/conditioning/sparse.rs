@@ -51,16 +51,11 @@ use crate::linalg::{symmetric_matvec, DiagonalPattern, FactorKind, Factorization
 use faer::sparse::{SparseColMat, SymbolicSparseColMatRef};
 use serde::Serialize;
 
-/// Below this dimension [`super::cond2`] densifies sparse matrices and
-/// [`crate::system::Structure::prefers_sparse`] keeps them dense: dense eigenvalues are
-/// cheaper than several sparse factorizations for small n. Measured (`cond_cost --sides
-/// 3,4,5,6 --elements 3,4,8,12`, 2-core AMD EPYC): the sparse exact route costs 10–14 µs
-/// against 4–10 µs for dense eigenvalues at n = 9–16 and wins from n ≈ 24–25 on the membrane
-/// and beam families (13–16 µs against 21–27 µs there, 17–30 µs against 48–57 µs at n = 36).
-/// It was 25–36 before the sparse factorization kernel of 766d162
-/// (`linalg::simplicial_llt_numeric`). The threshold stays at 32: it also chooses the
-/// storage and (as the strategies' `ELIMINATION_MIN_N`) the solve route, and between n = 24
-/// and 32 the two cond₂ routes differ by ≤ 15 µs per matrix.
+/// Below this dimension [`crate::system::Structure::prefers_sparse`] keeps matrices dense:
+/// a dense factorization is cheaper than the sparse machinery for small n. The crossover of
+/// the cond₂ routes, measured with `cond_cost` on the membrane and beam families, lies at
+/// n ≈ 24–36 (docs/performance.md); the threshold also chooses the storage and (as the
+/// strategies' `ELIMINATION_MIN_N`) the solve route.
 pub const SPARSE_ROUTE_MIN_N: usize = 32;
 
 /// Lanczos step limit per end (estimates only: the inertia phase corrects a poor estimate).

@@ -2,18 +2,10 @@
 //! read straight from the bytes.
 //!
 //! **Why hand-written.** A dense scene of the sweep's folder is ≈ 98 % `0, ` tokens, and
-//! its reading was ≈ 17 % of the busy time of a folder sweep. Measured on the 20 dense
-//! scenes of `scripts/folder.toml` (3.0 MB, ≈ 1 M numbers; 2-core AMD EPYC, all reads
-//! into memory first):
-//!
-//! | reader | time |
-//! |---|---:|
-//! | `serde_json` into our nonzero-keeping visitor (`DenseRows`) | 10.6–12 ms |
-//! | `serde_json` into `Vec<Vec<f64>>` | 11–12 ms |
-//! | `serde_json`, `RawValue` skip of the block alone | 5.4 ms |
-//! | `sonic-rs` 0.5 into `Vec<Vec<f64>>` (no `target-cpu=native`) | 17 ms |
-//! | `simd-json` 0.15 (runtime detection) into `Vec<Vec<f64>>` | 15 ms |
-//! | this module | 1.9 ms |
+//! its reading was ≈ 17 % of the busy time of a folder sweep. On the 20 dense scenes of
+//! `scripts/folder.toml` this module reads the block 5–6× faster than `serde_json` (even
+//! skipping the block as a `RawValue` alone takes 3× its time), and `sonic-rs` and
+//! `simd-json` were slower than `serde_json` (the table: docs/performance.md).
 //!
 //! **What it does.** [`find`] walks the top-level object to the key `"stiffness"` and, in
 //! its object, to the key `"dense"` (other values are skipped, strings with their escapes

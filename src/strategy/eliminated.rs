@@ -25,11 +25,9 @@
 //! (`Stats::cg_iterations`). A simplicial factor (faer's choice below 40 flops per entry of
 //! L: the sweep's 36–400-DOF scenes) costs only a few solves to recompute (Σ c_j² against
 //! 4 Σ c_j flops for the column counts c_j of L: 3.3 solves on the 400-DOF membrane), less
-//! than the ≥ 6 PCG iterations a change allows, so it is always refactorized (README, the
-//! sweep at the hardware limit: lagrange's solve time on the sweep's 20-file folder fell
-//! from 0.0057 s at adb9a1d to 0.0020 s at e61f9c0, mostly by this). One factor is kept at a
-//! time; memory O(nnz of the factor). Measured (README, Performance): the path
-//! following cuts the 10⁶-DOF membrane from ≈ 160 to 19 factorizations.
+//! than the ≥ 6 PCG iterations a change allows, so it is always refactorized. One factor is
+//! kept at a time; memory O(nnz of the factor). The path following cuts the 10⁶-DOF
+//! membrane from ≈ 160 to 19 factorizations (measurements: docs/performance.md).
 //!
 //! `condensed` and `lagrange` take this route for sparse K with `n ≥` [`ELIMINATION_MIN_N`]
 //! and distinct constraint DOFs.
@@ -44,11 +42,10 @@ use std::collections::HashSet;
 
 /// Smallest n for which `condensed`/`lagrange` use the elimination route on sparse K: the
 /// size from which K is stored sparse at all
-/// ([`crate::conditioning::sparse::SPARSE_ROUTE_MIN_N`]). Measured on the sweep's 20-file
-/// folder (membranes of 100–400 DOFs with m = n, beams of 36–336 DOFs; README, the sweep at
-/// the hardware limit): the summed solve time of `condensed` fell from 29 to 7 ms and of
-/// `lagrange` from 22 to 5 ms against the dense S = DᵀK⁻¹D route (m solves and an m×m box
-/// QP) and the saddle-point LU it replaced below 2 000 unknowns, with the same rows to rounding.
+/// ([`crate::conditioning::sparse::SPARSE_ROUTE_MIN_N`]). On the sweep's 20-file folder it
+/// takes about a quarter of the time of the dense S = DᵀK⁻¹D route (m solves and an m×m box
+/// QP) and of the saddle-point LU it replaced below 2 000 unknowns, with the same rows to
+/// rounding (docs/performance.md).
 pub const ELIMINATION_MIN_N: usize = crate::conditioning::sparse::SPARSE_ROUTE_MIN_N;
 
 /// At most this many DOFs may have changed status (prescribed ↔ free) since the last

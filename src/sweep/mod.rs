@@ -9,9 +9,8 @@
 //!   the K-th of N contiguous blocks, so shard outputs concatenate into the unsharded output.
 //! * Work units: every scene, and every job of a scene after its lagrange reference, is its own
 //!   rayon task (`with_max_len(1)`): rayon's adaptive splitting would otherwise run a few
-//!   adjacent jobs as one sequential chunk that no idle thread can steal — the default run's
-//!   three `optimal` solves of one scene (2.7 + 1.4 + 1.4 s) took 7.3 s at parallel efficiency
-//!   0.58 that way, 4.5 s at 0.99 now.
+//!   adjacent jobs as one sequential chunk that no idle thread can steal (the default run's
+//!   three `optimal` solves of one scene would then run one after the other).
 //! * Rows of a scene are written together and flushed, in scene order (a reorder buffer keeps
 //!   the order under rayon), so a killed run loses at most the scenes in flight and `--resume`
 //!   completes it without losing or duplicating rows.
