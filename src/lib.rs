@@ -37,6 +37,10 @@
 //! * [`stats`] — the one median / quantile / log–log slope.
 //! * [`dd`] — double-double arithmetic (extended-precision references and certificates).
 //!
+//! In the repository, `docs/methods.md` gives the equations and algorithms in depth (the
+//! solve engine, the cond₂ certificate, the optimal penalty, the forming solver) and
+//! `docs/performance.md` every measurement with its machine and commit.
+//!
 //! ## Using the library: one scene, one strategy, its cond₂
 //! The `solve` binary in a few lines — a scene (K, q, constraints), a strategy, the system it
 //! ends with and that system's cond₂ with its bounds:

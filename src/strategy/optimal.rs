@@ -76,10 +76,9 @@
 //!
 //! Each evaluation is one dense symmetric eigendecomposition (≈ 9n³ flops with vectors) plus
 //! O(n m²); an optimisation takes ≈ 1 000–1 800 evaluations over its starts, independent of n
-//! and weakly of m. Measured (`cargo run --release --example optimal_cost`, cantilevers tied
-//! at m DOFs, 2-core machine, shared): n = 30: 0.07 s; n = 90: 1.2–1.8 s; n = 180: 2.5–4.4 s;
-//! n = 360: 11–23 s (m = 3…30) — about n³ from 90 on (n = 720 was not waited for; by n³,
-//! n = 1000 takes several minutes).
+//! and weakly of m: the cost grows about like n³ (`cargo run --release --example
+//! optimal_cost` measures it; its numbers are in docs/performance.md), so n = 1000 takes
+//! minutes.
 
 use super::{fixed_energy, Context, Method, Solution};
 use crate::conditioning;
