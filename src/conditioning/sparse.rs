@@ -160,14 +160,19 @@ impl ShiftFamily {
     /// A Cholesky test of `fl(alpha·A + sigma·I)` (alpha = ±1): on success the largest
     /// diagonal entry of the test matrix as stored, for [`Margin`]'s bounds.
     fn test(&mut self, alpha: f64, sigma: f64) -> Option<f64> {
-        let ok = self.factor(alpha, sigma).is_some();
-        ok.then(|| {
-            self.pattern
-                .diag
-                .iter()
-                .map(|&p| self.work[p])
-                .fold(f64::NEG_INFINITY, f64::max)
-        })
+        self.test_factor(alpha, sigma).map(|(_, max_b)| max_b)
+    }
+
+    /// [`ShiftFamily::test`], keeping the factor.
+    fn test_factor(&mut self, alpha: f64, sigma: f64) -> Option<(SparseLlt, f64)> {
+        let f = self.factor(alpha, sigma)?;
+        let max_b = self
+            .pattern
+            .diag
+            .iter()
+            .map(|&p| self.work[p])
+            .fold(f64::NEG_INFINITY, f64::max);
+        Some((f, max_b))
     }
 
     /// A Cholesky test of `fl(H̃ − τI)`, `h̃_ij = fl(fl(a_ij/ŝ_i)/ŝ_j)` (certify, Lemma 5): on
@@ -861,7 +866,8 @@ pub fn extreme_eigenvalues(
         starts,
         reuse.tol,
     )?;
-    let (max_lo, max_hi, min_lo, min_hi) = certify_ends(&mut fam, &est, margin);
+    let (max_lo, max_hi, min_lo, min_hi, refined, refined_max) =
+        certify_ends(&mut fam, &est, margin);
     let certificate = Certificate {
         lambda_max_lo: max_lo,
         lambda_max_hi: max_hi,
@@ -877,8 +883,11 @@ pub fn extreme_eigenvalues(
         )));
     }
     Ok(SparseSpectrum {
-        lambda_max: est.lmax.clamp(max_lo, max_hi),
-        lambda_min: est.lmin.clamp(min_lo, min_hi),
+        lambda_max: refined_max.unwrap_or(est.lmax).clamp(max_lo, max_hi),
+        // The inverse-Rayleigh value yᵀy / (2x̂ᵀy − x̂ᵀAx̂) where there is one: its error is
+        // second order in the solve error and in the Ritz vector's (certify, Lemma 6), where
+        // 1/θ of the Lanczos run carries the first-order ε_mach·cond₂ of its solves.
+        lambda_min: refined.unwrap_or(est.lmin).clamp(min_lo, min_hi),
         certificate,
         log10_det,
         ritz: est
@@ -1039,8 +1048,13 @@ fn estimate(
 }
 
 /// Phase 2 of [`extreme_eigenvalues`]: the proven brackets `(λ_max lo, hi, λ_min lo, hi)`
-/// around the estimates ([`certify`]).
-fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin) -> (f64, f64, f64, f64) {
+/// around the estimates ([`certify`]), and the refined λ_min (the inverse-Rayleigh value of
+/// Lemma 6, where it is positive).
+fn certify_ends(
+    fam: &mut ShiftFamily,
+    est: &Estimates,
+    margin: Margin,
+) -> (f64, f64, f64, f64, Option<f64>, Option<f64>) {
     let max_diag = fam.pattern.max_diagonal();
     let (lmax_est, lmin_est) = (est.lmax, est.lmin);
     let (top_vector, y_bottom, x_hat, s_hat, h_est) =
@@ -1057,14 +1071,37 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin) -> (f64,
         .and_then(|y| rayleigh_interval(pat, vals, y));
     let bottom_inv = certify::inverse_rayleigh_upper(pat, vals, y_bottom, x_hat);
     let max_lo = top_rq.map_or(max_diag, |(lo, _)| lo.max(max_diag));
+    // A first test that fails means the plain Lanczos run stopped short of λ_max (a cluster
+    // at the top creeps below the stagnation test): the factor of the test that succeeds,
+    // σI − A with σ just above λ_max, drives a shift-invert run, λ_max = σ − 1/ν_max, accurate
+    // to ε_mach·‖A‖.
+    let mut refined_max = None;
     let max_hi = {
         let base = lmax_est.max(max_lo);
         let mut w = (4.0 * margin.m).max(4.0 * f64::EPSILON);
         let mut hi = f64::INFINITY;
-        for _ in 0..TEST_TRIES {
+        for tries in 0..TEST_TRIES {
             let s = base * (1.0 + w);
-            if let Some(max_b) = fam.test(-1.0, s) {
+            if let Some((f, max_b)) = fam.test_factor(-1.0, s) {
                 hi = margin.upper_from_test(s, max_b);
+                if tries > 0 {
+                    let n = fam.pattern.n();
+                    let run = lanczos(
+                        n,
+                        MAX_LANCZOS_STEPS,
+                        |_| STAGNATION,
+                        top_vector.as_deref(),
+                        false,
+                        |x, y| {
+                            y.copy_from_slice(x);
+                            f.solve_vec_in_place(y);
+                        },
+                    );
+                    refined_max = run
+                        .ok()
+                        .filter(|r| r.theta > 0.0 && r.theta.is_finite())
+                        .map(|r| s - 1.0 / r.theta);
+                }
                 break;
             }
             w *= 8.0;
@@ -1109,7 +1146,7 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin) -> (f64,
         }
         lo
     };
-    (max_lo, max_hi, min_lo, min_hi)
+    (max_lo, max_hi, min_lo, min_hi, bottom_inv, refined_max)
 }
 
 /// The uncertified estimates of [`extreme_eigenvalues`], `(λ_max, λ_min)`: the same converged
