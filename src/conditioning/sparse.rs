@@ -13,7 +13,10 @@
 //!    extreme Ritz value of `T_k` is found by Laguerre's method. The Ritz vectors of both ends
 //!    come from the stored Lanczos vectors up to [`RITZ_VECTOR_MAX_N`] unknowns (memory k·n),
 //!    by a second Lanczos pass above (memory O(n)). **The reported value is the ratio of the
-//!    two estimates**, clamped into the proven brackets.
+//!    two estimates**, clamped into the proven brackets, each refined where that is cheap:
+//!    λ_min as the inverse-Rayleigh value `yᵀy / (2x̂ᵀy − x̂ᵀAx̂)` (x̂ = A⁻¹y: second order in
+//!    the solve error), λ_max by a shift-invert run with the factor of the certificate's
+//!    test where its first test fails (the plain run stopped short below a cluster).
 //! 2. **Certify** ([`certify`] states and proves each step). λ_max ≥ ρ(y_top) (Courant–
 //!    Fischer, rounding bounded) and λ_max ≤ σ + m·max b̃_ii once floating-point Cholesky of
 //!    `σI − A` succeeds (σ just above the estimate; m from the backward error of Cholesky and
