@@ -289,11 +289,13 @@ pub fn image_norm_upper(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use faer::sparse::{SparseColMat, Triplet};
 
-    fn second_difference(n: usize) -> SparseColMat<usize, f64> {
+    /// The n×n second-difference matrix tridiag(−1, 2, −1) (both triangles): the test matrix
+    /// with closed-form eigenvalues, shared with the `sparse` unit tests.
+    pub(crate) fn second_difference(n: usize) -> SparseColMat<usize, f64> {
         let mut t = Vec::new();
         for i in 0..n {
             t.push(Triplet::new(i, i, 2.0));

@@ -1225,17 +1225,8 @@ mod tests {
     #[test]
     fn rayleigh_interval_contains_the_closed_form_eigenvalues() {
         use crate::linalg::DiagonalPattern;
-        use faer::sparse::{SparseColMat, Triplet};
         for n in [2usize, 40, 1000] {
-            let mut t = Vec::new();
-            for i in 0..n {
-                t.push(Triplet::new(i, i, 2.0));
-                if i + 1 < n {
-                    t.push(Triplet::new(i, i + 1, -1.0));
-                    t.push(Triplet::new(i + 1, i, -1.0));
-                }
-            }
-            let a = SparseColMat::try_new_from_triplets(n, n, &t).unwrap();
+            let a = crate::conditioning::certify::tests::second_difference(n);
             let pattern = DiagonalPattern::new(&a).unwrap();
             let th = std::f64::consts::PI / (n as f64 + 1.0);
             let lambda = |j: usize| 2.0 - 2.0 * (j as f64 * th).cos();
