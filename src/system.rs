@@ -108,15 +108,21 @@ fn exactly_symmetric(m: &SparseColMat<usize, f64>) -> bool {
 fn sparse_of_nonzeros(
     n: usize,
     entries: impl IntoIterator<Item = (usize, usize, f64)>,
-) -> Stiffness {
+) -> SparseColMat<usize, f64> {
     let t: Vec<Triplet<usize, usize, f64>> = entries
         .into_iter()
         .filter(|e| e.2 != 0.0)
         .map(|(row, col, val)| Triplet { row, col, val })
         .collect();
-    Stiffness::Sparse(
-        SparseColMat::try_new_from_triplets(n, n, &t)
-            .expect("entries of an n×n matrix are in range"),
+    SparseColMat::try_new_from_triplets(n, n, &t).expect("entries of an n×n matrix are in range")
+}
+
+/// The square dense `m` in sparse storage: its nonzero entries, every value bit for bit.
+pub fn sparse_of_dense(m: faer::MatRef<'_, f64>) -> SparseColMat<usize, f64> {
+    let n = m.nrows();
+    sparse_of_nonzeros(
+        n,
+        (0..n).flat_map(|j| (0..n).map(move |i| (i, j, m[(i, j)]))),
     )
 }
 
@@ -183,7 +189,7 @@ impl Stiffness {
         if !s.prefers_sparse() {
             return Self::from_row_entries(row_lens, entries);
         }
-        Ok(sparse_of_nonzeros(n, entries))
+        Ok(Stiffness::Sparse(sparse_of_nonzeros(n, entries)))
     }
 
     /// Builds a sparse matrix from (row, col, value) triplets; duplicates are summed.
@@ -226,6 +232,15 @@ impl Stiffness {
         Ok(Stiffness::Sparse(m))
     }
 
+    /// The matrix in sparse storage, whatever its storage now (a dense one: its nonzero
+    /// entries, every value bit for bit).
+    pub fn to_sparse(&self) -> SparseColMat<usize, f64> {
+        match self {
+            Stiffness::Sparse(m) => m.clone(),
+            Stiffness::Dense(m) => sparse_of_dense(m.as_ref()),
+        }
+    }
+
     /// The structure of the matrix, whatever its storage: N, the number of nonzero entries
     /// (exact zeros, stored or not, do not count) and the half-bandwidth
     /// `max |i − j|` over them (natural ordering). O(N²) for dense storage, O(nnz) for sparse.
@@ -243,13 +258,7 @@ impl Stiffness {
     pub fn in_preferred_storage(self) -> Stiffness {
         let s = self.structure();
         match (&self, s.prefers_sparse()) {
-            (Stiffness::Dense(m), true) => {
-                let n = m.nrows();
-                sparse_of_nonzeros(
-                    n,
-                    (0..n).flat_map(|j| (0..n).map(move |i| (i, j, m[(i, j)]))),
-                )
-            }
+            (Stiffness::Dense(m), true) => Stiffness::Sparse(sparse_of_dense(m.as_ref())),
             (Stiffness::Sparse(_), false) if s.n <= crate::conditioning::DENSIFY_LIMIT => {
                 Stiffness::Dense(self.to_dense())
             }

@@ -82,6 +82,26 @@ fn down(x: f64) -> f64 {
     x * (1.0 - 8.0 * U)
 }
 
+/// Cholesky tests per bracket end before it is given up (each ×8 further out).
+pub(crate) const TEST_TRIES: usize = 24;
+
+/// The search every proven bracket end makes: `attempt(w, k)` is tried with a relative offset
+/// `w = w0·8^k` for k = 0, 1, … until it succeeds (a Cholesky test at `σ(1 ± w)` that passes)
+/// or [`TEST_TRIES`] offsets were tried; its result, or None.
+pub(crate) fn step_outwards<T>(
+    w0: f64,
+    mut attempt: impl FnMut(f64, usize) -> Option<T>,
+) -> Option<T> {
+    let mut w = w0;
+    for k in 0..TEST_TRIES {
+        if let Some(t) = attempt(w, k) {
+            return Some(t);
+        }
+        w *= 8.0;
+    }
+    None
+}
+
 /// The backward-error margin `m` of a successful Cholesky test (Lemma 1 in the module doc).
 #[derive(Clone, Copy, Debug)]
 pub struct Margin {

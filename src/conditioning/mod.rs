@@ -180,16 +180,7 @@ pub fn cond2_dense(a: MatRef<'_, f64>, symmetric: bool) -> Result<CondReport> {
         ));
     }
     if symmetric && (0..n).all(|i| a[(i, i)] > 0.0) {
-        let mut t = Vec::new();
-        for j in 0..n {
-            for i in 0..n {
-                if a[(i, j)] != 0.0 || i == j {
-                    t.push(faer::sparse::Triplet::new(i, j, a[(i, j)]));
-                }
-            }
-        }
-        let sp = faer::sparse::SparseColMat::try_new_from_triplets(n, n, &t)
-            .map_err(|e| Error::Numerical(format!("dense to sparse: {e:?}")))?;
+        let sp = crate::system::sparse_of_dense(a);
         match sparse::extreme_eigenvalues(&sp, sparse::MAX_LANCZOS_STEPS, Reuse::default()) {
             Ok(s) => {
                 return Ok(CondReport::with_certificate(

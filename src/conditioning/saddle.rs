@@ -284,21 +284,15 @@ pub fn cond2_saddle_with(
     // inertia brackets above are reported, not proven.
     let margin = Margin::of(&pattern.symbolic);
     let smax_est = smax_est.max(sigma_max.0);
-    let proven_max_lo = top_rq
-        .map_or(0.0, |(lo, _)| lo)
-        .max(sigma_max_floor(&pattern));
-    let mut proven_max_hi = f64::INFINITY;
-    let mut w = (4.0 * margin.m).max(4.0 * f64::EPSILON);
-    for _ in 0..PROOF_TRIES {
+    // e_iᵀAe_i = K_ii ≤ σ_max for a unit vector of the N block (K ≻ 0).
+    let proven_max_lo = top_rq.map_or(0.0, |(lo, _)| lo).max(pattern.max_diagonal());
+    let proven_max_hi = certify::step_outwards((4.0 * margin.m).max(4.0 * f64::EPSILON), |w, _| {
         let s = smax_est * (1.0 + w);
-        if shifts.verified_pd(-1.0, s, -1.0 / s, margin)
-            && shifts.verified_pd(1.0, s, -1.0 / s, margin)
-        {
-            proven_max_hi = s;
-            break;
-        }
-        w *= 8.0;
-    }
+        (shifts.verified_pd(-1.0, s, -1.0 / s, margin)
+            && shifts.verified_pd(1.0, s, -1.0 / s, margin))
+        .then_some(s)
+    })
+    .unwrap_or(f64::INFINITY);
     let mut proven_min_hi = f64::INFINITY;
     for y in &bottom_vectors {
         let mut x = vec![0.0; size];
@@ -309,21 +303,13 @@ pub fn cond2_saddle_with(
             proven_min_hi = proven_min_hi.min(ax / nx * (1.0 + 4.0 * f64::EPSILON));
         }
     }
-    let mut proven_min_lo = None;
     let base = value.min(proven_min_hi);
-    let mut w = (4.0 * margin.m * sigma_max.1 / base).max(4.0 * f64::EPSILON);
-    for _ in 0..PROOF_TRIES {
+    let w0 = (4.0 * margin.m * sigma_max.1 / base).max(4.0 * f64::EPSILON);
+    let proven_min_lo = certify::step_outwards(w0, |w, _| {
         let s = base * (1.0 - w);
-        if s.is_nan() || s <= 0.0 {
-            break;
-        }
-        if shifts.verified_pd(1.0, -s, 1.0 / s, margin) {
-            // λ⁺_min > s, and no eigenvalue in (−s₀, 0): σ_min ≥ min(s, s₀).
-            proven_min_lo = Some(s.min(s0));
-            break;
-        }
-        w *= 8.0;
-    }
+        // λ⁺_min > s, and no eigenvalue in (−s₀, 0): σ_min ≥ min(s, s₀).
+        (s > 0.0 && shifts.verified_pd(1.0, -s, 1.0 / s, margin)).then(|| s.min(s0))
+    });
     // The proven bracket is reported where it is informative (cond₂ known within a factor of
     // 2 or better); past that (σ_min far above s₀, or a margin m·cond₂ ≳ 1) the search's
     // inertia bracket is reported, flagged as not proven.
@@ -366,19 +352,6 @@ pub fn cond2_saddle_with(
         proven,
         Some(log10_det),
     ))
-}
-
-/// Verified tests per proven bracket end before it is given up (each ×8 further out).
-const PROOF_TRIES: usize = 24;
-
-/// `max_i |K_ii| ≤ σ_max` (the Rayleigh quotient of a unit vector of the N block).
-fn sigma_max_floor(pattern: &DiagonalPattern) -> f64 {
-    pattern
-        .diag
-        .iter()
-        .map(|&p| pattern.values[p].abs())
-        .fold(0.0, f64::max)
-        * (1.0 - 4.0 * f64::EPSILON)
 }
 
 /// `[K D; Dᵀ 0]` in CSC with both triangles (K's columns from `pattern`, then the unit

@@ -119,9 +119,11 @@ pub const RITZ_VECTOR_MAX_N: usize = 20_000;
 /// Result of [`extreme_eigenvalues`].
 #[derive(Clone, Debug)]
 pub struct SparseSpectrum {
-    /// λ_max: the converged Lanczos estimate, clamped into its bracket.
+    /// λ_max: the converged Lanczos estimate (refined by shift-invert where the first
+    /// certificate test failed), clamped into its bracket.
     pub lambda_max: f64,
-    /// λ_min: the converged Lanczos estimate, clamped into its bracket.
+    /// λ_min: the inverse-Rayleigh value of the bottom Ritz vector (else the Lanczos estimate),
+    /// clamped into its bracket.
     pub lambda_min: f64,
     /// The brackets and the work done.
     pub certificate: Certificate,
@@ -169,13 +171,16 @@ impl ShiftFamily {
     /// [`ShiftFamily::test`], keeping the factor.
     fn test_factor(&mut self, alpha: f64, sigma: f64) -> Option<(SparseLlt, f64)> {
         let f = self.factor(alpha, sigma)?;
-        let max_b = self
-            .pattern
+        Some((f, self.max_stored_diagonal()))
+    }
+
+    /// The largest diagonal entry of the last test matrix as stored (`work`).
+    fn max_stored_diagonal(&self) -> f64 {
+        self.pattern
             .diag
             .iter()
             .map(|&p| self.work[p])
-            .fold(f64::NEG_INFINITY, f64::max);
-        Some((f, max_b))
+            .fold(f64::NEG_INFINITY, f64::max)
     }
 
     /// A Cholesky test of `fl(H̃ − τI)`, `h̃_ij = fl(fl(a_ij/ŝ_i)/ŝ_j)` (certify, Lemma 5): on
@@ -202,12 +207,7 @@ impl ShiftFamily {
         }
         self.factorizations += 1;
         let ok = self.pattern.factor(v).is_some();
-        let max_c = self
-            .pattern
-            .diag
-            .iter()
-            .map(|&p| self.work[p])
-            .fold(f64::NEG_INFINITY, f64::max);
+        let max_c = self.max_stored_diagonal();
         // The row sums were accumulated in f64 over at most n terms.
         ok.then_some((max_c, rowsum * (1.0 + certify::gamma(self.pattern.n() + 2))))
     }
@@ -869,14 +869,21 @@ pub fn extreme_eigenvalues(
         starts,
         reuse.tol,
     )?;
-    let (max_lo, max_hi, min_lo, min_hi, refined, refined_max) =
-        certify_ends(&mut fam, &est, margin);
+    let Ends {
+        max_lo,
+        max_hi,
+        min_lo,
+        min_hi,
+        refined_max,
+        refined_min,
+        steps,
+    } = certify_ends(&mut fam, &est, margin);
     let certificate = Certificate {
         lambda_max_lo: max_lo,
         lambda_max_hi: max_hi,
         lambda_min_lo: min_lo,
         lambda_min_hi: min_hi,
-        lanczos_steps: est.steps,
+        lanczos_steps: est.steps + steps,
         factorizations: fam.factorizations,
     };
     if !(max_lo > 0.0 && min_hi.is_finite() && min_hi > 0.0) {
@@ -890,7 +897,7 @@ pub fn extreme_eigenvalues(
         // The inverse-Rayleigh value yᵀy / (2x̂ᵀy − x̂ᵀAx̂) where there is one: its error is
         // second order in the solve error and in the Ritz vector's (certify, Lemma 6), where
         // 1/θ of the Lanczos run carries the first-order ε_mach·cond₂ of its solves.
-        lambda_min: refined.unwrap_or(est.lmin).clamp(min_lo, min_hi),
+        lambda_min: refined_min.unwrap_or(est.lmin).clamp(min_lo, min_hi),
         certificate,
         log10_det,
         ritz: est
@@ -1050,106 +1057,107 @@ fn estimate(
     })
 }
 
-/// Phase 2 of [`extreme_eigenvalues`]: the proven brackets `(λ_max lo, hi, λ_min lo, hi)`
-/// around the estimates ([`certify`]), and the refined λ_min (the inverse-Rayleigh value of
-/// Lemma 6, where it is positive).
-fn certify_ends(
-    fam: &mut ShiftFamily,
-    est: &Estimates,
-    margin: Margin,
-) -> (f64, f64, f64, f64, Option<f64>, Option<f64>) {
+/// Phase 2 of [`extreme_eigenvalues`]: the proven brackets around the estimates
+/// ([`certify`]) and the refined values inside them.
+struct Ends {
+    max_lo: f64,
+    max_hi: f64,
+    min_lo: f64,
+    min_hi: f64,
+    /// λ_max from a shift-invert run where the first upper test failed.
+    refined_max: Option<f64>,
+    /// λ_min as the inverse-Rayleigh value of Lemma 6, where it is positive.
+    refined_min: Option<f64>,
+    /// Lanczos steps of the λ_max refinement.
+    steps: usize,
+}
+
+fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin) -> Ends {
     let max_diag = fam.pattern.max_diagonal();
     let (lmax_est, lmin_est) = (est.lmax, est.lmin);
-    let (top_vector, y_bottom, x_hat, s_hat, h_est) =
-        (&est.top, &est.bottom, &est.x_hat, &est.s_hat, est.h_est);
-    // The certificate. λ_max ∈ [ρ(y_top), Cor. 2]; λ_min ∈ [Cor. 3 or
-    // Thm 4, min(ρ(y_bottom), Lemma 6)]. The tests start just outside the estimates (by the
-    // bound's own margin) and step out ×8 until the floating-point Cholesky succeeds.
+    // λ_max ∈ [ρ(y_top), Cor. 2]; λ_min ∈ [Cor. 3 or Thm 4, Lemma 6]. The tests start just
+    // outside the estimates (by the bound's own margin) and step out ×8 until the
+    // floating-point Cholesky succeeds.
     let (pat, vals) = (fam.pattern.pattern.as_ref(), fam.pattern.values.as_slice());
     // ρ(y_top) in f64 with its rounding bounded (`rayleigh_interval`: ≈ k·ε relative at the
-    // top of the spectrum); the bottom end only through Lemma 6, in double-double (a plain
-    // ρ(y_bottom) carries ε·cond₂ of rounding and is rarely sharper).
-    let top_rq = top_vector
+    // top of the spectrum); the bottom end only through Lemma 6 with compensated sums (a
+    // plain ρ(y_bottom) carries ε·cond₂ of rounding and is rarely sharper).
+    let top_rq = est
+        .top
         .as_deref()
         .and_then(|y| rayleigh_interval(pat, vals, y));
-    let bottom_inv = certify::inverse_rayleigh_upper(pat, vals, y_bottom, x_hat);
+    let refined_min = certify::inverse_rayleigh_upper(pat, vals, &est.bottom, &est.x_hat);
     let max_lo = top_rq.map_or(max_diag, |(lo, _)| lo.max(max_diag));
     // A first test that fails means the plain Lanczos run stopped short of λ_max (a cluster
     // at the top creeps below the stagnation test): the factor of the test that succeeds,
     // σI − A with σ just above λ_max, drives a shift-invert run, λ_max = σ − 1/ν_max, accurate
     // to ε_mach·‖A‖.
-    let mut refined_max = None;
-    let max_hi = {
-        let base = lmax_est.max(max_lo);
-        let mut w = (4.0 * margin.m).max(4.0 * f64::EPSILON);
-        let mut hi = f64::INFINITY;
-        for tries in 0..TEST_TRIES {
-            let s = base * (1.0 + w);
-            if let Some((f, max_b)) = fam.test_factor(-1.0, s) {
-                hi = margin.upper_from_test(s, max_b);
-                if tries > 0 {
-                    let n = fam.pattern.n();
-                    let run = lanczos(
-                        n,
-                        MAX_LANCZOS_STEPS,
-                        |_| STAGNATION,
-                        top_vector.as_deref(),
-                        false,
-                        |x, y| {
-                            y.copy_from_slice(x);
-                            f.solve_vec_in_place(y);
-                        },
-                    );
-                    refined_max = run
-                        .ok()
-                        .filter(|r| r.theta > 0.0 && r.theta.is_finite())
-                        .map(|r| s - 1.0 / r.theta);
-                }
-                break;
-            }
-            w *= 8.0;
-        }
-        hi
-    };
-    let min_hi = {
-        // e_iᵀAe_i = A_ii bounds λ_min from above too.
-        let diag_min = fam
-            .pattern
-            .diag
-            .iter()
-            .map(|&p| fam.pattern.values[p])
-            .fold(f64::INFINITY, f64::min);
-        bottom_inv.map_or(diag_min, |b| b.min(diag_min))
-    };
-    let h = h_est.and_then(|est| {
+    let base = lmax_est.max(max_lo);
+    let w0 = (4.0 * margin.m).max(4.0 * f64::EPSILON);
+    let (max_hi, refined_max, steps) = certify::step_outwards(w0, |w, k| {
+        let s = base * (1.0 + w);
+        let (f, max_b) = fam.test_factor(-1.0, s)?;
+        let refined = (k > 0).then(|| {
+            lanczos(
+                fam.pattern.n(),
+                MAX_LANCZOS_STEPS,
+                |_| STAGNATION,
+                est.top.as_deref(),
+                false,
+                |x, y| {
+                    y.copy_from_slice(x);
+                    f.solve_vec_in_place(y);
+                },
+            )
+        });
+        let steps = refined
+            .as_ref()
+            .map_or(0, |r| r.as_ref().map_or(0, |r| r.steps));
+        let refined = refined
+            .and_then(|r| r.ok())
+            .filter(|r| r.theta > 0.0 && r.theta.is_finite())
+            .map(|r| s - 1.0 / r.theta);
+        Some((margin.upper_from_test(s, max_b), refined, steps))
+    })
+    .unwrap_or((f64::INFINITY, None, 0));
+    // e_iᵀAe_i = A_ii bounds λ_min from above too.
+    let diag_min = fam
+        .pattern
+        .diag
+        .iter()
+        .map(|&p| fam.pattern.values[p])
+        .fold(f64::INFINITY, f64::min);
+    let min_hi = refined_min.map_or(diag_min, |b| b.min(diag_min));
+    let h = est.h_est.and_then(|h_est| {
         [0.9, 0.5, 0.125, 0.02].into_iter().find_map(|f| {
-            let tau = f * est;
-            let (max_c, rowsum) = fam.test_scaled(s_hat, tau)?;
+            let tau = f * h_est;
+            let (max_c, rowsum) = fam.test_scaled(&est.s_hat, tau)?;
             Some(margin.graded_floor(tau, max_c, rowsum)).filter(|&h| h > 0.0)
         })
     });
-    let min_lo = {
-        let base = lmin_est.min(min_hi);
-        let loss = match h {
-            Some(h) => margin.m / h,
-            None => margin.m * max_diag / base,
-        };
-        let mut w = loss.max(4.0 * f64::EPSILON);
-        let mut lo = 0.0;
-        for _ in 0..TEST_TRIES {
-            let s = base * (1.0 - w);
-            if s <= 0.0 {
-                break;
-            }
-            if let Some(max_b) = fam.test(1.0, -s) {
-                lo = margin.lower_from_test(s, max_b, h);
-                break;
-            }
-            w *= 8.0;
-        }
-        lo
+    let base = lmin_est.min(min_hi);
+    let loss = match h {
+        Some(h) => margin.m / h,
+        None => margin.m * max_diag / base,
     };
-    (max_lo, max_hi, min_lo, min_hi, bottom_inv, refined_max)
+    let min_lo = certify::step_outwards(loss.max(4.0 * f64::EPSILON), |w, _| {
+        let s = base * (1.0 - w);
+        if s <= 0.0 {
+            return None;
+        }
+        let max_b = fam.test(1.0, -s)?;
+        Some(margin.lower_from_test(s, max_b, h))
+    })
+    .unwrap_or(0.0);
+    Ends {
+        max_lo,
+        max_hi,
+        min_lo,
+        min_hi,
+        refined_max,
+        refined_min,
+        steps,
+    }
 }
 
 /// The uncertified estimates of [`extreme_eigenvalues`], `(λ_max, λ_min)`: the same converged
@@ -1187,10 +1195,6 @@ const GRADED_LANCZOS_STEPS: usize = 16;
 /// Least possible gain (normwise over graded width of λ_min's lower bound) for which the
 /// graded bound is computed.
 const GRADED_GAIN: f64 = 8.0;
-
-/// Cholesky tests per end, each ×8 further from the estimate, before a bracket end is given
-/// up (left at 0 or +∞).
-const TEST_TRIES: usize = 24;
 
 #[cfg(test)]
 mod tests {

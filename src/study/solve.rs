@@ -32,11 +32,7 @@ pub fn solve_scene(
     exact_start: bool,
     cond_tol: Option<f64>,
 ) -> Result<Value> {
-    if let Some(t) = cond_tol {
-        if !(t.is_finite() && t > 0.0 && t < 1.0) {
-            return Err(Error::input(format!("--cond-tol {t} is not in (0, 1)")));
-        }
-    }
+    MetricSet::check_cond_tol(cond_tol)?;
     let sc = scene::read_scene(scene)?;
     let p = &sc.problem;
     let mut knobs = knobs;

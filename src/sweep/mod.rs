@@ -185,11 +185,7 @@ impl SweepConfig {
 
     /// Validates names, ranges and knobs; errors name the problem and the valid choices.
     pub fn validate(&self) -> Result<()> {
-        if let Some(t) = self.cond_tol {
-            if !(t.is_finite() && t > 0.0 && t < 1.0) {
-                return Err(Error::input(format!("--cond-tol {t} is not in (0, 1)")));
-            }
-        }
+        MetricSet::check_cond_tol(self.cond_tol)?;
         if self.scenes_dir.is_none() {
             if self.families.is_empty() {
                 return Err(Error::input(format!(

@@ -122,17 +122,7 @@ fn measure(
     let (lmax, lmin) = reference::extreme_eigenvalues_dd(a);
     let cond2_ref = lmax / lmin;
     let dense = a.to_dense();
-    let sparse_a = match a.clone().in_preferred_storage() {
-        Stiffness::Sparse(m) => m,
-        Stiffness::Dense(_) => match Stiffness::from_triplets(n, &{
-            let mut t = Vec::new();
-            a.for_each_entry(|i, j, v| t.push((i, j, v)));
-            t
-        })? {
-            Stiffness::Sparse(m) => m,
-            Stiffness::Dense(_) => return Err(Error::Numerical("no sparse form".into())),
-        },
-    };
+    let sparse_a = a.to_sparse();
     let mut out = Vec::new();
     let mut push = |route: &str, seconds: f64, value: f64, bounds_width: Option<f64>| {
         out.push(Row {
