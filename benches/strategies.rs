@@ -25,23 +25,13 @@ fn quick<'a>(
 
 fn methods(scale: f64, kdiag: f64) -> Vec<Method> {
     vec![
-        Method::Constant { eps: 1e3 * kdiag },
-        Method::Scaled { factor: 1e3 },
-        Method::Spring {
-            delta: 1e-2 * scale,
-        },
-        Method::Paper {
-            delta: 1e-2 * scale,
-        },
-        Method::Condensed {
-            delta: 1e-2 * scale,
-        },
-        Method::Lagrange,
-        Method::Augmented {
-            eps: kdiag,
-            tol: 1e-9 * scale,
-            adaptive: true,
-        },
+        Method::constant(1e3 * kdiag),
+        Method::scaled(1e3),
+        Method::spring(1e-2 * scale),
+        Method::paper(1e-2 * scale),
+        Method::condensed(1e-2 * scale),
+        Method::lagrange(),
+        Method::augmented(kdiag, 1e-9 * scale, true),
     ]
 }
 
@@ -108,9 +98,7 @@ fn bench_condensed_vs_m(c: &mut Criterion) {
             })
             .collect();
         let p = Problem::new(base.k.clone(), base.q.clone(), cons).expect("valid");
-        let m = Method::Condensed {
-            delta: 1e-2 * scale,
-        };
+        let m = Method::condensed(1e-2 * scale);
         g.bench_with_input(BenchmarkId::new("condensed", p.m()), &p, |b, p| {
             b.iter(|| strategy::solve(black_box(p), m).expect("solves"))
         });

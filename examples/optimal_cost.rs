@@ -39,7 +39,7 @@ fn main() {
             let u0 = p.k.solve(&p.q).unwrap();
             let delta = 0.05 * p.gaps(&u0).iter().fold(0.0f64, |a, g| a.max(g.abs()));
             let t0 = Instant::now();
-            let sol = strategy::solve(&p, Method::Optimal { delta }).unwrap();
+            let sol = strategy::solve(&p, Method::optimal(delta)).unwrap();
             let secs = t0.elapsed().as_secs_f64();
             let r = sol.stats.optimal.unwrap();
             println!(

@@ -29,7 +29,7 @@ pub fn run() -> Result<(f64, Vec<Outcome>)> {
         .to_vec();
     let beam = Problem::new(k, q, constraints)?;
     let mut rows = Vec::new();
-    for method in [Method::Constant { eps: 1e4 }, Method::Paper { delta: 0.1 }] {
+    for method in [Method::constant(1e4), Method::paper(0.1)] {
         let sol = solve(&beam, method)?;
         let cond = cond2(&system_matrix(&beam, &sol))?.cond2;
         rows.push((method.name().to_string(), sol.penalties, cond));

@@ -13,7 +13,7 @@
 use clap::Parser;
 use penalty_lab::engine_scale::{self, ScaleConfig};
 use penalty_lab::progress::Progress;
-use penalty_lab::strategy::MethodName;
+use penalty_lab::strategy::registry;
 use penalty_lab::{plot, provenance, Error, Result};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -29,8 +29,8 @@ struct Args {
     #[arg(long, value_delimiter = ',', default_values_t = [10_000usize, 100_000])]
     sizes: Vec<usize>,
     /// Methods (default: constant, scaled, condensed, lagrange).
-    #[arg(long, value_enum, value_delimiter = ',')]
-    methods: Option<Vec<MethodName>>,
+    #[arg(long, value_parser = registry::method_parser(), value_delimiter = ',')]
+    methods: Option<Vec<String>>,
     /// Skip the cond₂ metrics.
     #[arg(long)]
     no_cond: bool,
@@ -45,10 +45,12 @@ struct Args {
 fn run(a: Args) -> Result<()> {
     let cfg = ScaleConfig {
         sizes: a.sizes,
-        methods: a.methods.map_or_else(
-            || engine_scale::SCALE_METHODS.map(String::from).to_vec(),
-            |v| v.iter().map(|m| m.as_str().to_string()).collect(),
-        ),
+        methods: a.methods.unwrap_or_else(|| {
+            engine_scale::scale_method_names()
+                .iter()
+                .map(|s| s.to_string())
+                .collect()
+        }),
         cond: !a.no_cond,
         ..Default::default()
     };

@@ -18,7 +18,7 @@
 use clap::Parser;
 use penalty_lab::perf::{self, report, PerfConfig};
 use penalty_lab::progress::Progress;
-use penalty_lab::strategy::MethodName;
+use penalty_lab::strategy::registry;
 use penalty_lab::Error;
 use serde_json::json;
 use std::path::PathBuf;
@@ -54,9 +54,9 @@ struct Args {
     /// Families, comma-separated: beam, membrane.
     #[arg(long, value_delimiter = ',', default_value = "beam,membrane")]
     families: Vec<String>,
-    /// Methods, comma-separated (default: all seven).
-    #[arg(long, value_enum, value_delimiter = ',')]
-    methods: Option<Vec<MethodName>>,
+    /// Methods, comma-separated (default: every built-in one but optimal).
+    #[arg(long, value_parser = registry::method_parser(), value_delimiter = ',')]
+    methods: Option<Vec<String>>,
     /// Timed repeats per point; the median is reported (default 3; smoke 1).
     #[arg(long)]
     repeats: Option<usize>,
@@ -84,7 +84,7 @@ fn config(a: &Args) -> Result<PerfConfig, Error> {
         cfg.sizes = s.clone();
     }
     if let Some(m) = &a.methods {
-        cfg.methods = m.iter().map(|m| m.as_str().to_string()).collect();
+        cfg.methods = m.clone();
     }
     cfg.repeats = a.repeats.unwrap_or(cfg.repeats);
     cfg.budget_seconds = a.budget;

@@ -8,7 +8,7 @@
 //! `shared/notes/methods.md`); the study is [`penalty_lab::study::solve`]. Bad input exits with status 2 and one line on stderr.
 
 use clap::Parser;
-use penalty_lab::strategy::{Knobs, MethodName};
+use penalty_lab::strategy::{registry, Knobs};
 use penalty_lab::study::solve::{solve_scene, table};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -27,8 +27,8 @@ struct Args {
     /// Scene file (JSON; stiffness dense or Matrix Market).
     scene: PathBuf,
     /// Strategy.
-    #[arg(long, value_enum)]
-    method: MethodName,
+    #[arg(long, value_parser = registry::method_parser())]
+    method: String,
     /// Allowed penetration δ (units of u) for spring, paper, condensed.
     #[arg(long, allow_negative_numbers = true)]
     delta: Option<f64>,
@@ -72,7 +72,7 @@ fn main() -> ExitCode {
         };
         let v = solve_scene(
             &args.scene,
-            args.method,
+            &args.method,
             knobs,
             args.no_metrics,
             args.exact_start,

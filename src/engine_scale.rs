@@ -23,12 +23,22 @@ use crate::metrics::{self, MetricSet};
 use crate::model::scalable::{self, PerfScene};
 use crate::plot::{method_color, Figure, Mark, Series};
 use crate::progress::Progress;
-use crate::strategy::{self, Method};
+use crate::strategy::{self, Knob, Knobs, Method, Strategy};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
 /// Methods the study runs (fixed-energy penalties, δ-targeting, exact contact).
-pub const SCALE_METHODS: [&str; 4] = ["constant", "scaled", "condensed", "lagrange"];
+pub static SCALE_METHODS: [&Strategy; 4] = [
+    &strategy::constant::STRATEGY,
+    &strategy::scaled::STRATEGY,
+    &strategy::condensed::STRATEGY,
+    &strategy::lagrange::STRATEGY,
+];
+
+/// The names of [`SCALE_METHODS`].
+pub fn scale_method_names() -> Vec<&'static str> {
+    SCALE_METHODS.iter().map(|s| s.name).collect()
+}
 
 /// Configuration.
 #[derive(Clone, Debug, Serialize)]
@@ -51,7 +61,7 @@ impl Default for ScaleConfig {
     fn default() -> Self {
         ScaleConfig {
             sizes: vec![10_000, 100_000],
-            methods: SCALE_METHODS.iter().map(|s| s.to_string()).collect(),
+            methods: scale_method_names().iter().map(|s| s.to_string()).collect(),
             cond: true,
             eps_rel: 1e2,
             factor: 1e2,
@@ -69,11 +79,11 @@ impl ScaleConfig {
         if let Some(m) = self
             .methods
             .iter()
-            .find(|m| !SCALE_METHODS.contains(&m.as_str()))
+            .find(|m| !scale_method_names().contains(&m.as_str()))
         {
             return Err(Error::input(format!(
                 "unknown method '{m}' (valid: {})",
-                SCALE_METHODS.join(", ")
+                scale_method_names().join(", ")
             )));
         }
         for (name, v) in [
@@ -151,19 +161,41 @@ fn peak_rss_mb() -> Option<f64> {
     Some(kb / 1024.0)
 }
 
-fn method(name: &str, scene: &PerfScene, cfg: &ScaleConfig) -> (Method, f64) {
-    match name {
-        "constant" => {
+/// The method `name` ([`SCALE_METHODS`]) with its knob from `cfg` (ε and δ relative to the
+/// scene's scales), and the knob's value.
+fn method(name: &str, scene: &PerfScene, cfg: &ScaleConfig) -> Result<(Method, f64)> {
+    let s = strategy::registry::lookup(name)?;
+    let (knobs, value) = match s.knob {
+        Knob::Eps => {
             let eps = cfg.eps_rel * scene.k_scale;
-            (Method::Constant { eps }, eps)
+            (
+                Knobs {
+                    eps: Some(eps),
+                    ..Knobs::NONE
+                },
+                eps,
+            )
         }
-        "scaled" => (Method::Scaled { factor: cfg.factor }, cfg.factor),
-        "condensed" => {
+        Knob::Factor => (
+            Knobs {
+                factor: Some(cfg.factor),
+                ..Knobs::NONE
+            },
+            cfg.factor,
+        ),
+        Knob::Delta => {
             let delta = cfg.delta_rel * scene.scale;
-            (Method::Condensed { delta }, delta)
+            (
+                Knobs {
+                    delta: Some(delta),
+                    ..Knobs::NONE
+                },
+                delta,
+            )
         }
-        _ => (Method::Lagrange, 0.0),
-    }
+        Knob::None | Knob::EpsTol => (Knobs::NONE, 0.0),
+    };
+    Ok((Method::new(s, knobs)?, value))
 }
 
 /// Runs the study; one [`Progress::step`] per finished solve.
@@ -188,7 +220,7 @@ pub fn run(cfg: &ScaleConfig, progress: &Progress) -> Result<Vec<ScaleRow>> {
         };
         let (k_lo, k_hi) = k_cond.as_ref().map_or((None, None), bounds);
         for name in &cfg.methods {
-            let (m, knob) = method(name, &scene, cfg);
+            let (m, knob) = method(name, &scene, cfg)?;
             let tracked = reset_peak_rss();
             let t = Instant::now();
             let sol = strategy::solve(p, m)?;
@@ -270,7 +302,7 @@ pub fn figures(rows: &[ScaleRow]) -> Vec<Figure> {
         "factorizations",
     )
     .log_log();
-    for name in SCALE_METHODS {
+    for name in scale_method_names() {
         let r: Vec<&ScaleRow> = rows.iter().filter(|r| r.method == name).collect();
         if r.is_empty() {
             continue;

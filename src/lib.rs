@@ -11,7 +11,8 @@
 //!
 //! ## Tour
 //! * [`system`] — K (dense or sparse), q, constraints (`bilateral`/`upper`/`lower`), gaps.
-//! * [`strategy`] — the eight strategies and [`strategy::solve`].
+//! * [`strategy`] — the eight built-in strategies, their registry ([`strategy::registry`],
+//!   where a rule from outside the crate joins) and [`strategy::solve`].
 //! * [`metrics`] / [`conditioning`] — cond₂ with its accuracy contract and bounds (route
 //!   recorded; what the bounds prove: [`conditioning::certify`]), log10|det|, ratios.
 //! * [`linalg`] — factorize once, solve many; log-det from the factor.
@@ -61,13 +62,13 @@
 //! let beam = Problem::new(k, q, constraints)?;
 //!
 //! // Eq. 28 at δ = 0.1: ε = (501.9, 1390, 557) and cond₂ = 513.871, as the paper prints.
-//! let sol = solve(&beam, Method::Paper { delta: 0.1 })?;
+//! let sol = solve(&beam, Method::paper(0.1))?;
 //! let c = cond2(&system_matrix(&beam, &sol))?;
 //! assert!((c.cond2 - 513.871).abs() < 5e-4);
 //! assert!(c.bounds_proven && c.cond2_lo <= c.cond2 && c.cond2 <= c.cond2_hi);
 //!
 //! // Our exact δ-targeting rule: every gap exactly δ, a better-conditioned system.
-//! let exact = solve(&beam, Method::Condensed { delta: 0.1 })?;
+//! let exact = solve(&beam, Method::condensed(0.1))?;
 //! assert!(exact.gaps.iter().all(|g| (g.abs() - 0.1).abs() < 1e-9));
 //! assert!(cond2(&system_matrix(&beam, &exact))?.cond2 < c.cond2);
 //! # Ok::<(), penalty_lab::Error>(())

@@ -29,7 +29,7 @@ fn condensed_penetration_never_exceeds_delta_on_the_sweep_families() {
                 .fold(0.0, f64::max);
             for rel in [1e-1, 1e-4, 1e-6] {
                 let delta = rel * scale;
-                let s = strategy::solve(p, Method::Condensed { delta }).unwrap();
+                let s = strategy::solve(p, Method::condensed(delta)).unwrap();
                 rows += 1;
                 let tag = format!("{} δ = {rel}·|u0| (n = {})", sc.name, p.n());
                 assert!(s.stats.converged, "{tag}");

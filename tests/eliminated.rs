@@ -60,7 +60,7 @@ fn condensed_routes_agree() {
                 }
             }
             // The public entry point takes the elimination route here.
-            let s = strategy::solve(&p, Method::Condensed { delta }).unwrap();
+            let s = strategy::solve(&p, Method::condensed(delta)).unwrap();
             assert_eq!(s.u, b.u);
         }
     }
@@ -240,11 +240,11 @@ fn exact_contact_start_same_answer_fewer_iterations() {
         let n = p.n() as f64;
         let ck = conditioning::cond2(&p.k).unwrap();
         let prep = Prepared::new(&p).unwrap();
-        let lag = strategy::solve_prepared(&p, Method::Lagrange, Some(&prep)).unwrap();
+        let lag = strategy::solve_prepared(&p, Method::lagrange(), Some(&prep)).unwrap();
         let warm = prep.clone().with_contact_set(lag.contact_set().unwrap());
         let (mut cold_its, mut warm_its) = (0, 0);
         for eps in [1e-1, 1e1, 1e3, 1e5] {
-            let m = Method::Constant { eps };
+            let m = Method::constant(eps);
             let a = strategy::solve_prepared(&p, m, Some(&prep)).unwrap();
             let b = strategy::solve_prepared(&p, m, Some(&warm)).unwrap();
             assert!(a.stats.converged && b.stats.converged);
@@ -261,7 +261,7 @@ fn exact_contact_start_same_answer_fewer_iterations() {
             "from u0 {cold_its}, from the contact set {warm_its}"
         );
         let delta = 1e-2 * scale(&p);
-        let m = Method::Condensed { delta };
+        let m = Method::condensed(delta);
         let a = strategy::solve_prepared(&p, m, Some(&prep)).unwrap();
         let b = strategy::solve_prepared(&p, m, Some(&warm)).unwrap();
         assert!(b.max_penetration <= delta);

@@ -133,7 +133,7 @@ fn constant_penalty_reaches_the_minimizer_where_the_plain_loop_cycles() {
             total += 1;
             let plain = plain_loop(&p, &e);
             cycled += usize::from(plain.is_none());
-            let s = strategy::solve(&p, Method::Constant { eps }).unwrap();
+            let s = strategy::solve(&p, Method::constant(eps)).unwrap();
             assert_minimizer(&p, &e, &s, &format!("{name}, ε = {f}·K_dd"));
             if let Some(u_plain) = plain {
                 // Where the plain loop converges it finds the same minimizer: equal within the
@@ -166,7 +166,7 @@ fn scaled_penalty_reaches_the_minimizer_where_the_plain_loop_cycles() {
                 .map(|c| factor * p.k.diag(c.dof))
                 .collect();
             cycled += usize::from(plain_loop(&p, &e).is_none());
-            let s = strategy::solve(&p, Method::Scaled { factor }).unwrap();
+            let s = strategy::solve(&p, Method::scaled(factor)).unwrap();
             assert_minimizer(&p, &e, &s, &format!("{name}, factor {factor}"));
         }
     }
@@ -184,15 +184,7 @@ fn augmented_lagrangian_converges_on_cycling_scenes() {
             .fold(0.0, f64::max);
         for adaptive in [false, true] {
             let tol = 1e-6 * scale;
-            let s = strategy::solve(
-                &p,
-                Method::Augmented {
-                    eps: kdd,
-                    tol,
-                    adaptive,
-                },
-            )
-            .unwrap();
+            let s = strategy::solve(&p, Method::augmented(kdd, tol, adaptive)).unwrap();
             assert!(s.stats.converged, "{name}: {:?}", s.warnings);
             assert!(s.max_penetration <= tol, "{name}: {}", s.max_penetration);
         }
@@ -209,10 +201,7 @@ fn set_dependent_rules_terminate_and_say_whether_they_converged() {
             .map(|c| c.limit.abs())
             .fold(0.0, f64::max);
         for rel in [1e-1, 1e-2, 1e-3] {
-            for method in [
-                Method::Spring { delta: rel * scale },
-                Method::Paper { delta: rel * scale },
-            ] {
+            for method in [Method::spring(rel * scale), Method::paper(rel * scale)] {
                 let s = strategy::solve(&p, method).unwrap();
                 let flagged = s.warnings.iter().any(|w| w.contains("NOT CONVERGED"));
                 assert_eq!(flagged, !s.stats.converged, "{name} {method:?}");
@@ -270,7 +259,7 @@ proptest! {
         let p = bed::problem(b).unwrap();
         let eps = f * p.k.diag(p.constraints[p.m() / 2].dof);
         let e = vec![eps; p.m()];
-        let s = strategy::solve(&p, Method::Constant { eps }).unwrap();
+        let s = strategy::solve(&p, Method::constant(eps)).unwrap();
         prop_assert!(s.stats.converged, "{:?}", s.warnings);
         let (g, tol) = gradient_and_tol(&p, &e, &s.u);
         prop_assert!(g <= tol, "‖∇J‖ = {:.3e} > {:.3e}", g, tol);

@@ -19,7 +19,7 @@ fn cond(p: &Problem, eps: &[f64]) -> f64 {
 fn paper_beam_reaches_the_outside_optimum() {
     let p = paper::problem();
     let delta = 0.1;
-    let sol = strategy::solve(&p, Method::Optimal { delta }).unwrap();
+    let sol = strategy::solve(&p, Method::optimal(delta)).unwrap();
     let rep = sol.stats.optimal.clone().unwrap();
     let c = cond(&p, &sol.penalties);
     println!(
@@ -32,7 +32,7 @@ fn paper_beam_reaches_the_outside_optimum() {
     assert!((rep.cond2 - c).abs() <= 1e-9 * c);
     assert!(rep.cond2_lower_bound <= c && rep.cond2_lower_bound >= 1.0);
     assert!(rep.starts_agreeing >= 1 && rep.starts_agreeing <= rep.starts);
-    let con = strategy::solve(&p, Method::Condensed { delta }).unwrap();
+    let con = strategy::solve(&p, Method::condensed(delta)).unwrap();
     assert!(c <= cond(&p, &con.penalties));
 }
 
@@ -43,7 +43,7 @@ fn refuses_large_problems() {
         ..Default::default()
     };
     let s = generate(Family::Spectrum, 0, 1, &cfg).unwrap();
-    let e = strategy::solve(&s.problem, Method::Optimal { delta: 1e-3 }).unwrap_err();
+    let e = strategy::solve(&s.problem, Method::optimal(1e-3)).unwrap_err();
     assert!(e.to_string().contains("n ≤ 1000"), "{e}");
 }
 
@@ -64,11 +64,11 @@ proptest! {
         let g0 = p.gaps(&u0).iter().fold(0.0f64, |m, g| m.max(g.abs()));
         prop_assume!(g0 > 0.0);
         let delta = rel * 0.5 * g0;
-        let opt = strategy::solve(&p, Method::Optimal { delta }).unwrap();
+        let opt = strategy::solve(&p, Method::optimal(delta)).unwrap();
         prop_assert!(opt.max_penetration <= delta);
         let c = cond(&p, &opt.penalties);
         let tol = 1e-12 * p.n() as f64 * c;
-        for m in [Method::Spring { delta }, Method::Paper { delta }, Method::Condensed { delta }] {
+        for m in [Method::spring(delta), Method::paper(delta), Method::condensed(delta)] {
             let s = strategy::solve(&p, m).unwrap();
             if s.max_penetration <= delta {
                 let cm = cond(&p, &s.penalties);

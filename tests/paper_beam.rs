@@ -78,7 +78,7 @@ fn eq33_unconstrained_solution_matches_cantilever_formulas() {
 #[test]
 fn eq35_to_37_paper_penalties_condition_and_solution() {
     let p = paper::problem();
-    let sol = strategy::solve(&p, Method::Paper { delta: 0.1 }).unwrap();
+    let sol = strategy::solve(&p, Method::paper(0.1)).unwrap();
     for (c, (&got, &want)) in sol.penalties.iter().zip(&EQ35_EPS).enumerate() {
         assert!(agrees(got, want), "ε{c} = {got}, Eq. 35 prints {want}");
     }
@@ -99,7 +99,7 @@ fn eq35_to_37_paper_penalties_condition_and_solution() {
 #[test]
 fn condensed_numbers_of_methods_md() {
     let p = paper::problem();
-    let sol = strategy::solve(&p, Method::Condensed { delta: 0.1 }).unwrap();
+    let sol = strategy::solve(&p, Method::condensed(0.1)).unwrap();
     for (c, (&got, &want)) in sol
         .penalties
         .iter()

@@ -184,11 +184,11 @@ fn gallery_of_edge_cases() {
 #[test]
 fn one_colour_per_method() {
     use penalty_lab::plot::{method_color, method_label};
-    use penalty_lab::strategy::METHOD_NAMES;
-    let mut seen: Vec<usize> = METHOD_NAMES.iter().map(|m| method_color(m)).collect();
+    use penalty_lab::strategy::registry::BUILT_IN;
+    let mut seen: Vec<usize> = BUILT_IN.iter().map(|s| method_color(s.name)).collect();
     seen.sort_unstable();
     seen.dedup();
-    assert_eq!(seen.len(), METHOD_NAMES.len());
+    assert_eq!(seen.len(), BUILT_IN.len());
     assert_eq!(method_color("classical"), method_color("constant"));
     assert_eq!(method_color("adaptive"), method_color("paper"));
     assert!(method_label("paper").contains("Eq. 26"));

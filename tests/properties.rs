@@ -211,7 +211,7 @@ proptest! {
     fn condensed_never_exceeds_delta(spec in spec_strategy(4)) {
         let Some(sc) = build(&spec, false) else { return Ok(()) };
         let p = &sc.problem;
-        let sol = strategy::solve(p, Method::Condensed { delta: sc.delta }).unwrap();
+        let sol = strategy::solve(p, Method::condensed(sc.delta)).unwrap();
         // u = u0 − K⁻¹D r carries K's forward error on top of the contract's relative 1e-9.
         let tol = rounding_tol(cond_of(&p.k), p.n(), disp_scale(&sc));
         let pen = p.penetrations(&sol.u);
@@ -254,7 +254,7 @@ proptest! {
     fn lagrange_is_exact_with_right_signs(spec in spec_strategy(4)) {
         let Some(sc) = build(&spec, false) else { return Ok(()) };
         let p = &sc.problem;
-        let sol = strategy::solve(p, Method::Lagrange).unwrap();
+        let sol = strategy::solve(p, Method::lagrange()).unwrap();
         prop_assert!(sol.warnings.is_empty(), "{:?}", sol.warnings);
         let SystemKind::SaddlePoint { active } = &sol.system else {
             return Err(TestCaseError::fail("lagrange must return a saddle-point system"));
@@ -302,7 +302,7 @@ proptest! {
         let delta = sc.delta;
         let con = p.constraints[0];
         let d = con.dof;
-        let sol = strategy::solve(p, Method::Paper { delta }).unwrap();
+        let sol = strategy::solve(p, Method::paper(delta)).unwrap();
         let g0 = sc.u0[d] - con.limit;
         if con.kind.penetration(g0) == 0.0 {
             prop_assert_eq!(sol.penalties[0], 0.0);
@@ -340,13 +340,13 @@ proptest! {
         prop_assert!(ss.problem.k.is_sparse());
         let delta = sd.delta;
         for method in [
-            Method::Constant { eps: 1e3 },
-            Method::Scaled { factor: 10.0 },
-            Method::Spring { delta },
-            Method::Paper { delta },
-            Method::Condensed { delta },
-            Method::Lagrange,
-            Method::Augmented { eps: 10.0, tol: delta, adaptive: true },
+            Method::constant(1e3),
+            Method::scaled(10.0),
+            Method::spring(delta),
+            Method::paper(delta),
+            Method::condensed(delta),
+            Method::lagrange(),
+            Method::augmented(10.0, delta, true),
         ] {
             let a = strategy::solve(&sd.problem, method).unwrap();
             let b = strategy::solve(&ss.problem, method).unwrap();
@@ -372,7 +372,7 @@ proptest! {
     fn paper_keeps_penetration_below_delta(spec in spec_strategy(4)) {
         let Some(sc) = build(&spec, false) else { return Ok(()) };
         let p = &sc.problem;
-        let sol = strategy::solve(p, Method::Paper { delta: sc.delta }).unwrap();
+        let sol = strategy::solve(p, Method::paper(sc.delta)).unwrap();
         let tol = rounding_tol(cond_of(&metrics::system_matrix(p, &sol)), p.n(), disp_scale(&sc));
         prop_assert!(
             sol.max_penetration <= sc.delta + tol,
@@ -470,7 +470,7 @@ fn paper_eq28_counterexample() {
         assert!((0.5..2.0).contains(&ratio), "|u0|/|û| = {ratio}");
     }
 
-    let sol = strategy::solve(&p, Method::Paper { delta }).unwrap();
+    let sol = strategy::solve(&p, Method::paper(delta)).unwrap();
     assert!(
         sol.warnings.is_empty(),
         "no penalty was clipped: {:?}",
@@ -497,7 +497,7 @@ fn paper_eq28_counterexample() {
         pen0 / delta
     );
     // condensed, on the same scene, needs a larger penalty at node 1 and meets δ.
-    let cd = strategy::solve(&p, Method::Condensed { delta }).unwrap();
+    let cd = strategy::solve(&p, Method::condensed(delta)).unwrap();
     assert!(cd.penalties[0] > sol.penalties[0]);
     assert!(cd.max_penetration <= delta);
 }
@@ -541,7 +541,7 @@ fn paper_eq28_fails_one_order_of_magnitude() {
         let kdd = 24.0 * ej / l_el.powi(3);
         let cond_k = cond_of(&p.k);
         assert!((p.k.get(d, d) - kdd).abs() <= 4.0 * f64::EPSILON * kdd);
-        let sol = strategy::solve(&p, Method::Paper { delta }).unwrap();
+        let sol = strategy::solve(&p, Method::paper(delta)).unwrap();
         let eps = kdd * (uh - delta) / delta;
         assert!((sol.penalties[0] - eps).abs() <= rounding_tol(1.0, p.n(), eps));
         let ratio = 0.9 * rho / (1.0 + 8.0 * (0.1 * rho - 1.0));
@@ -601,7 +601,7 @@ fn condensed_cycling_scene_still_meets_the_contract() {
     };
     let sc = build(&spec, false).unwrap();
     let p = &sc.problem;
-    let sol = strategy::solve(p, Method::Condensed { delta: sc.delta }).unwrap();
+    let sol = strategy::solve(p, Method::condensed(sc.delta)).unwrap();
     assert!(
         sol.warnings.iter().any(|w| w.contains("cycled")),
         "this scene exercises the fallback: {:?}",

@@ -41,7 +41,7 @@ fn membranes() -> Vec<Problem> {
 
 /// The lagrange active set and its DOFs.
 fn active(p: &Problem) -> (Vec<usize>, Vec<usize>) {
-    let s = strategy::solve(p, Method::Lagrange).unwrap();
+    let s = strategy::solve(p, Method::lagrange()).unwrap();
     let SystemKind::SaddlePoint { active } = s.system else {
         panic!("lagrange returns a saddle point")
     };
@@ -137,7 +137,7 @@ fn without_the_schur_test_the_bracket_stays_certified() {
 #[test]
 fn metrics_use_the_saddle_route() {
     let p = &elasticity()[1];
-    let s = strategy::solve(p, Method::Lagrange).unwrap();
+    let s = strategy::solve(p, Method::lagrange()).unwrap();
     let m = metrics::compute(
         p,
         &s,

@@ -188,24 +188,36 @@ fn version_and_method_choices() {
     );
     let (code, _, err) = solve(&[SCENE, "--method", "penalty", "--eps", "1"]);
     assert_eq!(code, 2);
-    for name in penalty_lab::strategy::METHOD_NAMES {
+    for name in penalty_lab::strategy::registry::names() {
         assert!(err.contains(name), "{err} should list {name}");
     }
 }
 
-/// Every command-line method name is the strategy's own name.
+/// The command line's method choices are the registry's: `--help` lists every strategy's
+/// name with its summary, and each name builds the strategy it names.
 #[test]
 fn method_names_are_the_strategy_names() {
-    use clap::ValueEnum;
-    use penalty_lab::strategy::MethodName;
-    let names: Vec<String> = MethodName::value_variants()
-        .iter()
-        .map(|m| m.to_possible_value().unwrap().get_name().to_string())
-        .collect();
-    assert_eq!(names, penalty_lab::strategy::METHOD_NAMES);
-    for m in MethodName::value_variants() {
-        assert_eq!(m.to_possible_value().unwrap().get_name(), m.as_str());
+    use penalty_lab::strategy::{registry, Knobs, Method};
+    let (code, out, _) = solve(&["--help"]);
+    assert_eq!(code, 0);
+    let all = Knobs {
+        eps: Some(1.0),
+        factor: Some(1.0),
+        delta: Some(1.0),
+        tol: Some(1.0),
+        adaptive: false,
+    };
+    for s in registry::BUILT_IN {
+        let listed = out.lines().any(|l| {
+            l.trim_start().starts_with(&format!("- {}:", s.name)) && l.ends_with(s.summary)
+        });
+        assert!(listed, "{} with its summary in {out}", s.name);
+        assert_eq!(Method::from_name(s.name, all).unwrap().name(), s.name);
     }
+    let mut names = registry::names();
+    names.sort_unstable();
+    names.dedup();
+    assert_eq!(names.len(), registry::BUILT_IN.len(), "names are unique");
 }
 
 /// A symmetric K that is not positive definite is outside every strategy's energy model:

@@ -19,7 +19,7 @@ use penalty_lab::conditioning;
 use penalty_lab::metrics;
 use penalty_lab::model::beam::{paper, Frame, Section};
 use penalty_lab::model::spring;
-use penalty_lab::strategy::{self, Knobs, Method, Solution, SystemKind, METHOD_NAMES};
+use penalty_lab::strategy::{self, registry, Knobs, Method, Solution, SystemKind};
 use penalty_lab::system::{Constraint, ConstraintKind, Problem, Stiffness};
 use penalty_lab::Error;
 
@@ -191,27 +191,19 @@ fn all_scenes() -> Vec<(&'static str, Problem)> {
 
 fn penalty_methods(delta: f64) -> Vec<Method> {
     vec![
-        Method::Constant { eps: 1e3 },
-        Method::Scaled { factor: 10.0 },
-        Method::Spring { delta },
-        Method::Paper { delta },
-        Method::Condensed { delta },
+        Method::constant(1e3),
+        Method::scaled(10.0),
+        Method::spring(delta),
+        Method::paper(delta),
+        Method::condensed(delta),
     ]
 }
 
 fn all_methods(delta: f64) -> Vec<Method> {
     let mut v = penalty_methods(delta);
-    v.push(Method::Lagrange);
-    v.push(Method::Augmented {
-        eps: 100.0,
-        tol: 1e-6,
-        adaptive: false,
-    });
-    v.push(Method::Augmented {
-        eps: 100.0,
-        tol: 1e-6,
-        adaptive: true,
-    });
+    v.push(Method::lagrange());
+    v.push(Method::augmented(100.0, 1e-6, false));
+    v.push(Method::augmented(100.0, 1e-6, true));
     v
 }
 
@@ -281,9 +273,9 @@ fn spring_condensed_and_paper_reproduce_eq17_on_one_dof() {
         let eq28 = ((k * uh - q).abs() - k * delta) / delta;
         assert!((eq28 - eps17).abs() <= etol);
         for method in [
-            Method::Spring { delta },
-            Method::Condensed { delta },
-            Method::Paper { delta },
+            Method::spring(delta),
+            Method::condensed(delta),
+            Method::paper(delta),
         ] {
             let s = strategy::solve(&p, method).unwrap();
             assert!(
@@ -312,9 +304,9 @@ fn spring_obstacle_on_the_plus_side_mirrors_eq17() {
         let etol = eps_tol_1dof(k, scale, delta);
         let utol = rounding_tol(1.0, 1, scale);
         for method in [
-            Method::Spring { delta },
-            Method::Condensed { delta },
-            Method::Paper { delta },
+            Method::spring(delta),
+            Method::condensed(delta),
+            Method::paper(delta),
         ] {
             let s = strategy::solve(&p, method).unwrap();
             assert!((s.penalties[0] - eps).abs() <= etol, "{}", method.name());
@@ -330,7 +322,7 @@ fn spring_obstacle_on_the_plus_side_mirrors_eq17() {
 #[test]
 fn condensed_on_paper_beam_matches_methods_md() {
     let p = paper::problem();
-    let sol = strategy::solve(&p, Method::Condensed { delta: 0.1 }).unwrap();
+    let sol = strategy::solve(&p, Method::condensed(0.1)).unwrap();
     // methods.md: ε = (87.9, 130, 41.4) (3 significant digits), |g| = 0.1, cond 222.
     for (got, want) in sol.penalties.iter().zip([87.9, 130.0, 41.4]) {
         assert!(printed_sig(*got, want, 3), "ε = {got}, methods.md {want}");
@@ -351,7 +343,7 @@ fn condensed_formula_recomputed_from_flexibility() {
     // nalgebra's inverse, using the sides the solver chose (the returned gaps' signs).
     let p = paper::problem();
     let delta = 0.1;
-    let sol = strategy::solve(&p, Method::Condensed { delta }).unwrap();
+    let sol = strategy::solve(&p, Method::condensed(delta)).unwrap();
     let u0 = u0_of(&p);
     let g0 = p.gaps(&u0);
     let s = flexibility(&p, &[0, 1, 2]);
@@ -374,7 +366,7 @@ fn condensed_formula_recomputed_from_flexibility() {
 
 /// Checks the condensed contract on one scene; returns the number of penalized constraints.
 fn check_condensed_contract(name: &str, p: &Problem, delta: f64) -> usize {
-    let sol = strategy::solve(p, Method::Condensed { delta }).unwrap();
+    let sol = strategy::solve(p, Method::condensed(delta)).unwrap();
     let u0 = u0_of(p);
     // Gaps are read off u = u0 − K⁻¹D r: rounding of order ε_mach·cond(K)·scale on top of the
     // contract's relative 1e-9.
@@ -413,7 +405,7 @@ fn condensed_penetration_is_exactly_delta_where_penalized() {
     assert!(total >= 20, "only {total} penalized constraints overall");
     // Lower obstacles that u0 does not touch: nothing penalized, u = u0.
     let p = paper::problem_with_kind(ConstraintKind::Lower);
-    let sol = strategy::solve(&p, Method::Condensed { delta: 0.1 }).unwrap();
+    let sol = strategy::solve(&p, Method::condensed(0.1)).unwrap();
     assert!(sol.penalties.iter().all(|&e| e == 0.0));
     let u0 = u0_of(&p);
     let tol = rounding_tol(cond_of(&p.k), p.n(), inf(&u0));
@@ -427,7 +419,7 @@ fn condensed_penetration_is_exactly_delta_where_penalized() {
 /// Lagrange's contract on one scene: zero penetration on active constraints, no violation on
 /// inactive ones, force signs, complementarity, and equilibrium `K u + D λ = q`.
 fn check_lagrange(name: &str, p: &Problem) -> Solution {
-    let sol = strategy::solve(p, Method::Lagrange).unwrap();
+    let sol = strategy::solve(p, Method::lagrange()).unwrap();
     assert!(sol.warnings.is_empty(), "{name}: {:?}", sol.warnings);
     let active = match &sol.system {
         SystemKind::SaddlePoint { active } => active.clone(),
@@ -526,7 +518,7 @@ fn lagrange_releases_the_tip_of_the_upper_beam() {
     // pushes the tip to −1: (EA/L)(−1) = −50 − λ ⇒ λ = EA/L − 50 = 20 ≥ 0.
     assert!((sol.u[6] + 1.0).abs() <= tol);
     assert!((sol.forces[1] - (ea / l - 50.0)).abs() <= tol * ea);
-    let bil = strategy::solve(&paper::problem(), Method::Lagrange).unwrap();
+    let bil = strategy::solve(&paper::problem(), Method::lagrange()).unwrap();
     assert!(bil.forces[2] < 0.0, "bilateral tip force {}", bil.forces[2]);
 }
 
@@ -537,12 +529,12 @@ fn lagrange_releases_the_tip_of_the_upper_beam() {
 #[test]
 fn constant_penalty_converges_to_lagrange_at_rate_one_over_eps() {
     let p = paper::problem();
-    let lag = strategy::solve(&p, Method::Lagrange).unwrap();
+    let lag = strategy::solve(&p, Method::lagrange()).unwrap();
     let cond_lag = cond_of(&metrics::system_matrix(&p, &lag));
     let mut pts = Vec::new();
     for e in 3..=8 {
         let eps = 10f64.powi(e);
-        let sol = strategy::solve(&p, Method::Constant { eps }).unwrap();
+        let sol = strategy::solve(&p, Method::constant(eps)).unwrap();
         let err = metrics::relative_error(&sol.u, &lag.u);
         let cond = cond_of(&metrics::system_matrix(&p, &sol));
         // Relative rounding floor of both solutions; a point is in the asymptotic (truncation)
@@ -581,7 +573,7 @@ fn constant_penalty_converges_to_lagrange_at_rate_one_over_eps() {
 fn scaled_penalty_is_factor_times_diagonal() {
     for (name, p) in all_scenes() {
         for factor in [0.5, 10.0, 1e4] {
-            let sol = strategy::solve(&p, Method::Scaled { factor }).unwrap();
+            let sol = strategy::solve(&p, Method::scaled(factor)).unwrap();
             let mut any = false;
             for (c, con) in p.constraints.iter().enumerate() {
                 let e = sol.penalties[c];
@@ -604,7 +596,7 @@ fn scaled_penalty_is_factor_times_diagonal() {
 #[test]
 fn augmented_reaches_tol_and_approaches_lagrange() {
     for (name, p) in all_scenes() {
-        let lag = strategy::solve(&p, Method::Lagrange).unwrap();
+        let lag = strategy::solve(&p, Method::lagrange()).unwrap();
         let lag_active = match &lag.system {
             SystemKind::SaddlePoint { active } => active.clone(),
             _ => unreachable!(),
@@ -612,15 +604,7 @@ fn augmented_reaches_tol_and_approaches_lagrange() {
         let mut prev_err = f64::INFINITY;
         for tol in [1e-2, 1e-5, 1e-8] {
             for adaptive in [false, true] {
-                let sol = strategy::solve(
-                    &p,
-                    Method::Augmented {
-                        eps: 10.0,
-                        tol,
-                        adaptive,
-                    },
-                )
-                .unwrap();
+                let sol = strategy::solve(&p, Method::augmented(10.0, tol, adaptive)).unwrap();
                 assert!(sol.warnings.is_empty(), "{name}: {:?}", sol.warnings);
                 assert!(
                     sol.max_penetration <= tol,
@@ -729,8 +713,8 @@ fn spring_and_paper_penalties_match_their_formulas() {
         let u0 = u0_of(&p);
         let scale = inf(&u0).max(inf(&limits(&p))).max(inf(&p.q));
         for delta in [0.5, 0.1, 0.01] {
-            let sp = strategy::solve(&p, Method::Spring { delta }).unwrap();
-            let pa = strategy::solve(&p, Method::Paper { delta }).unwrap();
+            let sp = strategy::solve(&p, Method::spring(delta)).unwrap();
+            let pa = strategy::solve(&p, Method::paper(delta)).unwrap();
             // u0 enters Eq. 17 through s = sign(g0) and the "already within δ" test; the
             // solver's u0 differs from ours by rounding (cond K), negligible for these scenes.
             let tol = formula_tol(&p, delta, scale);
@@ -799,7 +783,7 @@ fn three_spring_chain() -> Problem {
 fn spring_penalizes_constraints_that_become_violated() {
     let p = three_spring_chain();
     let delta = 0.1;
-    let sol = strategy::solve(&p, Method::Spring { delta }).unwrap();
+    let sol = strategy::solve(&p, Method::spring(delta)).unwrap();
     let eq17 = (p.k.get(1, 1) * (1.0 - delta) - p.q[1]) / delta;
     // Same three flops as the library's formula, on data of size ≤ 2: a few roundings.
     assert!(
@@ -815,7 +799,7 @@ fn spring_penalizes_constraints_that_become_violated() {
     }
     assert_eq!(sol.stats.iterations, 2);
     // condensed on the same chain keeps both within δ.
-    let cd = strategy::solve(&p, Method::Condensed { delta }).unwrap();
+    let cd = strategy::solve(&p, Method::condensed(delta)).unwrap();
     assert!(cd.max_penetration <= delta);
 }
 
@@ -846,7 +830,7 @@ fn clipped_penalties_are_warned() {
         }],
     )
     .unwrap();
-    let sol = strategy::solve(&p, Method::Paper { delta: 0.1 }).unwrap();
+    let sol = strategy::solve(&p, Method::paper(0.1)).unwrap();
     assert_eq!(sol.penalties[0], 0.0);
     assert!(
         sol.warnings.iter().any(|w| w.contains("negative penalty")),
@@ -911,7 +895,7 @@ fn every_solution_is_consistent_with_its_system_and_reports() {
             let res = inf(&r.iter().zip(&p.q).map(|(a, b)| a - b).collect::<Vec<_>>());
             // condensed builds u = u0 − K⁻¹D r (no solve with the final matrix), so its
             // residual carries K's forward error: ‖K‖·ε·cond(K)·‖u‖.
-            let amp = if matches!(method, Method::Condensed { .. }) {
+            let amp = if method.is(&strategy::condensed::STRATEGY) {
                 cond_k
             } else {
                 1.0
@@ -926,8 +910,8 @@ fn every_solution_is_consistent_with_its_system_and_reports() {
                 * (a_norm * inf(&sol.u).max(inf(&limits(&p))) + inf(&sol.forces) + inf(&p.q));
             assert!(res <= rtol, "{tag}: ‖Ku − q + Dr‖ = {res:e} > {rtol:e}");
 
-            match method {
-                Method::Lagrange | Method::Augmented { .. } => {}
+            match method.name() {
+                "lagrange" | "augmented" => {}
                 _ => {
                     // Penalty strategies: (K + D E Dᵀ) u = q + D E û, and forces = ε g.
                     let (a, b) = penalized_system(&p, &sol.penalties, &limits(&p));
@@ -952,9 +936,9 @@ fn stats_are_pinned_on_the_bilateral_beam() {
     let p = paper::problem();
     let st = |m: Method| strategy::solve(&p, m).unwrap().stats;
     for m in [
-        Method::Constant { eps: 1e3 },
-        Method::Scaled { factor: 10.0 },
-        Method::Paper { delta: 0.1 },
+        Method::constant(1e3),
+        Method::scaled(10.0),
+        Method::paper(0.1),
     ] {
         let s = st(m);
         assert_eq!(
@@ -965,7 +949,7 @@ fn stats_are_pinned_on_the_bilateral_beam() {
         );
         assert_eq!(s.active_set_sizes, vec![3]);
     }
-    let s = st(Method::Spring { delta: 0.1 });
+    let s = st(Method::spring(0.1));
     assert_eq!((s.factorizations, s.linear_solves, s.iterations), (2, 2, 1));
     // condensed: one factorization of K, u0 (1 solve) and W = K⁻¹D (m = 3 solves). The box QP
     // (src/strategy/condensed.rs) starts every constraint at the bound on the side of g0 (all
@@ -996,7 +980,7 @@ fn stats_are_pinned_on_the_bilateral_beam() {
         r3[0] >= 0.0 && r3[1] >= 0.0 && r3[2] <= 0.0,
         "path step 3: {r3}"
     );
-    let sol = strategy::solve(&p, Method::Condensed { delta }).unwrap();
+    let sol = strategy::solve(&p, Method::condensed(delta)).unwrap();
     assert!(sol.gaps[0] > 0.0 && sol.gaps[1] > 0.0 && sol.gaps[2] < 0.0);
     let s = sol.stats;
     // The three steps of the path, plus one re-solve from the final state if rounding put a
@@ -1009,15 +993,11 @@ fn stats_are_pinned_on_the_bilateral_beam() {
     assert_eq!(s.active_set_sizes[..3], [3, 2, 3]);
     assert!(sol.max_penetration <= delta);
     // lagrange (all bilateral: no u0 needed): one saddle-point factorization, one solve each, one iteration.
-    let s = st(Method::Lagrange);
+    let s = st(Method::lagrange());
     assert_eq!((s.factorizations, s.linear_solves, s.iterations), (1, 1, 1));
     // augmented at fixed ε on bilateral constraints: the penalized matrix never changes, so one
     // factorization and one solve per Uzawa update.
-    let s = st(Method::Augmented {
-        eps: 10.0,
-        tol: 1e-6,
-        adaptive: false,
-    });
+    let s = st(Method::augmented(10.0, 1e-6, false));
     assert_eq!(s.factorizations, 1);
     assert_eq!(s.linear_solves, s.iterations);
     assert!(s.iterations >= 2);
@@ -1123,7 +1103,7 @@ fn bad_knobs_are_rejected_with_clear_messages() {
         msg.contains("unknown method") && msg.contains("'penalty'"),
         "{msg}"
     );
-    for valid in METHOD_NAMES {
+    for valid in registry::names() {
         assert!(msg.contains(valid), "{msg} should list {valid}");
     }
     // Valid knobs round-trip.
@@ -1135,7 +1115,7 @@ fn bad_knobs_are_rejected_with_clear_messages() {
         },
     )
     .unwrap();
-    assert_eq!(m, Method::Condensed { delta: 0.1 });
+    assert_eq!(m, Method::condensed(0.1));
 }
 
 /// Two unit springs in series with no spring to ground: K = k[[1, −1], [−1, 1]] is singular
@@ -1157,10 +1137,7 @@ fn floating_chain(k: f64, q: [f64; 2], uh: f64) -> Problem {
 fn singular_k_fails_for_condensed_but_not_for_lagrange_or_constant() {
     let (k, q, uh) = (4.0, [1.5, -0.5], 0.25);
     let p = floating_chain(k, q, uh);
-    for m in [
-        Method::Condensed { delta: 0.1 },
-        Method::Spring { delta: 0.1 },
-    ] {
+    for m in [Method::condensed(0.1), Method::spring(0.1)] {
         match strategy::solve(&p, m) {
             Err(Error::Singular(msg)) => assert!(msg.contains("K is singular"), "{msg}"),
             other => panic!("{}: expected Error::Singular, got {other:?}", m.name()),
@@ -1169,14 +1146,14 @@ fn singular_k_fails_for_condensed_but_not_for_lagrange_or_constant() {
     // Hand solution: row 1 gives k(u1 − u0) = q1; the tie carries the total load,
     // λ = q0 + q1 (K u = q − D λ); lagrange has u0 = û, the penalty u0 = û + λ/ε.
     let lam = q[0] + q[1];
-    let sol = strategy::solve(&p, Method::Lagrange).unwrap();
+    let sol = strategy::solve(&p, Method::lagrange()).unwrap();
     let cond = cond_of(&metrics::system_matrix(&p, &sol));
     let tol = rounding_tol(cond, 3, 1.0);
     assert!((sol.u[0] - uh).abs() <= tol);
     assert!((sol.u[1] - (uh + q[1] / k)).abs() <= tol);
     assert!((sol.forces[0] - lam).abs() <= tol * k);
     for eps in [10.0, 1e4] {
-        let sol = strategy::solve(&p, Method::Constant { eps }).unwrap();
+        let sol = strategy::solve(&p, Method::constant(eps)).unwrap();
         let cond = cond_of(&metrics::system_matrix(&p, &sol));
         let tol = rounding_tol(cond, 2, 1.0);
         let u0 = uh + lam / eps;

@@ -398,7 +398,7 @@ fn strategies_at_extreme_knobs_are_finite_or_clean_errors() {
 fn precision_warning_at_absurd_eps() {
     let p = paper::problem();
     let w = |eps: f64| {
-        let s = strategy::solve(&p, Method::Constant { eps }).unwrap();
+        let s = strategy::solve(&p, Method::constant(eps)).unwrap();
         let m = metrics::compute(&p, &s, MetricSet::ALL).unwrap();
         let mut w = s.warnings.clone();
         w.extend(metrics::precision_warnings(&m));
@@ -419,12 +419,7 @@ fn precision_warning_at_absurd_eps() {
 #[test]
 fn condensed_with_delta_below_rounding_gives_finite_penalties() {
     let p = paper::problem();
-    match strategy::solve(
-        &p,
-        Method::Condensed {
-            delta: 5.142_857_142_857_052_6e-17,
-        },
-    ) {
+    match strategy::solve(&p, Method::condensed(5.142_857_142_857_052_6e-17)) {
         Ok(s) => assert!(
             stability::non_finite_field(&s).is_none(),
             "non-finite output: penalties {:?}, forces {:?}",
@@ -466,17 +461,13 @@ proptest! {
         let kmax = p.constraints.iter().map(|c| p.k.diag(c.dof).abs()).fold(1e-300, f64::max);
         let x = 10f64.powf(k1);
         let m = match method {
-            0 => Method::Constant { eps: x },
-            1 => Method::Scaled { factor: x },
-            2 => Method::Spring { delta: x * 1e-2 * scale },
-            3 => Method::Paper { delta: x * 1e-2 * scale },
-            4 => Method::Condensed { delta: x * 1e-2 * scale },
-            5 => Method::Lagrange,
-            _ => Method::Augmented {
-                eps: kmax * 10f64.powf(k1 / 2.0),
-                tol: scale * 10f64.powf(k2),
-                adaptive,
-            },
+            0 => Method::constant(x),
+            1 => Method::scaled(x),
+            2 => Method::spring(x * 1e-2 * scale),
+            3 => Method::paper(x * 1e-2 * scale),
+            4 => Method::condensed(x * 1e-2 * scale),
+            5 => Method::lagrange(),
+            _ => Method::augmented(kmax * 10f64.powf(k1 / 2.0), scale * 10f64.powf(k2), adaptive),
         };
         let (outcome, sol) = stability::guarded_solve(p, m);
         match outcome {

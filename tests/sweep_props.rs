@@ -77,7 +77,7 @@ proptest! {
         let scale = displacement_scale(p, prep.u0());
         prop_assert!(scale.is_finite() && scale > 0.0);
         let delta = 10f64.powf(log10_r) * scale;
-        let sol = strategy::solve(p, Method::Condensed { delta })
+        let sol = strategy::solve(p, Method::condensed(delta))
             .map_err(|e| TestCaseError::fail(format!("{}: condensed failed: {e}", g.name)))?;
         prop_assert_eq!(sol.penalties.len(), p.m());
         for (c, e) in sol.penalties.iter().enumerate() {

@@ -900,11 +900,11 @@ impl Simulation {
             })
             .collect();
         let method = match self.rule {
-            ContactRule::Classical { eps } => Method::Constant { eps },
+            ContactRule::Classical { eps } => Method::constant(eps),
             ContactRule::PaperLiteral { delta } | ContactRule::PaperResidual { delta } => {
-                Method::Paper { delta: delta / dt }
+                Method::paper(delta / dt)
             }
-            ContactRule::Condensed { delta } => Method::Condensed { delta: delta / dt },
+            ContactRule::Condensed { delta } => Method::condensed(delta / dt),
         };
         StepSetup {
             dt,
@@ -1093,8 +1093,12 @@ impl Simulation {
             })
             .collect();
         let problem = Problem::new(kmat, qr, constraints)?;
-        let solution = match (self.rule, s.method) {
-            (ContactRule::PaperResidual { .. }, Method::Paper { delta }) => {
+        let paper_delta = s
+            .method
+            .delta()
+            .filter(|_| s.method.is(&strategy::paper::STRATEGY));
+        let solution = match (self.rule, paper_delta) {
+            (ContactRule::PaperResidual { .. }, Some(delta)) => {
                 let u_ref = s.local_reduced(v);
                 strategy::paper::solve_residual(
                     &problem,
@@ -1104,7 +1108,7 @@ impl Simulation {
                     RESIDUAL_PASSES,
                 )?
             }
-            (_, method) => strategy::solve(&problem, method)?,
+            _ => strategy::solve(&problem, s.method)?,
         };
         if solution.u.iter().any(|x| !x.is_finite()) {
             return Err(Error::Numerical(format!(

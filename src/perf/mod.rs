@@ -38,7 +38,7 @@ use crate::error::{Error, Result};
 use crate::model::scalable::{scene, PerfScene};
 use crate::plot::{Figure, Mark, Scale, Series};
 use crate::progress::Progress;
-use crate::strategy::{self, Method, METHOD_NAMES};
+use crate::strategy::{self, registry, Knob, Method};
 use serde::Serialize;
 use std::collections::HashMap;
 use std::time::Instant;
@@ -99,6 +99,14 @@ pub struct PerfConfig {
 }
 
 impl PerfConfig {
+    /// The strategies of `methods` (unknown names, which `validate` refuses, left out).
+    pub fn strategies(&self) -> Vec<&'static strategy::Strategy> {
+        self.methods
+            .iter()
+            .filter_map(|m| registry::find(m))
+            .collect()
+    }
+
     /// Checks the configuration; errors name the offending value and the valid range.
     pub fn validate(&self) -> Result<()> {
         if self.families.is_empty() {
@@ -118,12 +126,7 @@ impl PerfConfig {
             )));
         }
         for m in &self.methods {
-            if !METHOD_NAMES.contains(&m.as_str()) {
-                return Err(Error::input(format!(
-                    "unknown method '{m}' (valid: {})",
-                    METHOD_NAMES.join(", ")
-                )));
-            }
+            registry::lookup(m)?;
         }
         if self.repeats == 0 || self.repeats > 100 {
             return Err(Error::input(format!(
@@ -160,7 +163,12 @@ impl PerfConfig {
             } else {
                 vec![100, 1_000, 10_000, 100_000, 1_000_000]
             },
-            methods: METHOD_NAMES.iter().map(|s| s.to_string()).collect(),
+            // `optimal` is dense (N ≤ its affordability limit): not a run-time study's method.
+            methods: registry::BUILT_IN
+                .iter()
+                .filter(|s| !std::ptr::eq(**s, &strategy::optimal::STRATEGY))
+                .map(|s| s.name.to_string())
+                .collect(),
             repeats: if smoke { 1 } else { 3 },
             budget_seconds: 30.0,
             max_constraints: 400,
@@ -218,15 +226,15 @@ pub struct PerfRow {
     pub warnings: Vec<String>,
 }
 
-/// The relative knob values a method runs at (`lagrange`: one run, no knob).
+/// The relative knob values a method runs at, by its knob (the exact methods: one run).
 fn knob_values<'a>(k: &'a Knobs, method: &str) -> &'a [f64] {
-    match method {
-        "constant" => &k.eps_rel,
-        "scaled" => &k.factors,
-        "spring" | "paper" | "condensed" => &k.deltas_rel,
-        "augmented" => &k.tols_rel,
-        "lagrange" => &[0.0],
-        _ => &[],
+    match registry::find(method).map(|s| s.knob) {
+        Some(Knob::Eps) => &k.eps_rel,
+        Some(Knob::Factor) => &k.factors,
+        Some(Knob::Delta) => &k.deltas_rel,
+        Some(Knob::EpsTol) => &k.tols_rel,
+        Some(Knob::None) => &[0.0],
+        None => &[],
     }
 }
 
@@ -241,37 +249,53 @@ pub fn jobs_per_scene(cfg: &PerfConfig) -> usize {
 /// The jobs `(method, knob name, absolute value, relative value)` of a scene.
 pub fn jobs(scene: &PerfScene, cfg: &PerfConfig) -> Vec<(Method, &'static str, f64, f64)> {
     let mut out = Vec::new();
-    for name in &cfg.methods {
-        for &r in knob_values(&cfg.knobs, name) {
-            out.push(match name.as_str() {
-                "constant" => {
+    for s in cfg.strategies() {
+        for &r in knob_values(&cfg.knobs, s.name) {
+            let (knobs, knob, value, rel) = match s.knob {
+                Knob::Eps => {
                     let eps = r * scene.k_scale;
-                    (Method::Constant { eps }, "eps", eps, r)
+                    (
+                        strategy::Knobs {
+                            eps: Some(eps),
+                            ..strategy::Knobs::NONE
+                        },
+                        "eps",
+                        eps,
+                        r,
+                    )
                 }
-                "scaled" => (Method::Scaled { factor: r }, "factor", r, r),
-                "spring" => {
+                Knob::Factor => (
+                    strategy::Knobs {
+                        factor: Some(r),
+                        ..strategy::Knobs::NONE
+                    },
+                    "factor",
+                    r,
+                    r,
+                ),
+                Knob::Delta => {
                     let delta = r * scene.scale;
-                    (Method::Spring { delta }, "delta", delta, r)
-                }
-                "paper" => {
-                    let delta = r * scene.scale;
-                    (Method::Paper { delta }, "delta", delta, r)
-                }
-                "condensed" => {
-                    let delta = r * scene.scale;
-                    (Method::Condensed { delta }, "delta", delta, r)
-                }
-                "augmented" => {
-                    let tol = r * scene.scale;
-                    let m = Method::Augmented {
-                        eps: scene.k_scale,
-                        tol,
-                        adaptive: false,
+                    let knobs = strategy::Knobs {
+                        delta: Some(delta),
+                        ..strategy::Knobs::NONE
                     };
-                    (m, "tol", tol, r)
+                    (knobs, "delta", delta, r)
                 }
-                _ => (Method::Lagrange, "-", 0.0, 0.0),
-            });
+                Knob::EpsTol => {
+                    let tol = r * scene.scale;
+                    let knobs = strategy::Knobs {
+                        eps: Some(scene.k_scale),
+                        tol: Some(tol),
+                        ..strategy::Knobs::NONE
+                    };
+                    (knobs, "tol", tol, r)
+                }
+                Knob::None => (strategy::Knobs::NONE, "-", 0.0, 0.0),
+            };
+            // Knob values are validated with the config (finite, > 0).
+            if let Ok(m) = Method::new(s, knobs) {
+                out.push((m, knob, value, rel));
+            }
         }
     }
     out
@@ -366,13 +390,13 @@ pub fn run_scene(
     let fam = scene.family.as_str();
     let mut jobs = jobs(scene, cfg);
     // lagrange first: its solution is the reference.
-    jobs.sort_by_key(|j| !matches!(j.0, Method::Lagrange));
+    jobs.sort_by_key(|j| !j.0.is(&strategy::lagrange::STRATEGY));
     let mut reference: Option<(Vec<f64>, &'static str)> = None;
     let mut rows = Vec::with_capacity(jobs.len() + 1);
     let mut reference_pending = true;
     for (method, knob, value, value_rel) in jobs {
         let name = method.name();
-        if reference_pending && !matches!(method, Method::Lagrange) {
+        if reference_pending && !method.is(&strategy::lagrange::STRATEGY) {
             reference_pending = false;
             if reference.is_none() {
                 reference = fallback_reference(scene, cfg, budget);
@@ -402,7 +426,7 @@ pub fn run_scene(
             warnings: Vec::new(),
         };
         let mut skip = budget.skip_reason(fam, name, n, cfg.budget_seconds);
-        if skip.is_none() && name == "condensed" {
+        if skip.is_none() && name == strategy::condensed::STRATEGY.name {
             let bytes = 8.0 * n as f64 * m as f64;
             if bytes > cfg.memory_limit_bytes {
                 skip = Some(format!(
@@ -444,8 +468,8 @@ pub fn run_scene(
         }
         match last {
             Some(Ok(sol)) => {
-                if matches!(method, Method::Lagrange) {
-                    reference = Some((sol.u.clone(), "lagrange"));
+                if method.is(&strategy::lagrange::STRATEGY) {
+                    reference = Some((sol.u.clone(), strategy::lagrange::STRATEGY.name));
                 }
                 row.status = "ok".into();
                 row.seconds = crate::stats::median(&times);
@@ -497,7 +521,7 @@ fn fallback_reference(
     if budget
         .skip_reason(
             &scene.family,
-            "augmented",
+            strategy::augmented::STRATEGY.name,
             scene.problem.n(),
             cfg.budget_seconds,
         )
@@ -505,15 +529,11 @@ fn fallback_reference(
     {
         return None;
     }
-    let m = Method::Augmented {
-        eps: scene.k_scale,
-        tol: 1e-12 * scene.scale,
-        adaptive: true,
-    };
+    let m = Method::augmented(scene.k_scale, 1e-12 * scene.scale, true);
     strategy::solve(&scene.problem, m)
         .ok()
         .filter(|s| s.u.iter().all(|v| v.is_finite()))
-        .map(|s| (s.u, "augmented"))
+        .map(|s| (s.u, strategy::augmented::STRATEGY.name))
 }
 
 /// The full study: every family × size, one progress step per point.
@@ -605,12 +625,19 @@ pub fn figures(rows: &[PerfRow]) -> Vec<(String, Vec<Figure>)> {
                 // line at its time.
                 if let Some(t) = rows
                     .iter()
-                    .find(|r| r.family == *fam && r.n == n && r.method == "lagrange")
+                    .find(|r| {
+                        r.family == *fam
+                            && r.n == n
+                            && r.method == strategy::lagrange::STRATEGY.name
+                    })
                     .and_then(|r| r.seconds)
                 {
                     fig = fig.hline(t, "lagrange (exact)");
                 }
-                for m in methods.iter().filter(|m| **m != "lagrange") {
+                for m in methods
+                    .iter()
+                    .filter(|m| **m != strategy::lagrange::STRATEGY.name)
+                {
                     let pts: Vec<(f64, f64)> = rows
                         .iter()
                         .filter(|r| r.family == *fam && r.n == n && r.method == *m)

@@ -5,6 +5,7 @@ use std::sync::OnceLock;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
+use crate::strategy::{self, Strategy};
 use crate::{Error, Result};
 
 /// The embedded font (DejaVu Sans, see `assets/DejaVuSans-LICENSE.txt`).
@@ -13,9 +14,10 @@ pub(super) static FONT_BYTES: &[u8] = include_bytes!("../../assets/DejaVuSans.tt
 pub(super) const FONT: &str = "sans-serif";
 
 /// Okabe–Ito colour-blind-friendly palette, in the order used for `color: Some(i)` (taken
-/// modulo 8) and for default colours (series order): blue, vermillion, bluish green, orange,
-/// reddish purple, sky blue, black, yellow.
-pub const PALETTE: [(u8, u8, u8); 8] = [
+/// modulo its length) and for default colours (series order): blue, vermillion, bluish green,
+/// orange, reddish purple, sky blue, black, yellow; then grey and brown for strategies beyond
+/// the eight built-in ones (a registered rule declares one of them).
+pub const PALETTE: [(u8, u8, u8); 10] = [
     (0, 114, 178),
     (213, 94, 0),
     (0, 158, 115),
@@ -24,6 +26,8 @@ pub const PALETTE: [(u8, u8, u8); 8] = [
     (86, 180, 233),
     (0, 0, 0),
     (240, 228, 66),
+    (128, 128, 128),
+    (140, 86, 60),
 ];
 
 /// Palette index of black (default colour of [`Marker`](super::Marker)s).
@@ -105,36 +109,37 @@ pub(super) fn text_width(text: &str, size: f64) -> f64 {
     text.chars().count() as f64 * 0.6 * size
 }
 
-/// The palette index of a method: its position in
-/// [`METHOD_NAMES`](crate::strategy::METHOD_NAMES) (one colour per method in every figure).
-/// The forming runs' names map to the rules they use: `classical` → `constant`, `adaptive`
-/// and `paper-residual` → `paper` (Eq. 28 on the residual), `paper-literal` (Eq. 28 as
-/// printed) → `spring`'s colour (both drop the coupling to the unconstrained DOFs; `spring`
-/// never appears in a forming figure), `K alone` (no contact terms) → black. Unknown names
-/// get the last palette entry.
-pub fn method_color(name: &str) -> usize {
-    let name = match name {
-        "classical" => "constant",
-        "adaptive" | "paper-residual" => "paper",
-        "paper-literal" => "spring",
-        "K alone" => return BLACK_INDEX,
-        n => n,
-    };
-    crate::strategy::METHOD_NAMES
-        .iter()
-        .position(|x| *x == name)
-        .unwrap_or(PALETTE.len() - 1)
+/// The strategy whose colour a forming run's name takes: `classical` → `constant`,
+/// `adaptive` and `paper-residual` → `paper` (Eq. 28 on the residual), `paper-literal`
+/// (Eq. 28 as printed) → `spring` (both drop the coupling to the unconstrained DOFs; `spring`
+/// never appears in a forming figure).
+fn forming_alias(name: &str) -> Option<&'static Strategy> {
+    match name {
+        "classical" => Some(&strategy::constant::STRATEGY),
+        "adaptive" | "paper-residual" => Some(&strategy::paper::STRATEGY),
+        "paper-literal" => Some(&strategy::spring::STRATEGY),
+        _ => None,
+    }
 }
 
-/// The legend name of a method in every figure: the δ-driven rules carry their equation.
+/// The palette index of a method: the colour its [`Strategy`] declares (one colour per
+/// method in every figure); a forming run's name takes its rule's colour, `K alone` (no
+/// contact terms) black. Unknown names get yellow (index 7).
+pub fn method_color(name: &str) -> usize {
+    if name == "K alone" {
+        return BLACK_INDEX;
+    }
+    forming_alias(name)
+        .or_else(|| strategy::registry::find(name))
+        .map_or(7, |s| s.colour)
+}
+
+/// The legend name of a method in every figure: its [`Strategy`]'s label (the δ-driven
+/// rules carry their equation), or a forming run's.
 pub fn method_label(name: &str) -> &str {
     match name {
-        "spring" => "spring (Eq. 17)",
-        "paper" => "paper (Eq. 26–29)",
-        "condensed" => "condensed (exact δ)",
-        "optimal" => "optimal (min cond₂ at δ)",
         "adaptive" | "paper-residual" => "adaptive (Eq. 28 on the residual)",
         "paper-literal" => "paper-literal (Eq. 28 as printed)",
-        n => n,
+        n => strategy::registry::find(n).map_or(n, |s| s.label),
     }
 }

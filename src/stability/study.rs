@@ -243,7 +243,7 @@ impl Default for StressConfig {
 
 /// The exact contact solution (`lagrange`) and the constraints active in it.
 pub fn exact_contact(problem: &Problem) -> Result<(Vec<f64>, Vec<bool>)> {
-    let sol = strategy::solve(problem, Method::Lagrange)?;
+    let sol = strategy::solve(problem, Method::lagrange())?;
     let mut active = vec![false; problem.m()];
     if let SystemKind::SaddlePoint { active: a } = &sol.system {
         for &c in a {
@@ -308,7 +308,7 @@ pub fn eps_study(scene: &StressScene, cfg: &StressConfig) -> Result<Vec<EpsRow>>
                 Err(e) => variant_errors.push(format!("{name}: {e}")),
             }
         }
-        let (outcome, sol) = guarded_solve(p, Method::Constant { eps });
+        let (outcome, sol) = guarded_solve(p, Method::constant(eps));
         let strategy_warnings = sol.as_ref().map_or(0, |s| {
             let m = metrics::compute_with_k(
                 p,
@@ -421,17 +421,17 @@ pub fn strategy_study(scene: &StressScene, cfg: &StressConfig) -> Result<Vec<Str
     let kmax = if kmax > 0.0 { kmax } else { 1.0 };
     let mut jobs: Vec<(Method, &'static str, f64, Option<f64>)> = Vec::new();
     for &eps in &cfg.eps {
-        jobs.push((Method::Constant { eps }, "eps", eps, None));
+        jobs.push((Method::constant(eps), "eps", eps, None));
     }
     for &factor in &cfg.factors {
-        jobs.push((Method::Scaled { factor }, "factor", factor, None));
+        jobs.push((Method::scaled(factor), "factor", factor, None));
     }
     for &r in &cfg.deltas_rel {
         let delta = r * scale;
         if delta > 0.0 && delta.is_finite() {
-            jobs.push((Method::Spring { delta }, "delta", delta, None));
-            jobs.push((Method::Paper { delta }, "delta", delta, None));
-            jobs.push((Method::Condensed { delta }, "delta", delta, None));
+            jobs.push((Method::spring(delta), "delta", delta, None));
+            jobs.push((Method::paper(delta), "delta", delta, None));
+            jobs.push((Method::condensed(delta), "delta", delta, None));
         }
     }
     for &er in &cfg.augmented_eps_rel {
@@ -439,7 +439,7 @@ pub fn strategy_study(scene: &StressScene, cfg: &StressConfig) -> Result<Vec<Str
             for adaptive in [false, true] {
                 let (eps, tol) = (er * kmax, tr * scale);
                 jobs.push((
-                    Method::Augmented { eps, tol, adaptive },
+                    Method::augmented(eps, tol, adaptive),
                     "eps,tol",
                     eps,
                     Some(tol),
@@ -447,7 +447,7 @@ pub fn strategy_study(scene: &StressScene, cfg: &StressConfig) -> Result<Vec<Str
             }
         }
     }
-    jobs.push((Method::Lagrange, "-", 0.0, None));
+    jobs.push((Method::lagrange(), "-", 0.0, None));
     let mut rows = Vec::with_capacity(jobs.len());
     for (method, knob, value, value2) in jobs {
         let (outcome, sol) = guarded_solve(p, method);
@@ -470,7 +470,8 @@ pub fn strategy_study(scene: &StressScene, cfg: &StressConfig) -> Result<Vec<Str
                 cond2_system = m.cond2_system.map(|c| c.cond2).and_then(finite);
                 warnings.extend(metrics::precision_warnings(&m));
             }
-            let penalty_method = !matches!(method, Method::Lagrange | Method::Augmented { .. });
+            let penalty_method = !method.is(&strategy::lagrange::STRATEGY)
+                && !method.is(&strategy::augmented::STRATEGY);
             if penalty_method && outcome.name() == "ok" {
                 forward_error = PenalizedSystem::new(p, &s.penalties)
                     .and_then(|sys| sys.reference())
@@ -490,7 +491,7 @@ pub fn strategy_study(scene: &StressScene, cfg: &StressConfig) -> Result<Vec<Str
             knob: knob.into(),
             value,
             value2,
-            adaptive: matches!(method, Method::Augmented { adaptive: true, .. }),
+            adaptive: method.knobs().adaptive,
             status: outcome.name().into(),
             message: outcome.message(),
             max_penetration: sol.as_ref().map(|s| s.max_penetration).and_then(finite),

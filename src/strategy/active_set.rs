@@ -576,7 +576,7 @@ pub fn fixed_point(
     rule: impl FnMut(&[bool], &mut Context) -> Result<Vec<f64>>,
 ) -> Result<Solution> {
     let label = method.rule_label();
-    fixed_point_labelled(ctx, method, &label, rule)
+    fixed_point_labelled(ctx, method, label, rule)
 }
 
 fn fixed_point_labelled(
@@ -595,7 +595,7 @@ fn fixed_point_labelled(
     let mut best: Option<Iterate> = None;
     loop {
         let mut eps = rule(&active, &mut ctx)?;
-        let (clip_warning, clipped) = clip_negative(problem, &mut eps, &method.rule_label());
+        let (clip_warning, clipped) = clip_negative(problem, &mut eps, method.rule_label());
         let u = ctx.solve_penalized(&eps)?;
         ctx.stats.iterations += 1;
         ctx.stats

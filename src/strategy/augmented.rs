@@ -15,9 +15,46 @@
 //! the price of several solves.
 
 use super::active_set::{newton, Start};
-use super::{Context, Method, Solution, SystemKind};
+use super::{Context, Knob, Knobs, Method, Solution, Strategy, SystemKind};
 use crate::error::Result;
 use crate::system::ConstraintKind;
+
+/// `augmented`: everything the registry knows about this strategy ([`super::registry`]).
+pub static STRATEGY: Strategy = Strategy {
+    name: "augmented",
+    summary: "Augmented Lagrangian",
+    label: "augmented",
+    rule_label: "augmented",
+    knob: Knob::EpsTol,
+    colour: 6,
+    needs_k_inverse: false,
+    targets_delta: false,
+    solve: run,
+};
+
+impl Method {
+    /// The augmented Lagrangian with penalty ε (> 0), penetration tolerance `tol` (> 0) and, where `adaptive`, the per-constraint penalty update.
+    pub const fn augmented(eps: f64, tol: f64, adaptive: bool) -> Method {
+        Method::of(
+            &STRATEGY,
+            Knobs {
+                eps: Some(eps),
+                tol: Some(tol),
+                adaptive,
+                ..Knobs::NONE
+            },
+        )
+    }
+}
+
+fn run(ctx: Context, m: &Method) -> Result<Solution> {
+    solve(
+        ctx,
+        m.value(m.knobs().eps, "--eps")?,
+        m.value(m.knobs().tol, "--tol")?,
+        m.knobs().adaptive,
+    )
+}
 
 /// Maximum Uzawa updates.
 pub const MAX_UPDATES: usize = 500;
@@ -30,7 +67,7 @@ pub const MAX_UPDATES: usize = 500;
 /// when the penetration is still above `tol` after [`MAX_UPDATES`] multiplier updates.
 pub fn solve(mut ctx: Context, eps: f64, tol: f64, adaptive: bool) -> Result<Solution> {
     let problem = ctx.problem;
-    let method = Method::Augmented { eps, tol, adaptive };
+    let method = Method::augmented(eps, tol, adaptive);
     let m = problem.m();
     let mut lambda = vec![0.0; m];
     let mut pen_eps = vec![eps; m];

@@ -34,10 +34,40 @@
 //! same max penetration 0.1 with cond 221.1 against 222.3 (see `paper_beam`, note (i)).
 
 use super::box_qp::{box_qp, BoundState};
-use super::{Context, Method, Solution, SystemKind};
+use super::{Context, Knob, Knobs, Method, Solution, Strategy, SystemKind};
 use crate::error::{Error, Result};
 use crate::system::ConstraintKind;
 use faer::Mat;
+
+/// `condensed`: everything the registry knows about this strategy ([`super::registry`]).
+pub static STRATEGY: Strategy = Strategy {
+    name: "condensed",
+    summary: "Exact δ-targeting penalty",
+    label: "condensed (exact δ)",
+    rule_label: "condensed",
+    knob: Knob::Delta,
+    colour: 4,
+    needs_k_inverse: true,
+    targets_delta: true,
+    solve: run,
+};
+
+impl Method {
+    /// Exact δ-targeting penalties for allowed penetration δ (> 0).
+    pub const fn condensed(delta: f64) -> Method {
+        Method::of(
+            &STRATEGY,
+            Knobs {
+                delta: Some(delta),
+                ..Knobs::NONE
+            },
+        )
+    }
+}
+
+fn run(ctx: Context, m: &Method) -> Result<Solution> {
+    solve(ctx, m.value(m.knobs().delta, "--delta")?)
+}
 
 /// Solves with exact δ-targeting penalties: through S = DᵀK⁻¹D ([`solve_dense`]), or for
 /// large sparse K by elimination ([`solve_eliminated`], see [`super::eliminated`]).
@@ -195,7 +225,7 @@ fn finish_guarded(mut ctx: Context, delta: f64, g: Guarded) -> Solution {
     ctx.stats.refinements = g.refinements;
     let penalties = penalties(&g.attempt.state, &g.attempt.r, &g.lo, &g.hi);
     ctx.finish(
-        Method::Condensed { delta },
+        Method::condensed(delta),
         g.attempt.u,
         penalties,
         None,
@@ -299,7 +329,7 @@ mod tests {
             assert!(prep.constraint_columns.get().is_none());
             let mut first = None;
             for r in [1e-1, 1e-2, 1e-4] {
-                let m = Method::Condensed { delta: r * scale };
+                let m = Method::condensed(r * scale);
                 let shared = solve_prepared(&p, m, Some(&prep)).unwrap();
                 let own = solve(&p, m).unwrap();
                 let w = prep

@@ -4,12 +4,42 @@
 //! When to use: when a good ε is known. Too small and contact leaks (penetration ∝ 1/ε), too
 //! large and cond(K + εDDᵀ) grows ∝ ε.
 
-use super::{fixed_energy, Context, Method, Solution};
+use super::{fixed_energy, Context, Knob, Knobs, Method, Solution, Strategy};
 use crate::error::Result;
+
+/// `constant`: everything the registry knows about this strategy ([`super::registry`]).
+pub static STRATEGY: Strategy = Strategy {
+    name: "constant",
+    summary: "Classical constant penalty ε",
+    label: "constant",
+    rule_label: "constant",
+    knob: Knob::Eps,
+    colour: 0,
+    needs_k_inverse: false,
+    targets_delta: false,
+    solve: run,
+};
+
+impl Method {
+    /// The classical penalty ε (> 0).
+    pub const fn constant(eps: f64) -> Method {
+        Method::of(
+            &STRATEGY,
+            Knobs {
+                eps: Some(eps),
+                ..Knobs::NONE
+            },
+        )
+    }
+}
+
+fn run(ctx: Context, m: &Method) -> Result<Solution> {
+    solve(ctx, m.value(m.knobs().eps, "--eps")?)
+}
 
 /// Solves with the constant penalty ε (> 0, validated by [`Method::from_name`]): the unique
 /// minimizer of `½uᵀKu − qᵀu + ½ε Σ_c p_c(u)²` (see [`super::active_set`]).
 pub fn solve(ctx: Context, eps: f64) -> Result<Solution> {
     let m = ctx.problem.m();
-    fixed_energy(ctx, Method::Constant { eps }, vec![eps; m])
+    fixed_energy(ctx, Method::constant(eps), vec![eps; m])
 }

@@ -11,11 +11,38 @@
 //! When to use: the exact answer; it costs a larger, indefinite system (`cond2_system` is the
 //! saddle-point matrix's) whose size changes with the active set.
 
-use super::{initial_active_set, max_iterations, Context, Method, Solution, SystemKind};
+use super::{
+    initial_active_set, max_iterations, Context, Knob, Knobs, Method, Solution, Strategy,
+    SystemKind,
+};
 use crate::error::{Error, Result};
 use crate::linalg::Factorization;
 use crate::system::{ConstraintKind, Problem, Stiffness};
 use std::collections::HashSet;
+
+/// `lagrange`: everything the registry knows about this strategy ([`super::registry`]).
+pub static STRATEGY: Strategy = Strategy {
+    name: "lagrange",
+    summary: "Lagrange multipliers",
+    label: "lagrange",
+    rule_label: "lagrange",
+    knob: Knob::None,
+    colour: 5,
+    needs_k_inverse: false,
+    targets_delta: false,
+    solve: run,
+};
+
+impl Method {
+    /// Lagrange multipliers (exact contact).
+    pub const fn lagrange() -> Method {
+        Method::of(&STRATEGY, Knobs::NONE)
+    }
+}
+
+fn run(ctx: Context, _: &Method) -> Result<Solution> {
+    solve(ctx)
+}
 
 /// The saddle-point matrix `[K D_A; D_Aᵀ 0]` for the active constraint indices.
 pub fn saddle_matrix(problem: &Problem, active: &[usize]) -> Stiffness {
@@ -81,7 +108,7 @@ pub fn solve_eliminated(mut ctx: Context) -> Result<Solution> {
         Vec::new()
     };
     Ok(ctx.finish(
-        Method::Lagrange,
+        Method::lagrange(),
         b.u,
         vec![0.0; m],
         Some(b.r),
@@ -151,7 +178,7 @@ pub fn solve_saddle(mut ctx: Context) -> Result<Solution> {
                 ));
             }
             return Ok(ctx.finish(
-                Method::Lagrange,
+                Method::lagrange(),
                 u,
                 vec![0.0; m],
                 Some(lambda),

@@ -11,6 +11,12 @@
 //! | [`lagrange`] | — | saddle point `[K D; Dᵀ 0]`, active set | exact |
 //! | [`augmented`] | ε, tol | Uzawa: λ ← λ + ε g until max penetration ≤ tol | — |
 //!
+//! Each strategy is one file that declares everything about itself in a [`Strategy`]
+//! (`STRATEGY`: name, summary, legend label, knob, colour, whether it needs K⁻¹, whether it
+//! targets δ, its solve) and its [`Method`] constructor; [`registry::BUILT_IN`] lists them,
+//! and the CLI, the sweep, the figures and the studies derive from it. A rule from outside
+//! the crate joins through [`registry::register`] (`examples/custom_rule.rs`).
+//!
 //! Every strategy returns a [`Solution`]: u, the penalties, the gaps, warnings and
 //! [`Stats`] (iterations, linear solves, factorizations, active-set sizes, `converged`).
 //! Unilateral constraints (`upper`/`lower`) are penalized only while violated. The penalty
@@ -28,6 +34,7 @@ pub mod eliminated;
 pub mod lagrange;
 pub mod optimal;
 pub mod paper;
+pub mod registry;
 pub mod scaled;
 pub mod spring;
 
@@ -37,101 +44,56 @@ use crate::system::{Problem, Stiffness};
 use serde::Serialize;
 use std::sync::Arc;
 
+pub use registry::{Knob, Strategy};
+
 pub use active_set::{
     clip_negative, fixed_energy, fixed_point, initial_active_set, max_iterations, per_active,
     violated,
 };
 
-/// A strategy and its knob.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-#[serde(tag = "method", rename_all = "lowercase")]
-pub enum Method {
-    /// Classical penalty with one ε for all active constraints.
-    Constant {
-        /// ε (stiffness units, > 0).
-        eps: f64,
-    },
-    /// ε_c = factor · K[d_c, d_c].
-    Scaled {
-        /// Dimensionless factor (> 0).
-        factor: f64,
-    },
-    /// Eq. 17 per constraint (1-DOF spring, coupling ignored).
-    Spring {
-        /// Allowed penetration δ (length/velocity units of u, > 0).
-        delta: f64,
-    },
-    /// Eq. 26–29 literally.
-    Paper {
-        /// Allowed penetration δ (> 0).
-        delta: f64,
-    },
-    /// Exact δ-targeting through the condensed flexibility S = DᵀK⁻¹D.
-    Condensed {
-        /// Allowed penetration δ (> 0).
-        delta: f64,
-    },
-    /// The cond-optimal penalties: min cond₂(K + D E Dᵀ) with every penetration ≤ δ.
-    Optimal {
-        /// Allowed penetration δ (> 0).
-        delta: f64,
-    },
-    /// Lagrange multipliers (exact).
-    Lagrange,
-    /// Augmented Lagrangian (Uzawa).
-    Augmented {
-        /// Penalty used in the augmented term (> 0).
-        eps: f64,
-        /// Stop when max penetration ≤ tol (> 0).
-        tol: f64,
-        /// Per-constraint penalty update (×10 when a gap does not shrink by 4×).
-        adaptive: bool,
-    },
+/// A strategy with its knob values: what [`solve`] runs. Built by the strategy's own
+/// constructor (`Method::constant(ε)`, `Method::condensed(δ)`, … — each in the strategy's
+/// file), by [`Method::from_name`] (CLI, configuration files), or by [`Method::new`] for a
+/// registered rule from outside the crate ([`registry`]).
+///
+/// Serialized as `{"method": name, <its knobs>}`: `eps` (`constant`), `factor` (`scaled`),
+/// `delta` (the δ rules), `eps`, `tol`, `adaptive` (`augmented`), nothing (`lagrange`).
+#[derive(Clone, Copy, Debug)]
+pub struct Method {
+    strategy: &'static Strategy,
+    knobs: Knobs,
 }
 
-/// Names accepted by [`Method::from_name`].
-pub const METHOD_NAMES: [&str; 8] = [
-    "constant",
-    "scaled",
-    "spring",
-    "paper",
-    "condensed",
-    "lagrange",
-    "augmented",
-    "optimal",
-];
-
-/// A strategy's name as a command-line choice (`--method`, `--methods`): the same names as
-/// [`METHOD_NAMES`], with clap's list of valid values in `--help` and in the error message.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum MethodName {
-    /// Classical constant penalty ε.
-    Constant,
-    /// ε = factor · K_dd per constraint.
-    Scaled,
-    /// The 1-DOF spring rule for δ (Eq. 17).
-    Spring,
-    /// The paper's rule (Eq. 28–29).
-    Paper,
-    /// Exact δ-targeting penalty.
-    Condensed,
-    /// Lagrange multipliers.
-    Lagrange,
-    /// Augmented Lagrangian.
-    Augmented,
-    /// The cond-optimal penalties for δ.
-    Optimal,
-}
-
-impl MethodName {
-    /// The name in [`METHOD_NAMES`].
-    pub fn as_str(self) -> &'static str {
-        METHOD_NAMES[self as usize]
+impl PartialEq for Method {
+    fn eq(&self, other: &Self) -> bool {
+        self.strategy.name == other.strategy.name && self.knobs == other.knobs
     }
 }
 
-/// Optional knobs for [`Method::from_name`].
-#[derive(Clone, Copy, Debug, Default)]
+impl Serialize for Method {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        use serde::ser::SerializeMap;
+        let k = &self.knobs;
+        let mut map = s.serialize_map(None)?;
+        map.serialize_entry("method", self.strategy.name)?;
+        match self.strategy.knob {
+            Knob::None => {}
+            Knob::Eps => map.serialize_entry("eps", &k.eps)?,
+            Knob::Factor => map.serialize_entry("factor", &k.factor)?,
+            Knob::Delta => map.serialize_entry("delta", &k.delta)?,
+            Knob::EpsTol => {
+                map.serialize_entry("eps", &k.eps)?;
+                map.serialize_entry("tol", &k.tol)?;
+                map.serialize_entry("adaptive", &k.adaptive)?;
+            }
+        }
+        map.end()
+    }
+}
+
+/// Knob values for [`Method::from_name`] and [`Method::new`]; a strategy reads those its
+/// [`Knob`] names and ignores the others.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Knobs {
     /// ε for `constant` and `augmented`.
     pub eps: Option<f64>,
@@ -145,6 +107,17 @@ pub struct Knobs {
     pub adaptive: bool,
 }
 
+impl Knobs {
+    /// No knob set.
+    pub const NONE: Knobs = Knobs {
+        eps: None,
+        factor: None,
+        delta: None,
+        tol: None,
+        adaptive: false,
+    };
+}
+
 fn positive(name: &str, what: &str, v: Option<f64>) -> Result<f64> {
     match v {
         None => Err(Error::input(format!("method {name} needs {what}"))),
@@ -156,75 +129,80 @@ fn positive(name: &str, what: &str, v: Option<f64>) -> Result<f64> {
 }
 
 impl Method {
-    /// Builds a method from its name and knobs, validating them (δ ≤ 0, NaN → error).
+    /// `strategy` with the knob values it declares, validated (missing, ≤ 0 or NaN → error);
+    /// the other fields of `knobs` are dropped.
+    pub fn new(strategy: &'static Strategy, knobs: Knobs) -> Result<Self> {
+        let n = strategy.name;
+        let k = match strategy.knob {
+            Knob::None => Knobs::NONE,
+            Knob::Eps => Knobs {
+                eps: Some(positive(n, "--eps", knobs.eps)?),
+                ..Knobs::NONE
+            },
+            Knob::Factor => Knobs {
+                factor: Some(positive(n, "--factor", knobs.factor)?),
+                ..Knobs::NONE
+            },
+            Knob::Delta => Knobs {
+                delta: Some(positive(n, "--delta", knobs.delta)?),
+                ..Knobs::NONE
+            },
+            Knob::EpsTol => Knobs {
+                eps: Some(positive(n, "--eps", knobs.eps)?),
+                tol: Some(positive(n, "--tol", knobs.tol)?),
+                adaptive: knobs.adaptive,
+                ..Knobs::NONE
+            },
+        };
+        Ok(Method { strategy, knobs: k })
+    }
+
+    /// Builds a method from its name ([`registry::names`]) and knobs, validating them.
     pub fn from_name(name: &str, k: Knobs) -> Result<Self> {
-        Ok(match name {
-            "constant" => Method::Constant {
-                eps: positive(name, "--eps", k.eps)?,
-            },
-            "scaled" => Method::Scaled {
-                factor: positive(name, "--factor", k.factor)?,
-            },
-            "spring" => Method::Spring {
-                delta: positive(name, "--delta", k.delta)?,
-            },
-            "paper" => Method::Paper {
-                delta: positive(name, "--delta", k.delta)?,
-            },
-            "condensed" => Method::Condensed {
-                delta: positive(name, "--delta", k.delta)?,
-            },
-            "optimal" => Method::Optimal {
-                delta: positive(name, "--delta", k.delta)?,
-            },
-            "lagrange" => Method::Lagrange,
-            "augmented" => Method::Augmented {
-                eps: positive(name, "--eps", k.eps)?,
-                tol: positive(name, "--tol", k.tol)?,
-                adaptive: k.adaptive,
-            },
-            other => {
-                return Err(Error::input(format!(
-                    "unknown method '{other}' (valid: {})",
-                    METHOD_NAMES.join(", ")
-                )))
-            }
-        })
+        Method::new(registry::lookup(name)?, k)
+    }
+
+    /// A method from a strategy's own constructor: `knobs` hold what its [`Knob`] declares
+    /// (not validated, as a literal would not be).
+    pub(crate) const fn of(strategy: &'static Strategy, knobs: Knobs) -> Self {
+        Method { strategy, knobs }
+    }
+
+    /// The strategy.
+    pub fn strategy(&self) -> &'static Strategy {
+        self.strategy
+    }
+
+    /// The knob values (those the strategy's [`Knob`] declares are set).
+    pub fn knobs(&self) -> &Knobs {
+        &self.knobs
+    }
+
+    /// Whether this is a run of `strategy`.
+    pub fn is(&self, strategy: &Strategy) -> bool {
+        self.strategy.name == strategy.name
     }
 
     /// The method's name.
     pub fn name(&self) -> &'static str {
-        match self {
-            Method::Constant { .. } => "constant",
-            Method::Scaled { .. } => "scaled",
-            Method::Spring { .. } => "spring",
-            Method::Paper { .. } => "paper",
-            Method::Condensed { .. } => "condensed",
-            Method::Optimal { .. } => "optimal",
-            Method::Lagrange => "lagrange",
-            Method::Augmented { .. } => "augmented",
-        }
+        self.strategy.name
     }
 
     /// δ if the method has one.
     pub fn delta(&self) -> Option<f64> {
-        match *self {
-            Method::Spring { delta }
-            | Method::Paper { delta }
-            | Method::Condensed { delta }
-            | Method::Optimal { delta } => Some(delta),
-            _ => None,
-        }
+        self.knobs.delta
     }
 
     /// The method's penalty rule as named in messages: `spring (Eq. 17)`, `paper (Eq. 28)`,
     /// otherwise the method name.
-    pub fn rule_label(&self) -> String {
-        match self {
-            Method::Spring { .. } => "spring (Eq. 17)".into(),
-            Method::Paper { .. } => "paper (Eq. 28)".into(),
-            m => m.name().into(),
-        }
+    pub fn rule_label(&self) -> &'static str {
+        self.strategy.rule_label
+    }
+
+    /// The knob value `v` the strategy declared (`what` names it in the error a method built
+    /// without it would give).
+    pub fn value(&self, v: Option<f64>, what: &str) -> Result<f64> {
+        v.ok_or_else(|| Error::input(format!("method {} needs {what}", self.name())))
     }
 }
 
@@ -323,16 +301,7 @@ pub fn solve_prepared(
         None => Context::new(problem),
     };
     let not_spd = not_spd_warning(problem, prepared);
-    let mut sol = match method {
-        Method::Constant { eps } => constant::solve(ctx, eps),
-        Method::Scaled { factor } => scaled::solve(ctx, factor),
-        Method::Spring { delta } => spring::solve(ctx, delta),
-        Method::Paper { delta } => paper::solve(ctx, delta),
-        Method::Condensed { delta } => condensed::solve(ctx, delta),
-        Method::Optimal { delta } => optimal::solve(ctx, delta),
-        Method::Lagrange => lagrange::solve(ctx),
-        Method::Augmented { eps, tol, adaptive } => augmented::solve(ctx, eps, tol, adaptive),
-    }?;
+    let mut sol = (method.strategy.solve)(ctx, &method)?;
     sol.warnings.extend(not_spd);
     Ok(sol)
 }

@@ -80,12 +80,42 @@
 //! optimal_cost` measures it; its numbers are in docs/performance.md), so n = 1000 takes
 //! minutes.
 
-use super::{fixed_energy, Context, Method, Solution};
+use super::{fixed_energy, Context, Knob, Knobs, Method, Solution, Strategy};
 use crate::conditioning;
 use crate::error::{Error, Result};
 use crate::system::{ConstraintKind, Problem};
 use faer::{Mat, Side};
 use serde::Serialize;
+
+/// `optimal`: everything the registry knows about this strategy ([`super::registry`]).
+pub static STRATEGY: Strategy = Strategy {
+    name: "optimal",
+    summary: "The cond-optimal penalties for δ",
+    label: "optimal (min cond₂ at δ)",
+    rule_label: "optimal",
+    knob: Knob::Delta,
+    colour: 7,
+    needs_k_inverse: true,
+    targets_delta: true,
+    solve: run,
+};
+
+impl Method {
+    /// The cond-optimal penalties for allowed penetration δ (> 0).
+    pub const fn optimal(delta: f64) -> Method {
+        Method::of(
+            &STRATEGY,
+            Knobs {
+                delta: Some(delta),
+                ..Knobs::NONE
+            },
+        )
+    }
+}
+
+fn run(ctx: Context, m: &Method) -> Result<Solution> {
+    solve(ctx, m.value(m.knobs().delta, "--delta")?)
+}
 
 /// Largest n the dense optimiser accepts.
 pub const MAX_N: usize = 1000;
@@ -362,7 +392,7 @@ struct Candidate {
 
 /// Re-solves with given penalties by the exact driver and measures cond₂ exactly.
 fn verify(p: &Problem, delta: f64, eps: Vec<f64>) -> Result<(Solution, f64)> {
-    let sol = fixed_energy(Context::new(p), Method::Optimal { delta }, eps)?;
+    let sol = fixed_energy(Context::new(p), Method::optimal(delta), eps)?;
     let c = conditioning::cond2(&super::penalized_matrix(p, &sol.penalties))?.cond2;
     Ok((sol, c))
 }
@@ -426,7 +456,7 @@ fn scaled_start(p: &Problem, delta: f64, f0: f64) -> Result<Option<Vec<f64>>> {
             .iter()
             .map(|c| f * p.k.diag(c.dof).abs())
             .collect();
-        let s = fixed_energy(Context::new(p), Method::Scaled { factor: f }, eps)?;
+        let s = fixed_energy(Context::new(p), Method::scaled(f), eps)?;
         if s.max_penetration < delta {
             return Ok(Some(s.penalties));
         }
@@ -444,14 +474,14 @@ pub fn solve(ctx: Context, delta: f64) -> Result<Solution> {
     let mut cands: Vec<Candidate> = Vec::new();
     let mut starts: Vec<(String, Vec<f64>)> = Vec::new();
     for m in [
-        Method::Spring { delta },
-        Method::Paper { delta },
-        Method::Condensed { delta },
+        Method::spring(delta),
+        Method::paper(delta),
+        Method::condensed(delta),
     ] {
         let sol = super::solve(p, m)?;
         if feasible(&sol, delta) {
             let c = conditioning::cond2(&super::penalized_matrix(p, &sol.penalties))?.cond2;
-            if !matches!(m, Method::Condensed { .. }) {
+            if !m.is(&super::condensed::STRATEGY) {
                 starts.push((m.name().into(), sol.penalties.clone()));
             }
             cands.push(Candidate {
@@ -463,21 +493,16 @@ pub fn solve(ctx: Context, delta: f64) -> Result<Solution> {
             });
         }
     }
-    let inner = super::solve(
-        p,
-        Method::Condensed {
-            delta: delta * (1.0 - 1e-3),
-        },
-    )?;
+    let inner = super::solve(p, Method::condensed(delta * (1.0 - 1e-3)))?;
     let f0 = p
         .constraints
         .iter()
         .zip(&inner.penalties)
         .map(|(c, e)| e / p.k.diag(c.dof).abs().max(f64::MIN_POSITIVE))
         .fold(0.0f64, f64::max);
-    starts.insert(0, ("condensed".into(), inner.penalties));
+    starts.insert(0, (super::condensed::STRATEGY.name.into(), inner.penalties));
     if let Some(e) = scaled_start(p, delta, f0)? {
-        starts.push(("scaled".into(), e));
+        starts.push((super::scaled::STRATEGY.name.into(), e));
     }
     let mut evals = 0;
     let mut n_opt = 0;
@@ -526,7 +551,7 @@ pub fn solve(ctx: Context, delta: f64) -> Result<Solution> {
         ));
     }
     let mut sol = best.sol;
-    sol.method = Method::Optimal { delta };
+    sol.method = Method::optimal(delta);
     sol.warnings = warnings;
     sol.stats.converged = true;
     sol.stats.optimal = Some(OptimalReport {

@@ -9,9 +9,39 @@
 //! an order of magnitude (Eq. 37); see [`super::condensed`] for the exact version. A negative
 //! ε̄ (e.g. a tool node with no load of its own) is warned and clipped to 0.
 
-use super::{fixed_point, per_active, Context, Method, Solution};
+use super::{fixed_point, per_active, Context, Knob, Knobs, Method, Solution, Strategy};
 use crate::error::Result;
 use crate::system::Problem;
+
+/// `paper`: everything the registry knows about this strategy ([`super::registry`]).
+pub static STRATEGY: Strategy = Strategy {
+    name: "paper",
+    summary: "The paper's rule (Eq. 28–29)",
+    label: "paper (Eq. 26–29)",
+    rule_label: "paper (Eq. 28)",
+    knob: Knob::Delta,
+    colour: 3,
+    needs_k_inverse: false,
+    targets_delta: false,
+    solve: run,
+};
+
+impl Method {
+    /// The paper's Eq. 26–29 for allowed penetration δ (> 0).
+    pub const fn paper(delta: f64) -> Method {
+        Method::of(
+            &STRATEGY,
+            Knobs {
+                delta: Some(delta),
+                ..Knobs::NONE
+            },
+        )
+    }
+}
+
+fn run(ctx: Context, m: &Method) -> Result<Solution> {
+    solve(ctx, m.value(m.knobs().delta, "--delta")?)
+}
 
 /// Eq. 28 for the active constraints (0 elsewhere), before clipping.
 ///
@@ -36,7 +66,7 @@ pub fn eq28(problem: &Problem, active: &[bool], delta: f64) -> Vec<f64> {
 
 /// Solves with the Eq. 28 penalties for allowed penetration δ.
 pub fn solve(ctx: Context, delta: f64) -> Result<Solution> {
-    fixed_point(ctx, Method::Paper { delta }, |active, ctx| {
+    fixed_point(ctx, Method::paper(delta), |active, ctx| {
         Ok(eq28(ctx.problem, active, delta))
     })
 }
@@ -81,7 +111,7 @@ pub fn eq28_at(problem: &Problem, active: &[bool], delta: f64, u_ref: &[f64]) ->
 /// Solves with the [`eq28_at`] penalties (reference state `u_ref`, length `problem.n()`) for
 /// allowed penetration δ; negative penalties are clipped to 0 and counted as for [`solve`].
 pub fn solve_at(ctx: Context, delta: f64, u_ref: &[f64]) -> Result<Solution> {
-    fixed_point(ctx, Method::Paper { delta }, |active, ctx| {
+    fixed_point(ctx, Method::paper(delta), |active, ctx| {
         Ok(eq28_at(ctx.problem, active, delta, u_ref))
     })
 }
@@ -120,17 +150,13 @@ pub fn solve_residual(
     let mut sol = None;
     for _ in 0..max_passes.max(1) {
         let given = eps.clone();
-        let next = fixed_point(
-            Context::new(problem),
-            Method::Paper { delta },
-            |active, _| {
-                Ok(given
-                    .iter()
-                    .zip(active)
-                    .map(|(&e, &a)| if a { e } else { 0.0 })
-                    .collect())
-            },
-        )?;
+        let next = fixed_point(Context::new(problem), Method::paper(delta), |active, _| {
+            Ok(given
+                .iter()
+                .zip(active)
+                .map(|(&e, &a)| if a { e } else { 0.0 })
+                .collect())
+        })?;
         its += next.stats.iterations;
         solves += next.stats.linear_solves;
         facts += next.stats.factorizations;

@@ -4,8 +4,38 @@
 //! When to use: a dimensionless knob that adapts to the units and to the local stiffness; the
 //! penetration still depends on the load (it is not a δ).
 
-use super::{fixed_energy, Context, Method, Solution};
+use super::{fixed_energy, Context, Knob, Knobs, Method, Solution, Strategy};
 use crate::error::Result;
+
+/// `scaled`: everything the registry knows about this strategy ([`super::registry`]).
+pub static STRATEGY: Strategy = Strategy {
+    name: "scaled",
+    summary: "ε = factor · K_dd per constraint",
+    label: "scaled",
+    rule_label: "scaled",
+    knob: Knob::Factor,
+    colour: 1,
+    needs_k_inverse: false,
+    targets_delta: false,
+    solve: run,
+};
+
+impl Method {
+    /// The stiffness-scaled penalty ε_c = factor · K[d_c, d_c] (factor > 0).
+    pub const fn scaled(factor: f64) -> Method {
+        Method::of(
+            &STRATEGY,
+            Knobs {
+                factor: Some(factor),
+                ..Knobs::NONE
+            },
+        )
+    }
+}
+
+fn run(ctx: Context, m: &Method) -> Result<Solution> {
+    solve(ctx, m.value(m.knobs().factor, "--factor")?)
+}
 
 /// Solves with `ε_c = factor · K[d_c, d_c]`: a fixed energy, minimized exactly (see
 /// [`super::active_set`]).
@@ -17,5 +47,5 @@ pub fn solve(ctx: Context, factor: f64) -> Result<Solution> {
         .iter()
         .map(|c| factor * k.diag(c.dof).abs())
         .collect();
-    fixed_energy(ctx, Method::Scaled { factor }, eps)
+    fixed_energy(ctx, Method::scaled(factor), eps)
 }

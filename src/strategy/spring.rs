@@ -11,13 +11,43 @@
 //! load, so the penetration is not δ; when `|q_d|` is small the formula goes negative (warned
 //! and clipped to 0).
 
-use super::{fixed_point, per_active, Context, Method, Solution};
+use super::{fixed_point, per_active, Context, Knob, Knobs, Method, Solution, Strategy};
 use crate::error::Result;
 use crate::system::ConstraintKind;
 
+/// `spring`: everything the registry knows about this strategy ([`super::registry`]).
+pub static STRATEGY: Strategy = Strategy {
+    name: "spring",
+    summary: "The 1-DOF spring rule for δ (Eq. 17)",
+    label: "spring (Eq. 17)",
+    rule_label: "spring (Eq. 17)",
+    knob: Knob::Delta,
+    colour: 2,
+    needs_k_inverse: true,
+    targets_delta: false,
+    solve: run,
+};
+
+impl Method {
+    /// Eq. 17 per constraint for allowed penetration δ (> 0).
+    pub const fn spring(delta: f64) -> Method {
+        Method::of(
+            &STRATEGY,
+            Knobs {
+                delta: Some(delta),
+                ..Knobs::NONE
+            },
+        )
+    }
+}
+
+fn run(ctx: Context, m: &Method) -> Result<Solution> {
+    solve(ctx, m.value(m.knobs().delta, "--delta")?)
+}
+
 /// Solves with Eq. 17 penalties for allowed penetration δ.
 pub fn solve(ctx: Context, delta: f64) -> Result<Solution> {
-    fixed_point(ctx, Method::Spring { delta }, |active, ctx| {
+    fixed_point(ctx, Method::spring(delta), |active, ctx| {
         let g0 = ctx.g0()?;
         let p = ctx.problem;
         Ok(per_active(p, active, |c, con| {

@@ -3,7 +3,7 @@
 use crate::error::{Error, Result};
 use crate::metrics::{self, MetricSet};
 use crate::scene;
-use crate::strategy::{self, Knobs, Method, MethodName};
+use crate::strategy::{self, registry, Knob, Knobs, Method};
 use serde_json::{json, Value};
 use std::path::Path;
 use std::time::Instant;
@@ -26,7 +26,7 @@ fn finite_or_null(x: Option<f64>) -> Value {
 /// singular systems and a non-finite solution.
 pub fn solve_scene(
     scene: &Path,
-    name: MethodName,
+    name: &str,
     knobs: Knobs,
     no_metrics: bool,
     exact_start: bool,
@@ -36,7 +36,8 @@ pub fn solve_scene(
     let sc = scene::read_scene(scene)?;
     let p = &sc.problem;
     let mut knobs = knobs;
-    if name == MethodName::Augmented {
+    let strategy = registry::lookup(name)?;
+    if strategy.knob == Knob::EpsTol {
         if knobs.eps.is_none() {
             let e = p
                 .constraints
@@ -54,11 +55,11 @@ pub fn solve_scene(
             knobs.tol = Some(1e-9 * s);
         }
     }
-    let method = Method::from_name(name.as_str(), knobs)?;
+    let method = Method::new(strategy, knobs)?;
     let prepared = if exact_start {
         // The sweep's order: K prepared once, lagrange on it, its contact set for the rest.
         strategy::Prepared::new(p).ok().and_then(|prep| {
-            let set = strategy::solve_prepared(p, Method::Lagrange, Some(&prep))
+            let set = strategy::solve_prepared(p, Method::lagrange(), Some(&prep))
                 .ok()?
                 .contact_set()?;
             Some(prep.with_contact_set(set))

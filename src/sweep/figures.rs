@@ -39,6 +39,7 @@ use std::path::{Path, PathBuf};
 
 use crate::plot::{method_color, method_label, render, Band, Figure, Mark, Marker, Scale, Series};
 use crate::stats::quantile;
+use crate::strategy::{augmented, constant, lagrange, optimal, registry, scaled};
 use crate::sweep::rows::Row;
 use crate::{Error, Result};
 
@@ -52,10 +53,6 @@ pub const FIGURE_KINDS: [&str; 4] = [
 
 /// Lower and upper quantile of the spread band drawn around the `constant` median.
 const BAND_Q: (f64, f64) = (0.1, 0.9);
-
-/// Adaptive (δ-driven) methods, in legend order (colours and legend names from
-/// [`method_color`] and [`method_label`], as in every figure).
-const ADAPTIVE: [&str; 3] = ["spring", "paper", "condensed"];
 
 /// Image size of every sweep figure (px).
 const SIZE: (u32, u32) = (1000, 700);
@@ -395,7 +392,7 @@ fn eps_figure(fam: &Fam, metric: Metric, title: &str, y_label: &str, y_scale: Sc
         .scales(Scale::Log10, y_scale)
         .with_size(SIZE.0, SIZE.1);
 
-    let constant = groups(&fam.method("constant"), |r| r.eps);
+    let constant = groups(&fam.method(constant::STRATEGY.name), |r| r.eps);
     if !constant.is_empty() {
         let xs: Vec<f64> = constant.iter().map(|g| g.0).collect();
         let st: Vec<Stat> = constant.iter().map(|g| stat(&g.1, metric)).collect();
@@ -407,7 +404,7 @@ fn eps_figure(fam: &Fam, metric: Metric, title: &str, y_label: &str, y_scale: Sc
                     st.iter().map(|s| s.lo).collect(),
                     st.iter().map(|s| s.hi).collect(),
                 )
-                .color(method_color("constant")),
+                .color(method_color(constant::STRATEGY.name)),
             );
         }
         fig = fig.with_series(
@@ -417,11 +414,13 @@ fn eps_figure(fam: &Fam, metric: Metric, title: &str, y_label: &str, y_scale: Sc
                 st.iter().map(|s| s.med).collect(),
                 Mark::Line,
             )
-            .color(method_color("constant")),
+            .color(method_color(constant::STRATEGY.name)),
         );
     }
 
-    for name in ADAPTIVE {
+    // The δ-driven rules, in registry order (colours and legend names from their
+    // descriptors, as in every figure).
+    for name in registry::delta_rules().into_iter().map(|s| s.name) {
         let (legend, color) = (method_label(name), method_color(name));
         for set in delta_sets(&fam.method(name)) {
             let pts: Vec<(f64, f64, f64)> = set
@@ -482,7 +481,7 @@ fn eps_figure(fam: &Fam, metric: Metric, title: &str, y_label: &str, y_scale: Sc
         }
     }
     let x_of = |r: &Row| {
-        if r.method == "constant" {
+        if r.method == constant::STRATEGY.name {
             r.eps
         } else {
             r.eps_max
@@ -586,7 +585,7 @@ fn pareto(fam: &Fam) -> Figure {
     // The optimal frontier first, so that the strategies' curves are drawn over it.
     // Rows skipped outside `optimal_families` have no cond₂: no legend entry without data.
     let optimal: Vec<&Row> = fam
-        .method("optimal")
+        .method(optimal::STRATEGY.name)
         .into_iter()
         .filter(|r| r.cond2_system.is_some())
         .collect();
@@ -600,26 +599,28 @@ fn pareto(fam: &Fam) -> Figure {
                 range(&ks)
             ),
             &set.groups,
-            method_color("optimal"),
+            method_color(optimal::STRATEGY.name),
         );
     }
-    let constant = groups(&fam.method("constant"), |r| r.eps);
+    let constant = groups(&fam.method(constant::STRATEGY.name), |r| r.eps);
     let ks: Vec<f64> = constant.iter().map(|g| g.0).collect();
     fig = add(
         fig,
         format!("constant, ε = {}", range(&ks)),
         &constant,
-        method_color("constant"),
+        method_color(constant::STRATEGY.name),
     );
-    let scaled = groups(&fam.method("scaled"), |r| r.factor);
+    let scaled = groups(&fam.method(scaled::STRATEGY.name), |r| r.factor);
     let ks: Vec<f64> = scaled.iter().map(|g| g.0).collect();
     fig = add(
         fig,
         format!("scaled, f = {} (ε_c = f·K[d_c,d_c])", range(&ks)),
         &scaled,
-        method_color("scaled"),
+        method_color(scaled::STRATEGY.name),
     );
-    for name in ADAPTIVE {
+    // The δ-driven rules, in registry order (colours and legend names from their
+    // descriptors, as in every figure).
+    for name in registry::delta_rules().into_iter().map(|s| s.name) {
         let (legend, color) = (method_label(name), method_color(name));
         for set in delta_sets(&fam.method(name)) {
             let ks: Vec<f64> = set.groups.iter().map(|g| g.0).collect();
@@ -633,7 +634,7 @@ fn pareto(fam: &Fam) -> Figure {
         }
     }
     // augmented: grouped by tolerance only (its ε is chosen per scene by the sweep).
-    let augmented = fam.method("augmented");
+    let augmented = fam.method(augmented::STRATEGY.name);
     let eps_note = match groups(&augmented, |r| r.eps).as_slice() {
         [(eps, _)] => format!(", ε = {}", num(*eps)),
         _ => String::new(),
@@ -645,11 +646,11 @@ fn pareto(fam: &Fam) -> Figure {
             fig,
             format!("augmented{eps_note}, tol = {}{unit}", range(&ks)),
             &set.groups,
-            method_color("augmented"),
+            method_color(augmented::STRATEGY.name),
         );
     }
     if has_data(&fig) {
-        let lag = median(&fam.method("lagrange"), m_cond);
+        let lag = median(&fam.method(lagrange::STRATEGY.name), m_cond);
         if drawable(Scale::Log10, lag) {
             fig = fig.hline(lag, "lagrange (exact, saddle point; penetration 0)");
         }

@@ -25,7 +25,7 @@ use crate::error::{Error, Result};
 use crate::metrics::{self, MetricSet};
 use crate::model::generate::{self, Family, GeneratorConfig};
 use crate::scene;
-use crate::strategy::{self, Method, Prepared, METHOD_NAMES};
+use crate::strategy::{self, registry, Knob, Knobs, Method, Prepared};
 use crate::system::{Problem, Structure};
 use rows::Row;
 use serde::{Deserialize, Serialize};
@@ -153,7 +153,10 @@ impl Default for SweepConfig {
             factors: vec![1.0, 10.0, 100.0, 1e3, 1e4],
             deltas: vec![],
             deltas_rel: vec![1e-1, 1e-2, 1e-3],
-            methods: METHOD_NAMES.iter().map(|s| s.to_string()).collect(),
+            methods: registry::BUILT_IN
+                .iter()
+                .map(|s| s.name.to_string())
+                .collect(),
             metrics: vec!["cond".into(), "det".into()],
             generator: GeneratorConfig::default(),
             scenes_dir: None,
@@ -201,12 +204,7 @@ impl SweepConfig {
             }
         }
         for m in &self.methods {
-            if !METHOD_NAMES.contains(&m.as_str()) {
-                return Err(Error::input(format!(
-                    "unknown method '{m}' (valid: {})",
-                    METHOD_NAMES.join(", ")
-                )));
-            }
+            registry::lookup(m)?;
         }
         for f in &self.optimal_families {
             if f != "file" && Family::from_name(f).is_err() {
@@ -236,17 +234,26 @@ impl SweepConfig {
                 )));
             }
         }
-        let needs_delta = self
-            .methods
-            .iter()
-            .any(|m| matches!(m.as_str(), "spring" | "paper" | "condensed" | "augmented"));
-        if needs_delta && self.deltas.is_empty() && self.deltas_rel.is_empty() {
-            return Err(Error::input(
-                "spring/paper/condensed/augmented need δ values (--deltas or --deltas-rel)",
-            ));
+        let with_knob = |knobs: &[Knob]| -> Vec<&str> {
+            self.strategies()
+                .into_iter()
+                .filter(|s| knobs.contains(&s.knob))
+                .map(|s| s.name)
+                .collect()
+        };
+        let needs_delta = with_knob(&[Knob::Delta, Knob::EpsTol]);
+        if !needs_delta.is_empty() && self.deltas.is_empty() && self.deltas_rel.is_empty() {
+            return Err(Error::input(format!(
+                "{} need δ values (--deltas or --deltas-rel)",
+                needs_delta.join("/")
+            )));
         }
-        if self.methods.iter().any(|m| m == "scaled") && self.factors.is_empty() {
-            return Err(Error::input("scaled needs --factors"));
+        let needs_factors = with_knob(&[Knob::Factor]);
+        if !needs_factors.is_empty() && self.factors.is_empty() {
+            return Err(Error::input(format!(
+                "{} needs --factors",
+                needs_factors.join("/")
+            )));
         }
         self.generator.validate()
     }
@@ -259,16 +266,25 @@ impl SweepConfig {
         }
     }
 
+    /// The strategies of `methods` (unknown names, which [`SweepConfig::validate`] refuses,
+    /// left out).
+    pub fn strategies(&self) -> Vec<&'static strategy::Strategy> {
+        self.methods
+            .iter()
+            .filter_map(|m| registry::find(m))
+            .collect()
+    }
+
     /// Rows produced per scene.
     pub fn rows_per_scene(&self) -> usize {
         let nd = self.deltas.len() + self.deltas_rel.len();
         let mut r = 1; // lagrange reference
-        for m in &self.methods {
-            r += match m.as_str() {
-                "constant" => self.eps.n,
-                "scaled" => self.factors.len(),
-                "spring" | "paper" | "condensed" | "optimal" | "augmented" => nd,
-                _ => 0,
+        for s in self.strategies() {
+            r += match s.knob {
+                Knob::Eps => self.eps.n,
+                Knob::Factor => self.factors.len(),
+                Knob::Delta | Knob::EpsTol => nd,
+                Knob::None => 0,
             };
         }
         r
@@ -415,36 +431,67 @@ pub fn jobs(cfg: &SweepConfig, problem: &Problem, u0: Option<&[f64]>) -> Vec<Job
         }
     };
     let mut out = vec![Job {
-        method: Method::Lagrange,
+        method: Method::lagrange(),
         delta_rel: None,
     }];
-    for m in &cfg.methods {
-        match m.as_str() {
-            "constant" => out.extend(cfg.eps.values().into_iter().map(|eps| Job {
-                method: Method::Constant { eps },
-                delta_rel: None,
-            })),
-            "scaled" => out.extend(cfg.factors.iter().map(|&factor| Job {
-                method: Method::Scaled { factor },
-                delta_rel: None,
-            })),
-            "spring" | "paper" | "condensed" | "optimal" | "augmented" => {
-                out.extend(deltas.iter().map(|&(delta, delta_rel)| Job {
-                    method: match m.as_str() {
-                        "spring" => Method::Spring { delta },
-                        "paper" => Method::Paper { delta },
-                        "condensed" => Method::Condensed { delta },
-                        "optimal" => Method::Optimal { delta },
-                        _ => Method::Augmented {
-                            eps: aug_eps,
-                            tol: delta,
-                            adaptive: true,
+    // One job per value of each strategy's knob; a knob value the strategy refuses (an ε
+    // grid point ≤ 0 cannot pass `validate`) drops the job.
+    let mut push = |s, knobs, delta_rel| {
+        if let Ok(method) = Method::new(s, knobs) {
+            out.push(Job { method, delta_rel });
+        }
+    };
+    for s in cfg.strategies() {
+        match s.knob {
+            Knob::Eps => {
+                for eps in cfg.eps.values() {
+                    push(
+                        s,
+                        Knobs {
+                            eps: Some(eps),
+                            ..Knobs::NONE
                         },
-                    },
-                    delta_rel,
-                }))
+                        None,
+                    );
+                }
             }
-            _ => {}
+            Knob::Factor => {
+                for &factor in &cfg.factors {
+                    push(
+                        s,
+                        Knobs {
+                            factor: Some(factor),
+                            ..Knobs::NONE
+                        },
+                        None,
+                    );
+                }
+            }
+            Knob::Delta => {
+                for &(delta, delta_rel) in &deltas {
+                    push(
+                        s,
+                        Knobs {
+                            delta: Some(delta),
+                            ..Knobs::NONE
+                        },
+                        delta_rel,
+                    );
+                }
+            }
+            Knob::EpsTol => {
+                for &(delta, delta_rel) in &deltas {
+                    let knobs = Knobs {
+                        eps: Some(aug_eps),
+                        tol: Some(delta),
+                        adaptive: true,
+                        ..Knobs::NONE
+                    };
+                    push(s, knobs, delta_rel);
+                }
+            }
+            // The exact methods: lagrange is the first job already.
+            Knob::None => {}
         }
     }
     out
@@ -567,19 +614,11 @@ fn base_row(work: &SceneWork, job: Job) -> Row {
         cond2_k_hi: work.cond2_k_bounds.map(|b| b.1),
         ..Default::default()
     };
-    match job.method {
-        Method::Constant { eps } => row.eps = Some(eps),
-        Method::Scaled { factor } => row.factor = Some(factor),
-        Method::Spring { delta }
-        | Method::Paper { delta }
-        | Method::Condensed { delta }
-        | Method::Optimal { delta } => row.delta = Some(delta),
-        Method::Augmented { eps, tol, .. } => {
-            row.eps = Some(eps);
-            row.delta = Some(tol);
-        }
-        Method::Lagrange => {}
-    }
+    // The knob values in their columns: ε, f, δ; `augmented`'s tolerance in `delta`.
+    let k = job.method.knobs();
+    row.eps = k.eps;
+    row.factor = k.factor;
+    row.delta = k.delta.or(k.tol);
     row
 }
 
@@ -649,7 +688,7 @@ pub fn run_job(
             row.seconds_cond = set.cond.then_some(m.seconds_cond);
             row.seconds_det = set.det.then_some(m.seconds_det);
             row.warnings = metrics::warnings(&sol, &m).join("; ");
-            if matches!(job.method, Method::Lagrange) {
+            if job.method.is(&strategy::lagrange::STRATEGY) {
                 row.error_vs_exact = Some(metrics::relative_error(&sol.u, &sol.u));
                 let prepared = work
                     .prepared
@@ -682,7 +721,7 @@ pub fn run_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<(Vec<Row>, Scene
         .par_iter()
         .with_max_len(1)
         .map(|&job| {
-            let skip = matches!(job.method, Method::Optimal { .. })
+            let skip = job.method.is(&strategy::optimal::STRATEGY)
                 && !cfg.optimal_families.contains(&work.scene.family);
             if skip {
                 skipped_row(&work, job, cfg)
@@ -701,15 +740,12 @@ pub fn run_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<(Vec<Row>, Scene
 pub fn set_ratios_to_optimal(rows: &mut [Row]) {
     let optima: Vec<(f64, f64)> = rows
         .iter()
-        .filter(|r| r.method == "optimal")
+        .filter(|r| r.method == strategy::optimal::STRATEGY.name)
         .filter_map(|r| Some((r.delta?, r.cond2_system?)))
         .filter(|(_, c)| c.is_finite() && *c > 0.0)
         .collect();
     for r in rows.iter_mut() {
-        if !matches!(
-            r.method.as_str(),
-            "spring" | "paper" | "condensed" | "optimal"
-        ) {
+        if registry::find(&r.method).is_none_or(|s| s.knob != Knob::Delta) {
             continue;
         }
         let (Some(d), Some(c)) = (r.delta, r.cond2_system) else {

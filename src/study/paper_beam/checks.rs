@@ -119,7 +119,7 @@ fn units(p: &Problem, s: &Solves) -> Result<Units> {
             .zip(&u0_si)
             .map(|(a, b)| (a - b).abs())
             .fold(0.0, f64::max);
-    let pap_si = strategy::solve(&p_si, Method::Paper { delta: DELTA })?;
+    let pap_si = strategy::solve(&p_si, Method::paper(DELTA))?;
     let eps_si_ratio = pap_si
         .penalties
         .iter()
@@ -193,9 +193,9 @@ fn overstiffening(p: &Problem, s: &Solves) -> Result<Overstiffening> {
 
 fn unilateral(s: &Solves) -> Result<Unilateral> {
     let p_up = paper::problem_with_kind(ConstraintKind::Upper);
-    let lag_up = strategy::solve(&p_up, Method::Lagrange)?;
-    let pap_up = strategy::solve(&p_up, Method::Paper { delta: DELTA })?;
-    let con_up = strategy::solve(&p_up, Method::Condensed { delta: DELTA })?;
+    let lag_up = strategy::solve(&p_up, Method::lagrange())?;
+    let pap_up = strategy::solve(&p_up, Method::paper(DELTA))?;
+    let con_up = strategy::solve(&p_up, Method::condensed(DELTA))?;
     let active_up = match &lag_up.system {
         strategy::SystemKind::SaddlePoint { active } => active.iter().map(|c| c + 1).collect(),
         strategy::SystemKind::Penalized => vec![],

@@ -36,13 +36,7 @@ pub struct CondRow {
 /// The uniform ε whose max penetration is `target` (bisection in log ε over the sweep range).
 pub fn uniform_eps_for(p: &Problem, target: f64) -> Result<f64> {
     let pen = |log_e: f64| {
-        strategy::solve(
-            p,
-            Method::Constant {
-                eps: 10f64.powf(log_e),
-            },
-        )
-        .map(|s| s.max_penetration)
+        strategy::solve(p, Method::constant(10f64.powf(log_e))).map(|s| s.max_penetration)
     };
     let (mut lo, mut hi) = (EPS_LO.log10(), EPS_HI.log10());
     if !(pen(lo)? > target && pen(hi)? < target) {
@@ -82,7 +76,7 @@ pub fn cond_rows(p: &Problem) -> Result<Vec<CondRow>> {
     let (a, b) = (EPS_LO.log10(), EPS_HI.log10());
     for i in 0..N_EPS {
         let eps = 10f64.powf(a + (b - a) * i as f64 / (N_EPS - 1) as f64);
-        let s = solve_with_metrics(p, Method::Constant { eps })?;
+        let s = solve_with_metrics(p, Method::constant(eps))?;
         rows.push(CondRow {
             series: "uniform".into(),
             delta: None,
@@ -108,10 +102,10 @@ pub fn cond_rows(p: &Problem) -> Result<Vec<CondRow>> {
 /// One δ-driven row: strategy `name` (`paper`, `condensed`, `spring` or `optimal`) at δ.
 fn delta_row(p: &Problem, name: &str, delta: f64) -> Result<CondRow> {
     let method = match name {
-        "paper" => Method::Paper { delta },
-        "condensed" => Method::Condensed { delta },
-        "spring" => Method::Spring { delta },
-        _ => Method::Optimal { delta },
+        "paper" => Method::paper(delta),
+        "condensed" => Method::condensed(delta),
+        "spring" => Method::spring(delta),
+        _ => Method::optimal(delta),
     };
     let s = solve_with_metrics(p, method)?;
     let e = &s.sol.penalties;

@@ -6,7 +6,7 @@ use super::record::StrategyLine;
 use super::DELTA;
 use crate::error::Result;
 use crate::metrics::{self, MetricSet};
-use crate::strategy::{self, Method, Solution};
+use crate::strategy::{self, Knob, Method, Solution};
 use crate::study::text::{fmt_e, fmt_g};
 use crate::system::Problem;
 
@@ -69,21 +69,18 @@ pub struct Solves {
 }
 
 fn knob_text(m: &Method) -> String {
-    match *m {
-        Method::Constant { eps } => format!("ε = {}", fmt_e(eps, 1)),
-        Method::Scaled { factor } => format!("ε_c = {factor}·K[d,d]"),
-        Method::Spring { delta }
-        | Method::Paper { delta }
-        | Method::Condensed { delta }
-        | Method::Optimal { delta } => {
-            format!("δ = {delta}")
-        }
-        Method::Lagrange => "exact".into(),
-        Method::Augmented { eps, tol, adaptive } => format!(
+    let k = m.knobs();
+    let nan = f64::NAN;
+    match m.strategy().knob {
+        Knob::Eps => format!("ε = {}", fmt_e(k.eps.unwrap_or(nan), 1)),
+        Knob::Factor => format!("ε_c = {}·K[d,d]", k.factor.unwrap_or(nan)),
+        Knob::Delta => format!("δ = {}", k.delta.unwrap_or(nan)),
+        Knob::None => "exact".into(),
+        Knob::EpsTol => format!(
             "ε = {}, tol = {}{}",
-            fmt_g(eps),
-            fmt_e(tol, 1),
-            if adaptive { ", adaptive" } else { "" }
+            fmt_g(k.eps.unwrap_or(nan)),
+            fmt_e(k.tol.unwrap_or(nan), 1),
+            if k.adaptive { ", adaptive" } else { "" }
         ),
     }
 }
@@ -122,17 +119,13 @@ fn other_methods(p: &Problem) -> Vec<(&'static str, Method)> {
         .map(|c| c.limit.abs())
         .fold(1.0f64, f64::max);
     let aug_tol = 1e-9 * max_limit;
-    let augmented = |adaptive| Method::Augmented {
-        eps: max_diag,
-        tol: aug_tol,
-        adaptive,
-    };
+    let augmented = |adaptive| Method::augmented(max_diag, aug_tol, adaptive);
     vec![
-        ("constant", Method::Constant { eps: 1e4 }),
-        ("constant", Method::Constant { eps: 1e8 }),
-        ("scaled", Method::Scaled { factor: 100.0 }),
-        ("spring", Method::Spring { delta: DELTA }),
-        ("lagrange", Method::Lagrange),
+        ("constant", Method::constant(1e4)),
+        ("constant", Method::constant(1e8)),
+        ("scaled", Method::scaled(100.0)),
+        ("spring", Method::spring(DELTA)),
+        ("lagrange", Method::lagrange()),
         ("augmented", augmented(false)),
         ("augmented", augmented(true)),
     ]
@@ -144,28 +137,23 @@ pub fn solve_all(p: &Problem) -> Result<Solves> {
     let cond_k = crate::conditioning::cond2(&p.k)?.cond2;
     let u0 = strategy::Context::new(p).u0()?.to_vec();
 
-    let lag = solve_with_metrics(p, Method::Lagrange)?;
+    let lag = solve_with_metrics(p, Method::lagrange())?;
     let u_ref = &lag.sol.u;
-    let pap = solve_with_metrics(p, Method::Paper { delta: DELTA })?;
-    let con = solve_with_metrics(p, Method::Condensed { delta: DELTA })?;
+    let pap = solve_with_metrics(p, Method::paper(DELTA))?;
+    let con = solve_with_metrics(p, Method::condensed(DELTA))?;
     let mut strategies = vec![
-        strategy_line("paper", &Method::Paper { delta: DELTA }, &pap, u_ref),
-        strategy_line(
-            "condensed",
-            &Method::Condensed { delta: DELTA },
-            &con,
-            u_ref,
-        ),
+        strategy_line("paper", &Method::paper(DELTA), &pap, u_ref),
+        strategy_line("condensed", &Method::condensed(DELTA), &con, u_ref),
     ];
-    let opt = solve_with_metrics(p, Method::Optimal { delta: DELTA })?;
+    let opt = solve_with_metrics(p, Method::optimal(DELTA))?;
     strategies.push(strategy_line(
         "optimal",
-        &Method::Optimal { delta: DELTA },
+        &Method::optimal(DELTA),
         &opt,
         u_ref,
     ));
     for (name, m) in &other_methods(p) {
-        let s = if *m == Method::Lagrange {
+        let s = if *m == Method::lagrange() {
             lag.clone()
         } else {
             solve_with_metrics(p, *m)?
@@ -175,19 +163,14 @@ pub fn solve_all(p: &Problem) -> Result<Solves> {
     // Equal-accuracy comparisons: a uniform ε tuned to max penetration δ, and the condensed /
     // uniform penalties at the max penetration Eq. 28 actually reaches.
     let eps_tuned = uniform_eps_for(p, DELTA)?;
-    let tuned = solve_with_metrics(p, Method::Constant { eps: eps_tuned })?;
-    let mut line = strategy_line(
-        "constant",
-        &Method::Constant { eps: eps_tuned },
-        &tuned,
-        u_ref,
-    );
+    let tuned = solve_with_metrics(p, Method::constant(eps_tuned))?;
+    let mut line = strategy_line("constant", &Method::constant(eps_tuned), &tuned, u_ref);
     line.knob = format!("ε = {} (tuned: max pen. = δ)", fmt_g(eps_tuned));
     strategies.insert(2, line);
     let pen_pap = pap.sol.max_penetration;
     let eps_at_pap = uniform_eps_for(p, pen_pap)?;
-    let uni_at_pap = solve_with_metrics(p, Method::Constant { eps: eps_at_pap })?;
-    let con_at_pap = solve_with_metrics(p, Method::Condensed { delta: pen_pap })?;
+    let uni_at_pap = solve_with_metrics(p, Method::constant(eps_at_pap))?;
+    let con_at_pap = solve_with_metrics(p, Method::condensed(pen_pap))?;
     Ok(Solves {
         log10_det_k,
         cond_k,

@@ -1,0 +1,174 @@
+//! The strategy registry: one [`Strategy`] descriptor per rule, declared in the rule's own
+//! file, and one list of them ([`BUILT_IN`]). Everything else — the CLI's `--method` choices
+//! and their help, [`Method::from_name`](super::Method::from_name), the sweep's job lists and
+//! rows, figure colours and legends, `engine_scale`'s methods — derives from the descriptors.
+//!
+//! A rule from outside the crate is a `static` [`Strategy`] whose `solve` uses the public
+//! drivers ([`fixed_point`](super::fixed_point), [`fixed_energy`](super::fixed_energy),
+//! [`per_active`](super::per_active)), made known once with [`register`]; from then on the
+//! sweep, `Method::from_name` and the figures treat it like a built-in rule
+//! (`examples/custom_rule.rs`).
+//!
+//! Registration is process-global (a lock-guarded list; rules are never removed), so that the
+//! sweep's worker threads and the figure code see the same set without a registry handle
+//! threaded through every call.
+
+use super::{Context, Method, Solution};
+use crate::error::{Error, Result};
+use std::sync::RwLock;
+
+/// What a strategy's knob is: the value a user sets, and how the sweep varies it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Knob {
+    /// No knob (exact methods).
+    None,
+    /// A penalty ε (stiffness units): the sweep's ε grid (`--eps`).
+    Eps,
+    /// A dimensionless factor f: the sweep's `--factors`.
+    Factor,
+    /// An allowed penetration δ (units of u): the sweep's `--deltas` / `--deltas-rel`.
+    Delta,
+    /// A penalty ε and a penetration tolerance (and an adaptive switch): the sweep runs it with
+    /// tol = each δ, ε = the geometric mean of K's constrained diagonal, adaptive.
+    EpsTol,
+}
+
+impl Knob {
+    /// The command-line options this knob needs, for messages.
+    pub fn options(self) -> &'static str {
+        match self {
+            Knob::None => "no knob",
+            Knob::Eps => "--eps",
+            Knob::Factor => "--factor",
+            Knob::Delta => "--delta",
+            Knob::EpsTol => "--eps and --tol",
+        }
+    }
+}
+
+/// Everything about one strategy, declared in its own file.
+#[derive(Debug)]
+pub struct Strategy {
+    /// The name: `--method NAME`, the `method` column of every row, JSON `"method"`. Unique.
+    pub name: &'static str,
+    /// One line for `--help` and docs tables.
+    pub summary: &'static str,
+    /// Legend text in every figure.
+    pub label: &'static str,
+    /// The rule as named in warnings (e.g. `paper (Eq. 28)`).
+    pub rule_label: &'static str,
+    /// The knob.
+    pub knob: Knob,
+    /// Palette index of its colour in every figure (`plot::PALETTE`, taken modulo its length).
+    pub colour: usize,
+    /// Whether its solves need K⁻¹ (a nonsingular K): those that start from u0 = K⁻¹q or use
+    /// S = DᵀK⁻¹D.
+    pub needs_k_inverse: bool,
+    /// Whether it guarantees every penetration ≤ δ (the δ-targeting rules).
+    pub targets_delta: bool,
+    /// Runs it: `method` carries this descriptor and the knob values it declared.
+    pub solve: fn(Context, &Method) -> Result<Solution>,
+}
+
+impl Strategy {
+    /// Whether this is the strategy named `name`.
+    pub fn is(&self, name: &str) -> bool {
+        self.name == name
+    }
+}
+
+/// The built-in strategies, in their order in tables, `--help` and the palette.
+pub static BUILT_IN: [&Strategy; 8] = [
+    &super::constant::STRATEGY,
+    &super::scaled::STRATEGY,
+    &super::spring::STRATEGY,
+    &super::paper::STRATEGY,
+    &super::condensed::STRATEGY,
+    &super::lagrange::STRATEGY,
+    &super::augmented::STRATEGY,
+    &super::optimal::STRATEGY,
+];
+
+static REGISTERED: RwLock<Vec<&'static Strategy>> = RwLock::new(Vec::new());
+
+/// Makes a strategy from outside the crate known to [`find`], [`all`], the sweep and the
+/// figures. Registering the same descriptor again is a no-op; another strategy with a taken
+/// name, an empty name or one with characters other than `a–z`, `0–9`, `-`, `_` is an error.
+pub fn register(s: &'static Strategy) -> Result<()> {
+    if s.name.is_empty()
+        || !s
+            .name
+            .chars()
+            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-' || c == '_')
+    {
+        return Err(Error::input(format!(
+            "strategy name '{}' must be non-empty and use only a-z, 0-9, '-' and '_'",
+            s.name
+        )));
+    }
+    let mut list = REGISTERED.write().unwrap_or_else(|e| e.into_inner());
+    match all_in(&list).into_iter().find(|t| t.name == s.name) {
+        Some(t) if std::ptr::eq(t, s) => Ok(()),
+        Some(_) => Err(Error::input(format!(
+            "a strategy named '{}' is already registered",
+            s.name
+        ))),
+        None => {
+            list.push(s);
+            Ok(())
+        }
+    }
+}
+
+fn all_in(registered: &[&'static Strategy]) -> Vec<&'static Strategy> {
+    BUILT_IN
+        .iter()
+        .copied()
+        .chain(registered.iter().copied())
+        .collect()
+}
+
+/// Every known strategy: the built-in ones, then the registered ones in registration order.
+pub fn all() -> Vec<&'static Strategy> {
+    all_in(&REGISTERED.read().unwrap_or_else(|e| e.into_inner()))
+}
+
+/// Their names, in the order of [`all`].
+pub fn names() -> Vec<&'static str> {
+    all().iter().map(|s| s.name).collect()
+}
+
+/// The strategy named `name`.
+pub fn find(name: &str) -> Option<&'static Strategy> {
+    all().into_iter().find(|s| s.name == name)
+}
+
+/// The strategy named `name`, or an error listing the valid names.
+pub fn lookup(name: &str) -> Result<&'static Strategy> {
+    find(name).ok_or_else(|| {
+        Error::input(format!(
+            "unknown method '{name}' (valid: {})",
+            names().join(", ")
+        ))
+    })
+}
+
+/// The δ-driven rules drawn per δ in the sweep's figures: every strategy with a δ knob except
+/// `optimal`, which is drawn as a frontier.
+pub fn delta_rules() -> Vec<&'static Strategy> {
+    all()
+        .into_iter()
+        .filter(|s| s.knob == Knob::Delta && !std::ptr::eq(*s, &super::optimal::STRATEGY))
+        .collect()
+}
+
+/// The clap parser of a strategy name (`--method`, `--methods`): the names of [`all`] at the
+/// time the command line is parsed, each with its summary in `--help`, and the list of valid
+/// values in the error message.
+pub fn method_parser() -> clap::builder::PossibleValuesParser {
+    clap::builder::PossibleValuesParser::new(
+        all()
+            .into_iter()
+            .map(|s| clap::builder::PossibleValue::new(s.name).help(s.summary)),
+    )
+}
