@@ -132,208 +132,52 @@ pub fn cond2_saddle_with(
     dofs: &[usize],
     schur_test_max: usize,
 ) -> Result<CondReport> {
-    let (n, m) = (k.nrows(), dofs.len());
+    let n = k.nrows();
     let in_b = constrained_mask(n, dofs)?;
     let pattern = DiagonalPattern::new(k)?;
-    let mut shifts = Shifts {
-        pattern: &pattern,
-        in_b: &in_b,
-        factorizations: 0,
-        work: Vec::new(),
-    };
     let kff = free_block_factor(&pattern, &in_b)?;
-    shifts.factorizations += 1;
-
     // |det A| = det K_FF (module `conditioning`, `log10_abs_det_saddle`): the B rows of the
     // stored factor are the identity.
     let log10_det = kff.log10_det();
-    let size = n + m;
     let (a_pattern, a_values) = saddle_csc(&pattern, dofs);
-    // A·[x; y] = [K x + D y; Dᵀ x].
-    let apply_a = |v: &[f64], out: &mut [f64], sign: f64| {
-        symmetric_matvec(a_pattern.as_ref(), &a_values, v, out);
-        if sign < 0.0 {
-            out.iter_mut().for_each(|o| *o = -*o);
-        }
-    };
-    let mut inverse = BlockInverse {
-        pattern: &pattern,
-        dofs,
-        in_b: &in_b,
-        kff: &kff,
-        kxb: vec![0.0; n],
-    };
-    let steps = MAX_LANCZOS_STEPS;
-    let usable = |what: &str, v: f64| {
-        if v.is_finite() && v > 0.0 {
-            Ok(v)
-        } else {
-            Err(Error::Numerical(format!(
-                "saddle-point Lanczos estimate of {what} is not usable ({v:e})"
-            )))
-        }
+    let mut run = SaddleRun {
+        shifts: Shifts {
+            pattern: &pattern,
+            in_b: &in_b,
+            factorizations: 1,
+            work: Vec::new(),
+        },
+        inverse: BlockInverse {
+            pattern: &pattern,
+            dofs,
+            in_b: &in_b,
+            kff: &kff,
+            kxb: vec![0.0; n],
+        },
+        a_pattern,
+        a_values,
+        size: n + dofs.len(),
+        s0: s0(k, &in_b),
+        lanczos_steps: 0,
+        bottom_vectors: Vec::new(),
     };
     // Each estimate is wanted only to 1/64 of the bracket width it will be certified to,
     // `bracket_tol(cond₂)` (as in the SPD route), with cond₂ bounded below by what is known
     // when the run starts: cond₂ ≥ λ_max / λ⁺_min ≥ max_i K_ii · θ for the top Ritz value θ
     // of A⁻¹ (K_ii = e_iᵀ A e_i ≤ λ_max), then by the estimates found so far.
-    let mut lanczos_steps = 0;
     // λ⁺_min first: its estimate sets the bracket width of both ends (sparse::bracket_tol).
-    let run = lanczos(
-        size,
-        steps,
-        |_| STAGNATION,
-        None,
-        true,
-        |x, y| inverse.apply(x, y, 1.0),
-    )?;
-    lanczos_steps += run.steps;
-    // Ritz vectors of A⁻¹'s extreme eigenvalues: the vectors of σ_min's proven upper bound.
-    let mut bottom_vectors: Vec<Vec<f64>> = run.vector.into_iter().collect();
-
-    let inv_pos = usable("1/λ⁺_min", run.theta)?;
-    let pos_min_est = 1.0 / inv_pos;
-    // σ_max: λ_max, and −λ_min only where one test does not already show −λ_min < λ_max.
-    // λ_max is the top of A's spectrum, so the Rayleigh quotient of its Ritz vector is one
-    // side of its bracket (Courant–Fischer, as in the SPD route) and one test the other.
-    let keep = size <= RITZ_VECTOR_MAX_N;
-    let run = lanczos(
-        size,
-        steps,
-        |_| STAGNATION,
-        None,
-        keep,
-        |x, y| apply_a(x, y, 1.0),
-    )?;
-    lanczos_steps += run.steps;
-    let lmax_est = usable("λ_max", run.theta)?;
-    let mut smax_est = lmax_est;
-
-    let tol = bracket_tol(lmax_est / pos_min_est);
-    let top_rq = run
-        .vector
-        .as_deref()
-        .and_then(|y| rayleigh_interval(a_pattern.as_ref(), &a_values, y));
-    let (max_lo, max_hi) = bracket_top(top_rq, lmax_est, tol, |s| shifts.is_pd(-1.0, s, -1.0 / s));
-    let sigma_max = if max_lo > 0.0 && shifts.is_pd(1.0, max_lo, -1.0 / max_lo) {
-        (max_lo, max_hi)
-    } else {
-        let run = lanczos(
-            size,
-            steps,
-            |_| STAGNATION,
-            None,
-            false,
-            |x, y| apply_a(x, y, -1.0),
-        )?;
-        lanczos_steps += run.steps;
-        let est = usable("−λ_min", run.theta)?;
-        let (lo, hi) = bracket(est, tol, |s| shifts.is_pd(1.0, s, -1.0 / s));
-        smax_est = smax_est.max(est);
-        (max_lo.max(lo), max_hi.max(hi))
-    };
-
-    // σ_min: λ⁺_min, and −λ⁻_max unless s₀ already shows −λ⁻_max > λ⁺_min.
-    let tol = tol.max(bracket_tol(sigma_max.1 / pos_min_est));
-    let (pmin_lo, pmin_hi) = bracket(pos_min_est, tol, |s| !shifts.is_pd(1.0, -s, 1.0 / s));
-
-    // s₀: s·(g_B + s) < 1 ⇒ no eigenvalue in (−s, 0).
-    let g_b = gershgorin_b(k, &in_b);
-    let s0 = 2.0 / (g_b + (g_b * g_b + 4.0).sqrt()) * (1.0 - 1e-12);
-    let (sigma_min, value) = if pmin_hi < s0 {
-        ((pmin_lo, pmin_hi), pos_min_est)
-    } else {
-        let run = lanczos(
-            size,
-            steps,
-            |_| STAGNATION,
-            None,
-            true,
-            |x, y| inverse.apply(x, y, -1.0),
-        )?;
-        lanczos_steps += run.steps;
-        bottom_vectors.extend(run.vector);
-        let near_est = 1.0 / usable("−1/λ⁻_max", run.theta)?;
-        let tol = tol.max(bracket_tol(sigma_max.1 / near_est));
-        if m <= schur_test_max {
-            // Where −λ⁻_max is estimated clearly above λ⁺_min's bracket, one test at its top
-            // settles σ_min = λ⁺_min; otherwise (or if that test finds an eigenvalue in
-            // [−λ⁺_hi, 0)) −λ⁻_max gets its own bracket.
-            let separated = near_est > pmin_hi * (1.0 + tol)
-                && schur_test_fails(&mut shifts, dofs, pmin_hi) == Some(false);
-            let (lo, hi) = if separated {
-                (pmin_hi, f64::INFINITY)
-            } else {
-                bracket(near_est, tol, |s| {
-                    schur_test_fails(&mut shifts, dofs, s).unwrap_or(true)
-                })
-            };
-            let b = (pmin_lo.min(lo), pmin_hi.min(hi));
-            (b, pos_min_est.min(near_est))
-        } else {
-            // Only certified ends: [min(λ⁺_lo, s₀), λ⁺_hi]; the estimate inside as the value.
-            let b = (pmin_lo.min(s0), pmin_hi);
-            (b, pos_min_est.min(near_est))
-        }
-    };
-
-    // The proven brackets (certify): σ_max ≥ |ρ(y_top)| and σ_max < s once both −H(s) ≻ 0
-    // and H(−s) ≻ 0 are verified; σ_min ≤ ‖Ax̂‖/‖x̂‖ for x̂ = A⁻¹y (y a Ritz vector of A⁻¹),
-    // and σ_min ≥ s once H(s) ≻ 0 is verified (λ⁺_min > s) and s ≤ s₀ (no eigenvalue in
-    // (−s, 0)). Where σ_min lies above s₀ (the m×m Schur test decided the fourth end) the
-    // inertia brackets above are reported, not proven.
-    let margin = Margin::of(&pattern.symbolic);
-    let smax_est = smax_est.max(sigma_max.0);
-    // e_iᵀAe_i = K_ii ≤ σ_max for a unit vector of the N block (K ≻ 0).
-    let proven_max_lo = top_rq.map_or(0.0, |(lo, _)| lo).max(pattern.max_diagonal());
-    let proven_max_hi = certify::step_outwards((4.0 * margin.m).max(4.0 * f64::EPSILON), |w, _| {
-        let s = smax_est * (1.0 + w);
-        (shifts.verified_pd(-1.0, s, -1.0 / s, margin)
-            && shifts.verified_pd(1.0, s, -1.0 / s, margin))
-        .then_some(s)
-    })
-    .unwrap_or(f64::INFINITY);
-    let mut proven_min_hi = f64::INFINITY;
-    for y in &bottom_vectors {
-        let mut x = vec![0.0; size];
-        inverse.apply(y, &mut x, 1.0);
-        let nx = certify::dot_interval(&x, &x).0.sqrt() * (1.0 - 4.0 * f64::EPSILON);
-        let ax = certify::image_norm_upper(a_pattern.as_ref(), &a_values, &x, y);
-        if nx > 0.0 {
-            proven_min_hi = proven_min_hi.min(ax / nx * (1.0 + 4.0 * f64::EPSILON));
-        }
-    }
-    let base = value.min(proven_min_hi);
-    let w0 = (4.0 * margin.m * sigma_max.1 / base).max(4.0 * f64::EPSILON);
-    let proven_min_lo = certify::step_outwards(w0, |w, _| {
-        let s = base * (1.0 - w);
-        // λ⁺_min > s, and no eigenvalue in (−s₀, 0): σ_min ≥ min(s, s₀).
-        (s > 0.0 && shifts.verified_pd(1.0, -s, 1.0 / s, margin)).then(|| s.min(s0))
-    });
-    // The proven bracket is reported where it is informative (cond₂ known within a factor of
-    // 2 or better); past that (σ_min far above s₀, or a margin m·cond₂ ≳ 1) the search's
-    // inertia bracket is reported, flagged as not proven.
-    let proven = match proven_min_lo {
-        Some(lo) if proven_max_hi.is_finite() && proven_min_hi.is_finite() && lo > 0.0 => {
-            proven_max_hi / lo <= 2.0 * proven_max_lo / proven_min_hi
-        }
-        _ => false,
-    };
-    let (sigma_max, sigma_min) = if proven {
-        (
-            (proven_max_lo, proven_max_hi),
-            (proven_min_lo.unwrap_or(0.0), proven_min_hi),
-        )
-    } else {
-        (sigma_max, sigma_min)
-    };
+    let pos_min_est = 1.0 / usable("1/λ⁺_min", run.inverse_top(1.0)?)?;
+    let top = run.sigma_max(pos_min_est)?;
+    let bottom = run.sigma_min(dofs, pos_min_est, &top, schur_test_max)?;
+    let proven = run.proven(&pattern, &top, &bottom);
+    let (sigma_max, sigma_min) = proven.unwrap_or((top.bracket, bottom.bracket));
     let certificate = Certificate {
         lambda_max_lo: sigma_max.0,
         lambda_max_hi: sigma_max.1,
         lambda_min_lo: sigma_min.0,
         lambda_min_hi: sigma_min.1,
-        lanczos_steps,
-        factorizations: shifts.factorizations,
+        lanczos_steps: run.lanczos_steps,
+        factorizations: run.shifts.factorizations,
     };
     if !(sigma_max.0 > 0.0 && sigma_max.1.is_finite() && sigma_min.1.is_finite()) {
         return Err(Error::Numerical(format!(
@@ -342,16 +186,234 @@ pub fn cond2_saddle_with(
         )));
     }
     // The converged estimates, clamped into the brackets.
-    let smax = smax_est.clamp(sigma_max.0, sigma_max.1);
-    let smin = value.clamp(sigma_min.0, sigma_min.1);
+    let smax = top
+        .estimate
+        .max(top.bracket.0)
+        .clamp(sigma_max.0, sigma_max.1);
+    let smin = bottom.estimate.clamp(sigma_min.0, sigma_min.1);
     Ok(CondReport::with_certificate(
         smax,
         smin,
         CondRoute::SparseSaddleInertia,
         certificate,
-        proven,
+        proven.is_some(),
         Some(log10_det),
     ))
+}
+
+/// A Lanczos estimate, or an error naming it where it is not a positive finite number.
+fn usable(what: &str, v: f64) -> Result<f64> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(Error::Numerical(format!(
+            "saddle-point Lanczos estimate of {what} is not usable ({v:e})"
+        )))
+    }
+}
+
+/// One end of the spectrum of |A|: the search's inertia bracket and the converged estimate.
+struct End {
+    bracket: (f64, f64),
+    estimate: f64,
+    /// The bracket width wanted (`bracket_tol`).
+    tol: f64,
+    /// ρ(y_top) with its rounding bounded, where the top Ritz vector was kept.
+    top_rq: Option<(f64, f64)>,
+}
+
+/// The state of one saddle-point cond₂: the shifted factorizations, A⁻¹ through K_FF, A itself
+/// and the work counted so far.
+struct SaddleRun<'a> {
+    shifts: Shifts<'a>,
+    inverse: BlockInverse<'a>,
+    a_pattern: SymbolicSparseColMat<usize>,
+    a_values: Vec<f64>,
+    size: usize,
+    /// s₀ = 2/(g_B + √(g_B² + 4))·(1 − 1e-12), g_B the Gershgorin bound of K_BB: no
+    /// eigenvalue of A in (−s₀, 0) (module docs).
+    s0: f64,
+    lanczos_steps: usize,
+    /// Ritz vectors of A⁻¹'s extreme eigenvalues: the vectors of σ_min's proven upper bound.
+    bottom_vectors: Vec<Vec<f64>>,
+}
+
+impl SaddleRun<'_> {
+    /// A·[x; y] = [K x + D y; Dᵀ x], times `sign`.
+    fn apply_a(&self, v: &[f64], out: &mut [f64], sign: f64) {
+        symmetric_matvec(self.a_pattern.as_ref(), &self.a_values, v, out);
+        if sign < 0.0 {
+            out.iter_mut().for_each(|o| *o = -*o);
+        }
+    }
+
+    /// The top Ritz value of `sign`·A⁻¹ (its vector kept for σ_min's proven upper bound).
+    fn inverse_top(&mut self, sign: f64) -> Result<f64> {
+        let inverse = &mut self.inverse;
+        let run = lanczos(
+            self.size,
+            MAX_LANCZOS_STEPS,
+            |_| STAGNATION,
+            None,
+            true,
+            |x, y| inverse.apply(x, y, sign),
+        )?;
+        self.lanczos_steps += run.steps;
+        self.bottom_vectors.extend(run.vector);
+        Ok(run.theta)
+    }
+
+    /// The top Ritz value of `sign`·A, and its vector where `keep`.
+    fn top(&mut self, sign: f64, keep: bool) -> Result<(f64, Option<Vec<f64>>)> {
+        let this = &*self;
+        let run = lanczos(
+            this.size,
+            MAX_LANCZOS_STEPS,
+            |_| STAGNATION,
+            None,
+            keep,
+            |x, y| this.apply_a(x, y, sign),
+        )?;
+        self.lanczos_steps += run.steps;
+        Ok((run.theta, run.vector))
+    }
+
+    /// σ_max: λ_max, and −λ_min only where one test does not already show −λ_min < λ_max.
+    /// λ_max is the top of A's spectrum, so the Rayleigh quotient of its Ritz vector is one
+    /// side of its bracket (Courant–Fischer, as in the SPD route) and one test the other.
+    fn sigma_max(&mut self, pos_min_est: f64) -> Result<End> {
+        let keep = self.size <= RITZ_VECTOR_MAX_N;
+        let (theta, vector) = self.top(1.0, keep)?;
+        let lmax_est = usable("λ_max", theta)?;
+        let tol = bracket_tol(lmax_est / pos_min_est);
+        let top_rq = vector
+            .as_deref()
+            .and_then(|y| rayleigh_interval(self.a_pattern.as_ref(), &self.a_values, y));
+        let shifts = &mut self.shifts;
+        let (max_lo, max_hi) =
+            bracket_top(top_rq, lmax_est, tol, |s| shifts.is_pd(-1.0, s, -1.0 / s));
+        if max_lo > 0.0 && shifts.is_pd(1.0, max_lo, -1.0 / max_lo) {
+            return Ok(End {
+                bracket: (max_lo, max_hi),
+                estimate: lmax_est,
+                tol,
+                top_rq,
+            });
+        }
+        let est = usable("−λ_min", self.top(-1.0, false)?.0)?;
+        let shifts = &mut self.shifts;
+        let (lo, hi) = bracket(est, tol, |s| shifts.is_pd(1.0, s, -1.0 / s));
+        Ok(End {
+            bracket: (max_lo.max(lo), max_hi.max(hi)),
+            estimate: lmax_est.max(est),
+            tol,
+            top_rq,
+        })
+    }
+
+    /// σ_min: λ⁺_min, and −λ⁻_max unless s₀ already shows −λ⁻_max > λ⁺_min.
+    fn sigma_min(
+        &mut self,
+        dofs: &[usize],
+        pos_min_est: f64,
+        top: &End,
+        schur_test_max: usize,
+    ) -> Result<End> {
+        let tol = top.tol.max(bracket_tol(top.bracket.1 / pos_min_est));
+        let shifts = &mut self.shifts;
+        let (pmin_lo, pmin_hi) = bracket(pos_min_est, tol, |s| !shifts.is_pd(1.0, -s, 1.0 / s));
+        let s0 = self.s0;
+        if pmin_hi < s0 {
+            return Ok(End {
+                bracket: (pmin_lo, pmin_hi),
+                estimate: pos_min_est,
+                tol,
+                top_rq: None,
+            });
+        }
+        let near_est = 1.0 / usable("−1/λ⁻_max", self.inverse_top(-1.0)?)?;
+        let tol = tol.max(bracket_tol(top.bracket.1 / near_est));
+        let estimate = pos_min_est.min(near_est);
+        let bracket = if dofs.len() <= schur_test_max {
+            // Where −λ⁻_max is estimated clearly above λ⁺_min's bracket, one test at its top
+            // settles σ_min = λ⁺_min; otherwise (or if that test finds an eigenvalue in
+            // [−λ⁺_hi, 0)) −λ⁻_max gets its own bracket.
+            let shifts = &mut self.shifts;
+            let separated = near_est > pmin_hi * (1.0 + tol)
+                && schur_test_fails(shifts, dofs, pmin_hi) == Some(false);
+            let (lo, hi) = if separated {
+                (pmin_hi, f64::INFINITY)
+            } else {
+                bracket(near_est, tol, |s| {
+                    schur_test_fails(shifts, dofs, s).unwrap_or(true)
+                })
+            };
+            (pmin_lo.min(lo), pmin_hi.min(hi))
+        } else {
+            // Only certified ends: [min(λ⁺_lo, s₀), λ⁺_hi]; the estimate inside as the value.
+            (pmin_lo.min(s0), pmin_hi)
+        };
+        Ok(End {
+            bracket,
+            estimate,
+            tol,
+            top_rq: None,
+        })
+    }
+
+    /// The proven brackets (certify) of σ_max and σ_min, where they pin cond₂ within a factor
+    /// of 2: σ_max ≥ |ρ(y_top)| and σ_max < s once both −H(s) ≻ 0 and H(−s) ≻ 0 are
+    /// verified; σ_min ≤ ‖Ax̂‖/‖x̂‖ for x̂ = A⁻¹y (y a Ritz vector of A⁻¹), and σ_min ≥ s once
+    /// H(s) ≻ 0 is verified (λ⁺_min > s) and s ≤ s₀ (no eigenvalue in (−s, 0)). Where
+    /// σ_min lies above s₀ (the m×m Schur test decided the fourth end), or a margin m·cond₂
+    /// ≳ 1 makes them wide, None: the search's inertia brackets are reported, not proven.
+    #[allow(clippy::type_complexity)]
+    fn proven(
+        &mut self,
+        pattern: &DiagonalPattern,
+        top: &End,
+        bottom: &End,
+    ) -> Option<((f64, f64), (f64, f64))> {
+        let margin = Margin::of(&pattern.symbolic);
+        let smax_est = top.estimate.max(top.bracket.0);
+        // e_iᵀAe_i = K_ii ≤ σ_max for a unit vector of the N block (K ≻ 0).
+        let max_lo = top
+            .top_rq
+            .map_or(0.0, |(lo, _)| lo)
+            .max(pattern.max_diagonal());
+        let shifts = &mut self.shifts;
+        let max_hi = certify::step_outwards((4.0 * margin.m).max(4.0 * f64::EPSILON), |w, _| {
+            let s = smax_est * (1.0 + w);
+            (shifts.verified_pd(-1.0, s, -1.0 / s, margin)
+                && shifts.verified_pd(1.0, s, -1.0 / s, margin))
+            .then_some(s)
+        })
+        .unwrap_or(f64::INFINITY);
+        let mut min_hi = f64::INFINITY;
+        for y in &self.bottom_vectors {
+            let mut x = vec![0.0; self.size];
+            self.inverse.apply(y, &mut x, 1.0);
+            let nx = certify::dot_interval(&x, &x).0.sqrt() * (1.0 - 4.0 * f64::EPSILON);
+            let ax = certify::image_norm_upper(self.a_pattern.as_ref(), &self.a_values, &x, y);
+            if nx > 0.0 {
+                min_hi = min_hi.min(ax / nx * (1.0 + 4.0 * f64::EPSILON));
+            }
+        }
+        let base = bottom.estimate.min(min_hi);
+        let w0 = (4.0 * margin.m * top.bracket.1 / base).max(4.0 * f64::EPSILON);
+        let s0 = self.s0;
+        let shifts = &mut self.shifts;
+        let min_lo = certify::step_outwards(w0, |w, _| {
+            let s = base * (1.0 - w);
+            // λ⁺_min > s, and no eigenvalue in (−s₀, 0): σ_min ≥ min(s, s₀).
+            (s > 0.0 && shifts.verified_pd(1.0, -s, 1.0 / s, margin)).then(|| s.min(s0))
+        })?;
+        let informative = max_hi.is_finite()
+            && min_hi.is_finite()
+            && min_lo > 0.0
+            && max_hi / min_lo <= 2.0 * max_lo / min_hi;
+        informative.then_some(((max_lo, max_hi), (min_lo, min_hi)))
+    }
 }
 
 /// `[K D; Dᵀ 0]` in CSC with both triangles (K's columns from `pattern`, then the unit
@@ -479,6 +541,12 @@ fn free_block_factor(pattern: &DiagonalPattern, in_b: &[bool]) -> Result<SparseL
 }
 
 /// Gershgorin upper bound of the principal submatrix K_BB.
+/// s₀: s·(g_B + s) < 1 ⇒ no eigenvalue in (−s, 0), g_B = [`gershgorin_b`].
+fn s0(k: &SparseColMat<usize, f64>, in_b: &[bool]) -> f64 {
+    let g_b = gershgorin_b(k, in_b);
+    2.0 / (g_b + (g_b * g_b + 4.0).sqrt()) * (1.0 - 1e-12)
+}
+
 fn gershgorin_b(k: &SparseColMat<usize, f64>, in_b: &[bool]) -> f64 {
     let (cp, ri, v) = (k.symbolic().col_ptr(), k.symbolic().row_idx(), k.val());
     (0..k.ncols())
