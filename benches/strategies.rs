@@ -4,7 +4,6 @@
 //! `cargo bench --bench strategies`.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use penalty_lab::metrics::displacement_scale;
 use penalty_lab::model::beam::{Frame, Section};
 use penalty_lab::model::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::strategy::{self, Method};
@@ -45,7 +44,7 @@ fn bench_strategies(c: &mut Criterion) {
         let s = generate(family, 0, 2011, &cfg).expect("generated");
         let p = &s.problem;
         let u0 = strategy::Prepared::new(p).expect("K regular").u0().to_vec();
-        let scale = displacement_scale(p, &u0);
+        let scale = p.displacement_scale(&u0);
         let kdiag = p
             .constraints
             .iter()
@@ -85,7 +84,7 @@ fn bench_condensed_vs_m(c: &mut Criterion) {
         .expect("K regular")
         .u0()
         .to_vec();
-    let scale = displacement_scale(base, &u0);
+    let scale = base.displacement_scale(&u0);
     let mut g = quick(c, "condensed_vs_m");
     for stride in [64usize, 16, 4, 1] {
         let cons: Vec<Constraint> = base

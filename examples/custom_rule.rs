@@ -22,7 +22,7 @@
 use penalty_lab::strategy::{
     fixed_point, per_active, registry, Context, Knob, Method, Solution, Strategy,
 };
-use penalty_lab::sweep::{self, figures, rows::Row, RunOptions, SweepConfig};
+use penalty_lab::study::sweep::{self, figures, rows::Row, RunOptions, SweepConfig};
 use penalty_lab::{stats, Error, Result};
 use std::path::{Path, PathBuf};
 

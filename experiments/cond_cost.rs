@@ -6,13 +6,13 @@
 //! cargo run --release --bin cond_cost -- --render-only      # re-render from saved data
 //! ```
 //!
-//! The study is [`penalty_lab::cond_cost`]. Writes `cond_cost.csv`, `cond_cost.json` (with
+//! The study is [`penalty_lab::study::cond_cost`]. Writes `cond_cost.csv`, `cond_cost.json` (with
 //! provenance) and the figure `cond_cost` (time vs n, log–log, with least-squares slopes in
 //! the legend) into `--out` (default `figures/cond_cost`).
 
 use clap::Parser;
-use penalty_lab::cond_cost::{self, CostConfig};
 use penalty_lab::progress::Progress;
+use penalty_lab::study::cond_cost::{self, CostConfig};
 use penalty_lab::Result;
 use std::path::PathBuf;
 use std::process::ExitCode;

@@ -15,8 +15,8 @@
 //! `--help`; `--allow-invalid` keeps it, marked `"valid": false`).
 
 use clap::Parser;
-use penalty_lab::forming::experiment::{self, Cli, Experiment};
-use penalty_lab::forming::FormingConfig;
+use penalty_lab::study::deep_drawing;
+use penalty_lab::study::forming_runs::{self, Cli};
 use penalty_lab::Error;
 use std::process::ExitCode;
 
@@ -27,7 +27,7 @@ use std::process::ExitCode;
     about = "Woo-like hemispherical-punch deep draw: classical vs adaptive penalty (paper Fig. 7)",
     after_help = format!(
         "Default travel 1.0 in. Units: inch, ton-force, second. {}",
-        experiment::EXIT_STATUSES
+        forming_runs::EXIT_STATUSES
     )
 )]
 struct Args {
@@ -35,15 +35,8 @@ struct Args {
     cli: Cli,
 }
 
-const EXPERIMENT: Experiment = Experiment {
-    name: "deep_drawing",
-    title: "Deep drawing",
-    cond_figure: "fig7_condition_per_step",
-    preset: FormingConfig::woo_deep_drawing,
-};
-
 fn run(a: &Args) -> Result<(), Error> {
-    let doc = a.cli.execute(EXPERIMENT)?;
+    let doc = a.cli.execute(deep_drawing::EXPERIMENT)?;
     if a.cli.json {
         println!(
             "{}",
@@ -51,7 +44,7 @@ fn run(a: &Args) -> Result<(), Error> {
                 .map_err(|e| Error::Numerical(format!("cannot serialize: {e}")))?
         );
     } else {
-        print!("{}", experiment::summary_table(&doc));
+        print!("{}", forming_runs::summary_table(&doc));
     }
     Ok(())
 }

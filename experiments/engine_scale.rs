@@ -1,6 +1,6 @@
 //! `engine_scale`: the contact solve engine on full-contact membranes from 10⁴ to 10⁶ DOFs —
 //! iterations, factorizations, CG iterations, wall time, peak memory, certified cond₂ per
-//! method ([`penalty_lab::engine_scale`]).
+//! method ([`penalty_lab::study::engine_scale`]).
 //!
 //! ```text
 //! cargo run --release --bin engine_scale                             # 10⁴, 10⁵
@@ -11,9 +11,9 @@
 //! `engine_scale` into `--out` (default `figures/engine_scale`); prints a table.
 
 use clap::Parser;
-use penalty_lab::engine_scale::{self, ScaleConfig};
 use penalty_lab::progress::Progress;
 use penalty_lab::strategy::registry;
+use penalty_lab::study::engine_scale::{self, ScaleConfig};
 use penalty_lab::{plot, provenance, Error, Result};
 use std::path::PathBuf;
 use std::process::ExitCode;

@@ -1,5 +1,5 @@
 //! `runtime_vs_error`: time to solution against error for every strategy as its knob varies,
-//! on beam and membrane scenes from 10² to 10⁶ DOFs. Library: [`penalty_lab::perf`].
+//! on beam and membrane scenes from 10² to 10⁶ DOFs. Library: [`penalty_lab::study::runtime_vs_error`].
 //!
 //! ```text
 //! cargo run --release --bin runtime_vs_error -- --smoke --json       # seconds
@@ -16,9 +16,9 @@
 //! on. Bad input exits with status 2 and one line on stderr.
 
 use clap::Parser;
-use penalty_lab::perf::{self, report, PerfConfig};
 use penalty_lab::progress::Progress;
 use penalty_lab::strategy::registry;
+use penalty_lab::study::runtime_vs_error::{self, report, PerfConfig};
 use penalty_lab::Error;
 use serde_json::json;
 use std::path::PathBuf;
@@ -108,7 +108,7 @@ fn run(a: &Args) -> Result<(), Error> {
     }
     let cfg = config(a)?;
     let t0 = Instant::now();
-    let rows = perf::run(&cfg, &Progress::new("runtime_vs_error (points)", a.quiet))?;
+    let rows = runtime_vs_error::run(&cfg, &Progress::new("runtime_vs_error (points)", a.quiet))?;
     let wall = t0.elapsed().as_secs_f64();
     let manifest = report::save(&a.out, &cfg, a.smoke, &rows, wall)?;
     if !a.no_figures {

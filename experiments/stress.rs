@@ -11,13 +11,13 @@
 //! (every field of the ε study, exact), `OUT/stress.json` (git commit, config, seed, summary)
 //! and `OUT/figures/*.{png,svg}`, rendered from `eps_study.json` once it is written
 //! (`--render-only --out DIR` re-renders from it without running). Library:
-//! [`penalty_lab::stability`] ([`penalty_lab::stability::report`] runs it). Bad input exits with status 2 and one line on stderr.
+//! [`penalty_lab::study::stress`] ([`penalty_lab::study::stress::report`] runs it). Bad input exits with status 2 and one line on stderr.
 
 use clap::Parser;
 use penalty_lab::progress::Progress;
-use penalty_lab::stability::report::{self, StressRun};
-use penalty_lab::stability::StressConfig;
-use penalty_lab::sweep::LogGrid;
+use penalty_lab::study::stress::report::{self, StressRun};
+use penalty_lab::study::stress::StressConfig;
+use penalty_lab::study::sweep::LogGrid;
 use penalty_lab::Error;
 use serde_json::json;
 use std::path::PathBuf;

@@ -12,8 +12,8 @@
 //! exits with status 2 and a message naming the problem and the valid choices.
 
 use clap::Parser;
-use penalty_lab::sweep::cli::ConfigArgs;
-use penalty_lab::sweep::{self, figures, merge, RunOptions};
+use penalty_lab::study::sweep::cli::ConfigArgs;
+use penalty_lab::study::sweep::{self, figures, merge, RunOptions};
 use penalty_lab::Error;
 use std::path::PathBuf;
 use std::process::ExitCode;

@@ -20,18 +20,20 @@
 //!   membrane; seeded random scenes of those families ([`model::generate`]) and scenes that
 //!   scale to 10⁶ DOFs ([`model::scalable`]).
 //! * [`scene`] — scene files (JSON, Matrix Market) in and out.
-//! * [`sweep`] — the ε/δ sweep over generated or stored scenes: rows, manifest, figures.
 //! * [`forming`] — the axisymmetric flow-approach sheet-forming solver (paper sections 2, 5;
 //!   Fig. 7).
-//! * [`stability`] — forward error against an extended-precision reference, refinement,
-//!   equilibration, strategies at extreme knobs.
-//! * [`perf`] — time to solution against error per strategy and knob, 1e2–1e6 DOFs.
-//! * [`cond_cost`] — what an exact cond₂ costs by route against one Cholesky.
-//! * [`engine_scale`] — the contact engine from 10⁴ to 10⁶ DOFs with certified cond₂.
-//! * [`study`] — the paper's experiments end to end as library code (the binaries only parse
-//!   flags and print): [`study::paper_beam`] — Sec. 4.2, Eq. 30–37, number by number;
-//!   [`study::solve`] — one scene, one strategy; [`study::cond_accuracy`] — cond₂ by route,
-//!   time against error.
+//! * [`route`] — the one route policy: storage, solve and cond₂ routes from a matrix's
+//!   structure.
+//! * [`study`] — one study per binary, as library code (the binaries only parse flags and
+//!   print): [`study::sweep`] — the ε/δ sweep over generated or stored scenes (rows,
+//!   manifest, figures); [`study::paper_beam`] — Sec. 4.2, Eq. 30–37, number by number;
+//!   [`study::solve`] — one scene, one strategy; [`study::deep_drawing`] and
+//!   [`study::stretch_test`] — the forming examples (Fig. 7); [`study::stress`] — forward
+//!   error against an extended-precision reference, refinement, strategies at extreme knobs;
+//!   [`study::runtime_vs_error`] — time to solution against error, 1e2–1e6 DOFs;
+//!   [`study::cond_cost`] — what an exact cond₂ costs by route; [`study::cond_accuracy`] —
+//!   cond₂ by route, time against error; [`study::engine_scale`] — the contact engine from
+//!   10⁴ to 10⁶ DOFs.
 //! * [`provenance`] — git commit, crate versions and command for every data file.
 //! * [`progress`] — one progress bar (with ETA) for every long run; `--quiet` silences it.
 //! * [`plot`] — one figure style, PNG + SVG.
@@ -76,12 +78,15 @@
 //! Scene files: [`scene::read_scene`]; every metric at once: [`metrics::compute`].
 //!
 //! ## Layers
-//! Dependencies point down only, and no study imports another study (checked by
-//! `tests/architecture.rs`, which also prints the module graph; see the README):
+//! Dependencies point down only, the module graph has no circle, no study imports another
+//! study, and every binary has its study at `src/study/<binary>` (checked by
+//! `tests/architecture.rs`, which also prints the module graph):
 //! 1. foundation — `error`, `stats`, `progress`, `provenance`, `dd`;
-//! 2. numerics — `system`, `linalg`, `conditioning`;
-//! 3. core — `model`, `strategy`, `metrics`, `scene`, `plot`;
-//! 4. studies — `sweep`, `perf`, `stability`, `cond_cost`, `engine_scale`, `forming`, `study`;
+//! 2. numerics, bottom up — `route` (the one storage / solve / cond₂ route policy), `system`,
+//!    `linalg`, `conditioning`;
+//! 3. core — `model`, `scene`; then `strategy`; then `metrics`, `plot`, `forming`;
+//! 4. studies — `study::<binary>` for every binary, and the support modules `study::text`,
+//!    `study::forming_runs` that several studies share;
 //! 5. binaries (`experiments/`) — arguments → study → record → figures.
 //!
 //! ## Glossary (paper symbol → code → units)
@@ -108,25 +113,21 @@
 //! penalty); an `upper` obstacle (`u ≤ û`) pushes with `r ≥ 0`, a `lower` one with `r ≤ 0`.
 #![warn(missing_docs)]
 
-pub mod cond_cost;
 pub mod conditioning;
 pub mod dd;
-pub mod engine_scale;
 pub mod error;
 pub mod forming;
 pub mod linalg;
 pub mod metrics;
 pub mod model;
-pub mod perf;
 pub mod plot;
 pub mod progress;
 pub mod provenance;
+pub mod route;
 pub mod scene;
-pub mod stability;
 pub mod stats;
 pub mod strategy;
 pub mod study;
-pub mod sweep;
 pub mod system;
 
 pub use error::{Error, Result};

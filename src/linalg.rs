@@ -1006,3 +1006,12 @@ pub fn pcg(
         },
     }
 }
+
+impl Stiffness {
+    /// `u0 = K⁻¹ q` by one factorization (Cholesky where K is SPD, else LU): the
+    /// unconstrained displacement, e.g. to place obstacles in a generated scene. Errors where
+    /// K is singular to working precision.
+    pub fn solve(&self, q: &[f64]) -> Result<Vec<f64>> {
+        Ok(Factorization::new(self, true)?.solve(q))
+    }
+}

@@ -79,7 +79,7 @@ fn system_cond(
 ) -> Result<Option<CondReport>> {
     // A sparse saddle point with Boolean D: block-structure route, never densified.
     if let (SystemKind::SaddlePoint { active }, Stiffness::Sparse(k)) = (&sol.system, &problem.k) {
-        if sys.n() >= conditioning::sparse::SPARSE_ROUTE_MIN_N && problem.k.is_symmetric() {
+        if crate::route::saddle_route(sys.n(), true, problem.k.is_symmetric()) {
             let dofs: Vec<usize> = active.iter().map(|&c| problem.constraints[c].dof).collect();
             match conditioning::saddle::cond2_saddle(k, &dofs) {
                 Ok(r) => return Ok(Some(r)),
@@ -288,24 +288,6 @@ pub fn precision_warnings(m: &Metrics) -> Vec<String> {
         }
     }
     w
-}
-
-/// The displacement scale max_c |u0\[d_c\]| used by relative δ (falls back to max |u0|, then 1).
-pub fn displacement_scale(problem: &Problem, u0: &[f64]) -> f64 {
-    let s = problem
-        .constraints
-        .iter()
-        .map(|c| u0[c.dof].abs())
-        .fold(0.0f64, f64::max);
-    if s > 0.0 {
-        return s;
-    }
-    let s = u0.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-    if s > 0.0 {
-        s
-    } else {
-        1.0
-    }
 }
 
 /// Relative error `‖u − u_ref‖₂ / ‖u_ref‖₂` (absolute if u_ref = 0).

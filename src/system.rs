@@ -1,7 +1,8 @@
 //! Linear systems with contact constraints: `K u = q` subject to `Dᵀu ⋚ û`.
 //!
 //! * [`Stiffness`] — the assembled matrix **K** (N×N), dense or sparse. A sparse input is never
-//!   densified unless a metric really needs it (see [`crate::conditioning`]).
+//!   densified unless a metric really needs it; where it is stored and which solve and cond₂
+//!   routes it takes is decided by [`crate::route`] from its [`Structure`].
 //! * [`Constraint`] — one contact restriction: DOF index `d_c`, limit `û_c`, and a
 //!   [`ConstraintKind`] (`bilateral` / `upper` / `lower`).
 //! * [`Problem`] — K, the load **q** and the constraints, validated on construction.
@@ -11,6 +12,7 @@
 //! `u[d_c] ≤ û_c`) or `max(0, −g_c)` (lower: `u[d_c] ≥ û_c`).
 
 use crate::error::{Error, Result};
+pub use crate::route::{Structure, DENSIFY_LIMIT};
 use faer::sparse::{SparseColMat, Triplet};
 use faer::Mat;
 use serde::{Deserialize, Serialize};
@@ -22,57 +24,6 @@ pub enum Stiffness {
     Dense(Mat<f64>),
     /// Sparse compressed-column storage (duplicates already summed).
     Sparse(SparseColMat<usize, f64>),
-}
-
-/// What a matrix is, whatever its storage ([`Stiffness::structure`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-pub struct Structure {
-    /// Dimension N.
-    pub n: usize,
-    /// Nonzero entries (both triangles).
-    pub nnz: usize,
-    /// `max |i − j|` over the nonzero entries, natural ordering.
-    pub half_bandwidth: usize,
-}
-
-/// Largest fraction of nonzero entries, nnz / N², for which a matrix is stored sparse.
-///
-/// On this project's families (`cond_cost`, docs/performance.md) the sparse routes (sparse
-/// Cholesky with AMD ordering; Lanczos + certificate for cond₂) beat the dense ones from
-/// N ≈ 25–36 for the 5-point membrane (5/N nonzeros) and the frame beam (≈ 9/N, half-
-/// bandwidth 5), i.e. at densities up to ≈ 0.25–0.35; a banded matrix is a sparse one here,
-/// since the AMD ordering keeps a band's fill inside the band.
-pub const SPARSE_MAX_DENSITY: f64 = 0.25;
-
-impl Structure {
-    /// An N×N matrix with no entry counted yet ([`Structure::count`] adds them).
-    fn empty(n: usize) -> Self {
-        Structure {
-            n,
-            nnz: 0,
-            half_bandwidth: 0,
-        }
-    }
-
-    /// Counts entry (i, j) = v: exact zeros (±0.0), stored or not, do not count.
-    fn count(&mut self, i: usize, j: usize, v: f64) {
-        if v != 0.0 {
-            self.nnz += 1;
-            self.half_bandwidth = self.half_bandwidth.max(i.abs_diff(j));
-        }
-    }
-
-    /// nnz / N².
-    pub fn density(&self) -> f64 {
-        self.nnz as f64 / (self.n as f64 * self.n as f64)
-    }
-
-    /// Sparse storage pays: N ≥ [`crate::conditioning::sparse::SPARSE_ROUTE_MIN_N`] and
-    /// density ≤ [`SPARSE_MAX_DENSITY`].
-    pub fn prefers_sparse(&self) -> bool {
-        self.n >= crate::conditioning::sparse::SPARSE_ROUTE_MIN_N
-            && self.density() <= SPARSE_MAX_DENSITY
-    }
 }
 
 /// Is the sparse matrix (sorted CSC) structurally symmetric with mirror entries equal bit for
@@ -141,13 +92,6 @@ fn square_rows(row_lens: &[usize]) -> Result<usize> {
 }
 
 impl Stiffness {
-    /// `u0 = K⁻¹ q` by one factorization (Cholesky where K is SPD, else LU): the
-    /// unconstrained displacement, e.g. to place obstacles in a generated scene. Errors where
-    /// K is singular to working precision.
-    pub fn solve(&self, q: &[f64]) -> Result<Vec<f64>> {
-        Ok(crate::linalg::Factorization::new(self, true)?.solve(q))
-    }
-
     /// Builds a dense matrix from row-major rows. Errors on ragged or non-square input.
     pub fn from_rows(rows: &[Vec<f64>]) -> Result<Self> {
         let lens: Vec<usize> = rows.iter().map(Vec::len).collect();
@@ -253,13 +197,13 @@ impl Stiffness {
     /// The same matrix in the storage [`Structure::prefers_sparse`] chooses: a structurally
     /// sparse dense matrix becomes sparse (only exact zeros dropped, so every value is kept bit
     /// for bit), a small or dense-ish sparse one becomes dense (up to
-    /// [`crate::conditioning::DENSIFY_LIMIT`] unknowns). Every later factorization, cond₂ and
+    /// [`DENSIFY_LIMIT`] unknowns). Every later factorization, cond₂ and
     /// determinant then takes the route that fits the matrix rather than its file format.
     pub fn in_preferred_storage(self) -> Stiffness {
         let s = self.structure();
         match (&self, s.prefers_sparse()) {
             (Stiffness::Dense(m), true) => Stiffness::Sparse(sparse_of_dense(m.as_ref())),
-            (Stiffness::Sparse(_), false) if s.n <= crate::conditioning::DENSIFY_LIMIT => {
+            (Stiffness::Sparse(_), false) if s.densify_allowed() => {
                 Stiffness::Dense(self.to_dense())
             }
             _ => self,
@@ -531,6 +475,24 @@ pub struct Problem {
 }
 
 impl Problem {
+    /// The displacement scale max_c |u0\[d_c\]| used by relative δ (falls back to max |u0|, then 1).
+    pub fn displacement_scale(&self, u0: &[f64]) -> f64 {
+        let s = self
+            .constraints
+            .iter()
+            .map(|c| u0[c.dof].abs())
+            .fold(0.0f64, f64::max);
+        if s > 0.0 {
+            return s;
+        }
+        let s = u0.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        if s > 0.0 {
+            s
+        } else {
+            1.0
+        }
+    }
+
     /// Validates sizes, finiteness and DOF indices, then builds the problem.
     ///
     /// Errors: non-finite entries in K, q or û; `q.len() != N`; a DOF out of range; two

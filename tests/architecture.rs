@@ -1,29 +1,35 @@
-//! The crate's layering (`src/lib.rs`, "Layers"): every `crate::X` reference in a top-level
-//! module's files points to the same or a lower layer, and no study refers to another study.
-//! Run with `--nocapture` to print the module graph (`module -> dependencies`).
+//! The crate's layering (`src/lib.rs`, "Layers"): every `crate::X` reference in a module's
+//! files points to the same or a lower layer, the module graph has no circle, no study refers to
+//! another study (only to the studies' support modules), and every experiment binary has its
+//! study at `src/study/<binary>`. The nodes are the top-level modules of `src/` and, for
+//! `src/study/`, each of its children (`study::sweep`, …). Run with `--nocapture` to print the
+//! module graph (`module -> dependencies`).
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 
-/// The layers of `src/lib.rs`, lowest first.
+/// The layers of `src/lib.rs`, lowest first; `study` stands for every `study::X`.
 const LAYERS: &[&[&str]] = &[
     &["error", "stats", "progress", "provenance", "dd"],
-    &["system", "linalg", "conditioning"],
-    &["model", "strategy", "metrics", "scene", "plot"],
-    &[
-        "sweep",
-        "perf",
-        "stability",
-        "cond_cost",
-        "engine_scale",
-        "forming",
-        "study",
-    ],
+    &["route"],
+    &["system"],
+    &["linalg"],
+    &["conditioning"],
+    &["model", "scene"],
+    &["strategy"],
+    &["metrics", "plot", "forming"],
+    &["study"],
 ];
-const STUDIES: usize = 3;
+/// Children of `src/study/` that are no binary's study but shared by studies.
+const STUDY_SUPPORT: &[&str] = &["study::text", "study::forming_runs"];
 
 fn layer(module: &str) -> Option<usize> {
-    LAYERS.iter().position(|l| l.contains(&module))
+    let key = if module.starts_with("study::") {
+        "study"
+    } else {
+        module
+    };
+    LAYERS.iter().position(|l| l.contains(&key))
 }
 
 fn rust_files(path: &Path, out: &mut Vec<PathBuf>) {
@@ -36,35 +42,77 @@ fn rust_files(path: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
-/// Top-level module → the top-level modules its files name as `crate::X` (code and docs).
-fn graph() -> BTreeMap<String, BTreeSet<String>> {
+fn ident(s: &str) -> String {
+    s.chars()
+        .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
+        .collect()
+}
+
+/// The nodes: `(name, files)` for every top-level module and every child of `src/study/`.
+fn nodes() -> Vec<(String, Vec<PathBuf>)> {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-    let mut g = BTreeMap::new();
+    let mut out = Vec::new();
     for e in std::fs::read_dir(&src).unwrap() {
         let path = e.unwrap().path();
         let name = path.file_stem().unwrap().to_string_lossy().to_string();
-        if name == "lib" || name == "bin" {
+        if name == "lib" || name == "bin" || name == "study" {
             continue;
         }
         let mut files = Vec::new();
         rust_files(&path, &mut files);
+        out.push((name, files));
+    }
+    for e in std::fs::read_dir(src.join("study")).unwrap() {
+        let path = e.unwrap().path();
+        let name = path.file_stem().unwrap().to_string_lossy().to_string();
+        if name == "mod" {
+            continue;
+        }
+        let mut files = Vec::new();
+        rust_files(&path, &mut files);
+        out.push((format!("study::{name}"), files));
+    }
+    out
+}
+
+/// Node → the nodes its files name (`crate::X`, `crate::study::Y`, and a study child's
+/// `super::Y`), in code and docs.
+fn graph() -> BTreeMap<String, BTreeSet<String>> {
+    let mut g = BTreeMap::new();
+    for (name, files) in nodes() {
         let mut deps = BTreeSet::new();
         for f in files {
             let text = std::fs::read_to_string(&f).unwrap();
             for (i, _) in text.match_indices("crate::") {
                 let rest = &text[i + "crate::".len()..];
-                let dep: String = rest
-                    .chars()
-                    .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
-                    .collect();
+                let dep = ident(rest);
                 // `crate::Error`/`crate::Result` are the root re-exports of `error`.
                 let dep = if dep.starts_with(char::is_uppercase) {
                     "error".to_string()
+                } else if dep == "study" {
+                    match rest.strip_prefix("study::").map(ident) {
+                        Some(child) if !child.is_empty() => format!("study::{child}"),
+                        _ => continue,
+                    }
                 } else {
                     dep
                 };
                 if !dep.is_empty() && dep != name {
                     deps.insert(dep);
+                }
+            }
+            // A study child's direct `super::X` (not `super::super`) names a sibling, from its
+            // top file; deeper files' `super::` stay inside the child.
+            let top = f
+                .file_stem()
+                .is_some_and(|s| s == "mod" || f.parent().is_some_and(|p| p.ends_with("study")));
+            if name.starts_with("study::") && top {
+                for (i, _) in text.match_indices("super::") {
+                    let dep = ident(&text[i + "super::".len()..]);
+                    let sibling = format!("study::{dep}");
+                    if !dep.is_empty() && dep != "super" && sibling != name {
+                        deps.insert(sibling);
+                    }
                 }
             }
         }
@@ -73,12 +121,42 @@ fn graph() -> BTreeMap<String, BTreeSet<String>> {
     g
 }
 
+/// A circle through `start`, if there is one (depth-first search over the graph).
+fn circle(g: &BTreeMap<String, BTreeSet<String>>, start: &str) -> Option<Vec<String>> {
+    fn walk(
+        g: &BTreeMap<String, BTreeSet<String>>,
+        node: &str,
+        start: &str,
+        path: &mut Vec<String>,
+        seen: &mut BTreeSet<String>,
+    ) -> bool {
+        for d in g.get(node).into_iter().flatten() {
+            if d == start {
+                return true;
+            }
+            if seen.insert(d.clone()) {
+                path.push(d.clone());
+                if walk(g, d, start, path, seen) {
+                    return true;
+                }
+                path.pop();
+            }
+        }
+        false
+    }
+    let mut path = vec![start.to_string()];
+    walk(g, start, start, &mut path, &mut BTreeSet::new()).then(|| {
+        path.push(start.to_string());
+        path
+    })
+}
+
 /// What breaks the layering in `g`, one line per problem.
 fn problems(g: &BTreeMap<String, BTreeSet<String>>) -> Vec<String> {
     let mut problems = Vec::new();
     for (module, deps) in g {
         let Some(l) = layer(module) else {
-            problems.push(format!("module `{module}` is in no layer of src/lib.rs"));
+            problems.push(format!("module `{module}` is in no layer"));
             continue;
         };
         for d in deps {
@@ -91,11 +169,24 @@ fn problems(g: &BTreeMap<String, BTreeSet<String>>) -> Vec<String> {
                     l + 1,
                     ld + 1
                 )),
-                Some(ld) if ld == STUDIES && l == STUDIES => {
+                _ if module.starts_with("study::")
+                    && d.starts_with("study::")
+                    && !STUDY_SUPPORT.contains(&d.as_str()) =>
+                {
                     problems.push(format!("study `{module}` imports study `{d}`"))
                 }
                 _ => {}
             }
+        }
+    }
+    let mut reported = BTreeSet::new();
+    for module in g.keys() {
+        if reported.contains(module) {
+            continue;
+        }
+        if let Some(c) = circle(g, module) {
+            reported.extend(c.iter().cloned());
+            problems.push(format!("import circle: {}", c.join(" -> ")));
         }
     }
     problems
@@ -116,15 +207,59 @@ fn every_module_is_in_a_layer_and_dependencies_point_down() {
 
 #[test]
 fn the_check_finds_edges_and_flags_violations() {
-    // The scanner must see real edges, and the rule must reject a study → study edge and an
-    // upward edge, or the test above could never fail.
+    // The scanner must see real edges, and the rule must reject a study → study edge, an
+    // upward edge and a circle, or the test above could never fail.
     let g = graph();
-    assert!(g["sweep"].contains("strategy"), "{:?}", g["sweep"]);
+    assert!(
+        g["study::sweep"].contains("strategy"),
+        "{:?}",
+        g["study::sweep"]
+    );
     assert!(g["metrics"].contains("conditioning"), "{:?}", g["metrics"]);
-    let edge =
-        |a: &str, b: &str| BTreeMap::from([(a.to_string(), BTreeSet::from([b.to_string()]))]);
-    assert_eq!(problems(&edge("stability", "sweep")).len(), 1);
-    assert_eq!(problems(&edge("system", "strategy")).len(), 1);
-    assert_eq!(problems(&edge("nowhere", "system")).len(), 1);
-    assert!(problems(&edge("sweep", "strategy")).is_empty());
+    assert!(g["study::deep_drawing"].contains("study::forming_runs"));
+    let edges = |e: &[(&str, &str)]| {
+        let mut g: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
+        for (a, b) in e {
+            g.entry(a.to_string()).or_default().insert(b.to_string());
+            g.entry(b.to_string()).or_default();
+        }
+        g
+    };
+    assert_eq!(
+        problems(&edges(&[("study::stress", "study::sweep")])).len(),
+        1
+    );
+    assert!(problems(&edges(&[("study::sweep", "study::text")])).is_empty());
+    assert_eq!(problems(&edges(&[("system", "strategy")])).len(), 1);
+    assert_eq!(problems(&edges(&[("nowhere", "system")])).len(), 1);
+    assert!(problems(&edges(&[("study::sweep", "strategy")])).is_empty());
+    let c = problems(&edges(&[
+        ("model", "dd"),
+        ("dd", "scene"),
+        ("scene", "model"),
+    ]));
+    assert!(
+        c.contains(&"import circle: dd -> scene -> model -> dd".to_string()),
+        "{c:?}"
+    );
+}
+
+/// Every binary in `experiments/` has its study at `src/study/<binary>` (a folder or a file).
+#[test]
+fn every_binary_has_its_study() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for e in std::fs::read_dir(root.join("experiments")).unwrap() {
+        let name = e
+            .unwrap()
+            .path()
+            .file_stem()
+            .unwrap()
+            .to_string_lossy()
+            .to_string();
+        let study = root.join("src/study");
+        assert!(
+            study.join(&name).is_dir() || study.join(format!("{name}.rs")).is_file(),
+            "experiments/{name}.rs has no study at src/study/{name}"
+        );
+    }
 }

@@ -10,7 +10,7 @@
 use faer::fx128;
 use penalty_lab::linalg::Factorization;
 use penalty_lab::model::beam::paper;
-use penalty_lab::stability::{stress_scenes, PenalizedSystem};
+use penalty_lab::study::stress::{stress_scenes, PenalizedSystem};
 
 /// The exactly formed system solved in faer's double-double type by textbook Gaussian
 /// elimination with partial pivoting (faer 0.24.4's own LU panics on `fx128` inside its SIMD

@@ -1,4 +1,4 @@
-//! CLI contract of `deep_drawing` and `test_example`: JSON shape, `--out` files, bad input →
+//! CLI contract of `deep_drawing` and `stretch_test`: JSON shape, `--out` files, bad input →
 //! exit status 2 with one line on stderr.
 
 mod common;
@@ -9,7 +9,7 @@ fn run(bin: &str, args: &[&str]) -> std::process::Output {
 }
 
 const DD: &str = env!("CARGO_BIN_EXE_deep_drawing");
-const TE: &str = env!("CARGO_BIN_EXE_test_example");
+const TE: &str = env!("CARGO_BIN_EXE_stretch_test");
 
 #[test]
 fn bad_input_exits_with_status_2_and_one_line() {

@@ -5,10 +5,10 @@
 //! Release-mode numeric tests: the default draw (four runs, ≈ 1 s) plus, per refinement, the
 //! four rules at 100 elements or 200 steps (≈ 2 s each on two cores).
 
-use penalty_lab::forming::experiment::{self, ExperimentConfig};
-use penalty_lab::forming::report::SavedRuns;
 use penalty_lab::forming::FormingConfig;
 use penalty_lab::strategy::paper;
+use penalty_lab::study::forming_runs::report::SavedRuns;
+use penalty_lab::study::forming_runs::{self, ExperimentConfig};
 use penalty_lab::system::{Constraint, ConstraintKind, Problem, Stiffness};
 use std::sync::OnceLock;
 
@@ -19,7 +19,7 @@ fn draw(elements: usize, steps: usize) -> SavedRuns {
     f.elements = elements;
     f.steps = steps;
     let cfg = ExperimentConfig::paper_knobs(f);
-    experiment::run("deep_drawing", &cfg, "tests").expect("the draw runs")
+    forming_runs::run("deep_drawing", &cfg, "tests").expect("the draw runs")
 }
 
 fn default_draw() -> &'static SavedRuns {

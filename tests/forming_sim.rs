@@ -4,9 +4,9 @@
 //!
 //! The default runs are computed once per test binary and shared.
 
-use penalty_lab::forming::experiment::{self, ExperimentConfig};
-use penalty_lab::forming::report::SavedRuns;
 use penalty_lab::forming::{ContactRule, FormingConfig, Simulation};
+use penalty_lab::study::forming_runs::report::SavedRuns;
+use penalty_lab::study::forming_runs::{self, ExperimentConfig};
 use std::sync::OnceLock;
 
 const DELTA: f64 = 1e-5;
@@ -15,7 +15,7 @@ fn default_runs() -> &'static SavedRuns {
     static RUNS: OnceLock<SavedRuns> = OnceLock::new();
     RUNS.get_or_init(|| {
         let cfg = ExperimentConfig::paper_knobs(FormingConfig::woo_deep_drawing());
-        experiment::run("deep_drawing", &cfg, "tests").expect("default deep draw runs")
+        forming_runs::run("deep_drawing", &cfg, "tests").expect("default deep draw runs")
     })
 }
 

@@ -112,7 +112,7 @@ fn paper_beam_study_records_the_optimum() {
 #[test]
 fn sweep_rows_carry_the_ratio_to_the_optimum() {
     use penalty_lab::model::generate::Family;
-    use penalty_lab::sweep::{run_scene, SceneSpec, SweepConfig};
+    use penalty_lab::study::sweep::{run_scene, SceneSpec, SweepConfig};
     let cfg = SweepConfig {
         count: 1,
         ..Default::default()

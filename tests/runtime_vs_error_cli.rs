@@ -322,7 +322,7 @@ fn skipped_rows_are_recorded_not_fatal() {
 /// [1, MAX_GROWTH]), 1.5 before that; the rows it skips say which exponent they used.
 #[test]
 fn budget_extrapolates_with_the_measured_growth() {
-    use penalty_lab::perf::{Budget, DEFAULT_GROWTH, MAX_GROWTH};
+    use penalty_lab::study::runtime_vs_error::{Budget, DEFAULT_GROWTH, MAX_GROWTH};
     let mut b = Budget::default();
     assert_eq!(b.growth("membrane", "paper"), DEFAULT_GROWTH);
     // One size: 1 s at 1e4 → 1e6 predicted at 100^1.5 = 1000 s, skipped.

@@ -12,11 +12,11 @@ use num_rational::BigRational;
 use num_traits::{ToPrimitive, Zero};
 use penalty_lab::metrics::{self, MetricSet};
 use penalty_lab::model::beam::paper;
-use penalty_lab::stability::{
-    self, two_prod, two_sum, Dd, PenalizedSystem, ResidualPrecision, SolveOptions, StressConfig,
-    StressScene,
-};
 use penalty_lab::strategy::{self, Method};
+use penalty_lab::study::stress::{
+    self as stability, two_prod, two_sum, Dd, PenalizedSystem, ResidualPrecision, SolveOptions,
+    StressConfig, StressScene,
+};
 use penalty_lab::system::{ConstraintKind, Problem};
 use proptest::prelude::*;
 
@@ -456,7 +456,7 @@ proptest! {
         let pool = scene_pool();
         let p = &pool[scene % pool.len()];
         let scale = strategy::Prepared::new(p)
-            .map(|pr| penalty_lab::metrics::displacement_scale(p, pr.u0()))
+            .map(|pr| p.displacement_scale(pr.u0()))
             .unwrap_or(1.0);
         let kmax = p.constraints.iter().map(|c| p.k.diag(c.dof).abs()).fold(1e-300, f64::max);
         let x = 10f64.powf(k1);

@@ -6,8 +6,8 @@
 //! Every test uses small configs and its own folder under `std::env::temp_dir()`.
 
 use penalty_lab::model::generate::FAMILY_NAMES;
-use penalty_lab::sweep::rows::{self, Row};
-use penalty_lab::sweep::{self, figures::FIGURE_KINDS, SweepConfig};
+use penalty_lab::study::sweep::rows::{self, Row};
+use penalty_lab::study::sweep::{self, figures::FIGURE_KINDS, SweepConfig};
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};

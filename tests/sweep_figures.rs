@@ -1,12 +1,12 @@
-//! Tests for `penalty_lab::sweep::figures`: the quantile helper against hand-computed values,
+//! Tests for `penalty_lab::study::sweep::figures`: the quantile helper against hand-computed values,
 //! and `render_all` on synthetic rows (file names, skipped figures, errors).
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
 
 use penalty_lab::stats::{median, quantile};
-use penalty_lab::sweep::figures::{build_figures, render_all, FIGURE_KINDS};
-use penalty_lab::sweep::rows::Row;
+use penalty_lab::study::sweep::figures::{build_figures, render_all, FIGURE_KINDS};
+use penalty_lab::study::sweep::rows::Row;
 
 fn tmp_dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!(

@@ -5,7 +5,6 @@
 //! * generation is a pure function of (seed, family, index): twice, interleaved with other
 //!   scenes, or on another thread, it gives bit-identical K, q, constraints and metadata.
 
-use penalty_lab::metrics::displacement_scale;
 use penalty_lab::metrics::{self, MetricSet};
 use penalty_lab::model::generate::{generate, Family, GeneratedScene, GeneratorConfig};
 use penalty_lab::strategy::{self, Method, Prepared};
@@ -74,7 +73,7 @@ proptest! {
         let g = generate(fam, index, seed, &cfg).expect("generation succeeds");
         let p = &g.problem;
         let prep = Prepared::new(p).expect("generated K is nonsingular");
-        let scale = displacement_scale(p, prep.u0());
+        let scale = p.displacement_scale(prep.u0());
         prop_assert!(scale.is_finite() && scale > 0.0);
         let delta = 10f64.powf(log10_r) * scale;
         let sol = strategy::solve(p, Method::condensed(delta))

@@ -40,6 +40,7 @@ pub mod sparse;
 
 use crate::error::{Error, Result};
 use crate::linalg::Factorization;
+use crate::route::CondPlan;
 use crate::system::Stiffness;
 use faer::{MatRef, Side};
 use serde::Serialize;
@@ -157,8 +158,7 @@ fn ratio(a: f64, b: f64) -> f64 {
     }
 }
 
-/// Largest dimension for which a sparse matrix is densified to get an exact condition number.
-pub const DENSIFY_LIMIT: usize = 6000;
+pub use crate::route::DENSIFY_LIMIT;
 
 /// cond₂ of a dense matrix; `symmetric` selects the eigenvalue routes.
 ///
@@ -313,7 +313,7 @@ pub fn residual_radius(
 
 /// Exact cond₂ of a [`Stiffness`] by the cheapest exact route for its *structure*, whatever
 /// its storage (see module docs): a symmetric matrix that
-/// [`crate::system::Structure::prefers_sparse`] goes to the sparse route (a dense-stored one
+/// [`crate::route::Structure::cond_plan`] sends to the sparse route (a dense-stored one
 /// is converted first, exactly), anything else to the dense routes (a sparse-stored one is
 /// densified, up to [`DENSIFY_LIMIT`]). A sparse-route matrix that turns out indefinite falls
 /// back to the dense routes too.
@@ -358,7 +358,7 @@ pub fn cond2_warm(
 ) -> Result<(CondReport, Option<sparse::RitzStarts>)> {
     let symmetric = a.is_symmetric();
     let structure = a.structure();
-    if symmetric && structure.prefers_sparse() {
+    if structure.cond_plan(symmetric) == CondPlan::SparseSpd {
         let converted;
         let m = match a {
             Stiffness::Sparse(m) => m,
@@ -380,7 +380,7 @@ pub fn cond2_warm(
     match a {
         Stiffness::Dense(m) => Ok((cond2_dense(m.as_ref(), symmetric)?, None)),
         Stiffness::Sparse(_) => {
-            if a.n() > DENSIFY_LIMIT {
+            if !structure.densify_allowed() {
                 return Err(Error::input(format!(
                     "exact cond₂ of a sparse {n}×{n} matrix needs densifying, which is limited \
                      to n ≤ {DENSIFY_LIMIT}",

@@ -54,12 +54,7 @@ use crate::linalg::{symmetric_matvec, DiagonalPattern, FactorKind, Factorization
 use faer::sparse::{SparseColMat, SymbolicSparseColMatRef};
 use serde::Serialize;
 
-/// Below this dimension [`crate::system::Structure::prefers_sparse`] keeps matrices dense:
-/// a dense factorization is cheaper than the sparse machinery for small n. The crossover of
-/// the cond₂ routes, measured with `cond_cost` on the membrane and beam families, lies at
-/// n ≈ 24–36 (docs/performance.md); the threshold also chooses the storage and (as the
-/// strategies' `ELIMINATION_MIN_N`) the solve route.
-pub const SPARSE_ROUTE_MIN_N: usize = 32;
+pub use crate::route::SPARSE_ROUTE_MIN_N;
 
 /// Lanczos step limit per end (estimates only: the inertia phase corrects a poor estimate).
 pub const MAX_LANCZOS_STEPS: usize = 400;

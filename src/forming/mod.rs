@@ -12,9 +12,11 @@
 //! * [`tools`] — punch (hemispherical or flat with profile radius), die.
 //! * [`config`] — every parameter, TOML, the Woo-like and Ghosh–Hecker presets.
 //! * [`solver`] — steps, Picard on μ*, contact in local nodal axes, friction, telemetry.
-//! * [`report`] — JSON/CSV of runs and the figures (Fig. 7 and friends).
 //! * [`validity`] — the guards that reject a run outside the model's domain (exit status 3).
 //! * [`acceleration`] — Anderson acceleration of the Picard iteration.
+//!
+//! The experiments' runs, records and figures (Fig. 7 and friends) are the studies'
+//! (`study::forming_runs`, `study::deep_drawing`, `study::stretch_test`).
 //!
 //! Units: inch, ton-force, second.
 //!
@@ -23,7 +25,7 @@
 //! all but one increment" (Fig. 7), "improved at least by two orders of magnitude in relation
 //! to the system of equation without any contact conditions", and in its first example 3.721e2
 //! against 2.705e5 (×727). Ours (default runs, `figures/deep_drawing/README.md`,
-//! `figures/test_example/README.md`): the `adaptive` rule (Eq. 28 on the residual,
+//! `figures/stretch_test/README.md`): the `adaptive` rule (Eq. 28 on the residual,
 //! [`ContactRule::PaperResidual`]) is better than classical at **every** step, median ×1.2e3 on
 //! the draw and ×590 on the stretching test, with `condensed` alike. Against K alone (no
 //! contact terms) the gain is ≥ ×184 on the draw only because K alone is singular up to the
@@ -54,9 +56,7 @@ pub mod acceleration;
 pub mod assembly;
 pub mod config;
 pub mod element;
-pub mod experiment;
 pub mod material;
-pub mod report;
 pub mod solver;
 pub mod tools;
 pub mod validity;

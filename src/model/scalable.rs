@@ -4,7 +4,6 @@
 //! stiffness scales (δ and ε of those studies are relative to them).
 
 use crate::error::{Error, Result};
-use crate::metrics::displacement_scale;
 use crate::model::beam::{Frame, Section};
 use crate::system::{Constraint, ConstraintKind, Problem};
 
@@ -24,7 +23,7 @@ pub struct PerfScene {
 }
 
 fn scales(p: &Problem, u0: &[f64]) -> (f64, f64) {
-    let scale = displacement_scale(p, u0);
+    let scale = p.displacement_scale(u0);
     let k_scale = p
         .constraints
         .iter()

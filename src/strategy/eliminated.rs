@@ -40,13 +40,7 @@ use crate::system::{Problem, Stiffness};
 use faer::sparse::SparseColMatRef;
 use std::collections::HashSet;
 
-/// Smallest n for which `condensed`/`lagrange` use the elimination route on sparse K: the
-/// size from which K is stored sparse at all
-/// ([`crate::conditioning::sparse::SPARSE_ROUTE_MIN_N`]). On the sweep's 20-file folder it
-/// takes about a quarter of the time of the dense S = DᵀK⁻¹D route (m solves and an m×m box
-/// QP) and of the saddle-point LU it replaced below 2 000 unknowns, with the same rows to
-/// rounding (docs/performance.md).
-pub const ELIMINATION_MIN_N: usize = crate::conditioning::sparse::SPARSE_ROUTE_MIN_N;
+pub use crate::route::ELIMINATION_MIN_N;
 
 /// At most this many DOFs may have changed status (prescribed ↔ free) since the last
 /// factorization for an iteration to try PCG with that factor instead of refactorizing.
@@ -80,7 +74,7 @@ pub struct BoxSolve {
 
 /// Does the problem qualify for the elimination route?
 pub fn applies(problem: &Problem) -> bool {
-    if !(problem.k.is_sparse() && problem.n() >= ELIMINATION_MIN_N) {
+    if !crate::route::elimination_route(problem.n(), problem.k.is_sparse()) {
         return false;
     }
     let mut seen = vec![false; problem.n()];

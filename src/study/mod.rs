@@ -3,11 +3,22 @@
 //! saved files; it never prints. The binaries in `experiments/` only parse flags, call the
 //! study, write its record and print.
 //!
-//! * [`paper_beam`] — the beam example of Sec. 4.2 (Eq. 30–37), number by number.
-//! * [`solve`] — one scene file, one strategy, every metric (the `solve` binary).
-//! * [`text`] — the number formats, aligned tables and wrapped notes of the printed reports.
+//! One module per binary in `experiments/`, named like it (`tests/architecture.rs` checks
+//! it): [`sweep`], [`solve`], [`paper_beam`], [`deep_drawing`], [`stretch_test`],
+//! [`runtime_vs_error`], [`stress`], [`cond_cost`], [`cond_accuracy`], [`engine_scale`]. No
+//! study imports another; what several share is a support module: [`text`] (number formats,
+//! aligned tables and wrapped notes of the printed reports) and [`forming_runs`] (the forming
+//! experiments' runs, records and figures).
 
 pub mod cond_accuracy;
+pub mod cond_cost;
+pub mod deep_drawing;
+pub mod engine_scale;
+pub mod forming_runs;
 pub mod paper_beam;
+pub mod runtime_vs_error;
 pub mod solve;
+pub mod stress;
+pub mod stretch_test;
+pub mod sweep;
 pub mod text;

@@ -411,7 +411,7 @@ pub fn strategy_study(scene: &StressScene, cfg: &StressConfig) -> Result<Vec<Str
     let p = &scene.problem;
     let u_lag = exact_contact(p).ok().map(|(u, _)| u);
     let scale = strategy::Prepared::new(p)
-        .map(|pr| crate::metrics::displacement_scale(p, pr.u0()))
+        .map(|pr| p.displacement_scale(pr.u0()))
         .unwrap_or(1.0);
     let kmax = p
         .constraints

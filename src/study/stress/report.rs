@@ -95,7 +95,7 @@ pub fn record(r: &StressRun, o: &StressOutput) -> Value {
         "config": r.config,
         "scenes": o.scenes.iter().map(|s| json!({"name": s.name, "family": s.family,
             "n": s.problem.n(), "m": s.problem.m()})).collect::<Vec<_>>(),
-        "reference": "double-double Gaussian elimination with partial pivoting + 2 refinement steps (stability::PenalizedSystem::reference)",
+        "reference": "double-double Gaussian elimination with partial pivoting + 2 refinement steps (study::stress::PenalizedSystem::reference)",
         "plot_floor": PLOT_FLOOR,
         "wall_seconds": o.wall_seconds,
         "summary": summary(&o.eps_rows, &o.strategy_rows),

@@ -4,10 +4,10 @@
 //! thickness strain ln(t/t₀) vs initial radius at several depths, deformed profiles with the
 //! tools. Figures are rendered from the saved JSON ([`SavedRuns`]), never from live state.
 
-use super::config::{ContactRule, FormingConfig};
-use super::solver::{RunResult, Snapshot, StepRecord};
-use super::tools::{Die, Punch};
 use crate::error::{Error, Result};
+use crate::forming::config::{ContactRule, FormingConfig};
+use crate::forming::solver::{RunResult, Snapshot, StepRecord};
+use crate::forming::tools::{Die, Punch};
 use crate::plot::{method_color, render, render_panels, Figure, Mark, Scale, Series};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -30,7 +30,7 @@ pub struct SavedRun {
     pub snapshots: Vec<Snapshot>,
     /// Wall time (s).
     pub seconds: f64,
-    /// This run stayed inside the model's domain ([`super::validity`]).
+    /// This run stayed inside the model's domain ([`crate::forming::validity`]).
     #[serde(default = "valid_default")]
     pub valid: bool,
     /// Why not (empty when valid).
@@ -67,7 +67,7 @@ pub struct SavedRuns {
     pub config: FormingConfig,
     /// Runs by name (`classical`, `adaptive`, `paper-literal`, `condensed`).
     pub runs: BTreeMap<String, SavedRun>,
-    /// Every run stayed inside the model's domain ([`super::validity`]).
+    /// Every run stayed inside the model's domain ([`crate::forming::validity`]).
     #[serde(default = "valid_default")]
     pub valid: bool,
     /// Why not (empty when valid).

@@ -22,7 +22,7 @@ pub struct Row {
     /// Number of constraints m.
     pub m: usize,
     /// Storage K was solved in, `dense` or `sparse`, chosen from its structure whatever the
-    /// scene file stored ([`crate::system::Structure::prefers_sparse`]).
+    /// scene file stored ([`crate::route::Structure::prefers_sparse`]).
     pub storage: String,
     /// Nonzero entries of K.
     pub nnz: usize,

@@ -406,9 +406,7 @@ pub struct Job {
 
 /// The jobs of a scene, in row order (lagrange first).
 pub fn jobs(cfg: &SweepConfig, problem: &Problem, u0: Option<&[f64]>) -> Vec<Job> {
-    let scale = u0
-        .map(|u| crate::metrics::displacement_scale(problem, u))
-        .unwrap_or(1.0);
+    let scale = u0.map(|u| problem.displacement_scale(u)).unwrap_or(1.0);
     let deltas: Vec<(f64, Option<f64>)> = cfg
         .deltas
         .iter()

@@ -3,11 +3,13 @@
 //! the "modified approach" of Fig. 7, named `adaptive` — and the exact `condensed` rule (δ).
 //! The three runs are independent and run in parallel (rayon).
 
-use super::config::{ContactRule, FormingConfig};
-use super::report::{SavedRun, SavedRuns};
-use super::solver::Simulation;
+pub mod report;
+
 use crate::error::{Error, Result};
+use crate::forming::config::{ContactRule, FormingConfig};
+use crate::forming::solver::Simulation;
 use crate::provenance::Provenance;
+use report::{SavedRun, SavedRuns};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
@@ -169,7 +171,7 @@ impl ExperimentConfig {
     }
 }
 
-/// The command line shared by `deep_drawing` and `test_example` (`#[command(flatten)]`).
+/// The command line shared by `deep_drawing` and `stretch_test` (`#[command(flatten)]`).
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct Cli {
     /// Print the JSON document on stdout.
@@ -220,7 +222,7 @@ pub const EXIT_STATUSES: &str = "Exit status: 0 ok; 2 bad input or a failed run;
 /// What an experiment binary passes besides its flags.
 #[derive(Clone, Copy, Debug)]
 pub struct Experiment {
-    /// Name: the JSON file stem and `experiment` field (`deep_drawing`, `test_example`).
+    /// Name: the JSON file stem and `experiment` field (`deep_drawing`, `stretch_test`).
     pub name: &'static str,
     /// Figure title prefix.
     pub title: &'static str,
@@ -257,8 +259,8 @@ impl Cli {
                 .out
                 .as_ref()
                 .ok_or_else(|| Error::input("--render-only needs --out DIR"))?;
-            let doc = super::report::load(&dir.join(format!("{}.json", exp.name)))?;
-            super::report::render_figures(dir, &doc, exp.title, exp.cond_figure)?;
+            let doc = report::load(&dir.join(format!("{}.json", exp.name)))?;
+            report::render_figures(dir, &doc, exp.title, exp.cond_figure)?;
             return Ok(doc);
         }
         let cfg = self.config((exp.preset)())?;
@@ -271,9 +273,9 @@ impl Cli {
             )));
         }
         if let Some(dir) = &self.out {
-            let json = super::report::save(dir, exp.name, &doc)?;
-            let saved = super::report::load(&json)?;
-            super::report::render_figures(dir, &saved, exp.title, exp.cond_figure)?;
+            let json = report::save(dir, exp.name, &doc)?;
+            let saved = report::load(&json)?;
+            report::render_figures(dir, &saved, exp.title, exp.cond_figure)?;
         }
         Ok(doc)
     }
@@ -341,7 +343,7 @@ pub fn summary_table(doc: &SavedRuns) -> String {
 }
 
 /// Runs every rule of `cfg` (in parallel) and assembles the saved document, with the
-/// validity guards ([`super::validity`]) applied per run and to the document (every run but
+/// validity guards ([`crate::forming::validity`]) applied per run and to the document (every run but
 /// the diagnostic `paper-literal` one, see [`diagnostic_only`]). A run that fails numerically keeps the steps
 /// it did: the failure is one of the document's invalid reasons if the configuration or the
 /// steps done already left the model's domain (or the caller allows invalid runs,
@@ -378,11 +380,11 @@ pub fn run_with(
             .collect()
     };
     let mut runs = BTreeMap::new();
-    let mut reasons = super::validity::check_config(&cfg.forming);
+    let mut reasons = crate::forming::validity::check_config(&cfg.forming);
     let mut failures = Vec::new();
     for r in results {
         let (name, mut run, failure) = r?;
-        let mut own = super::validity::check(&name, &cfg.forming, &run.steps);
+        let mut own = crate::forming::validity::check(&name, &cfg.forming, &run.steps);
         if let Some(e) = failure {
             let step = run.steps.len() + 1;
             let e = Error::Numerical(format!("{name} run, step {step}: {e}"));

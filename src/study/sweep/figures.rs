@@ -40,7 +40,7 @@ use std::path::{Path, PathBuf};
 use crate::plot::{method_color, method_label, render, Band, Figure, Mark, Marker, Scale, Series};
 use crate::stats::quantile;
 use crate::strategy::{augmented, constant, lagrange, optimal, registry, scaled};
-use crate::sweep::rows::Row;
+use crate::study::sweep::rows::Row;
 use crate::{Error, Result};
 
 /// The figure kinds, i.e. the file-name prefixes: the files are `<kind>_<family>.{png,svg}`.

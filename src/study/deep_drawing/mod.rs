@@ -1,0 +1,16 @@
+//! The paper's second example, the `deep_drawing` binary's study: a Woo-like hemispherical-
+//! punch deep draw (forming.md defaults) with the classical penalty (ε = 1e7), Eq. 28 on the
+//! contact rows' residual (`adaptive`, δ = 1e-5 in), Eq. 28–29 as printed (`paper-literal`, a
+//! diagnostic) and the exact `condensed` rule — the paper's Fig. 7. Runs, records and figures
+//! through [`forming_runs`](super::forming_runs).
+
+use super::forming_runs::Experiment;
+use crate::forming::FormingConfig;
+
+/// The experiment: its name (JSON file stem), title, condition figure and configuration.
+pub const EXPERIMENT: Experiment = Experiment {
+    name: "deep_drawing",
+    title: "Deep drawing",
+    cond_figure: "fig7_condition_per_step",
+    preset: FormingConfig::woo_deep_drawing,
+};
