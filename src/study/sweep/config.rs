@@ -1,0 +1,266 @@
+//! The sweep's configuration: what determines the rows ([`SweepConfig`]), its ε grid and
+//! its checks.
+
+use crate::error::{Error, Result};
+use crate::metrics::MetricSet;
+use crate::model::generate::{self, Family, GeneratorConfig};
+use crate::strategy::{self, registry, Knob};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// A log-spaced grid `lo..hi` with `n` points, inclusive.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct LogGrid {
+    /// First value (> 0).
+    pub lo: f64,
+    /// Last value (≥ lo).
+    pub hi: f64,
+    /// Number of points (≥ 1).
+    pub n: usize,
+}
+
+impl LogGrid {
+    /// Parses `LO:HI:N`.
+    pub fn parse(s: &str) -> Result<Self> {
+        let parts: Vec<&str> = s.split(':').collect();
+        let bad = || {
+            Error::input(format!(
+                "malformed range '{s}': expected LO:HI:N with 0 < LO ≤ HI and N ≥ 1 (e.g. 1e-2:1e12:15)"
+            ))
+        };
+        if parts.len() != 3 {
+            return Err(bad());
+        }
+        let lo: f64 = parts[0].trim().parse().map_err(|_| bad())?;
+        let hi: f64 = parts[1].trim().parse().map_err(|_| bad())?;
+        let n: usize = parts[2].trim().parse().map_err(|_| bad())?;
+        let g = LogGrid { lo, hi, n };
+        g.validate().map_err(|_| bad())?;
+        Ok(g)
+    }
+
+    /// Checks `0 < lo ≤ hi`, finite, `n ≥ 1` (and `lo = hi` when `n = 1`).
+    pub fn validate(&self) -> Result<()> {
+        if !(self.lo.is_finite() && self.hi.is_finite() && self.lo > 0.0 && self.lo <= self.hi)
+            || self.n == 0
+            || (self.n == 1 && self.lo != self.hi)
+        {
+            return Err(Error::input(format!(
+                "bad ε grid {}:{}:{}: need 0 < LO ≤ HI, N ≥ 1",
+                self.lo, self.hi, self.n
+            )));
+        }
+        Ok(())
+    }
+
+    /// The grid values (inclusive ends, exact end points).
+    pub fn values(&self) -> Vec<f64> {
+        if self.n == 1 {
+            return vec![self.lo];
+        }
+        let (a, b) = (self.lo.log10(), self.hi.log10());
+        (0..self.n)
+            .map(|i| {
+                if i == 0 {
+                    self.lo
+                } else if i + 1 == self.n {
+                    self.hi
+                } else {
+                    10f64.powf(a + (b - a) * i as f64 / (self.n - 1) as f64)
+                }
+            })
+            .collect()
+    }
+}
+
+/// Everything that determines the rows (the manifest stores it; `--resume` checks it).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SweepConfig {
+    /// Families to generate (ignored with `scenes_dir`).
+    pub families: Vec<String>,
+    /// Scenes per family.
+    pub count: usize,
+    /// Master seed.
+    pub seed: u64,
+    /// ε grid for `constant`.
+    pub eps: LogGrid,
+    /// Factors for `scaled`.
+    pub factors: Vec<f64>,
+    /// Absolute δ values.
+    pub deltas: Vec<f64>,
+    /// Relative δ values (δ = R · max_c |u0\[d_c\]|).
+    pub deltas_rel: Vec<f64>,
+    /// Methods to run (`lagrange` always runs: it is the reference).
+    pub methods: Vec<String>,
+    /// Metrics: any of `cond`, `det` (penetration, error and timing are always recorded).
+    pub metrics: Vec<String>,
+    /// Generator size ranges.
+    pub generator: GeneratorConfig,
+    /// Run over every `*.scene.json` in this folder instead of generating.
+    pub scenes_dir: Option<PathBuf>,
+    /// Families on which `optimal` runs (`file` for scene files); its rows on other families
+    /// say so in `warnings`. The default, beam and files, keeps the default sweep under a
+    /// minute: one optimisation costs tens to hundreds of dense eigendecompositions.
+    pub optimal_families: Vec<String>,
+    /// Relative accuracy asked of every cond₂ (`--cond-tol`, in (0, 1)); `None` (the default):
+    /// the accuracy contract `max(1e-12, 4·ε_mach·cond₂)`. A looser value stops the Lanczos
+    /// runs earlier; the bounds stay proven and rows.csv records both (`cond_tol`, the bound
+    /// columns).
+    pub cond_tol: Option<f64>,
+}
+
+impl Default for SweepConfig {
+    fn default() -> Self {
+        SweepConfig {
+            families: generate::FAMILY_NAMES
+                .iter()
+                .map(|s| s.to_string())
+                .collect(),
+            count: 8,
+            seed: 2011,
+            eps: LogGrid {
+                lo: 1e-2,
+                hi: 1e12,
+                n: 15,
+            },
+            factors: vec![1.0, 10.0, 100.0, 1e3, 1e4],
+            deltas: vec![],
+            deltas_rel: vec![1e-1, 1e-2, 1e-3],
+            methods: registry::BUILT_IN
+                .iter()
+                .map(|s| s.name.to_string())
+                .collect(),
+            metrics: vec!["cond".into(), "det".into()],
+            generator: GeneratorConfig::default(),
+            scenes_dir: None,
+            optimal_families: vec!["beam".into(), "file".into()],
+            cond_tol: None,
+        }
+    }
+}
+
+/// Metric names accepted in `metrics`.
+pub const METRIC_NAMES: [&str; 2] = ["cond", "det"];
+
+impl SweepConfig {
+    /// Reads a TOML config (fields as in [`SweepConfig`]; missing fields take defaults).
+    pub fn from_toml_file(path: &Path) -> Result<Self> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path.display(), e))?;
+        let cfg: SweepConfig = toml::from_str(&text).map_err(|e| {
+            let line = e
+                .span()
+                .map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
+            let msg = e.message().replace('\n', " ");
+            match line {
+                Some(l) => Error::io(path.display(), format!("line {l}: {msg}")),
+                None => Error::io(path.display(), msg),
+            }
+        })?;
+        Ok(cfg)
+    }
+
+    /// Validates names, ranges and knobs; errors name the problem and the valid choices.
+    pub fn validate(&self) -> Result<()> {
+        MetricSet::check_cond_tol(self.cond_tol)?;
+        if self.scenes_dir.is_none() {
+            if self.families.is_empty() {
+                return Err(Error::input(format!(
+                    "no families given (valid: {})",
+                    generate::FAMILY_NAMES.join(", ")
+                )));
+            }
+            for f in &self.families {
+                Family::from_name(f)?;
+            }
+            if self.count == 0 {
+                return Err(Error::input("--count must be ≥ 1"));
+            }
+        }
+        for m in &self.methods {
+            registry::lookup(m)?;
+        }
+        for f in &self.optimal_families {
+            if f != "file" && Family::from_name(f).is_err() {
+                return Err(Error::input(format!(
+                    "optimal_families: unknown family '{f}' (valid: {}, file)",
+                    generate::FAMILY_NAMES.join(", ")
+                )));
+            }
+        }
+        for m in &self.metrics {
+            if !METRIC_NAMES.contains(&m.as_str()) {
+                return Err(Error::input(format!(
+                    "unknown metric '{m}' (valid: {}; penetration, error and time are always recorded)",
+                    METRIC_NAMES.join(", ")
+                )));
+            }
+        }
+        self.eps.validate()?;
+        for (what, v) in [
+            ("factor", &self.factors),
+            ("δ (--deltas)", &self.deltas),
+            ("relative δ (--deltas-rel)", &self.deltas_rel),
+        ] {
+            if let Some(x) = v.iter().find(|x| !(x.is_finite() && **x > 0.0)) {
+                return Err(Error::input(format!(
+                    "{what} must be finite and > 0 (got {x})"
+                )));
+            }
+        }
+        let with_knob = |knobs: &[Knob]| -> Vec<&str> {
+            self.strategies()
+                .into_iter()
+                .filter(|s| knobs.contains(&s.knob))
+                .map(|s| s.name)
+                .collect()
+        };
+        let needs_delta = with_knob(&[Knob::Delta, Knob::EpsTol]);
+        if !needs_delta.is_empty() && self.deltas.is_empty() && self.deltas_rel.is_empty() {
+            return Err(Error::input(format!(
+                "{} need δ values (--deltas or --deltas-rel)",
+                needs_delta.join("/")
+            )));
+        }
+        let needs_factors = with_knob(&[Knob::Factor]);
+        if !needs_factors.is_empty() && self.factors.is_empty() {
+            return Err(Error::input(format!(
+                "{} needs --factors",
+                needs_factors.join("/")
+            )));
+        }
+        self.generator.validate()
+    }
+
+    pub(super) fn metric_set(&self) -> MetricSet {
+        MetricSet {
+            cond: self.metrics.iter().any(|m| m == "cond"),
+            det: self.metrics.iter().any(|m| m == "det"),
+            cond_tol: self.cond_tol,
+        }
+    }
+
+    /// The strategies of `methods` (unknown names, which [`SweepConfig::validate`] refuses,
+    /// left out).
+    pub fn strategies(&self) -> Vec<&'static strategy::Strategy> {
+        self.methods
+            .iter()
+            .filter_map(|m| registry::find(m))
+            .collect()
+    }
+
+    /// Rows produced per scene.
+    pub fn rows_per_scene(&self) -> usize {
+        let nd = self.deltas.len() + self.deltas_rel.len();
+        let mut r = 1; // lagrange reference
+        for s in self.strategies() {
+            r += match s.knob {
+                Knob::Eps => self.eps.n,
+                Knob::Factor => self.factors.len(),
+                Knob::Delta | Knob::EpsTol => nd,
+                Knob::None => 0,
+            };
+        }
+        r
+    }
+}

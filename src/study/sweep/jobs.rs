@@ -1,0 +1,372 @@
+//! The jobs of one scene (one per strategy and knob value), the work they share, and one row
+//! per job.
+
+use super::rows::Row;
+use super::{load, LoadedScene, SceneSpec, SweepConfig};
+use crate::conditioning::{self, sparse::RitzStarts, Reuse};
+use crate::error::Result;
+use crate::metrics::{self, MetricSet};
+use crate::strategy::{self, registry, Knob, Knobs, Method, Prepared};
+use crate::system::{Problem, Structure};
+use serde::Serialize;
+use std::time::Instant;
+
+/// One job of a scene: a method with its knob.
+#[derive(Clone, Copy, Debug)]
+pub struct Job {
+    /// The method.
+    pub method: Method,
+    /// Relative δ if δ was given relatively.
+    pub delta_rel: Option<f64>,
+}
+
+/// The jobs of a scene, in row order (lagrange first).
+pub fn jobs(cfg: &SweepConfig, problem: &Problem, u0: Option<&[f64]>) -> Vec<Job> {
+    let scale = u0.map(|u| problem.displacement_scale(u)).unwrap_or(1.0);
+    let deltas: Vec<(f64, Option<f64>)> = cfg
+        .deltas
+        .iter()
+        .map(|&d| (d, None))
+        .chain(cfg.deltas_rel.iter().map(|&r| (r * scale, Some(r))))
+        .collect();
+    // Augmented: a moderate ε, the geometric mean of the constrained diagonal of K.
+    let aug_eps = {
+        let logs: Vec<f64> = problem
+            .constraints
+            .iter()
+            .map(|c| problem.k.diag(c.dof).abs())
+            .filter(|v| *v > 0.0)
+            .map(f64::ln)
+            .collect();
+        if logs.is_empty() {
+            1.0
+        } else {
+            (logs.iter().sum::<f64>() / logs.len() as f64).exp()
+        }
+    };
+    let mut out = vec![Job {
+        method: Method::lagrange(),
+        delta_rel: None,
+    }];
+    // One job per value of each strategy's knob; a knob value the strategy refuses (an ε
+    // grid point ≤ 0 cannot pass `validate`) drops the job.
+    let mut push = |s, knobs, delta_rel| {
+        if let Ok(method) = Method::new(s, knobs) {
+            out.push(Job { method, delta_rel });
+        }
+    };
+    for s in cfg.strategies() {
+        match s.knob {
+            Knob::Eps => {
+                for eps in cfg.eps.values() {
+                    push(
+                        s,
+                        Knobs {
+                            eps: Some(eps),
+                            ..Knobs::NONE
+                        },
+                        None,
+                    );
+                }
+            }
+            Knob::Factor => {
+                for &factor in &cfg.factors {
+                    push(
+                        s,
+                        Knobs {
+                            factor: Some(factor),
+                            ..Knobs::NONE
+                        },
+                        None,
+                    );
+                }
+            }
+            Knob::Delta => {
+                for &(delta, delta_rel) in &deltas {
+                    push(
+                        s,
+                        Knobs {
+                            delta: Some(delta),
+                            ..Knobs::NONE
+                        },
+                        delta_rel,
+                    );
+                }
+            }
+            Knob::EpsTol => {
+                for &(delta, delta_rel) in &deltas {
+                    let knobs = Knobs {
+                        eps: Some(aug_eps),
+                        tol: Some(delta),
+                        adaptive: true,
+                        ..Knobs::NONE
+                    };
+                    push(s, knobs, delta_rel);
+                }
+            }
+            // The exact methods: lagrange is the first job already.
+            Knob::None => {}
+        }
+    }
+    out
+}
+
+/// What every row of a scene shares, computed once per scene: the problem in its preferred
+/// storage, K's factorization and u0, cond₂(K) and log10|det K|, and the jobs.
+pub struct SceneWork {
+    /// The scene (K in the storage its structure prefers).
+    pub scene: LoadedScene,
+    /// K's structure.
+    pub structure: Structure,
+    /// K's factorization and u0 (an error where K is singular; every row then says so).
+    pub prepared: Result<Prepared>,
+    /// cond₂(K), when requested and available.
+    pub cond2_k: Option<f64>,
+    /// Its bounds `[cond2_lo, cond2_hi]`.
+    pub cond2_k_bounds: Option<(f64, f64)>,
+    /// log10|det K|, when requested and available.
+    pub log10_det_k: Option<f64>,
+    /// K's Ritz vectors of λ_max and λ_min (sparse route): every job's cond₂ starts its
+    /// Lanczos runs from them. Shared by the scene's jobs rather than passed from one ε to the
+    /// next, so each row is computed the same way whatever the thread count and order.
+    pub ritz_k: Option<RitzStarts>,
+    /// The jobs, in row order (lagrange first).
+    pub jobs: Vec<Job>,
+    /// Wall time of each shared step (s): `read`, `prepare`, `cond_k`, `det_k`.
+    pub seconds: SetupSeconds,
+}
+
+/// Wall time of a scene's shared work (s).
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct SetupSeconds {
+    /// Building or reading the scene and choosing its storage.
+    pub read: f64,
+    /// K's factorization and u0.
+    pub prepare: f64,
+    /// cond₂(K).
+    pub cond_k: f64,
+    /// log10|det K| (near zero where cond₂(K)'s factorization gave it).
+    pub det_k: f64,
+}
+
+impl SetupSeconds {
+    /// The sum of the four.
+    pub fn total(&self) -> f64 {
+        self.read + self.prepare + self.cond_k + self.det_k
+    }
+}
+
+pub(super) fn timed<T>(f: impl FnOnce() -> T) -> (T, f64) {
+    let t = Instant::now();
+    let v = f();
+    (v, t.elapsed().as_secs_f64())
+}
+
+/// Loads a scene and does its shared work (cond₂(K) beside the factorization of K, on two
+/// threads where the pool has them).
+pub fn prepare_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<SceneWork> {
+    let (loaded, read) = timed(|| {
+        load(spec, cfg).map(|mut sc| {
+            sc.problem = sc.problem.in_preferred_storage();
+            sc
+        })
+    });
+    let scene = loaded?;
+    let p = &scene.problem;
+    let set = cfg.metric_set();
+    let ((prepared, prepare), (cond, cond_k)) = rayon::join(
+        || timed(|| Prepared::new(p)),
+        || {
+            timed(|| {
+                set.cond
+                    .then(|| conditioning::cond2_warm(&p.k, Reuse::keeping_ritz()).ok())
+                    .flatten()
+            })
+        },
+    );
+    let (cond, ritz_k) = cond.unzip();
+    let (log10_det_k, det_k) = timed(|| {
+        set.det
+            .then(|| conditioning::log10_abs_det_after(&p.k, cond.as_ref()).ok())
+            .flatten()
+    });
+    let jobs = jobs(cfg, p, prepared.as_ref().ok().map(|x| x.u0()));
+    Ok(SceneWork {
+        structure: p.k.structure(),
+        prepared,
+        cond2_k: cond.map(|c| c.cond2),
+        cond2_k_bounds: cond.map(|c| (c.cond2_lo, c.cond2_hi)),
+        log10_det_k,
+        ritz_k: ritz_k.flatten(),
+        jobs,
+        seconds: SetupSeconds {
+            read,
+            prepare,
+            cond_k,
+            det_k,
+        },
+        scene,
+    })
+}
+
+/// A row with the scene's columns and the job's knobs, before solving.
+pub(super) fn base_row(work: &SceneWork, job: Job) -> Row {
+    let sc = &work.scene;
+    let p = &sc.problem;
+    let mut row = Row {
+        scene: sc.name.clone(),
+        family: sc.family.clone(),
+        n: p.n(),
+        m: p.m(),
+        storage: if p.k.is_sparse() { "sparse" } else { "dense" }.into(),
+        nnz: work.structure.nnz,
+        half_bandwidth: work.structure.half_bandwidth,
+        method: job.method.name().to_string(),
+        delta_rel: job.delta_rel,
+        cond2_k: work.cond2_k,
+        cond2_k_lo: work.cond2_k_bounds.map(|b| b.0),
+        cond2_k_hi: work.cond2_k_bounds.map(|b| b.1),
+        ..Default::default()
+    };
+    // The knob values in their columns: ε, f, δ; `augmented`'s tolerance in `delta`.
+    let k = job.method.knobs();
+    row.eps = k.eps;
+    row.factor = k.factor;
+    row.delta = k.delta.or(k.tol);
+    row
+}
+
+/// The row of an `optimal` job on a family outside `optimal_families`: no solve, the reason
+/// in `warnings`.
+pub(super) fn skipped_row(work: &SceneWork, job: Job, cfg: &SweepConfig) -> Row {
+    let mut row = base_row(work, job);
+    row.seconds = Some(0.0);
+    row.seconds_solve = Some(0.0);
+    row.warnings = format!(
+        "skipped: optimal runs on the families {:?} only (optimal_families)",
+        cfg.optimal_families
+    );
+    row
+}
+
+/// What the lagrange row gives the other rows of its scene.
+pub struct Reference {
+    /// The exact solution (`error_vs_exact`).
+    pub u: Vec<f64>,
+    /// The scene's [`Prepared`] with the exact contact set
+    /// ([`Prepared::with_contact_set`]): where constant, scaled and condensed start.
+    pub prepared: Option<Prepared>,
+}
+
+/// One row: `job` solved on the scene with its metrics; `reference` is what the lagrange row
+/// gave (`error_vs_exact`, the contact set), and the lagrange row returns it. A failing solve
+/// or metric becomes the row's warning, never an error.
+pub fn run_job(
+    work: &SceneWork,
+    job: Job,
+    set: MetricSet,
+    reference: Option<&Reference>,
+) -> (Row, Option<Reference>) {
+    let t0 = Instant::now();
+    let p = &work.scene.problem;
+    let mut row = base_row(work, job);
+    row.cond_tol = set.cond_tol.filter(|_| set.cond);
+    let u_ref = reference.map(|r| r.u.as_slice());
+    let prep = reference
+        .and_then(|r| r.prepared.as_ref())
+        .or(work.prepared.as_ref().ok());
+    let (solved, seconds_solve) = timed(|| strategy::solve_prepared(p, job.method, prep));
+    row.seconds_solve = Some(seconds_solve);
+    let mut u_out = None;
+    match solved.and_then(|sol| {
+        let m = metrics::compute_with_k(p, &sol, set, work.log10_det_k, work.ritz_k.as_ref())?;
+        Ok((sol, m))
+    }) {
+        Ok((sol, m)) => {
+            let pen: Vec<f64> = sol.penalties.iter().copied().filter(|e| *e > 0.0).collect();
+            if !pen.is_empty() {
+                row.eps_min = Some(pen.iter().copied().fold(f64::INFINITY, f64::min));
+                row.eps_max = Some(pen.iter().copied().fold(0.0, f64::max));
+            }
+            row.active = sol.stats.active_set_sizes.last().copied();
+            row.cond2_system = m.cond2_system.map(|c| c.cond2);
+            row.cond2_system_lo = m.cond2_system.map(|c| c.cond2_lo);
+            row.cond2_system_hi = m.cond2_system.map(|c| c.cond2_hi);
+            row.cond_route = m.cond2_system.map(|c| c.route.name().to_string());
+            row.log10_det_ratio = m.log10_det_ratio;
+            row.max_penetration = Some(sol.max_penetration);
+            row.error_vs_exact = u_ref.map(|r| metrics::relative_error(&sol.u, r));
+            row.linear_solves = Some(sol.stats.linear_solves);
+            row.iterations = Some(sol.stats.iterations);
+            row.converged = Some(sol.stats.converged);
+            row.seconds_cond = set.cond.then_some(m.seconds_cond);
+            row.seconds_det = set.det.then_some(m.seconds_det);
+            row.warnings = metrics::warnings(&sol, &m).join("; ");
+            if job.method.is(&strategy::lagrange::STRATEGY) {
+                row.error_vs_exact = Some(metrics::relative_error(&sol.u, &sol.u));
+                let prepared = work
+                    .prepared
+                    .as_ref()
+                    .ok()
+                    .zip(sol.contact_set())
+                    .map(|(p, set)| p.clone().with_contact_set(set));
+                u_out = Some(Reference { u: sol.u, prepared });
+            }
+        }
+        Err(e) => row.warnings = format!("error: {e}"),
+    }
+    row.seconds = Some(t0.elapsed().as_secs_f64());
+    (row, u_out)
+}
+
+/// Runs every job of one scene: the shared work, the lagrange reference, then the other jobs
+/// as separate work units on the current rayon pool, one task each (rows in job order
+/// whatever the thread count). Errors of single jobs become rows with the error in
+/// `warnings`; only an unreadable scene is an error.
+pub fn run_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<(Vec<Row>, SceneWork)> {
+    use rayon::prelude::*;
+    let work = prepare_scene(spec, cfg)?;
+    let set = cfg.metric_set();
+    let (first, rest) = work.jobs.split_first().expect("lagrange is always a job");
+    let (lag_row, reference) = run_job(&work, *first, set, None);
+    let mut rows = Vec::with_capacity(work.jobs.len());
+    rows.push(lag_row);
+    let others: Vec<Row> = rest
+        .par_iter()
+        .with_max_len(1)
+        .map(|&job| {
+            let skip = job.method.is(&strategy::optimal::STRATEGY)
+                && !cfg.optimal_families.contains(&work.scene.family);
+            if skip {
+                skipped_row(&work, job, cfg)
+            } else {
+                run_job(&work, job, set, reference.as_ref()).0
+            }
+        })
+        .collect();
+    rows.extend(others);
+    set_ratios_to_optimal(&mut rows);
+    Ok((rows, work))
+}
+
+/// Fills `cond_ratio_to_optimal` on one scene's rows: every δ-driven row (spring, paper,
+/// condensed, optimal) whose δ has an `optimal` row with a cond₂ gets cond₂ / cond₂(optimal).
+pub fn set_ratios_to_optimal(rows: &mut [Row]) {
+    let optima: Vec<(f64, f64)> = rows
+        .iter()
+        .filter(|r| r.method == strategy::optimal::STRATEGY.name)
+        .filter_map(|r| Some((r.delta?, r.cond2_system?)))
+        .filter(|(_, c)| c.is_finite() && *c > 0.0)
+        .collect();
+    for r in rows.iter_mut() {
+        if registry::find(&r.method).is_none_or(|s| s.knob != Knob::Delta) {
+            continue;
+        }
+        let (Some(d), Some(c)) = (r.delta, r.cond2_system) else {
+            continue;
+        };
+        if let Some(&(_, best)) = optima.iter().find(|(od, _)| *od == d) {
+            r.cond_ratio_to_optimal = Some(c / best);
+        }
+    }
+}
