@@ -59,7 +59,9 @@
 //! estimates, or the dense routine's) equals the exact value; it is tested against
 //! outside references, and it is clamped into the proven bracket.
 
+use crate::conditioning::lanczos::dot;
 use crate::dd::{two_prod, two_sum, Dd};
+use crate::linalg::symmetric_matvec;
 use faer::sparse::linalg::cholesky::{SymbolicCholesky, SymbolicCholeskyRaw};
 use faer::sparse::SymbolicSparseColMatRef;
 
@@ -306,6 +308,43 @@ pub fn image_norm_upper(
         err2 += e * e;
     }
     up(up(sq.sqrt()) + up(err2.sqrt())) * (1.0 + gamma(2 * y.len() + 2))
+}
+
+/// An interval `[lo, hi]` that contains the exact Rayleigh quotient `ρ(y) = yᵀAy / yᵀy` of the
+/// symmetric A (`values` on `pattern`, both triangles stored), from its floating-point
+/// evaluation and the standard error bounds (Higham, *Accuracy and Stability*, §3.1–3.5; u = ε_mach/2, γ_k = ku/(1 − ku)):
+/// `z = fl(Ay)` has `|z − Ay| ≤ γ_k |A||y|` with k the most entries of a column, and
+/// `fl(yᵀz)` is within `γ_n |y|ᵀ|z|` of `yᵀz`, so `yᵀAy` is within
+/// `E = γ_n |y|ᵀ|z| + γ_k |y|ᵀ|A||y|` of the computed numerator; `yᵀy` within `γ_n` relative
+/// of its computed value. The bound is inflated by 2 and the divisions by 8u for the
+/// rounding of the bound itself. None unless the numerator is certainly positive.
+pub(crate) fn rayleigh_interval(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+    values: &[f64],
+    y: &[f64],
+) -> Option<(f64, f64)> {
+    let n = y.len();
+    let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+    let mut z = vec![0.0; n];
+    symmetric_matvec(pattern, values, y, &mut z);
+    let mut abs_form = 0.0; // |y|ᵀ|A||y|
+    let mut k = 0usize;
+    for (j, &yj) in y.iter().enumerate() {
+        k = k.max(cp[j + 1] - cp[j]);
+        for p in cp[j]..cp[j + 1] {
+            abs_form += (values[p] * yj).abs() * y[ri[p]].abs();
+        }
+    }
+    let num = dot(y, &z);
+    let den = dot(y, y);
+    let abs_num: f64 = y.iter().zip(&z).map(|(a, b)| (a * b).abs()).sum();
+    let u = 0.5 * f64::EPSILON;
+    let gamma = |m: usize| (m as f64 * u) / (1.0 - m as f64 * u);
+    let e = 2.0 * (gamma(n) * abs_num + gamma(k) * abs_form);
+    let g = 2.0 * gamma(n);
+    let lo = (num - e) / (den * (1.0 + g)) * (1.0 - 8.0 * u);
+    let hi = (num + e) / (den * (1.0 - g)) * (1.0 + 8.0 * u);
+    (lo > 0.0 && hi.is_finite() && den > 0.0).then_some((lo, hi))
 }
 
 #[cfg(test)]

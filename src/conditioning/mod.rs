@@ -35,6 +35,7 @@
 //! feature) as an independent cross-check.
 
 pub mod certify;
+pub mod lanczos;
 pub mod saddle;
 pub mod sparse;
 
