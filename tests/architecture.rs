@@ -263,3 +263,18 @@ fn every_binary_has_its_study() {
         );
     }
 }
+
+/// No file under `src/` is over 800 lines (a module that grows past it is split by concern).
+#[test]
+fn no_source_file_over_800_lines() {
+    let mut files = Vec::new();
+    rust_files(&Path::new(env!("CARGO_MANIFEST_DIR")).join("src"), &mut files);
+    let long: Vec<String> = files
+        .iter()
+        .filter_map(|f| {
+            let n = std::fs::read_to_string(f).unwrap().lines().count();
+            (n > 800).then(|| format!("{} ({n} lines)", f.display()))
+        })
+        .collect();
+    assert!(long.is_empty(), "{}", long.join("\n"));
+}

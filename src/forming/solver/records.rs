@@ -1,0 +1,177 @@
+//! What a forming run records: per-step telemetry ([`StepRecord`]), snapshots, contact
+//! candidates, the detail of a step and the run's result.
+
+use crate::forming::config::{ContactRule, FormingConfig};
+use crate::forming::tools::ToolId;
+use crate::strategy::Solution;
+use crate::system::Problem;
+use serde::{Deserialize, Serialize};
+
+fn nan() -> f64 {
+    f64::NAN
+}
+
+/// JSON writes non-finite numbers as `null`; read them back as NaN.
+fn null_as_nan<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
+/// Telemetry of one converged (or capped) step.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct StepRecord {
+    /// Step number (1-based).
+    pub step: usize,
+    /// Punch travel at the end of the step (in).
+    pub punch_travel: f64,
+    /// Punch force (ton-force), see module docs.
+    pub punch_force: f64,
+    /// Exact cond₂ of the system matrix `K + D E Dᵀ` of the step's last solve.
+    #[serde(deserialize_with = "null_as_nan")]
+    pub cond2: f64,
+    /// log10|det| of that matrix.
+    #[serde(deserialize_with = "null_as_nan")]
+    pub log10_det: f64,
+    /// Exact cond₂ of K alone: the step's material matrix with the rigid-mode drag, in the
+    /// same local axes and reduced numbering, without any contact term (no penalty, no
+    /// friction) — the paper's "system of equation without any contact conditions".
+    #[serde(default = "nan", deserialize_with = "null_as_nan")]
+    pub cond2_k: f64,
+    /// `log10|det(K + D E Dᵀ)| − log10|det K|` with K as in `cond2_k` (the paper's "ratio of
+    /// main determinants"; friction is part of the numerator).
+    #[serde(default = "nan", deserialize_with = "null_as_nan")]
+    pub log10_det_ratio: f64,
+    /// cond₂ of the diagonally equilibrated system matrix `S (K + D E Dᵀ) S`,
+    /// `S = diag(2^k_i) ≈ diag(A_ii^{-1/2})` (`Stiffness::equilibration`).
+    #[serde(default = "nan", deserialize_with = "null_as_nan")]
+    pub cond2_equilibrated: f64,
+    /// cond₂ of the equilibrated K alone.
+    #[serde(default = "nan", deserialize_with = "null_as_nan")]
+    pub cond2_k_equilibrated: f64,
+    /// Max penetration of the last solve, in length: `max_c p_c · Δt` (in) — the quantity δ
+    /// bounds.
+    pub max_penetration: f64,
+    /// Max geometric penetration of a contact node into its tool after the update (in).
+    pub geometric_penetration: f64,
+    /// Sheet volume after the update (in³).
+    pub volume: f64,
+    /// Radius of the blank rim (last node) after the update (in).
+    #[serde(default)]
+    pub rim_r: f64,
+    /// Picard iterations.
+    pub iterations: usize,
+    /// Matrix factorizations over all Picard iterations (strategy statistics).
+    pub factorizations: usize,
+    /// Picard converged within the cap.
+    pub converged: bool,
+    /// Final relative velocity change of the Picard test.
+    pub picard_change: f64,
+    /// Contact constraints (the contact set, columns of D) in the last solve.
+    pub contact_nodes: usize,
+    /// Contact candidates of the step (nodes close enough to a tool).
+    pub candidates: usize,
+    /// Constraints whose Eq. 28 penalty came out ≤ 0: clipped to 0 and released
+    /// (`paper-literal`), or floored at K_dd and corrected to δ (`paper-residual`).
+    pub clipped: usize,
+    /// Largest and smallest penalty ε_c among the active constraints (ton-force·s/in).
+    pub max_penalty: f64,
+    /// Smallest active penalty.
+    pub min_penalty: f64,
+    /// max μ* / min μ* over elements and layers (cut-off induced spread of K).
+    #[serde(deserialize_with = "null_as_nan")]
+    pub mu_ratio: f64,
+    /// Total force of the rigid-mode drag on the sheet (ton-force, z).
+    pub drag_force: f64,
+    /// cond₂ of every Picard iteration's system matrix (only if requested).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub iteration_cond2: Vec<f64>,
+}
+
+/// The sheet state at a given punch travel (for figures).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Snapshot {
+    /// Punch travel (in).
+    pub travel: f64,
+    /// Node coordinates r (in).
+    pub r: Vec<f64>,
+    /// Node coordinates z (in).
+    pub z: Vec<f64>,
+    /// Initial mid radius of each element (in).
+    pub r0: Vec<f64>,
+    /// Thickness strain ln(t/t₀) per element.
+    pub thickness_strain: Vec<f64>,
+    /// Mid-surface equivalent strain per element.
+    pub eps_bar: Vec<f64>,
+    /// Punch tip z (in).
+    pub punch_tip_z: f64,
+}
+
+/// A node close to a tool: a possible contact constraint for the step.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct ContactCandidate {
+    /// Node index.
+    pub node: usize,
+    /// Tool.
+    pub tool: ToolId,
+    /// Gap at the start of the step (in).
+    pub gap: f64,
+    /// Outward tool normal.
+    pub normal: [f64; 2],
+    /// Tangent τ.
+    pub tangent: [f64; 2],
+    /// Tool velocity.
+    pub tool_velocity: [f64; 2],
+    /// Global direction e of the constrained local DOF (the normal of the node's nearest
+    /// tool, or e_z at the axis node); τ is perpendicular to e.
+    pub dof_direction: [f64; 2],
+    /// `n·e = ±1` (−1 only at the axis node under the punch): the constraint is
+    /// `v·e = sign · û` when active.
+    pub sign: f64,
+    /// Index of the constrained DOF in the reduced system.
+    pub dof: usize,
+    /// Holder load on the node (ton-force, ≥ 0).
+    pub holder: f64,
+}
+
+/// Everything about the last solve of the last step (for checks and tests).
+#[derive(Clone, Debug)]
+pub struct StepDetail {
+    /// The problem of the last Picard iteration.
+    pub problem: Problem,
+    /// Its solution.
+    pub solution: Solution,
+    /// Contact candidates of the step.
+    pub candidates: Vec<ContactCandidate>,
+    /// Candidate index of each constraint of `problem` (the columns of D).
+    pub constraint_candidate: Vec<usize>,
+    /// Friction coefficient c per candidate (ton-force·s/in).
+    pub friction_c: Vec<f64>,
+    /// μ* per element and layer used in the last solve.
+    pub mu: Vec<Vec<f64>>,
+    /// Global velocities (3 per node) of the last solve.
+    pub v: Vec<f64>,
+    /// Node coordinates at the start of the step.
+    pub x: Vec<[f64; 2]>,
+    /// Element thicknesses at the start of the step.
+    pub t: Vec<f64>,
+    /// Global external loads (3 per node; holder loads).
+    pub q: Vec<f64>,
+    /// Rigid-mode drag coefficient on the v_z DOFs.
+    pub drag: f64,
+    /// Punch force reported for the step.
+    pub punch_force: f64,
+}
+
+/// A complete run.
+#[derive(Clone, Debug, Serialize)]
+pub struct RunResult {
+    /// Configuration.
+    pub config: FormingConfig,
+    /// Contact rule.
+    pub rule: ContactRule,
+    /// Per-step telemetry.
+    pub steps: Vec<StepRecord>,
+    /// Sheet snapshots.
+    pub snapshots: Vec<Snapshot>,
+    /// Wall time of the run (s).
+    pub seconds: f64,
+}

@@ -1,0 +1,206 @@
+//! Writing scene files: the JSON of [`write_scene`] (K inline or in a sibling Matrix Market
+//! file), numbers in shortest round-trip form, written atomically.
+
+use super::matrix_market;
+use crate::error::{Error, Result};
+use crate::provenance::write_atomic;
+use crate::system::{ConstraintKind, Problem};
+use std::io::Write;
+use std::path::Path;
+
+/// Formats an f64 so that Rust's `str::parse::<f64>` and `serde_json` (with `float_roundtrip`) give
+/// back the identical bits: integers below 10¹⁵ as integers, everything else in shortest
+/// round-trip form (`{:?}`, e.g. `0.1`, `-0.0`, `1e-300`). The value must be finite.
+pub(super) fn fmt_f64(v: f64) -> String {
+    if v.fract() == 0.0 && v.abs() < 1e15 && !(v == 0.0 && v.is_sign_negative()) {
+        format!("{}", v as i64)
+    } else {
+        format!("{v:?}")
+    }
+}
+
+/// Checks what [`Problem::new`] checks, for a problem whose public fields may have been
+/// changed since: anything written must be readable again.
+fn check_writable(p: &Problem) -> std::result::Result<(), String> {
+    let n = p.k.n();
+    if n == 0 {
+        return Err("the stiffness matrix is empty".into());
+    }
+    if p.q.len() != n {
+        return Err(format!(
+            "load vector has {} entries but K is {n}×{n}",
+            p.q.len()
+        ));
+    }
+    if !p.k.all_finite() {
+        return Err("the stiffness matrix contains NaN or Inf (JSON cannot hold them)".into());
+    }
+    if let Some(i) = p.q.iter().position(|v| !v.is_finite()) {
+        return Err(format!("load entry {i} is not finite"));
+    }
+    let mut seen = vec![false; n];
+    for (c, con) in p.constraints.iter().enumerate() {
+        if con.dof >= n {
+            return Err(format!(
+                "constraint {c}: DOF {} is out of range (N = {n})",
+                con.dof
+            ));
+        }
+        if !con.limit.is_finite() {
+            return Err(format!("constraint {c}: limit is not finite"));
+        }
+        if std::mem::replace(&mut seen[con.dof], true) {
+            return Err(format!(
+                "constraint {c}: DOF {} is constrained twice",
+                con.dof
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn write_number_list(w: &mut impl Write, xs: &[f64]) -> std::io::Result<()> {
+    w.write_all(b"[")?;
+    for (i, &x) in xs.iter().enumerate() {
+        if i > 0 {
+            w.write_all(b", ")?;
+        }
+        w.write_all(fmt_f64(x).as_bytes())?;
+    }
+    w.write_all(b"]")
+}
+
+/// How [`write_scene_as`] stores the stiffness.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Storage {
+    /// Matrix Market (sibling `.mtx`) when K is sparse or `N > mtx_threshold`, else inline
+    /// dense rows.
+    Auto {
+        /// Largest N of a dense K written inline.
+        mtx_threshold: usize,
+    },
+    /// Inline dense rows whatever K's storage (every entry written, zeros included).
+    Dense,
+}
+
+/// Writes a scene file: [`write_scene_as`] with [`Storage::Auto`].
+pub fn write_scene(
+    path: &Path,
+    scene_name: &str,
+    problem: &Problem,
+    meta: Option<&serde_json::Value>,
+    mtx_threshold: usize,
+) -> Result<()> {
+    write_scene_as(
+        path,
+        scene_name,
+        problem,
+        meta,
+        Storage::Auto { mtx_threshold },
+    )
+}
+
+/// Writes a scene file.
+///
+/// With [`Storage::Auto`] the stiffness goes to a sibling Matrix Market file `<stem>.mtx`
+/// (where `path` is `<stem>.scene.json`, or `<stem>.json`) when it is sparse or
+/// `N > mtx_threshold`, and is referenced as `{"matrix_market": "<stem>.mtx"}`; otherwise
+/// (and always with [`Storage::Dense`]) it is written inline as dense rows. `meta`, if given, is written as the `"meta"` object. Numbers are written in
+/// shortest round-trip form: [`read_scene`](super::read_scene) gives back K, q and the constraints bit for bit
+/// (a dense K written to Matrix Market reads back as sparse storage with identical values;
+/// its exact `+0.0` entries are not stored). Both files are written with
+/// [`write_atomic`] (the `.mtx` first), so an error
+/// never leaves a half-written file.
+pub fn write_scene_as(
+    path: &Path,
+    scene_name: &str,
+    problem: &Problem,
+    meta: Option<&serde_json::Value>,
+    storage: Storage,
+) -> Result<()> {
+    let origin = path.display().to_string();
+    check_writable(problem).map_err(|m| Error::io(&origin, format!("cannot write scene: {m}")))?;
+    let file_name = path
+        .file_name()
+        .and_then(|s| s.to_str())
+        .ok_or_else(|| Error::io(&origin, "scene path must end in a UTF-8 file name"))?;
+    let stem = file_name
+        .strip_suffix(".scene.json")
+        .or_else(|| file_name.strip_suffix(".json"))
+        .unwrap_or(file_name);
+    let mtx_name = format!("{stem}.mtx");
+    let use_mtx = match storage {
+        Storage::Auto { mtx_threshold } => problem.k.is_sparse() || problem.n() > mtx_threshold,
+        Storage::Dense => false,
+    };
+
+    let to_io = |e: serde_json::Error| std::io::Error::other(e.to_string());
+    let body = |w: &mut Vec<u8>| -> std::io::Result<()> {
+        writeln!(w, "{{")?;
+        writeln!(
+            w,
+            "  \"name\": {},",
+            serde_json::to_string(scene_name).map_err(to_io)?
+        )?;
+        if use_mtx {
+            writeln!(
+                w,
+                "  \"stiffness\": {{\"matrix_market\": {}}},",
+                serde_json::to_string(&mtx_name).map_err(to_io)?
+            )?;
+        } else {
+            writeln!(w, "  \"stiffness\": {{\"dense\": [")?;
+            let k = &problem.k;
+            let n = k.n();
+            let mut row = vec![0.0; n];
+            for i in 0..n {
+                for (j, r) in row.iter_mut().enumerate() {
+                    *r = k.get(i, j);
+                }
+                w.write_all(b"    ")?;
+                write_number_list(w, &row)?;
+                writeln!(w, "{}", if i + 1 < n { "," } else { "" })?;
+            }
+            writeln!(w, "  ]}},")?;
+        }
+        w.write_all(b"  \"load\": ")?;
+        write_number_list(w, &problem.q)?;
+        writeln!(w, ",")?;
+        if problem.constraints.is_empty() {
+            write!(w, "  \"constraints\": []")?;
+        } else {
+            writeln!(w, "  \"constraints\": [")?;
+            let m = problem.constraints.len();
+            for (c, con) in problem.constraints.iter().enumerate() {
+                let kind = match con.kind {
+                    ConstraintKind::Bilateral => "bilateral",
+                    ConstraintKind::Upper => "upper",
+                    ConstraintKind::Lower => "lower",
+                };
+                writeln!(
+                    w,
+                    "    {{\"dof\": {}, \"limit\": {}, \"kind\": \"{kind}\"}}{}",
+                    con.dof,
+                    fmt_f64(con.limit),
+                    if c + 1 < m { "," } else { "" }
+                )?;
+            }
+            write!(w, "  ]")?;
+        }
+        if let Some(meta) = meta {
+            let text = serde_json::to_string_pretty(meta).map_err(to_io)?;
+            write!(w, ",\n  \"meta\": {}", text.replace('\n', "\n  "))?;
+        }
+        writeln!(w, "\n}}")
+    };
+
+    // Both files are formatted in memory first, so nothing is written unless both are
+    // complete; the `.mtx` is moved into place before the scene that names it.
+    let mut text = Vec::new();
+    body(&mut text).map_err(|e| Error::io(&origin, format!("cannot write: {e}")))?;
+    if use_mtx {
+        let mtx_path = path.with_file_name(&mtx_name);
+        write_atomic(&mtx_path, &matrix_market::matrix_market_bytes(&problem.k))?;
+    }
+    write_atomic(path, &text)
+}
