@@ -363,7 +363,7 @@ impl ContactRule {
             ContactRule::Classical { .. } => "classical",
             ContactRule::PaperLiteral { .. } => "paper-literal",
             ContactRule::PaperResidual { .. } => "paper-residual",
-            ContactRule::Condensed { .. } => "condensed",
+            ContactRule::Condensed { .. } => crate::strategy::condensed::STRATEGY.name,
         }
     }
 

@@ -15,8 +15,8 @@ pub(super) const FONT: &str = "sans-serif";
 
 /// Okabe–Ito colour-blind-friendly palette, in the order used for `color: Some(i)` (taken
 /// modulo its length) and for default colours (series order): blue, vermillion, bluish green,
-/// orange, reddish purple, sky blue, black, yellow; then grey and brown for strategies beyond
-/// the eight built-in ones (a registered rule declares one of them).
+/// orange, reddish purple, sky blue, black, yellow; then grey (for a registered rule) and
+/// brown (`optimal`'s: yellow is too faint for a line on white).
 pub const PALETTE: [(u8, u8, u8); 10] = [
     (0, 114, 178),
     (213, 94, 0),

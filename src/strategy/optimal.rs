@@ -94,7 +94,7 @@ pub static STRATEGY: Strategy = Strategy {
     label: "optimal (min cond₂ at δ)",
     rule_label: "optimal",
     knob: Knob::Delta,
-    colour: 7,
+    colour: 9,
     needs_k_inverse: true,
     targets_delta: true,
     solve: run,

@@ -118,10 +118,8 @@ impl ExperimentConfig {
             ));
         }
         if self.condensed {
-            v.push((
-                "condensed".to_string(),
-                ContactRule::Condensed { delta: self.delta },
-            ));
+            let rule = ContactRule::Condensed { delta: self.delta };
+            v.push((rule.name().to_string(), rule));
         }
         v
     }

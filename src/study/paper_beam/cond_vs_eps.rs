@@ -6,7 +6,7 @@ use super::solves::solve_with_metrics;
 use super::{DELTAS, EPS_HI, EPS_LO, N_EPS};
 use crate::conditioning;
 use crate::error::{Error, Result};
-use crate::strategy::{self, Method};
+use crate::strategy::{self, condensed, optimal, paper, spring, Knobs, Method, Strategy};
 use crate::system::Problem;
 use serde::{Deserialize, Serialize};
 
@@ -89,9 +89,9 @@ pub fn cond_rows(p: &Problem) -> Result<Vec<CondRow>> {
             log10_det_ratio: s.log10_det_ratio,
         });
     }
-    for name in ["paper", "condensed", "spring"] {
+    for s in [&paper::STRATEGY, &condensed::STRATEGY, &spring::STRATEGY] {
         for delta in DELTAS {
-            let row = delta_row(p, name, delta)?;
+            let row = delta_row(p, s, delta)?;
             debug_assert_eq!(m, 3);
             rows.push(row);
         }
@@ -99,14 +99,14 @@ pub fn cond_rows(p: &Problem) -> Result<Vec<CondRow>> {
     Ok(rows)
 }
 
-/// One δ-driven row: strategy `name` (`paper`, `condensed`, `spring` or `optimal`) at δ.
-fn delta_row(p: &Problem, name: &str, delta: f64) -> Result<CondRow> {
-    let method = match name {
-        "paper" => Method::paper(delta),
-        "condensed" => Method::condensed(delta),
-        "spring" => Method::spring(delta),
-        _ => Method::optimal(delta),
+/// One δ-driven row: strategy `s` (`paper`, `condensed`, `spring` or `optimal`) at δ.
+fn delta_row(p: &Problem, s: &'static Strategy, delta: f64) -> Result<CondRow> {
+    let name = s.name;
+    let knobs = Knobs {
+        delta: Some(delta),
+        ..Knobs::NONE
     };
+    let method = Method::new(s, knobs)?;
     let s = solve_with_metrics(p, method)?;
     let e = &s.sol.penalties;
     Ok(CondRow {
@@ -135,10 +135,15 @@ pub const DELTA_HI: f64 = 1.0;
 pub fn cond_delta_rows(p: &Problem) -> Result<Vec<CondRow>> {
     let (a, b) = (DELTA_LO.log10(), DELTA_HI.log10());
     let mut rows = Vec::new();
-    for name in ["paper", "condensed", "spring", "optimal"] {
+    for s in [
+        &paper::STRATEGY,
+        &condensed::STRATEGY,
+        &spring::STRATEGY,
+        &optimal::STRATEGY,
+    ] {
         for i in 0..N_DELTA {
             let delta = 10f64.powf(a + (b - a) * i as f64 / (N_DELTA - 1) as f64);
-            rows.push(delta_row(p, name, delta)?);
+            rows.push(delta_row(p, s, delta)?);
         }
     }
     Ok(rows)

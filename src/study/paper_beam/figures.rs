@@ -7,31 +7,31 @@ use super::deflection::DeflectionRow;
 use super::record::ConstraintInfo;
 use super::Study;
 use crate::error::Result;
-use crate::plot::{render, render_panels, Figure, Mark, Marker, Series};
+use crate::plot::{method_color, render, render_panels, Figure, Mark, Marker, Series};
+use crate::strategy::{condensed, lagrange, optimal, paper, spring};
 use crate::study::text::fmt_e;
 use std::path::{Path, PathBuf};
 
-/// Palette indices per solution.
+/// Palette index per solution: the strategy's colour (one per method in every figure); the
+/// solution without contact in black.
 fn color_of(solution: &str) -> usize {
     match solution {
-        "free" => 0,
-        "paper" => 1,
-        "condensed" => 2,
-        "lagrange" => 6,
-        "spring" => 3,
-        "optimal" => 6,
-        "uniform" => 0,
-        _ => 4,
+        "free" => crate::plot::BLACK_INDEX,
+        s => method_color(s),
     }
 }
 
 fn label_of(solution: &str) -> &'static str {
-    match solution {
-        "free" => "without contact (Eq. 33)",
-        "paper" => "Eq. 28 penalties (paper), δ = 0.1",
-        "condensed" => "condensed (exact δ-target), δ = 0.1",
-        "lagrange" => "Lagrange (exact contact)",
-        _ => "",
+    if solution == "free" {
+        "without contact (Eq. 33)"
+    } else if solution == paper::STRATEGY.name {
+        "Eq. 28 penalties (paper), δ = 0.1"
+    } else if solution == condensed::STRATEGY.name {
+        "condensed (exact δ-target), δ = 0.1"
+    } else if solution == lagrange::STRATEGY.name {
+        "Lagrange (exact contact)"
+    } else {
+        ""
     }
 }
 
@@ -124,13 +124,14 @@ fn fig4_curves(defl: &[DeflectionRow]) -> [Figure; 3] {
         "x [mm]",
         "w − w_Lagrange [mm]",
     );
-    let lag_c = curve(defl, "lagrange", "curve");
-    let lag_n = curve(defl, "lagrange", "node");
-    for s in ["paper", "condensed", "lagrange"] {
+    let lagrange = lagrange::STRATEGY.name;
+    let lag_c = curve(defl, lagrange, "curve");
+    let lag_n = curve(defl, lagrange, "node");
+    for s in [paper::STRATEGY.name, condensed::STRATEGY.name, lagrange] {
         let c = curve(defl, s, "curve");
         let nd = curve(defl, s, "node");
         let col = color_of(s);
-        let dash = if s == "lagrange" {
+        let dash = if s == lagrange {
             Mark::Dashed
         } else {
             Mark::Line
@@ -141,7 +142,7 @@ fn fig4_curves(defl: &[DeflectionRow]) -> [Figure; 3] {
         fb = fb
             .with_series(series(label_of(s), &c, |r| r.axial, dash).color(col))
             .with_series(series("", &nd, |r| r.axial, Mark::Points).color(col));
-        if s != "lagrange" && c.len() == lag_c.len() {
+        if s != lagrange && c.len() == lag_c.len() {
             let diff = |a: &[DeflectionRow], b: &[DeflectionRow]| -> Vec<f64> {
                 a.iter().zip(b).map(|(a, b)| a.w - b.w).collect()
             };
@@ -258,9 +259,9 @@ fn cond_vs_eps(cond: &[CondRow], delta: f64) -> [Figure; 2] {
         .collect::<Vec<_>>()
         .join(", ");
     for (s, name) in [
-        ("paper", "Eq. 28 (paper)"),
-        ("condensed", "condensed (exact δ)"),
-        ("spring", "spring Eq. 17"),
+        (paper::STRATEGY.name, "Eq. 28 (paper)"),
+        (condensed::STRATEGY.name, "condensed (exact δ)"),
+        (spring::STRATEGY.name, "spring Eq. 17"),
     ] {
         let pts: Vec<&CondRow> = cond.iter().filter(|r| r.series == s).collect();
         // Constraints left unpenalized at every δ (negative ε clipped to 0).
@@ -287,7 +288,7 @@ fn cond_vs_eps(cond: &[CondRow], delta: f64) -> [Figure; 2] {
         f1 = f1.with_series(line(lab.clone(), |r| r.eps));
         f2 = f2.with_series(line(lab, |r| r.max_penetration));
         for r in pts.iter().filter(|r| r.delta == Some(delta)) {
-            let lab = if s == "paper" {
+            let lab = if s == paper::STRATEGY.name {
                 format!("δ = {delta} (the paper's example)")
             } else {
                 String::new()
@@ -314,10 +315,19 @@ fn cond_vs_delta(rows: &[CondRow], lower: Option<f64>, delta: f64) -> Figure {
     )
     .log_log();
     for (s, name) in [
-        ("paper", "Eq. 28 (paper)"),
-        ("spring", "spring Eq. 17 (penetration may exceed δ)"),
-        ("condensed", "condensed (every penalized gap at δ)"),
-        ("optimal", "optimal (min cond₂ s.t. penetration ≤ δ)"),
+        (paper::STRATEGY.name, "Eq. 28 (paper)"),
+        (
+            spring::STRATEGY.name,
+            "spring Eq. 17 (penetration may exceed δ)",
+        ),
+        (
+            condensed::STRATEGY.name,
+            "condensed (every penalized gap at δ)",
+        ),
+        (
+            optimal::STRATEGY.name,
+            "optimal (min cond₂ s.t. penetration ≤ δ)",
+        ),
     ] {
         let pts: Vec<&CondRow> = rows.iter().filter(|r| r.series == s).collect();
         f = f.with_series(

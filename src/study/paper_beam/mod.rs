@@ -39,6 +39,7 @@ pub use record::{load, save, Optimum, Record};
 
 use crate::error::Result;
 use crate::model::beam::paper;
+use crate::strategy;
 use record::{BeamInfo, ConstraintInfo};
 
 /// δ of the paper's example (mm).
@@ -139,9 +140,9 @@ pub fn run() -> Result<Study> {
     };
     let mut deflection = deflection::deflection_rows(&frame, "free", &s.u0);
     for (name, u) in [
-        ("paper", &s.pap.sol.u),
-        ("condensed", &s.con.sol.u),
-        ("lagrange", &s.lag.sol.u),
+        (strategy::paper::STRATEGY.name, &s.pap.sol.u),
+        (strategy::condensed::STRATEGY.name, &s.con.sol.u),
+        (strategy::lagrange::STRATEGY.name, &s.lag.sol.u),
     ] {
         deflection.extend(deflection::deflection_rows(&frame, name, u));
     }

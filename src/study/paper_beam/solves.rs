@@ -85,9 +85,9 @@ fn knob_text(m: &Method) -> String {
     }
 }
 
-fn strategy_line(name: &str, m: &Method, s: &Solved, u_ref: &[f64]) -> StrategyLine {
+fn strategy_line(m: &Method, s: &Solved, u_ref: &[f64]) -> StrategyLine {
     StrategyLine {
-        name: name.into(),
+        name: m.name().into(),
         knob: knob_text(m),
         penalties: s.sol.penalties.clone(),
         gaps: s.sol.gaps.clone(),
@@ -107,7 +107,7 @@ fn strategy_line(name: &str, m: &Method, s: &Solved, u_ref: &[f64]) -> StrategyL
 
 /// The strategies other than `paper` and `condensed` at δ: two constant ε, scaled, spring,
 /// lagrange and augmented (plain and adaptive) with ε = max_c K[d_c, d_c].
-fn other_methods(p: &Problem) -> Vec<(&'static str, Method)> {
+fn other_methods(p: &Problem) -> Vec<Method> {
     let max_diag = p
         .constraints
         .iter()
@@ -121,13 +121,13 @@ fn other_methods(p: &Problem) -> Vec<(&'static str, Method)> {
     let aug_tol = 1e-9 * max_limit;
     let augmented = |adaptive| Method::augmented(max_diag, aug_tol, adaptive);
     vec![
-        ("constant", Method::constant(1e4)),
-        ("constant", Method::constant(1e8)),
-        ("scaled", Method::scaled(100.0)),
-        ("spring", Method::spring(DELTA)),
-        ("lagrange", Method::lagrange()),
-        ("augmented", augmented(false)),
-        ("augmented", augmented(true)),
+        Method::constant(1e4),
+        Method::constant(1e8),
+        Method::scaled(100.0),
+        Method::spring(DELTA),
+        Method::lagrange(),
+        augmented(false),
+        augmented(true),
     ]
 }
 
@@ -142,29 +142,24 @@ pub fn solve_all(p: &Problem) -> Result<Solves> {
     let pap = solve_with_metrics(p, Method::paper(DELTA))?;
     let con = solve_with_metrics(p, Method::condensed(DELTA))?;
     let mut strategies = vec![
-        strategy_line("paper", &Method::paper(DELTA), &pap, u_ref),
-        strategy_line("condensed", &Method::condensed(DELTA), &con, u_ref),
+        strategy_line(&Method::paper(DELTA), &pap, u_ref),
+        strategy_line(&Method::condensed(DELTA), &con, u_ref),
     ];
     let opt = solve_with_metrics(p, Method::optimal(DELTA))?;
-    strategies.push(strategy_line(
-        "optimal",
-        &Method::optimal(DELTA),
-        &opt,
-        u_ref,
-    ));
-    for (name, m) in &other_methods(p) {
+    strategies.push(strategy_line(&Method::optimal(DELTA), &opt, u_ref));
+    for m in &other_methods(p) {
         let s = if *m == Method::lagrange() {
             lag.clone()
         } else {
             solve_with_metrics(p, *m)?
         };
-        strategies.push(strategy_line(name, m, &s, u_ref));
+        strategies.push(strategy_line(m, &s, u_ref));
     }
     // Equal-accuracy comparisons: a uniform ε tuned to max penetration δ, and the condensed /
     // uniform penalties at the max penetration Eq. 28 actually reaches.
     let eps_tuned = uniform_eps_for(p, DELTA)?;
     let tuned = solve_with_metrics(p, Method::constant(eps_tuned))?;
-    let mut line = strategy_line("constant", &Method::constant(eps_tuned), &tuned, u_ref);
+    let mut line = strategy_line(&Method::constant(eps_tuned), &tuned, u_ref);
     line.knob = format!("ε = {} (tuned: max pen. = δ)", fmt_g(eps_tuned));
     strategies.insert(2, line);
     let pen_pap = pap.sol.max_penetration;

@@ -3,6 +3,7 @@
 
 use super::printed::format_like;
 use super::record::{Optimum, Record, Row, StrategyLine};
+use crate::strategy::{augmented, lagrange};
 use crate::study::text::{fmt_e, fmt_g, table, wrap};
 
 fn agree_text(a: Option<bool>) -> String {
@@ -154,10 +155,12 @@ fn strategies_table(rec: &Record) -> String {
                 .map(|e| fmt_g(*e))
                 .collect::<Vec<_>>()
                 .join(" ");
-            let eps = match s.name.as_str() {
-                "lagrange" => "— (multipliers)".to_string(),
-                "augmented" => format!("{eps} (final)"),
-                _ => eps,
+            let eps = if s.name == lagrange::STRATEGY.name {
+                "— (multipliers)".to_string()
+            } else if s.name == augmented::STRATEGY.name {
+                format!("{eps} (final)")
+            } else {
+                eps
             };
             vec![
                 s.name.clone(),
