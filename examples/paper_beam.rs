@@ -6,7 +6,7 @@
 //! cargo run --release --example paper_beam
 //! ```
 //!
-//! `tests/example_paper_beam.rs` runs [`run`] and checks it against the paper's printed numbers.
+//! `tests/verification/example_paper_beam.rs` runs [`run`] and checks it against the paper's printed numbers.
 
 use penalty_lab::conditioning::cond2;
 use penalty_lab::metrics::system_matrix;

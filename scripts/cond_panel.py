@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Builds the fixed cond2 panel of tests/data/cond_reference/ (read by tests/cond_reference.rs).
+"""Builds the fixed cond2 panel of tests/data/cond_reference/ (read by tests/verification/cond_reference.rs).
 
 Each case is a stored matrix -- K of a scene, K + D E D^T for the penalties `solve --json`
 prints, or the saddle point [K D; D^T 0] of lagrange's active DOFs -- written as Matrix

@@ -6,7 +6,7 @@
 //! Why hand-written: faer ships a double-double type (`faer::fx128`, the `qd` crate), but
 //! faer 0.24.4's LU on it panics inside its SIMD matrix product on the stress study's 28- and
 //! 40-unknown systems. Its arithmetic serves as the independent check instead:
-//! `tests/dd_vs_faer_fx128.rs` solves the same exactly formed systems in `fx128` and agrees
+//! `tests/verification/dd_vs_faer_fx128.rs` solves the same exactly formed systems in `fx128` and agrees
 //! with `study::stress::dd` to f64 rounding where a plain f64 solve misses by orders of magnitude.
 //!
 //! Error bounds (Joldes, Muller & Popescu, "Tight and rigorous error bounds for basic building

@@ -19,8 +19,8 @@
 //! do better on graded matrices such as `K + D E Dᵀ` with a large ε: their λ_min comes from
 //! Cholesky solves, accurate to about ε_mach·cond₂ of the diagonally equilibrated matrix
 //! (Demmel & Veselić 1992). Tested against outside references: python-flint / mpmath values
-//! of stored matrices (`tests/cond_reference.rs`), double-double eigenvalues on random SPD
-//! matrices (`tests/cond_properties.rs`), and LAPACK (`tests/cross_check.rs`, feature `lapack`).
+//! of stored matrices (`tests/verification/cond_reference.rs`), double-double eigenvalues on random SPD
+//! matrices (`tests/properties/cond_properties.rs`), and LAPACK (`tests/cross_check.rs`, feature `lapack`).
 //!
 //! **Bounds.** Every report carries `cond2_lo ≤ cond₂ ≤ cond2_hi`. On the SPD routes they are
 //! proven for the stored matrix including the rounding of the Cholesky factorizations they
@@ -584,7 +584,7 @@ pub mod reference {
 
     /// `(λ_max, λ_min)` of a symmetric `a` by bisection with inertia counts in double-double
     /// arithmetic ([`crate::dd`], ≈ 32 digits), to ≈ 1e-25 relative: the high-precision
-    /// reference of `tests/cond_properties.rs` and of the `cond_accuracy` study, independent
+    /// reference of `tests/properties/cond_properties.rs` and of the `cond_accuracy` study, independent
     /// of every cond₂ route. Sylvester's law: the number of eigenvalues below σ is the number
     /// of negative pivots of LDLᵀ of `A − σI` (no pivoting; fill stays in the band of `a`'s
     /// natural ordering, so one count costs n·b² double-double operations for half-bandwidth

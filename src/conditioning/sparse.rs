@@ -365,21 +365,14 @@ pub fn extreme_eigenvalues(
         starts,
         reuse.tol,
     )?;
-    let Ends {
-        max_lo,
-        max_hi,
-        min_lo,
-        min_hi,
-        refined_max,
-        refined_min,
-        steps,
-    } = certify_ends(&mut fam, &est, margin);
+    let ends = certify_ends(&mut fam, &est, margin);
+    let (max_lo, max_hi, min_lo, min_hi) = (ends.max_lo, ends.max_hi, ends.min_lo, ends.min_hi);
     let certificate = Certificate {
         lambda_max_lo: max_lo,
         lambda_max_hi: max_hi,
         lambda_min_lo: min_lo,
         lambda_min_hi: min_hi,
-        lanczos_steps: est.steps + steps,
+        lanczos_steps: est.steps + ends.steps,
         factorizations: fam.factorizations,
     };
     if !(max_lo > 0.0 && min_hi.is_finite() && min_hi > 0.0) {
@@ -389,11 +382,11 @@ pub fn extreme_eigenvalues(
         )));
     }
     Ok(SparseSpectrum {
-        lambda_max: refined_max.unwrap_or(est.lmax).clamp(max_lo, max_hi),
+        lambda_max: ends.refined_max.unwrap_or(est.lmax).clamp(max_lo, max_hi),
         // The inverse-Rayleigh value yᵀy / (2x̂ᵀy − x̂ᵀAx̂) where there is one: its error is
         // second order in the solve error and in the Ritz vector's (certify, Lemma 6), where
         // 1/θ of the Lanczos run carries the first-order ε_mach·cond₂ of its solves.
-        lambda_min: refined_min.unwrap_or(est.lmin).clamp(min_lo, min_hi),
+        lambda_min: ends.refined_min.unwrap_or(est.lmin).clamp(min_lo, min_hi),
         certificate,
         log10_det,
         ritz: est

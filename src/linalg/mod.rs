@@ -11,7 +11,7 @@
 //! LU. One right-hand side of a simplicial factor is solved
 //! by the same sweeps as faer's solve without its multi-RHS bookkeeping
 //! ([`SparseLlt::solve_vec_in_place`]). Both give faer's results bit for bit
-//! (`tests/kernels.rs`).
+//! (`tests/verification/kernels.rs`).
 //!
 //! A factor whose smallest pivot is at the rounding level of the largest
 //! (`pivot ≤ ε_mach · max pivot`) is reported as [`Error::Singular`]: K is singular to working

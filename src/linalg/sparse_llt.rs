@@ -239,7 +239,7 @@ impl SparseLlt {
     /// Solves `A x = b` in place (`x` holds b on entry).
     ///
     /// A simplicial factor is solved here by the same two column sweeps faer runs (same
-    /// operations in the same order, so the same bits; `tests/kernels.rs`): faer's solve is
+    /// operations in the same order, so the same bits; `tests/verification/kernels.rs`): faer's solve is
     /// written for any number of right-hand sides through strided matrix views and a
     /// scratch stack, which on the small factors of a sweep costs up to a quarter of the
     /// solve (`cargo bench --bench cond -- one_vector_solve`; docs/performance.md).
@@ -471,7 +471,7 @@ fn reach_lists(
 /// Cholesky (`factorize_simplicial_numeric_llt`), operation for operation — row k of L by a
 /// sparse triangular solve over the precomputed row structure (`PermutedUpper::reach`),
 /// `L_kj = x_j · (1/L_jj)`, `x_i −= L_ij L_kj` for the column's rows computed so far,
-/// `L_kk = √(a_kk − Σ L_kj²)` — so the same factor bit for bit (`tests/kernels.rs`). What it
+/// `L_kk = √(a_kk − Σ L_kj²)` — so the same factor bit for bit (`tests/verification/kernels.rs`). What it
 /// saves per factorization is faer's `ereach` tree walk of every row, one reciprocal per
 /// entry of L (taken once per column here) and the scratch set-up: 1.6–2× faster than faer's
 /// `factorize_numeric_llt` with the same analysis on the sweep's matrices (`cargo bench

@@ -90,7 +90,7 @@ fn c_eq30_layout(ch: &Checks) -> Note {
              frame element (src/model/beam.rs) has k_35 = −6EJ/l² = {}, and the assembled \
              Eq. 31 indeed has K[3,5] = {}. All 81 entries of Eq. 31 are reproduced from E, \
              A, J and l with the standard element (max |difference| = {:.1e}; also \
-             tests/paper_beam.rs). Notation clash: the text calls the beam length l = 30 mm, \
+             tests/verification/paper_beam.rs). Notation clash: the text calls the beam length l = 30 mm, \
              but Eq. 30 needs the element length l = 10 mm (EA/l = {} with l = 10, {} with \
              l = 30).",
             fmt_g(ch.k35_elem),

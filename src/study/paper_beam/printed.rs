@@ -1,6 +1,6 @@
 //! The numbers the paper prints for the beam (Eq. 31–37), and the `condensed` numbers of
 //! methods.md, exactly as printed — the one copy, used by the study and by
-//! `tests/paper_beam.rs`. Agreement means `|ours − printed| ≤` half a unit of the last printed
+//! `tests/verification/paper_beam.rs`. Agreement means `|ours − printed| ≤` half a unit of the last printed
 //! digit ([`half_unit`]).
 
 /// Eq. 31: the upper triangle of K as printed, `(row, column, value)` with 0-based indices.

@@ -8,7 +8,7 @@
 //! tolerance on `‖∇J(u)‖∞` is the backward-error bound of a stable solve,
 //! `c·N·ε_mach·(‖H‖∞‖u‖∞ + ‖b‖∞)` (Higham §7.1) — no condition number, no bare constant.
 
-mod common;
+use crate::common;
 
 use common::dense::{dense, inf};
 use nalgebra::DVector;

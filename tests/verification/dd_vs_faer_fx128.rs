@@ -1,4 +1,4 @@
-//! Independent check of the stress study's double-double reference (`stability::dd`, a
+//! Independent check of the stress study's double-double reference (`study::stress::dd`, a
 //! hand-written Dekker/QD arithmetic and LU) against faer's own extended-precision type
 //! `faer::fx128` (the `qd` crate's double-double, used here with a written-out elimination).
 //!

@@ -11,7 +11,7 @@
 //! ≲ c·n·ε_mach (Higham, *Accuracy and Stability of Numerical Algorithms*, §7.1 and §9–10); see
 //! [`rounding_tol`] and [`residual_tol`].
 
-mod common;
+use crate::common;
 
 use common::dense::{dense, inf};
 use nalgebra::{DMatrix, DVector};

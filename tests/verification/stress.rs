@@ -6,7 +6,7 @@
 //! classical forward-error bound cond₂·ε_mach, the O(1/ε) convergence of the penalty
 //! solution, power-of-two scaling being exact), never from our own output.
 
-mod common;
+use crate::common;
 
 use num_rational::BigRational;
 use num_traits::{ToPrimitive, Zero};

@@ -2,7 +2,7 @@
 //! cond₂(K) (Eq. 31), ε of Eq. 28 and cond₂(K + ε) (Eq. 35) at their printed precision.
 
 #[allow(dead_code)] // the example's `main` is not called here
-#[path = "../examples/paper_beam.rs"]
+#[path = "../../examples/paper_beam.rs"]
 mod example;
 
 use penalty_lab::study::paper_beam::printed::{agrees, EQ31_COND_K, EQ35_COND, EQ35_EPS};

@@ -19,7 +19,7 @@
 //! was found, so the generic claim is kept as an ignored property with its shrunk
 //! counterexample committed in `proptest-regressions/properties.txt`.
 
-mod common;
+use crate::common;
 
 use common::dense::{dense, inf};
 use nalgebra::{DMatrix, DVector};

@@ -1,7 +1,7 @@
 //! CLI contract of `deep_drawing` and `stretch_test`: JSON shape, `--out` files, bad input →
 //! exit status 2 with one line on stderr.
 
-mod common;
+use crate::common;
 use std::process::Command;
 
 fn run(bin: &str, args: &[&str]) -> std::process::Output {

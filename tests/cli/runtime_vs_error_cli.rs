@@ -11,7 +11,7 @@
 //!   the smallest one (six decades apart);
 //! * `condensed`'s error against the exact solution is O(δ): 1000× smaller δ, smaller error.
 
-mod common;
+use crate::common;
 
 use serde_json::Value;
 use std::path::PathBuf;

@@ -1,0 +1,14 @@
+//! The library's behaviour through its public API, one module per area of `src/`: each strategy's defining property, the solve engine, the elimination route, `condensed`'s δ guarantee, the structure-aware routes, scene files.
+//!
+//! One test binary per tier (`cargo test --release --test api`); tests that need a
+//! process of their own (process-wide caches, the working directory) stay in single files.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod condensed_delta;
+mod eliminated;
+mod engine;
+mod scene_io;
+mod strategies;
+mod structure_routes;

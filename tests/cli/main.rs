@@ -1,0 +1,17 @@
+//! CLI smoke and contract tests of the binaries (`experiments/`): outputs, exit statuses, `--render-only`, determinism; and the figure helpers they draw with.
+//!
+//! One test binary per tier (`cargo test --release --test cli`); tests that need a
+//! process of their own (process-wide caches, the working directory) stay in single files.
+
+#[path = "../common/mod.rs"]
+mod common;
+
+mod cond_accuracy_cli;
+mod cond_cost_cli;
+mod forming_cli;
+mod paper_beam_cli;
+mod plot_smoke;
+mod runtime_vs_error_cli;
+mod solve_cli;
+mod sweep_cli;
+mod sweep_figures;
