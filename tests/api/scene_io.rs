@@ -178,7 +178,7 @@ fn reads_fixture_scene_with_optional_fields() {
     assert_eq!(s.name, "small");
     assert_eq!(
         s.description.as_deref(),
-        Some("3-DOF symmetric fixture for tests/scene_io.rs")
+        Some("3-DOF symmetric fixture for tests/api/scene_io.rs")
     );
     let p = &s.problem;
     assert_eq!(p.n(), 3);
