@@ -109,13 +109,14 @@ pub(super) fn text_width(text: &str, size: f64) -> f64 {
     text.chars().count() as f64 * 0.6 * size
 }
 
-/// The strategy whose colour a forming run's name takes: `classical` → `constant`,
+/// The strategy whose colour a forming run's name takes: `classical` and
+/// `classical-matched` → `constant`,
 /// `adaptive` and `paper-residual` → `paper` (Eq. 28 on the residual), `paper-literal`
 /// (Eq. 28 as printed) → `spring` (both drop the coupling to the unconstrained DOFs; `spring`
 /// never appears in a forming figure).
 fn forming_alias(name: &str) -> Option<&'static Strategy> {
     match name {
-        "classical" => Some(&strategy::constant::STRATEGY),
+        "classical" | "classical-matched" => Some(&strategy::constant::STRATEGY),
         "adaptive" | "paper-residual" => Some(&strategy::paper::STRATEGY),
         "paper-literal" => Some(&strategy::spring::STRATEGY),
         _ => None,

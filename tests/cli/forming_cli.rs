@@ -111,6 +111,36 @@ fn json_shapes_and_out_files() {
     assert_eq!(v["cond2_classical"], last("classical"));
     assert_eq!(v["cond2_adaptive"], last("adaptive"));
     assert!(v["cond2_classical"].as_f64().unwrap() > 0.0);
+    assert_eq!(v["cond2_classical_matched"], last("classical-matched"));
+    assert_eq!(v["comparisons"].as_array().unwrap().len(), 4);
+}
+
+/// Both experiments carry `classical-matched`: a constant ε whose largest penetration over
+/// the run, recomputed here from the steps, lies in [δ/2, δ] — the classical penalty at the
+/// δ-rules' accuracy — and the δ-rules are compared with it step by step.
+#[test]
+fn classical_matched_penetrates_between_half_delta_and_delta() {
+    for bin in [DD, TE] {
+        let o = run(bin, &["--json"]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        let m = &v["runs"]["classical-matched"];
+        let delta = v["runs"]["adaptive"]["delta"].as_f64().unwrap();
+        let eps = m["eps"].as_f64().unwrap();
+        assert!(eps > 0.0 && eps < 1e7, "{bin}: ε = {eps}");
+        let largest = m["steps"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|s| s["max_penetration"].as_f64().unwrap())
+            .fold(0.0, f64::max);
+        assert!(
+            (0.5 * delta..=delta).contains(&largest),
+            "{bin}: largest penetration {largest} outside [δ/2, δ], δ = {delta}"
+        );
+        assert_eq!(m["largest_penetration"].as_f64().unwrap(), largest);
+        assert_eq!(m["valid"], true, "{bin}: {:?}", m["invalid_reasons"]);
+    }
 }
 
 #[test]

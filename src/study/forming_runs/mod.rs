@@ -7,7 +7,7 @@ pub mod report;
 
 use crate::error::{Error, Result};
 use crate::forming::config::{ContactRule, FormingConfig};
-use crate::forming::solver::Simulation;
+use crate::forming::solver::{RunResult, Simulation, StepRecord};
 use crate::provenance::Provenance;
 use report::{SavedRun, SavedRuns};
 use serde::{Deserialize, Serialize};
@@ -32,6 +32,11 @@ pub struct ExperimentConfig {
     /// Also run the literal reading of Eq. 28 (`paper-literal`).
     #[serde(default = "yes")]
     pub paper_literal: bool,
+    /// Also run `classical-matched`: the constant ε whose largest penetration over the run
+    /// lies in [δ/2, δ] ([`matched_penalty`]), so that the δ-rules are also compared with a
+    /// classical penalty of the same accuracy.
+    #[serde(default = "yes")]
+    pub classical_matched: bool,
     /// The forming configuration.
     pub forming: FormingConfig,
 }
@@ -48,6 +53,7 @@ impl ExperimentConfig {
             delta: 1e-5,
             condensed: true,
             paper_literal: true,
+            classical_matched: true,
             forming,
         }
     }
@@ -97,9 +103,10 @@ impl ExperimentConfig {
         self.forming.validate()
     }
 
-    /// The runs: `classical`, `adaptive` (Eq. 28–29 on the current residual,
+    /// The runs of fixed knobs: `classical`, `adaptive` (Eq. 28–29 on the current residual,
     /// [`ContactRule::PaperResidual`]) and, if enabled, `paper-literal`
-    /// ([`ContactRule::PaperLiteral`]) and `condensed`.
+    /// ([`ContactRule::PaperLiteral`]) and `condensed`. `classical-matched`, whose ε is
+    /// searched for, is run by [`run_with`] after them.
     pub fn rules(&self) -> Vec<(String, ContactRule)> {
         let mut v = vec![
             (
@@ -285,7 +292,7 @@ impl Cli {
 /// penalties, seconds, validity; then one line per reason of an invalid run.
 pub fn summary_table(doc: &SavedRuns) -> String {
     let mut out = format!(
-        "{:<13} {:>5} {:>9} {:>10} {:>11} {:>11} {:>9} {:>12} {:>7} {:>6} {:>6}\n",
+        "{:<17} {:>5} {:>9} {:>10} {:>11} {:>11} {:>9} {:>12} {:>7} {:>6} {:>6}\n",
         "run",
         "steps",
         "converged",
@@ -319,7 +326,7 @@ pub fn summary_table(doc: &SavedRuns) -> String {
         let clip: usize = r.steps.iter().map(|s| s.clipped).sum();
         let f = r.steps.last().map_or(f64::NAN, |s| s.punch_force);
         out.push_str(&format!(
-            "{name:<13} {:>5} {:>9} {:>10} {:>11.3e} {:>11.4} {:>9.1} {:>12.2e} {:>7} {:>6.2} {:>6}\n",
+            "{name:<17} {:>5} {:>9} {:>10} {:>11.3e} {:>11.4} {:>9.1} {:>12.2e} {:>7} {:>6.2} {:>6}\n",
             r.steps.len(),
             conv,
             capped.map_or("-".to_string(), |x| format!("{x:.2e}")),
@@ -332,12 +339,140 @@ pub fn summary_table(doc: &SavedRuns) -> String {
             if r.valid { "yes" } else { "NO" }
         ));
     }
+    for c in comparisons(doc) {
+        out.push_str(&format!(
+            "{} beats {} (ε = {:.2e}) in {}/{} steps (median cond₂ ratio {}/{} = {:.3})\n",
+            c.rule, c.classical, c.eps, c.wins, c.steps, c.classical, c.rule, c.median_ratio
+        ));
+    }
     for r in doc.runs.values() {
         for reason in &r.invalid_reasons {
             out.push_str(&format!("invalid: {reason}\n"));
         }
     }
     out
+}
+
+/// One δ-rule against one classical run, step by step.
+#[derive(Clone, Debug, Serialize)]
+pub struct Comparison {
+    /// The δ-rule's run (`adaptive`, `condensed`).
+    pub rule: String,
+    /// The classical run (`classical`, `classical-matched`).
+    pub classical: String,
+    /// The classical run's ε.
+    pub eps: f64,
+    /// Steps where the δ-rule's cond₂ is below the classical run's.
+    pub wins: usize,
+    /// Steps compared (both runs have them).
+    pub steps: usize,
+    /// Median over the steps of cond₂(classical) / cond₂(rule): > 1 = the δ-rule is better
+    /// conditioned.
+    pub median_ratio: f64,
+}
+
+/// Every δ-rule of the document (not the diagnostic `paper-literal`) against every classical
+/// run: in how many steps its cond₂ is lower, and the median ratio — the paper's claim,
+/// stated against the classical penalty of the paper (ε = 1e7, far more accurate than δ) and
+/// against `classical-matched` (the same accuracy).
+pub fn comparisons(doc: &SavedRuns) -> Vec<Comparison> {
+    let mut out = Vec::new();
+    for (cname, c) in &doc.runs {
+        let ContactRule::Classical { eps } = c.rule else {
+            continue;
+        };
+        for (rname, r) in &doc.runs {
+            if matches!(r.rule, ContactRule::Classical { .. }) || diagnostic_only(&r.rule) {
+                continue;
+            }
+            let ratios: Vec<f64> = c
+                .steps
+                .iter()
+                .zip(&r.steps)
+                .map(|(a, b)| a.cond2 / b.cond2)
+                .collect();
+            out.push(Comparison {
+                rule: rname.clone(),
+                classical: cname.clone(),
+                eps,
+                wins: ratios.iter().filter(|&&q| q > 1.0).count(),
+                steps: ratios.len(),
+                median_ratio: crate::stats::median(&ratios).unwrap_or(f64::NAN),
+            });
+        }
+    }
+    out
+}
+
+/// The name of the classical run matched to δ.
+pub const CLASSICAL_MATCHED: &str = "classical-matched";
+
+/// Most trial runs of [`matched_penalty`]'s search.
+pub const MATCH_TRIALS: usize = 12;
+
+/// The largest penetration of a run, `max_steps max_c p_c·Δt` (in): what δ bounds.
+pub fn largest_penetration(steps: &[StepRecord]) -> f64 {
+    steps
+        .iter()
+        .map(|s| s.max_penetration)
+        .filter(|p| p.is_finite())
+        .fold(0.0, f64::max)
+}
+
+/// The constant ε of `classical-matched` and its run: a classical penalty whose largest
+/// penetration over the run lies in [δ/2, δ].
+///
+/// The search starts from the `classical` run (ε₀, largest penetration p₀) and aims at
+/// 0.75 δ, the middle of the interval: a penalty carries the contact force as ε·g, so the
+/// penetration goes as 1/ε and the first step is `ε₁ = ε₀·p₀/(0.75 δ)`; later steps are
+/// secant steps in log ε – log p (slope clamped to [−3, −1/3]), at most [`MATCH_TRIALS`] runs.
+/// If none lands in [δ/2, δ] the trial nearest 0.75 δ (in log p) is returned with the reason
+/// (the run is then marked invalid).
+pub fn matched_penalty(
+    cfg: &ExperimentConfig,
+    classical: &RunResult,
+) -> Result<(f64, RunResult, Option<Error>, Option<String>)> {
+    let (lo, hi, target) = (0.5 * cfg.delta, cfg.delta, 0.75 * cfg.delta);
+    let mut trials: Vec<(f64, f64)> = Vec::new();
+    let mut eps = cfg.penalty;
+    let mut pen = largest_penetration(&classical.steps);
+    let mut best: Option<(f64, RunResult, Option<Error>, f64)> = None;
+    for _ in 0..MATCH_TRIALS {
+        if !(pen > 0.0 && pen.is_finite()) {
+            break;
+        }
+        trials.push((eps.ln(), pen.ln()));
+        let slope = match trials[..] {
+            [.., (e0, p0), (e1, p1)] if e1 != e0 => ((p1 - p0) / (e1 - e0)).clamp(-3.0, -1.0 / 3.0),
+            _ => -1.0,
+        };
+        eps = (eps.ln() + (target.ln() - pen.ln()) / slope).exp();
+        let (run, failure) =
+            Simulation::run_until_failure(&cfg.forming, ContactRule::Classical { eps })?;
+        pen = largest_penetration(&run.steps);
+        let miss = (pen.ln() - target.ln()).abs();
+        let done = failure.is_none() && run.steps.len() == cfg.forming.steps;
+        if done && (lo..=hi).contains(&pen) {
+            return Ok((eps, run, failure, None));
+        }
+        if done && best.as_ref().is_none_or(|b| miss < b.3) {
+            best = Some((eps, run, failure, miss));
+        }
+    }
+    match best {
+        Some((eps, run, failure, _)) => {
+            let p = largest_penetration(&run.steps);
+            let why = format!(
+                "{CLASSICAL_MATCHED}: no ε in {MATCH_TRIALS} trials put the largest penetration in \
+                 [δ/2, δ] = [{lo:e}, {hi:e}] in; nearest ε = {eps:e} gives {p:e} in"
+            );
+            Ok((eps, run, failure, Some(why)))
+        }
+        None => Err(Error::Numerical(format!(
+            "{CLASSICAL_MATCHED}: no complete classical run in the ε search (from ε = {:e})",
+            cfg.penalty
+        ))),
+    }
 }
 
 /// Runs every rule of `cfg` (in parallel) and assembles the saved document, with the
@@ -367,22 +502,47 @@ pub fn run_with(
     cfg.validate()?;
     let t0 = Instant::now();
     let rules = cfg.rules();
-    let results: Vec<Result<(String, SavedRun, Option<Error>)>> = {
+    let mut classical = None;
+    let mut results: Vec<Result<(String, SavedRun, Option<Error>)>> = {
         use rayon::prelude::*;
-        rules
+        let done: Vec<Result<(String, RunResult, Option<Error>)>> = rules
             .par_iter()
             .map(|(name, rule)| {
                 let (r, failure) = Simulation::run_until_failure(&cfg.forming, *rule)?;
-                Ok((name.clone(), SavedRun::from(&r), failure))
+                Ok((name.clone(), r, failure))
+            })
+            .collect();
+        done.into_iter()
+            .map(|r| {
+                r.map(|(name, run, failure)| {
+                    let saved = SavedRun::from(&run);
+                    if matches!(run.rule, ContactRule::Classical { .. }) {
+                        classical = Some(run);
+                    }
+                    (name, saved, failure)
+                })
             })
             .collect()
     };
+    let mut unmatched = None;
+    if let (true, Some(c)) = (cfg.classical_matched, &classical) {
+        let (_, run, failure, why) = matched_penalty(cfg, c)?;
+        unmatched = why;
+        results.push(Ok((
+            CLASSICAL_MATCHED.to_string(),
+            SavedRun::from(&run),
+            failure,
+        )));
+    }
     let mut runs = BTreeMap::new();
     let mut reasons = crate::forming::validity::check_config(&cfg.forming);
     let mut failures = Vec::new();
     for r in results {
         let (name, mut run, failure) = r?;
         let mut own = crate::forming::validity::check(&name, &cfg.forming, &run.steps);
+        if name == CLASSICAL_MATCHED {
+            own.extend(unmatched.take());
+        }
         if let Some(e) = failure {
             let step = run.steps.len() + 1;
             let e = Error::Numerical(format!("{name} run, step {step}: {e}"));

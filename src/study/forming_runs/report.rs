@@ -24,6 +24,10 @@ pub struct SavedRun {
     /// Allowed penetration δ (in; adaptive rules only).
     #[serde(skip_serializing_if = "Option::is_none", default)]
     pub delta: Option<f64>,
+    /// Largest penetration over the run, `max_steps max_c p_c·Δt` (in): what δ bounds
+    /// ([`super::largest_penetration`]).
+    #[serde(default)]
+    pub largest_penetration: f64,
     /// Per-step telemetry.
     pub steps: Vec<StepRecord>,
     /// Sheet snapshots.
@@ -47,6 +51,7 @@ impl From<&RunResult> for SavedRun {
                 _ => None,
             },
             delta: r.rule.delta(),
+            largest_penetration: super::largest_penetration(&r.steps),
             steps: r.steps.clone(),
             snapshots: r.snapshots.clone(),
             seconds: r.seconds,
@@ -230,8 +235,8 @@ pub fn render_figures(
         "punch force (ton-force)",
     );
     for (name, run) in &doc.runs {
-        // Dashed classical: it lies on top of the condensed curve.
-        let mark = if name == "classical" {
+        // Dashed classical runs: they lie on top of the condensed curve.
+        let mark = if matches!(run.rule, ContactRule::Classical { .. }) {
             Mark::Dashed
         } else {
             Mark::Line
@@ -316,7 +321,7 @@ fn condition_panels(doc: &SavedRuns, title: &str, fig7: &str) -> Vec<Figure> {
     )
     .scales(Scale::Linear, Scale::Log10);
     let mut b = Figure::new(
-        "(b) cond₂(classical) / cond₂(run): > 1 = better than classical",
+        "(b) cond₂ classical / run, > 1: run better (dashed: vs matched)",
         "time step",
         "ratio",
     )
@@ -335,23 +340,39 @@ fn condition_panels(doc: &SavedRuns, title: &str, fig7: &str) -> Vec<Figure> {
     )
     .scales(Scale::Linear, Scale::Log10);
     let classical = doc.runs.get("classical");
+    let matched = doc.runs.get(super::CLASSICAL_MATCHED);
+    let ratio_to = |cl: &SavedRun, run: &SavedRun| -> (Vec<f64>, Vec<f64>) {
+        cl.steps
+            .iter()
+            .zip(&run.steps)
+            .map(|(c, r)| (r.step as f64, c.cond2 / r.cond2))
+            .unzip()
+    };
     for (name, run) in &doc.runs {
         let col = method_color(name);
+        // The matched classical run shares the classical colour: dashed.
+        let mark = if name == super::CLASSICAL_MATCHED {
+            Mark::Dashed
+        } else {
+            Mark::Line
+        };
         let (x, y) = per_step(run, |s| s.cond2);
-        a = a.with_series(Series::new(label(name, run), x, y, Mark::Line).color(col));
+        a = a.with_series(Series::new(label(name, run), x, y, mark).color(col));
         if let (Some(cl), false) = (classical, name == "classical") {
-            let ratio = cl
-                .steps
-                .iter()
-                .zip(&run.steps)
-                .map(|(c, r)| c.cond2 / r.cond2);
-            let x = run.steps.iter().map(|s| s.step as f64).collect();
-            b = b.with_series(Series::new(name.clone(), x, ratio.collect(), Mark::Line).color(col));
+            let (x, y) = ratio_to(cl, run);
+            b = b.with_series(Series::new(name.clone(), x, y, mark).color(col));
+        }
+        let skip =
+            matches!(run.rule, ContactRule::Classical { .. }) || super::diagnostic_only(&run.rule);
+        if let (Some(cl), false) = (matched, skip) {
+            let (x, y) = ratio_to(cl, run);
+            let lab = format!("{name} vs {}", super::CLASSICAL_MATCHED);
+            b = b.with_series(Series::new(lab, x, y, Mark::Dashed).color(col));
         }
         let (x, y) = per_step(run, |s| s.log10_det_ratio);
-        c = c.with_series(Series::new(name.clone(), x, y, Mark::Line).color(col));
+        c = c.with_series(Series::new(name.clone(), x, y, mark).color(col));
         let (x, y) = per_step(run, |s| s.cond2_equilibrated);
-        d = d.with_series(Series::new(name.clone(), x, y, Mark::Line).color(col));
+        d = d.with_series(Series::new(name.clone(), x, y, mark).color(col));
     }
     // K alone of one run (its μ* field; the runs' K alone agree to a few per cent).
     if let Some((name, run)) = doc
