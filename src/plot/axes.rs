@@ -24,6 +24,7 @@ pub(super) fn tr(s: Scale, v: f64) -> f64 {
 }
 
 /// Figure data after validation: axis ranges in data space and in transformed space.
+#[derive(Clone, Copy)]
 pub(super) struct Prepared {
     pub(super) x: (f64, f64),
     pub(super) y: (f64, f64),

@@ -27,6 +27,18 @@ pub(super) fn draw_figure<DB: DrawingBackend>(
     };
     let n_x = ((w as f64 / (85.0 * scale)) as usize).clamp(3, 10);
     let n_y = (((h as i32 - title_h) as f64 / (65.0 * scale)) as usize).clamp(3, 10);
+    // Room for the legend where it would cover data in every corner, from the plotting area
+    // the margins below leave (estimated: the y tick labels' width is not known yet).
+    let plot_w = w as f64 - (st.tick * 5.0 + 60.0 * scale);
+    let plot_h = h as f64 - title_h as f64 - (st.label * 3.5 + st.tick * 1.7 + 6.0 * scale);
+    let room;
+    let prep = match legend_px(fig, &st) {
+        Some((lw, lh)) if plot_w > 0.0 && plot_h > 0.0 => {
+            room = with_legend_room(fig, prep, lw / plot_w, lh / plot_h);
+            &room
+        }
+        _ => prep,
+    };
     let xt = ticks(fig.x_scale, prep.x, n_x);
     let yt = ticks(fig.y_scale, prep.y, n_y);
     let (x0, x1) = prep.x;

@@ -16,6 +16,61 @@ pub(super) enum Corner {
 
 /// Corner whose legend-sized box (normalised size `w`×`h`) contains the fewest data samples.
 pub(super) fn pick_corner(fig: &Figure, prep: &Prepared, w: f64, h: f64) -> Corner {
+    corner_and_count(fig, prep, w, h).0
+}
+
+/// The legend's size in pixels, `None` without labels: the longest label plus the sample and
+/// padding wide, one line per label plus padding high.
+pub(super) fn legend_px(fig: &Figure, st: &Style) -> Option<(f64, f64)> {
+    let labels: Vec<&str> = fig
+        .bands
+        .iter()
+        .map(|b| b.label.as_str())
+        .chain(fig.series.iter().map(|s| s.label.as_str()))
+        .chain(fig.markers.iter().map(|m| m.label.as_str()))
+        .filter(|l| !l.is_empty())
+        .collect();
+    if labels.is_empty() {
+        return None;
+    }
+    let w = labels
+        .iter()
+        .map(|l| text_width(l, st.legend))
+        .fold(0.0, f64::max)
+        + 66.0 * st.s;
+    let h = labels.len() as f64 * st.legend * 1.25 + 30.0 * st.s;
+    Some((w, h))
+}
+
+/// The y range with headroom for the legend where every corner of `prep`'s range holds data
+/// under a legend of normalised size `w`×`h`: the range grows upwards (downwards on the rare
+/// figure whose lower band is the emptier) until the legend's band above (below) the data is
+/// empty. Unchanged where a corner is free, or where the legend would take most of the height.
+pub(super) fn with_legend_room(fig: &Figure, prep: &Prepared, w: f64, h: f64) -> Prepared {
+    let (corner, count) = corner_and_count(fig, prep, w, h);
+    if count == 0 || h > 0.6 {
+        return *prep;
+    }
+    let (a, b) = prep.yt;
+    // The data keep the fraction 1 − h − 3 % of the new height.
+    let grow = (b - a) / (1.0 - h - 0.03);
+    let yt = match corner {
+        Corner::LowerLeft | Corner::LowerRight => (b - grow, b),
+        _ => (a, a + grow),
+    };
+    let back = |v: f64| match fig.y_scale {
+        Scale::Linear => v,
+        Scale::Log10 => 10f64.powf(v),
+    };
+    let y = (back(yt.0), back(yt.1));
+    if !(y.0.is_finite() && y.1.is_finite() && y.0 < y.1) {
+        return *prep;
+    }
+    Prepared { y, yt, ..*prep }
+}
+
+/// [`pick_corner`] with the number of data samples inside its legend box.
+fn corner_and_count(fig: &Figure, prep: &Prepared, w: f64, h: f64) -> (Corner, usize) {
     let mut pts = Vec::new();
     for s in &fig.series {
         for run in runs(
@@ -74,8 +129,9 @@ pub(super) fn pick_corner(fig: &Figure, prep: &Prepared, w: f64, h: f64) -> Corn
         Corner::LowerLeft,
     ]
     .into_iter()
-    .min_by_key(|&c| count(c))
-    .unwrap_or(Corner::UpperRight)
+    .map(|c| (c, count(c)))
+    .min_by_key(|&(_, n)| n)
+    .unwrap_or((Corner::UpperRight, 0))
 }
 
 /// The legend in the emptiest corner; returns the corner and the legend's size in
@@ -91,37 +147,23 @@ where
     X: Ranged<ValueType = f64>,
     Y: Ranged<ValueType = f64>,
 {
-    let scale = st.s;
     // Legend in the emptiest corner.
     let (prx, pry) = chart.plotting_area().get_pixel_range();
     let (pw, ph) = (
         (prx.end - prx.start).max(1) as f64,
         (pry.end - pry.start).max(1) as f64,
     );
-    let labels: Vec<&str> = fig
-        .bands
-        .iter()
-        .map(|b| b.label.as_str())
-        .chain(fig.series.iter().map(|s| s.label.as_str()))
-        .chain(fig.markers.iter().map(|m| m.label.as_str()))
-        .filter(|l| !l.is_empty())
-        .collect();
     // Legend size in normalised plot coordinates (0×0: no legend).
     let mut legend_wh = (0.0, 0.0);
-    let corner = if labels.is_empty() {
-        Corner::UpperRight
-    } else {
-        let lw_px = labels
-            .iter()
-            .map(|l| text_width(l, st.legend))
-            .fold(0.0, f64::max)
-            + 36.0 * scale
-            + 30.0 * scale;
-        let lh_px = labels.len() as f64 * st.legend * 1.25 + 30.0 * scale;
-        legend_wh = (lw_px / pw, lh_px / ph);
-        pick_corner(fig, prep, legend_wh.0, legend_wh.1)
+    let size = legend_px(fig, st);
+    let corner = match size {
+        None => Corner::UpperRight,
+        Some((lw_px, lh_px)) => {
+            legend_wh = (lw_px / pw, lh_px / ph);
+            pick_corner(fig, prep, legend_wh.0, legend_wh.1)
+        }
     };
-    if !labels.is_empty() {
+    if size.is_some() {
         let pos = match corner {
             Corner::UpperRight => SeriesLabelPosition::UpperRight,
             Corner::UpperLeft => SeriesLabelPosition::UpperLeft,
@@ -233,4 +275,37 @@ where
     }
 
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Data in every corner (a line from corner to corner and back): the legend gets a band
+    /// of its own above the data, where no sample lies; a figure with a free corner keeps its
+    /// range.
+    #[test]
+    fn legend_room_frees_a_corner() {
+        let zigzag = Series::new(
+            "a long legend label for the zigzag series",
+            vec![0.0, 1.0, 2.0, 3.0, 4.0],
+            vec![0.0, 10.0, 0.0, 10.0, 0.0],
+            Mark::Line,
+        );
+        let fig = Figure::new("t", "x", "y").with_series(zigzag.clone());
+        let prep = axes::prepare(&fig).unwrap();
+        let (w, h) = (0.5, 0.2);
+        assert!(corner_and_count(&fig, &prep, w, h).1 > 0);
+        let room = with_legend_room(&fig, &prep, w, h);
+        assert!(room.y.1 > prep.y.1 && room.y.0 == prep.y.0);
+        assert_eq!(corner_and_count(&fig, &room, w, h).1, 0);
+        let free = Figure::new("t", "x", "y").with_series(Series::new(
+            "rising",
+            vec![0.0, 1.0],
+            vec![0.0, 1.0],
+            Mark::Line,
+        ));
+        let prep = axes::prepare(&free).unwrap();
+        assert_eq!(with_legend_room(&free, &prep, 0.3, 0.2).y, prep.y);
+    }
 }
