@@ -244,7 +244,7 @@ fn the_check_finds_edges_and_flags_violations() {
     );
 }
 
-/// Every binary in `experiments/` has its study at `src/study/<binary>` (a folder or a file).
+/// Every binary in `experiments/` has its study at `src/study/<binary>/`.
 #[test]
 fn every_binary_has_its_study() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -258,8 +258,8 @@ fn every_binary_has_its_study() {
             .to_string();
         let study = root.join("src/study");
         assert!(
-            study.join(&name).is_dir() || study.join(format!("{name}.rs")).is_file(),
-            "experiments/{name}.rs has no study at src/study/{name}"
+            study.join(&name).join("mod.rs").is_file(),
+            "experiments/{name}.rs has no study at src/study/{name}/"
         );
     }
 }

@@ -22,12 +22,13 @@ pub enum BoundState {
     Hi,
 }
 
-/// Result of [`box_qp`].
+/// Result of a primal–dual active-set iteration ([`pdas`]): the final iterate and how it
+/// got there.
 #[derive(Clone, Debug)]
-pub struct BoxQp {
+pub struct Pdas<T> {
     /// Gaps g.
     pub g: Vec<f64>,
-    /// Forces r = S⁻¹(g0 − g).
+    /// Forces r (at-bound constraints; 0 for the free ones).
     pub r: Vec<f64>,
     /// Final state per constraint.
     pub state: Vec<BoundState>,
@@ -37,6 +38,62 @@ pub struct BoxQp {
     pub sizes: Vec<usize>,
     /// Whether the one-change fallback was needed.
     pub fallback: bool,
+    /// What the caller's step returned with the final iterate (e.g. u).
+    pub last: T,
+}
+
+/// Result of [`box_qp`]: r = S⁻¹(g0 − g).
+pub type BoxQp = Pdas<()>;
+
+/// What a [`pdas`] iteration runs on: the bounds, the violation tolerance, whether pinned
+/// constraints (`lo = hi`) stay put, the iteration cap and the route's name for its error.
+pub struct PdasSpec<'a> {
+    /// Lower and upper bounds per constraint.
+    pub bounds: (&'a [f64], &'a [f64]),
+    /// Gap tolerance of a violation.
+    pub tol: f64,
+    /// Pinned constraints never change.
+    pub keep_pinned: bool,
+    /// Iteration cap.
+    pub max_it: usize,
+    /// The route, named in the error when the cap is reached.
+    pub what: &'a str,
+}
+
+/// The primal–dual active-set loop shared by [`box_qp`] and the elimination route
+/// ([`super::eliminated`]): from `state`, `step(state)` solves for the gaps, the forces and
+/// what the caller keeps; its [`violations`] (weights `w`) give the next state
+/// ([`pdas_update`]) until there are none. Errors when `spec.max_it` is reached.
+pub fn pdas<T>(
+    mut state: Vec<BoundState>,
+    spec: PdasSpec<'_>,
+    w: impl Fn(usize) -> f64,
+    mut step: impl FnMut(&[BoundState]) -> Result<(Vec<f64>, Vec<f64>, T)>,
+) -> Result<Pdas<T>> {
+    let mut seen: HashSet<Vec<BoundState>> = HashSet::new();
+    let mut fallback = false;
+    let mut sizes = Vec::new();
+    for it in 1..=spec.max_it {
+        sizes.push(state.iter().filter(|&&s| s != BoundState::Free).count());
+        let (g, r, last) = step(&state)?;
+        let changes = violations(&state, &r, &g, spec.bounds, spec.tol, spec.keep_pinned, &w);
+        if changes.is_empty() {
+            return Ok(Pdas {
+                g,
+                r,
+                state,
+                iterations: it,
+                sizes,
+                fallback,
+                last,
+            });
+        }
+        state = pdas_update(&state, &changes, &mut seen, &mut fallback);
+    }
+    Err(Error::Numerical(format!(
+        "{}: active set did not converge in {} iterations",
+        spec.what, spec.max_it
+    )))
 }
 
 /// Solves `min ½(g − g0)ᵀS⁻¹(g − g0)` s.t. `lo ≤ g ≤ hi` in the force variable
@@ -58,58 +115,50 @@ pub fn box_qp(
         .chain(hi.iter().filter(|v| v.is_finite()))
         .fold(0.0f64, |a, v| a.max(v.abs()));
     let tol = 64.0 * f64::EPSILON * (m as f64).max(1.0) * scale;
-    let mut state = start_state(g0, lo, hi, start);
-    let mut seen: HashSet<Vec<BoundState>> = HashSet::new();
-    let mut fallback = false;
-    let mut sizes = Vec::new();
-    let max_it = 10 * m + 50;
-    for it in 1..=max_it {
-        let act: Vec<usize> = (0..m).filter(|&c| state[c] != BoundState::Free).collect();
-        sizes.push(act.len());
-        let target = |c: usize| match state[c] {
-            BoundState::Hi => hi[c],
-            BoundState::Lo => lo[c],
-            BoundState::Free => f64::NAN,
-        };
-        // r_A = S_AA⁻¹ (g0_A − g*_A).
-        let mut r = vec![0.0; m];
-        if !act.is_empty() {
-            let saa = Mat::from_fn(act.len(), act.len(), |i, j| s[(act[i], act[j])]);
-            let mut rhs = Mat::from_fn(act.len(), 1, |i, _| g0[act[i]] - target(act[i]));
-            match saa.llt(Side::Lower) {
-                Ok(l) => l.solve_in_place(rhs.as_mut()),
-                Err(_) => saa.partial_piv_lu().solve_in_place(rhs.as_mut()),
+    let state = start_state(g0, lo, hi, start);
+    let spec = PdasSpec {
+        bounds: (lo, hi),
+        tol,
+        keep_pinned: false,
+        max_it: 10 * m + 50,
+        what: "condensed",
+    };
+    pdas(
+        state,
+        spec,
+        |c| s[(c, c)],
+        |state| {
+            let act: Vec<usize> = (0..m).filter(|&c| state[c] != BoundState::Free).collect();
+            let target = |c: usize| match state[c] {
+                BoundState::Hi => hi[c],
+                BoundState::Lo => lo[c],
+                BoundState::Free => f64::NAN,
+            };
+            // r_A = S_AA⁻¹ (g0_A − g*_A).
+            let mut r = vec![0.0; m];
+            if !act.is_empty() {
+                let saa = Mat::from_fn(act.len(), act.len(), |i, j| s[(act[i], act[j])]);
+                let mut rhs = Mat::from_fn(act.len(), 1, |i, _| g0[act[i]] - target(act[i]));
+                match saa.llt(Side::Lower) {
+                    Ok(l) => l.solve_in_place(rhs.as_mut()),
+                    Err(_) => saa.partial_piv_lu().solve_in_place(rhs.as_mut()),
+                }
+                for (i, &c) in act.iter().enumerate() {
+                    r[c] = rhs[(i, 0)];
+                }
             }
-            for (i, &c) in act.iter().enumerate() {
-                r[c] = rhs[(i, 0)];
+            if r.iter().any(|v| !v.is_finite()) {
+                return Err(Error::Numerical(
+                    "condensed: S_AA is singular (constraints on linearly dependent DOFs?)".into(),
+                ));
             }
-        }
-        if r.iter().any(|v| !v.is_finite()) {
-            return Err(Error::Numerical(
-                "condensed: S_AA is singular (constraints on linearly dependent DOFs?)".into(),
-            ));
-        }
-        // g = g0 − S r (exact at bounds up to rounding; recomputed for all).
-        let g: Vec<f64> = (0..m)
-            .map(|i| g0[i] - act.iter().map(|&c| s[(i, c)] * r[c]).sum::<f64>())
-            .collect();
-        // Violations: wrong-sign forces at bounds, out-of-bound free gaps.
-        let changes = violations(&state, &r, &g, (lo, hi), tol, false, |c| s[(c, c)]);
-        if changes.is_empty() {
-            return Ok(BoxQp {
-                g,
-                r,
-                state,
-                iterations: it,
-                sizes,
-                fallback,
-            });
-        }
-        state = pdas_update(&state, &changes, &mut seen, &mut fallback);
-    }
-    Err(Error::Numerical(format!(
-        "condensed: active set did not converge in {max_it} iterations"
-    )))
+            // g = g0 − S r (exact at bounds up to rounding; recomputed for all).
+            let g: Vec<f64> = (0..m)
+                .map(|i| g0[i] - act.iter().map(|&c| s[(i, c)] * r[c]).sum::<f64>())
+                .collect();
+            Ok((g, r, ()))
+        },
+    )
 }
 
 /// The primal–dual violations of a state, as `(weight, constraint, new state)`: a constraint

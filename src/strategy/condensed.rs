@@ -267,7 +267,7 @@ pub fn solve_eliminated(mut ctx: Context, delta: f64) -> Result<Solution> {
         let start = start.or_else(|| first.take());
         let b = super::eliminated::box_solve(&mut ctx, lo, hi, start)?;
         Ok(Attempt {
-            u: b.u,
+            u: b.last,
             state: b.state,
             r: b.r,
             fallback: b.fallback,

@@ -32,13 +32,12 @@
 //! `condensed` and `lagrange` take this route for sparse K with `n ≥` [`ELIMINATION_MIN_N`]
 //! and distinct constraint DOFs.
 
-use super::box_qp::{pdas_update, start_state, violations, BoundState};
+use super::box_qp::{pdas, start_state, BoundState, Pdas, PdasSpec};
 use super::{active_set, Context};
 use crate::error::{Error, Result};
 use crate::linalg::{pcg, DiagonalPattern, SparseLlt};
 use crate::system::{Problem, Stiffness};
 use faer::sparse::SparseColMatRef;
-use std::collections::HashSet;
 
 pub use crate::route::ELIMINATION_MIN_N;
 
@@ -53,24 +52,10 @@ pub const PCG_EXTRA_ITERATIONS: usize = 4;
 /// the penalized contact zone is within a few elements of the exact one.
 pub const PATH_END: f64 = 10.0;
 
-/// Result of [`box_solve`].
-#[derive(Clone, Debug)]
-pub struct BoxSolve {
-    /// Solution u.
-    pub u: Vec<f64>,
-    /// Gaps `g_c = u[d_c] − û_c`.
-    pub g: Vec<f64>,
-    /// Forces `r_c = q[d_c] − (K u)[d_c]` (0 for free constraints).
-    pub r: Vec<f64>,
-    /// Final state per constraint.
-    pub state: Vec<BoundState>,
-    /// Iterations (= numeric factorizations = solves).
-    pub iterations: usize,
-    /// Number of constraints at a bound, per iteration.
-    pub sizes: Vec<usize>,
-    /// Whether the one-change fallback was needed.
-    pub fallback: bool,
-}
+/// Result of [`box_solve`]: `last` is the solution u, `g_c = u[d_c] − û_c`, the forces
+/// `r_c = q[d_c] − (K u)[d_c]` (0 for free constraints), iterations = numeric
+/// factorizations + PCG solves.
+pub type BoxSolve = Pdas<Vec<f64>>;
 
 /// Does the problem qualify for the elimination route?
 pub fn applies(problem: &Problem) -> bool {
@@ -117,21 +102,30 @@ pub fn box_solve(
         Some(s) => Some(s),
         None => path_following_start(ctx, lo, hi)?,
     };
-    let mut state = start_state(&g0, lo, hi, start);
-    let mut seen: HashSet<Vec<BoundState>> = HashSet::new();
-    let mut fallback = false;
-    let mut sizes = Vec::new();
+    let state = start_state(&g0, lo, hi, start);
     let max_it = super::max_iterations(m);
     // The last factor and the prescribed DOFs it was built for; the last solution.
     let mut last: Option<(SparseLlt, Vec<bool>)> = None;
     let mut u_last: Option<Vec<f64>> = None;
     let cg_tol = super::active_set::backward_error_tol(n);
     let mut vals = pat.values.clone(); // matrix values of each iteration (buffer reused)
-    for it in 1..=max_it {
+                                       // Changes, weighted in gap units (r / K_dd) for the single-change fallback.
+    let w = |c: usize| {
+        1.0 / kdiag[problem.constraints[c].dof]
+            .abs()
+            .max(f64::MIN_POSITIVE)
+    };
+    let spec = PdasSpec {
+        bounds: (lo, hi),
+        tol,
+        keep_pinned: true,
+        max_it,
+        what: "elimination route",
+    };
+    let out = pdas(state, spec, w, |state| {
         // Prescribed DOFs and values.
         let mut fixed = vec![false; n];
         let mut u_fix = vec![0.0; n];
-        let mut at_bound = 0;
         for (c, con) in problem.constraints.iter().enumerate() {
             let b = match state[c] {
                 BoundState::Free => continue,
@@ -140,9 +134,7 @@ pub fn box_solve(
             };
             fixed[con.dof] = true;
             u_fix[con.dof] = prescribed(con.limit, b, lo[c], hi[c]);
-            at_bound += 1;
         }
-        sizes.push(at_bound);
         // Matrix with prescribed rows/columns replaced by K_jj e_j; rhs q_F − K_FB u_B.
         let rhs = eliminate(&pat, &problem.q, &fixed, &u_fix, &kdiag, &mut vals);
         // Few DOFs changed status since the last factorization: PCG with that factor.
@@ -178,7 +170,7 @@ pub fn box_solve(
                 let f = pat.factor(&vals).ok_or_else(|| {
                     Error::singular(
                         "K_FF (K without the DOFs at a bound) is not positive definite: K is \
-                         singular on the free DOFs"
+                             singular on the free DOFs"
                             .to_string(),
                     )
                 })?;
@@ -207,31 +199,11 @@ pub fn box_solve(
                 _ => problem.q[con.dof] - ku[con.dof],
             })
             .collect();
-        // Changes, weighted in gap units (r / K_dd) for the single-change fallback.
-        let w = |c: usize| {
-            1.0 / kdiag[problem.constraints[c].dof]
-                .abs()
-                .max(f64::MIN_POSITIVE)
-        };
-        let changes = violations(&state, &r, &g, (lo, hi), tol, true, w);
-        if changes.is_empty() {
-            ctx.stats.iterations += it;
-            ctx.stats.active_set_sizes.extend_from_slice(&sizes);
-            return Ok(BoxSolve {
-                u,
-                g,
-                r,
-                state,
-                iterations: it,
-                sizes,
-                fallback,
-            });
-        }
-        state = pdas_update(&state, &changes, &mut seen, &mut fallback);
-    }
-    Err(Error::Numerical(format!(
-        "elimination route: active set did not converge in {max_it} iterations"
-    )))
+        Ok((g, r, u))
+    })?;
+    ctx.stats.iterations += out.iterations;
+    ctx.stats.active_set_sizes.extend_from_slice(&out.sizes);
+    Ok(out)
 }
 
 /// `v ≈ û + b` such that the gap recomputed from it, `fl(v − û)`, lies in `[lo, hi]` (one or

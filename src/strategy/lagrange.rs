@@ -109,7 +109,7 @@ pub fn solve_eliminated(mut ctx: Context) -> Result<Solution> {
     };
     Ok(ctx.finish(
         Method::lagrange(),
-        b.u,
+        b.last,
         vec![0.0; m],
         Some(b.r),
         SystemKind::SaddlePoint { active },

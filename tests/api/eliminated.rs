@@ -176,7 +176,7 @@ fn path_following_same_optimum_fewer_factorizations() {
     let mut c2 = Context::new(&p);
     let pf = eliminated::box_solve(&mut c2, &lo, &hi, None).unwrap();
     assert_eq!(plain.state, pf.state);
-    assert!(relative_error(&pf.u, &plain.u) <= tol_u(&p));
+    assert!(relative_error(&pf.last, &plain.last) <= tol_u(&p));
     let (f1, f2) = (c1.stats.factorizations, c2.stats.factorizations);
     assert!(f2 < f1, "path following {f2} factorizations, plain {f1}");
     assert!(pf.state.contains(&BoundState::Lo));
