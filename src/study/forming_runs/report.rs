@@ -350,8 +350,11 @@ fn condition_panels(doc: &SavedRuns, title: &str, fig7: &str) -> Vec<Figure> {
     };
     for (name, run) in &doc.runs {
         let col = method_color(name);
-        // The matched classical run shares the classical colour: dashed.
-        let mark = if name == super::CLASSICAL_MATCHED {
+        // Dashed: the matched classical run (it shares the classical colour) and condensed
+        // (it lies on the adaptive curve in every panel).
+        let mark = if name == super::CLASSICAL_MATCHED
+            || matches!(run.rule, ContactRule::Condensed { .. })
+        {
             Mark::Dashed
         } else {
             Mark::Line
@@ -359,8 +362,14 @@ fn condition_panels(doc: &SavedRuns, title: &str, fig7: &str) -> Vec<Figure> {
         let (x, y) = per_step(run, |s| s.cond2);
         a = a.with_series(Series::new(label(name, run), x, y, mark).color(col));
         if let (Some(cl), false) = (classical, name == "classical") {
+            // Panel (b): solid against ε = 1e7, dashed against the matched run.
             let (x, y) = ratio_to(cl, run);
-            b = b.with_series(Series::new(name.clone(), x, y, mark).color(col));
+            let solid = if name == super::CLASSICAL_MATCHED {
+                Mark::Dashed
+            } else {
+                Mark::Line
+            };
+            b = b.with_series(Series::new(name.clone(), x, y, solid).color(col));
         }
         let skip =
             matches!(run.rule, ContactRule::Classical { .. }) || super::diagnostic_only(&run.rule);
