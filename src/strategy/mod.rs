@@ -116,6 +116,21 @@ impl Knobs {
         tol: None,
         adaptive: false,
     };
+
+    /// The value `v` of one knob: ε ([`Knob::Eps`]), f ([`Knob::Factor`]), δ ([`Knob::Delta`])
+    /// or the tolerance ([`Knob::EpsTol`], whose ε the caller adds); nothing for
+    /// [`Knob::None`].
+    pub fn single(knob: Knob, v: f64) -> Knobs {
+        let mut k = Knobs::NONE;
+        match knob {
+            Knob::None => {}
+            Knob::Eps => k.eps = Some(v),
+            Knob::Factor => k.factor = Some(v),
+            Knob::Delta => k.delta = Some(v),
+            Knob::EpsTol => k.tol = Some(v),
+        }
+        k
+    }
 }
 
 fn positive(name: &str, what: &str, v: Option<f64>) -> Result<f64> {

@@ -165,35 +165,15 @@ fn peak_rss_mb() -> Option<f64> {
 /// scene's scales), and the knob's value.
 fn method(name: &str, scene: &PerfScene, cfg: &ScaleConfig) -> Result<(Method, f64)> {
     let s = strategy::registry::lookup(name)?;
-    let (knobs, value) = match s.knob {
-        Knob::Eps => {
-            let eps = cfg.eps_rel * scene.k_scale;
-            (
-                Knobs {
-                    eps: Some(eps),
-                    ..Knobs::NONE
-                },
-                eps,
-            )
-        }
-        Knob::Factor => (
-            Knobs {
-                factor: Some(cfg.factor),
-                ..Knobs::NONE
-            },
-            cfg.factor,
-        ),
-        Knob::Delta => {
-            let delta = cfg.delta_rel * scene.scale;
-            (
-                Knobs {
-                    delta: Some(delta),
-                    ..Knobs::NONE
-                },
-                delta,
-            )
-        }
-        Knob::None | Knob::EpsTol => (Knobs::NONE, 0.0),
+    let value = match s.knob {
+        Knob::Eps => cfg.eps_rel * scene.k_scale,
+        Knob::Factor => cfg.factor,
+        Knob::Delta => cfg.delta_rel * scene.scale,
+        Knob::None | Knob::EpsTol => 0.0,
+    };
+    let knobs = match s.knob {
+        Knob::EpsTol => Knobs::NONE,
+        k => Knobs::single(k, value),
     };
     Ok((Method::new(s, knobs)?, value))
 }

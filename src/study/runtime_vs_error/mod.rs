@@ -251,50 +251,22 @@ pub fn jobs(scene: &PerfScene, cfg: &PerfConfig) -> Vec<(Method, &'static str, f
     let mut out = Vec::new();
     for s in cfg.strategies() {
         for &r in knob_values(&cfg.knobs, s.name) {
-            let (knobs, knob, value, rel) = match s.knob {
-                Knob::Eps => {
-                    let eps = r * scene.k_scale;
-                    (
-                        strategy::Knobs {
-                            eps: Some(eps),
-                            ..strategy::Knobs::NONE
-                        },
-                        "eps",
-                        eps,
-                        r,
-                    )
-                }
-                Knob::Factor => (
-                    strategy::Knobs {
-                        factor: Some(r),
-                        ..strategy::Knobs::NONE
-                    },
-                    "factor",
-                    r,
-                    r,
-                ),
-                Knob::Delta => {
-                    let delta = r * scene.scale;
-                    let knobs = strategy::Knobs {
-                        delta: Some(delta),
-                        ..strategy::Knobs::NONE
-                    };
-                    (knobs, "delta", delta, r)
-                }
-                Knob::EpsTol => {
-                    let tol = r * scene.scale;
-                    let knobs = strategy::Knobs {
-                        eps: Some(scene.k_scale),
-                        tol: Some(tol),
-                        ..strategy::Knobs::NONE
-                    };
-                    (knobs, "tol", tol, r)
-                }
-                Knob::None => (strategy::Knobs::NONE, "-", 0.0, 0.0),
+            // The relative value r times the scene's scale of the knob's quantity.
+            let (scale, knob) = match s.knob {
+                Knob::Eps => (scene.k_scale, "eps"),
+                Knob::Factor => (1.0, "factor"),
+                Knob::Delta => (scene.scale, "delta"),
+                Knob::EpsTol => (scene.scale, "tol"),
+                Knob::None => (0.0, "-"),
             };
+            let value = r * scale;
+            let mut knobs = strategy::Knobs::single(s.knob, value);
+            if s.knob == Knob::EpsTol {
+                knobs.eps = Some(scene.k_scale);
+            }
             // Knob values are validated with the config (finite, > 0).
             if let Ok(m) = Method::new(s, knobs) {
-                out.push((m, knob, value, rel));
+                out.push((m, knob, value, r));
             }
         }
     }

@@ -56,56 +56,21 @@ pub fn jobs(cfg: &SweepConfig, problem: &Problem, u0: Option<&[f64]>) -> Vec<Job
         }
     };
     for s in cfg.strategies() {
-        match s.knob {
-            Knob::Eps => {
-                for eps in cfg.eps.values() {
-                    push(
-                        s,
-                        Knobs {
-                            eps: Some(eps),
-                            ..Knobs::NONE
-                        },
-                        None,
-                    );
-                }
-            }
-            Knob::Factor => {
-                for &factor in &cfg.factors {
-                    push(
-                        s,
-                        Knobs {
-                            factor: Some(factor),
-                            ..Knobs::NONE
-                        },
-                        None,
-                    );
-                }
-            }
-            Knob::Delta => {
-                for &(delta, delta_rel) in &deltas {
-                    push(
-                        s,
-                        Knobs {
-                            delta: Some(delta),
-                            ..Knobs::NONE
-                        },
-                        delta_rel,
-                    );
-                }
-            }
-            Knob::EpsTol => {
-                for &(delta, delta_rel) in &deltas {
-                    let knobs = Knobs {
-                        eps: Some(aug_eps),
-                        tol: Some(delta),
-                        adaptive: true,
-                        ..Knobs::NONE
-                    };
-                    push(s, knobs, delta_rel);
-                }
-            }
+        let values: Vec<(f64, Option<f64>)> = match s.knob {
+            Knob::Eps => cfg.eps.values().into_iter().map(|e| (e, None)).collect(),
+            Knob::Factor => cfg.factors.iter().map(|&f| (f, None)).collect(),
+            // δ, or the tolerance of the ε-and-tolerance rules.
+            Knob::Delta | Knob::EpsTol => deltas.clone(),
             // The exact methods: lagrange is the first job already.
-            Knob::None => {}
+            Knob::None => Vec::new(),
+        };
+        for (v, delta_rel) in values {
+            let mut knobs = Knobs::single(s.knob, v);
+            if s.knob == Knob::EpsTol {
+                knobs.eps = Some(aug_eps);
+                knobs.adaptive = true;
+            }
+            push(s, knobs, delta_rel);
         }
     }
     out
