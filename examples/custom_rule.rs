@@ -20,7 +20,7 @@
 //! rows of each method of max penetration / δ and of cond₂(K + D E Dᵀ).
 
 use penalty_lab::strategy::{
-    fixed_point, per_active, registry, Context, Knob, Method, Solution, Strategy,
+    fixed_point, per_active, registry, Context, Glyph, Knob, Method, Solution, Strategy,
 };
 use penalty_lab::study::sweep::{self, figures, rows::Row, RunOptions, SweepConfig};
 use penalty_lab::{stats, Error, Result};
@@ -37,6 +37,7 @@ pub static GAP_SCALED: Strategy = Strategy {
     rule_label: "gap-scaled",
     knob: Knob::Delta,
     colour: 8,
+    glyph: Glyph::Circle,
     needs_k_inverse: true,
     targets_delta: false,
     solve: solve_gap_scaled,
@@ -45,7 +46,7 @@ pub static GAP_SCALED: Strategy = Strategy {
 /// `ε_c = F · K_dd · (1 + |g0_c|/δ)` on the active set, re-evaluated by [`fixed_point`] until
 /// the active set repeats.
 fn solve_gap_scaled(ctx: Context, method: &Method) -> Result<Solution> {
-    let delta = method.value(method.knobs().delta, "--delta")?;
+    let delta = method.need_delta()?;
     fixed_point(ctx, *method, |active, ctx| {
         let g0 = ctx.g0()?;
         let p = ctx.problem;
@@ -166,10 +167,7 @@ mod tests {
             vec![con],
         )
         .unwrap();
-        let knobs = Knobs {
-            delta: Some(delta),
-            ..Knobs::NONE
-        };
+        let knobs = Knobs::delta(delta);
         let m = Method::from_name(GAP_SCALED.name, knobs).unwrap();
         let sol = strategy::solve(&p, m).unwrap();
         let eps = F * k * (1.0 + (q / k) / delta);

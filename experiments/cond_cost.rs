@@ -13,7 +13,7 @@
 use clap::Parser;
 use penalty_lab::progress::Progress;
 use penalty_lab::study::cond_cost::{self, CostConfig};
-use penalty_lab::Result;
+use penalty_lab::{provenance, Result};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -66,10 +66,7 @@ fn run(a: &Args) -> Result<()> {
     };
     cond_cost::render_figure(&rows, &a.out)?;
     if a.json {
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&rows).expect("serializable")
-        );
+        println!("{}", provenance::json_text("cond_cost rows", &rows)?);
     } else {
         print!("{}", cond_cost::table(&rows));
     }

@@ -14,42 +14,15 @@
 //! status 2 and one line on stderr; a run outside the model's domain with status 3 (see
 //! `--help`; `--allow-invalid` keeps it, marked `"valid": false`).
 
-use clap::Parser;
 use penalty_lab::study::deep_drawing;
-use penalty_lab::study::forming_runs::{self, Cli};
-use penalty_lab::Error;
+use penalty_lab::study::forming_runs::Cli;
 use std::process::ExitCode;
 
-#[derive(Parser, Debug)]
-#[command(
-    name = "deep_drawing",
-    version = penalty_lab::provenance::VERSION,
-    about = "Woo-like hemispherical-punch deep draw: classical vs adaptive penalty (paper Fig. 7)",
-    after_help = format!(
-        "Default travel 1.0 in. Units: inch, ton-force, second. {}",
-        forming_runs::EXIT_STATUSES
-    )
-)]
-struct Args {
-    #[command(flatten)]
-    cli: Cli,
-}
-
-fn run(a: &Args) -> Result<(), Error> {
-    let doc = a.cli.execute(deep_drawing::EXPERIMENT)?;
-    if a.cli.json {
-        println!(
-            "{}",
-            serde_json::to_string(&doc)
-                .map_err(|e| Error::Numerical(format!("cannot serialize: {e}")))?
-        );
-    } else {
-        print!("{}", forming_runs::summary_table(&doc));
-    }
-    Ok(())
-}
-
 fn main() -> ExitCode {
-    let args = Args::parse();
-    penalty_lab::error::run_main(|| run(&args))
+    let cli = Cli::parse_for(&deep_drawing::EXPERIMENT);
+    penalty_lab::error::run_main(|| {
+        let doc = cli.execute(deep_drawing::EXPERIMENT)?;
+        print!("{}", cli.output(&doc, &doc)?);
+        Ok(())
+    })
 }

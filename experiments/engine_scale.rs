@@ -40,40 +40,63 @@ struct Args {
     /// Output directory.
     #[arg(long, default_value = "figures/engine_scale")]
     out: PathBuf,
+    /// Re-render the figure from `OUT/rows.json` without solving.
+    #[arg(long)]
+    render_only: bool,
 }
 
 fn run(a: Args) -> Result<()> {
+    let rows = if a.render_only {
+        provenance::read_json(&a.out.join("rows.json"))?
+    } else {
+        measure(a.sizes, a.methods, a.no_cond, a.quiet, &a.out)?
+    };
+    let figs = engine_scale::figures(&rows);
+    plot::render_panels(&figs, 2, &a.out.join("engine_scale"), (1120, 460))?;
+    print_table(&rows);
+    Ok(())
+}
+
+/// Solves and records `OUT/rows.{csv,json}` and `OUT/manifest.json`.
+fn measure(
+    sizes: Vec<usize>,
+    methods: Option<Vec<String>>,
+    no_cond: bool,
+    quiet: bool,
+    out: &std::path::Path,
+) -> Result<Vec<engine_scale::ScaleRow>> {
     let cfg = ScaleConfig {
-        sizes: a.sizes,
-        methods: a.methods.unwrap_or_else(|| {
+        sizes,
+        methods: methods.unwrap_or_else(|| {
             engine_scale::scale_method_names()
                 .iter()
                 .map(|s| s.to_string())
                 .collect()
         }),
-        cond: !a.no_cond,
+        cond: !no_cond,
         ..Default::default()
     };
-    let rows = engine_scale::run(&cfg, &Progress::new("engine_scale (solves)", a.quiet))?;
-    std::fs::create_dir_all(&a.out).map_err(|e| Error::io(a.out.display(), e))?;
-    provenance::write_csv(&a.out.join("rows.csv"), &rows)?;
-    let json = serde_json::to_string_pretty(&rows).expect("JSON value");
-    provenance::write_atomic(&a.out.join("rows.json"), json.as_bytes())?;
+    let rows = engine_scale::run(&cfg, &Progress::new("engine_scale (solves)", quiet))?;
+    std::fs::create_dir_all(out).map_err(|e| Error::io(out.display(), e))?;
+    provenance::write_csv(&out.join("rows.csv"), &rows)?;
+    provenance::write_json(&out.join("rows.json"), &rows)?;
     let manifest = provenance::Provenance::new("engine_scale").record(serde_json::json!({
         "config": cfg,
         "threads": 1,
         "timing": "wall time (std::time::Instant) of one strategy::solve, release build",
     }));
-    provenance::write_json(&a.out.join("manifest.json"), &manifest)?;
-    let figs = engine_scale::figures(&rows);
-    plot::render_panels(&figs, 2, &a.out.join("engine_scale"), (1120, 460))?;
+    provenance::write_json(&out.join("manifest.json"), &manifest)?;
+    Ok(rows)
+}
+
+fn print_table(rows: &[engine_scale::ScaleRow]) {
     println!(
         "{:>8} {:<10} {:>5} {:>5} {:>5} {:>9} {:>9} {:>9} {:>11} {:>11}",
         "N", "method", "its", "fact", "CG", "solve s", "cond s", "peak MB", "cond2 K", "cond2 sys"
     );
     let e = |v: Option<f64>| v.map_or("—".to_string(), |x| format!("{x:.4e}"));
     let f = |v: Option<f64>| v.map_or("—".to_string(), |x| format!("{x:.2}"));
-    for r in &rows {
+    for r in rows {
         println!(
             "{:>8} {:<10} {:>5} {:>5} {:>5} {:>9.2} {:>9} {:>9} {:>11} {:>11}{}",
             r.n,
@@ -89,7 +112,6 @@ fn run(a: Args) -> Result<()> {
             if r.converged { "" } else { "  NOT CONVERGED" }
         );
     }
-    Ok(())
 }
 
 fn main() -> ExitCode {

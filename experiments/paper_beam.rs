@@ -14,7 +14,7 @@
 
 use clap::Parser;
 use penalty_lab::study::paper_beam::{self, figures, summary};
-use penalty_lab::{Error, Result};
+use penalty_lab::{provenance, Result};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -44,9 +44,10 @@ fn run(args: &Args) -> Result<()> {
     let study = paper_beam::load(&args.out)?;
     let written = figures::render_figures(&args.out, &study)?;
     if args.json {
-        let text = serde_json::to_string_pretty(&study.record)
-            .map_err(|e| Error::Numerical(format!("cannot serialize results: {e}")))?;
-        println!("{text}");
+        println!(
+            "{}",
+            provenance::json_text("paper_beam results", &study.record)?
+        );
         return Ok(());
     }
     print!("{}", summary::text(&study.record));

@@ -19,7 +19,7 @@ use clap::Parser;
 use penalty_lab::progress::Progress;
 use penalty_lab::strategy::registry;
 use penalty_lab::study::runtime_vs_error::{self, report, PerfConfig};
-use penalty_lab::Error;
+use penalty_lab::{provenance, Error};
 use serde_json::json;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -124,10 +124,7 @@ fn run(a: &Args) -> Result<(), Error> {
     );
     if a.json {
         let all = json!({"manifest": manifest, "rows": rows});
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&all).expect("JSON value")
-        );
+        println!("{}", provenance::json_text("runtime_vs_error", &all)?);
     }
     Ok(())
 }

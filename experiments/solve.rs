@@ -8,6 +8,7 @@
 //! `shared/notes/methods.md`); the study is [`penalty_lab::study::solve`]. Bad input exits with status 2 and one line on stderr.
 
 use clap::Parser;
+use penalty_lab::provenance;
 use penalty_lab::strategy::{registry, Knobs};
 use penalty_lab::study::solve::{solve_scene, table};
 use std::path::PathBuf;
@@ -79,7 +80,7 @@ fn main() -> ExitCode {
             args.cond_tol,
         )?;
         if args.json {
-            println!("{}", serde_json::to_string_pretty(&v).unwrap_or_default());
+            println!("{}", provenance::json_text("solve result", &v)?);
         } else {
             print!("{}", table(&v));
         }

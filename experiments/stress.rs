@@ -18,7 +18,7 @@ use penalty_lab::progress::Progress;
 use penalty_lab::study::stress::report::{self, StressRun};
 use penalty_lab::study::stress::StressConfig;
 use penalty_lab::study::sweep::LogGrid;
-use penalty_lab::Error;
+use penalty_lab::{provenance, Error};
 use serde_json::json;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -120,10 +120,7 @@ fn run(a: &Args) -> Result<(), Error> {
             "eps_study": o.eps_rows,
             "strategies": o.strategy_rows,
         });
-        println!(
-            "{}",
-            serde_json::to_string_pretty(&all).expect("JSON value")
-        );
+        println!("{}", provenance::json_text("stress", &all)?);
     }
     Ok(())
 }

@@ -16,42 +16,15 @@
 //! steps, and the per-step series of every run. Bad input exits with status 2; a run outside the
 //! model's domain with status 3 (`--allow-invalid` keeps it, marked `"valid": false`).
 
-use clap::Parser;
-use penalty_lab::study::forming_runs::{self, Cli};
+use penalty_lab::study::forming_runs::Cli;
 use penalty_lab::study::stretch_test;
-use penalty_lab::Error;
 use std::process::ExitCode;
 
-#[derive(Parser, Debug)]
-#[command(
-    name = "stretch_test",
-    version = penalty_lab::provenance::VERSION,
-    about = "Clamped hemispherical-punch stretching (paper's first example): classical vs adaptive penalty",
-    after_help = format!(
-        "Default travel 0.8 in. Units: inch, ton-force, second. {}",
-        forming_runs::EXIT_STATUSES
-    )
-)]
-struct Args {
-    #[command(flatten)]
-    cli: Cli,
-}
-
-fn run(a: &Args) -> Result<(), Error> {
-    let doc = a.cli.execute(stretch_test::EXPERIMENT)?;
-    if a.cli.json {
-        println!(
-            "{}",
-            serde_json::to_string(&stretch_test::json_summary(&doc))
-                .map_err(|e| Error::Numerical(format!("cannot serialize: {e}")))?
-        );
-    } else {
-        print!("{}", forming_runs::summary_table(&doc));
-    }
-    Ok(())
-}
-
 fn main() -> ExitCode {
-    let args = Args::parse();
-    penalty_lab::error::run_main(|| run(&args))
+    let cli = Cli::parse_for(&stretch_test::EXPERIMENT);
+    penalty_lab::error::run_main(|| {
+        let doc = cli.execute(stretch_test::EXPERIMENT)?;
+        print!("{}", cli.output(&doc, &stretch_test::json_summary(&doc))?);
+        Ok(())
+    })
 }

@@ -54,7 +54,8 @@ pub type Result<T> = std::result::Result<T, Error>;
 
 /// The `main` of every binary: runs `f`; an error becomes its message on one line of stderr
 /// and exit status 2 (3 for [`Error::OutsideModel`]), a panic (a bug, never expected) one line asking for a report and exit
-/// status 2 — never a backtrace or a half-written line.
+/// status 2 — never a backtrace or a half-written line. Standard output closed by its reader
+/// (`| head`) ends the binary quietly with status 0.
 pub fn run_main(f: impl FnOnce() -> Result<()> + std::panic::UnwindSafe) -> std::process::ExitCode {
     std::panic::set_hook(Box::new(|_| {}));
     match std::panic::catch_unwind(f) {
@@ -74,6 +75,10 @@ pub fn run_main(f: impl FnOnce() -> Result<()> + std::panic::UnwindSafe) -> std:
                 .cloned()
                 .or_else(|| p.downcast_ref::<&str>().map(|s| s.to_string()))
                 .unwrap_or_else(|| "unknown".into());
+            if msg.starts_with("failed printing to stdout") && msg.contains("Broken pipe") {
+                // The reader went away (`| head`): not a failure of the run.
+                return std::process::ExitCode::SUCCESS;
+            }
             eprintln!(
                 "error: internal failure ({}); please report the command line",
                 msg.replace('\n', " ")

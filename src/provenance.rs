@@ -53,10 +53,23 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     Ok(())
 }
 
+/// `value` as pretty-printed JSON (what every binary's `--json` prints and every record holds);
+/// a value JSON cannot hold (e.g. a map with non-string keys) is an error naming `what`.
+pub fn json_text(what: &str, value: &impl serde::Serialize) -> Result<String> {
+    serde_json::to_string_pretty(value)
+        .map_err(|e| Error::Numerical(format!("cannot write {what} as JSON: {e}")))
+}
+
+/// Reads the JSON file `path` as a `T` (the one JSON reader of the saved records): a missing
+/// file is an I/O error naming it, malformed JSON an input error naming it and the position.
+pub fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path.display(), e))?;
+    serde_json::from_str(&text).map_err(|e| Error::input(format!("{}: {e}", path.display())))
+}
+
 /// Writes `value` as pretty-printed JSON to `path`, atomically.
 pub fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<()> {
-    let text = serde_json::to_string_pretty(value)
-        .map_err(|e| Error::Numerical(format!("JSON for {}: {e}", path.display())))?;
+    let text = json_text(&path.display().to_string(), value)?;
     write_atomic(path, text.as_bytes())
 }
 

@@ -17,7 +17,7 @@ pub(super) fn draw_figure<DB: DrawingBackend>(
     fig: &Figure,
     prep: &Prepared,
     scale: f64,
-) -> std::result::Result<(), String> {
+) -> Drawn {
     let (w, h) = area.dim_in_pixel();
     let st = Style::new(scale);
     let title_h = if fig.title.is_empty() {
@@ -267,17 +267,22 @@ where
     Ok(())
 }
 
+/// An axis of the plotting area: linear or log over f64.
+pub(super) trait Axis: Ranged<ValueType = f64> {}
+impl<T: Ranged<ValueType = f64>> Axis for T {}
+
+/// The plotting area the `draw_*` functions paint on.
+pub(super) type Chart<'c, 'a, DB, X, Y> = &'c mut ChartContext<'a, DB, Cartesian2d<X, Y>>;
+
+/// What a `draw_*` function returns: nothing, or the backend's error as text.
+pub(super) type Drawn = std::result::Result<(), String>;
+
 /// Spread bands: filled polygons between their lower and upper curves, with edges.
-pub(super) fn draw_bands<'a, DB, X, Y>(
-    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+pub(super) fn draw_bands<'a, DB: DrawingBackend + 'a, X: Axis, Y: Axis>(
+    chart: Chart<'_, 'a, DB, X, Y>,
     fig: &Figure,
     st: &Style,
-) -> std::result::Result<(), String>
-where
-    DB: DrawingBackend + 'a,
-    X: Ranged<ValueType = f64>,
-    Y: Ranged<ValueType = f64>,
-{
+) -> Drawn {
     for (i, b) in fig.bands.iter().enumerate() {
         let c = pal(b.color.unwrap_or(i));
         let polys: Vec<Polygon<(f64, f64)>> = band_runs(fig, b)
@@ -315,17 +320,12 @@ where
 }
 
 /// Coloured segments and the dashed reference lines (their labels come after the legend).
-pub(super) fn draw_lines<'a, DB, X, Y>(
-    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+pub(super) fn draw_lines<'a, DB: DrawingBackend + 'a, X: Axis, Y: Axis>(
+    chart: Chart<'_, 'a, DB, X, Y>,
     fig: &Figure,
     prep: &Prepared,
     st: &Style,
-) -> std::result::Result<(), String>
-where
-    DB: DrawingBackend + 'a,
-    X: Ranged<ValueType = f64>,
-    Y: Ranged<ValueType = f64>,
-{
+) -> Drawn {
     let (xs, ys) = (fig.x_scale, fig.y_scale);
     let seg_w = st.px(3.0).max(1) as u32;
     chart
@@ -365,16 +365,11 @@ where
 }
 
 /// The data series in their marks, each with its legend entry.
-pub(super) fn draw_marks<'a, DB, X, Y>(
-    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+pub(super) fn draw_marks<'a, DB: DrawingBackend + 'a, X: Axis, Y: Axis>(
+    chart: Chart<'_, 'a, DB, X, Y>,
     fig: &Figure,
     st: &Style,
-) -> std::result::Result<(), String>
-where
-    DB: DrawingBackend + 'a,
-    X: Ranged<ValueType = f64>,
-    Y: Ranged<ValueType = f64>,
-{
+) -> Drawn {
     let (xs, ys) = (fig.x_scale, fig.y_scale);
     let lw = st.line_width();
     let dash = st.dash();
@@ -411,35 +406,39 @@ where
                     });
                 }
             }
-            Mark::Points => {
-                let anno = chart
-                    .draw_series(
-                        rs.into_iter()
-                            .flatten()
-                            .map(|p| Circle::new(p, pr, c.filled())),
-                    )
-                    .map_err(area_err)?;
-                if has_label {
-                    anno.label(s.label.as_str())
-                        .legend(move |(x, y)| Circle::new((x + len / 2, y), pr, c.filled()));
+            Mark::Points | Mark::LinePoints => {
+                if s.mark == Mark::LinePoints {
+                    chart
+                        .draw_series(rs.iter().map(|r| PathElement::new(r.clone(), line)))
+                        .map_err(area_err)?;
                 }
-            }
-            Mark::LinePoints => {
-                chart
-                    .draw_series(rs.iter().map(|r| PathElement::new(r.clone(), line)))
-                    .map_err(area_err)?;
+                let shape = glyph_outline(s.glyph, pr);
+                let (offset, stride) = s.glyph_every;
+                let at = s.x.iter().zip(&s.y).enumerate().filter(|&(k, (&x, &y))| {
+                    k % stride.max(1) == offset
+                        && ok(xs, x)
+                        && ok(ys, y)
+                        && x.is_finite()
+                        && y.is_finite()
+                });
                 let anno = chart
-                    .draw_series(
-                        rs.into_iter()
-                            .flatten()
-                            .map(|p| Circle::new(p, pr, c.filled())),
-                    )
+                    .draw_series(at.map(|(_, (&x, &y))| {
+                        EmptyElement::at((x, y)) + Polygon::new(shape.clone(), c.filled())
+                    }))
                     .map_err(area_err)?;
                 if has_label {
+                    let (with_line, glyph) = (s.mark == Mark::LinePoints, s.glyph);
                     anno.label(s.label.as_str()).legend(move |(x, y)| {
+                        let stroke = if with_line { len } else { 0 };
                         EmptyElement::at((x, y))
-                            + PathElement::new(vec![(0, 0), (len, 0)], line)
-                            + Circle::new((len / 2, 0), pr, c.filled())
+                            + PathElement::new(vec![(0, 0), (stroke, 0)], line)
+                            + Polygon::new(
+                                glyph_outline(glyph, pr)
+                                    .into_iter()
+                                    .map(|(a, b)| (a + len / 2, b))
+                                    .collect::<Vec<_>>(),
+                                c.filled(),
+                            )
                     });
                 }
             }
@@ -449,17 +448,66 @@ where
     Ok(())
 }
 
+/// The outline of a glyph of half-size `r` px, as pixel offsets from its centre (y down);
+/// every shape has about the area of a circle of radius `r`.
+pub(super) fn glyph_outline(g: Glyph, r: i32) -> Vec<(i32, i32)> {
+    let rf = r as f64;
+    let polar = |n: usize, rad: f64, phase: f64| -> Vec<(i32, i32)> {
+        (0..n)
+            .map(|k| {
+                let t = phase + std::f64::consts::TAU * k as f64 / n as f64;
+                (
+                    (rad * t.cos()).round() as i32,
+                    (-rad * t.sin()).round() as i32,
+                )
+            })
+            .collect()
+    };
+    let half = std::f64::consts::FRAC_PI_2;
+    match g {
+        Glyph::Circle => polar(16, rf, 0.0),
+        Glyph::Square => polar(4, rf * 1.25, half / 2.0),
+        Glyph::Diamond => polar(4, rf * 1.3, 0.0),
+        Glyph::Triangle => polar(3, rf * 1.45, half),
+        Glyph::TriangleDown => polar(3, rf * 1.45, -half),
+        Glyph::Pentagon => polar(5, rf * 1.15, half),
+        Glyph::Plus | Glyph::Cross => {
+            // A plus of arm half-width w, turned by 45° for the cross.
+            let (a, w) = (rf * 1.35, rf * 0.45);
+            let plus = [
+                (w, a),
+                (w, w),
+                (a, w),
+                (a, -w),
+                (w, -w),
+                (w, -a),
+                (-w, -a),
+                (-w, -w),
+                (-a, -w),
+                (-a, w),
+                (-w, w),
+                (-w, a),
+            ];
+            let turn = if g == Glyph::Cross { half / 2.0 } else { 0.0 };
+            let (sn, cs) = turn.sin_cos();
+            plus.iter()
+                .map(|&(x, y)| {
+                    (
+                        (x * cs - y * sn).round() as i32,
+                        (x * sn + y * cs).round() as i32,
+                    )
+                })
+                .collect()
+        }
+    }
+}
+
 /// Markers: diamonds with a black outline.
-pub(super) fn draw_markers<'a, DB, X, Y>(
-    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+pub(super) fn draw_markers<'a, DB: DrawingBackend + 'a, X: Axis, Y: Axis>(
+    chart: Chart<'_, 'a, DB, X, Y>,
     fig: &Figure,
     st: &Style,
-) -> std::result::Result<(), String>
-where
-    DB: DrawingBackend + 'a,
-    X: Ranged<ValueType = f64>,
-    Y: Ranged<ValueType = f64>,
-{
+) -> Drawn {
     let (xs, ys) = (fig.x_scale, fig.y_scale);
     let len = st.legend_sample();
     let r = st.px(9.0);

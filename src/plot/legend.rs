@@ -1,6 +1,5 @@
 //! The legend in the emptiest corner and the reference-line labels placed around it.
 
-use plotters::coord::ranged1d::Ranged;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 
@@ -136,17 +135,12 @@ fn corner_and_count(fig: &Figure, prep: &Prepared, w: f64, h: f64) -> (Corner, u
 
 /// The legend in the emptiest corner; returns the corner and the legend's size in
 /// normalised plot coordinates (0×0: no legend).
-pub(super) fn draw_legend<'a, DB, X, Y>(
-    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+pub(super) fn draw_legend<'a, DB: DrawingBackend + 'a, X: Axis, Y: Axis>(
+    chart: Chart<'_, 'a, DB, X, Y>,
     fig: &Figure,
     prep: &Prepared,
     st: &Style,
-) -> std::result::Result<(Corner, (f64, f64)), String>
-where
-    DB: DrawingBackend + 'a,
-    X: Ranged<ValueType = f64>,
-    Y: Ranged<ValueType = f64>,
-{
+) -> std::result::Result<(Corner, (f64, f64)), String> {
     // Legend in the emptiest corner.
     let (prx, pry) = chart.plotting_area().get_pixel_range();
     let (pw, ph) = (
@@ -187,18 +181,13 @@ where
 
 /// Reference-line labels: hline labels at the right end above the line, vline labels at the
 /// top right of the line, each moved to the other end where it would hit the legend.
-pub(super) fn draw_reference_labels<'a, DB, X, Y>(
-    chart: &mut ChartContext<'a, DB, Cartesian2d<X, Y>>,
+pub(super) fn draw_reference_labels<'a, DB: DrawingBackend + 'a, X: Axis, Y: Axis>(
+    chart: Chart<'_, 'a, DB, X, Y>,
     fig: &Figure,
     prep: &Prepared,
     st: &Style,
     (corner, legend_wh): (Corner, (f64, f64)),
-) -> std::result::Result<(), String>
-where
-    DB: DrawingBackend + 'a,
-    X: Ranged<ValueType = f64>,
-    Y: Ranged<ValueType = f64>,
-{
+) -> Drawn {
     let (xs, ys) = (fig.x_scale, fig.y_scale);
     let (prx, pry) = chart.plotting_area().get_pixel_range();
     let (pw, ph) = (

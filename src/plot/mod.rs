@@ -38,11 +38,12 @@ mod chart;
 mod legend;
 mod style;
 
+pub use crate::strategy::Glyph;
 use axes::*;
 use chart::*;
 use legend::*;
 use style::*;
-pub use style::{method_color, method_label, BLACK_INDEX, PALETTE};
+pub use style::{method_color, method_glyph, method_label, BLACK_INDEX, PALETTE};
 
 /// Axis scale.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -81,6 +82,11 @@ pub struct Series {
     pub mark: Mark,
     /// Palette index ([`PALETTE`]); `None`: the series' position in [`Figure::series`].
     pub color: Option<usize>,
+    /// Point shape of [`Mark::Points`] and [`Mark::LinePoints`].
+    pub glyph: Glyph,
+    /// `(offset, stride)`: glyphs at the points whose index i has i % stride == offset (a
+    /// line of 100 steps carries a glyph every few steps; offsets stagger coinciding curves).
+    pub glyph_every: (usize, usize),
 }
 
 impl Series {
@@ -92,11 +98,28 @@ impl Series {
             y,
             mark,
             color: None,
+            glyph: Glyph::Circle,
+            glyph_every: (0, 1),
         }
     }
     /// Sets the palette index.
     pub fn color(mut self, index: usize) -> Self {
         self.color = Some(index);
+        self
+    }
+    /// Colour and point shape of the method (or forming run) `name`: [`method_color`],
+    /// [`method_glyph`].
+    pub fn method(self, name: &str) -> Self {
+        self.color(method_color(name)).glyph(method_glyph(name))
+    }
+    /// Sets the point shape.
+    pub fn glyph(mut self, glyph: Glyph) -> Self {
+        self.glyph = glyph;
+        self
+    }
+    /// Draws glyphs only at every `stride`-th point from `offset` (stride ≥ 1).
+    pub fn glyph_every(mut self, offset: usize, stride: usize) -> Self {
+        self.glyph_every = (offset, stride.max(1));
         self
     }
 }

@@ -5,7 +5,7 @@ use std::sync::OnceLock;
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
-use crate::strategy::{self, Strategy};
+use crate::strategy::{self, Glyph, Strategy};
 use crate::{Error, Result};
 
 /// The embedded font (DejaVu Sans, see `assets/DejaVuSans-LICENSE.txt`).
@@ -133,6 +133,19 @@ pub fn method_color(name: &str) -> usize {
     forming_alias(name)
         .or_else(|| strategy::registry::find(name))
         .map_or(7, |s| s.colour)
+}
+
+/// The point marker of a method: its [`Strategy`]'s glyph; a forming run's name takes its
+/// rule's, except `classical-matched` (a square beside `classical`'s would hide it: a ×) and
+/// `K alone` (a circle).
+pub fn method_glyph(name: &str) -> Glyph {
+    match name {
+        "classical-matched" => Glyph::Cross,
+        "K alone" => Glyph::Circle,
+        n => forming_alias(n)
+            .or_else(|| strategy::registry::find(n))
+            .map_or(Glyph::Circle, |s| s.glyph),
+    }
 }
 
 /// The legend name of a method in every figure: its [`Strategy`]'s label (the δ-driven

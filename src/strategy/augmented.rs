@@ -15,7 +15,7 @@
 //! the price of several solves.
 
 use super::active_set::{newton, Start};
-use super::{Context, Knob, Knobs, Method, Solution, Strategy, SystemKind};
+use super::{Context, Glyph, Knob, Knobs, Method, Solution, Strategy, SystemKind};
 use crate::error::Result;
 use crate::system::ConstraintKind;
 
@@ -27,6 +27,7 @@ pub static STRATEGY: Strategy = Strategy {
     rule_label: "augmented",
     knob: Knob::EpsTol,
     colour: 6,
+    glyph: Glyph::Pentagon,
     needs_k_inverse: false,
     targets_delta: false,
     solve: run,

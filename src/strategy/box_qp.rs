@@ -96,6 +96,17 @@ pub fn pdas<T>(
     )))
 }
 
+/// Violation tolerance of a bound: the rounding level of the gaps g0 and the finite bounds,
+/// 64·ε_mach·max(m, 1)·max|·| (m = number of constraints).
+pub(super) fn violation_tol(g0: &[f64], lo: &[f64], hi: &[f64]) -> f64 {
+    let scale = g0
+        .iter()
+        .chain(lo.iter().filter(|v| v.is_finite()))
+        .chain(hi.iter().filter(|v| v.is_finite()))
+        .fold(0.0f64, |a, v| a.max(v.abs()));
+    64.0 * f64::EPSILON * (g0.len() as f64).max(1.0) * scale
+}
+
 /// Solves `min ½(g − g0)ᵀS⁻¹(g − g0)` s.t. `lo ≤ g ≤ hi` in the force variable
 /// `r = S⁻¹(g0 − g)` (only S is needed, never S⁻¹): at-bound rows solve `S_AA r_A = g0_A − g_A`,
 /// free rows have `r = 0` and `g_F = g0_F − S_FA r_A`. `start`: the initial state (default:
@@ -108,13 +119,7 @@ pub fn box_qp(
     start: Option<Vec<BoundState>>,
 ) -> Result<BoxQp> {
     let m = g0.len();
-    // Violation tolerance: rounding level of the gaps.
-    let scale = g0
-        .iter()
-        .chain(lo.iter().filter(|v| v.is_finite()))
-        .chain(hi.iter().filter(|v| v.is_finite()))
-        .fold(0.0f64, |a, v| a.max(v.abs()));
-    let tol = 64.0 * f64::EPSILON * (m as f64).max(1.0) * scale;
+    let tol = violation_tol(g0, lo, hi);
     let state = start_state(g0, lo, hi, start);
     let spec = PdasSpec {
         bounds: (lo, hi),

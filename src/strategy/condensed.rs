@@ -34,7 +34,7 @@
 //! same max penetration 0.1 with cond 221.1 against 222.3 (see `paper_beam`, note (i)).
 
 use super::box_qp::{box_qp, BoundState};
-use super::{Context, Knob, Knobs, Method, Solution, Strategy, SystemKind};
+use super::{Context, Glyph, Knob, Knobs, Method, Solution, Strategy, SystemKind};
 use crate::error::{Error, Result};
 use crate::system::ConstraintKind;
 use faer::Mat;
@@ -47,6 +47,7 @@ pub static STRATEGY: Strategy = Strategy {
     rule_label: "condensed",
     knob: Knob::Delta,
     colour: 4,
+    glyph: Glyph::Diamond,
     needs_k_inverse: true,
     targets_delta: true,
     solve: run,
@@ -55,18 +56,12 @@ pub static STRATEGY: Strategy = Strategy {
 impl Method {
     /// Exact δ-targeting penalties for allowed penetration δ (> 0).
     pub const fn condensed(delta: f64) -> Method {
-        Method::of(
-            &STRATEGY,
-            Knobs {
-                delta: Some(delta),
-                ..Knobs::NONE
-            },
-        )
+        Method::of(&STRATEGY, Knobs::delta(delta))
     }
 }
 
 fn run(ctx: Context, m: &Method) -> Result<Solution> {
-    solve(ctx, m.value(m.knobs().delta, "--delta")?)
+    solve(ctx, m.need_delta()?)
 }
 
 /// Solves with exact δ-targeting penalties: through S = DᵀK⁻¹D ([`solve_dense`]), or for

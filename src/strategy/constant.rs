@@ -4,7 +4,7 @@
 //! When to use: when a good ε is known. Too small and contact leaks (penetration ∝ 1/ε), too
 //! large and cond(K + εDDᵀ) grows ∝ ε.
 
-use super::{fixed_energy, Context, Knob, Knobs, Method, Solution, Strategy};
+use super::{fixed_energy, Context, Glyph, Knob, Knobs, Method, Solution, Strategy};
 use crate::error::Result;
 
 /// `constant`: everything the registry knows about this strategy ([`super::registry`]).
@@ -15,6 +15,7 @@ pub static STRATEGY: Strategy = Strategy {
     rule_label: "constant",
     knob: Knob::Eps,
     colour: 0,
+    glyph: Glyph::Square,
     needs_k_inverse: false,
     targets_delta: false,
     solve: run,
@@ -23,13 +24,7 @@ pub static STRATEGY: Strategy = Strategy {
 impl Method {
     /// The classical penalty ε (> 0).
     pub const fn constant(eps: f64) -> Method {
-        Method::of(
-            &STRATEGY,
-            Knobs {
-                eps: Some(eps),
-                ..Knobs::NONE
-            },
-        )
+        Method::of(&STRATEGY, Knobs::eps(eps))
     }
 }
 

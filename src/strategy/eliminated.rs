@@ -90,12 +90,7 @@ pub fn box_solve(
     let (n, m) = (problem.n(), problem.m());
     // Start like box_qp: the bounds violated by the unconstrained solution.
     let g0 = ctx.g0()?;
-    let scale = g0
-        .iter()
-        .chain(lo.iter().filter(|v| v.is_finite()))
-        .chain(hi.iter().filter(|v| v.is_finite()))
-        .fold(0.0f64, |a, v| a.max(v.abs()));
-    let tol = 64.0 * f64::EPSILON * (m as f64).max(1.0) * scale;
+    let tol = super::box_qp::violation_tol(&g0, lo, hi);
     let pat = DiagonalPattern::new(kmat)?;
     let kdiag: Vec<f64> = pat.diag.iter().map(|&p| pat.values[p]).collect();
     let start = match start {

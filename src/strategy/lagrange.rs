@@ -12,7 +12,7 @@
 //! saddle-point matrix's) whose size changes with the active set.
 
 use super::{
-    initial_active_set, max_iterations, Context, Knob, Knobs, Method, Solution, Strategy,
+    initial_active_set, max_iterations, Context, Glyph, Knob, Knobs, Method, Solution, Strategy,
     SystemKind,
 };
 use crate::error::{Error, Result};
@@ -28,6 +28,7 @@ pub static STRATEGY: Strategy = Strategy {
     rule_label: "lagrange",
     knob: Knob::None,
     colour: 5,
+    glyph: Glyph::Plus,
     needs_k_inverse: false,
     targets_delta: false,
     solve: run,

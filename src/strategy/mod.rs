@@ -44,7 +44,7 @@ use crate::system::{Problem, Stiffness};
 use serde::Serialize;
 use std::sync::Arc;
 
-pub use registry::{Knob, Strategy};
+pub use registry::{Glyph, Knob, Strategy};
 
 pub use active_set::{
     clip_negative, fixed_energy, fixed_point, initial_active_set, max_iterations, per_active,
@@ -117,6 +117,30 @@ impl Knobs {
         adaptive: false,
     };
 
+    /// ε alone ([`Knob::Eps`]).
+    pub const fn eps(v: f64) -> Knobs {
+        Knobs {
+            eps: Some(v),
+            ..Knobs::NONE
+        }
+    }
+
+    /// f alone ([`Knob::Factor`]).
+    pub const fn factor(v: f64) -> Knobs {
+        Knobs {
+            factor: Some(v),
+            ..Knobs::NONE
+        }
+    }
+
+    /// δ alone ([`Knob::Delta`]).
+    pub const fn delta(v: f64) -> Knobs {
+        Knobs {
+            delta: Some(v),
+            ..Knobs::NONE
+        }
+    }
+
     /// The value `v` of one knob: ε ([`Knob::Eps`]), f ([`Knob::Factor`]), δ ([`Knob::Delta`])
     /// or the tolerance ([`Knob::EpsTol`], whose ε the caller adds); nothing for
     /// [`Knob::None`].
@@ -150,18 +174,9 @@ impl Method {
         let n = strategy.name;
         let k = match strategy.knob {
             Knob::None => Knobs::NONE,
-            Knob::Eps => Knobs {
-                eps: Some(positive(n, "--eps", knobs.eps)?),
-                ..Knobs::NONE
-            },
-            Knob::Factor => Knobs {
-                factor: Some(positive(n, "--factor", knobs.factor)?),
-                ..Knobs::NONE
-            },
-            Knob::Delta => Knobs {
-                delta: Some(positive(n, "--delta", knobs.delta)?),
-                ..Knobs::NONE
-            },
+            Knob::Eps => Knobs::eps(positive(n, "--eps", knobs.eps)?),
+            Knob::Factor => Knobs::factor(positive(n, "--factor", knobs.factor)?),
+            Knob::Delta => Knobs::delta(positive(n, "--delta", knobs.delta)?),
             Knob::EpsTol => Knobs {
                 eps: Some(positive(n, "--eps", knobs.eps)?),
                 tol: Some(positive(n, "--tol", knobs.tol)?),
@@ -218,6 +233,11 @@ impl Method {
     /// without it would give).
     pub fn value(&self, v: Option<f64>, what: &str) -> Result<f64> {
         v.ok_or_else(|| Error::input(format!("method {} needs {what}", self.name())))
+    }
+
+    /// Its δ (`--delta`); an error naming the method where it has none.
+    pub fn need_delta(&self) -> Result<f64> {
+        self.value(self.knobs.delta, "--delta")
     }
 }
 

@@ -80,7 +80,7 @@
 //! optimal_cost` measures it; its numbers are in docs/performance.md), so n = 1000 takes
 //! minutes.
 
-use super::{fixed_energy, Context, Knob, Knobs, Method, Solution, Strategy};
+use super::{fixed_energy, Context, Glyph, Knob, Knobs, Method, Solution, Strategy};
 use crate::conditioning;
 use crate::error::{Error, Result};
 use crate::system::{ConstraintKind, Problem};
@@ -95,6 +95,7 @@ pub static STRATEGY: Strategy = Strategy {
     rule_label: "optimal",
     knob: Knob::Delta,
     colour: 9,
+    glyph: Glyph::Cross,
     needs_k_inverse: true,
     targets_delta: true,
     solve: run,
@@ -103,18 +104,12 @@ pub static STRATEGY: Strategy = Strategy {
 impl Method {
     /// The cond-optimal penalties for allowed penetration δ (> 0).
     pub const fn optimal(delta: f64) -> Method {
-        Method::of(
-            &STRATEGY,
-            Knobs {
-                delta: Some(delta),
-                ..Knobs::NONE
-            },
-        )
+        Method::of(&STRATEGY, Knobs::delta(delta))
     }
 }
 
 fn run(ctx: Context, m: &Method) -> Result<Solution> {
-    solve(ctx, m.value(m.knobs().delta, "--delta")?)
+    solve(ctx, m.need_delta()?)
 }
 
 /// Largest n the dense optimiser accepts.

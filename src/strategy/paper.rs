@@ -9,7 +9,7 @@
 //! an order of magnitude (Eq. 37); see [`super::condensed`] for the exact version. A negative
 //! ε̄ (e.g. a tool node with no load of its own) is warned and clipped to 0.
 
-use super::{fixed_point, per_active, Context, Knob, Knobs, Method, Solution, Strategy};
+use super::{fixed_point, per_active, Context, Glyph, Knob, Knobs, Method, Solution, Strategy};
 use crate::error::Result;
 use crate::system::Problem;
 
@@ -21,6 +21,7 @@ pub static STRATEGY: Strategy = Strategy {
     rule_label: "paper (Eq. 28)",
     knob: Knob::Delta,
     colour: 3,
+    glyph: Glyph::Triangle,
     needs_k_inverse: false,
     targets_delta: false,
     solve: run,
@@ -29,18 +30,12 @@ pub static STRATEGY: Strategy = Strategy {
 impl Method {
     /// The paper's Eq. 26–29 for allowed penetration δ (> 0).
     pub const fn paper(delta: f64) -> Method {
-        Method::of(
-            &STRATEGY,
-            Knobs {
-                delta: Some(delta),
-                ..Knobs::NONE
-            },
-        )
+        Method::of(&STRATEGY, Knobs::delta(delta))
     }
 }
 
 fn run(ctx: Context, m: &Method) -> Result<Solution> {
-    solve(ctx, m.value(m.knobs().delta, "--delta")?)
+    solve(ctx, m.need_delta()?)
 }
 
 /// Eq. 28 for the active constraints (0 elsewhere), before clipping.

@@ -46,6 +46,29 @@ impl Knob {
     }
 }
 
+/// The point marker of a strategy in every figure (a second cue beside its colour, so that
+/// coinciding curves stay distinguishable and figures survive greyscale printing).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Glyph {
+    /// Filled circle.
+    #[default]
+    Circle,
+    /// Filled square.
+    Square,
+    /// Filled triangle, apex up.
+    Triangle,
+    /// Filled triangle, apex down.
+    TriangleDown,
+    /// Filled diamond.
+    Diamond,
+    /// Filled ×.
+    Cross,
+    /// Filled +.
+    Plus,
+    /// Filled pentagon.
+    Pentagon,
+}
+
 /// Everything about one strategy, declared in its own file.
 #[derive(Debug)]
 pub struct Strategy {
@@ -61,6 +84,8 @@ pub struct Strategy {
     pub knob: Knob,
     /// Palette index of its colour in every figure (`plot::PALETTE`, taken modulo its length).
     pub colour: usize,
+    /// Its point marker in every figure.
+    pub glyph: Glyph,
     /// Whether its solves need K⁻¹ (a nonsingular K): those that start from u0 = K⁻¹q or use
     /// S = DᵀK⁻¹D.
     pub needs_k_inverse: bool,

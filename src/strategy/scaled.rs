@@ -4,7 +4,7 @@
 //! When to use: a dimensionless knob that adapts to the units and to the local stiffness; the
 //! penetration still depends on the load (it is not a δ).
 
-use super::{fixed_energy, Context, Knob, Knobs, Method, Solution, Strategy};
+use super::{fixed_energy, Context, Glyph, Knob, Knobs, Method, Solution, Strategy};
 use crate::error::Result;
 
 /// `scaled`: everything the registry knows about this strategy ([`super::registry`]).
@@ -15,6 +15,7 @@ pub static STRATEGY: Strategy = Strategy {
     rule_label: "scaled",
     knob: Knob::Factor,
     colour: 1,
+    glyph: Glyph::TriangleDown,
     needs_k_inverse: false,
     targets_delta: false,
     solve: run,
@@ -23,13 +24,7 @@ pub static STRATEGY: Strategy = Strategy {
 impl Method {
     /// The stiffness-scaled penalty ε_c = factor · K[d_c, d_c] (factor > 0).
     pub const fn scaled(factor: f64) -> Method {
-        Method::of(
-            &STRATEGY,
-            Knobs {
-                factor: Some(factor),
-                ..Knobs::NONE
-            },
-        )
+        Method::of(&STRATEGY, Knobs::factor(factor))
     }
 }
 

@@ -11,7 +11,7 @@
 //! load, so the penetration is not δ; when `|q_d|` is small the formula goes negative (warned
 //! and clipped to 0).
 
-use super::{fixed_point, per_active, Context, Knob, Knobs, Method, Solution, Strategy};
+use super::{fixed_point, per_active, Context, Glyph, Knob, Knobs, Method, Solution, Strategy};
 use crate::error::Result;
 use crate::system::ConstraintKind;
 
@@ -23,6 +23,7 @@ pub static STRATEGY: Strategy = Strategy {
     rule_label: "spring (Eq. 17)",
     knob: Knob::Delta,
     colour: 2,
+    glyph: Glyph::Circle,
     needs_k_inverse: true,
     targets_delta: false,
     solve: run,
@@ -31,18 +32,12 @@ pub static STRATEGY: Strategy = Strategy {
 impl Method {
     /// Eq. 17 per constraint for allowed penetration δ (> 0).
     pub const fn spring(delta: f64) -> Method {
-        Method::of(
-            &STRATEGY,
-            Knobs {
-                delta: Some(delta),
-                ..Knobs::NONE
-            },
-        )
+        Method::of(&STRATEGY, Knobs::delta(delta))
     }
 }
 
 fn run(ctx: Context, m: &Method) -> Result<Solution> {
-    solve(ctx, m.value(m.knobs().delta, "--delta")?)
+    solve(ctx, m.need_delta()?)
 }
 
 /// Solves with Eq. 17 penalties for allowed penetration δ.

@@ -2,7 +2,7 @@
 
 use std::path::PathBuf;
 
-use penalty_lab::plot::{render, render_panels, Band, Figure, Mark, Marker, Scale, Series};
+use penalty_lab::plot::{render, render_panels, Band, Figure, Glyph, Mark, Marker, Scale, Series};
 
 fn tmp_dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("penalty_lab_plot_{}_{name}", std::process::id()));
@@ -174,16 +174,46 @@ fn gallery_of_edge_cases() {
         .scales(Scale::Log10, Scale::Log10)
         .with_series(Series::new("t(n)", x, y, Mark::LinePoints));
     render(&fig, &dir.join("narrow_log")).unwrap();
+    // Every glyph, on a line and alone, decimated.
+    let mut fig = Figure::new("glyphs", "x", "y");
+    for (k, g) in [
+        Glyph::Circle,
+        Glyph::Square,
+        Glyph::Triangle,
+        Glyph::TriangleDown,
+        Glyph::Diamond,
+        Glyph::Cross,
+        Glyph::Plus,
+        Glyph::Pentagon,
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let x: Vec<f64> = (0..20).map(f64::from).collect();
+        let y = x.iter().map(|v| v + k as f64).collect();
+        let mark = if k % 2 == 0 {
+            Mark::Points
+        } else {
+            Mark::LinePoints
+        };
+        fig = fig.with_series(
+            Series::new(format!("{g:?}"), x, y, mark)
+                .glyph(g)
+                .glyph_every(k, 4),
+        );
+    }
+    render(&fig, &dir.join("glyphs")).unwrap();
     // A single point, no title.
     let fig = Figure::new("", "x", "y").with_marker(Marker::new("only point", 1.0, 1.0));
     render(&fig, &dir.join("single")).unwrap();
 }
 
-/// One colour per method everywhere: distinct for the seven strategies, and the forming runs
-/// take the colour of the rule they use.
+/// One colour and one glyph per method everywhere: each distinct across the built-in
+/// strategies, and the forming runs take the colour and glyph of the rule they use (the
+/// matched classical run its own glyph, since it shares classical's colour).
 #[test]
 fn one_colour_per_method() {
-    use penalty_lab::plot::{method_color, method_label};
+    use penalty_lab::plot::{method_color, method_glyph, method_label};
     use penalty_lab::strategy::registry::BUILT_IN;
     let mut seen: Vec<usize> = BUILT_IN.iter().map(|s| method_color(s.name)).collect();
     seen.sort_unstable();
@@ -193,4 +223,13 @@ fn one_colour_per_method() {
     assert_eq!(method_color("adaptive"), method_color("paper"));
     assert!(method_label("paper").contains("Eq. 26"));
     assert_eq!(method_label("lagrange"), "lagrange");
+    let mut glyphs: Vec<String> = BUILT_IN
+        .iter()
+        .map(|s| format!("{:?}", method_glyph(s.name)))
+        .collect();
+    glyphs.sort_unstable();
+    glyphs.dedup();
+    assert_eq!(glyphs.len(), BUILT_IN.len());
+    assert_eq!(method_glyph("adaptive"), method_glyph("paper"));
+    assert_ne!(method_glyph("classical-matched"), method_glyph("classical"));
 }

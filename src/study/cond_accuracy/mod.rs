@@ -259,9 +259,7 @@ pub fn save(out: &std::path::Path, cfg: &Config, rows: &[Row]) -> Result<()> {
 /// Reads the rows back from `OUT/cond_accuracy.json`.
 pub fn load(out: &std::path::Path) -> Result<Vec<Row>> {
     let path = out.join("cond_accuracy.json");
-    let text = std::fs::read_to_string(&path).map_err(|e| Error::io(path.display(), e))?;
-    let doc: Document = serde_json::from_str(&text)
-        .map_err(|e| Error::input(format!("{}: {e}", path.display())))?;
+    let doc: Document = crate::provenance::read_json(&path)?;
     Ok(doc.rows)
 }
 

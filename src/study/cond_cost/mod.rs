@@ -102,9 +102,7 @@ pub fn save(out: &Path, cfg: &CostConfig, rows: &[Row]) -> Result<()> {
 /// Reads the rows back from `OUT/cond_cost.json`.
 pub fn load(out: &Path) -> Result<Vec<Row>> {
     let path = out.join("cond_cost.json");
-    let text = std::fs::read_to_string(&path).map_err(|e| Error::io(path.display(), e))?;
-    let doc: Document = serde_json::from_str(&text)
-        .map_err(|e| Error::input(format!("{}: {e}", path.display())))?;
+    let doc: Document = crate::provenance::read_json(&path)?;
     Ok(doc.rows)
 }
 

@@ -12,5 +12,6 @@ pub const EXPERIMENT: Experiment = Experiment {
     name: "deep_drawing",
     title: "Deep drawing",
     cond_figure: "fig7_condition_per_step",
+    about: "Woo-like hemispherical-punch deep draw: classical vs adaptive penalty (paper Fig. 7)",
     preset: FormingConfig::woo_deep_drawing,
 };

@@ -21,7 +21,7 @@ use crate::conditioning;
 use crate::error::{Error, Result};
 use crate::metrics::{self, MetricSet};
 use crate::model::scalable::{self, PerfScene};
-use crate::plot::{method_color, Figure, Mark, Series};
+use crate::plot::{Figure, Mark, Series};
 use crate::progress::Progress;
 use crate::strategy::{self, Knob, Knobs, Method, Strategy};
 use serde::{Deserialize, Serialize};
@@ -295,7 +295,7 @@ pub fn figures(rows: &[ScaleRow]) -> Vec<Figure> {
                 r.iter().map(|r| r.seconds_solve).collect(),
                 Mark::LinePoints,
             )
-            .color(method_color(name)),
+            .method(name),
         );
         fact = fact.with_series(
             Series::new(
@@ -304,7 +304,7 @@ pub fn figures(rows: &[ScaleRow]) -> Vec<Figure> {
                 r.iter().map(|r| r.factorizations as f64).collect(),
                 Mark::LinePoints,
             )
-            .color(method_color(name)),
+            .method(name),
         );
     }
     vec![time, fact]

@@ -235,9 +235,38 @@ pub struct Experiment {
     pub cond_figure: &'static str,
     /// The preset the TOML file and flags modify.
     pub preset: fn() -> FormingConfig,
+    /// One line for `--help`.
+    pub about: &'static str,
 }
 
 impl Cli {
+    /// Parses the process's arguments as the binary of `exp` (its name, `--help` text, the
+    /// preset's travel and the exit statuses); `--help`, `--version` and bad options exit here
+    /// as clap does (status 0, 0, 2).
+    pub fn parse_for(exp: &Experiment) -> Cli {
+        use clap::{Args, Command, FromArgMatches};
+        let help = format!(
+            "Default travel {:.1} in. Units: inch, ton-force, second. {EXIT_STATUSES}",
+            (exp.preset)().travel
+        );
+        let cmd = Cli::augment_args(Command::new(exp.name))
+            .version(crate::provenance::VERSION)
+            .about(exp.about)
+            .long_about(None)
+            .after_help(help);
+        Cli::from_arg_matches(&cmd.get_matches()).unwrap_or_else(|e| e.exit())
+    }
+
+    /// What the binary prints for `doc`: `json` (the document or a summary of it) under
+    /// `--json`, otherwise the [`summary_table`].
+    pub fn output(&self, doc: &SavedRuns, json: &impl Serialize) -> Result<String> {
+        if self.json {
+            Ok(crate::provenance::json_text(doc.experiment.as_str(), json)? + "\n")
+        } else {
+            Ok(summary_table(doc))
+        }
+    }
+
     /// The experiment configuration: the TOML file (or the paper's knobs) on the preset, then
     /// the flags; validated.
     pub fn config(&self, preset: FormingConfig) -> Result<ExperimentConfig> {
@@ -306,9 +335,8 @@ pub fn summary_table(doc: &SavedRuns) -> String {
         "valid"
     );
     for (name, r) in &doc.runs {
-        let mut c: Vec<f64> = r.steps.iter().map(|s| s.cond2).collect();
-        c.sort_by(f64::total_cmp);
-        let med = c.get(c.len() / 2).copied().unwrap_or(f64::NAN);
+        let c: Vec<f64> = r.steps.iter().map(|s| s.cond2).collect();
+        let med = crate::stats::median(&c).unwrap_or(f64::NAN);
         let conv = r.steps.iter().filter(|s| s.converged).count();
         let capped = r
             .steps

@@ -176,8 +176,7 @@ pub fn save(dir: &Path, stem: &str, doc: &SavedRuns) -> Result<PathBuf> {
 
 /// Reads a document written by [`save`].
 pub fn load(json: &Path) -> Result<SavedRuns> {
-    let text = std::fs::read_to_string(json).map_err(|e| Error::io(json.display(), e))?;
-    serde_json::from_str(&text).map_err(|e| Error::input(format!("{}: {e}", json.display())))
+    crate::provenance::read_json(json)
 }
 
 fn label(name: &str, run: &SavedRun) -> String {
@@ -234,21 +233,19 @@ pub fn render_figures(
         "punch travel (in)",
         "punch force (ton-force)",
     );
-    for (name, run) in &doc.runs {
-        // Dashed classical runs: they lie on top of the condensed curve.
-        let mark = if matches!(run.rule, ContactRule::Classical { .. }) {
-            Mark::Dashed
-        } else {
-            Mark::Line
-        };
+    // The curves coincide to line width for most runs: each run carries its glyph every
+    // `stride` steps, staggered so that glyphs of coinciding curves do not cover each other.
+    let stride = 2 * doc.runs.len().max(1);
+    for (k, (name, run)) in doc.runs.iter().enumerate() {
         ff = ff.with_series(
             Series::new(
                 label(name, run),
                 run.steps.iter().map(|s| s.punch_travel).collect(),
                 run.steps.iter().map(|s| s.punch_force).collect(),
-                mark,
+                Mark::LinePoints,
             )
-            .color(method_color(name)),
+            .method(name)
+            .glyph_every(2 * k + 1, stride),
         );
     }
     files.extend(render(&ff, &dir.join("punch_force_vs_travel"))?);

@@ -102,10 +102,7 @@ pub fn cond_rows(p: &Problem) -> Result<Vec<CondRow>> {
 /// One δ-driven row: strategy `s` (`paper`, `condensed`, `spring` or `optimal`) at δ.
 fn delta_row(p: &Problem, s: &'static Strategy, delta: f64) -> Result<CondRow> {
     let name = s.name;
-    let knobs = Knobs {
-        delta: Some(delta),
-        ..Knobs::NONE
-    };
+    let knobs = Knobs::delta(delta);
     let method = Method::new(s, knobs)?;
     let s = solve_with_metrics(p, method)?;
     let e = &s.sol.penalties;

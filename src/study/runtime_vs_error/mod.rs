@@ -537,15 +537,21 @@ pub fn run(cfg: &PerfConfig, progress: &Progress) -> Result<Vec<PerfRow>> {
 /// Errors below this are drawn at this value on log axes.
 pub const PLOT_FLOOR: f64 = 1e-17;
 
-/// One method's points as a line-and-points series in the method's colour.
-fn method_series(method: &str, pts: &[(f64, f64)]) -> Series {
-    Series::new(
-        method,
-        pts.iter().map(|p| p.0).collect(),
-        pts.iter().map(|p| p.1).collect(),
-        Mark::LinePoints,
+/// `fig` with one method's points as a line-and-points series in the method's colour and
+/// glyph (unchanged where there are none).
+fn with_method(fig: Figure, method: &str, pts: &[(f64, f64)]) -> Figure {
+    if pts.is_empty() {
+        return fig;
+    }
+    fig.with_series(
+        Series::new(
+            method,
+            pts.iter().map(|p| p.0).collect(),
+            pts.iter().map(|p| p.1).collect(),
+            Mark::LinePoints,
+        )
+        .method(method),
     )
-    .color(crate::plot::method_color(method))
 }
 
 /// Figures: per family, time against `‖u − u_ref‖/‖u_ref‖` and time against relative max
@@ -592,7 +598,6 @@ pub fn figures(rows: &[PerfRow]) -> Vec<(String, Vec<Figure>)> {
                     "time to solution (s, median)",
                 )
                 .scales(Scale::Log10, Scale::Log10);
-                let mut any = false;
                 // lagrange (exact: zero error and penetration) as a horizontal reference
                 // line at its time.
                 if let Some(t) = rows
@@ -615,13 +620,9 @@ pub fn figures(rows: &[PerfRow]) -> Vec<(String, Vec<Figure>)> {
                         .filter(|r| r.family == *fam && r.n == n && r.method == *m)
                         .filter_map(|r| Some((get(r)?.max(PLOT_FLOOR), r.seconds?)))
                         .collect();
-                    if pts.is_empty() {
-                        continue;
-                    }
-                    any = true;
-                    fig = fig.with_series(method_series(m, &pts));
+                    fig = with_method(fig, m, &pts);
                 }
-                if any {
+                if !fig.series.is_empty() {
                     panels.push(fig);
                 }
             }
@@ -639,7 +640,6 @@ pub fn figures(rows: &[PerfRow]) -> Vec<(String, Vec<Figure>)> {
             "time to solution (s, median)",
         )
         .scales(Scale::Log10, Scale::Log10);
-        let mut any = false;
         for m in &methods {
             let mut vals: Vec<f64> = rows
                 .iter()
@@ -657,13 +657,9 @@ pub fn figures(rows: &[PerfRow]) -> Vec<(String, Vec<Figure>)> {
                 .filter(|r| r.family == *fam && r.method == *m && r.value_rel == mid)
                 .filter_map(|r| Some((r.n as f64, r.seconds?)))
                 .collect();
-            if pts.is_empty() {
-                continue;
-            }
-            any = true;
-            fig = fig.with_series(method_series(m, &pts));
+            fig = with_method(fig, m, &pts);
         }
-        if any {
+        if !fig.series.is_empty() {
             panels.push(fig);
         }
     }

@@ -83,9 +83,7 @@ pub fn save(
 /// Renders every figure into `OUT/figures` from `OUT/rows.json`; returns the number of files.
 pub fn render(out: &Path) -> Result<usize> {
     let path = out.join("rows.json");
-    let text = std::fs::read_to_string(&path).map_err(|e| Error::io(path.display(), e))?;
-    let rows: Vec<PerfRow> = serde_json::from_str(&text)
-        .map_err(|e| Error::input(format!("{}: {e}", path.display())))?;
+    let rows: Vec<PerfRow> = crate::provenance::read_json(&path)?;
     let dir = out.join("figures");
     let mut files = 0;
     for (name, panels) in figures(&rows) {

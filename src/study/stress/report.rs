@@ -269,9 +269,7 @@ pub fn summary(eps_rows: &[EpsRow], strat: &[StrategyRow]) -> Value {
 /// files written.
 pub fn render(out: &Path) -> Result<usize> {
     let path = out.join("eps_study.json");
-    let text = std::fs::read_to_string(&path).map_err(|e| Error::io(path.display(), e))?;
-    let eps_rows: Vec<EpsRow> = serde_json::from_str(&text)
-        .map_err(|e| Error::input(format!("{}: {e}", path.display())))?;
+    let eps_rows: Vec<EpsRow> = crate::provenance::read_json(&path)?;
     let dir = out.join("figures");
     let figs = figures(&eps_rows);
     let mut n = 0;

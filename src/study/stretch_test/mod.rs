@@ -14,6 +14,7 @@ pub const EXPERIMENT: Experiment = Experiment {
     name: "stretch_test",
     title: "Stretching test",
     cond_figure: "condition_per_step",
+    about: "Clamped hemispherical-punch stretching (paper's first example): classical vs adaptive penalty",
     preset: FormingConfig::ghosh_hecker_stretching,
 };
 

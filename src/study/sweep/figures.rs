@@ -414,14 +414,14 @@ fn eps_figure(fam: &Fam, metric: Metric, title: &str, y_label: &str, y_scale: Sc
                 st.iter().map(|s| s.med).collect(),
                 Mark::Line,
             )
-            .color(method_color(constant::STRATEGY.name)),
+            .method(constant::STRATEGY.name),
         );
     }
 
     // The δ-driven rules, in registry order (colours and legend names from their
     // descriptors, as in every figure).
     for name in registry::delta_rules().into_iter().map(|s| s.name) {
-        let (legend, color) = (method_label(name), method_color(name));
+        let legend = method_label(name);
         for set in delta_sets(&fam.method(name)) {
             let pts: Vec<(f64, f64, f64)> = set
                 .groups
@@ -453,7 +453,7 @@ fn eps_figure(fam: &Fam, metric: Metric, title: &str, y_label: &str, y_scale: Sc
                             Vec::new(),
                             Mark::LinePoints,
                         )
-                        .color(color),
+                        .method(name),
                     );
                 }
                 continue;
@@ -476,7 +476,7 @@ fn eps_figure(fam: &Fam, metric: Metric, title: &str, y_label: &str, y_scale: Sc
                     pts.iter().map(|p| p.2).collect(),
                     Mark::LinePoints,
                 )
-                .color(color),
+                .method(name),
             );
         }
     }
@@ -569,12 +569,12 @@ fn pareto(fam: &Fam) -> Figure {
     .log_log()
     .with_size(SIZE.0, SIZE.1);
 
-    fn add(fig: Figure, label: String, groups: &[(f64, Vec<&Row>)], color: usize) -> Figure {
+    fn add(fig: Figure, label: String, groups: &[(f64, Vec<&Row>)], method: &str) -> Figure {
         if groups.is_empty() {
             return fig;
         }
         let (x, y) = pareto_points(groups);
-        fig.with_series(Series::new(label, x, y, Mark::LinePoints).color(color))
+        fig.with_series(Series::new(label, x, y, Mark::LinePoints).method(method))
     }
     let range = |ks: &[f64]| match (ks.first(), ks.last()) {
         (Some(a), Some(b)) if ks.len() > 1 => format!("{} … {}", num(*a), num(*b)),
@@ -599,7 +599,7 @@ fn pareto(fam: &Fam) -> Figure {
                 range(&ks)
             ),
             &set.groups,
-            method_color(optimal::STRATEGY.name),
+            optimal::STRATEGY.name,
         );
     }
     let constant = groups(&fam.method(constant::STRATEGY.name), |r| r.eps);
@@ -608,7 +608,7 @@ fn pareto(fam: &Fam) -> Figure {
         fig,
         format!("constant, ε = {}", range(&ks)),
         &constant,
-        method_color(constant::STRATEGY.name),
+        constant::STRATEGY.name,
     );
     let scaled = groups(&fam.method(scaled::STRATEGY.name), |r| r.factor);
     let ks: Vec<f64> = scaled.iter().map(|g| g.0).collect();
@@ -616,12 +616,12 @@ fn pareto(fam: &Fam) -> Figure {
         fig,
         format!("scaled, f = {} (ε_c = f·K[d_c,d_c])", range(&ks)),
         &scaled,
-        method_color(scaled::STRATEGY.name),
+        scaled::STRATEGY.name,
     );
     // The δ-driven rules, in registry order (colours and legend names from their
     // descriptors, as in every figure).
     for name in registry::delta_rules().into_iter().map(|s| s.name) {
-        let (legend, color) = (method_label(name), method_color(name));
+        let legend = method_label(name);
         for set in delta_sets(&fam.method(name)) {
             let ks: Vec<f64> = set.groups.iter().map(|g| g.0).collect();
             let unit = if set.relative { "·|u0|" } else { "" };
@@ -629,7 +629,7 @@ fn pareto(fam: &Fam) -> Figure {
                 fig,
                 format!("{legend}, δ = {}{unit}", range(&ks)),
                 &set.groups,
-                color,
+                name,
             );
         }
     }
@@ -646,7 +646,7 @@ fn pareto(fam: &Fam) -> Figure {
             fig,
             format!("augmented{eps_note}, tol = {}{unit}", range(&ks)),
             &set.groups,
-            method_color(augmented::STRATEGY.name),
+            augmented::STRATEGY.name,
         );
     }
     if has_data(&fig) {
