@@ -67,6 +67,13 @@ pub fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T> {
     serde_json::from_str(&text).map_err(|e| Error::input(format!("{}: {e}", path.display())))
 }
 
+/// JSON writes non-finite numbers as `null`; read them back as NaN
+/// (`#[serde(deserialize_with = "crate::provenance::null_as_nan")]`).
+pub fn null_as_nan<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<f64, D::Error> {
+    use serde::Deserialize;
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
 /// Writes `value` as pretty-printed JSON to `path`, atomically.
 pub fn write_json(path: &Path, value: &impl serde::Serialize) -> Result<()> {
     let text = json_text(&path.display().to_string(), value)?;

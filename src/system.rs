@@ -493,6 +493,24 @@ impl Problem {
         }
     }
 
+    /// The geometric mean of |K\[d_c, d_c\]| over the constraints (1 without any nonzero):
+    /// a moderate penalty in the problem's own stiffness units (the augmented Lagrangian's ε
+    /// in the sweep and the contact benchmarks).
+    pub fn mean_constraint_stiffness(&self) -> f64 {
+        let logs: Vec<f64> = self
+            .constraints
+            .iter()
+            .map(|c| self.k.diag(c.dof).abs())
+            .filter(|v| *v > 0.0)
+            .map(f64::ln)
+            .collect();
+        if logs.is_empty() {
+            1.0
+        } else {
+            (logs.iter().sum::<f64>() / logs.len() as f64).exp()
+        }
+    }
+
     /// Validates sizes, finiteness and DOF indices, then builds the problem.
     ///
     /// Errors: non-finite entries in K, q or û; `q.len() != N`; a DOF out of range; two

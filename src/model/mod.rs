@@ -3,6 +3,7 @@
 //! membrane stiffness; seeded random scenes of those families ([`generate`], the sweep's
 //! input) and scenes that scale to 10⁶ DOFs ([`scalable`], the run-time studies' input).
 pub mod beam;
+pub mod elasticity;
 pub mod generate;
 pub mod membrane;
 pub mod scalable;

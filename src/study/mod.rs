@@ -12,6 +12,7 @@
 
 pub mod cond_accuracy;
 pub mod cond_cost;
+pub mod contact_bench;
 pub mod deep_drawing;
 pub mod engine_scale;
 pub mod forming_runs;

@@ -8,6 +8,7 @@ mod common;
 
 mod cond_accuracy_cli;
 mod cond_cost_cli;
+mod contact_bench_cli;
 mod forming_cli;
 mod paper_beam_cli;
 mod plot_smoke;

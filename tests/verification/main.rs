@@ -7,7 +7,9 @@
 mod common;
 
 mod cond_reference;
+mod contact_bench;
 mod dd_vs_faer_fx128;
+mod elasticity;
 mod example_paper_beam;
 mod forming_convergence;
 mod forming_element;

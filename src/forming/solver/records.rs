@@ -11,10 +11,7 @@ fn nan() -> f64 {
     f64::NAN
 }
 
-/// JSON writes non-finite numbers as `null`; read them back as NaN.
-fn null_as_nan<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<f64, D::Error> {
-    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
-}
+use crate::provenance::null_as_nan;
 
 /// Telemetry of one converged (or capped) step.
 #[derive(Clone, Debug, Serialize, Deserialize)]

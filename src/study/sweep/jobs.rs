@@ -30,20 +30,7 @@ pub fn jobs(cfg: &SweepConfig, problem: &Problem, u0: Option<&[f64]>) -> Vec<Job
         .chain(cfg.deltas_rel.iter().map(|&r| (r * scale, Some(r))))
         .collect();
     // Augmented: a moderate ε, the geometric mean of the constrained diagonal of K.
-    let aug_eps = {
-        let logs: Vec<f64> = problem
-            .constraints
-            .iter()
-            .map(|c| problem.k.diag(c.dof).abs())
-            .filter(|v| *v > 0.0)
-            .map(f64::ln)
-            .collect();
-        if logs.is_empty() {
-            1.0
-        } else {
-            (logs.iter().sum::<f64>() / logs.len() as f64).exp()
-        }
-    };
+    let aug_eps = problem.mean_constraint_stiffness();
     let mut out = vec![Job {
         method: Method::lagrange(),
         delta_rel: None,

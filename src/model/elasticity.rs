@@ -1,0 +1,509 @@
+//! Linear elasticity on a block of bilinear quadrilaterals (Q4), plane strain or axisymmetric,
+//! pressed against a rigid indenter: the contact problems of the Hertz and patch benchmarks.
+//!
+//! **Element.** `K_e = ∫ Bᵀ C B w dA` by 2×2 Gauss quadrature (exact for a rectangle's
+//! bilinear field in plane strain), with
+//! - plane strain: ε = (∂u/∂x, ∂v/∂y, ∂u/∂y + ∂v/∂x), w = 1 (per unit thickness),
+//!   `C = E/((1+ν)(1−2ν)) [[1−ν, ν, 0], [ν, 1−ν, 0], [0, 0, (1−2ν)/2]]`;
+//! - axisymmetric (x = r, y = z): ε = (∂u/∂r, ∂v/∂z, u/r, ∂u/∂z + ∂v/∂r), w = r (per radian:
+//!   a total force is 2π times the sum of nodal forces), C the 4×4 isotropic matrix.
+//!
+//! **Mesh.** A tensor grid `xs × ys` ([`Grid`]) graded toward the contact zone: elements of
+//! size h on `[0, fine]` next to the symmetry line x = 0 and below the top face, growing
+//! geometrically beyond. Node (i, j) at (xs\[i\], ys\[j\]) is node `i·ny + j` with DOFs
+//! `2·node` (x or r) and `2·node + 1` (y or z).
+//!
+//! **Contact scene** ([`indentation`]). The bottom face y = 0 is lifted by w (prescribed
+//! v = w; its u is fixed where `base` is [`Base::Clamped`], free where [`Base::Sliding`]),
+//! the symmetry line x = 0 has u = 0, and every top node (x_i, H) meets a rigid indenter whose
+//! surface lies `profile(x_i)` above it: the constraint is `v_i ≤ profile(x_i)` (`upper`;
+//! small deformation, frictionless, normal = y). Prescribed DOFs are eliminated, so the
+//! problem is `K_ff u_f = q_f = −K_fp u_p` with `K_ff` SPD. Units are the caller's (E in
+//! force/length², lengths in length).
+//!
+//! **Contact pressure.** A node's contact force is read from equilibrium, `f_c = −(K u − q)_c`
+//! (compressive positive; the same formula for every rule: a penalty's ε_c·penetration, a
+//! Lagrange multiplier), and its pressure is `p_c = f_c / ω_c` with the tributary weight
+//! `ω_c = ∫ N_c ds` (plane strain) or `∫ N_c r dr` (axisymmetric) over the top face — the row
+//! sums of the consistent boundary mass matrix, so a uniform pressure gives exactly uniform
+//! `p_c`.
+//!
+//! When to use: the analytic contact benchmarks (Hertz, the contact patch test) of the
+//! `contact_bench` study and the sweep's `hertz` and `patch` families. The assembly is
+//! checked against scikit-fem's K of the same block (`tests/verification`).
+
+use crate::error::{Error, Result};
+use crate::system::{Constraint, ConstraintKind, Problem, Stiffness};
+
+/// Plane strain or axisymmetry.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Geometry {
+    /// Plane strain, per unit thickness; x ≥ 0 is half of a body symmetric about x = 0.
+    PlaneStrain,
+    /// Axisymmetric about x = r = 0, per radian.
+    Axisymmetric,
+}
+
+/// Isotropic linear elastic material.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Material {
+    /// Young's modulus E (> 0).
+    pub young: f64,
+    /// Poisson's ratio ν (−1 < ν < 0.5).
+    pub poisson: f64,
+}
+
+impl Material {
+    /// The plane-strain modulus `E* = E/(1 − ν²)` of Hertz theory (rigid indenter).
+    pub fn contact_modulus(&self) -> f64 {
+        self.young / (1.0 - self.poisson * self.poisson)
+    }
+
+    fn validate(&self) -> Result<()> {
+        if !(self.young.is_finite() && self.young > 0.0) {
+            return Err(Error::input(format!(
+                "Young's modulus must be finite and > 0 (got {})",
+                self.young
+            )));
+        }
+        if !(self.poisson > -1.0 && self.poisson < 0.5) {
+            return Err(Error::input(format!(
+                "Poisson's ratio must lie in (−1, 0.5) (got {})",
+                self.poisson
+            )));
+        }
+        Ok(())
+    }
+
+    /// The constitutive matrix for `geometry` (3×3 plane strain, 4×4 axisymmetric, stored 4×4
+    /// with the hoop row/column unused in plane strain).
+    fn c_matrix(&self, geometry: Geometry) -> [[f64; 4]; 4] {
+        let (e, nu) = (self.young, self.poisson);
+        let f = e / ((1.0 + nu) * (1.0 - 2.0 * nu));
+        let (a, b, g) = (f * (1.0 - nu), f * nu, f * (1.0 - 2.0 * nu) / 2.0);
+        // Order: εx, εy, γxy, εθ.
+        let mut c = [[0.0; 4]; 4];
+        c[0][0] = a;
+        c[1][1] = a;
+        c[0][1] = b;
+        c[1][0] = b;
+        c[2][2] = g;
+        if geometry == Geometry::Axisymmetric {
+            c[3][3] = a;
+            c[0][3] = b;
+            c[3][0] = b;
+            c[1][3] = b;
+            c[3][1] = b;
+        }
+        c
+    }
+}
+
+/// A tensor-product grid of nodes: x (or r) coordinates `xs`, y (or z) coordinates `ys`, both
+/// increasing from 0.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Grid {
+    /// Node abscissae, xs\[0\] = 0.
+    pub xs: Vec<f64>,
+    /// Node ordinates, ys\[0\] = 0 (bottom) to ys\[last\] = H (top, the contact face).
+    pub ys: Vec<f64>,
+}
+
+/// Coordinates from 0 to `length`: steps of `h` up to `fine`, then steps growing by `growth`
+/// (the last one stretched or shrunk to end at `length`).
+fn graded_axis(length: f64, h: f64, fine: f64, growth: f64) -> Vec<f64> {
+    let mut v = vec![0.0];
+    let mut step = h;
+    let mut x = 0.0;
+    while x + 1e-9 * h < length {
+        if x + 1e-9 * h >= fine {
+            step *= growth;
+        }
+        x = (x + step).min(length);
+        if length - x < 0.5 * step {
+            x = length;
+        }
+        v.push(x);
+    }
+    v
+}
+
+impl Grid {
+    /// A `width × height` block with elements of size `h` on `[0, fine]` in x and in the top
+    /// `fine` of y, growing by the factor `growth` (≥ 1) away from the contact corner.
+    pub fn graded(width: f64, height: f64, h: f64, fine: f64, growth: f64) -> Result<Grid> {
+        let ok = |v: f64| v.is_finite() && v > 0.0;
+        if !(ok(width) && ok(height) && ok(h) && ok(fine) && growth.is_finite() && growth >= 1.0) {
+            return Err(Error::input(format!(
+                "graded grid needs finite width, height, h, fine > 0 and growth ≥ 1 \
+                 (got {width}, {height}, {h}, {fine}, {growth})"
+            )));
+        }
+        if width / h > 1e5 || height / h > 1e5 {
+            return Err(Error::input(format!(
+                "graded grid: h = {h} is too small for a {width} × {height} block"
+            )));
+        }
+        let xs = graded_axis(width, h, fine, growth);
+        let ys: Vec<f64> = graded_axis(height, h, fine, growth)
+            .into_iter()
+            .rev()
+            .map(|d| height - d)
+            .collect();
+        Ok(Grid { xs, ys })
+    }
+
+    /// A uniform grid of `nx × ny` elements on `width × height`.
+    pub fn uniform(width: f64, height: f64, nx: usize, ny: usize) -> Grid {
+        Grid {
+            xs: (0..=nx).map(|i| width * i as f64 / nx as f64).collect(),
+            ys: (0..=ny).map(|j| height * j as f64 / ny as f64).collect(),
+        }
+    }
+
+    /// Node count in y.
+    pub fn ny(&self) -> usize {
+        self.ys.len()
+    }
+
+    /// Number of nodes.
+    pub fn nodes(&self) -> usize {
+        self.xs.len() * self.ys.len()
+    }
+
+    /// Node index of (i, j).
+    pub fn node(&self, i: usize, j: usize) -> usize {
+        i * self.ny() + j
+    }
+
+    /// Height H (the top face's y).
+    pub fn height(&self) -> f64 {
+        *self.ys.last().unwrap_or(&0.0)
+    }
+}
+
+/// The 8×8 stiffness of the rectangle `[x0, x1] × [y0, y1]`, nodes in the order (x0, y0),
+/// (x1, y0), (x1, y1), (x0, y1), DOFs (u, v) per node.
+pub fn element_stiffness(
+    geometry: Geometry,
+    c: &[[f64; 4]; 4],
+    (x0, x1): (f64, f64),
+    (y0, y1): (f64, f64),
+) -> [[f64; 8]; 8] {
+    let (hx, hy) = (x1 - x0, y1 - y0);
+    let g = 1.0 / 3f64.sqrt();
+    let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+    let mut ke = [[0.0; 8]; 8];
+    for &(xi, eta) in &[(-g, -g), (g, -g), (g, g), (-g, g)] {
+        let x = x0 + 0.5 * (1.0 + xi) * hx;
+        let det = 0.25 * hx * hy;
+        let w = det
+            * match geometry {
+                Geometry::PlaneStrain => 1.0,
+                Geometry::Axisymmetric => x,
+            };
+        // B: rows εx, εy, γxy, εθ; columns u0 v0 u1 v1 ...
+        let mut b = [[0.0; 8]; 4];
+        for (a, &(xa, ya)) in corners.iter().enumerate() {
+            let n = 0.25 * (1.0 + xa * xi) * (1.0 + ya * eta);
+            let dndx = 0.25 * xa * (1.0 + ya * eta) * 2.0 / hx;
+            let dndy = 0.25 * ya * (1.0 + xa * xi) * 2.0 / hy;
+            b[0][2 * a] = dndx;
+            b[1][2 * a + 1] = dndy;
+            b[2][2 * a] = dndy;
+            b[2][2 * a + 1] = dndx;
+            if geometry == Geometry::Axisymmetric {
+                b[3][2 * a] = n / x;
+            }
+        }
+        for p in 0..8 {
+            // (C B)[:, p]
+            let mut cb = [0.0; 4];
+            for (r, cbr) in cb.iter_mut().enumerate() {
+                *cbr = (0..4).map(|s| c[r][s] * b[s][p]).sum();
+            }
+            for q in 0..8 {
+                ke[q][p] += w * (0..4).map(|r| b[r][q] * cb[r]).sum::<f64>();
+            }
+        }
+    }
+    ke
+}
+
+/// The global stiffness of the grid as (row, column, value) triplets over all `2·nodes` DOFs.
+pub fn assemble(
+    grid: &Grid,
+    geometry: Geometry,
+    material: &Material,
+) -> Result<Vec<(usize, usize, f64)>> {
+    material.validate()?;
+    let c = material.c_matrix(geometry);
+    let (nx, ny) = (grid.xs.len(), grid.ys.len());
+    if nx < 2 || ny < 2 {
+        return Err(Error::input("elasticity grid needs at least one element"));
+    }
+    let mut t = Vec::with_capacity((nx - 1) * (ny - 1) * 64);
+    for i in 0..nx - 1 {
+        for j in 0..ny - 1 {
+            let ke = element_stiffness(
+                geometry,
+                &c,
+                (grid.xs[i], grid.xs[i + 1]),
+                (grid.ys[j], grid.ys[j + 1]),
+            );
+            let nodes = [
+                grid.node(i, j),
+                grid.node(i + 1, j),
+                grid.node(i + 1, j + 1),
+                grid.node(i, j + 1),
+            ];
+            let dof = |k: usize| 2 * nodes[k / 2] + k % 2;
+            for (p, row) in ke.iter().enumerate() {
+                for (q, &v) in row.iter().enumerate() {
+                    t.push((dof(p), dof(q), v));
+                }
+            }
+        }
+    }
+    Ok(t)
+}
+
+/// How the bottom face is supported (besides being lifted by w).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Base {
+    /// Bonded to a rigid base: u = 0 on the bottom.
+    Clamped,
+    /// Frictionless base: u free on the bottom (uniform compression is then exact).
+    Sliding,
+}
+
+/// One top node in contact with the indenter.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContactNode {
+    /// Its abscissa (x or r).
+    pub x: f64,
+    /// Tributary weight ω = ∫ N ds (plane strain) or ∫ N r dr (axisymmetric) over the top.
+    pub weight: f64,
+}
+
+/// A block pushed onto a rigid indenter (see the module doc): the contact problem and what is
+/// needed to read pressures from its solutions.
+#[derive(Clone, Debug)]
+pub struct Indentation {
+    /// `K_ff`, `q_f` and one `upper` constraint per top node, in the order of [`Self::contact`].
+    pub problem: Problem,
+    /// The contact nodes, from the symmetry line outwards.
+    pub contact: Vec<ContactNode>,
+    /// Free DOFs: number of nodes' DOFs kept.
+    pub n_free: usize,
+    /// The lift w of the bottom face.
+    pub lift: f64,
+    /// Plane strain or axisymmetric.
+    pub geometry: Geometry,
+}
+
+impl Indentation {
+    /// Contact pressures p_c = −(K u − q)_c / ω_c at the contact nodes for the solution `u`
+    /// (compressive positive).
+    pub fn pressures(&self, u: &[f64]) -> Vec<f64> {
+        let r = self.problem.k.matvec(u);
+        self.problem
+            .constraints
+            .iter()
+            .zip(&self.contact)
+            .map(|(con, node)| -(r[con.dof] - self.problem.q[con.dof]) / node.weight)
+            .collect()
+    }
+
+    /// The total contact force of the whole body for the solution `u`: twice the half model's
+    /// (plane strain, per unit thickness) or 2π times the per-radian sum (axisymmetric).
+    pub fn total_force(&self, u: &[f64]) -> f64 {
+        let p = self.pressures(u);
+        let half: f64 = p.iter().zip(&self.contact).map(|(p, n)| p * n.weight).sum();
+        match self.geometry {
+            Geometry::PlaneStrain => 2.0 * half,
+            Geometry::Axisymmetric => 2.0 * std::f64::consts::PI * half,
+        }
+    }
+}
+
+/// Tributary weights of the top nodes: ∫ N_i ds (plane strain) or ∫ N_i r dr (axisymmetric)
+/// of the linear edge functions, exact.
+fn top_weights(xs: &[f64], geometry: Geometry) -> Vec<f64> {
+    let mut w = vec![0.0; xs.len()];
+    for k in 0..xs.len().saturating_sub(1) {
+        let (a, b) = (xs[k], xs[k + 1]);
+        let l = b - a;
+        match geometry {
+            Geometry::PlaneStrain => {
+                w[k] += l / 2.0;
+                w[k + 1] += l / 2.0;
+            }
+            Geometry::Axisymmetric => {
+                // ∫ (b − r)/l · r dr and ∫ (r − a)/l · r dr over [a, b].
+                w[k] += l * (2.0 * a + b) / 6.0;
+                w[k + 1] += l * (a + 2.0 * b) / 6.0;
+            }
+        }
+    }
+    w
+}
+
+/// The block of `grid` lifted by `lift` onto the indenter whose surface lies `profile(x)`
+/// above the top node at x (the module doc gives the boundary conditions).
+pub fn indentation(
+    grid: &Grid,
+    geometry: Geometry,
+    material: &Material,
+    base: Base,
+    lift: f64,
+    profile: impl Fn(f64) -> f64,
+) -> Result<Indentation> {
+    if !lift.is_finite() {
+        return Err(Error::input(format!("lift must be finite (got {lift})")));
+    }
+    let triplets = assemble(grid, geometry, material)?;
+    let (nx, ny) = (grid.xs.len(), grid.ys.len());
+    let ndof = 2 * grid.nodes();
+    // Prescribed values: None = free.
+    let mut fixed: Vec<Option<f64>> = vec![None; ndof];
+    for i in 0..nx {
+        let n = grid.node(i, 0);
+        fixed[2 * n + 1] = Some(lift);
+        if base == Base::Clamped {
+            fixed[2 * n] = Some(0.0);
+        }
+    }
+    for j in 0..ny {
+        fixed[2 * grid.node(0, j)] = Some(0.0);
+    }
+    let mut map = vec![usize::MAX; ndof];
+    let mut n_free = 0;
+    for (d, f) in fixed.iter().enumerate() {
+        if f.is_none() {
+            map[d] = n_free;
+            n_free += 1;
+        }
+    }
+    let mut kff = Vec::with_capacity(triplets.len());
+    let mut q = vec![0.0; n_free];
+    for &(r, c, v) in &triplets {
+        match (map[r], fixed[c]) {
+            (usize::MAX, _) => {}
+            (fr, None) => kff.push((fr, map[c], v)),
+            (fr, Some(uc)) => q[fr] -= v * uc,
+        }
+    }
+    let k = Stiffness::from_triplets(n_free, &kff)?;
+    let weights = top_weights(&grid.xs, geometry);
+    let mut constraints = Vec::with_capacity(nx);
+    let mut contact = Vec::with_capacity(nx);
+    for (i, (&x, &w)) in grid.xs.iter().zip(&weights).enumerate() {
+        let d = map[2 * grid.node(i, ny - 1) + 1];
+        let limit = profile(x);
+        if !limit.is_finite() {
+            return Err(Error::input(format!(
+                "indenter profile is not finite at x = {x} (got {limit})"
+            )));
+        }
+        constraints.push(Constraint {
+            dof: d,
+            limit,
+            kind: ConstraintKind::Upper,
+        });
+        contact.push(ContactNode { x, weight: w });
+    }
+    let problem = Problem::new(k, q, constraints)?.in_preferred_storage();
+    Ok(Indentation {
+        problem,
+        contact,
+        n_free,
+        lift,
+        geometry,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A rigid translation has zero strain energy, in both geometries for u (plane strain)
+    /// and v (both).
+    #[test]
+    fn rigid_modes_have_no_energy() {
+        let m = Material {
+            young: 100.0,
+            poisson: 0.3,
+        };
+        for geo in [Geometry::PlaneStrain, Geometry::Axisymmetric] {
+            let c = m.c_matrix(geo);
+            let ke = element_stiffness(geo, &c, (0.5, 1.5), (0.0, 2.0));
+            let v: Vec<f64> = (0..8).map(|k| if k % 2 == 1 { 1.0 } else { 0.0 }).collect();
+            for row in &ke {
+                let f: f64 = row.iter().zip(&v).map(|(a, b)| a * b).sum();
+                assert!(f.abs() <= 1e-12 * 100.0, "{geo:?}: {f}");
+            }
+        }
+    }
+
+    /// Uniform pressure p on the top of a sliding block: u = linear field, exact; each top
+    /// node's force is p·ω_c, so the pressures read back are p to rounding.
+    #[test]
+    fn uniform_compression_reads_back_uniform_pressure() {
+        let m = Material {
+            young: 1000.0,
+            poisson: 0.25,
+        };
+        for geo in [Geometry::PlaneStrain, Geometry::Axisymmetric] {
+            let grid = Grid::graded(2.0, 1.0, 0.1, 0.5, 1.3).unwrap();
+            let ind = indentation(&grid, geo, &m, Base::Sliding, 1e-3, |_| 0.0).unwrap();
+            // Free lateral faces: σx = σθ = 0, εy = −w/H. Plane strain: εx = −ν/(1−ν)·εy,
+            // σy = E/(1−ν²)·εy; axisymmetric (uniaxial stress): εr = −ν·εy, σy = E·εy.
+            let h = grid.height();
+            let ey = -1e-3 / h;
+            let (ex, sy) = match geo {
+                Geometry::PlaneStrain => (
+                    -m.poisson / (1.0 - m.poisson) * ey,
+                    m.contact_modulus() * ey,
+                ),
+                Geometry::Axisymmetric => (-m.poisson * ey, m.young * ey),
+            };
+            let mut u = vec![0.0; ind.n_free];
+            let mut k = 0;
+            for (i, &x) in grid.xs.iter().enumerate() {
+                for (j, &y) in grid.ys.iter().enumerate() {
+                    if i > 0 {
+                        u[k] = ex * x;
+                        k += 1;
+                    }
+                    if j > 0 {
+                        u[k] = 1e-3 + ey * y;
+                        k += 1;
+                    }
+                }
+            }
+            assert_eq!(k, ind.n_free);
+            // Equilibrium away from the top: K u = q at every free DOF but the contact ones.
+            let r = ind.problem.k.matvec(&u);
+            let contact: Vec<usize> = ind.problem.constraints.iter().map(|c| c.dof).collect();
+            let scale = ind.problem.k.max_abs() * 1e-3;
+            for (d, (rd, qd)) in r.iter().zip(&ind.problem.q).enumerate() {
+                if !contact.contains(&d) {
+                    assert!(
+                        (rd - qd).abs() <= 1e-12 * scale,
+                        "{geo:?} dof {d}: {rd} vs {qd}"
+                    );
+                }
+            }
+            let p = ind.pressures(&u);
+            let want = -sy;
+            for (c, pc) in p.iter().enumerate() {
+                assert!(
+                    (pc - want).abs() <= 1e-9 * want,
+                    "{geo:?} node {c}: {pc} vs {want}"
+                );
+            }
+        }
+    }
+}

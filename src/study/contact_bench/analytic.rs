@@ -1,0 +1,172 @@
+//! The analytic references of the contact benchmarks and the pressure measures compared with
+//! them.
+//!
+//! **Hertz** (rigid indenter of radius R on an elastic half-space, frictionless, load P;
+//! E* = E/(1 − ν²); Johnson, *Contact Mechanics*, 1985, §4.2 and §5.8):
+//! - plane strain (cylinder, P per unit length): `a = √(4PR/(πE*))`, `p0 = 2P/(πa)`;
+//! - axisymmetric (sphere): `a = (3PR/(4E*))^(1/3)`, `p0 = 3P/(2πa²)`;
+//! - both: `p(x) = p0 √(1 − x²/a²)` for |x| ≤ a, 0 beyond.
+//!
+//! The half-space is modelled by a block much larger than a (`BLOCK_OVER_A` times), clamped at
+//! its base; the indenter's surface is the parabola x²/(2R) of Hertz theory.
+//!
+//! **Patch test** (El-Abbasi & Bathe 2001): a flat rigid punch covering the whole top of a
+//! block on a frictionless base; the exact pressure is uniform, `p̄ = P / A` (A the contact
+//! length of the half model times 2, or the disc area πW²), and it is reproduced exactly by
+//! bilinear elements, so any deviation is the contact rule's.
+//!
+//! **Measures** (nodal, over the top nodes with weights ω_c of [`crate::model::elasticity`]):
+//! - `p_err_rel`: `√(Σ ω_c (p_c − p(x_c))²) / √(Σ ω_c p(x_c)²)` over the nodes with
+//!   x_c ≤ a (the exact contact zone) — a discrete L2 error on the tributary quadrature;
+//! - `a_num`: where p² extrapolated from the two outermost loaded nodes vanishes
+//!   ([`contact_width`]; always between the outermost loaded node and the next, so within h);
+//! - `p0_num`: the pressure at the node on the axis (x = 0).
+
+use crate::model::elasticity::{ContactNode, Geometry};
+
+/// Which benchmark.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Case {
+    /// Rigid cylinder on a block, plane strain.
+    HertzPlane,
+    /// Rigid sphere on a cylindrical block, axisymmetric.
+    HertzAxi,
+    /// Flat rigid punch covering the top of a block, plane strain.
+    Patch,
+}
+
+impl Case {
+    /// Every case, in table order.
+    pub const ALL: [Case; 3] = [Case::HertzPlane, Case::HertzAxi, Case::Patch];
+
+    /// Its name in rows and options (`hertz-plane`, `hertz-axi`, `patch`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Case::HertzPlane => "hertz-plane",
+            Case::HertzAxi => "hertz-axi",
+            Case::Patch => "patch",
+        }
+    }
+
+    /// The case named `s`.
+    pub fn from_name(s: &str) -> Option<Case> {
+        Case::ALL.into_iter().find(|c| c.name() == s)
+    }
+
+    /// Plane strain or axisymmetric.
+    pub fn geometry(self) -> Geometry {
+        match self {
+            Case::HertzAxi => Geometry::Axisymmetric,
+            _ => Geometry::PlaneStrain,
+        }
+    }
+}
+
+/// The analytic solution of one case: contact half-width (radius) and peak pressure.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Exact {
+    /// Contact half-width (plane) or radius (axisymmetric); the block half-width for the patch.
+    pub a: f64,
+    /// Peak (for the patch: uniform) pressure.
+    pub p0: f64,
+    /// Whether the pressure is Hertzian (`p0 √(1 − x²/a²)`) or uniform (the patch).
+    pub hertzian: bool,
+}
+
+impl Exact {
+    /// Hertz for load `load`, radius `radius` and contact modulus `e_star` in `geometry`.
+    pub fn hertz(geometry: Geometry, load: f64, radius: f64, e_star: f64) -> Exact {
+        let pi = std::f64::consts::PI;
+        let (a, p0) = match geometry {
+            Geometry::PlaneStrain => {
+                let a = (4.0 * load * radius / (pi * e_star)).sqrt();
+                (a, 2.0 * load / (pi * a))
+            }
+            Geometry::Axisymmetric => {
+                let a = (3.0 * load * radius / (4.0 * e_star)).cbrt();
+                (a, 3.0 * load / (2.0 * pi * a * a))
+            }
+        };
+        Exact {
+            a,
+            p0,
+            hertzian: true,
+        }
+    }
+
+    /// The exact pressure at x.
+    pub fn pressure(&self, x: f64) -> f64 {
+        if x > self.a * (1.0 + 1e-12) {
+            0.0
+        } else if self.hertzian {
+            self.p0 * (1.0 - (x / self.a).powi(2)).max(0.0).sqrt()
+        } else {
+            self.p0
+        }
+    }
+}
+
+/// Weighted discrete L2 norm `√(Σ ω_c f_c²)` over the nodes with x_c ≤ a.
+fn zone_norm(nodes: &[ContactNode], a: f64, f: impl Fn(usize) -> f64) -> f64 {
+    nodes
+        .iter()
+        .enumerate()
+        .filter(|(_, n)| n.x <= a * (1.0 + 1e-12))
+        .map(|(c, n)| n.weight * f(c).powi(2))
+        .sum::<f64>()
+        .sqrt()
+}
+
+/// `‖p − p_exact‖ / ‖p_exact‖` over the exact contact zone (module doc).
+pub fn pressure_error(nodes: &[ContactNode], p: &[f64], exact: &Exact) -> f64 {
+    let e = zone_norm(nodes, exact.a, |c| p[c] - exact.pressure(nodes[c].x));
+    e / zone_norm(nodes, exact.a, |c| exact.pressure(nodes[c].x))
+}
+
+/// `‖p − p_ref‖ / ‖p_exact‖` over the exact contact zone: the distance of two numerical
+/// pressure fields in the measure of [`pressure_error`].
+pub fn pressure_distance(nodes: &[ContactNode], p: &[f64], p_ref: &[f64], exact: &Exact) -> f64 {
+    let e = zone_norm(nodes, exact.a, |c| p[c] - p_ref[c]);
+    e / zone_norm(nodes, exact.a, |c| exact.pressure(nodes[c].x))
+}
+
+/// The contact half-width read from nodal pressures: beyond the outermost node k whose
+/// pressure exceeds `floor`, where p² extrapolated linearly through nodes k−1 and k reaches 0
+/// (exact for the Hertzian edge p ∝ √(a − x)), kept within [x_k, x_{k+1}]; x_k where the
+/// pressure does not fall towards node k (a flat punch) or every node is in contact; 0 where
+/// none is.
+pub fn contact_width(nodes: &[ContactNode], p: &[f64], floor: f64) -> f64 {
+    let Some(k) = p.iter().rposition(|&v| v > floor) else {
+        return 0.0;
+    };
+    if k + 1 == nodes.len() || k == 0 {
+        return nodes[k].x;
+    }
+    let (q0, q1) = (p[k - 1].max(0.0).powi(2), p[k].powi(2));
+    if q0 <= q1 {
+        return nodes[k].x;
+    }
+    let a = nodes[k].x + q1 * (nodes[k].x - nodes[k - 1].x) / (q0 - q1);
+    a.clamp(nodes[k].x, nodes[k + 1].x)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Hertz's load–width relations invert: the load that gives width a back from a.
+    #[test]
+    fn hertz_closed_forms_are_consistent() {
+        let pi = std::f64::consts::PI;
+        let (r, e) = (50.0, 2.0e5);
+        let pl = Exact::hertz(Geometry::PlaneStrain, 100.0, r, e);
+        // P = π a p0 / 2 (plane), P = 2π a² p0 / 3 (axisymmetric): the integrals of p.
+        assert!((pi * pl.a * pl.p0 / 2.0 - 100.0).abs() <= 1e-12 * 100.0);
+        let ax = Exact::hertz(Geometry::Axisymmetric, 100.0, r, e);
+        assert!((2.0 * pi * ax.a * ax.a * ax.p0 / 3.0 - 100.0).abs() <= 1e-12 * 100.0);
+        // p0 = E* a / (2R) (plane), p0 = 2 E* a / (π R) (axisymmetric).
+        assert!((pl.p0 - e * pl.a / (2.0 * r)).abs() <= 1e-12 * pl.p0);
+        assert!((ax.p0 - 2.0 * e * ax.a / (pi * r)).abs() <= 1e-12 * ax.p0);
+    }
+}

@@ -1,0 +1,339 @@
+//! The benchmark's figures and printed tables, from the saved [`Summary`]:
+//! - `pressure_<case>`: nodal pressures on the finest mesh against the analytic curve, one
+//!   panel per rule, one line per knob value (the patch test is `pressure_patch`);
+//! - `convergence`: Lagrange's pressure error and peak-pressure error against h, per case,
+//!   with the least-squares rate in the legend;
+//! - `leaderboard_<case>`: penalty error against cond₂ as each rule's knob moves, one panel
+//!   per mesh, the mesh's discretization error as a horizontal line.
+
+use super::{analytic::Case, rule_of, BenchRow, Leader, Summary};
+use crate::error::Result;
+use crate::plot::{render_panels, Figure, Mark, Scale, Series};
+use crate::study::text::{fmt_e, table};
+use std::path::{Path, PathBuf};
+
+/// Errors below this are drawn at this value on log axes.
+const FLOOR: f64 = 1e-16;
+
+/// The rules in the rows, in order of first appearance.
+fn rules(rows: &[BenchRow]) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    for r in rows {
+        let k = rule_of(r);
+        if !out.contains(&k) {
+            out.push(k);
+        }
+    }
+    out
+}
+
+/// The method behind a rule name (`augmented (adaptive)` → `augmented`).
+fn method_of(rule: &str) -> &str {
+    rule.split(' ').next().unwrap_or(rule)
+}
+
+/// A knob value as the legends write it: `ε = 1e2·E*`, `f = 10`, `δ = 1e−3·a`, `tol = …`.
+fn knob_label(knob: &str, k: Option<f64>) -> String {
+    let Some(v) = k else {
+        return "exact".to_string();
+    };
+    let v = fmt_e(v, 0);
+    match knob {
+        "eps" => format!("ε = {v}·E*"),
+        "factor" => format!("f = {v}"),
+        "delta" => format!("δ = {v}·a"),
+        _ => format!("tol = {v}·a"),
+    }
+}
+
+/// Nodal pressures against Hertz (or the uniform patch pressure), one panel per rule.
+fn pressure_panels(s: &Summary, case: Case) -> Vec<Figure> {
+    let Some(exact) = s.rows.iter().find(|r| r.case == case.name()) else {
+        return Vec::new();
+    };
+    let (a, p0) = (exact.a_exact, exact.p0_exact);
+    let x_max = if case == Case::Patch { a } else { 1.6 * a };
+    let xs: Vec<f64> = (0..=200).map(|k| x_max * k as f64 / 200.0).collect();
+    let ex = super::analytic::Exact {
+        a,
+        p0,
+        hertzian: case != Case::Patch,
+    };
+    let reference = Series::new(
+        if case == Case::Patch {
+            "exact (uniform)"
+        } else {
+            "Hertz"
+        },
+        xs.iter().map(|x| x / a).collect(),
+        xs.iter().map(|&x| ex.pressure(x) / p0).collect(),
+        Mark::Dashed,
+    )
+    .color(crate::plot::BLACK_INDEX);
+    let mut panels = Vec::new();
+    for rule in rules(&s.rows) {
+        let profs: Vec<_> = s
+            .profiles
+            .iter()
+            .filter(|p| p.case == case.name() && p.rule == rule)
+            .collect();
+        if profs.is_empty() {
+            continue;
+        }
+        let h = profs[0].h;
+        let mut f = Figure::new(
+            format!("{}: {rule} (h = {})", case.name(), fmt_e(h, 1)),
+            "x / a",
+            "p / p0",
+        )
+        .with_series(reference.clone());
+        for (k, p) in profs.iter().enumerate() {
+            let keep: Vec<usize> = (0..p.x.len()).filter(|&i| p.x[i] <= x_max).collect();
+            f = f.with_series(
+                Series::new(
+                    knob_label(&p.knob, p.knob_rel),
+                    keep.iter().map(|&i| p.x[i] / a).collect(),
+                    keep.iter().map(|&i| p.p[i] / p0).collect(),
+                    Mark::LinePoints,
+                )
+                .color(k)
+                .glyph(crate::plot::method_glyph(method_of(&rule))),
+            );
+        }
+        panels.push(f);
+    }
+    panels
+}
+
+/// Lagrange's errors against h, per case.
+fn convergence(s: &Summary) -> Figure {
+    let mut f = Figure::new(
+        "Lagrange against the analytic solution",
+        "h (element size at the contact)",
+        "relative error",
+    )
+    .scales(Scale::Log10, Scale::Log10);
+    for (k, case) in Case::ALL.into_iter().enumerate() {
+        let lag: Vec<&BenchRow> = s
+            .rows
+            .iter()
+            .filter(|r| r.case == case.name() && r.method == "lagrange")
+            .collect();
+        if lag.is_empty() {
+            continue;
+        }
+        let rate = s
+            .rates
+            .iter()
+            .find(|(c, _)| c == case.name())
+            .and_then(|(_, r)| *r)
+            .map_or(String::new(), |r| format!(", rate {r:.2}"));
+        let h: Vec<f64> = lag.iter().map(|r| r.h).collect();
+        f = f.with_series(
+            Series::new(
+                format!("{}: L2 pressure error{rate}", case.name()),
+                h.clone(),
+                lag.iter()
+                    .map(|r| r.err_discretization.max(FLOOR))
+                    .collect(),
+                Mark::LinePoints,
+            )
+            .color(k),
+        );
+        if case != Case::Patch {
+            f = f.with_series(
+                Series::new(
+                    format!("{}: |p0 − p0_exact| / p0_exact", case.name()),
+                    h,
+                    lag.iter()
+                        .map(|r| ((r.p0_num - r.p0_exact) / r.p0_exact).abs().max(FLOOR))
+                        .collect(),
+                    Mark::Dashed,
+                )
+                .color(k),
+            );
+        }
+    }
+    f
+}
+
+/// Penalty error against cond₂ per rule, one panel per mesh.
+fn leaderboard_panels(s: &Summary, case: Case) -> Vec<Figure> {
+    let mut hs: Vec<f64> = s
+        .rows
+        .iter()
+        .filter(|r| r.case == case.name())
+        .map(|r| r.h)
+        .collect();
+    hs.sort_by(|a, b| b.total_cmp(a));
+    hs.dedup();
+    let mut panels = Vec::new();
+    for h in hs {
+        let rows: Vec<&BenchRow> = s
+            .rows
+            .iter()
+            .filter(|r| r.case == case.name() && r.h == h && r.error.is_empty())
+            .collect();
+        let Some(first) = rows.first() else { continue };
+        let mut f = Figure::new(
+            format!(
+                "{}: h = {}, {} DOFs",
+                case.name(),
+                fmt_e(h, 1),
+                first.n_dofs
+            ),
+            "cond₂ of the system matrix",
+            "penalty error ‖p − p_lagrange‖ / ‖p_exact‖",
+        )
+        .scales(Scale::Log10, Scale::Log10)
+        .hline(
+            first.err_discretization,
+            "discretization error (Lagrange vs analytic)",
+        );
+        for rule in rules(&s.rows) {
+            if rule == "lagrange" {
+                continue;
+            }
+            // In knob order, so that the line follows the knob.
+            let mut pts: Vec<(f64, f64, f64)> = rows
+                .iter()
+                .filter(|r| rule_of(r) == rule)
+                .filter_map(|r| Some((r.knob_rel?, r.cond2_system?, r.err_penalty.max(FLOOR))))
+                .collect();
+            pts.sort_by(|a, b| a.0.total_cmp(&b.0));
+            if pts.is_empty() {
+                continue;
+            }
+            let dashed = rule.contains("adaptive");
+            f = f.with_series(
+                Series::new(
+                    rule.clone(),
+                    pts.iter().map(|p| p.1).collect(),
+                    pts.iter().map(|p| p.2).collect(),
+                    if dashed {
+                        Mark::Points
+                    } else {
+                        Mark::LinePoints
+                    },
+                )
+                .method(method_of(&rule)),
+            );
+        }
+        panels.push(f);
+    }
+    panels
+}
+
+/// Renders every figure into `out/figures`; returns the files written.
+pub fn render(out: &Path, s: &Summary) -> Result<Vec<PathBuf>> {
+    let dir = out.join("figures");
+    let mut files = Vec::new();
+    for case in Case::ALL {
+        let p = pressure_panels(s, case);
+        if !p.is_empty() {
+            let stem = dir.join(format!("pressure_{}", case.name()));
+            files.extend(render_panels(
+                &p,
+                3,
+                &stem,
+                (1500, 420 * p.len().div_ceil(3) as u32),
+            )?);
+        }
+        let l = leaderboard_panels(s, case);
+        if !l.is_empty() {
+            let stem = dir.join(format!("leaderboard_{}", case.name()));
+            files.extend(render_panels(&l, l.len().min(3), &stem, (1700, 620))?);
+        }
+    }
+    if s.rows.iter().any(|r| r.method == "lagrange") {
+        let f = convergence(s);
+        files.extend(render_panels(
+            &[f],
+            1,
+            &dir.join("convergence"),
+            (900, 620),
+        )?);
+    }
+    Ok(files)
+}
+
+/// The printed report: Lagrange per mesh (a, p0, errors, rates), then the leaderboard.
+pub fn tables(s: &Summary) -> String {
+    let mut out = String::from("Lagrange against the analytic solution\n");
+    let lag: Vec<Vec<String>> = s
+        .rows
+        .iter()
+        .filter(|r| r.method == "lagrange")
+        .map(|r| {
+            vec![
+                r.case.clone(),
+                fmt_e(r.h, 2),
+                r.n_dofs.to_string(),
+                format!("{:.4}", r.a_num / r.a_exact),
+                format!("{:.4}", r.p0_num / r.p0_exact),
+                fmt_e(r.err_discretization, 2),
+                fmt_e(r.p_spread, 1),
+                r.cond2_system.map_or("—".into(), |c| fmt_e(c, 3)),
+            ]
+        })
+        .collect();
+    out.push_str(&table(
+        &[
+            "case",
+            "h",
+            "DOFs",
+            "a/a_exact",
+            "p0/p0_exact",
+            "L2 error",
+            "spread",
+            "cond₂",
+        ],
+        &lag,
+        &[false, true, true, true, true, true, true, true],
+    ));
+    for (case, rate) in &s.rates {
+        out.push_str(&format!(
+            "{case}: discretization error ∝ h^{}\n",
+            rate.map_or("—".into(), |r| format!("{r:.2}"))
+        ));
+    }
+    out.push_str(
+        "\nLeaderboard: cheapest knob with penalty error below the discretization error\n",
+    );
+    out.push_str(&leader_table(&s.leaderboard));
+    out
+}
+
+fn leader_table(leaders: &[Leader]) -> String {
+    let rows: Vec<Vec<String>> = leaders
+        .iter()
+        .filter(|l| l.rule != "lagrange")
+        .map(|l| {
+            vec![
+                l.case.clone(),
+                fmt_e(l.h, 2),
+                l.rule.clone(),
+                match l.knob_rel {
+                    Some(_) => knob_label(&l.knob, l.knob_rel),
+                    None => "none below".into(),
+                },
+                l.cond2_system.map_or("—".into(), |c| fmt_e(c, 3)),
+                l.err_penalty.map_or("—".into(), |e| fmt_e(e, 2)),
+                fmt_e(l.err_discretization, 2),
+            ]
+        })
+        .collect();
+    table(
+        &[
+            "case",
+            "h",
+            "rule",
+            "cheapest knob",
+            "cond₂",
+            "penalty err",
+            "discr. err",
+        ],
+        &rows,
+        &[false, true, false, true, true, true, true],
+    )
+}

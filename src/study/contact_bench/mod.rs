@@ -1,0 +1,796 @@
+//! `contact_bench`: every contact rule judged against physics — Hertz contact (plane strain
+//! and axisymmetric) and the contact patch test — on graded Q4 meshes
+//! ([`crate::model::elasticity`]), with the analytic references of [`analytic`].
+//!
+//! Every solve is **force-controlled**: the lift w of the block's base is found (regula falsi
+//! in a bracket, [`solve_at_load`]) so that the rule's own solution carries the load P — rules
+//! are compared at equal load, as a user loads a model. Lagrange's pressure against the
+//! analytic one is the discretization error of the mesh; a rule's against Lagrange's on the
+//! same mesh is the error its penalty adds. One row per (case, method, knob, mesh):
+//! - `err_discretization` = [`analytic::pressure_error`] of Lagrange,
+//! - `err_penalty` = [`analytic::pressure_distance`] of the rule from Lagrange,
+//! - `p_err_rel` = the rule's own [`analytic::pressure_error`] (≤ the sum of the two),
+//! - `cond2_system` of its final system matrix ([`crate::metrics`], to `cond_tol`).
+//!
+//! The **leaderboard** ([`leaderboard`]) answers "how much penalty is enough": per rule and
+//! mesh, the knob value with the smallest cond₂ among those whose penalty error is below the
+//! mesh's discretization error.
+
+pub mod analytic;
+pub mod figures;
+
+use crate::error::{Error, Result};
+use crate::metrics::{self, MetricSet};
+use crate::model::elasticity::{self, Base, Geometry, Grid, Indentation, Material};
+use crate::progress::Progress;
+use crate::strategy::{self, registry, Knob, Knobs, Method, Solution};
+use analytic::{Case, Exact};
+use serde::{Deserialize, Serialize};
+use std::time::Instant;
+
+/// The benchmark suite: cases, meshes and the knob grids.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct BenchConfig {
+    /// Cases (`hertz-plane`, `hertz-axi`, `patch`).
+    pub cases: Vec<Case>,
+    /// Element sizes at the contact over a (the Hertz contact half-width; the patch block is
+    /// a × a), coarse to fine.
+    pub meshes: Vec<f64>,
+    /// Methods (registry names).
+    pub methods: Vec<String>,
+    /// `constant`: ε = value · E* (E* = E/(1 − ν²); per unit thickness or per radian).
+    pub eps_rel: Vec<f64>,
+    /// `scaled`: factors f of ε_c = f·K\[d_c,d_c\].
+    pub factors: Vec<f64>,
+    /// δ-rules and the augmented Lagrangian's tolerance: δ = value · a.
+    pub deltas_rel: Vec<f64>,
+    /// Relative accuracy asked of cond₂ (recorded in every row).
+    pub cond_tol: f64,
+    /// Young's modulus E.
+    pub young: f64,
+    /// Poisson's ratio ν.
+    pub poisson: f64,
+    /// Indenter radius R.
+    pub radius: f64,
+    /// Hertz contact half-width (radius) a the load is chosen for: P from a.
+    pub a_target: f64,
+    /// `optimal` runs only on meshes with at most this many DOFs: it takes dense
+    /// eigendecompositions at every evaluation, and force control solves it several times
+    /// (minutes at 220 DOFs); larger meshes get a row saying it was skipped.
+    pub optimal_max_n: usize,
+}
+
+impl Default for BenchConfig {
+    fn default() -> Self {
+        BenchConfig {
+            cases: Case::ALL.to_vec(),
+            meshes: vec![0.2, 0.1, 0.05],
+            methods: registry::names().into_iter().map(str::to_string).collect(),
+            eps_rel: vec![1e-1, 1e0, 1e1, 1e2, 1e3, 1e4, 1e5],
+            // 0.1: LS-DYNA's SLSFAC default; 1: ANSYS's FKN default; 10: Abaqus/Standard's
+            // default penalty (10 × a representative element stiffness); then stiffer.
+            factors: vec![0.1, 1.0, 10.0, 100.0, 1000.0],
+            deltas_rel: vec![1e-2, 1e-3, 1e-4, 1e-5],
+            cond_tol: 1e-6,
+            young: 210e3,
+            poisson: 0.3,
+            radius: 10.0,
+            a_target: 1.0,
+            optimal_max_n: 100,
+        }
+    }
+}
+
+/// Block size over a (Hertz) : the model of the half-space.
+pub const BLOCK_OVER_A: f64 = 16.0;
+/// Geometric growth of the elements away from the contact zone.
+pub const GROWTH: f64 = 1.2;
+/// Uniform-size zone of the mesh, over a: the contact zone and a margin.
+pub const FINE_OVER_A: f64 = 1.5;
+
+impl BenchConfig {
+    /// Validates the grids and the material.
+    pub fn validate(&self) -> Result<()> {
+        let pos = |name: &str, v: &[f64]| -> Result<()> {
+            match v.iter().find(|x| !(x.is_finite() && **x > 0.0)) {
+                Some(x) => Err(Error::input(format!(
+                    "{name}: {x} is not a finite number > 0"
+                ))),
+                None => Ok(()),
+            }
+        };
+        pos("--meshes", &self.meshes)?;
+        pos("--eps-rel", &self.eps_rel)?;
+        pos("--factors", &self.factors)?;
+        pos("--deltas-rel", &self.deltas_rel)?;
+        pos("E, R, a", &[self.young, self.radius, self.a_target])?;
+        if let Some(h) = self.meshes.iter().find(|h| **h > 0.5 || **h < 1e-3) {
+            return Err(Error::input(format!(
+                "--meshes: h/a = {h} is outside [1e-3, 0.5]"
+            )));
+        }
+        if !(self.poisson > -1.0 && self.poisson < 0.5) {
+            return Err(Error::input(format!(
+                "ν = {} is not in (−1, 0.5)",
+                self.poisson
+            )));
+        }
+        MetricSet::check_cond_tol(Some(self.cond_tol))?;
+        for m in &self.methods {
+            registry::lookup(m)?;
+        }
+        Ok(())
+    }
+
+    fn e_star(&self) -> f64 {
+        self.young / (1.0 - self.poisson * self.poisson)
+    }
+
+    /// The case's load P and analytic solution.
+    pub fn exact(&self, case: Case) -> (f64, Exact) {
+        let (a, r, es) = (self.a_target, self.radius, self.e_star());
+        match case {
+            Case::HertzPlane => {
+                let p = std::f64::consts::PI * es * a * a / (4.0 * r);
+                (p, Exact::hertz(Geometry::PlaneStrain, p, r, es))
+            }
+            Case::HertzAxi => {
+                let p = 4.0 * es * a.powi(3) / (3.0 * r);
+                (p, Exact::hertz(Geometry::Axisymmetric, p, r, es))
+            }
+            Case::Patch => {
+                // Uniform pressure 1e-3·E* on the top of an a × a block (half model).
+                let half = self.patch_half_width();
+                let p0 = 1e-3 * es;
+                (
+                    2.0 * half * p0,
+                    Exact {
+                        a: half,
+                        p0,
+                        hertzian: false,
+                    },
+                )
+            }
+        }
+    }
+
+    fn patch_half_width(&self) -> f64 {
+        self.a_target
+    }
+
+    /// The mesh of `case` at relative size `h_rel`.
+    pub fn grid(&self, case: Case, h_rel: f64) -> Result<Grid> {
+        let a = self.a_target;
+        match case {
+            Case::Patch => {
+                let w = self.patch_half_width();
+                Grid::graded(w, w, h_rel * self.a_target, w, 1.0)
+            }
+            _ => Grid::graded(
+                BLOCK_OVER_A * a,
+                BLOCK_OVER_A * a,
+                h_rel * a,
+                FINE_OVER_A * a,
+                GROWTH,
+            ),
+        }
+    }
+
+    /// The contact scene of `case` on `grid` with base lift `lift`.
+    pub fn scene(&self, case: Case, grid: &Grid, lift: f64) -> Result<Indentation> {
+        let mat = Material {
+            young: self.young,
+            poisson: self.poisson,
+        };
+        let r = self.radius;
+        match case {
+            Case::Patch => {
+                elasticity::indentation(grid, case.geometry(), &mat, Base::Sliding, lift, |_| 0.0)
+            }
+            _ => elasticity::indentation(grid, case.geometry(), &mat, Base::Clamped, lift, |x| {
+                x * x / (2.0 * r)
+            }),
+        }
+    }
+}
+
+/// A scene solved by one rule under force control: the scene at the lift found, its solution
+/// and the number of solves the search took.
+pub struct Loaded {
+    /// The scene at the lift that carries the load.
+    pub scene: Indentation,
+    /// The rule's solution on it.
+    pub sol: Solution,
+    /// Solves of the search.
+    pub solves: usize,
+    /// (force − load)/load of the returned solution.
+    pub mismatch: f64,
+}
+
+/// The lift w at which `method`'s solution carries `load`, to `rel_tol` relative: the force is
+/// 0 at w = 0 (the indenter touches the top at x = 0) and grows monotonically with w
+/// (piecewise affinely for Lagrange and a fixed-ε penalty, affinely while the contact set
+/// stays), so regula falsi (Illinois variant) in a doubling bracket from `guess` converges in
+/// a few solves.
+pub fn solve_at_load(
+    cfg: &BenchConfig,
+    case: Case,
+    grid: &Grid,
+    method: Method,
+    load: f64,
+    guess: f64,
+    rel_tol: f64,
+) -> Result<Loaded> {
+    let force = |w: f64| -> Result<(f64, Indentation, Solution)> {
+        let scene = cfg.scene(case, grid, w)?;
+        let sol = strategy::solve(&scene.problem, method)?;
+        let f = scene.total_force(&sol.u);
+        Ok((f - load, scene, sol))
+    };
+    let fail = |what: &str, w: f64, r: f64| {
+        Error::Numerical(format!(
+            "{} {}: force control {what} (lift {w:e}, force mismatch {:e})",
+            case.name(),
+            method.name(),
+            r / load
+        ))
+    };
+    let (mut lo, mut r_lo) = (0.0, -load);
+    let mut hi = guess;
+    let mut solves = 1;
+    let (mut r_hi, mut scene, mut sol) = force(hi)?;
+    let mut flat = 0;
+    while r_hi < 0.0 {
+        // The force of a rule that loads the contact grows at least in proportion to the lift
+        // beyond its contact onset; three doublings without growth mean it puts no load on it.
+        if solves >= MAX_FORCE_SOLVES || flat >= 3 {
+            let what = format!(
+                "found no lift that carries the load (the force stays at {:.3e}·P; {} of {} \
+                 penalties clipped to 0)",
+                1.0 + r_hi / load,
+                sol.penalties.iter().filter(|e| **e == 0.0).count(),
+                sol.penalties.len()
+            );
+            return Err(fail(&what, hi, r_hi));
+        }
+        (lo, r_lo) = (hi, r_hi);
+        hi *= 2.0;
+        (r_hi, scene, sol) = force(hi)?;
+        solves += 1;
+        flat = if r_hi - r_lo <= 1e-6 * load {
+            flat + 1
+        } else {
+            0
+        };
+    }
+    // (scene, sol) is always the latest evaluation, `last` its mismatch.
+    let mut last = r_hi;
+    let mut side = 0i8;
+    while last.abs() > rel_tol * load {
+        // A rule whose force jumps with the lift (an optimizer's best-of-starts choice) can
+        // leave a gap no lift closes: the bracket collapses, and the mismatch is reported.
+        if hi - lo <= 1e-13 * hi {
+            break;
+        }
+        if solves >= MAX_FORCE_SOLVES {
+            return Err(fail("did not converge", hi, last));
+        }
+        let w = (lo * r_hi - hi * r_lo) / (r_hi - r_lo);
+        let (r, sc, so) = force(w)?;
+        solves += 1;
+        (scene, sol, last) = (sc, so, r);
+        if r >= 0.0 {
+            (hi, r_hi) = (w, r);
+            if side == 1 {
+                r_lo /= 2.0;
+            }
+            side = 1;
+        } else {
+            (lo, r_lo) = (w, r);
+            if side == -1 {
+                r_hi /= 2.0;
+            }
+            side = -1;
+        }
+    }
+    Ok(Loaded {
+        scene,
+        sol,
+        solves,
+        mismatch: last / load,
+    })
+}
+
+/// Solves force control may take (a rule that loads the contact converges in ≤ 10 on the
+/// default suite).
+pub const MAX_FORCE_SOLVES: usize = 25;
+
+/// Relative mismatch of the total force that force control accepts.
+pub const FORCE_TOL: f64 = 1e-10;
+
+/// One (case, method, knob, mesh).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct BenchRow {
+    /// `hertz-plane`, `hertz-axi` or `patch`.
+    pub case: String,
+    /// Method name.
+    pub method: String,
+    /// Knob name (`eps`, `factor`, `delta`, `tol`, `adaptive-tol`, or empty).
+    pub knob: String,
+    /// Knob value (absolute: ε, f, δ or tolerance); None without a knob.
+    pub knob_value: Option<f64>,
+    /// Knob value relative to its scale (ε/E*, f, δ/a); None without a knob.
+    pub knob_rel: Option<f64>,
+    /// Element size at the contact.
+    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
+    pub h: f64,
+    /// Free DOFs.
+    pub n_dofs: usize,
+    /// Total load P (per unit thickness in plane strain).
+    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
+    pub load: f64,
+    /// Lift of the base at which this rule carries P.
+    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
+    pub lift: f64,
+    /// Indenter radius R (∞ for the flat punch: written as 0).
+    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
+    pub radius: f64,
+    /// Young's modulus.
+    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
+    pub young: f64,
+    /// Poisson's ratio.
+    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
+    pub poisson: f64,
+    /// Exact contact half-width a.
+    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
+    pub a_exact: f64,
+    /// Contact half-width from the nodal pressures.
+    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
+    pub a_num: f64,
+    /// Exact peak pressure.
+    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
+    pub p0_exact: f64,
+    /// Pressure at the axis node.
+    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
+    pub p0_num: f64,
+    /// Relative L2 pressure error against the analytic pressure.
+    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
+    pub p_err_rel: f64,
+    /// Pressure distance from Lagrange on the same mesh (relative to ‖p_exact‖).
+    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
+    pub err_penalty: f64,
+    /// Lagrange's pressure error against the analytic pressure on this mesh.
+    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
+    pub err_discretization: f64,
+    /// Max penetration.
+    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
+    pub max_penetration: f64,
+    /// Relative spread (max − min)/mean of the pressures over the contact nodes (the patch
+    /// test's measure; NaN where no node carries pressure).
+    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
+    pub p_spread: f64,
+    /// cond₂ of the final system matrix.
+    pub cond2_system: Option<f64>,
+    /// Relative accuracy asked of cond₂.
+    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
+    pub cond_tol: f64,
+    /// The solver's own convergence flag (of the last solve of the force control).
+    pub converged: bool,
+    /// Solves the force control took.
+    pub force_solves: usize,
+    /// (total force − P)/P of the reported solution (≤ 1e-10 in magnitude unless the rule's
+    /// force jumps with the lift).
+    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
+    pub force_mismatch: f64,
+    /// Wall time of the force-controlled solve, all its solves (s; cond₂ not included).
+    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
+    pub seconds: f64,
+    /// Error message where the rule refused the scene (empty if it solved).
+    pub error: String,
+}
+
+/// The nodal pressures of one solve (kept for the finest mesh of each case).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Profile {
+    /// Case.
+    pub case: String,
+    /// Rule ([`rule_of`]).
+    pub rule: String,
+    /// Knob name (as in the rows).
+    pub knob: String,
+    /// Relative knob value.
+    pub knob_rel: Option<f64>,
+    /// Element size at the contact.
+    pub h: f64,
+    /// Node abscissae.
+    pub x: Vec<f64>,
+    /// Pressures.
+    pub p: Vec<f64>,
+}
+
+/// What [`run`] returns: the rows and the pressure profiles of the finest meshes.
+#[derive(Clone, Debug, Default)]
+pub struct BenchRun {
+    /// One per (case, method, knob, mesh).
+    pub rows: Vec<BenchRow>,
+    /// One per (case, rule, knob) on the case's finest mesh.
+    pub profiles: Vec<Profile>,
+}
+
+/// One method at one knob value.
+#[derive(Clone, Copy, Debug)]
+pub struct BenchJob {
+    /// The method.
+    pub method: Method,
+    /// Knob name for the row.
+    pub knob: &'static str,
+    /// Its value relative to its scale.
+    pub rel: Option<f64>,
+}
+
+/// The jobs of one scene: every method over its knob grid (absolute values from the scene's
+/// a, E* and K).
+pub fn jobs(cfg: &BenchConfig, scene: &Indentation, a: f64) -> Vec<BenchJob> {
+    let mut out = Vec::new();
+    let aug_eps = scene.problem.mean_constraint_stiffness();
+    for name in &cfg.methods {
+        let Ok(s) = registry::lookup(name) else {
+            continue;
+        };
+        let mut push = |knobs: Knobs, knob: &'static str, rel: Option<f64>| {
+            if let Ok(method) = Method::new(s, knobs) {
+                out.push(BenchJob { method, knob, rel });
+            }
+        };
+        match s.knob {
+            Knob::None => push(Knobs::NONE, "", None),
+            Knob::Eps => {
+                for &r in &cfg.eps_rel {
+                    push(Knobs::eps(r * cfg.e_star()), "eps", Some(r));
+                }
+            }
+            Knob::Factor => {
+                for &f in &cfg.factors {
+                    push(Knobs::factor(f), "factor", Some(f));
+                }
+            }
+            Knob::Delta => {
+                for &r in &cfg.deltas_rel {
+                    push(Knobs::delta(r * a), "delta", Some(r));
+                }
+            }
+            Knob::EpsTol => {
+                for adaptive in [false, true] {
+                    for &r in &cfg.deltas_rel {
+                        let knobs = Knobs {
+                            eps: Some(aug_eps),
+                            tol: Some(r * a),
+                            adaptive,
+                            ..Knobs::NONE
+                        };
+                        let knob = if adaptive { "adaptive-tol" } else { "tol" };
+                        push(knobs, knob, Some(r));
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The knob value of `m` as the row records it.
+fn knob_value(m: &Method) -> Option<f64> {
+    let k = m.knobs();
+    k.eps
+        .filter(|_| k.tol.is_none())
+        .or(k.factor)
+        .or(k.delta)
+        .or(k.tol)
+}
+
+/// What one case on one mesh shares across its rows.
+struct Mesh<'a> {
+    case: Case,
+    grid: &'a Grid,
+    exact: Exact,
+    load: f64,
+    h: f64,
+    /// Free DOFs.
+    n_free: usize,
+    /// Lagrange's lift (the start of every rule's search) and its pressures.
+    lift_lagrange: f64,
+    p_lagrange: &'a [f64],
+    err_discretization: f64,
+}
+
+/// One job on one mesh: its row and its nodal pressures (empty if it failed).
+fn run_job(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> (BenchRow, Vec<f64>) {
+    let exact = &mesh.exact;
+    let mut row = BenchRow {
+        case: mesh.case.name().into(),
+        method: job.method.name().into(),
+        knob: job.knob.into(),
+        knob_value: knob_value(&job.method),
+        knob_rel: job.rel,
+        h: mesh.h,
+        n_dofs: 0,
+        load: mesh.load,
+        lift: f64::NAN,
+        radius: if mesh.case == Case::Patch {
+            0.0
+        } else {
+            cfg.radius
+        },
+        young: cfg.young,
+        poisson: cfg.poisson,
+        a_exact: exact.a,
+        a_num: f64::NAN,
+        p0_exact: exact.p0,
+        p0_num: f64::NAN,
+        p_err_rel: f64::NAN,
+        err_penalty: f64::NAN,
+        err_discretization: mesh.err_discretization,
+        max_penetration: f64::NAN,
+        p_spread: f64::NAN,
+        cond2_system: None,
+        cond_tol: cfg.cond_tol,
+        converged: false,
+        force_solves: 0,
+        force_mismatch: f64::NAN,
+        seconds: f64::NAN,
+        error: String::new(),
+    };
+    if job.method.is(&strategy::optimal::STRATEGY) && mesh.n_free > cfg.optimal_max_n {
+        row.error = format!(
+            "skipped: {} DOFs > optimal_max_n = {}",
+            mesh.n_free, cfg.optimal_max_n
+        );
+        return (row, Vec::new());
+    }
+    let t = Instant::now();
+    let loaded = solve_at_load(
+        cfg,
+        mesh.case,
+        mesh.grid,
+        job.method,
+        mesh.load,
+        mesh.lift_lagrange,
+        FORCE_TOL,
+    );
+    let Loaded {
+        scene,
+        sol,
+        solves,
+        mismatch,
+    } = match loaded {
+        Ok(l) => l,
+        Err(e) => {
+            row.error = e.to_string();
+            return (row, Vec::new());
+        }
+    };
+    row.seconds = t.elapsed().as_secs_f64();
+    row.force_solves = solves;
+    row.force_mismatch = mismatch;
+    row.n_dofs = scene.n_free;
+    row.lift = scene.lift;
+    let problem = &scene.problem;
+    let nodes = &scene.contact;
+    let p = scene.pressures(&sol.u);
+    row.p0_num = p[0];
+    row.a_num = analytic::contact_width(nodes, &p, 1e-9 * exact.p0);
+    row.p_err_rel = analytic::pressure_error(nodes, &p, exact);
+    row.err_penalty = analytic::pressure_distance(nodes, &p, mesh.p_lagrange, exact);
+    row.max_penetration = sol.max_penetration;
+    row.converged = sol.stats.converged;
+    let loaded: Vec<f64> = p.iter().copied().filter(|v| *v > 1e-9 * exact.p0).collect();
+    if !loaded.is_empty() {
+        let mean = loaded.iter().sum::<f64>() / loaded.len() as f64;
+        let (lo, hi) = loaded
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+                (a.min(v), b.max(v))
+            });
+        row.p_spread = (hi - lo) / mean;
+    }
+    let set = MetricSet {
+        cond: true,
+        det: false,
+        cond_tol: Some(cfg.cond_tol),
+    };
+    match metrics::compute(problem, &sol, set) {
+        Ok(m) => row.cond2_system = m.cond2_system.map(|c| c.cond2),
+        Err(e) => row.error = format!("cond₂: {e}"),
+    }
+    (row, p)
+}
+
+/// Runs the suite: per case and mesh, the force-controlled Lagrange scene, then every job.
+pub fn run(cfg: &BenchConfig, progress: &Progress) -> Result<BenchRun> {
+    cfg.validate()?;
+    let mut out = BenchRun::default();
+    let finest = cfg.meshes.iter().copied().fold(f64::INFINITY, f64::min);
+    let total = cfg.cases.len() * cfg.meshes.len();
+    progress.set_total(total);
+    for &case in &cfg.cases {
+        let (load, exact) = cfg.exact(case);
+        for &h_rel in &cfg.meshes {
+            let grid = cfg.grid(case, h_rel)?;
+            // Half-space indentation a²/R as the first guess (the patch: p̄H/E*).
+            let guess = match case {
+                Case::Patch => exact.p0 * grid.height() / cfg.e_star(),
+                _ => cfg.a_target * cfg.a_target / cfg.radius,
+            };
+            let lag = solve_at_load(cfg, case, &grid, Method::lagrange(), load, guess, FORCE_TOL)?;
+            let p_lag = lag.scene.pressures(&lag.sol.u);
+            let mesh = Mesh {
+                case,
+                grid: &grid,
+                exact,
+                load,
+                h: h_rel * cfg.a_target,
+                n_free: lag.scene.n_free,
+                lift_lagrange: lag.scene.lift,
+                err_discretization: analytic::pressure_error(&lag.scene.contact, &p_lag, &exact),
+                p_lagrange: &p_lag,
+            };
+            for job in jobs(cfg, &lag.scene, cfg.a_target) {
+                let (row, p) = run_job(cfg, &mesh, &job);
+                if h_rel == finest && !p.is_empty() {
+                    out.profiles.push(Profile {
+                        case: row.case.clone(),
+                        rule: rule_of(&row),
+                        knob: row.knob.clone(),
+                        knob_rel: row.knob_rel,
+                        h: row.h,
+                        x: lag.scene.contact.iter().map(|n| n.x).collect(),
+                        p,
+                    });
+                }
+                out.rows.push(row);
+            }
+            let scene = &lag.scene;
+            progress.step(&format!(
+                "{} h/a = {h_rel}: {} DOFs, lift {:.4e}",
+                case.name(),
+                scene.n_free,
+                scene.lift
+            ));
+        }
+    }
+    progress.finish();
+    Ok(out)
+}
+
+/// One leaderboard entry: the cheapest knob of a rule on a mesh whose penalty error is below
+/// the discretization error.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Leader {
+    /// Case.
+    pub case: String,
+    /// Element size at the contact.
+    pub h: f64,
+    /// Method, with its knob name (`augmented` appears as plain and adaptive).
+    pub rule: String,
+    /// Knob name.
+    pub knob: String,
+    /// The knob value (relative) with the smallest cond₂ among those below the line; None if
+    /// none is (or the rule has no knob).
+    pub knob_rel: Option<f64>,
+    /// Its cond₂.
+    pub cond2_system: Option<f64>,
+    /// Its penalty error.
+    pub err_penalty: Option<f64>,
+    /// The mesh's discretization error.
+    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
+    pub err_discretization: f64,
+    /// Knob values tried (solved).
+    pub tried: usize,
+}
+
+/// The rule name of a row on the leaderboard (`augmented` split by its adaptive switch).
+pub fn rule_of(r: &BenchRow) -> String {
+    if r.knob == "adaptive-tol" {
+        format!("{} (adaptive)", r.method)
+    } else {
+        r.method.clone()
+    }
+}
+
+/// Per (case, mesh, rule): the cheapest knob value (smallest cond₂) whose penalty error is
+/// below the discretization error.
+pub fn leaderboard(rows: &[BenchRow]) -> Vec<Leader> {
+    let mut keys: Vec<(String, f64, String)> = Vec::new();
+    for r in rows {
+        let k = (r.case.clone(), r.h, rule_of(r));
+        if !keys.contains(&k) {
+            keys.push(k);
+        }
+    }
+    keys.into_iter()
+        .map(|(case, h, rule)| {
+            let group: Vec<&BenchRow> = rows
+                .iter()
+                .filter(|r| r.case == case && r.h == h && rule_of(r) == rule && r.error.is_empty())
+                .collect();
+            let err_discretization = group.first().map_or(f64::NAN, |r| r.err_discretization);
+            let best = group
+                .iter()
+                .filter(|r| r.err_penalty <= r.err_discretization)
+                .filter(|r| r.cond2_system.is_some())
+                .min_by(|a, b| a.cond2_system.unwrap().total_cmp(&b.cond2_system.unwrap()));
+            Leader {
+                case,
+                h,
+                knob: group.first().map_or(String::new(), |r| r.knob.clone()),
+                rule,
+                knob_rel: best.and_then(|r| r.knob_rel),
+                cond2_system: best.and_then(|r| r.cond2_system),
+                err_penalty: best.map(|r| r.err_penalty),
+                err_discretization,
+                tried: group.len(),
+            }
+        })
+        .collect()
+}
+
+/// Convergence of Lagrange's pressure error with h per Hertz case: the least-squares slope of
+/// log(err) against log(h) over the meshes (None with fewer than two meshes). The patch test
+/// has none: its error is rounding on every mesh.
+pub fn convergence_rates(rows: &[BenchRow]) -> Vec<(String, Option<f64>)> {
+    let mut out = Vec::new();
+    for case in [Case::HertzPlane, Case::HertzAxi] {
+        let (h, e): (Vec<f64>, Vec<f64>) = rows
+            .iter()
+            .filter(|r| r.case == case.name() && r.method == strategy::lagrange::STRATEGY.name)
+            .map(|r| (r.h, r.err_discretization))
+            .unzip();
+        if h.is_empty() {
+            continue;
+        }
+        out.push((case.name().to_string(), crate::stats::loglog_slope(&h, &e)));
+    }
+    out
+}
+
+/// The saved record: provenance with the config, the rows, the leaderboard and the rates.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Summary {
+    /// Provenance and config.
+    pub provenance: serde_json::Value,
+    /// Least-squares slope of log(err_discretization) against log(h), per case.
+    pub rates: Vec<(String, Option<f64>)>,
+    /// Per (case, mesh, rule): the cheapest knob below the discretization error.
+    pub leaderboard: Vec<Leader>,
+    /// Every row.
+    pub rows: Vec<BenchRow>,
+    /// Nodal pressures on each case's finest mesh.
+    pub profiles: Vec<Profile>,
+}
+
+/// Writes `OUT/rows.csv` and `OUT/summary.json` (provenance, rates, leaderboard, rows).
+pub fn save(out: &std::path::Path, cfg: &BenchConfig, run: &BenchRun) -> Result<Summary> {
+    let rows = &run.rows;
+    std::fs::create_dir_all(out).map_err(|e| Error::io(out.display(), e))?;
+    let summary = Summary {
+        provenance: crate::provenance::Provenance::new("contact_bench").record(serde_json::json!({
+            "config": cfg,
+            "threads": 1,
+            "block_over_a": BLOCK_OVER_A,
+            "growth": GROWTH,
+            "fine_over_a": FINE_OVER_A,
+        })),
+        rates: convergence_rates(rows),
+        leaderboard: leaderboard(rows),
+        rows: rows.to_vec(),
+        profiles: run.profiles.clone(),
+    };
+    crate::provenance::write_csv(&out.join("rows.csv"), rows)?;
+    crate::provenance::write_json(&out.join("summary.json"), &summary)?;
+    Ok(summary)
+}
+
+/// Reads `OUT/summary.json` back.
+pub fn load(out: &std::path::Path) -> Result<Summary> {
+    crate::provenance::read_json(&out.join("summary.json"))
+}

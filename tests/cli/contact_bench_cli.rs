@@ -1,0 +1,82 @@
+//! `contact_bench` end to end: a small suite writes rows, summary and figures; `--render-only`
+//! redraws them; bad options exit 2 with one line naming the problem.
+
+use crate::common::assert_render_only;
+use std::process::Command;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_contact_bench"))
+}
+
+#[test]
+fn small_suite_writes_rows_summary_and_figures() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = bin()
+        .args([
+            "--cases",
+            "hertz-axi,patch",
+            "--meshes",
+            "0.2",
+            "--quiet",
+            "--json",
+        ])
+        .args(["--methods", "lagrange,constant,condensed", "--out"])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    // lagrange, 7 ε values, 4 δ values per case.
+    assert_eq!(s["rows"].as_array().unwrap().len(), 2 * 12);
+    assert!(s["leaderboard"].as_array().unwrap().len() >= 4);
+    let csv = std::fs::read_to_string(dir.path().join("rows.csv")).unwrap();
+    let header = csv.lines().next().unwrap();
+    for col in [
+        "case",
+        "method",
+        "knob",
+        "h",
+        "n_dofs",
+        "load",
+        "radius",
+        "young",
+        "poisson",
+        "a_exact",
+        "a_num",
+        "p0_exact",
+        "p0_num",
+        "p_err_rel",
+        "err_penalty",
+        "err_discretization",
+        "max_penetration",
+        "cond2_system",
+        "converged",
+        "seconds",
+    ] {
+        assert!(header.split(',').any(|c| c == col), "column {col} missing");
+    }
+    assert_render_only(
+        env!("CARGO_BIN_EXE_contact_bench"),
+        dir.path(),
+        "figures/leaderboard_hertz-axi.png",
+        "summary.json",
+        &[],
+    );
+}
+
+#[test]
+fn bad_options_exit_2_with_one_line() {
+    for args in [
+        &["--cases", "hertz-3d"][..],
+        &["--meshes", "0"],
+        &["--meshes", "nan"],
+        &["--methods", "nonsense"],
+        &["--cond-tol", "2"],
+    ] {
+        let o = bin().args(args).arg("--quiet").output().unwrap();
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!err.trim().is_empty(), "{args:?}: no message");
+        assert!(o.stdout.is_empty(), "{args:?}: wrote to stdout");
+    }
+}

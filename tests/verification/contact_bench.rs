@@ -1,0 +1,80 @@
+//! The contact benchmarks against their analytic solutions (Hertz, Johnson 1985 §4.2, §5.8;
+//! the uniform pressure of the patch test) on the default meshes: the numbers issue 27 asks
+//! for, computed by the library's study.
+
+use penalty_lab::progress::Progress;
+use penalty_lab::study::contact_bench::{self, BenchConfig, BenchRow};
+
+fn suite() -> Vec<BenchRow> {
+    let cfg = BenchConfig {
+        methods: vec!["lagrange".into(), "condensed".into()],
+        deltas_rel: vec![1e-3, 1e-5],
+        ..BenchConfig::default()
+    };
+    contact_bench::run(&cfg, &Progress::quiet()).unwrap().rows
+}
+
+#[test]
+fn hertz_and_patch_match_the_analytic_solutions() {
+    let rows = suite();
+    assert!(
+        rows.iter().all(|r| r.error.is_empty()),
+        "every solve succeeds"
+    );
+    let finest = rows.iter().map(|r| r.h).fold(f64::INFINITY, f64::min);
+    for case in ["hertz-plane", "hertz-axi"] {
+        // Finest default mesh: p0 within 3 %, a within 5 % (Lagrange and condensed, δ ≤ 1e-3·a).
+        for r in rows.iter().filter(|r| r.case == case && r.h == finest) {
+            let (p0, a) = (r.p0_num / r.p0_exact - 1.0, r.a_num / r.a_exact - 1.0);
+            assert!(
+                p0.abs() <= 0.03,
+                "{case} {} {:?}: p0 off by {p0:.4}",
+                r.method,
+                r.knob_rel
+            );
+            assert!(
+                a.abs() <= 0.05,
+                "{case} {} {:?}: a off by {a:.4}",
+                r.method,
+                r.knob_rel
+            );
+            // Force control: every rule carries the load.
+            assert!(r.force_mismatch.abs() <= contact_bench::FORCE_TOL);
+        }
+        // condensed under force control is Lagrange shifted by δ: the same pressures to the
+        // rounding of the solves (cond₂(K) ≈ 1e7 here).
+        for r in rows
+            .iter()
+            .filter(|r| r.case == case && r.method == "condensed")
+        {
+            assert!(
+                r.err_penalty <= 1e-9,
+                "{case} h = {}: {}",
+                r.h,
+                r.err_penalty
+            );
+        }
+    }
+    // The discretization error falls at least like h^0.8 over the three meshes.
+    for (case, rate) in contact_bench::convergence_rates(&rows) {
+        let rate = rate.expect("three meshes");
+        assert!(rate >= 0.8, "{case}: rate {rate}");
+    }
+    // Patch test: Lagrange and condensed give a uniform pressure to 1e-8, equal to p̄.
+    for r in rows.iter().filter(|r| r.case == "patch") {
+        assert!(
+            r.p_spread <= 1e-8,
+            "{} {:?}: spread {}",
+            r.method,
+            r.knob_rel,
+            r.p_spread
+        );
+        assert!(
+            r.p_err_rel <= 1e-8,
+            "{} {:?}: error {}",
+            r.method,
+            r.knob_rel,
+            r.p_err_rel
+        );
+    }
+}
