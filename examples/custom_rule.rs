@@ -40,6 +40,7 @@ pub static GAP_SCALED: Strategy = Strategy {
     glyph: Glyph::Circle,
     needs_k_inverse: true,
     targets_delta: false,
+    bilateral: true,
     solve: solve_gap_scaled,
 };
 

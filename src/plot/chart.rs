@@ -471,6 +471,16 @@ pub(super) fn glyph_outline(g: Glyph, r: i32) -> Vec<(i32, i32)> {
         Glyph::Triangle => polar(3, rf * 1.45, half),
         Glyph::TriangleDown => polar(3, rf * 1.45, -half),
         Glyph::Pentagon => polar(5, rf * 1.15, half),
+        Glyph::Star => (0..10)
+            .map(|k| {
+                let rad = if k % 2 == 0 { rf * 1.6 } else { rf * 0.65 };
+                let t = half + std::f64::consts::TAU * k as f64 / 10.0;
+                (
+                    (rad * t.cos()).round() as i32,
+                    (-rad * t.sin()).round() as i32,
+                )
+            })
+            .collect(),
         Glyph::Plus | Glyph::Cross => {
             // A plus of arm half-width w, turned by 45° for the cross.
             let (a, w) = (rf * 1.35, rf * 0.45);

@@ -15,9 +15,9 @@ pub(super) const FONT: &str = "sans-serif";
 
 /// Okabe–Ito colour-blind-friendly palette, in the order used for `color: Some(i)` (taken
 /// modulo its length) and for default colours (series order): blue, vermillion, bluish green,
-/// orange, reddish purple, sky blue, black, yellow; then grey (for a registered rule) and
-/// brown (`optimal`'s: yellow is too faint for a line on white).
-pub const PALETTE: [(u8, u8, u8); 10] = [
+/// orange, reddish purple, sky blue, black, yellow; then grey (for a registered rule),
+/// brown (`optimal`'s: yellow is too faint for a line on white) and dark red (`barrier`'s).
+pub const PALETTE: [(u8, u8, u8); 11] = [
     (0, 114, 178),
     (213, 94, 0),
     (0, 158, 115),
@@ -28,6 +28,7 @@ pub const PALETTE: [(u8, u8, u8); 10] = [
     (240, 228, 66),
     (128, 128, 128),
     (140, 86, 60),
+    (165, 0, 38),
 ];
 
 /// Palette index of black (default colour of [`Marker`](super::Marker)s).

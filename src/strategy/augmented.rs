@@ -30,6 +30,7 @@ pub static STRATEGY: Strategy = Strategy {
     glyph: Glyph::Pentagon,
     needs_k_inverse: false,
     targets_delta: false,
+    bilateral: true,
     solve: run,
 };
 

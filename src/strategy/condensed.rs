@@ -50,6 +50,7 @@ pub static STRATEGY: Strategy = Strategy {
     glyph: Glyph::Diamond,
     needs_k_inverse: true,
     targets_delta: true,
+    bilateral: true,
     solve: run,
 };
 

@@ -31,6 +31,7 @@ pub static STRATEGY: Strategy = Strategy {
     glyph: Glyph::Plus,
     needs_k_inverse: false,
     targets_delta: false,
+    bilateral: true,
     solve: run,
 };
 

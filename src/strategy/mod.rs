@@ -27,6 +27,7 @@
 
 pub mod active_set;
 pub mod augmented;
+pub mod barrier;
 pub mod box_qp;
 pub mod condensed;
 pub mod constant;

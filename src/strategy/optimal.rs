@@ -98,6 +98,7 @@ pub static STRATEGY: Strategy = Strategy {
     glyph: Glyph::Cross,
     needs_k_inverse: true,
     targets_delta: true,
+    bilateral: true,
     solve: run,
 };
 

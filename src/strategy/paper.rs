@@ -24,6 +24,7 @@ pub static STRATEGY: Strategy = Strategy {
     glyph: Glyph::Triangle,
     needs_k_inverse: false,
     targets_delta: false,
+    bilateral: true,
     solve: run,
 };
 

@@ -67,6 +67,8 @@ pub enum Glyph {
     Plus,
     /// Filled pentagon.
     Pentagon,
+    /// Filled five-pointed star.
+    Star,
 }
 
 /// Everything about one strategy, declared in its own file.
@@ -91,6 +93,9 @@ pub struct Strategy {
     pub needs_k_inverse: bool,
     /// Whether it guarantees every penetration ≤ δ (the δ-targeting rules).
     pub targets_delta: bool,
+    /// Whether it handles bilateral ties (`u[d] = û`); studies whose scenes have ties (the
+    /// sweep's default families, `runtime_vs_error`) leave the others out of their defaults.
+    pub bilateral: bool,
     /// Runs it: `method` carries this descriptor and the knob values it declared.
     pub solve: fn(Context, &Method) -> Result<Solution>,
 }
@@ -103,7 +108,7 @@ impl Strategy {
 }
 
 /// The built-in strategies, in their order in tables, `--help` and the palette.
-pub static BUILT_IN: [&Strategy; 8] = [
+pub static BUILT_IN: [&Strategy; 9] = [
     &super::constant::STRATEGY,
     &super::scaled::STRATEGY,
     &super::spring::STRATEGY,
@@ -112,6 +117,7 @@ pub static BUILT_IN: [&Strategy; 8] = [
     &super::lagrange::STRATEGY,
     &super::augmented::STRATEGY,
     &super::optimal::STRATEGY,
+    &super::barrier::STRATEGY,
 ];
 
 static REGISTERED: RwLock<Vec<&'static Strategy>> = RwLock::new(Vec::new());

@@ -18,6 +18,7 @@ pub static STRATEGY: Strategy = Strategy {
     glyph: Glyph::TriangleDown,
     needs_k_inverse: false,
     targets_delta: false,
+    bilateral: true,
     solve: run,
 };
 

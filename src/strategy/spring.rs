@@ -26,6 +26,7 @@ pub static STRATEGY: Strategy = Strategy {
     glyph: Glyph::Circle,
     needs_k_inverse: true,
     targets_delta: false,
+    bilateral: true,
     solve: run,
 };
 

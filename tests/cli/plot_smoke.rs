@@ -185,6 +185,7 @@ fn gallery_of_edge_cases() {
         Glyph::Cross,
         Glyph::Plus,
         Glyph::Pentagon,
+        Glyph::Star,
     ]
     .into_iter()
     .enumerate()

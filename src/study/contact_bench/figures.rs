@@ -272,7 +272,11 @@ pub fn tables(s: &Summary) -> String {
                 format!("{:.4}", r.a_num / r.a_exact),
                 format!("{:.4}", r.p0_num / r.p0_exact),
                 fmt_e(r.err_discretization, 2),
-                fmt_e(r.p_spread, 1),
+                if r.case == Case::Patch.name() {
+                    fmt_e(r.p_spread, 1)
+                } else {
+                    "—".into()
+                },
                 r.cond2_system.map_or("—".into(), |c| fmt_e(c, 3)),
             ]
         })
@@ -313,9 +317,10 @@ fn leader_table(leaders: &[Leader]) -> String {
                 l.case.clone(),
                 fmt_e(l.h, 2),
                 l.rule.clone(),
-                match l.knob_rel {
-                    Some(_) => knob_label(&l.knob, l.knob_rel),
-                    None => "none below".into(),
+                match (l.knob_rel, l.tried) {
+                    (Some(_), _) => knob_label(&l.knob, l.knob_rel),
+                    (None, 0) => "no solve (see rows)".into(),
+                    (None, _) => "none below".into(),
                 },
                 l.cond2_system.map_or("—".into(), |c| fmt_e(c, 3)),
                 l.err_penalty.map_or("—".into(), |e| fmt_e(e, 2)),

@@ -18,12 +18,17 @@
 
 pub mod analytic;
 pub mod figures;
+mod force;
+mod record;
+
+pub use force::{solve_at_load, Loaded, FORCE_TOL, MAX_FORCE_SOLVES};
+pub use record::{convergence_rates, leaderboard, load, rule_of, save, Leader, Summary};
 
 use crate::error::{Error, Result};
 use crate::metrics::{self, MetricSet};
 use crate::model::elasticity::{self, Base, Geometry, Grid, Indentation, Material};
 use crate::progress::Progress;
-use crate::strategy::{self, registry, Knob, Knobs, Method, Solution};
+use crate::strategy::{self, registry, Knob, Knobs, Method};
 use analytic::{Case, Exact};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -193,120 +198,6 @@ impl BenchConfig {
         }
     }
 }
-
-/// A scene solved by one rule under force control: the scene at the lift found, its solution
-/// and the number of solves the search took.
-pub struct Loaded {
-    /// The scene at the lift that carries the load.
-    pub scene: Indentation,
-    /// The rule's solution on it.
-    pub sol: Solution,
-    /// Solves of the search.
-    pub solves: usize,
-    /// (force − load)/load of the returned solution.
-    pub mismatch: f64,
-}
-
-/// The lift w at which `method`'s solution carries `load`, to `rel_tol` relative: the force is
-/// 0 at w = 0 (the indenter touches the top at x = 0) and grows monotonically with w
-/// (piecewise affinely for Lagrange and a fixed-ε penalty, affinely while the contact set
-/// stays), so regula falsi (Illinois variant) in a doubling bracket from `guess` converges in
-/// a few solves.
-pub fn solve_at_load(
-    cfg: &BenchConfig,
-    case: Case,
-    grid: &Grid,
-    method: Method,
-    load: f64,
-    guess: f64,
-    rel_tol: f64,
-) -> Result<Loaded> {
-    let force = |w: f64| -> Result<(f64, Indentation, Solution)> {
-        let scene = cfg.scene(case, grid, w)?;
-        let sol = strategy::solve(&scene.problem, method)?;
-        let f = scene.total_force(&sol.u);
-        Ok((f - load, scene, sol))
-    };
-    let fail = |what: &str, w: f64, r: f64| {
-        Error::Numerical(format!(
-            "{} {}: force control {what} (lift {w:e}, force mismatch {:e})",
-            case.name(),
-            method.name(),
-            r / load
-        ))
-    };
-    let (mut lo, mut r_lo) = (0.0, -load);
-    let mut hi = guess;
-    let mut solves = 1;
-    let (mut r_hi, mut scene, mut sol) = force(hi)?;
-    let mut flat = 0;
-    while r_hi < 0.0 {
-        // The force of a rule that loads the contact grows at least in proportion to the lift
-        // beyond its contact onset; three doublings without growth mean it puts no load on it.
-        if solves >= MAX_FORCE_SOLVES || flat >= 3 {
-            let what = format!(
-                "found no lift that carries the load (the force stays at {:.3e}·P; {} of {} \
-                 penalties clipped to 0)",
-                1.0 + r_hi / load,
-                sol.penalties.iter().filter(|e| **e == 0.0).count(),
-                sol.penalties.len()
-            );
-            return Err(fail(&what, hi, r_hi));
-        }
-        (lo, r_lo) = (hi, r_hi);
-        hi *= 2.0;
-        (r_hi, scene, sol) = force(hi)?;
-        solves += 1;
-        flat = if r_hi - r_lo <= 1e-6 * load {
-            flat + 1
-        } else {
-            0
-        };
-    }
-    // (scene, sol) is always the latest evaluation, `last` its mismatch.
-    let mut last = r_hi;
-    let mut side = 0i8;
-    while last.abs() > rel_tol * load {
-        // A rule whose force jumps with the lift (an optimizer's best-of-starts choice) can
-        // leave a gap no lift closes: the bracket collapses, and the mismatch is reported.
-        if hi - lo <= 1e-13 * hi {
-            break;
-        }
-        if solves >= MAX_FORCE_SOLVES {
-            return Err(fail("did not converge", hi, last));
-        }
-        let w = (lo * r_hi - hi * r_lo) / (r_hi - r_lo);
-        let (r, sc, so) = force(w)?;
-        solves += 1;
-        (scene, sol, last) = (sc, so, r);
-        if r >= 0.0 {
-            (hi, r_hi) = (w, r);
-            if side == 1 {
-                r_lo /= 2.0;
-            }
-            side = 1;
-        } else {
-            (lo, r_lo) = (w, r);
-            if side == -1 {
-                r_hi /= 2.0;
-            }
-            side = -1;
-        }
-    }
-    Ok(Loaded {
-        scene,
-        sol,
-        solves,
-        mismatch: last / load,
-    })
-}
-
-/// Solves force control may take (a rule that loads the contact converges in ≤ 10 on the
-/// default suite).
-pub const MAX_FORCE_SOLVES: usize = 25;
-
-/// Relative mismatch of the total force that force control accepts.
-pub const FORCE_TOL: f64 = 1e-10;
 
 /// One (case, method, knob, mesh).
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
@@ -660,137 +551,4 @@ pub fn run(cfg: &BenchConfig, progress: &Progress) -> Result<BenchRun> {
     }
     progress.finish();
     Ok(out)
-}
-
-/// One leaderboard entry: the cheapest knob of a rule on a mesh whose penalty error is below
-/// the discretization error.
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-pub struct Leader {
-    /// Case.
-    pub case: String,
-    /// Element size at the contact.
-    pub h: f64,
-    /// Method, with its knob name (`augmented` appears as plain and adaptive).
-    pub rule: String,
-    /// Knob name.
-    pub knob: String,
-    /// The knob value (relative) with the smallest cond₂ among those below the line; None if
-    /// none is (or the rule has no knob).
-    pub knob_rel: Option<f64>,
-    /// Its cond₂.
-    pub cond2_system: Option<f64>,
-    /// Its penalty error.
-    pub err_penalty: Option<f64>,
-    /// The mesh's discretization error.
-    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
-    pub err_discretization: f64,
-    /// Knob values tried (solved).
-    pub tried: usize,
-}
-
-/// The rule name of a row on the leaderboard (`augmented` split by its adaptive switch).
-pub fn rule_of(r: &BenchRow) -> String {
-    if r.knob == "adaptive-tol" {
-        format!("{} (adaptive)", r.method)
-    } else {
-        r.method.clone()
-    }
-}
-
-/// Per (case, mesh, rule): the cheapest knob value (smallest cond₂) whose penalty error is
-/// below the discretization error.
-pub fn leaderboard(rows: &[BenchRow]) -> Vec<Leader> {
-    let mut keys: Vec<(String, f64, String)> = Vec::new();
-    for r in rows {
-        let k = (r.case.clone(), r.h, rule_of(r));
-        if !keys.contains(&k) {
-            keys.push(k);
-        }
-    }
-    keys.into_iter()
-        .map(|(case, h, rule)| {
-            let group: Vec<&BenchRow> = rows
-                .iter()
-                .filter(|r| r.case == case && r.h == h && rule_of(r) == rule && r.error.is_empty())
-                .collect();
-            let err_discretization = group.first().map_or(f64::NAN, |r| r.err_discretization);
-            let best = group
-                .iter()
-                .filter(|r| r.err_penalty <= r.err_discretization)
-                .filter(|r| r.cond2_system.is_some())
-                .min_by(|a, b| a.cond2_system.unwrap().total_cmp(&b.cond2_system.unwrap()));
-            Leader {
-                case,
-                h,
-                knob: group.first().map_or(String::new(), |r| r.knob.clone()),
-                rule,
-                knob_rel: best.and_then(|r| r.knob_rel),
-                cond2_system: best.and_then(|r| r.cond2_system),
-                err_penalty: best.map(|r| r.err_penalty),
-                err_discretization,
-                tried: group.len(),
-            }
-        })
-        .collect()
-}
-
-/// Convergence of Lagrange's pressure error with h per Hertz case: the least-squares slope of
-/// log(err) against log(h) over the meshes (None with fewer than two meshes). The patch test
-/// has none: its error is rounding on every mesh.
-pub fn convergence_rates(rows: &[BenchRow]) -> Vec<(String, Option<f64>)> {
-    let mut out = Vec::new();
-    for case in [Case::HertzPlane, Case::HertzAxi] {
-        let (h, e): (Vec<f64>, Vec<f64>) = rows
-            .iter()
-            .filter(|r| r.case == case.name() && r.method == strategy::lagrange::STRATEGY.name)
-            .map(|r| (r.h, r.err_discretization))
-            .unzip();
-        if h.is_empty() {
-            continue;
-        }
-        out.push((case.name().to_string(), crate::stats::loglog_slope(&h, &e)));
-    }
-    out
-}
-
-/// The saved record: provenance with the config, the rows, the leaderboard and the rates.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct Summary {
-    /// Provenance and config.
-    pub provenance: serde_json::Value,
-    /// Least-squares slope of log(err_discretization) against log(h), per case.
-    pub rates: Vec<(String, Option<f64>)>,
-    /// Per (case, mesh, rule): the cheapest knob below the discretization error.
-    pub leaderboard: Vec<Leader>,
-    /// Every row.
-    pub rows: Vec<BenchRow>,
-    /// Nodal pressures on each case's finest mesh.
-    pub profiles: Vec<Profile>,
-}
-
-/// Writes `OUT/rows.csv` and `OUT/summary.json` (provenance, rates, leaderboard, rows).
-pub fn save(out: &std::path::Path, cfg: &BenchConfig, run: &BenchRun) -> Result<Summary> {
-    let rows = &run.rows;
-    std::fs::create_dir_all(out).map_err(|e| Error::io(out.display(), e))?;
-    let summary = Summary {
-        provenance: crate::provenance::Provenance::new("contact_bench").record(serde_json::json!({
-            "config": cfg,
-            "threads": 1,
-            "block_over_a": BLOCK_OVER_A,
-            "growth": GROWTH,
-            "fine_over_a": FINE_OVER_A,
-        })),
-        rates: convergence_rates(rows),
-        leaderboard: leaderboard(rows),
-        rows: rows.to_vec(),
-        profiles: run.profiles.clone(),
-    };
-    crate::provenance::write_csv(&out.join("rows.csv"), rows)?;
-    crate::provenance::write_json(&out.join("summary.json"), &summary)?;
-    Ok(summary)
-}
-
-/// Reads `OUT/summary.json` back.
-pub fn load(out: &std::path::Path) -> Result<Summary> {
-    crate::provenance::read_json(&out.join("summary.json"))
 }

@@ -163,10 +163,11 @@ impl PerfConfig {
             } else {
                 vec![100, 1_000, 10_000, 100_000, 1_000_000]
             },
-            // `optimal` is dense (N ≤ its affordability limit): not a run-time study's method.
+            // `optimal` is dense (N ≤ its affordability limit): not a run-time study's method;
+            // the beam family has bilateral ties.
             methods: registry::BUILT_IN
                 .iter()
-                .filter(|s| !std::ptr::eq(**s, &strategy::optimal::STRATEGY))
+                .filter(|s| !std::ptr::eq(**s, &strategy::optimal::STRATEGY) && s.bilateral)
                 .map(|s| s.name.to_string())
                 .collect(),
             repeats: if smoke { 1 } else { 3 },

@@ -1,0 +1,143 @@
+//! What the benchmark records: the leaderboard, the convergence rates, and the saved summary.
+
+use super::analytic::Case;
+use super::{BenchConfig, BenchRow, BenchRun, Profile, BLOCK_OVER_A, FINE_OVER_A, GROWTH};
+use crate::error::{Error, Result};
+use crate::strategy;
+use serde::{Deserialize, Serialize};
+
+/// One leaderboard entry: the cheapest knob of a rule on a mesh whose penalty error is below
+/// the discretization error.
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Leader {
+    /// Case.
+    pub case: String,
+    /// Element size at the contact.
+    pub h: f64,
+    /// Method, with its knob name (`augmented` appears as plain and adaptive).
+    pub rule: String,
+    /// Knob name.
+    pub knob: String,
+    /// The knob value (relative) with the smallest cond₂ among those below the line; None if
+    /// none is (or the rule has no knob).
+    pub knob_rel: Option<f64>,
+    /// Its cond₂.
+    pub cond2_system: Option<f64>,
+    /// Its penalty error.
+    pub err_penalty: Option<f64>,
+    /// The mesh's discretization error.
+    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
+    pub err_discretization: f64,
+    /// Knob values tried (solved).
+    pub tried: usize,
+}
+
+/// The rule name of a row on the leaderboard (`augmented` split by its adaptive switch).
+pub fn rule_of(r: &BenchRow) -> String {
+    if r.knob == "adaptive-tol" {
+        format!("{} (adaptive)", r.method)
+    } else {
+        r.method.clone()
+    }
+}
+
+/// Per (case, mesh, rule): the cheapest knob value (smallest cond₂) whose penalty error is
+/// below the discretization error.
+pub fn leaderboard(rows: &[BenchRow]) -> Vec<Leader> {
+    let mut keys: Vec<(String, f64, String)> = Vec::new();
+    for r in rows {
+        let k = (r.case.clone(), r.h, rule_of(r));
+        if !keys.contains(&k) {
+            keys.push(k);
+        }
+    }
+    keys.into_iter()
+        .map(|(case, h, rule)| {
+            let group: Vec<&BenchRow> = rows
+                .iter()
+                .filter(|r| r.case == case && r.h == h && rule_of(r) == rule && r.error.is_empty())
+                .collect();
+            let err_discretization = rows
+                .iter()
+                .find(|r| r.case == case && r.h == h && r.err_discretization.is_finite())
+                .map_or(f64::NAN, |r| r.err_discretization);
+            let best = group
+                .iter()
+                .filter(|r| r.err_penalty <= r.err_discretization)
+                .filter(|r| r.cond2_system.is_some())
+                .min_by(|a, b| a.cond2_system.unwrap().total_cmp(&b.cond2_system.unwrap()));
+            Leader {
+                case,
+                h,
+                knob: group.first().map_or(String::new(), |r| r.knob.clone()),
+                rule,
+                knob_rel: best.and_then(|r| r.knob_rel),
+                cond2_system: best.and_then(|r| r.cond2_system),
+                err_penalty: best.map(|r| r.err_penalty),
+                err_discretization,
+                tried: group.len(),
+            }
+        })
+        .collect()
+}
+
+/// Convergence of Lagrange's pressure error with h per Hertz case: the least-squares slope of
+/// log(err) against log(h) over the meshes (None with fewer than two meshes). The patch test
+/// has none: its error is rounding on every mesh.
+pub fn convergence_rates(rows: &[BenchRow]) -> Vec<(String, Option<f64>)> {
+    let mut out = Vec::new();
+    for case in [Case::HertzPlane, Case::HertzAxi] {
+        let (h, e): (Vec<f64>, Vec<f64>) = rows
+            .iter()
+            .filter(|r| r.case == case.name() && r.method == strategy::lagrange::STRATEGY.name)
+            .map(|r| (r.h, r.err_discretization))
+            .unzip();
+        if h.is_empty() {
+            continue;
+        }
+        out.push((case.name().to_string(), crate::stats::loglog_slope(&h, &e)));
+    }
+    out
+}
+
+/// The saved record: provenance with the config, the rows, the leaderboard and the rates.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Summary {
+    /// Provenance and config.
+    pub provenance: serde_json::Value,
+    /// Least-squares slope of log(err_discretization) against log(h), per case.
+    pub rates: Vec<(String, Option<f64>)>,
+    /// Per (case, mesh, rule): the cheapest knob below the discretization error.
+    pub leaderboard: Vec<Leader>,
+    /// Every row.
+    pub rows: Vec<BenchRow>,
+    /// Nodal pressures on each case's finest mesh.
+    pub profiles: Vec<Profile>,
+}
+
+/// Writes `OUT/rows.csv` and `OUT/summary.json` (provenance, rates, leaderboard, rows).
+pub fn save(out: &std::path::Path, cfg: &BenchConfig, run: &BenchRun) -> Result<Summary> {
+    let rows = &run.rows;
+    std::fs::create_dir_all(out).map_err(|e| Error::io(out.display(), e))?;
+    let summary = Summary {
+        provenance: crate::provenance::Provenance::new("contact_bench").record(serde_json::json!({
+            "config": cfg,
+            "threads": 1,
+            "block_over_a": BLOCK_OVER_A,
+            "growth": GROWTH,
+            "fine_over_a": FINE_OVER_A,
+        })),
+        rates: convergence_rates(rows),
+        leaderboard: leaderboard(rows),
+        rows: rows.to_vec(),
+        profiles: run.profiles.clone(),
+    };
+    crate::provenance::write_csv(&out.join("rows.csv"), rows)?;
+    crate::provenance::write_json(&out.join("summary.json"), &summary)?;
+    Ok(summary)
+}
+
+/// Reads `OUT/summary.json` back.
+pub fn load(out: &std::path::Path) -> Result<Summary> {
+    crate::provenance::read_json(&out.join("summary.json"))
+}
