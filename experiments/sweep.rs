@@ -23,8 +23,8 @@ use std::process::ExitCode;
     name = "sweep",
     version = penalty_lab::provenance::VERSION,
     about = "Sweep penalty ε and allowed penetration δ over randomized contact scenes",
-    after_help = "Without arguments: the built-in default (all families, 8 scenes each, all \
-                  methods) into results/sweep.\n`sweep merge OUT DIR...` merges the shard folders \
+    after_help = "Without arguments: the built-in default (beam, membrane, spectrum, 8 scenes each, every \
+                  method that handles bilateral ties) into results/sweep.\n`sweep merge OUT DIR...` merges the shard folders \
                   of one run (--shard K/N) into OUT.\nExit status: 0 ok, 2 bad configuration \
                   or input.",
     args_conflicts_with_subcommands = true

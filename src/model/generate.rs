@@ -14,9 +14,22 @@
 //!   (`u ≥ ψ` at every node — the classic obstacle problem); sparse.
 //! * `spectrum` — dense SPD `K = Q diag(λ) Qᵀ` with log-spaced eigenvalues spanning a
 //!   prescribed spread (10²…10¹⁰), random loads and contact DOFs; a stress family.
+//! * `hertz` — a block of Q4 elements (plane strain or axisymmetric, drawn at random; random
+//!   E, ν, indenter radius R ∈ [5, 50]·a and mesh size h ∈ `elastic_h`·a, a = 1) lifted by
+//!   a²/R onto a rigid parabolic indenter ([`crate::model::elasticity`]): unilateral
+//!   constraints on the top nodes. Displacement-controlled at the Hertz indentation depth of the
+//!   sphere on a half-space, a²/R (in plane strain the contact width then differs from a);
+//!   the force-controlled benchmark against the analytic solution is `contact_bench`.
+//! * `patch` — the contact patch test: an a × a block (plane strain or axisymmetric) on a
+//!   frictionless base lifted by 1e-3·a onto a flat rigid punch over its whole top.
+//!
+//! The default families ([`DEFAULT_FAMILIES`]) are the first three; `hertz` and `patch` are
+//! asked for by name (`--families hertz,patch`). Their constraints are all unilateral, so every
+//! rule runs on them, `barrier` included.
 
 use crate::error::{Error, Result};
 use crate::model::beam::{Frame, Section};
+use crate::model::elasticity::{self, Base, Geometry, Grid, Material};
 use crate::model::membrane as membrane_model;
 use crate::system::{Constraint, ConstraintKind, Problem, Stiffness};
 use faer::Mat;
@@ -33,10 +46,17 @@ pub enum Family {
     Membrane,
     /// SPD matrices with a prescribed eigenvalue spread.
     Spectrum,
+    /// Elastic block on a rigid parabolic indenter (Hertz configuration).
+    Hertz,
+    /// Elastic block under a flat rigid punch (contact patch test).
+    Patch,
 }
 
 /// Family names accepted on the command line.
-pub const FAMILY_NAMES: [&str; 3] = ["beam", "membrane", "spectrum"];
+pub const FAMILY_NAMES: [&str; 5] = ["beam", "membrane", "spectrum", "hertz", "patch"];
+
+/// The families a sweep runs when none are named.
+pub const DEFAULT_FAMILIES: [&str; 3] = ["beam", "membrane", "spectrum"];
 
 impl Family {
     /// Parses a family name.
@@ -45,6 +65,8 @@ impl Family {
             "beam" => Ok(Family::Beam),
             "membrane" => Ok(Family::Membrane),
             "spectrum" => Ok(Family::Spectrum),
+            "hertz" => Ok(Family::Hertz),
+            "patch" => Ok(Family::Patch),
             _ => Err(Error::input(format!(
                 "unknown family '{s}' (valid: {})",
                 FAMILY_NAMES.join(", ")
@@ -58,6 +80,8 @@ impl Family {
             Family::Beam => "beam",
             Family::Membrane => "membrane",
             Family::Spectrum => "spectrum",
+            Family::Hertz => "hertz",
+            Family::Patch => "patch",
         }
     }
 }
@@ -74,6 +98,9 @@ pub struct GeneratorConfig {
     pub spectrum_n: (usize, usize),
     /// Spectrum family: log10 of the eigenvalue spread in `[min, max]`.
     pub spectrum_log10_spread: (f64, f64),
+    /// `hertz` and `patch`: element size at the contact over a, log-uniform in `[min, max]`
+    /// (0.02 ≤ min ≤ max ≤ 0.5).
+    pub elastic_h: (f64, f64),
 }
 
 impl Default for GeneratorConfig {
@@ -83,6 +110,7 @@ impl Default for GeneratorConfig {
             membrane_side: (10, 16),
             spectrum_n: (20, 120),
             spectrum_log10_spread: (2.0, 10.0),
+            elastic_h: (0.1, 0.25),
         }
     }
 }
@@ -112,6 +140,12 @@ impl GeneratorConfig {
         if !(a.is_finite() && b.is_finite() && 0.0 <= a && a <= b && b <= 16.0) {
             return Err(Error::input(format!(
                 "spectrum_log10_spread = ({a}, {b}): need 0 ≤ min ≤ max ≤ 16"
+            )));
+        }
+        let (a, b) = self.elastic_h;
+        if !(a.is_finite() && b.is_finite() && 0.02 <= a && a <= b && b <= 0.5) {
+            return Err(Error::input(format!(
+                "elastic_h = ({a}, {b}): need 0.02 ≤ min ≤ max ≤ 0.5"
             )));
         }
         Ok(())
@@ -165,6 +199,8 @@ pub fn generate(
         Family::Beam => beam(&mut rng, cfg)?,
         Family::Membrane => membrane(&mut rng, cfg)?,
         Family::Spectrum => spectrum(&mut rng, cfg)?,
+        Family::Hertz => elastic(&mut rng, cfg, false)?,
+        Family::Patch => elastic(&mut rng, cfg, true)?,
     };
     meta["generator"] = serde_json::json!(family.name());
     meta["seed"] = serde_json::json!(seed);
@@ -346,4 +382,43 @@ fn spectrum(rng: &mut ChaCha8Rng, cfg: &GeneratorConfig) -> Result<(Problem, ser
     cons.sort_by_key(|c| c.dof);
     let meta = serde_json::json!({"n": n, "log10_spread": spread});
     Ok((Problem::new(k, q, cons)?, meta))
+}
+
+/// A `hertz` (`patch = false`) or `patch` scene (module doc).
+fn elastic(
+    rng: &mut ChaCha8Rng,
+    cfg: &GeneratorConfig,
+    patch: bool,
+) -> Result<(Problem, serde_json::Value)> {
+    let geometry = if rng.random_bool(0.5) {
+        Geometry::PlaneStrain
+    } else {
+        Geometry::Axisymmetric
+    };
+    let material = Material {
+        young: log_uniform(rng, 1e3, 1e6),
+        poisson: rng.random_range(0.0..0.45),
+    };
+    let h = log_uniform(rng, cfg.elastic_h.0, cfg.elastic_h.1);
+    let (scene, radius) = if patch {
+        let grid = Grid::graded(1.0, 1.0, h, 1.0, 1.0)?;
+        let s = elasticity::indentation(&grid, geometry, &material, Base::Sliding, 1e-3, |_| 0.0)?;
+        (s, None)
+    } else {
+        let r = log_uniform(rng, 5.0, 50.0);
+        let grid = Grid::graded(8.0, 8.0, h, 1.5, 1.3)?;
+        let s = elasticity::indentation(&grid, geometry, &material, Base::Clamped, 1.0 / r, |x| {
+            x * x / (2.0 * r)
+        })?;
+        (s, Some(r))
+    };
+    let meta = serde_json::json!({
+        "geometry": geometry,
+        "young": material.young,
+        "poisson": material.poisson,
+        "h_over_a": h,
+        "radius": radius,
+        "lift": scene.lift,
+    });
+    Ok((scene.problem, meta))
 }

@@ -15,6 +15,7 @@ fn condensed_penetration_never_exceeds_delta_on_the_sweep_families() {
         membrane_side: (10, 50),
         spectrum_n: (20, 80),
         spectrum_log10_spread: (2.0, 10.0),
+        elastic_h: (0.1, 0.25),
     };
     let (mut rows, mut penalized, mut far) = (0, 0, 0);
     for family in [Family::Beam, Family::Membrane, Family::Spectrum] {

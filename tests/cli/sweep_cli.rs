@@ -5,7 +5,7 @@
 //!
 //! Every test uses small configs and its own folder under `std::env::temp_dir()`.
 
-use penalty_lab::model::generate::FAMILY_NAMES;
+use penalty_lab::model::generate::DEFAULT_FAMILIES as FAMILY_NAMES;
 use penalty_lab::study::sweep::rows::{self, Row};
 use penalty_lab::study::sweep::{self, figures::FIGURE_KINDS, SweepConfig};
 use std::io::Write;
@@ -1190,4 +1190,53 @@ fn scenes_dir_reproduces_large_dense_scenes() {
         g.len(),
         differing.join("\n")
     );
+}
+
+/// The elastic families (`hertz`, `patch`): every constraint unilateral, so `barrier` runs on
+/// them beside the penalties; it never penetrates, every rule solves, and the scenes export
+/// like any other family's.
+#[test]
+fn elastic_families_run_every_rule_and_the_barrier_never_penetrates() {
+    let d = tmp_dir("elastic");
+    let out = d.join("out");
+    let scenes = d.join("scenes");
+    sweep_ok(
+        &d,
+        &[
+            "--families",
+            "hertz,patch",
+            "--count",
+            "2",
+            "--methods",
+            "constant,scaled,condensed,lagrange,barrier",
+            "--no-figures",
+            "--quiet",
+            "--out",
+            s(&out),
+            "--write-scenes",
+            s(&scenes),
+        ],
+    );
+    let rows = rows_of(&out);
+    assert!(rows.iter().any(|r| r.family == "hertz") && rows.iter().any(|r| r.family == "patch"));
+    for r in &rows {
+        assert!(
+            !r.warnings.contains("error"),
+            "{} {}: {}",
+            r.scene,
+            r.method,
+            r.warnings
+        );
+    }
+    let barrier: Vec<&Row> = rows.iter().filter(|r| r.method == "barrier").collect();
+    assert_eq!(barrier.len(), 4 * 3, "2 scenes × 2 families × 3 δ");
+    for r in barrier {
+        assert_eq!(r.max_penetration, Some(0.0), "{}", r.scene);
+    }
+    for name in ["hertz-0000", "hertz-0001", "patch-0000", "patch-0001"] {
+        assert!(
+            scenes.join(format!("{name}.scene.json")).is_file(),
+            "{name} not written"
+        );
+    }
 }

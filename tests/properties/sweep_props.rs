@@ -18,6 +18,7 @@ fn small() -> GeneratorConfig {
         membrane_side: (10, 12),
         spectrum_n: (4, 40),
         spectrum_log10_spread: (0.0, 10.0),
+        elastic_h: (0.1, 0.25),
     }
 }
 

@@ -535,6 +535,7 @@ pub fn stress_scenes(seed: u64, count: usize, families: &[String]) -> Result<Vec
         membrane_side: (10, 10),
         spectrum_n: (8, 40),
         spectrum_log10_spread: (10.0, 16.0),
+        elastic_h: (0.1, 0.25),
     };
     for f in families {
         let family = Family::from_name(f)?;

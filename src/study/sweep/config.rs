@@ -113,7 +113,7 @@ pub struct SweepConfig {
 impl Default for SweepConfig {
     fn default() -> Self {
         SweepConfig {
-            families: generate::FAMILY_NAMES
+            families: generate::DEFAULT_FAMILIES
                 .iter()
                 .map(|s| s.to_string())
                 .collect(),
