@@ -68,8 +68,9 @@ pub(super) fn with_legend_room(fig: &Figure, prep: &Prepared, w: f64, h: f64) ->
     Prepared { y, yt, ..*prep }
 }
 
-/// [`pick_corner`] with the number of data samples inside its legend box.
-fn corner_and_count(fig: &Figure, prep: &Prepared, w: f64, h: f64) -> (Corner, usize) {
+/// Sample points of everything drawn as data (series, bands, markers), in normalised plot
+/// coordinates: what a legend or a label placed over them would hide.
+fn data_samples(fig: &Figure, prep: &Prepared) -> Vec<(f64, f64)> {
     let mut pts = Vec::new();
     for s in &fig.series {
         for run in runs(
@@ -106,6 +107,41 @@ fn corner_and_count(fig: &Figure, prep: &Prepared, w: f64, h: f64) -> (Corner, u
             pts.extend(std::iter::repeat_n(p, 20));
         }
     }
+    pts
+}
+
+/// A box `(x range, y range)` in normalised plot coordinates.
+type Rect = ((f64, f64), (f64, f64));
+
+/// Data samples inside the box `[a, b] × [c, d]` (normalised coordinates).
+fn samples_in(pts: &[(f64, f64)], (a, b): (f64, f64), (c, d): (f64, f64)) -> usize {
+    pts.iter()
+        .filter(|&&(u, v)| u >= a && u <= b && v >= c && v <= d)
+        .count()
+}
+
+/// Where an hline label of width `w` and height `th` (normalised) at height `v` hides least:
+/// (right end?, above the line?) — right or left end, above or below, by `cost` of its box
+/// (lowest first; ties keep the earlier of right-above, left-above, right-below, left-below).
+fn hline_label_place(
+    v: f64,
+    w: f64,
+    th: f64,
+    cost: &impl Fn((f64, f64), (f64, f64)) -> (bool, usize),
+) -> (bool, bool) {
+    [(true, true), (false, true), (true, false), (false, false)]
+        .into_iter()
+        .min_by_key(|&(r, up)| {
+            let x = if r { (1.0 - w, 1.0) } else { (0.0, w) };
+            let y = if up { (v, v + th) } else { (v - th, v) };
+            cost(x, y)
+        })
+        .unwrap_or((true, true))
+}
+
+/// [`pick_corner`] with the number of data samples inside its legend box.
+fn corner_and_count(fig: &Figure, prep: &Prepared, w: f64, h: f64) -> (Corner, usize) {
+    let pts = data_samples(fig, prep);
     let count = |c: Corner| {
         pts.iter()
             .filter(|&&(u, v)| {
@@ -179,8 +215,10 @@ pub(super) fn draw_legend<'a, DB: DrawingBackend + 'a, X: Axis, Y: Axis>(
     Ok((corner, legend_wh))
 }
 
-/// Reference-line labels: hline labels at the right end above the line, vline labels at the
-/// top right of the line, each moved to the other end where it would hit the legend.
+/// Reference-line labels where they hide least: an hline label at the right or left end,
+/// above or below its line; a vline label right or left of its line, at the top or the
+/// bottom — never over the legend or an earlier label where another place is free, then
+/// over the fewest data samples (preferring right and above/top on ties).
 pub(super) fn draw_reference_labels<'a, DB: DrawingBackend + 'a, X: Axis, Y: Axis>(
     chart: Chart<'_, 'a, DB, X, Y>,
     fig: &Figure,
@@ -194,8 +232,6 @@ pub(super) fn draw_reference_labels<'a, DB: DrawingBackend + 'a, X: Axis, Y: Axi
         (prx.end - prx.start).max(1) as f64,
         (pry.end - pry.start).max(1) as f64,
     );
-    // Reference-line labels: hline labels at the right end above the line, vline labels at the
-    // top right of the line, each moved to the other end where it would hit the legend.
     let legend_right = matches!(corner, Corner::UpperRight | Corner::LowerRight);
     let legend_top = matches!(corner, Corner::UpperRight | Corner::UpperLeft);
     let in_legend_x = |a: f64, b: f64| {
@@ -215,23 +251,43 @@ pub(super) fn draw_reference_labels<'a, DB: DrawingBackend + 'a, X: Axis, Y: Axi
     let gap = st.px(5.0);
     let tw = |l: &str| text_width(l, st.annot) / pw;
     let th = st.annot * 1.3 / ph;
+    let pts = data_samples(fig, prep);
+    // A candidate box's cost: covering the legend or a label already placed first, then the
+    // data samples under it.
+    let placed: std::cell::RefCell<Vec<Rect>> = Default::default();
+    let cost = |x: (f64, f64), y: (f64, f64)| {
+        let legend = legend_wh.0 > 0.0 && in_legend_x(x.0, x.1) && in_legend_y(y.0, y.1);
+        let overlaps = placed
+            .borrow()
+            .iter()
+            .any(|(px, py)| px.0 < x.1 && x.0 < px.1 && py.0 < y.1 && y.0 < py.1);
+        (legend || overlaps, samples_in(&pts, x, y))
+    };
     for (y, label) in fig.hlines.iter().filter(|l| ok(ys, l.0) && !l.1.is_empty()) {
         let v = norm(fig, prep, (prep.x.0, *y)).1;
-        let hits = legend_wh.0 > 0.0 && in_legend_x(1.0 - tw(label), 1.0) && in_legend_y(v, v + th);
-        let (x, dx, hp) = if hits {
-            (prep.x.0, gap, HPos::Left)
-        } else {
+        let w = tw(label);
+        let (right, above) = hline_label_place(v, w, th, &cost);
+        placed.borrow_mut().push((
+            if right { (1.0 - w, 1.0) } else { (0.0, w) },
+            if above { (v, v + th) } else { (v - th, v) },
+        ));
+        let (x, dx, hp) = if right {
             (prep.x.1, -gap, HPos::Right)
+        } else {
+            (prep.x.0, gap, HPos::Left)
+        };
+        let (dy, vp) = if above {
+            (-gap / 2, VPos::Bottom)
+        } else {
+            (gap / 2, VPos::Top)
         };
         chart
             .draw_series(std::iter::once(
                 EmptyElement::at((x, *y))
                     + Text::new(
                         label.clone(),
-                        (dx, -gap / 2),
-                        font(st.annot)
-                            .color(&REF_GREY)
-                            .pos(Pos::new(hp, VPos::Bottom)),
+                        (dx, dy),
+                        font(st.annot).color(&REF_GREY).pos(Pos::new(hp, vp)),
                     ),
             ))
             .map_err(area_err)?;
@@ -239,17 +295,30 @@ pub(super) fn draw_reference_labels<'a, DB: DrawingBackend + 'a, X: Axis, Y: Axi
     for (x, label) in fig.vlines.iter().filter(|l| ok(xs, l.0) && !l.1.is_empty()) {
         let u = norm(fig, prep, (*x, prep.y.0)).0;
         let w = tw(label);
-        // Right of the line unless that runs out of the plot.
-        let (a, b, dx, hp) = if u + w < 0.98 {
-            (u, u + w, gap, HPos::Left)
+        // Right or left of the line (not out of the plot), at the top or the bottom: the
+        // candidate that hides least.
+        let (right, top) = [(true, true), (false, true), (true, false), (false, false)]
+            .into_iter()
+            .filter(|&(r, _)| if r { u + w < 0.98 } else { u - w > 0.02 })
+            .min_by_key(|&(r, t)| {
+                let xb = if r { (u, u + w) } else { (u - w, u) };
+                let yb = if t { (1.0 - th, 1.0) } else { (0.0, th) };
+                cost(xb, yb)
+            })
+            .unwrap_or((u + w < 0.98, true));
+        placed.borrow_mut().push((
+            if right { (u, u + w) } else { (u - w, u) },
+            if top { (1.0 - th, 1.0) } else { (0.0, th) },
+        ));
+        let (dx, hp) = if right {
+            (gap, HPos::Left)
         } else {
-            (u - w, u, -gap, HPos::Right)
+            (-gap, HPos::Right)
         };
-        let hits = legend_wh.0 > 0.0 && in_legend_x(a, b) && in_legend_y(1.0 - th, 1.0);
-        let (y, dy, vp) = if hits {
-            (prep.y.0, -gap, VPos::Bottom)
-        } else {
+        let (y, dy, vp) = if top {
             (prep.y.1, gap, VPos::Top)
+        } else {
+            (prep.y.0, -gap, VPos::Bottom)
         };
         chart
             .draw_series(std::iter::once(
@@ -269,6 +338,33 @@ pub(super) fn draw_reference_labels<'a, DB: DrawingBackend + 'a, X: Axis, Y: Axi
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// An hline label goes where no curve runs: a curve over the right end above the line
+    /// sends it to the left end; curves above at both ends send it below; no data keeps it at
+    /// the right end above.
+    #[test]
+    fn reference_labels_avoid_curves() {
+        let (v, w, th) = (0.5, 0.3, 0.05);
+        let line = |x0: f64, x1: f64, y: f64| -> Vec<(f64, f64)> {
+            (0..=50)
+                .map(|k| (x0 + (x1 - x0) * k as f64 / 50.0, y))
+                .collect()
+        };
+        let place = |pts: Vec<(f64, f64)>| {
+            hline_label_place(v, w, th, &|x, y| (false, samples_in(&pts, x, y)))
+        };
+        assert_eq!(place(vec![]), (true, true));
+        assert_eq!(place(line(0.6, 1.0, 0.52)), (false, true));
+        let mut both = line(0.0, 1.0, 0.52);
+        both.extend(line(0.0, 1.0, 0.53));
+        assert_eq!(place(both), (true, false));
+        // The legend outranks any number of samples.
+        let legend_right_above = |x: (f64, f64), y: (f64, f64)| (x.1 > 0.9 && y.0 >= v, 0);
+        assert_eq!(
+            hline_label_place(v, w, th, &legend_right_above),
+            (false, true)
+        );
+    }
 
     /// Data in every corner (a line from corner to corner and back): the legend gets a band
     /// of its own above the data, where no sample lies; a figure with a free corner keeps its
