@@ -2,6 +2,8 @@
 //!
 //! * `condensed` with δ = R · displacement_scale keeps every penetration ≤ δ (relative 1e-9,
 //!   plus a rounding allowance cond₂(system) · ε_mach · ‖u‖∞) with every ε_c ≥ 0;
+//! * `barrier` never penetrates on the unilateral families (membrane, hertz, patch): every gap
+//!   recomputed from u is feasible in floating point, and Newton converges;
 //! * generation is a pure function of (seed, family, index): twice, interleaved with other
 //!   scenes, or on another thread, it gives bit-identical K, q, constraints and metadata.
 
@@ -26,7 +28,18 @@ fn family() -> impl Strategy<Value = Family> {
     prop_oneof![
         Just(Family::Beam),
         Just(Family::Membrane),
-        Just(Family::Spectrum)
+        Just(Family::Spectrum),
+        Just(Family::Hertz),
+        Just(Family::Patch)
+    ]
+}
+
+/// The families whose constraints are all unilateral (where `barrier` applies).
+fn unilateral_family() -> impl Strategy<Value = Family> {
+    prop_oneof![
+        Just(Family::Membrane),
+        Just(Family::Hertz),
+        Just(Family::Patch)
     ]
 }
 
@@ -115,6 +128,30 @@ proptest! {
             }
         }
         prop_assert!((sol.max_penetration - pen).abs() <= rounding.max(1e-300) + 1e-12 * pen);
+    }
+
+    /// The IPC barrier never penetrates: every gap recomputed from u is on the feasible side
+    /// in floating point (penetration exactly 0), its Hessian penalties are finite and ≥ 0,
+    /// and Newton converges.
+    #[test]
+    fn barrier_never_penetrates(
+        fam in unilateral_family(),
+        seed in any::<u64>(),
+        index in 0usize..10_000,
+        log10_r in -4.0f64..-0.3,
+    ) {
+        let g = generate(fam, index, seed, &small()).expect("generation succeeds");
+        let p = &g.problem;
+        let prep = Prepared::new(p).expect("generated K is nonsingular");
+        let dhat = 10f64.powf(log10_r) * p.displacement_scale(prep.u0());
+        let sol = strategy::solve(p, Method::barrier(dhat))
+            .map_err(|e| TestCaseError::fail(format!("{}: barrier failed: {e}", g.name)))?;
+        for (c, pen) in p.penetrations(&sol.u).iter().enumerate() {
+            prop_assert!(*pen == 0.0, "{}: constraint {c} penetrates by {pen:e}", g.name);
+        }
+        prop_assert_eq!(sol.max_penetration, 0.0);
+        prop_assert!(sol.penalties.iter().all(|e| e.is_finite() && *e >= 0.0));
+        prop_assert!(sol.stats.converged, "{}: {:?}", g.name, sol.warnings);
     }
 
     #[test]
