@@ -168,7 +168,7 @@ fn leaderboard_panels(s: &Summary, case: Case) -> Vec<Figure> {
     hs.sort_by(|a, b| b.total_cmp(a));
     hs.dedup();
     let mut panels = Vec::new();
-    for h in hs {
+    for (k, h) in hs.into_iter().enumerate() {
         let rows: Vec<&BenchRow> = s
             .rows
             .iter()
@@ -206,8 +206,9 @@ fn leaderboard_panels(s: &Summary, case: Case) -> Vec<Figure> {
             }
             let dashed = rule.contains("adaptive");
             f = f.with_series(
+                // One legend, in the first panel: the rules are the same in every panel.
                 Series::new(
-                    rule.clone(),
+                    if k == 0 { rule.clone() } else { String::new() },
                     pts.iter().map(|p| p.1).collect(),
                     pts.iter().map(|p| p.2).collect(),
                     if dashed {
@@ -242,7 +243,7 @@ pub fn render(out: &Path, s: &Summary) -> Result<Vec<PathBuf>> {
         let l = leaderboard_panels(s, case);
         if !l.is_empty() {
             let stem = dir.join(format!("leaderboard_{}", case.name()));
-            files.extend(render_panels(&l, l.len().min(3), &stem, (1700, 620))?);
+            files.extend(render_panels(&l, l.len().min(3), &stem, (1700, 700))?);
         }
     }
     if s.rows.iter().any(|r| r.method == "lagrange") {
