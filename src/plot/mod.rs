@@ -309,7 +309,8 @@ pub fn render(fig: &Figure, stem: &Path) -> Result<Vec<PathBuf>> {
 
 /// Draws several figures side by side in one image (`cols` per row, rows as needed, equal
 /// cells), each with its own title, axes and legend; each figure's `size` is ignored in favour
-/// of the total `size`. Writes `<stem>.png` and `<stem>.svg` and returns the paths.
+/// of the total `size`, grown where a cell would be smaller than [`MIN_PANEL`]
+/// ([`panel_canvas`]). Writes `<stem>.png` and `<stem>.svg` and returns the paths.
 ///
 /// Errors as for [`render`]; also [`Error::Input`] for no figures or `cols == 0`.
 pub fn render_panels(
@@ -319,6 +320,19 @@ pub fn render_panels(
     size: (u32, u32),
 ) -> Result<Vec<PathBuf>> {
     render_panels_impl(figs, cols, stem, size)
+}
+
+/// Smallest cell of a panel grid (px): below it the plot area of a panel, under its title,
+/// axis labels and ticks, shrinks to a strip.
+pub const MIN_PANEL: (u32, u32) = (420, 340);
+
+/// The image size for `rows × cols` panels asked as `size`: each side grown where needed so
+/// that no cell is smaller than [`MIN_PANEL`].
+pub fn panel_canvas(rows: usize, cols: usize, size: (u32, u32)) -> (u32, u32) {
+    (
+        size.0.max(MIN_PANEL.0 * cols as u32),
+        size.1.max(MIN_PANEL.1 * rows as u32),
+    )
 }
 
 fn render_panels_impl(
@@ -344,6 +358,7 @@ fn render_panels_impl(
 
     let cols = cols.min(figs.len());
     let rows = figs.len().div_ceil(cols);
+    let size = panel_canvas(rows, cols, size);
     let cell = (size.0 as f64 / cols as f64, size.1 as f64 / rows as f64);
     let scale = (cell.0 / 900.0).min(cell.1 / 600.0).clamp(0.95, 2.0);
 

@@ -234,3 +234,29 @@ fn one_colour_per_method() {
     assert_eq!(method_glyph("adaptive"), method_glyph("paper"));
     assert_ne!(method_glyph("classical-matched"), method_glyph("classical"));
 }
+
+/// No panel is squashed: a grid asked at a size whose cells would be strips grows to
+/// [`MIN_PANEL`] per cell (the forming thickness-strain figure asked 2 rows in 520 px); a
+/// size with room to spare is kept.
+#[test]
+fn panels_are_never_squashed() {
+    use penalty_lab::plot::{panel_canvas, MIN_PANEL};
+    assert_eq!(panel_canvas(2, 3, (1950, 520)), (1950, 2 * MIN_PANEL.1));
+    assert_eq!(panel_canvas(1, 3, (1700, 700)), (1700, 700));
+    assert_eq!(panel_canvas(3, 2, (400, 2000)), (2 * MIN_PANEL.0, 2000));
+    // The image written has the grown size (PNG header: width, height at bytes 16..24).
+    let dir = tempfile::tempdir().unwrap();
+    let f = |k: usize| {
+        Figure::new(format!("panel {k}"), "x", "y").with_series(Series::new(
+            "s",
+            vec![0.0, 1.0],
+            vec![0.0, 1.0],
+            Mark::Line,
+        ))
+    };
+    let figs: Vec<Figure> = (0..5).map(f).collect();
+    let files = render_panels(&figs, 3, &dir.path().join("grid"), (1950, 520)).unwrap();
+    let png = std::fs::read(&files[0]).unwrap();
+    let h = u32::from_be_bytes([png[20], png[21], png[22], png[23]]);
+    assert_eq!(h, 2 * MIN_PANEL.1);
+}
