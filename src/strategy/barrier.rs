@@ -94,19 +94,28 @@ fn distances(p: &Problem, u: &[f64]) -> Vec<f64> {
         .collect()
 }
 
-/// Π(u), or +∞ where some d ≤ 0.
-fn energy(p: &Problem, u: &[f64], kappa: f64, dhat: f64) -> f64 {
-    let ku = p.k.matvec(u);
-    let e: f64 = 0.5 * u.iter().zip(&ku).map(|(a, b)| a * b).sum::<f64>()
-        - u.iter().zip(&p.q).map(|(a, b)| a * b).sum::<f64>();
+/// Π(u) given `ku` = K u (+∞ where some d ≤ 0), and the rounding level of Π: 64 ε_mach times
+/// the sum of its terms' magnitudes (no smaller decrease of Π is observable).
+fn energy(p: &Problem, u: &[f64], ku: &[f64], kappa: f64, dhat: f64) -> (f64, f64) {
+    let dot = |a: &[f64], b: &[f64], f: fn(f64) -> f64| -> f64 {
+        a.iter().zip(b).map(|(x, y)| f(x * y)).sum()
+    };
+    let id = |v: f64| v;
+    let e = 0.5 * dot(u, ku, id) - dot(u, &p.q, id);
+    let mag = 0.5 * dot(u, ku, f64::abs) + dot(u, &p.q, f64::abs);
     let mut b = 0.0;
     for d in distances(p, u) {
         if d <= 0.0 {
-            return f64::INFINITY;
+            return (f64::INFINITY, f64::INFINITY);
         }
         b += barrier(d, dhat).0;
     }
-    e + kappa * b
+    (e + kappa * b, 64.0 * f64::EPSILON * (mag + kappa * b))
+}
+
+/// The smallest distance d_c at u.
+fn min_distance(p: &Problem, u: &[f64]) -> f64 {
+    distances(p, u).into_iter().fold(f64::INFINITY, f64::min)
 }
 
 /// Newton's outcome at one κ.
@@ -121,6 +130,7 @@ const MAX_NEWTON: usize = 200;
 fn newton(ctx: &mut Context, mut u: Vec<f64>, kappa: f64, dhat: f64) -> Result<NewtonRun> {
     let p = ctx.problem;
     let scale_u = |u: &[f64]| u.iter().fold(dhat, |a, v| a.max(v.abs()));
+    let mut ku = p.k.matvec(&u);
     for _ in 0..MAX_NEWTON {
         ctx.stats.iterations += 1;
         let d = distances(p, &u);
@@ -140,19 +150,12 @@ fn newton(ctx: &mut Context, mut u: Vec<f64>, kappa: f64, dhat: f64) -> Result<N
         let u_new = ctx.solve_penalized_with(&h, &lim)?;
         let step: Vec<f64> = u_new.iter().zip(&u).map(|(a, b)| a - b).collect();
         // ∇Π = K u − q + D ∇B.
-        let ku = p.k.matvec(&u);
         let mut g: Vec<f64> = ku.iter().zip(&p.q).map(|(a, b)| a - b).collect();
         for (c, con) in p.constraints.iter().enumerate() {
             g[con.dof] += grad_b[c];
         }
         let slope: f64 = g.iter().zip(&step).map(|(a, b)| a * b).sum();
-        let e0 = energy(p, &u, kappa, dhat);
-        // The rounding level of Π: its terms' magnitudes times a few ε_mach.
-        let rounding = 64.0
-            * f64::EPSILON
-            * (0.5 * u.iter().zip(&ku).map(|(a, b)| (a * b).abs()).sum::<f64>()
-                + u.iter().zip(&p.q).map(|(a, b)| (a * b).abs()).sum::<f64>()
-                + kappa * d.iter().map(|&dc| barrier(dc, dhat).0).sum::<f64>());
+        let (e0, rounding) = energy(p, &u, &ku, kappa, dhat);
         let moved = step.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         if -slope <= rounding || moved <= 1e-12 * scale_u(&u) {
             return Ok(NewtonRun { u, converged: true });
@@ -167,9 +170,9 @@ fn newton(ctx: &mut Context, mut u: Vec<f64>, kappa: f64, dhat: f64) -> Result<N
         }
         loop {
             let trial: Vec<f64> = u.iter().zip(&step).map(|(a, b)| a + alpha * b).collect();
-            let e = energy(p, &trial, kappa, dhat);
-            if e <= e0 + 1e-4 * alpha * slope {
-                u = trial;
+            let k_trial = p.k.matvec(&trial);
+            if energy(p, &trial, &k_trial, kappa, dhat).0 <= e0 + 1e-4 * alpha * slope {
+                (u, ku) = (trial, k_trial);
                 break;
             }
             alpha *= 0.5;
@@ -225,15 +228,11 @@ pub fn solve(mut ctx: Context, dhat: f64) -> Result<Solution> {
     };
     kappa = kappa.clamp(kappa_min, kappa_max);
     let mut run = newton(&mut ctx, u, kappa, dhat)?;
-    let mut min_d = distances(p, &run.u)
-        .into_iter()
-        .fold(f64::INFINITY, f64::min);
+    let mut min_d = min_distance(p, &run.u);
     while min_d < 1e-2 * dhat && kappa < kappa_max {
         kappa = (2.0 * kappa).min(kappa_max);
         let next = newton(&mut ctx, run.u.clone(), kappa, dhat)?;
-        let d_next = distances(p, &next.u)
-            .into_iter()
-            .fold(f64::INFINITY, f64::min);
+        let d_next = min_distance(p, &next.u);
         run = next;
         if d_next >= min_d {
             break;
