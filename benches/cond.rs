@@ -141,10 +141,43 @@ fn bench_simplicial_numeric(c: &mut Criterion) {
     g.finish();
 }
 
+/// The a-posteriori margin of a Cholesky test (`certify::posterior_margin`: the residual
+/// `L̂L̂ᵀ − A` by compensated sums) against the factorization it certifies, on the membrane and
+/// beam of `one_vector_solve`.
+fn bench_posterior_margin(c: &mut Criterion) {
+    use penalty_lab::conditioning::certify::posterior_margin;
+    let mut g = kernel_group(c, "posterior_margin");
+    for (name, a) in folder_sizes() {
+        let Stiffness::Sparse(m) = a else {
+            panic!("{name}: expected sparse storage")
+        };
+        let n = m.nrows();
+        let pattern = DiagonalPattern::new(&m).expect("valid pattern");
+        let f = pattern.factor(&pattern.values).expect("SPD");
+        g.bench_function(BenchmarkId::new(format!("{name}/factor"), n), |bench| {
+            bench.iter(|| pattern.factor(black_box(&pattern.values)).expect("SPD"))
+        });
+        g.bench_function(BenchmarkId::new(format!("{name}/posterior"), n), |bench| {
+            bench.iter(|| {
+                posterior_margin(
+                    &f.lower_factor(),
+                    pattern.pattern.as_ref(),
+                    black_box(&pattern.values),
+                    1.0,
+                    0.0,
+                )
+                .expect("positive diagonal")
+            })
+        });
+    }
+    g.finish();
+}
+
 criterion_group!(
     benches,
     bench_cond,
     bench_one_vector_solve,
-    bench_simplicial_numeric
+    bench_simplicial_numeric,
+    bench_posterior_margin
 );
 criterion_main!(benches);

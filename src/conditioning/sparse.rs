@@ -169,6 +169,38 @@ impl ShiftFamily {
         Some((f, self.max_stored_diagonal()))
     }
 
+    /// The margin of a successful test's factor `f` of `fl(alpha·A + sigma·I)` (the test
+    /// matrix still in `work`), at most `need` where that can be had: Lemma 1's a-priori `m`,
+    /// else the factor's own a-priori margin (certify, Lemma 7a: two products with |L̂|),
+    /// else the residual's (Lemma 7: ≈ 5× a factorization), the smallest computed.
+    fn margin_of(
+        &self,
+        f: &SparseLlt,
+        alpha: f64,
+        sigma: f64,
+        apriori: Margin,
+        need: f64,
+    ) -> Margin {
+        if apriori.m <= need {
+            return apriori;
+        }
+        let lower = f.lower_factor();
+        let stored: Vec<f64> = self.pattern.diag.iter().map(|&p| self.work[p]).collect();
+        let mut m = certify::factor_margin(&lower, &stored).map_or(apriori.m, |m| m.min(apriori.m));
+        if m > need {
+            if let Some(p) = certify::posterior_margin(
+                &lower,
+                self.pattern.pattern.as_ref(),
+                &self.pattern.values,
+                alpha,
+                sigma,
+            ) {
+                m = m.min(p);
+            }
+        }
+        Margin { m }
+    }
+
     /// The largest diagonal entry of the last test matrix as stored (`work`).
     fn max_stored_diagonal(&self) -> f64 {
         self.pattern
@@ -365,7 +397,7 @@ pub fn extreme_eigenvalues(
         starts,
         reuse.tol,
     )?;
-    let ends = certify_ends(&mut fam, &est, margin);
+    let ends = certify_ends(&mut fam, &est, margin, reuse.tol);
     let (max_lo, max_hi, min_lo, min_hi) = (ends.max_lo, ends.max_hi, ends.min_lo, ends.min_hi);
     let certificate = Certificate {
         lambda_max_lo: max_lo,
@@ -410,6 +442,9 @@ struct Estimates {
     x_hat: Vec<f64>,
     s_hat: Vec<f64>,
     h_est: Option<f64>,
+    /// An estimate from below of `1/λ_min(Ĥ)`, `Ĥ = Ŝ⁻¹AŜ⁻¹` (for the width target):
+    /// `λ_min(Ĥ) ≤ ρ_Ĥ(Ŝy) = λ_min·‖y‖²/Σ a_ii y_i²` and `≤ 1/θ` of the Ĥ⁻¹ run.
+    inv_hmin_lo: f64,
     steps: usize,
 }
 
@@ -464,6 +499,7 @@ fn estimate(
     // z as the warm start.
     let z: Vec<f64> = y_bottom.iter().zip(&s_hat).map(|(y, s)| y * s).collect();
     let weight: f64 = z.iter().map(|v| v * v).sum();
+    let yy: f64 = y_bottom.iter().map(|v| v * v).sum();
     let graded = margin.m * max_diag / lmin_est > GRADED_FROM
         && max_diag > GRADED_GAIN * weight
         && s_hat.iter().all(|&s| s > 0.0);
@@ -541,6 +577,7 @@ fn estimate(
         bottom: y_bottom,
         x_hat,
         s_hat,
+        inv_hmin_lo: (weight / (lmin_est * yy)).max(h_est.map_or(1.0, |h| 1.0 / h)),
         h_est,
         steps: s1 + s2 + s3,
     })
@@ -561,7 +598,16 @@ struct Ends {
     steps: usize,
 }
 
-fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin) -> Ends {
+/// The relative width the cond₂ bracket aims at: the contract's
+/// `max(1e-12, 8·ε_mach·cond₂(Ŝ⁻¹AŜ⁻¹))` (`cond_eq`: an estimate from below), or the tolerance
+/// asked for where that is wider. The top end takes a fifth, the bottom end the rest.
+fn width_target(tol: Option<f64>, cond_eq: f64) -> f64 {
+    tol.unwrap_or(0.0)
+        .max(1e-12)
+        .max(8.0 * f64::EPSILON * cond_eq)
+}
+
+fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Option<f64>) -> Ends {
     let max_diag = fam.pattern.max_diagonal();
     let (lmax_est, lmin_est) = (est.lmax, est.lmin);
     // λ_max ∈ [ρ(y_top), Cor. 2]; λ_min ∈ [Cor. 3 or Thm 4, Lemma 6]. The tests start just
@@ -581,9 +627,36 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin) -> Ends 
     // at the top creeps below the stagnation test): the factor of the test that succeeds,
     // σI − A with σ just above λ_max, drives a shift-invert run, λ_max = σ − 1/ν_max, accurate
     // to ε_mach·‖A‖.
+    // Where Lemma 1's a-priori margin alone would miss the target width, the tests start
+    // at a few ε and each success is judged by its own residual (Lemma 7).
     let base = lmax_est.max(max_lo);
-    let w0 = (4.0 * margin.m).max(4.0 * f64::EPSILON);
-    let (max_hi, refined_max, steps) = certify::step_outwards(w0, |w, k| {
+    // cond₂(Ĥ) from below: λ_max(Ĥ) ≥ max(1, ρ_Ĥ(Ŝy_top)), ρ_Ĥ(Ŝy) = ρ(y)·‖y‖²/Σ a_ii y_i².
+    let hmax_lo = match (&est.top, top_rq) {
+        (Some(t), Some((lo, _))) => {
+            let tt: f64 = t.iter().map(|v| v * v).sum();
+            let wt: f64 = t.iter().zip(&est.s_hat).map(|(v, s)| (v * s).powi(2)).sum();
+            (lo * tt / wt).max(1.0)
+        }
+        _ => 1.0,
+    };
+    let target = width_target(tol, (est.inv_hmin_lo * hmax_lo).max(1.0));
+    let top_need = 0.05 * target;
+    let top_posterior = margin.m > top_need;
+    let w0 = if top_posterior {
+        (0.1 * target).max(4.0 * f64::EPSILON)
+    } else {
+        (4.0 * margin.m).max(4.0 * f64::EPSILON)
+    };
+    // The margin of a successful top test at σ (its factor f, its largest stored b̃_ii).
+    let top_bound = |fam: &ShiftFamily, f: &SparseLlt, s: f64, max_b: f64| {
+        let m = if top_posterior {
+            fam.margin_of(f, -1.0, s, margin, top_need)
+        } else {
+            margin
+        };
+        m.upper_from_test(s, max_b)
+    };
+    let (mut max_hi, refined, steps) = certify::step_outwards(w0, |w, k| {
         let s = base * (1.0 + w);
         let (f, max_b) = fam.test_factor(-1.0, s)?;
         let refined = (k > 0).then(|| {
@@ -592,7 +665,7 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin) -> Ends 
                 MAX_LANCZOS_STEPS,
                 |_| STAGNATION,
                 est.top.as_deref(),
-                false,
+                true,
                 |x, y| {
                     y.copy_from_slice(x);
                     f.solve_vec_in_place(y);
@@ -605,10 +678,34 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin) -> Ends 
         let refined = refined
             .and_then(|r| r.ok())
             .filter(|r| r.theta > 0.0 && r.theta.is_finite())
-            .map(|r| s - 1.0 / r.theta);
-        Some((margin.upper_from_test(s, max_b), refined, steps))
+            .map(|r| (s - 1.0 / r.theta, s, r.vector));
+        Some((top_bound(fam, &f, s, max_b), refined, steps))
     })
     .unwrap_or((f64::INFINITY, None, 0));
+    // After a shift-invert refinement (the plain run stopped short below a cluster), its Ritz
+    // vector raises the lower end, and tests stepping out from the refined value — below the
+    // test that succeeded — tighten the upper end.
+    let mut max_lo = max_lo;
+    let refined_max = refined.map(|(r, s_ok, vector)| {
+        let (pat, vals) = (fam.pattern.pattern.as_ref(), fam.pattern.values.as_slice());
+        if let Some((lo, _)) = vector.and_then(|v| rayleigh_interval(pat, vals, &v)) {
+            max_lo = max_lo.max(lo);
+        }
+        if max_hi / r.max(max_lo) - 1.0 > 0.2 * target {
+            let from = r.max(max_lo);
+            if let Some(hi) = certify::step_outwards(4.0 * f64::EPSILON, |w, _| {
+                let s = from * (1.0 + w);
+                if s >= s_ok {
+                    return Some(f64::INFINITY);
+                }
+                let (f, max_b) = fam.test_factor(-1.0, s)?;
+                Some(top_bound(fam, &f, s, max_b))
+            }) {
+                max_hi = max_hi.min(hi);
+            }
+        }
+        r
+    });
     // e_iᵀAe_i = A_ii bounds λ_min from above too.
     let diag_min = fam
         .pattern
@@ -625,17 +722,38 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin) -> Ends 
         })
     });
     let base = lmin_est.min(min_hi);
-    let loss = match h {
-        Some(h) => margin.m / h,
-        None => margin.m * max_diag / base,
+    // The relative loss per unit of margin: 1/h (Theorem 4) or max_i a_ii / λ_min (Cor. 3).
+    let scale = match h {
+        Some(h) => 1.0 / h,
+        None => max_diag / base,
     };
-    let min_lo = certify::step_outwards(loss.max(4.0 * f64::EPSILON), |w, _| {
+    // What the top end left of the target: the bottom end's share.
+    let share = (target - (max_hi / max_lo - 1.0)).max(0.5 * target);
+    // Lemma 1 alone: the first test at an offset of m·scale, the bound as far again below.
+    let posterior = 2.0 * margin.m * scale > 0.9 * share;
+    // A-posteriori tests aim at a fifth of the share (a test passes once the offset exceeds
+    // the residual's own loss, a few u·scale) and grow ×4; the margin gets the rest.
+    let (w0, growth) = if posterior {
+        (
+            (0.2 * share).clamp(2.0 * certify::U * scale, margin.m * scale),
+            4.0,
+        )
+    } else {
+        (margin.m * scale, 8.0)
+    };
+    let min_lo = certify::step_outwards_by(w0.max(4.0 * f64::EPSILON), growth, |w, _| {
         let s = base * (1.0 - w);
         if s <= 0.0 {
             return None;
         }
-        let max_b = fam.test(1.0, -s)?;
-        Some(margin.lower_from_test(s, max_b, h))
+        if posterior {
+            let (f, max_b) = fam.test_factor(1.0, -s)?;
+            let m = fam.margin_of(&f, 1.0, -s, margin, (0.95 * share - w) / scale);
+            Some(m.lower_from_test(s, max_b, h))
+        } else {
+            let max_b = fam.test(1.0, -s)?;
+            Some(margin.lower_from_test(s, max_b, h))
+        }
     })
     .unwrap_or(0.0);
     Ends {

@@ -21,7 +21,7 @@ mod pcg;
 mod sparse_llt;
 
 pub use pcg::{pcg, PcgOutcome};
-pub use sparse_llt::{DiagonalPattern, SparseLlt, SYMBOLIC_CACHE_LEN};
+pub use sparse_llt::{DiagonalPattern, LowerFactor, SparseLlt, SYMBOLIC_CACHE_LEN};
 
 use crate::error::{Error, Result};
 use crate::system::Stiffness;

@@ -75,6 +75,19 @@ struct CachedSymbolic {
 /// The last [`SYMBOLIC_CACHE_LEN`] analyses, oldest first.
 static SYMBOLIC_CACHE: Mutex<Vec<Arc<CachedSymbolic>>> = Mutex::new(Vec::new());
 
+/// L of a sparse Cholesky factor `PAPᵀ = LLᵀ` as plain compressed columns
+/// ([`SparseLlt::lower_factor`]).
+pub struct LowerFactor {
+    /// Column pointers (n + 1).
+    pub col_ptr: Vec<usize>,
+    /// Row indices (permuted order), ascending within each column, the diagonal first.
+    pub row_idx: Vec<usize>,
+    /// Entries of L.
+    pub values: Vec<f64>,
+    /// `(PAPᵀ)_ij = A_{fwd[i], fwd[j]}`; None: no permutation.
+    pub fwd: Option<Vec<usize>>,
+}
+
 /// Sparse Cholesky factor with access to its diagonal (for log-det) and a shareable symbolic
 /// analysis (same pattern ⇒ reuse across penalty values).
 pub struct SparseLlt {
@@ -182,6 +195,59 @@ impl SparseLlt {
         } else {
             recycle_values(values);
             None
+        }
+    }
+
+    /// L of `PAPᵀ = LLᵀ` as compressed columns in the permuted order, each column's rows
+    /// ascending (the diagonal first), with the permutation: for the a-posteriori residual
+    /// `LLᵀ − PAPᵀ` of the cond₂ certificates (`conditioning::certify::posterior_margin`).
+    pub fn lower_factor(&self) -> LowerFactor {
+        let fwd = self
+            .symbolic
+            .perm()
+            .map(|p| p.arrays().0.to_vec());
+        let (mut col_ptr, mut row_idx, mut values) = (vec![0usize], Vec::new(), Vec::new());
+        match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Simplicial(s) => {
+                let (cp, ri) = (s.col_ptr(), s.row_idx());
+                let mut col: Vec<(usize, f64)> = Vec::new();
+                for j in 0..s.nrows() {
+                    col.clear();
+                    col.extend((cp[j]..cp[j + 1]).map(|p| (ri[p], self.values[p])));
+                    col.sort_by_key(|e| e.0);
+                    row_idx.extend(col.iter().map(|e| e.0));
+                    values.extend(col.iter().map(|e| e.1));
+                    col_ptr.push(row_idx.len());
+                }
+            }
+            SymbolicCholeskyRaw::Supernodal(s) => {
+                let l = faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef::new(
+                    s,
+                    &self.values,
+                );
+                for k in 0..s.n_supernodes() {
+                    let node = l.supernode(k);
+                    let (start, v, below) = (node.start(), node.val(), node.pattern());
+                    let w = v.ncols();
+                    for t in 0..w {
+                        for r in t..w {
+                            row_idx.push(start + r);
+                            values.push(v[(r, t)]);
+                        }
+                        for (r, &i) in below.iter().enumerate() {
+                            row_idx.push(i);
+                            values.push(v[(w + r, t)]);
+                        }
+                        col_ptr.push(row_idx.len());
+                    }
+                }
+            }
+        }
+        LowerFactor {
+            col_ptr,
+            row_idx,
+            values,
+            fwd,
         }
     }
 

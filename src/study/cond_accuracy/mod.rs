@@ -63,6 +63,10 @@ pub struct Row {
     pub contract: f64,
     /// Relative width of the route's bounds (`certified` only).
     pub bounds_width: Option<f64>,
+    /// cond₂ of the equilibrated `Ŝ⁻¹AŜ⁻¹` (unit diagonal; double-double bisection).
+    pub cond2_equilibrated: f64,
+    /// The width target of the bounds, `max(1e-12, 8·ε_mach·cond2_equilibrated)`.
+    pub width_target: f64,
     /// Median wall time (s).
     pub seconds: f64,
 }
@@ -121,6 +125,9 @@ fn measure(
     let n = a.n();
     let (lmax, lmin) = reference::extreme_eigenvalues_dd(a);
     let cond2_ref = lmax / lmin;
+    let s_hat: Vec<f64> = (0..n).map(|i| 1.0 / a.diag(i).sqrt()).collect();
+    let (hmax, hmin) = reference::extreme_eigenvalues_dd(&a.scaled(&s_hat));
+    let cond2_equilibrated = hmax / hmin;
     let dense = a.to_dense();
     let sparse_a = a.to_sparse();
     let mut out = Vec::new();
@@ -136,6 +143,8 @@ fn measure(
             rel_error: (value / cond2_ref - 1.0).abs(),
             contract: (4.0 * f64::EPSILON * cond2_ref).max(1e-12),
             bounds_width,
+            cond2_equilibrated,
+            width_target: (8.0 * f64::EPSILON * cond2_equilibrated).max(1e-12),
             seconds,
         })
     };
@@ -213,23 +222,47 @@ pub fn run(cfg: &Config, mut step: impl FnMut(&str)) -> Result<Vec<Row>> {
     Ok(rows)
 }
 
-/// Per route: median time, median and largest error, and how many values meet the contract.
-pub fn summary(rows: &[Row]) -> Vec<(String, f64, f64, f64, usize, usize)> {
+/// One route's summary ([`summary`]).
+pub struct RouteSummary {
+    /// Route name.
+    pub route: String,
+    /// Median wall time (s).
+    pub median_seconds: f64,
+    /// Median relative error.
+    pub median_error: f64,
+    /// Largest relative error.
+    pub max_error: f64,
+    /// Values within the contract.
+    pub within: usize,
+    /// Bounds no wider than their target (routes with bounds), and how many have bounds.
+    pub tight: Option<(usize, usize)>,
+    /// Rows.
+    pub total: usize,
+}
+
+/// Per route: median time, median and largest error, how many values meet the contract and
+/// how many bounds meet their width target.
+pub fn summary(rows: &[Row]) -> Vec<RouteSummary> {
     ROUTES
         .iter()
         .map(|&route| {
             let r: Vec<&Row> = rows.iter().filter(|x| x.route == route).collect();
             let t: Vec<f64> = r.iter().map(|x| x.seconds).collect();
             let e: Vec<f64> = r.iter().map(|x| x.rel_error).collect();
-            let within = r.iter().filter(|x| x.rel_error <= x.contract).count();
-            (
-                route.to_string(),
-                crate::stats::median(&t).unwrap_or(f64::NAN),
-                crate::stats::median(&e).unwrap_or(f64::NAN),
-                e.iter().copied().fold(0.0, f64::max),
-                within,
-                r.len(),
-            )
+            let widths: Vec<(f64, f64)> = r
+                .iter()
+                .filter_map(|x| x.bounds_width.map(|w| (w, x.width_target)))
+                .collect();
+            RouteSummary {
+                route: route.to_string(),
+                median_seconds: crate::stats::median(&t).unwrap_or(f64::NAN),
+                median_error: crate::stats::median(&e).unwrap_or(f64::NAN),
+                max_error: e.iter().copied().fold(0.0, f64::max),
+                within: r.iter().filter(|x| x.rel_error <= x.contract).count(),
+                tight: (!widths.is_empty())
+                    .then(|| (widths.iter().filter(|(w, t)| w <= t).count(), widths.len())),
+                total: r.len(),
+            }
         })
         .collect()
 }
@@ -293,12 +326,16 @@ pub fn render_figure(rows: &[Row], out: &std::path::Path) -> Result<Vec<PathBuf>
 /// The per-route summary as a Markdown table.
 pub fn table(rows: &[Row]) -> String {
     let mut t = String::from(
-        "| route | median time (s) | median error | largest error | within max(1e-12, 4ε·cond₂) |\n\
-         |---|---:|---:|---:|---:|\n",
+        "| route | median time (s) | median error | largest error | within max(1e-12, 4ε·cond₂) | bounds within max(1e-12, 8ε·cond₂(Ŝ⁻¹AŜ⁻¹)) |\n\
+         |---|---:|---:|---:|---:|---:|\n",
     );
-    for (route, time, med, max, within, total) in summary(rows) {
+    for s in summary(rows) {
+        let tight = s
+            .tight
+            .map_or("—".to_string(), |(k, n)| format!("{k} / {n}"));
         t.push_str(&format!(
-            "| `{route}` | {time:.2e} | {med:.1e} | {max:.1e} | {within} / {total} |\n"
+            "| `{}` | {:.2e} | {:.1e} | {:.1e} | {} / {} | {tight} |\n",
+            s.route, s.median_seconds, s.median_error, s.max_error, s.within, s.total
         ));
     }
     t
