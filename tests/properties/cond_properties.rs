@@ -10,7 +10,8 @@
 //!
 //! Contract: reported cond₂ within `max(1e-12, 4·ε_mach·cond₂)` of the reference, and
 //! `cond2_lo ≤ reference ≤ cond2_hi` (one unit of slack for the reference's own rounding to
-//! f64). No wider tolerance.
+//! f64), the bounds no wider than `max(1e-12, 8·ε_mach·cond₂(Ŝ⁻¹AŜ⁻¹))` (Ŝ = diag(√a_ii)). No
+//! wider tolerance.
 
 use penalty_lab::conditioning::{self, reference};
 use penalty_lab::system::Stiffness;
@@ -125,5 +126,14 @@ proptest! {
         prop_assert!(r.cond2_lo <= exact * (1.0 + u) && exact * (1.0 - u) <= r.cond2_hi,
             "n {n} ε {eps:e}: {exact:e} ∉ [{:e}, {:e}] ({})", r.cond2_lo, r.cond2_hi, r.route.name());
         prop_assert!(r.bounds_proven);
+        // Width target: max(1e-12, 8·ε_mach·cond₂(Ŝ⁻¹AŜ⁻¹)), the equilibrated matrix's cond₂
+        // by the same double-double reference.
+        let s: Vec<f64> = (0..n).map(|i| 1.0 / a[i * n + i].sqrt()).collect();
+        let h: Vec<f64> = (0..n * n).map(|k| s[k / n] * a[k] * s[k % n]).collect();
+        let (hmax, hmin) = reference(n, &h);
+        let target = (8.0 * f64::EPSILON * hmax / hmin).max(1e-12);
+        prop_assert!(r.relative_width() <= target,
+            "n {n} ε {eps:e}: width {:e} > target {target:e} ({}; cond₂(Ĥ) {:e})",
+            r.relative_width(), r.route.name(), hmax / hmin);
     }
 }
