@@ -34,8 +34,10 @@
 //! The [`reference`](mod@reference) module recomputes cond₂ with nalgebra (and LAPACK behind the `lapack`
 //! feature) as an independent cross-check.
 
+pub mod bracket;
 pub mod certify;
 pub mod lanczos;
+pub mod residual;
 pub mod saddle;
 pub mod sparse;
 

@@ -202,10 +202,7 @@ impl SparseLlt {
     /// ascending (the diagonal first), with the permutation: for the a-posteriori residual
     /// `LLᵀ − PAPᵀ` of the cond₂ certificates (`conditioning::certify::posterior_margin`).
     pub fn lower_factor(&self) -> LowerFactor {
-        let fwd = self
-            .symbolic
-            .perm()
-            .map(|p| p.arrays().0.to_vec());
+        let fwd = self.symbolic.perm().map(|p| p.arrays().0.to_vec());
         let (mut col_ptr, mut row_idx, mut values) = (vec![0usize], Vec::new(), Vec::new());
         match self.symbolic.raw() {
             SymbolicCholeskyRaw::Simplicial(s) => {
