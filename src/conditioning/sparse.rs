@@ -27,10 +27,12 @@
 //!    gain. A test that fails is retried ×8 further out. Every shifted factorization reuses
 //!    one symbolic analysis of the pattern of A (with its diagonal).
 //!
-//! The widths reached are reported ([`Certificate`], `CondReport::cond2_lo/hi`): a few
-//! units of `m·cond₂(Ŝ⁻¹AŜ⁻¹)` at λ_min, where m ≈ c·r·ε_mach/2 (c, r: the largest column and
-//! row counts of the factor) is a worst-case bound — typically 1e-12–1e-7 relative on the
-//! sweep's beams and membranes, wider than the value's own error.
+//! The widths reached are reported ([`Certificate`], `CondReport::cond2_lo/hi`): the tests
+//! aim at `max(1e-12, 8·ε_mach·cond₂(Ŝ⁻¹AŜ⁻¹))` (or the tolerance asked for), a fifth for
+//! λ_max and the rest for λ_min, and each test that succeeds is judged by the smallest margin
+//! needed of Lemma 1 (worst case, `m ≈ c·r·ε_mach/2`), Lemma 7a (the factor's own) and Lemma 7
+//! (its residual, ≈ 5 factorizations; only up to [`POSTERIOR_MAX_PRODUCTS`]). Above that
+//! size the widths are a few units of Lemma 1's `m·cond₂(Ŝ⁻¹AŜ⁻¹)`.
 //!
 //! **Reuse** ([`super::Reuse`]): a sweep computes many matrices `K + D E Dᵀ` of one K. K's
 //! Ritz vectors ([`RitzStarts`]) start both Lanczos runs of each of them (about half the
