@@ -88,8 +88,9 @@ pub fn posterior_margin(
     sigma: f64,
 ) -> Option<f64> {
     // two_prod is one fused multiply-add: without the `fma` target feature at compile time
-    // `f64::mul_add` is a call into compiler-builtins per product (≈ 2× the whole kernel), so
-    // the kernel is compiled twice and the FMA build chosen at run time where the CPU has it.
+    // `f64::mul_add` is a call into compiler-builtins per product (153 against 114 µs on the
+    // 400-DOF membrane, docs/performance.md), so the kernel is compiled twice and the FMA build
+    // chosen at run time where the CPU has it.
     // Both compute the same bits (two_prod's error term is exact either way).
     #[cfg(target_arch = "x86_64")]
     {
