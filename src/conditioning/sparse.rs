@@ -164,13 +164,8 @@ impl ShiftFamily {
         self.pattern.factor(v)
     }
 
-    /// A Cholesky test of `fl(alpha·A + sigma·I)` (alpha = ±1): on success the largest
-    /// diagonal entry of the test matrix as stored, for [`Margin`]'s bounds.
-    fn test(&mut self, alpha: f64, sigma: f64) -> Option<f64> {
-        self.test_factor(alpha, sigma).map(|(_, max_b)| max_b)
-    }
-
-    /// [`ShiftFamily::test`], keeping the factor.
+    /// A Cholesky test of `fl(alpha·A + sigma·I)` (alpha = ±1): on success its factor and the
+    /// largest diagonal entry of the test matrix as stored, for [`Margin`]'s bounds.
     fn test_factor(&mut self, alpha: f64, sigma: f64) -> Option<(SparseLlt, f64)> {
         let f = self.factor(alpha, sigma)?;
         Some((f, self.max_stored_diagonal()))
@@ -514,10 +509,11 @@ struct Ends {
     steps: usize,
 }
 
-/// The relative width the cond₂ bracket aims at: the contract's
-/// `max(1e-12, 8·ε_mach·cond₂(Ŝ⁻¹AŜ⁻¹))` (`cond_eq`: an estimate from below), or the tolerance
-/// asked for where that is wider. The top end takes a fifth, the bottom end the rest.
-fn width_target(tol: Option<f64>, cond_eq: f64) -> f64 {
+/// The relative width a certified cond₂ bracket aims at: the contract's
+/// `max(1e-12, 8·ε_mach·cond₂(Ŝ⁻¹AŜ⁻¹))` (`cond_eq`; the route uses an estimate from below),
+/// or the tolerance asked for where that is wider. The top end takes a fifth, the bottom end
+/// the rest.
+pub fn width_target(tol: Option<f64>, cond_eq: f64) -> f64 {
     tol.unwrap_or(0.0)
         .max(1e-12)
         .max(8.0 * f64::EPSILON * cond_eq)
@@ -564,13 +560,15 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
         (4.0 * margin.m).max(4.0 * f64::EPSILON)
     };
     // The margin of a successful top test at σ (its factor f, its largest stored b̃_ii).
+    // (Lemma 1's margin alone where the placement does not aim at Lemma 7's: need = ∞.)
+    let top_need = if top_posterior {
+        top_need
+    } else {
+        f64::INFINITY
+    };
     let top_bound = |fam: &ShiftFamily, f: &SparseLlt, s: f64, max_b: f64| {
-        let m = if top_posterior {
-            fam.margin_of(f, -1.0, s, margin, top_need)
-        } else {
-            margin
-        };
-        m.upper_from_test(s, max_b)
+        fam.margin_of(f, -1.0, s, margin, top_need)
+            .upper_from_test(s, max_b)
     };
     let (mut max_hi, refined, steps) = certify::step_outwards(w0, |w, k| {
         let s = base * (1.0 + w);
@@ -662,14 +660,14 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
         if s <= 0.0 {
             return None;
         }
-        if posterior {
-            let (f, max_b) = fam.test_factor(1.0, -s)?;
-            let m = fam.margin_of(&f, 1.0, -s, margin, (0.95 * share - w) / scale);
-            Some(m.lower_from_test(s, max_b, h))
+        let (f, max_b) = fam.test_factor(1.0, -s)?;
+        let need = if posterior {
+            (0.95 * share - w) / scale
         } else {
-            let max_b = fam.test(1.0, -s)?;
-            Some(margin.lower_from_test(s, max_b, h))
-        }
+            f64::INFINITY
+        };
+        let m = fam.margin_of(&f, 1.0, -s, margin, need);
+        Some(m.lower_from_test(s, max_b, h))
     })
     .unwrap_or(0.0);
     Ends {
