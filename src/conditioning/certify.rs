@@ -71,7 +71,9 @@
 //! thousands. Both replace m in Corollaries 2–3 and Theorem 4 unchanged; the routes use the
 //! smallest margin they computed, Lemma 7 only where Lemmas 1 and 7a miss the width target
 //! `max(1e-12, 8·ε_mach·cond₂(Ĥ))` and the factor has at most
-//! [`super::sparse::POSTERIOR_MAX_PRODUCTS`] products.
+//! [`super::sparse::POSTERIOR_MAX_PRODUCTS`] products. At λ_min the SPD route tries
+//! Temple's bound first (Lemma 8 and Theorem 9, [`super::temple`]): one LDLᵀ inertia test
+//! instead of a Cholesky test and its residual.
 //!
 //! What is *not* proven: that the reported point value (the ratio of the converged Lanczos
 //! estimates, or the dense routine's) equals the exact value; it is tested against
@@ -270,13 +272,14 @@ pub fn dot_interval(x: &[f64], y: &[f64]) -> (f64, f64) {
     interval(s, up(16.0 * (n as f64 + 2.0) * U * U * up(abs)))
 }
 
-/// `r_j = y_j − Σ_i a_ij x_i` for every column j of the symmetric A by compensated dot
-/// products (Dot2 of Ogita, Rump & Oishi 2005), with a bound `e_j ≥ |r̂_j − r_j|`:
-/// `e_j = (u|r̂_j| + γ_{k+1}²(|y_j| + Σ_i |a_ij x_i|))` rounded up.
-fn residual_dot2(
+/// `r_j = c·y_j − Σ_i a_ij x_i` for every column j of the symmetric A by compensated dot
+/// products (Dot2 of Ogita, Rump & Oishi 2005; `c·y_j` exact by two_prod), with a bound
+/// `e_j ≥ |r̂_j − r_j|`: `e_j = (u|r̂_j| + γ_{k+1}²(|c·y_j| + Σ_i |a_ij x_i|))` rounded up.
+pub(crate) fn residual_dot2(
     pattern: SymbolicSparseColMatRef<'_, usize>,
     values: &[f64],
     x: &[f64],
+    c: f64,
     y: &[f64],
 ) -> Vec<(f64, f64)> {
     let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
@@ -286,8 +289,8 @@ fn residual_dot2(
         .enumerate()
         .map(|(j, &yj)| {
             let (a, b) = (cp[j], cp[j + 1]);
-            let (mut p, mut s) = (yj, 0.0f64);
-            let mut abs = yj.abs();
+            let (mut p, mut s) = two_prod(c, yj);
+            let mut abs = (c * yj).abs();
             for (&i, &v) in ri[a..b].iter().zip(&values[a..b]) {
                 let (h, e) = two_prod(-v, x[i]);
                 let (t, q) = two_sum(p, h);
@@ -323,7 +326,7 @@ pub fn inverse_rayleigh_upper(
     for ((&xj, &yj), (r, e)) in x_hat
         .iter()
         .zip(y)
-        .zip(residual_dot2(pattern, values, x_hat, y))
+        .zip(residual_dot2(pattern, values, x_hat, 1.0, y))
     {
         rerr += xj.abs() * e;
         for (u, v) in [(xj, yj), (xj, r)] {
@@ -354,7 +357,7 @@ pub fn image_norm_upper(
     y: &[f64],
 ) -> f64 {
     let (mut sq, mut err2) = (0.0f64, 0.0f64);
-    for (&yj, (r, e)) in y.iter().zip(residual_dot2(pattern, values, x, y)) {
+    for (&yj, (r, e)) in y.iter().zip(residual_dot2(pattern, values, x, 1.0, y)) {
         // |fl(y_j − r̂_j) − (y_j − r̂_j)| ≤ u|fl(·)|.
         let d = up((yj - r).abs() * (1.0 + 2.0 * U));
         sq += d * d;

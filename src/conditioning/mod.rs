@@ -40,6 +40,7 @@ pub mod lanczos;
 pub mod residual;
 pub mod saddle;
 pub mod sparse;
+pub mod temple;
 
 use crate::error::{Error, Result};
 use crate::linalg::Factorization;

@@ -282,7 +282,7 @@ fn posterior_kernel(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::conditioning::certify::tests::second_difference;
     use crate::conditioning::certify::Margin;
@@ -331,7 +331,7 @@ mod tests {
     }
 
     /// A 2-D Laplacian-like SPD matrix with a few stiff (penalized) diagonal entries.
-    fn graded_grid(side: usize) -> SparseColMat<usize, f64> {
+    pub(crate) fn graded_grid(side: usize) -> SparseColMat<usize, f64> {
         let n = side * side;
         let mut t = Vec::new();
         for i in 0..n {

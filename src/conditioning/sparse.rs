@@ -31,8 +31,13 @@
 //! aim at `max(1e-12, 8·ε_mach·cond₂(Ŝ⁻¹AŜ⁻¹))` (or the tolerance asked for), a fifth for
 //! λ_max and the rest for λ_min, and each test that succeeds is judged by the smallest margin
 //! needed of Lemma 1 (worst case, `m ≈ c·r·ε_mach/2`), Lemma 7a (the factor's own) and Lemma 7
-//! (its residual, ≈ 5 factorizations; only up to [`POSTERIOR_MAX_PRODUCTS`]). Above that
-//! size the widths are a few units of Lemma 1's `m·cond₂(Ŝ⁻¹AŜ⁻¹)`.
+//! (its residual, ≈ 5 factorizations; only up to [`POSTERIOR_MAX_PRODUCTS`]). Where Lemma 1
+//! misses the target at λ_min, Temple's inequality comes first ([`super::temple`]): one LDLᵀ
+//! inertia test between λ₁ and λ₂ and the compensated residual of x̂ = A⁻¹y bound λ_min from
+//! below to the square of x̂'s residual (a few ε_mach on this project's matrices), no
+//! Cholesky test needed; where it misses (λ₂ within 5 % of λ₁, a supernodal factor) the
+//! Cholesky tests follow. Above [`POSTERIOR_MAX_PRODUCTS`] without Temple the widths are a
+//! few units of Lemma 1's `m·cond₂(Ŝ⁻¹AŜ⁻¹)`.
 //!
 //! **Reuse** ([`super::Reuse`]): a sweep computes many matrices `K + D E Dᵀ` of one K. K's
 //! Ritz vectors ([`RitzStarts`]) start both Lanczos runs of each of them (about half the
@@ -50,6 +55,7 @@
 //! automatically above [`SPARSE_ROUTE_MIN_N`], and for dense SPD matrices below it.
 
 use super::certify::{self, Margin};
+use super::temple;
 use super::Reuse;
 use crate::error::{Error, Result};
 use crate::linalg::{DiagonalPattern, FactorKind, Factorization, SparseLlt};
@@ -644,7 +650,8 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
     // What the top end left of the target: the bottom end's share.
     let share = (target - (max_hi / max_lo - 1.0)).max(0.5 * target);
     // Lemma 1 alone: the first test at an offset of m·scale, the bound as far again below.
-    let posterior = 2.0 * margin.m * scale > 0.9 * share && fam.posterior_ok;
+    let short = 2.0 * margin.m * scale > 0.9 * share;
+    let posterior = short && fam.posterior_ok;
     // A-posteriori tests aim at a fifth of the share (a test passes once the offset exceeds
     // the residual's own loss, a few u·scale) and grow ×4; the margin gets the rest.
     let (w0, growth) = if posterior {
@@ -655,6 +662,27 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
     } else {
         (margin.m * scale, 8.0)
     };
+    // Where Lemma 1 misses, Temple's bound from the inverse iterate x̂ (temple, Theorem 9:
+    // one LDLᵀ inertia test, second order in x̂'s residual) before a Cholesky test judged by
+    // its residual (Lemma 7, ≈ 5 factorizations).
+    let temple = if short && est.x_hat.len() == fam.pattern.n() {
+        let (lo, tests) = temple::lambda_min_lower(&fam.pattern, &est.x_hat, base, &est.s_hat, h);
+        fam.factorizations += tests;
+        lo.filter(|&lo| lo > 0.0)
+    } else {
+        None
+    };
+    if let Some(lo) = temple.filter(|&lo| min_hi / lo - 1.0 <= 0.95 * share) {
+        return Ends {
+            max_lo,
+            max_hi,
+            min_lo: lo,
+            min_hi,
+            refined_max,
+            refined_min,
+            steps,
+        };
+    }
     let min_lo = certify::step_outwards_by(w0.max(4.0 * f64::EPSILON), growth, |w, _| {
         let s = base * (1.0 - w);
         if s <= 0.0 {
@@ -669,7 +697,8 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
         let m = fam.margin_of(&f, 1.0, -s, margin, need);
         Some(m.lower_from_test(s, max_b, h))
     })
-    .unwrap_or(0.0);
+    .unwrap_or(0.0)
+    .max(temple.unwrap_or(0.0));
     Ends {
         max_lo,
         max_hi,

@@ -17,9 +17,11 @@
 //! (`pivot ≤ ε_mach · max pivot`) is reported as [`Error::Singular`]: K is singular to working
 //! precision and `K⁻¹` does not exist numerically.
 
+mod ldlt;
 mod pcg;
 mod sparse_llt;
 
+pub use ldlt::InertiaTest;
 pub use pcg::{pcg, PcgOutcome};
 pub use sparse_llt::{DiagonalPattern, LowerFactor, SparseLlt, SYMBOLIC_CACHE_LEN};
 

@@ -459,7 +459,7 @@ pub struct DiagonalPattern {
     /// Symbolic Cholesky analysis of the pattern.
     pub symbolic: Arc<SymbolicCholesky<usize>>,
     /// The cached permutation of the pattern (looked up once, not at every factorization).
-    permuted: Option<Arc<PermutedUpper>>,
+    pub(super) permuted: Option<Arc<PermutedUpper>>,
 }
 
 /// The pattern of the upper triangle of `PAPᵀ` (columns unsorted, as faer's
@@ -472,13 +472,13 @@ pub struct DiagonalPattern {
 /// cached pattern gathers its values through `map` and runs faer's simplicial numeric
 /// factorization on the same permuted matrix faer would build, with the row structure
 /// precomputed ([`simplicial_llt_numeric`]; the same factor, bit for bit).
-struct PermutedUpper {
-    pattern: SymbolicSparseColMat<usize>,
-    map: Vec<usize>,
+pub(super) struct PermutedUpper {
+    pub(super) pattern: SymbolicSparseColMat<usize>,
+    pub(super) map: Vec<usize>,
     /// Row k of L (the j < k with `L_kj` structurally nonzero) at
     /// `reach[reach_ptr[k]..reach_ptr[k + 1]]`, in the order faer's `ereach` visits it.
-    reach_ptr: Vec<usize>,
-    reach: Vec<usize>,
+    pub(super) reach_ptr: Vec<usize>,
+    pub(super) reach: Vec<usize>,
 }
 
 /// The rows of the simplicial factor L (`l_cp`, `l_ri`: columns sorted, diagonal first) as

@@ -1,0 +1,161 @@
+//! Sparse `PBPᵀ = L D Lᵀ` without pivoting, for inertia tests of symmetric matrices that are
+//! not positive definite (the cond₂ certificates' bound of λ₂, `conditioning::temple`).
+//!
+//! By Sylvester's law of inertia the signs of the pivots `d_k` are the signs of the
+//! eigenvalues of `L̂D̂L̂ᵀ`; how far that computed product is from B is bounded in
+//! `conditioning::temple` from `|L̂||D̂||L̂ᵀ|`, which grows where a pivot is small (no pivoting:
+//! the bound, not the factorization, says what the test proves).
+//!
+//! Why hand-written: faer's sparse LDLᵀ (`factorize_simplicial_numeric_ldlt`) runs the same
+//! up-looking algorithm, but the cached permuted pattern of [`DiagonalPattern`] (its row
+//! structure precomputed, as the Cholesky kernel `simplicial_llt_numeric` uses it) saves the
+//! per-call permutation and elimination-tree walks, and the kernel below is that Cholesky
+//! kernel with `L_kj = w_j / d_j`, `d_k = b_kk − Σ_j L_kj w_j` in place of the square roots.
+
+use super::sparse_llt::{DiagonalPattern, LowerFactor};
+use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
+
+/// A computed `PB̃Pᵀ ≈ L̂D̂L̂ᵀ` and its inertia.
+pub struct InertiaTest {
+    /// Unit lower triangular L̂ with `d_k` stored in place of its unit diagonal (each column's
+    /// rows ascending, the diagonal first), and the permutation P.
+    pub factor: LowerFactor,
+    /// The pivots `d_k < 0`.
+    pub negative: usize,
+}
+
+impl DiagonalPattern {
+    /// Whether [`DiagonalPattern::ldlt`] can run: the analysis is simplicial with a cached
+    /// permutation.
+    pub fn has_ldlt(&self) -> bool {
+        self.permuted.is_some() && matches!(self.symbolic.raw(), SymbolicCholeskyRaw::Simplicial(_))
+    }
+
+    /// `PB̃Pᵀ = L̂D̂L̂ᵀ` of the matrix with this pattern and `values`, in the ordering of the
+    /// pattern's simplicial analysis. None where the analysis is not simplicial with a cached
+    /// permutation (large factors: supernodal), or where a pivot is zero or not finite.
+    pub fn ldlt(&self, values: &[f64]) -> Option<InertiaTest> {
+        let pu = self.permuted.as_deref()?;
+        let SymbolicCholeskyRaw::Simplicial(s) = self.symbolic.raw() else {
+            return None;
+        };
+        let (l_cp, l_ri) = (s.col_ptr(), s.row_idx());
+        let n = pu.pattern.ncols();
+        let (ucp, uri) = (pu.pattern.col_ptr(), pu.pattern.row_idx());
+        let mut l = vec![0.0f64; l_ri.len()];
+        let mut x = vec![0.0f64; n];
+        let mut next: Vec<usize> = l_cp[..n].to_vec();
+        let mut inv_d = vec![0.0f64; n];
+        let mut negative = 0;
+        for k in 0..n {
+            for (&i, &p) in uri[ucp[k]..ucp[k + 1]]
+                .iter()
+                .zip(&pu.map[ucp[k]..ucp[k + 1]])
+            {
+                x[i] += values[p];
+            }
+            let mut d = x[k];
+            x[k] = 0.0;
+            // Row k of L D by a sparse triangular solve: w_j = (L D)_kj, then L_kj = w_j / d_j.
+            for &j in &pu.reach[pu.reach_ptr[k]..pu.reach_ptr[k + 1]] {
+                let start = l_cp[j] + 1;
+                next[j] += 1;
+                let row = next[j];
+                let w = x[j];
+                x[j] = 0.0;
+                for (&i, &lij) in l_ri[start..row].iter().zip(&l[start..row]) {
+                    x[i] -= lij * w;
+                }
+                let lkj = w * inv_d[j];
+                d -= lkj * w;
+                l[row] = lkj;
+            }
+            if !(d != 0.0 && d.is_finite()) {
+                return None;
+            }
+            negative += usize::from(d < 0.0);
+            l[l_cp[k]] = d;
+            inv_d[k] = d.recip();
+        }
+        Some(InertiaTest {
+            factor: LowerFactor {
+                col_ptr: l_cp.to_vec(),
+                row_idx: l_ri.to_vec(),
+                values: l,
+                fwd: self.symbolic.perm().map(|p| p.arrays().0.to_vec()),
+            },
+            negative,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use faer::sparse::{SparseColMat, Triplet};
+
+    /// The inertia of `T − τI` for the second difference T = tridiag(−1, 2, −1) (closed-form
+    /// eigenvalues `2 − 2cos(jπ/(n+1))`): the number of negative pivots is the number of
+    /// eigenvalues below τ, and `L̂D̂L̂ᵀ` reproduces the permuted matrix to rounding.
+    #[test]
+    fn pivots_count_the_eigenvalues_below_the_shift() {
+        let n = 60;
+        let mut t = Vec::new();
+        for i in 0..n {
+            t.push(Triplet::new(i, i, 2.0));
+            if i + 1 < n {
+                t.push(Triplet::new(i, i + 1, -1.0));
+                t.push(Triplet::new(i + 1, i, -1.0));
+            }
+        }
+        let a = SparseColMat::try_new_from_triplets(n, n, &t).unwrap();
+        let pattern = super::DiagonalPattern::new(&a).unwrap();
+        let th = std::f64::consts::PI / (n as f64 + 1.0);
+        let lambda = |j: usize| 2.0 - 2.0 * (j as f64 * th).cos();
+        let shifts = [
+            (0.5 * (lambda(1) + lambda(2)), 1),
+            (0.5 * (lambda(7) + lambda(8)), 7),
+        ];
+        for (tau, below) in shifts {
+            let mut v = pattern.values.clone();
+            for &p in &pattern.diag {
+                v[p] -= tau;
+            }
+            let test = pattern.ldlt(&v).expect("simplicial, no zero pivot");
+            assert_eq!(test.negative, below, "τ = {tau}");
+            // Reconstruct (L̂D̂L̂ᵀ)_ij densely and compare with P(T − τI)Pᵀ.
+            let f = &test.factor;
+            let mut dense = vec![vec![0.0f64; n]; n];
+            let mut abs = vec![vec![0.0f64; n]; n];
+            for k in 0..n {
+                let (a0, b0) = (f.col_ptr[k], f.col_ptr[k + 1]);
+                let d = f.values[a0];
+                let col: Vec<(usize, f64)> = std::iter::once((k, 1.0))
+                    .chain((a0 + 1..b0).map(|p| (f.row_idx[p], f.values[p])))
+                    .collect();
+                for &(i, li) in &col {
+                    for &(j, lj) in &col {
+                        dense[i][j] += li * d * lj;
+                        abs[i][j] += (li * d * lj).abs();
+                    }
+                }
+            }
+            let fwd = f.fwd.clone().unwrap_or_else(|| (0..n).collect());
+            for i in 0..n {
+                for j in 0..n {
+                    let (oi, oj) = (fwd[i], fwd[j]);
+                    let b = if oi == oj {
+                        2.0 - tau
+                    } else if oi.abs_diff(oj) == 1 {
+                        -1.0
+                    } else {
+                        0.0
+                    };
+                    // Backward error of LDLᵀ: γ_{r+4}·(|L̂||D̂||L̂ᵀ|)_ij (r ≤ 3 here), and the
+                    // reconstruction's own rounding as much again.
+                    let tol = 16.0 * f64::EPSILON * abs[i][j];
+                    assert!((dense[i][j] - b).abs() <= tol, "({i},{j})");
+                }
+            }
+        }
+    }
+}
