@@ -44,6 +44,32 @@ pub fn two_prod(a: f64, b: f64) -> (f64, f64) {
     (p, a.mul_add(b, -p))
 }
 
+/// Defines `fn $name(args) -> R` that calls the `#[inline(always)]` kernel `$kernel(args)`
+/// compiled with the `fma` target feature where the CPU has it (detected at run time), else
+/// as built. Without the feature at compile time each [`two_prod`] is a call into
+/// compiler-builtins' `fma` (no vectorization); the FMA build gets the hardware instruction.
+/// Both builds compute the same bits: two_prod's error term is exact either way.
+macro_rules! fma_dispatch {
+    ($(#[$doc:meta])* $vis:vis fn $name:ident($($arg:ident: $ty:ty),* $(,)?) -> $ret:ty => $kernel:path) => {
+        $(#[$doc])*
+        $vis fn $name($($arg: $ty),*) -> $ret {
+            #[cfg(target_arch = "x86_64")]
+            {
+                #[target_feature(enable = "fma")]
+                fn fma_build($($arg: $ty),*) -> $ret {
+                    $kernel($($arg),*)
+                }
+                if std::arch::is_x86_feature_detected!("fma") {
+                    // SAFETY: the CPU supports FMA (checked just above).
+                    return unsafe { fma_build($($arg),*) };
+                }
+            }
+            $kernel($($arg),*)
+        }
+    };
+}
+pub(crate) use fma_dispatch;
+
 #[inline]
 fn quick_two_sum(a: f64, b: f64) -> Dd {
     let s = a + b;

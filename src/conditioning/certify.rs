@@ -275,6 +275,8 @@ pub fn dot_interval(x: &[f64], y: &[f64]) -> (f64, f64) {
 /// `r_j = c·y_j − Σ_i a_ij x_i` for every column j of the symmetric A by compensated dot
 /// products (Dot2 of Ogita, Rump & Oishi 2005; `c·y_j` exact by two_prod), with a bound
 /// `e_j ≥ |r̂_j − r_j|`: `e_j = (u|r̂_j| + γ_{k+1}²(|c·y_j| + Σ_i |a_ij x_i|))` rounded up.
+/// Inlined into its callers (and so into their [`crate::dd::with_fma`] builds).
+#[inline(always)]
 pub(crate) fn residual_dot2(
     pattern: SymbolicSparseColMatRef<'_, usize>,
     values: &[f64],
@@ -285,23 +287,23 @@ pub(crate) fn residual_dot2(
     let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
     let k = (0..y.len()).map(|j| cp[j + 1] - cp[j]).max().unwrap_or(0);
     let g2 = gamma(k + 1).powi(2);
-    y.iter()
-        .enumerate()
-        .map(|(j, &yj)| {
-            let (a, b) = (cp[j], cp[j + 1]);
-            let (mut p, mut s) = two_prod(c, yj);
-            let mut abs = (c * yj).abs();
-            for (&i, &v) in ri[a..b].iter().zip(&values[a..b]) {
-                let (h, e) = two_prod(-v, x[i]);
-                let (t, q) = two_sum(p, h);
-                p = t;
-                s += q + e;
-                abs += (v * x[i]).abs();
-            }
-            let r = p + s;
-            (r, up(U * r.abs() + g2 * abs))
-        })
-        .collect()
+    // A plain loop (no closures): inlined whole into an FMA build (`crate::dd::fma_dispatch`).
+    let mut out = Vec::with_capacity(y.len());
+    for (j, &yj) in y.iter().enumerate() {
+        let (a, b) = (cp[j], cp[j + 1]);
+        let (mut p, mut s) = two_prod(c, yj);
+        let mut abs = (c * yj).abs();
+        for (&i, &v) in ri[a..b].iter().zip(&values[a..b]) {
+            let (h, e) = two_prod(-v, x[i]);
+            let (t, q) = two_sum(p, h);
+            p = t;
+            s += q + e;
+            abs += (v * x[i]).abs();
+        }
+        let r = p + s;
+        out.push((r, up(U * r.abs() + g2 * abs)));
+    }
+    out
 }
 
 /// Lemma 6: a rigorous upper bound of λ_min(A) from y and an approximate `x̂ ≈ A⁻¹y`:

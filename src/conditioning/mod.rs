@@ -39,6 +39,7 @@ pub mod certify;
 pub mod lanczos;
 pub mod residual;
 pub mod saddle;
+pub(crate) mod shifts;
 pub mod sparse;
 pub mod temple;
 

@@ -66,50 +66,31 @@ pub fn factor_margin(factor: &crate::linalg::LowerFactor, stored_diagonal: &[f64
     m.is_finite().then_some(m)
 }
 
-/// Lemma 7 (a-posteriori margin): `m` with `xᵀBx ≥ −m Σ_i b̃_ii x_i²` for the exact
-/// `B = αA + σI` (α = ±1; A: `values` on `pattern`, CSC, both triangles, its lower triangle
-/// being what the factorization read) from a factor `PB̃Pᵀ ≈ L̂L̂ᵀ` that succeeded, with
-/// `b̃_ii = fl(αa_ii + σ)` the stored diagonal of the test matrix. None where a `b̃_ii ≤ 0`.
-///
-/// `E = L̂L̂ᵀ − PBPᵀ` is formed entry by entry over every position that L̂L̂ᵀ or B reaches,
-/// by compensated sums (Dot2, Ogita, Rump & Oishi 2005: every product exact by two_prod,
-/// B's diagonal `αa_ii + σ` exact by two_sum, `|ê_ij − e_ij| ≤ u|ê_ij| + γ_N²·Σ|terms|` for N
-/// terms), so `|E_ij| ≤ Ē_ij` is known to the u² level. Then for every x, with `y = Px` and
-/// `d_i = √b̃_ii` (permuted), `xᵀBx = ‖L̂ᵀy‖² − yᵀEy ≥ −|y|ᵀĒ|y| ≥ −ρ(D⁻¹ĒD⁻¹)·‖Dy‖²`,
-/// and the Perron root is at most the largest row sum. The margin is that row sum, rounded up
-/// for its own evaluation. It replaces Lemma 1's worst case `c·γ_{r+1}` (thousands of u on a
-/// factor with c, r ≈ 50) by the residual the factorization actually left: a few u to a few
-/// tens of u on this project's matrices.
-pub fn posterior_margin(
-    factor: &crate::linalg::LowerFactor,
-    pattern: SymbolicSparseColMatRef<'_, usize>,
-    values: &[f64],
-    alpha: f64,
-    sigma: f64,
-) -> Option<f64> {
-    // two_prod is one fused multiply-add: without the `fma` target feature at compile time
-    // `f64::mul_add` is a call into compiler-builtins per product (153 against 114 µs on the
-    // 400-DOF membrane, docs/performance.md), so the kernel is compiled twice and the FMA build
-    // chosen at run time where the CPU has it.
-    // Both compute the same bits (two_prod's error term is exact either way).
-    #[cfg(target_arch = "x86_64")]
-    {
-        #[target_feature(enable = "fma")]
-        unsafe fn with_fma(
-            f: &crate::linalg::LowerFactor,
-            p: SymbolicSparseColMatRef<'_, usize>,
-            v: &[f64],
-            alpha: f64,
-            sigma: f64,
-        ) -> Option<f64> {
-            posterior_kernel(f, p, v, alpha, sigma)
-        }
-        if std::arch::is_x86_feature_detected!("fma") {
-            // SAFETY: the CPU supports FMA (checked just above).
-            return unsafe { with_fma(factor, pattern, values, alpha, sigma) };
-        }
-    }
-    posterior_kernel(factor, pattern, values, alpha, sigma)
+crate::dd::fma_dispatch! {
+    /// Lemma 7 (a-posteriori margin): `m` with `xᵀBx ≥ −m Σ_i b̃_ii x_i²` for the exact
+    /// `B = αA + σI` (α = ±1; A: `values` on `pattern`, CSC, both triangles, its lower triangle
+    /// being what the factorization read) from a factor `PB̃Pᵀ ≈ L̂L̂ᵀ` that succeeded, with
+    /// `b̃_ii = fl(αa_ii + σ)` the stored diagonal of the test matrix. None where a `b̃_ii ≤ 0`.
+    ///
+    /// `E = L̂L̂ᵀ − PBPᵀ` is formed entry by entry over every position that L̂L̂ᵀ or B reaches,
+    /// by compensated sums (Dot2, Ogita, Rump & Oishi 2005: every product exact by two_prod,
+    /// B's diagonal `αa_ii + σ` exact by two_sum, `|ê_ij − e_ij| ≤ u|ê_ij| + γ_N²·Σ|terms|` for N
+    /// terms), so `|E_ij| ≤ Ē_ij` is known to the u² level. Then for every x, with `y = Px` and
+    /// `d_i = √b̃_ii` (permuted), `xᵀBx = ‖L̂ᵀy‖² − yᵀEy ≥ −|y|ᵀĒ|y| ≥ −ρ(D⁻¹ĒD⁻¹)·‖Dy‖²`,
+    /// and the Perron root is at most the largest row sum. The margin is that row sum, rounded up
+    /// for its own evaluation. It replaces Lemma 1's worst case `c·γ_{r+1}` (thousands of u on a
+    /// factor with c, r ≈ 50) by the residual the factorization actually left: a few u to a few
+    /// tens of u on this project's matrices.
+    ///
+    /// Compiled with FMA where the CPU has it ([`crate::dd::fma_dispatch`]): 153 against 114 µs
+    /// on the 400-DOF membrane without and with (docs/performance.md).
+    pub fn posterior_margin(
+        factor: &crate::linalg::LowerFactor,
+        pattern: SymbolicSparseColMatRef<'_, usize>,
+        values: &[f64],
+        alpha: f64,
+        sigma: f64,
+    ) -> Option<f64> => posterior_kernel
 }
 
 /// The body of [`posterior_margin`], inlined into each target-feature build.

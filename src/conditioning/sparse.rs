@@ -55,10 +55,11 @@
 //! automatically above [`SPARSE_ROUTE_MIN_N`], and for dense SPD matrices below it.
 
 use super::certify::{self, Margin};
+use super::shifts::{graded_floor, ShiftFamily};
 use super::temple;
 use super::Reuse;
 use crate::error::{Error, Result};
-use crate::linalg::{DiagonalPattern, FactorKind, Factorization, SparseLlt};
+use crate::linalg::{FactorKind, Factorization, SparseLlt};
 use faer::sparse::SparseColMat;
 use serde::Serialize;
 
@@ -135,117 +136,6 @@ pub struct SparseSpectrum {
     pub log10_det: f64,
     /// The Ritz vectors of both ends, where asked for and `n ≤` [`RITZ_VECTOR_MAX_N`].
     pub ritz: Option<RitzStarts>,
-}
-
-/// `αA + σI` for many shifts σ, sharing one symbolic Cholesky analysis.
-struct ShiftFamily {
-    pattern: DiagonalPattern,
-    /// Whether Lemma 7's residual is affordable ([`POSTERIOR_MAX_PRODUCTS`]).
-    posterior_ok: bool,
-    factorizations: usize,
-    /// Value buffer reused by every factorization.
-    work: Vec<f64>,
-}
-
-impl ShiftFamily {
-    fn new(a: &SparseColMat<usize, f64>) -> Result<Self> {
-        let pattern = DiagonalPattern::new(a)?;
-        Ok(ShiftFamily {
-            posterior_ok: certify::factor_products(&pattern.symbolic) <= POSTERIOR_MAX_PRODUCTS,
-            pattern,
-            factorizations: 0,
-            work: Vec::new(),
-        })
-    }
-
-    /// Cholesky of `alpha·A + sigma·I` (None if not positive definite).
-    fn factor(&mut self, alpha: f64, sigma: f64) -> Option<SparseLlt> {
-        let v = &mut self.work;
-        v.clear();
-        v.extend(self.pattern.values.iter().map(|x| alpha * x));
-        for &p in &self.pattern.diag {
-            v[p] += sigma;
-        }
-        self.factorizations += 1;
-        self.pattern.factor(v)
-    }
-
-    /// A Cholesky test of `fl(alpha·A + sigma·I)` (alpha = ±1): on success its factor and the
-    /// largest diagonal entry of the test matrix as stored, for [`Margin`]'s bounds.
-    fn test_factor(&mut self, alpha: f64, sigma: f64) -> Option<(SparseLlt, f64)> {
-        let f = self.factor(alpha, sigma)?;
-        Some((f, self.max_stored_diagonal()))
-    }
-
-    /// The margin of a successful test's factor `f` of `fl(alpha·A + sigma·I)` (the test
-    /// matrix still in `work`), at most `need` where that can be had: Lemma 1's a-priori `m`,
-    /// else the factor's own a-priori margin (certify, Lemma 7a: two products with |L̂|),
-    /// else the residual's (Lemma 7: ≈ 5× a factorization), the smallest computed.
-    fn margin_of(
-        &self,
-        f: &SparseLlt,
-        alpha: f64,
-        sigma: f64,
-        apriori: Margin,
-        need: f64,
-    ) -> Margin {
-        if apriori.m <= need {
-            return apriori;
-        }
-        let lower = f.lower_factor();
-        let stored: Vec<f64> = self.pattern.diag.iter().map(|&p| self.work[p]).collect();
-        let mut m = certify::factor_margin(&lower, &stored).map_or(apriori.m, |m| m.min(apriori.m));
-        if m > need && self.posterior_ok {
-            if let Some(p) = certify::posterior_margin(
-                &lower,
-                self.pattern.pattern.as_ref(),
-                &self.pattern.values,
-                alpha,
-                sigma,
-            ) {
-                m = m.min(p);
-            }
-        }
-        Margin { m }
-    }
-
-    /// The largest diagonal entry of the last test matrix as stored (`work`).
-    fn max_stored_diagonal(&self) -> f64 {
-        self.pattern
-            .diag
-            .iter()
-            .map(|&p| self.work[p])
-            .fold(f64::NEG_INFINITY, f64::max)
-    }
-
-    /// A Cholesky test of `fl(H̃ − τI)`, `h̃_ij = fl(fl(a_ij/ŝ_i)/ŝ_j)` (certify, Lemma 5): on
-    /// success the largest stored diagonal entry and the largest absolute row sum of H̃.
-    fn test_scaled(&mut self, s_hat: &[f64], tau: f64) -> Option<(f64, f64)> {
-        let (cp, ri) = (
-            self.pattern.pattern.col_ptr(),
-            self.pattern.pattern.row_idx(),
-        );
-        let v = &mut self.work;
-        v.clear();
-        let mut rowsum = 0.0f64;
-        for j in 0..self.pattern.n() {
-            let mut sum = 0.0;
-            for p in cp[j]..cp[j + 1] {
-                let h = self.pattern.values[p] / s_hat[ri[p]] / s_hat[j];
-                sum += h.abs();
-                v.push(h);
-            }
-            rowsum = rowsum.max(sum);
-        }
-        for &p in &self.pattern.diag {
-            v[p] -= tau;
-        }
-        self.factorizations += 1;
-        let ok = self.pattern.factor(v).is_some();
-        let max_c = self.max_stored_diagonal();
-        // The row sums were accumulated in f64 over at most n terms.
-        ok.then_some((max_c, rowsum * (1.0 + certify::gamma(self.pattern.n() + 2))))
-    }
 }
 
 /// The Cholesky factor of A that the λ_min estimate solves with: one of our own, or the
@@ -359,6 +249,8 @@ struct Estimates {
     x_hat: Vec<f64>,
     s_hat: Vec<f64>,
     h_est: Option<f64>,
+    /// The graded bound may gain but h_est was left to [`certify_ends`].
+    deferred: bool,
     /// An estimate from below of `1/λ_min(Ĥ)`, `Ĥ = Ŝ⁻¹AŜ⁻¹` (for the width target):
     /// `λ_min(Ĥ) ≤ ρ_Ĥ(Ŝy) = λ_min·‖y‖²/Σ a_ii y_i²` and `≤ 1/θ` of the Ĥ⁻¹ run.
     inv_hmin_lo: f64,
@@ -420,28 +312,13 @@ fn estimate(
     let graded = margin.m * max_diag / lmin_est > GRADED_FROM
         && max_diag > GRADED_GAIN * weight
         && s_hat.iter().all(|&s| s > 0.0);
-    let mut s3 = 0;
-    let h_est = if graded {
-        let run = lanczos(
-            n,
-            GRADED_LANCZOS_STEPS,
-            |_| 1e-2,
-            Some(&z),
-            false,
-            |x, y| {
-                for ((yi, xi), si) in y.iter_mut().zip(x).zip(&s_hat) {
-                    *yi = xi * si;
-                }
-                factor_of_a.solve_vec_in_place(y);
-                for (yi, si) in y.iter_mut().zip(&s_hat) {
-                    *yi *= si;
-                }
-            },
-        )?;
-        s3 = run.steps;
-        (run.theta > 0.0).then(|| 1.0 / run.theta)
+    // Where Temple's bound can run (a simplicial factor, temple), the lower bound of λ_min
+    // rarely needs h: its estimate waits until a Temple bound misses ([`graded_estimate`]).
+    let deferred = graded && fam.pattern.has_ldlt();
+    let (h_est, s3) = if graded && !deferred {
+        graded_estimate(&s_hat, &z, |y| factor_of_a.solve_vec_in_place(y))?
     } else {
-        None
+        (None, 0)
     };
     drop(factor_of_a);
 
@@ -496,8 +373,36 @@ fn estimate(
         s_hat,
         inv_hmin_lo: (weight / (lmin_est * yy)).max(h_est.map_or(1.0, |h| 1.0 / h)),
         h_est,
+        deferred,
         steps: s1 + s2 + s3,
     })
+}
+
+/// A rough λ_min(Ĥ), `Ĥ = Ŝ⁻¹AŜ⁻¹` (wanted within a factor of 2, certified by Lemma 5): a short
+/// Lanczos run on `Ĥ⁻¹ = Ŝ A⁻¹ Ŝ` from `z = Ŝy_bottom`, `solve` applying A⁻¹ in place. Returns
+/// the estimate (None where the run gives none) and the steps.
+fn graded_estimate(
+    s_hat: &[f64],
+    z: &[f64],
+    solve: impl Fn(&mut [f64]),
+) -> Result<(Option<f64>, usize)> {
+    let run = lanczos(
+        s_hat.len(),
+        GRADED_LANCZOS_STEPS,
+        |_| 1e-2,
+        Some(z),
+        false,
+        |x, y| {
+            for ((yi, xi), si) in y.iter_mut().zip(x).zip(s_hat) {
+                *yi = xi * si;
+            }
+            solve(y);
+            for (yi, si) in y.iter_mut().zip(s_hat) {
+                *yi *= si;
+            }
+        },
+    )?;
+    Ok(((run.theta > 0.0).then(|| 1.0 / run.theta), run.steps))
 }
 
 /// Phase 2 of [`extreme_eigenvalues`]: the proven brackets around the estimates
@@ -634,44 +539,25 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
         .map(|&p| fam.pattern.values[p])
         .fold(f64::INFINITY, f64::min);
     let min_hi = refined_min.map_or(diag_min, |b| b.min(diag_min));
-    let h = est.h_est.and_then(|h_est| {
-        [0.9, 0.5, 0.125, 0.02].into_iter().find_map(|f| {
-            let tau = f * h_est;
-            let (max_c, rowsum) = fam.test_scaled(&est.s_hat, tau)?;
-            Some(margin.graded_floor(tau, max_c, rowsum)).filter(|&h| h > 0.0)
-        })
-    });
     let base = lmin_est.min(min_hi);
-    // The relative loss per unit of margin: 1/h (Theorem 4) or max_i a_ii / λ_min (Cor. 3).
-    let scale = match h {
-        Some(h) => 1.0 / h,
-        None => max_diag / base,
-    };
     // What the top end left of the target: the bottom end's share.
     let share = (target - (max_hi / max_lo - 1.0)).max(0.5 * target);
+    let mut h = graded_floor(fam, &est.s_hat, est.h_est, margin);
+    // The relative loss per unit of margin: 1/h (Theorem 4) or max_i a_ii / λ_min (Cor. 3).
+    let scale_of = |h: Option<f64>| h.map_or(max_diag / base, |h| 1.0 / h);
     // Lemma 1 alone: the first test at an offset of m·scale, the bound as far again below.
-    let short = 2.0 * margin.m * scale > 0.9 * share;
-    let posterior = short && fam.posterior_ok;
-    // A-posteriori tests aim at a fifth of the share (a test passes once the offset exceeds
-    // the residual's own loss, a few u·scale) and grow ×4; the margin gets the rest.
-    let (w0, growth) = if posterior {
-        (
-            (0.2 * share).clamp(2.0 * certify::U * scale, margin.m * scale),
-            4.0,
-        )
-    } else {
-        (margin.m * scale, 8.0)
-    };
+    let short = |h: Option<f64>| 2.0 * margin.m * scale_of(h) > 0.9 * share;
     // Where Lemma 1 misses, Temple's bound from the inverse iterate x̂ (temple, Theorem 9:
     // one LDLᵀ inertia test, second order in x̂'s residual) before a Cholesky test judged by
     // its residual (Lemma 7, ≈ 5 factorizations).
-    let temple = if short && est.x_hat.len() == fam.pattern.n() {
+    let temple = if short(h) && est.x_hat.len() == fam.pattern.n() {
         let (lo, tests) = temple::lambda_min_lower(&fam.pattern, &est.x_hat, base, &est.s_hat, h);
         fam.factorizations += tests;
         lo.filter(|&lo| lo > 0.0)
     } else {
         None
     };
+    let mut steps = steps;
     if let Some(lo) = temple.filter(|&lo| min_hi / lo - 1.0 <= 0.95 * share) {
         return Ends {
             max_lo,
@@ -683,6 +569,33 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
             steps,
         };
     }
+    if est.deferred && short(h) {
+        // Temple missed: the graded estimate it deferred, from a new factor of A.
+        if let Some(f) = fam.factor(1.0, 0.0) {
+            let z: Vec<f64> = est
+                .bottom
+                .iter()
+                .zip(&est.s_hat)
+                .map(|(y, s)| y * s)
+                .collect();
+            if let Ok((h_est, k)) = graded_estimate(&est.s_hat, &z, |y| f.solve_vec_in_place(y)) {
+                steps += k;
+                h = graded_floor(fam, &est.s_hat, h_est, margin);
+            }
+        }
+    }
+    let scale = scale_of(h);
+    let posterior = short(h) && fam.posterior_ok;
+    // A-posteriori tests aim at a fifth of the share (a test passes once the offset exceeds
+    // the residual's own loss, a few u·scale) and grow ×4; the margin gets the rest.
+    let (w0, growth) = if posterior {
+        (
+            (0.2 * share).clamp(2.0 * certify::U * scale, margin.m * scale),
+            4.0,
+        )
+    } else {
+        (margin.m * scale, 8.0)
+    };
     let min_lo = certify::step_outwards_by(w0.max(4.0 * f64::EPSILON), growth, |w, _| {
         let s = base * (1.0 - w);
         if s <= 0.0 {

@@ -123,31 +123,14 @@ pub fn temple_lower(
     symmetric_matvec(pattern, values, x, &mut ax);
     let xx: f64 = x.iter().map(|v| v * v).sum();
     let mut theta = x.iter().zip(&ax).map(|(a, b)| a * b).sum::<f64>() / xx;
-    let pass = |theta: f64| {
-        // r = θx − Ax (the residual, negated), then xᵀr = −g by Dot2 with the error of r̂.
-        let r = residual_dot2(pattern, values, x, theta, x);
-        let (mut gp, mut gs, mut gabs, mut rerr) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
-        let (mut rr, mut ee) = (0.0f64, 0.0f64);
-        for (&xj, &(rj, ej)) in x.iter().zip(&r) {
-            let (h, e) = two_prod(xj, rj);
-            let (t, q) = two_sum(gp, h);
-            gp = t;
-            gs += q + e;
-            gabs += (xj * rj).abs();
-            rerr += xj.abs() * ej;
-            rr += rj * rj;
-            ee += ej * ej;
-        }
-        let g = gp + gs;
-        let g_abs = up(g.abs() + up(U * g.abs()) + up(gamma(n).powi(2) * gabs) + up(rerr));
-        // ρ = ‖r‖ ≤ ‖r̂‖ + ‖r − r̂‖.
-        let rho = up(up(rr.sqrt()) + up(ee.sqrt())) * (1.0 + gamma(n + 2));
-        (g, g_abs, rho)
-    };
-    let (g, _, _) = pass(theta);
-    // g ≈ −xᵀ(A − θ)x: the Rayleigh quotient is θ − g/‖x‖².
-    theta -= g / xx;
-    let (_, g_abs, rho) = pass(theta);
+    let (g, mut g_abs, mut rho) = temple_pass(pattern, values, x, theta);
+    // g ≈ −xᵀ(A − θ)x: the Rayleigh quotient is θ − g/‖x‖². θ's offset from it costs the
+    // bound |g|/‖x‖² (first order): where the f64 quotient is off by more than a few units,
+    // one more pass from the corrected θ.
+    if g.abs() > 4.0 * U * theta.abs() * xx {
+        theta -= g / xx;
+        (_, g_abs, rho) = temple_pass(pattern, values, x, theta);
+    }
     let (xx_lo, _) = dot_interval(x, x);
     let delta = down(mu - theta);
     let den = down(down(delta * xx_lo) - g_abs);
@@ -158,12 +141,59 @@ pub fn temple_lower(
     Some(down(theta - t))
 }
 
-/// Relative offsets f of the inertia tests' shifts `τ = θ(1 + f)` above the estimate θ of λ₁,
-/// tried in turn while a test finds more than one eigenvalue below τ (λ₂ closer to λ₁).
-pub const SHIFTS: [f64; 3] = [1.0, 0.25, 0.05];
+crate::dd::fma_dispatch! {
+    /// One pass of [`temple_lower`] at θ: the compensated `g ≈ −xᵀ(A − θI)x`, a bound of |g| and
+    /// of `ρ = ‖(A − θI)x‖`.
+    fn temple_pass(
+        pattern: SymbolicSparseColMatRef<'_, usize>,
+        values: &[f64],
+        x: &[f64],
+        theta: f64,
+    ) -> (f64, f64, f64) => temple_kernel
+}
+
+#[inline(always)]
+fn temple_kernel(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+    values: &[f64],
+    x: &[f64],
+    theta: f64,
+) -> (f64, f64, f64) {
+    let n = x.len();
+    // r = θx − Ax (the residual, negated), then xᵀr = −g by Dot2 with the error of r̂.
+    let r = residual_dot2(pattern, values, x, theta, x);
+    let (mut gp, mut gs, mut gabs, mut rerr) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    let (mut rr, mut ee) = (0.0f64, 0.0f64);
+    for (&xj, &(rj, ej)) in x.iter().zip(&r) {
+        let (h, e) = two_prod(xj, rj);
+        let (t, q) = two_sum(gp, h);
+        gp = t;
+        gs += q + e;
+        gabs += (xj * rj).abs();
+        rerr += xj.abs() * ej;
+        rr += rj * rj;
+        ee += ej * ej;
+    }
+    let g = gp + gs;
+    let g_abs = up(g.abs() + up(U * g.abs()) + up(gamma(n).powi(2) * gabs) + up(rerr));
+    // ρ = ‖r‖ ≤ ‖r̂‖ + ‖r − r̂‖.
+    let rho = up(up(rr.sqrt()) + up(ee.sqrt())) * (1.0 + gamma(n + 2));
+    (g, g_abs, rho)
+}
+
+/// The first inertia test's shift is `τ = θ(1 + f)`, f = [`FIRST_SHIFT`], above the estimate θ
+/// of λ₁; a test that finds k ≥ 2 eigenvalues below τ is followed by one at `f/(2k)` (halfway
+/// to the second of k eigenvalues spread evenly over (θ, τ)), at most [`MAX_TESTS`] tests, f
+/// no smaller than [`MIN_SHIFT`] (λ₂ closer than that to λ₁ leaves Temple's bound little room:
+/// the Cholesky tests follow).
+pub const FIRST_SHIFT: f64 = 1.0;
+/// See [`FIRST_SHIFT`].
+pub const MIN_SHIFT: f64 = 0.01;
+/// See [`FIRST_SHIFT`].
+pub const MAX_TESTS: usize = 4;
 
 /// λ₁ of the SPD A (`pattern` with its values) from below by Theorem 9 with `x ≈` its
-/// eigenvector and `theta ≈ λ₁`: LDLᵀ inertia tests of `fl(A − τI)` at the [`SHIFTS`] until
+/// eigenvector and `theta ≈ λ₁`: LDLᵀ inertia tests of `fl(A − τI)` ([`FIRST_SHIFT`]) until
 /// one finds exactly one negative pivot (Lemma 8: `μ ≤ λ₂`), then Temple's bound. `h`: a
 /// proven lower bound of λ_min(Ŝ⁻¹AŜ⁻¹) where there is one. Returns the bound (None where no
 /// test found one negative pivot or the hypotheses failed) and the factorizations made.
@@ -180,7 +210,8 @@ pub(crate) fn lambda_min_lower(
     let max_s2 = up(s_hat.iter().fold(0.0f64, |m, s| m.max(s * s)));
     let mut buf = Vec::with_capacity(pattern.values.len());
     let mut tests = 0;
-    for f in SHIFTS {
+    let mut f = FIRST_SHIFT;
+    while tests < MAX_TESTS && f >= MIN_SHIFT {
         let tau = theta * (1.0 + f);
         buf.clear();
         buf.extend_from_slice(&pattern.values);
@@ -189,6 +220,7 @@ pub(crate) fn lambda_min_lower(
         }
         tests += 1;
         let Some(test) = pattern.ldlt(&buf) else {
+            f *= 0.5;
             continue;
         };
         match test.negative {
@@ -200,7 +232,7 @@ pub(crate) fn lambda_min_lower(
                     .and_then(|mu| temple_lower(pattern.pattern.as_ref(), &pattern.values, x, mu));
                 return (lower.filter(|&l| l > 0.0), tests);
             }
-            _ => continue,
+            k => f /= 2.0 * k as f64,
         }
     }
     (None, tests)
