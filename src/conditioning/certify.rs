@@ -306,15 +306,27 @@ pub(crate) fn residual_dot2(
     out
 }
 
-/// Lemma 6: a rigorous upper bound of λ_min(A) from y and an approximate `x̂ ≈ A⁻¹y`:
-/// `yᵀy / g`, `g = 2x̂ᵀy − x̂ᵀAx̂ = x̂ᵀ(y + r)` with the residual `r = y − Ax̂` (None where g is
-/// not certainly positive).
-///
-/// Both sums are compensated dot products (Dot2 of Ogita, Rump & Oishi, "Accurate sum and dot
-/// product", SIAM J. Sci. Comput. 26, 2005: `|res − xᵀy| ≤ u|xᵀy| + γ_N²|x|ᵀ|y|` for N
-/// terms), so the cancellation in r (|r| ≪ |y| for a good solve; in f64 it would cost
-/// k·ε·cond₂ relative) leaves an error of order u² — the bound is as sharp as the solve.
-pub fn inverse_rayleigh_upper(
+crate::dd::fma_dispatch! {
+    /// Lemma 6: a rigorous upper bound of λ_min(A) from y and an approximate `x̂ ≈ A⁻¹y`:
+    /// `yᵀy / g`, `g = 2x̂ᵀy − x̂ᵀAx̂ = x̂ᵀ(y + r)` with the residual `r = y − Ax̂` (None where g is
+    /// not certainly positive).
+    ///
+    /// Both sums are compensated dot products (Dot2 of Ogita, Rump & Oishi, "Accurate sum and dot
+    /// product", SIAM J. Sci. Comput. 26, 2005: `|res − xᵀy| ≤ u|xᵀy| + γ_N²|x|ᵀ|y|` for N
+    /// terms), so the cancellation in r (|r| ≪ |y| for a good solve; in f64 it would cost
+    /// k·ε·cond₂ relative) leaves an error of order u² — the bound is as sharp as the solve.
+    ///
+    /// Compiled with FMA where the CPU has it (its two_prods).
+    pub fn inverse_rayleigh_upper(
+        pattern: SymbolicSparseColMatRef<'_, usize>,
+        values: &[f64],
+        y: &[f64],
+        x_hat: &[f64],
+    ) -> Option<f64> => inverse_rayleigh_kernel
+}
+
+#[inline(always)]
+fn inverse_rayleigh_kernel(
     pattern: SymbolicSparseColMatRef<'_, usize>,
     values: &[f64],
     y: &[f64],

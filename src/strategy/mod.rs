@@ -336,7 +336,11 @@ pub fn solve_prepared(
         Some(p) => Context::from_prepared(problem, p),
         None => Context::new(problem),
     };
-    let not_spd = not_spd_warning(problem, prepared);
+    // K's property: checked once per Prepared (a sweep solves many rules on one K).
+    let not_spd = match prepared {
+        Some(p) => p.not_spd.clone(),
+        None => not_spd_warning(problem, None),
+    };
     let mut sol = (method.strategy.solve)(ctx, &method)?;
     sol.warnings.extend(not_spd);
     Ok(sol)
@@ -349,7 +353,7 @@ pub fn solve_prepared(
 /// K indefinite ([`NOT_SPD_WARNING`]).
 fn not_spd_warning(problem: &Problem, prepared: Option<&Prepared>) -> Option<String> {
     let k = &problem.k;
-    if !k.is_symmetric() {
+    if !prepared.map_or_else(|| k.is_symmetric(), |p| p.symmetric) {
         return None;
     }
     let bad_diagonal = (0..k.n()).find(|&i| k.diag(i) <= 0.0 || k.diag(i).is_nan());
@@ -384,6 +388,8 @@ pub struct Prepared {
     symmetric: bool,
     contact_set: Option<Arc<Vec<bool>>>,
     constraint_columns: ConstraintColumns,
+    /// [`not_spd_warning`] of K with this factorization.
+    not_spd: Option<String>,
 }
 
 /// W = K⁻¹D (N×m), filled once and shared by the clones that hold it.
@@ -394,13 +400,16 @@ impl Prepared {
     pub fn new(problem: &Problem) -> Result<Self> {
         let mut ctx = Context::new(problem);
         ctx.u0()?;
-        Ok(Prepared {
+        let mut p = Prepared {
             k_factor: ctx.k_factor.expect("computed by u0"),
             u0: ctx.u0.expect("computed"),
             symmetric: ctx.symmetric,
             contact_set: None,
             constraint_columns: ConstraintColumns::default(),
-        })
+            not_spd: None,
+        };
+        p.not_spd = not_spd_warning(problem, Some(&p));
+        Ok(p)
     }
 
     /// The same, with the exact contact set `set[c]` (constraint c active in the `lagrange`
