@@ -158,6 +158,9 @@ pub(crate) struct LanczosRun {
     pub converged: bool,
     /// The unit Ritz vector of θ, where asked for.
     pub vector: Option<Vec<f64>>,
+    /// The second largest Ritz value (with the vector; None where there is none): an estimate
+    /// from below of the operator's second eigenvalue (interlacing).
+    pub second: Option<f64>,
 }
 
 /// Weight of the generic start vector mixed into a warm start: keeps every eigenvector's
@@ -270,11 +273,15 @@ pub(crate) fn lanczos(
             upper = theta;
             if stagnated || beta <= 1e-300 || beta <= f64::EPSILON * theta.abs() * 1e-2 {
                 let vector = ritz(&alphas, &betas, &basis, theta, &mut apply);
+                let second = vector
+                    .as_ref()
+                    .and_then(|_| tridiagonal_second_eigenvalue(&alphas, &betas, theta));
                 return Ok(LanczosRun {
                     theta,
                     steps,
                     converged: true,
                     vector,
+                    second,
                 });
             }
         }
@@ -290,12 +297,56 @@ pub(crate) fn lanczos(
     let (lo, hi) = gershgorin(&alphas, &betas);
     let theta = tridiagonal_max_eigenvalue(&alphas, &betas, lo, hi, None);
     let vector = ritz(&alphas, &betas, &basis, theta, &mut apply);
+    let second = vector
+        .as_ref()
+        .and_then(|_| tridiagonal_second_eigenvalue(&alphas, &betas, theta));
     Ok(LanczosRun {
         theta,
         steps,
         converged: false,
         vector,
+        second,
     })
+}
+
+/// The second largest eigenvalue of the symmetric tridiagonal T (diagonal `a`, off-diagonal
+/// `b`, at least `a.len() − 1` entries) below its largest `theta`, by bisection on Sturm
+/// counts to 1e-6 relative (an estimate that places an inertia test, not a result). None for
+/// k < 2 or where it is not below θ by more than that.
+pub(crate) fn tridiagonal_second_eigenvalue(a: &[f64], b: &[f64], theta: f64) -> Option<f64> {
+    let k = a.len();
+    if k < 2 {
+        return None;
+    }
+    let count = |x: f64| {
+        let (mut c, mut d) = (0usize, 1.0f64);
+        for i in 0..k {
+            d = a[i] - x - if i > 0 { b[i - 1] * b[i - 1] / d } else { 0.0 };
+            if d == 0.0 {
+                d = -f64::EPSILON * (a[i].abs() + x.abs()).max(f64::MIN_POSITIVE);
+            }
+            c += usize::from(d < 0.0);
+        }
+        c
+    };
+    // ν₂ = sup{x : count(x) ≤ k − 2}, in (lo, θ).
+    let (mut lo, _) = gershgorin(a, &b[..k - 1]);
+    let mut hi = theta;
+    if count(hi) < k - 1 {
+        return None;
+    }
+    for _ in 0..200 {
+        if hi - lo <= 1e-6 * hi.abs() {
+            break;
+        }
+        let mid = 0.5 * (lo + hi);
+        if count(mid) <= k - 2 {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    (lo < theta * (1.0 - 1e-6)).then_some(lo)
 }
 
 /// The deterministic start vector of [`lanczos`]: every component nonzero (so no eigenvector
@@ -479,7 +530,7 @@ pub(crate) fn norm(x: &[f64]) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::{gershgorin, tridiagonal_max_eigenvalue};
+    use super::{gershgorin, tridiagonal_max_eigenvalue, tridiagonal_second_eigenvalue};
     use rand::{Rng, SeedableRng};
 
     /// λ_max of T from faer's dense symmetric eigenvalues (the independent reference).
@@ -550,5 +601,22 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The second eigenvalue of tridiag(−1, 2, −1) (closed form `4sin²((k−1)π/(2(k+1)))`)
+    /// to the bisection's 1e-6, from below; none for a 1×1 matrix.
+    #[test]
+    fn second_eigenvalue_of_the_second_difference() {
+        let k = 30;
+        let a = vec![2.0; k];
+        let b = vec![-1.0; k - 1];
+        let th = std::f64::consts::PI / (k as f64 + 1.0);
+        let l = |j: usize| 4.0 * (0.5 * j as f64 * th).sin().powi(2);
+        let second = tridiagonal_second_eigenvalue(&a, &b, l(k)).unwrap();
+        assert!(
+            second <= l(k - 1) && second >= l(k - 1) * (1.0 - 2e-6),
+            "{second}"
+        );
+        assert!(tridiagonal_second_eigenvalue(&[2.0], &[], 2.0).is_none());
     }
 }

@@ -251,6 +251,8 @@ struct Estimates {
     h_est: Option<f64>,
     /// The graded bound may gain but h_est was left to [`certify_ends`].
     deferred: bool,
+    /// λ₂ estimated from the λ_min run (from above), where it gives one.
+    lambda2: Option<f64>,
     /// An estimate from below of `1/λ_min(Ĥ)`, `Ĥ = Ŝ⁻¹AŜ⁻¹` (for the width target):
     /// `λ_min(Ĥ) ≤ ρ_Ĥ(Ŝy) = λ_min·‖y‖²/Σ a_ii y_i²` and `≤ 1/θ` of the Ĥ⁻¹ run.
     inv_hmin_lo: f64,
@@ -290,6 +292,8 @@ fn estimate(
         },
     )?;
     let (inv_max, s2) = (run_min.theta, run_min.steps);
+    // 1/ν₂ of the same run: λ₂ estimated from above (interlacing), for Temple's inertia test.
+    let lambda2 = run_min.second.filter(|&v| v > 0.0).map(|v| 1.0 / v);
     let lmin_est = 1.0 / inv_max;
     let y_bottom = run_min.vector.unwrap_or_default();
     let mut x_hat = y_bottom.clone();
@@ -374,6 +378,7 @@ fn estimate(
         inv_hmin_lo: (weight / (lmin_est * yy)).max(h_est.map_or(1.0, |h| 1.0 / h)),
         h_est,
         deferred,
+        lambda2,
         steps: s1 + s2 + s3,
     })
 }
@@ -551,7 +556,8 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
     // one LDLᵀ inertia test, second order in x̂'s residual) before a Cholesky test judged by
     // its residual (Lemma 7, ≈ 5 factorizations).
     let temple = if short(h) && est.x_hat.len() == fam.pattern.n() {
-        let (lo, tests) = temple::lambda_min_lower(&fam.pattern, &est.x_hat, base, &est.s_hat, h);
+        let (lo, tests) =
+            temple::lambda_min_lower(&fam.pattern, &est.x_hat, base, est.lambda2, &est.s_hat, h);
         fam.factorizations += tests;
         lo.filter(|&lo| lo > 0.0)
     } else {

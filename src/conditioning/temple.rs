@@ -47,10 +47,10 @@ fn down(x: f64) -> f64 {
 /// `F = Pᵀ L̂D̂L̂ᵀ P − (A − τI)`. `s_hat`: `fl(√a_ii)` (original order); `stored_diagonal`: the
 /// test matrix's `b̃_ii` as stored. None where an `ŝ_i ≤ 0` or the bound is not finite.
 pub fn ldlt_margin(test: &InertiaTest, s_hat: &[f64], stored_diagonal: &[f64]) -> Option<f64> {
-    let f = &test.factor;
+    let f = test;
     let n = f.col_ptr.len() - 1;
-    let (lcp, lri, lv) = (&f.col_ptr, &f.row_idx, &f.values);
-    let orig = |p: usize| f.fwd.as_ref().map_or(p, |fw| fw[p]);
+    let (lcp, lri, lv) = (f.col_ptr, f.row_idx, &f.values);
+    let orig = |p: usize| f.fwd.map_or(p, |fw| fw[p]);
     let mut row_count = vec![0usize; n];
     for &p in lri.iter() {
         row_count[p] += 1;
@@ -181,11 +181,12 @@ fn temple_kernel(
     (g, g_abs, rho)
 }
 
-/// The first inertia test's shift is `τ = θ(1 + f)`, f = [`FIRST_SHIFT`], above the estimate θ
-/// of λ₁; a test that finds k ≥ 2 eigenvalues below τ is followed by one at `f/(2k)` (halfway
-/// to the second of k eigenvalues spread evenly over (θ, τ)), at most [`MAX_TESTS`] tests, f
-/// no smaller than [`MIN_SHIFT`] (λ₂ closer than that to λ₁ leaves Temple's bound little room:
-/// the Cholesky tests follow).
+/// The first inertia test's shift is `τ = θ(1 + f)` above the estimate θ of λ₁, halfway to
+/// the estimate of λ₂ where there is one (at most f = [`FIRST_SHIFT`]), else at f =
+/// [`FIRST_SHIFT`]; a test that finds k ≥ 2 eigenvalues below τ is followed by one at `f/(2k)`
+/// (halfway to the second of k eigenvalues spread evenly over (θ, τ)), at most [`MAX_TESTS`]
+/// tests, f no smaller than [`MIN_SHIFT`] (λ₂ closer than that to λ₁ leaves Temple's bound
+/// little room: the Cholesky tests follow).
 pub const FIRST_SHIFT: f64 = 1.0;
 /// See [`FIRST_SHIFT`].
 pub const MIN_SHIFT: f64 = 0.01;
@@ -193,7 +194,7 @@ pub const MIN_SHIFT: f64 = 0.01;
 pub const MAX_TESTS: usize = 4;
 
 /// λ₁ of the SPD A (`pattern` with its values) from below by Theorem 9 with `x ≈` its
-/// eigenvector and `theta ≈ λ₁`: LDLᵀ inertia tests of `fl(A − τI)` ([`FIRST_SHIFT`]) until
+/// eigenvector, `theta ≈ λ₁` and `lambda2 ≈ λ₂`: LDLᵀ inertia tests of `fl(A − τI)` ([`FIRST_SHIFT`]) until
 /// one finds exactly one negative pivot (Lemma 8: `μ ≤ λ₂`), then Temple's bound. `h`: a
 /// proven lower bound of λ_min(Ŝ⁻¹AŜ⁻¹) where there is one. Returns the bound (None where no
 /// test found one negative pivot or the hypotheses failed) and the factorizations made.
@@ -201,6 +202,7 @@ pub(crate) fn lambda_min_lower(
     pattern: &DiagonalPattern,
     x: &[f64],
     theta: f64,
+    lambda2: Option<f64>,
     s_hat: &[f64],
     h: Option<f64>,
 ) -> (Option<f64>, usize) {
@@ -210,7 +212,10 @@ pub(crate) fn lambda_min_lower(
     let max_s2 = up(s_hat.iter().fold(0.0f64, |m, s| m.max(s * s)));
     let mut buf = Vec::with_capacity(pattern.values.len());
     let mut tests = 0;
-    let mut f = FIRST_SHIFT;
+    let mut f = lambda2
+        .map(|l2| 0.5 * (l2 / theta - 1.0))
+        .filter(|&f| f >= MIN_SHIFT)
+        .map_or(FIRST_SHIFT, |f| f.min(FIRST_SHIFT));
     while tests < MAX_TESTS && f >= MIN_SHIFT {
         let tau = theta * (1.0 + f);
         buf.clear();
@@ -328,8 +333,8 @@ mod tests {
             let s_hat: Vec<f64> = (0..n).map(|i| dense[(i, i)].sqrt()).collect();
             let m = ldlt_margin(&test, &s_hat, &stored).unwrap();
             // The true residual, densely: F_pq = Σ_k l_pk d_k l_qk − b_pq (l unit diagonal).
-            let f = &test.factor;
-            let fwd: Vec<usize> = f.fwd.clone().unwrap_or_else(|| (0..n).collect());
+            let f = &test;
+            let fwd: Vec<usize> = f.fwd.map_or_else(|| (0..n).collect(), |p| p.to_vec());
             let mut l = vec![vec![0.0f64; n]; n];
             let mut d = vec![0.0f64; n];
             for k in 0..n {

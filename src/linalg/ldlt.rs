@@ -12,14 +12,21 @@
 //! per-call permutation and elimination-tree walks, and the kernel below is that Cholesky
 //! kernel with `L_kj = w_j / d_j`, `d_k = b_kk − Σ_j L_kj w_j` in place of the square roots.
 
-use super::sparse_llt::{DiagonalPattern, LowerFactor};
+use super::sparse_llt::DiagonalPattern;
 use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
 
-/// A computed `PB̃Pᵀ ≈ L̂D̂L̂ᵀ` and its inertia.
-pub struct InertiaTest {
-    /// Unit lower triangular L̂ with `d_k` stored in place of its unit diagonal (each column's
-    /// rows ascending, the diagonal first), and the permutation P.
-    pub factor: LowerFactor,
+/// A computed `PB̃Pᵀ ≈ L̂D̂L̂ᵀ` and its inertia: L̂ unit lower triangular in compressed columns
+/// (each column's rows ascending, the diagonal first) with `d_k` stored in place of its unit
+/// diagonal; the structure and P borrowed from the pattern's analysis.
+pub struct InertiaTest<'a> {
+    /// Column pointers (n + 1).
+    pub col_ptr: &'a [usize],
+    /// Row indices (permuted order).
+    pub row_idx: &'a [usize],
+    /// `d_k` at each column's first position, `L̂_ik` below.
+    pub values: Vec<f64>,
+    /// `(PB̃Pᵀ)_ij = B̃_{fwd[i], fwd[j]}`; None: no permutation.
+    pub fwd: Option<&'a [usize]>,
     /// The pivots `d_k < 0`.
     pub negative: usize,
 }
@@ -34,7 +41,7 @@ impl DiagonalPattern {
     /// `PB̃Pᵀ = L̂D̂L̂ᵀ` of the matrix with this pattern and `values`, in the ordering of the
     /// pattern's simplicial analysis. None where the analysis is not simplicial with a cached
     /// permutation (large factors: supernodal), or where a pivot is zero or not finite.
-    pub fn ldlt(&self, values: &[f64]) -> Option<InertiaTest> {
+    pub fn ldlt(&self, values: &[f64]) -> Option<InertiaTest<'_>> {
         let pu = self.permuted.as_deref()?;
         let SymbolicCholeskyRaw::Simplicial(s) = self.symbolic.raw() else {
             return None;
@@ -78,12 +85,10 @@ impl DiagonalPattern {
             inv_d[k] = d.recip();
         }
         Some(InertiaTest {
-            factor: LowerFactor {
-                col_ptr: l_cp.to_vec(),
-                row_idx: l_ri.to_vec(),
-                values: l,
-                fwd: self.symbolic.perm().map(|p| p.arrays().0.to_vec()),
-            },
+            col_ptr: l_cp,
+            row_idx: l_ri,
+            values: l,
+            fwd: self.symbolic.perm().map(|p| p.arrays().0),
             negative,
         })
     }
@@ -123,7 +128,7 @@ mod tests {
             let test = pattern.ldlt(&v).expect("simplicial, no zero pivot");
             assert_eq!(test.negative, below, "τ = {tau}");
             // Reconstruct (L̂D̂L̂ᵀ)_ij densely and compare with P(T − τI)Pᵀ.
-            let f = &test.factor;
+            let f = &test;
             let mut dense = vec![vec![0.0f64; n]; n];
             let mut abs = vec![vec![0.0f64; n]; n];
             for k in 0..n {
@@ -139,7 +144,7 @@ mod tests {
                     }
                 }
             }
-            let fwd = f.fwd.clone().unwrap_or_else(|| (0..n).collect());
+            let fwd: Vec<usize> = f.fwd.map_or_else(|| (0..n).collect(), |p| p.to_vec());
             for i in 0..n {
                 for j in 0..n {
                     let (oi, oj) = (fwd[i], fwd[j]);
