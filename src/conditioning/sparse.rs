@@ -468,10 +468,13 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
         _ => 1.0,
     };
     let target = width_target(tol, (est.inv_hmin_lo * hmax_lo).max(1.0));
-    let top_need = 0.05 * target;
+    // The top end's share of the target: a fifth, or half where Temple's bound (a few ε_mach
+    // wide) is expected to serve the bottom end.
+    let top_share = if fam.pattern.has_ldlt() { 0.5 } else { 0.2 };
+    let top_need = 0.25 * top_share * target;
     let top_posterior = margin.m > top_need && fam.posterior_ok;
     let w0 = if top_posterior {
-        (0.1 * target).max(4.0 * f64::EPSILON)
+        (0.5 * top_share * target).max(4.0 * f64::EPSILON)
     } else {
         (4.0 * margin.m).max(4.0 * f64::EPSILON)
     };
@@ -521,7 +524,7 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
         if let Some((lo, _)) = vector.and_then(|v| rayleigh_interval(pat, vals, &v)) {
             max_lo = max_lo.max(lo);
         }
-        if max_hi / r.max(max_lo) - 1.0 > 0.2 * target {
+        if max_hi / r.max(max_lo) - 1.0 > top_share * target {
             let from = r.max(max_lo);
             if let Some(hi) = certify::step_outwards(4.0 * f64::EPSILON, |w, _| {
                 let s = from * (1.0 + w);
