@@ -17,40 +17,68 @@ use faer::sparse::SymbolicSparseColMatRef;
 /// `ρ ≤ max_i (D⁻¹|L̂||L̂ᵀ|D⁻¹𝟙)_i`, two triangular products with |L̂|, no extra precision.
 /// The diagonal's rounding adds 2u as in Lemma 1. None where a `b̃_ii ≤ 0`.
 pub fn factor_margin(factor: &crate::linalg::LowerFactor, stored_diagonal: &[f64]) -> Option<f64> {
-    let n = factor.col_ptr.len() - 1;
-    let (lcp, lri, lv) = (&factor.col_ptr, &factor.row_idx, &factor.values);
     // Entry (p, q) of L̂L̂ᵀ sums at most min(r_p, r_q) ≤ √(r_p r_q)-weighted terms: its
     // γ_{N+1} ≤ g_p g_q with g_i = √γ_{r_i+1} (r_i: the entries in row i of L̂).
+    let weight = |p: usize| {
+        let b = stored_diagonal[factor.fwd.as_ref().map_or(p, |f| f[p])];
+        (b > 0.0 && b.is_finite()).then(|| b.sqrt())
+    };
+    let rho = perron_bound(
+        &factor.col_ptr,
+        &factor.row_idx,
+        &factor.values,
+        1,
+        weight,
+        false,
+    )?;
+    let m = up(rho + 2.0 * U);
+    m.is_finite().then_some(m)
+}
+
+/// The Collatz–Wielandt bound shared by Lemma 7a ([`factor_margin`]) and Lemma 8
+/// (`temple::ldlt_margin`): `max_p s_p (|L̂||D̂||L̂ᵀ| s)_p ≥ ρ(S|L̂||D̂||L̂ᵀ|S)`, with
+/// `s_p = √γ_{r_p+extra} / weight(p)` (r_p: the entries of row p of L̂; `weight(p)` the
+/// scaling at permuted position p, None where there is none) and D̂ = I (`unit_diagonal`
+/// false: L̂L̂ᵀ, the diagonal of L̂ stored) or the stored diagonal of a unit L̂ (true: L̂D̂L̂ᵀ).
+/// L̂ in compressed columns, the diagonal first. Two triangular products with |L̂|, every term
+/// non-negative; the f64 sums (≤ widest column, ≤ r terms), square roots and quotients are
+/// covered by `1 + γ`. None where a weight is missing.
+pub(crate) fn perron_bound(
+    lcp: &[usize],
+    lri: &[usize],
+    lv: &[f64],
+    extra: usize,
+    weight: impl Fn(usize) -> Option<f64>,
+    unit_diagonal: bool,
+) -> Option<f64> {
+    let n = lcp.len() - 1;
     let mut row_count = vec![0usize; n];
-    for &p in lri.iter() {
+    for &p in lri {
         row_count[p] += 1;
     }
     let mut scale = vec![0.0f64; n];
     for (p, v) in scale.iter_mut().enumerate() {
-        let b = match &factor.fwd {
-            Some(f) => stored_diagonal[f[p]],
-            None => stored_diagonal[p],
-        };
-        if !(b > 0.0 && b.is_finite()) {
-            return None;
-        }
-        *v = gamma(row_count[p] + 1).sqrt() / b.sqrt();
+        *v = gamma(row_count[p] + extra).sqrt() / weight(p)?;
     }
-    // z = |L̂ᵀ| G D⁻¹𝟙, then w = |L̂| z; every term non-negative.
-    let mut z = vec![0.0f64; n];
+    // z = |D̂||L̂ᵀ| S𝟙, then w = |L̂| z.
+    let (mut z, mut w) = (vec![0.0f64; n], vec![0.0f64; n]);
     let mut widest = 0usize;
-    for (k, zk) in z.iter_mut().enumerate() {
+    for k in 0..n {
         let (a, b) = (lcp[k], lcp[k + 1]);
         widest = widest.max(b - a);
-        *zk = lri[a..b]
+        let (d, l_kk) = if unit_diagonal {
+            (lv[a].abs(), 1.0)
+        } else {
+            (1.0, lv[a].abs())
+        };
+        let below: f64 = lri[a + 1..b]
             .iter()
-            .zip(&lv[a..b])
+            .zip(&lv[a + 1..b])
             .map(|(&p, &v)| v.abs() * scale[p])
             .sum();
-    }
-    let mut w = vec![0.0f64; n];
-    for k in 0..n {
-        for (&p, &v) in lri[lcp[k]..lcp[k + 1]].iter().zip(&lv[lcp[k]..lcp[k + 1]]) {
+        z[k] = d * (l_kk * scale[k] + below);
+        w[k] += l_kk * z[k];
+        for (&p, &v) in lri[a + 1..b].iter().zip(&lv[a + 1..b]) {
             w[p] += v.abs() * z[k];
         }
     }
@@ -60,10 +88,7 @@ pub fn factor_margin(factor: &crate::linalg::LowerFactor, stored_diagonal: &[f64
         .zip(&scale)
         .map(|(wp, sp)| wp * sp)
         .fold(0.0f64, f64::max);
-    // The f64 sums of non-negative terms (≤ widest, ≤ r terms), the square roots and the
-    // quotients: (1 + γ) covers them.
-    let m = up(up(rho * (1.0 + gamma(widest + r + 12))) + 2.0 * U);
-    m.is_finite().then_some(m)
+    Some(up(rho * (1.0 + gamma(widest + r + 12))))
 }
 
 crate::dd::fma_dispatch! {

@@ -35,6 +35,7 @@
 //! bounded, every final operation rounded outwards.
 
 use super::certify::{dot_interval, gamma, residual_dot2, up, U};
+use super::residual::perron_bound;
 use crate::dd::{two_prod, two_sum};
 use crate::linalg::{symmetric_matvec, DiagonalPattern, InertiaTest};
 use faer::sparse::SymbolicSparseColMatRef;
@@ -47,53 +48,16 @@ fn down(x: f64) -> f64 {
 /// `F = Pᵀ L̂D̂L̂ᵀ P − (A − τI)`. `s_hat`: `fl(√a_ii)` (original order); `stored_diagonal`: the
 /// test matrix's `b̃_ii` as stored. None where an `ŝ_i ≤ 0` or the bound is not finite.
 pub fn ldlt_margin(test: &InertiaTest, s_hat: &[f64], stored_diagonal: &[f64]) -> Option<f64> {
-    let f = test;
-    let n = f.col_ptr.len() - 1;
-    let (lcp, lri, lv) = (f.col_ptr, f.row_idx, &f.values);
-    let orig = |p: usize| f.fwd.map_or(p, |fw| fw[p]);
-    let mut row_count = vec![0usize; n];
-    for &p in lri.iter() {
-        row_count[p] += 1;
-    }
-    let mut scale = vec![0.0f64; n];
     let mut diag_term = 0.0f64;
-    for (p, v) in scale.iter_mut().enumerate() {
-        let (s, b) = (s_hat[orig(p)], stored_diagonal[orig(p)]);
+    for (&s, &b) in s_hat.iter().zip(stored_diagonal) {
         if !(s > 0.0 && s.is_finite() && b.is_finite()) {
             return None;
         }
-        *v = gamma(row_count[p] + 4).sqrt() / s;
         diag_term = diag_term.max(U * b.abs() / s / s);
     }
-    // z = |D̂||L̂ᵀ| G Ŝ⁻¹𝟙, then w = |L̂| z (unit diagonal); every term non-negative.
-    let mut z = vec![0.0f64; n];
-    let mut widest = 0usize;
-    for (k, zk) in z.iter_mut().enumerate() {
-        let (a, b) = (lcp[k], lcp[k + 1]);
-        widest = widest.max(b - a);
-        let below: f64 = lri[a + 1..b]
-            .iter()
-            .zip(&lv[a + 1..b])
-            .map(|(&p, &v)| v.abs() * scale[p])
-            .sum();
-        *zk = lv[a].abs() * (scale[k] + below);
-    }
-    let mut w = z.clone();
-    for k in 0..n {
-        for (&p, &v) in lri[lcp[k] + 1..lcp[k + 1]]
-            .iter()
-            .zip(&lv[lcp[k] + 1..lcp[k + 1]])
-        {
-            w[p] += v.abs() * z[k];
-        }
-    }
-    let r = row_count.into_iter().max().unwrap_or(0);
-    let rho = w
-        .iter()
-        .zip(&scale)
-        .map(|(wp, sp)| wp * sp)
-        .fold(0.0f64, f64::max);
-    let m = up(up(rho * (1.0 + gamma(widest + r + 12))) + up(diag_term * (1.0 + 4.0 * U)));
+    let weight = |p: usize| Some(s_hat[test.fwd.map_or(p, |f| f[p])]);
+    let rho = perron_bound(test.col_ptr, test.row_idx, &test.values, 4, weight, true)?;
+    let m = up(rho + up(diag_term * (1.0 + 4.0 * U)));
     m.is_finite().then_some(m)
 }
 

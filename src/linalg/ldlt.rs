@@ -8,11 +8,11 @@
 //!
 //! Why hand-written: faer's sparse LDLᵀ (`factorize_simplicial_numeric_ldlt`) runs the same
 //! up-looking algorithm, but the cached permuted pattern of [`DiagonalPattern`] (its row
-//! structure precomputed, as the Cholesky kernel `simplicial_llt_numeric` uses it) saves the
-//! per-call permutation and elimination-tree walks, and the kernel below is that Cholesky
-//! kernel with `L_kj = w_j / d_j`, `d_k = b_kk − Σ_j L_kj w_j` in place of the square roots.
+//! structure precomputed) saves the per-call permutation and elimination-tree walks: the
+//! kernel is the Cholesky kernel's (`sparse_llt::simplicial_numeric`) with `L_kj = w_j / d_j`,
+//! `d_k = b_kk − Σ_j L_kj w_j` in place of the square roots.
 
-use super::sparse_llt::DiagonalPattern;
+use super::sparse_llt::{simplicial_numeric, DiagonalPattern};
 use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
 
 /// A computed `PB̃Pᵀ ≈ L̂D̂L̂ᵀ` and its inertia: L̂ unit lower triangular in compressed columns
@@ -47,43 +47,8 @@ impl DiagonalPattern {
             return None;
         };
         let (l_cp, l_ri) = (s.col_ptr(), s.row_idx());
-        let n = pu.pattern.ncols();
-        let (ucp, uri) = (pu.pattern.col_ptr(), pu.pattern.row_idx());
         let mut l = vec![0.0f64; l_ri.len()];
-        let mut x = vec![0.0f64; n];
-        let mut next: Vec<usize> = l_cp[..n].to_vec();
-        let mut inv_d = vec![0.0f64; n];
-        let mut negative = 0;
-        for k in 0..n {
-            for (&i, &p) in uri[ucp[k]..ucp[k + 1]]
-                .iter()
-                .zip(&pu.map[ucp[k]..ucp[k + 1]])
-            {
-                x[i] += values[p];
-            }
-            let mut d = x[k];
-            x[k] = 0.0;
-            // Row k of L D by a sparse triangular solve: w_j = (L D)_kj, then L_kj = w_j / d_j.
-            for &j in &pu.reach[pu.reach_ptr[k]..pu.reach_ptr[k + 1]] {
-                let start = l_cp[j] + 1;
-                next[j] += 1;
-                let row = next[j];
-                let w = x[j];
-                x[j] = 0.0;
-                for (&i, &lij) in l_ri[start..row].iter().zip(&l[start..row]) {
-                    x[i] -= lij * w;
-                }
-                let lkj = w * inv_d[j];
-                d -= lkj * w;
-                l[row] = lkj;
-            }
-            if !(d != 0.0 && d.is_finite()) {
-                return None;
-            }
-            negative += usize::from(d < 0.0);
-            l[l_cp[k]] = d;
-            inv_d[k] = d.recip();
-        }
+        let negative = simplicial_numeric::<true>(pu, values, l_cp, l_ri, &mut l)?;
         Some(InertiaTest {
             col_ptr: l_cp,
             row_idx: l_ri,
@@ -96,23 +61,13 @@ impl DiagonalPattern {
 
 #[cfg(test)]
 mod tests {
-    use faer::sparse::{SparseColMat, Triplet};
-
     /// The inertia of `T − τI` for the second difference T = tridiag(−1, 2, −1) (closed-form
     /// eigenvalues `2 − 2cos(jπ/(n+1))`): the number of negative pivots is the number of
     /// eigenvalues below τ, and `L̂D̂L̂ᵀ` reproduces the permuted matrix to rounding.
     #[test]
     fn pivots_count_the_eigenvalues_below_the_shift() {
         let n = 60;
-        let mut t = Vec::new();
-        for i in 0..n {
-            t.push(Triplet::new(i, i, 2.0));
-            if i + 1 < n {
-                t.push(Triplet::new(i, i + 1, -1.0));
-                t.push(Triplet::new(i + 1, i, -1.0));
-            }
-        }
-        let a = SparseColMat::try_new_from_triplets(n, n, &t).unwrap();
+        let a = crate::conditioning::certify::tests::second_difference(n);
         let pattern = super::DiagonalPattern::new(&a).unwrap();
         let th = std::f64::consts::PI / (n as f64 + 1.0);
         let lambda = |j: usize| 2.0 - 2.0 * (j as f64 * th).cos();

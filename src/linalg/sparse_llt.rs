@@ -547,11 +547,29 @@ fn simplicial_llt_numeric(
     l_ri: &[usize],
     l: &mut [f64],
 ) -> bool {
+    simplicial_numeric::<false>(pu, a_vals, l_cp, l_ri, l).is_some()
+}
+
+/// The up-looking kernel of [`simplicial_llt_numeric`] (`LDLT = false`) and of the LDLᵀ
+/// inertia test (`LDLT = true`, `super::ldlt`): row k of L by a sparse triangular solve, with
+/// `w_j` the solve's value at j, `L_kj = w_j/L_jj` and the updates `x_i −= L_ij L_kj`,
+/// `d −= L_kj²`, `L_kk = √d` (Cholesky, faer's operations exactly) or `L_kj = w_j/d_j`,
+/// `x_i −= L_ij w_j`, `d −= L_kj w_j`, `d_k = d` stored on the diagonal (LDLᵀ without
+/// pivoting). Returns the number of negative pivots, or None where Cholesky meets a pivot that
+/// is not positive or LDLᵀ one that is zero or not finite.
+pub(super) fn simplicial_numeric<const LDLT: bool>(
+    pu: &PermutedUpper,
+    a_vals: &[f64],
+    l_cp: &[usize],
+    l_ri: &[usize],
+    l: &mut [f64],
+) -> Option<usize> {
     let n = pu.pattern.ncols();
     let (ucp, uri) = (pu.pattern.col_ptr(), pu.pattern.row_idx());
     let mut x = vec![0.0f64; n];
     let mut next: Vec<usize> = l_cp[..n].to_vec();
     let mut inv_diag = vec![0.0f64; n];
+    let mut negative = 0;
     for k in 0..n {
         for (&i, &p) in uri[ucp[k]..ucp[k + 1]]
             .iter()
@@ -566,22 +584,33 @@ fn simplicial_llt_numeric(
             next[j] += 1;
             let row = next[j];
             let lkj = x[j] * inv_diag[j];
+            // Cholesky updates with L_kj, LDLᵀ with w_j = (L D)_kj.
+            let upd = if LDLT { x[j] } else { lkj };
             x[j] = 0.0;
             for (&i, &lij) in l_ri[start..row].iter().zip(&l[start..row]) {
-                x[i] -= lij * lkj;
+                x[i] -= lij * upd;
             }
-            d -= lkj * lkj;
+            d -= lkj * upd;
             l[row] = lkj;
         }
-        // Not positive (or NaN): faer's `!(d > 0)`.
-        if d.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
-            return false;
-        }
-        let lkk = d.sqrt();
-        l[l_cp[k]] = lkk;
-        inv_diag[k] = lkk.recip();
+        let pivot = if LDLT {
+            // Zero or not finite: no inertia to read.
+            if !(d != 0.0 && d.is_finite()) {
+                return None;
+            }
+            negative += usize::from(d < 0.0);
+            d
+        } else {
+            // Not positive (or NaN): faer's `!(d > 0)`.
+            if d.partial_cmp(&0.0) != Some(std::cmp::Ordering::Greater) {
+                return None;
+            }
+            d.sqrt()
+        };
+        l[l_cp[k]] = pivot;
+        inv_diag[k] = pivot.recip();
     }
-    true
+    Some(negative)
 }
 
 impl PermutedUpper {
