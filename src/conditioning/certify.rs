@@ -420,21 +420,8 @@ pub(crate) fn rayleigh_interval(
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;
-    use faer::sparse::{SparseColMat, Triplet};
 
-    /// The n×n second-difference matrix tridiag(−1, 2, −1) (both triangles): the test matrix
-    /// with closed-form eigenvalues, shared with the `sparse` unit tests.
-    pub(crate) fn second_difference(n: usize) -> SparseColMat<usize, f64> {
-        let mut t = Vec::new();
-        for i in 0..n {
-            t.push(Triplet::new(i, i, 2.0));
-            if i + 1 < n {
-                t.push(Triplet::new(i, i + 1, -1.0));
-                t.push(Triplet::new(i + 1, i, -1.0));
-            }
-        }
-        SparseColMat::try_new_from_triplets(n, n, &t).unwrap()
-    }
+    pub(crate) use crate::linalg::test_matrices::second_difference;
 
     /// The rigorous dot product contains the exact value (i128 on integer data scaled by a
     /// power of two) and is a few ulps wide, also under heavy cancellation.

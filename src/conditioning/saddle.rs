@@ -47,17 +47,20 @@
 //! *verified* (a Cholesky test shifted down by its backward-error margin, so that success
 //! proves definiteness of the exact matrix); σ_min ≤ ‖Ax̂‖/‖x̂‖ for x̂ = A⁻¹y, y a Ritz vector
 //! of A⁻¹ (compensated residual, `certify::image_norm_upper`); σ_min ≥ s once `H(s) ≻ 0` is
-//! verified, since then σ_min ≥ min(s, s₀). Where that bracket would leave cond₂ uncertain by
-//! more than a factor of 2 (σ_min far above s₀ — the elasticity scenes, whose fourth end the
-//! m×m Schur test decides with unverified solves — or a margin m·cond₂ ≳ 1) the inertia
-//! brackets of the search are reported instead, with `CondReport::bounds_proven = false`;
-//! their target width is `max(1e-11, 64·ε_mach·cond₂)`.
+//! verified, since then σ_min ≥ min(s, t) with t = s₀ or, where s lies above s₀, t from an
+//! LDLᵀ inertia test of `H(−s)` with exactly m negative pivots and its backward error
+//! bounded (`Shifts::no_eigenvalue_above`, Lemma 8 of [`super::temple`] read for m pivots;
+//! a simplicial factor of K). Where that bracket would leave cond₂ uncertain by more than a
+//! factor of 2 (the inertia test unavailable or inconclusive, or a margin m·cond₂ ≳ 1) the
+//! inertia brackets of the search are reported instead, with `CondReport::bounds_proven =
+//! false`; their target width is `max(1e-11, 64·ε_mach·cond₂)`.
 //!
 //! Cost: one Cholesky of K_FF, Lanczos products and solves (O(nnz) and O(nnz of the factor)
 //! each), 2–4 shifted Cholesky factorizations per certified end; memory O(nnz of the factor).
 //! Use it for the `lagrange` system of a sparse K (the metrics pick it automatically).
 
 use super::certify::{self, Margin};
+use super::residual::perron_bound;
 use super::sparse::{
     bracket, bracket_tol, bracket_top, lanczos, rayleigh_interval, Certificate, MAX_LANCZOS_STEPS,
     RITZ_VECTOR_MAX_N, STAGNATION,
@@ -115,6 +118,44 @@ impl Shifts<'_> {
         let u = certify::U;
         let c = (margin.m * max_b + 6.0 * u * max_e) * (1.0 + 16.0 * u);
         self.is_pd(alpha, sigma - c, beta)
+    }
+
+    /// The fourth end by inertia (`temple`'s Lemma 8 read for m pivots): where the LDLᵀ of
+    /// `fl(H(−t)) = fl(K + tI − t⁻¹1_B)` has exactly m negative pivots, A has no eigenvalue in
+    /// `[−t', 0)` for the returned `t' = t − η` (None where it has not, or t' ≤ 0). Proof:
+    /// `L̂D̂L̂ᵀ = H(−t) + F` with `‖F‖₂ ≤ η` (the Collatz–Wielandt bound of `γ|L̂||D̂||L̂ᵀ|`,
+    /// `residual::perron_bound`, plus the diagonal's formation, ≤ 4u(|k_ii| + t + 1/t)), so
+    /// `H(−t) − ηI ⪯ L̂D̂L̂ᵀ` has at least m negative eigenvalues, and so has
+    /// `H(−t') ⪯ H(−t) − ηI` (their difference is `−(1/t' − 1/t)1_B ⪯ 0`): `#{λ < −t'} ≥ m`.
+    /// With `H(s) ≻ 0` verified for an `s > 0` (`#{λ < s} = m`), no eigenvalue lies in
+    /// `[−t', s)`.
+    fn no_eigenvalue_above(&mut self, t: f64, m: usize) -> Option<f64> {
+        let v = &mut self.work;
+        v.clear();
+        v.extend_from_slice(&self.pattern.values);
+        let beta = -1.0 / t;
+        let mut max_e = 0.0f64;
+        for (j, &p) in self.pattern.diag.iter().enumerate() {
+            let b = if self.in_b[j] { beta } else { 0.0 };
+            max_e = max_e.max(v[p].abs() + t + b.abs());
+            v[p] += t + b;
+        }
+        self.factorizations += 1;
+        let test = self.pattern.ldlt(v)?;
+        if m == 0 || test.negative != m {
+            return None;
+        }
+        let rho = perron_bound(
+            test.col_ptr,
+            test.row_idx,
+            &test.values,
+            4,
+            |_| Some(1.0),
+            true,
+        )?;
+        let eta = certify::up(rho + certify::up(4.0 * certify::U * max_e));
+        let t2 = (t - eta) * (1.0 - 8.0 * certify::U);
+        (t2 > 0.0 && t2.is_finite()).then_some(t2)
     }
 }
 
@@ -364,9 +405,10 @@ impl SaddleRun<'_> {
     /// The proven brackets (certify) of σ_max and σ_min, where they pin cond₂ within a factor
     /// of 2: σ_max ≥ |ρ(y_top)| and σ_max < s once both −H(s) ≻ 0 and H(−s) ≻ 0 are
     /// verified; σ_min ≤ ‖Ax̂‖/‖x̂‖ for x̂ = A⁻¹y (y a Ritz vector of A⁻¹), and σ_min ≥ s once
-    /// H(s) ≻ 0 is verified (λ⁺_min > s) and s ≤ s₀ (no eigenvalue in (−s, 0)). Where
-    /// σ_min lies above s₀ (the m×m Schur test decided the fourth end), or a margin m·cond₂
-    /// ≳ 1 makes them wide, None: the search's inertia brackets are reported, not proven.
+    /// H(s) ≻ 0 is verified (λ⁺_min > s) and no eigenvalue lies in [−t, 0) for t ≥ s (t = s₀,
+    /// or an LDLᵀ inertia test of H(−s), [`Shifts::no_eigenvalue_above`]). Where neither
+    /// reaches s, or a margin m·cond₂ ≳ 1 makes them wide, None: the search's inertia brackets
+    /// are reported, not proven.
     #[allow(clippy::type_complexity)]
     fn proven(
         &mut self,
@@ -401,12 +443,20 @@ impl SaddleRun<'_> {
         }
         let base = bottom.estimate.min(min_hi);
         let w0 = (4.0 * margin.m * top.bracket.1 / base).max(4.0 * f64::EPSILON);
-        let s0 = self.s0;
+        let (s0, m) = (self.s0, self.inverse.dofs.len());
         let shifts = &mut self.shifts;
         let min_lo = certify::step_outwards(w0, |w, _| {
             let s = base * (1.0 - w);
-            // λ⁺_min > s, and no eigenvalue in (−s₀, 0): σ_min ≥ min(s, s₀).
-            (s > 0.0 && shifts.verified_pd(1.0, -s, 1.0 / s, margin)).then(|| s.min(s0))
+            // λ⁺_min > s, and no eigenvalue in [−t, 0) for t = s₀ or, above it, t from an
+            // inertia test of H(−s): σ_min ≥ min(s, t).
+            (s > 0.0 && shifts.verified_pd(1.0, -s, 1.0 / s, margin)).then(|| {
+                let t = if s > s0 {
+                    s0.max(shifts.no_eigenvalue_above(s, m).unwrap_or(0.0))
+                } else {
+                    s0
+                };
+                s.min(t)
+            })
         })?;
         let informative = max_hi.is_finite()
             && min_hi.is_finite()

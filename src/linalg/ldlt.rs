@@ -67,7 +67,7 @@ mod tests {
     #[test]
     fn pivots_count_the_eigenvalues_below_the_shift() {
         let n = 60;
-        let a = crate::conditioning::certify::tests::second_difference(n);
+        let a = crate::linalg::test_matrices::second_difference(n);
         let pattern = super::DiagonalPattern::new(&a).unwrap();
         let th = std::f64::consts::PI / (n as f64 + 1.0);
         let lambda = |j: usize| 2.0 - 2.0 * (j as f64 * th).cos();

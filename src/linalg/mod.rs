@@ -260,3 +260,23 @@ impl Stiffness {
         Ok(Factorization::new(self, true)?.solve(q))
     }
 }
+
+/// Test matrices shared by the unit tests of `linalg` and `conditioning`.
+#[cfg(test)]
+pub(crate) mod test_matrices {
+    use faer::sparse::{SparseColMat, Triplet};
+
+    /// The n×n second-difference matrix tridiag(−1, 2, −1) (both triangles): the test matrix
+    /// with closed-form eigenvalues, shared by the unit tests.
+    pub(crate) fn second_difference(n: usize) -> SparseColMat<usize, f64> {
+        let mut t = Vec::new();
+        for i in 0..n {
+            t.push(Triplet::new(i, i, 2.0));
+            if i + 1 < n {
+                t.push(Triplet::new(i, i + 1, -1.0));
+                t.push(Triplet::new(i + 1, i, -1.0));
+            }
+        }
+        SparseColMat::try_new_from_triplets(n, n, &t).unwrap()
+    }
+}
