@@ -275,7 +275,7 @@ pub fn dot_interval(x: &[f64], y: &[f64]) -> (f64, f64) {
 /// `r_j = c·y_j − Σ_i a_ij x_i` for every column j of the symmetric A by compensated dot
 /// products (Dot2 of Ogita, Rump & Oishi 2005; `c·y_j` exact by two_prod), with a bound
 /// `e_j ≥ |r̂_j − r_j|`: `e_j = (u|r̂_j| + γ_{k+1}²(|c·y_j| + Σ_i |a_ij x_i|))` rounded up.
-/// Inlined into its callers (and so into their [`crate::dd::with_fma`] builds).
+/// Inlined into its callers (and so into their FMA builds, `dd::fma_dispatch`).
 #[inline(always)]
 pub(crate) fn residual_dot2(
     pattern: SymbolicSparseColMatRef<'_, usize>,

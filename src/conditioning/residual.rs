@@ -107,7 +107,7 @@ crate::dd::fma_dispatch! {
     /// factor with c, r ≈ 50) by the residual the factorization actually left: a few u to a few
     /// tens of u on this project's matrices.
     ///
-    /// Compiled with FMA where the CPU has it ([`crate::dd::fma_dispatch`]): 153 against 114 µs
+    /// Compiled with FMA where the CPU has it (`dd::fma_dispatch`): 153 against 114 µs
     /// on the 400-DOF membrane without and with (docs/performance.md).
     pub fn posterior_margin(
         factor: &crate::linalg::LowerFactor,
