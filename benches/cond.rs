@@ -143,9 +143,11 @@ fn bench_simplicial_numeric(c: &mut Criterion) {
 
 /// The a-posteriori margin of a Cholesky test (`certify::posterior_margin`: the residual
 /// `L̂L̂ᵀ − A` by compensated sums) against the factorization it certifies, on the membrane and
-/// beam of `one_vector_solve`.
+/// beam of `one_vector_solve`; and what replaces both at λ_min where it can (`temple`: one LDLᵀ
+/// inertia test, Lemma 8's margin and Temple's bound with its compensated residual).
 fn bench_posterior_margin(c: &mut Criterion) {
     use penalty_lab::conditioning::certify::posterior_margin;
+    use penalty_lab::conditioning::temple;
     let mut g = kernel_group(c, "posterior_margin");
     for (name, a) in folder_sizes() {
         let Stiffness::Sparse(m) = a else {
@@ -167,6 +169,20 @@ fn bench_posterior_margin(c: &mut Criterion) {
                     0.0,
                 )
                 .expect("positive diagonal")
+            })
+        });
+        let diag: Vec<f64> = pattern.diag.iter().map(|&p| pattern.values[p]).collect();
+        let s_hat: Vec<f64> = diag.iter().map(|d| d.sqrt()).collect();
+        let x = vec![1.0; n];
+        let mu = 2.0 * pattern.max_diagonal();
+        g.bench_function(BenchmarkId::new(format!("{name}/temple"), n), |bench| {
+            bench.iter(|| {
+                let test = pattern
+                    .ldlt(black_box(&pattern.values))
+                    .expect("simplicial");
+                let m = temple::ldlt_margin(&test, &s_hat, &diag).expect("finite");
+                let mu = temple::lambda2_lower(mu, m, mu, None);
+                temple::temple_lower(pattern.pattern.as_ref(), &pattern.values, &x, mu)
             })
         });
     }
