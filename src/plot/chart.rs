@@ -12,6 +12,22 @@ use super::*;
 // Drawing
 // ---------------------------------------------------------------------------------------------
 
+/// The legend's size as a fraction of the plotting area of a `cell` px panel, from the area
+/// the margins leave (estimated: the y tick labels' width is not known yet); None without
+/// labels or room.
+pub(super) fn legend_fraction(fig: &Figure, cell: (f64, f64), scale: f64) -> Option<(f64, f64)> {
+    let st = Style::new(scale);
+    let title_h = if fig.title.is_empty() {
+        0.0
+    } else {
+        (st.title * 1.9).trunc()
+    };
+    let plot_w = cell.0 - (st.tick * 5.0 + 60.0 * scale);
+    let plot_h = cell.1 - title_h - (st.label * 3.5 + st.tick * 1.7 + 6.0 * scale);
+    let (lw, lh) = legend_px(fig, &st)?;
+    (plot_w > 0.0 && plot_h > 0.0).then(|| (lw / plot_w, lh / plot_h))
+}
+
 pub(super) fn draw_figure<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     fig: &Figure,
@@ -27,17 +43,14 @@ pub(super) fn draw_figure<DB: DrawingBackend>(
     };
     let n_x = ((w as f64 / (85.0 * scale)) as usize).clamp(3, 10);
     let n_y = (((h as i32 - title_h) as f64 / (65.0 * scale)) as usize).clamp(3, 10);
-    // Room for the legend where it would cover data in every corner, from the plotting area
-    // the margins below leave (estimated: the y tick labels' width is not known yet).
-    let plot_w = w as f64 - (st.tick * 5.0 + 60.0 * scale);
-    let plot_h = h as f64 - title_h as f64 - (st.label * 3.5 + st.tick * 1.7 + 6.0 * scale);
+    // Room for the legend where it would cover data in every corner.
     let room;
-    let prep = match legend_px(fig, &st) {
-        Some((lw, lh)) if plot_w > 0.0 && plot_h > 0.0 => {
-            room = with_legend_room(fig, prep, lw / plot_w, lh / plot_h);
+    let prep = match legend_fraction(fig, (w as f64, h as f64), scale) {
+        Some((lw, lh)) => {
+            room = with_legend_room(fig, prep, lw, lh);
             &room
         }
-        _ => prep,
+        None => prep,
     };
     let xt = ticks(fig.x_scale, prep.x, n_x);
     let yt = ticks(fig.y_scale, prep.y, n_y);

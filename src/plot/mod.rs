@@ -322,6 +322,46 @@ pub fn render_panels(
     render_panels_impl(figs, cols, stem, size)
 }
 
+/// Whether `fig`'s legend finds a corner free of data when drawn in a cell of `cell` px (as in
+/// [`render_panels`]), i.e. without the y range grown to make room for it
+/// (`legend::with_legend_room`). True for a figure without labels. For figures that share
+/// one legend: carry it on a panel where it fits.
+pub fn legend_fits(fig: &Figure, cell: (f64, f64)) -> Result<bool> {
+    let prep = prepare(fig)?;
+    let scale = (cell.0 / 900.0).min(cell.1 / 600.0).clamp(0.95, 2.0);
+    Ok(chart::legend_fraction(fig, cell, scale)
+        .is_none_or(|(w, h)| legend::legend_fits(fig, &prep, w, h)))
+}
+
+/// One legend for panels that share their series' labels (the same rules in every panel): the
+/// labels stay on the first panel whose legend [fits](legend_fits) in its cell of the
+/// [`render_panels`] grid (`cols`, `size`), else on the first panel, and are cleared on the
+/// others. Bands' and markers' labels are left alone.
+pub fn share_legend(figs: &mut [Figure], cols: usize, size: (u32, u32)) -> Result<()> {
+    if figs.is_empty() || cols == 0 {
+        return Ok(());
+    }
+    let cols = cols.min(figs.len());
+    let rows = figs.len().div_ceil(cols);
+    let canvas = panel_canvas(rows, cols, size);
+    let cell = (canvas.0 as f64 / cols as f64, canvas.1 as f64 / rows as f64);
+    let mut keep = 0;
+    for (i, f) in figs.iter().enumerate() {
+        if legend_fits(f, cell)? {
+            keep = i;
+            break;
+        }
+    }
+    for (i, f) in figs.iter_mut().enumerate() {
+        if i != keep {
+            for s in &mut f.series {
+                s.label.clear();
+            }
+        }
+    }
+    Ok(())
+}
+
 /// Smallest cell of a panel grid (px): below it the plot area of a panel, under its title,
 /// axis labels and ticks, shrinks to a strip.
 pub const MIN_PANEL: (u32, u32) = (420, 340);
@@ -446,5 +486,30 @@ mod tests {
         assert!(axis_range(&[], Scale::Linear).is_none());
         let (a, b) = axis_range(&[3.0, 3.0], Scale::Linear).unwrap();
         assert!(a < 3.0 && b > 3.0);
+    }
+
+    /// One shared legend: kept on the first panel where it fits (the second here, the first
+    /// being covered by a dense grid of points), cleared on the others.
+    #[test]
+    fn shared_legend_goes_where_it_fits() {
+        let grid: Vec<(f64, f64)> = (0..21)
+            .flat_map(|i| (0..21).map(move |j| (i as f64, j as f64)))
+            .collect();
+        let dense = Figure::new("dense", "x", "y").with_series(Series::new(
+            "rule",
+            grid.iter().map(|p| p.0).collect(),
+            grid.iter().map(|p| p.1).collect(),
+            Mark::Points,
+        ));
+        let free = Figure::new("free", "x", "y").with_series(Series::new(
+            "rule",
+            vec![0.0, 1.0],
+            vec![0.0, 1.0],
+            Mark::Line,
+        ));
+        let mut figs = vec![dense, free];
+        share_legend(&mut figs, 2, (1200, 500)).unwrap();
+        assert!(figs[0].series[0].label.is_empty());
+        assert_eq!(figs[1].series[0].label, "rule");
     }
 }

@@ -8,7 +8,7 @@
 
 use super::{analytic::Case, rule_of, BenchRow, Leader, Summary};
 use crate::error::Result;
-use crate::plot::{render_panels, Figure, Mark, Scale, Series};
+use crate::plot::{render_panels, share_legend, Figure, Mark, Scale, Series};
 use crate::study::text::{fmt_e, table};
 use std::path::{Path, PathBuf};
 
@@ -168,7 +168,7 @@ fn leaderboard_panels(s: &Summary, case: Case) -> Vec<Figure> {
     hs.sort_by(|a, b| b.total_cmp(a));
     hs.dedup();
     let mut panels = Vec::new();
-    for (k, h) in hs.into_iter().enumerate() {
+    for h in hs {
         let rows: Vec<&BenchRow> = s
             .rows
             .iter()
@@ -206,9 +206,9 @@ fn leaderboard_panels(s: &Summary, case: Case) -> Vec<Figure> {
             }
             let dashed = rule.contains("adaptive");
             f = f.with_series(
-                // One legend, in the first panel: the rules are the same in every panel.
+                // One legend (`plot::share_legend`): the rules are the same in every panel.
                 Series::new(
-                    if k == 0 { rule.clone() } else { String::new() },
+                    rule.clone(),
                     pts.iter().map(|p| p.1).collect(),
                     pts.iter().map(|p| p.2).collect(),
                     if dashed {
@@ -240,10 +240,12 @@ pub fn render(out: &Path, s: &Summary) -> Result<Vec<PathBuf>> {
                 (1500, 420 * p.len().div_ceil(3) as u32),
             )?);
         }
-        let l = leaderboard_panels(s, case);
+        let mut l = leaderboard_panels(s, case);
         if !l.is_empty() {
             let stem = dir.join(format!("leaderboard_{}", case.name()));
-            files.extend(render_panels(&l, l.len().min(3), &stem, (1700, 700))?);
+            let (cols, size) = (l.len().min(3), (1700, 700));
+            share_legend(&mut l, cols, size)?;
+            files.extend(render_panels(&l, cols, &stem, size)?);
         }
     }
     if s.rows.iter().any(|r| r.method == "lagrange") {
