@@ -572,60 +572,58 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
         None
     };
     let mut steps = steps;
-    if let Some(lo) = temple.filter(|&lo| min_hi / lo - 1.0 <= 0.95 * share) {
-        return Ends {
-            max_lo,
-            max_hi,
-            min_lo: lo,
-            min_hi,
-            refined_max,
-            refined_min,
-            steps,
-        };
-    }
-    if est.deferred && short(h) {
-        // Temple missed: the graded estimate it deferred, from a new factor of A.
-        if let Some(f) = fam.factor(1.0, 0.0) {
-            let z: Vec<f64> = est
-                .bottom
-                .iter()
-                .zip(&est.s_hat)
-                .map(|(y, s)| y * s)
-                .collect();
-            if let Ok((h_est, k)) = graded_estimate(&est.s_hat, &z, |y| f.solve_vec_in_place(y)) {
-                steps += k;
-                h = graded_floor(fam, &est.s_hat, h_est, margin);
+    // Temple's bound where it meets the share; else the Cholesky tests (its bound kept where
+    // it is the better one).
+    let min_lo = match temple.filter(|&lo| min_hi / lo - 1.0 <= 0.95 * share) {
+        Some(lo) => lo,
+        None => {
+            if est.deferred && short(h) {
+                // Temple missed: the graded estimate it deferred, from a new factor of A.
+                if let Some(f) = fam.factor(1.0, 0.0) {
+                    let z: Vec<f64> = est
+                        .bottom
+                        .iter()
+                        .zip(&est.s_hat)
+                        .map(|(y, s)| y * s)
+                        .collect();
+                    if let Ok((h_est, k)) =
+                        graded_estimate(&est.s_hat, &z, |y| f.solve_vec_in_place(y))
+                    {
+                        steps += k;
+                        h = graded_floor(fam, &est.s_hat, h_est, margin);
+                    }
+                }
             }
+            let scale = scale_of(h);
+            let posterior = short(h) && fam.posterior_ok;
+            // A-posteriori tests aim at a fifth of the share (a test passes once the offset exceeds
+            // the residual's own loss, a few u·scale) and grow ×4; the margin gets the rest.
+            let (w0, growth) = if posterior {
+                (
+                    (0.2 * share).clamp(2.0 * certify::U * scale, margin.m * scale),
+                    4.0,
+                )
+            } else {
+                (margin.m * scale, 8.0)
+            };
+            certify::step_outwards_by(w0.max(4.0 * f64::EPSILON), growth, |w, _| {
+                let s = base * (1.0 - w);
+                if s <= 0.0 {
+                    return None;
+                }
+                let (f, max_b) = fam.test_factor(1.0, -s)?;
+                let need = if posterior {
+                    (0.95 * share - w) / scale
+                } else {
+                    f64::INFINITY
+                };
+                let m = fam.margin_of(&f, 1.0, -s, margin, need);
+                Some(m.lower_from_test(s, max_b, h))
+            })
+            .unwrap_or(0.0)
+            .max(temple.unwrap_or(0.0))
         }
-    }
-    let scale = scale_of(h);
-    let posterior = short(h) && fam.posterior_ok;
-    // A-posteriori tests aim at a fifth of the share (a test passes once the offset exceeds
-    // the residual's own loss, a few u·scale) and grow ×4; the margin gets the rest.
-    let (w0, growth) = if posterior {
-        (
-            (0.2 * share).clamp(2.0 * certify::U * scale, margin.m * scale),
-            4.0,
-        )
-    } else {
-        (margin.m * scale, 8.0)
     };
-    let min_lo = certify::step_outwards_by(w0.max(4.0 * f64::EPSILON), growth, |w, _| {
-        let s = base * (1.0 - w);
-        if s <= 0.0 {
-            return None;
-        }
-        let (f, max_b) = fam.test_factor(1.0, -s)?;
-        let need = if posterior {
-            (0.95 * share - w) / scale
-        } else {
-            f64::INFINITY
-        };
-        let m = fam.margin_of(&f, 1.0, -s, margin, need);
-        Some(m.lower_from_test(s, max_b, h))
-    })
-    .unwrap_or(0.0)
-    .max(temple.unwrap_or(0.0));
     Ends {
         max_lo,
         max_hi,
