@@ -77,6 +77,10 @@ struct Cursor<'a> {
     i: usize,
 }
 
+/// Eight zero entries of a row as our writer spells them (`0, ` each, the last one's comma
+/// included: another element follows).
+const ZERO_RUN: &[u8] = b"0, 0, 0, 0, 0, 0, 0, 0, ";
+
 impl<'a> Cursor<'a> {
     fn peek(&self) -> Option<u8> {
         self.b.get(self.i).copied()
@@ -264,7 +268,13 @@ impl<'a> Cursor<'a> {
         let mut len = 0;
         loop {
             self.ws();
-            // Shortcut: a bare `0` followed by a comma (most of a dense scene).
+            // Shortcuts (most of a dense scene is zeros): runs as `--dense-scenes` writes
+            // them, eight at a time (the benchmark folder's read 4.6 → 3.4 ms), then a bare
+            // `0` followed by a comma.
+            while self.b.get(self.i..self.i + ZERO_RUN.len()) == Some(ZERO_RUN) {
+                self.i += ZERO_RUN.len();
+                len += ZERO_RUN.len() / 3;
+            }
             if self.b.get(self.i..self.i + 2) == Some(b"0,") {
                 self.i += 2;
                 len += 1;
@@ -429,6 +439,36 @@ mod tests {
         }
         // Only decoy-free spellings it cannot take fall back: none are generated.
         assert_eq!(fast, total);
+    }
+
+    /// Long rows of mostly `0, ` (as `--dense-scenes` writes them, the eight-zero shortcut)
+    /// with numbers, other whitespace and row ends at every offset agree with `serde_json`.
+    #[test]
+    fn zero_runs_agree_with_serde() {
+        let mut rng = ChaCha8Rng::seed_from_u64(12);
+        for _ in 0..300 {
+            let n = rng.random_range(1..40usize);
+            let row = |rng: &mut ChaCha8Rng| {
+                let nums: Vec<String> = (0..n)
+                    .map(|_| {
+                        if rng.random_bool(0.85) {
+                            "0".into()
+                        } else {
+                            number(rng)
+                        }
+                    })
+                    .collect();
+                let sep = [", ", ", ", ", ", ",", ",  ", ",\n", " , "][rng.random_range(0..7)];
+                format!("[{}]", nums.join(sep))
+            };
+            let rows: Vec<String> = (0..n).map(|_| row(&mut rng)).collect();
+            let load = vec!["0"; n].join(", ");
+            let json = format!(
+                r#"{{"name": "z", "stiffness": {{"dense": [{}]}}, "load": [{load}], "constraints": []}}"#,
+                rows.join(", ")
+            );
+            assert!(check(&json), "{json}");
+        }
     }
 
     /// Malformed blocks and spellings the fast path does not take fall back, or agree.
