@@ -158,9 +158,20 @@ pub(crate) struct LanczosRun {
     pub converged: bool,
     /// The unit Ritz vector of θ, where asked for.
     pub vector: Option<Vec<f64>>,
-    /// The second largest Ritz value (with the vector; None where there is none): an estimate
-    /// from below of the operator's second eigenvalue (interlacing).
-    pub second: Option<f64>,
+    /// The tridiagonal T's diagonal and off-diagonal (at least `alphas.len() − 1` entries),
+    /// for [`LanczosRun::second`].
+    alphas: Vec<f64>,
+    betas: Vec<f64>,
+}
+
+impl LanczosRun {
+    /// The second largest Ritz value (None where there is none): an estimate from below of
+    /// the operator's second eigenvalue (interlacing). Computed on request (only the SPD
+    /// route's λ_min run wants it): its bisection costs about as much as the run's own Ritz
+    /// values.
+    pub fn second(&self) -> Option<f64> {
+        tridiagonal_second_eigenvalue(&self.alphas, &self.betas, self.theta)
+    }
 }
 
 /// Weight of the generic start vector mixed into a warm start: keeps every eigenvector's
@@ -273,15 +284,13 @@ pub(crate) fn lanczos(
             upper = theta;
             if stagnated || beta <= 1e-300 || beta <= f64::EPSILON * theta.abs() * 1e-2 {
                 let vector = ritz(&alphas, &betas, &basis, theta, &mut apply);
-                let second = vector
-                    .as_ref()
-                    .and_then(|_| tridiagonal_second_eigenvalue(&alphas, &betas, theta));
                 return Ok(LanczosRun {
                     theta,
                     steps,
                     converged: true,
                     vector,
-                    second,
+                    alphas,
+                    betas,
                 });
             }
         }
@@ -297,15 +306,13 @@ pub(crate) fn lanczos(
     let (lo, hi) = gershgorin(&alphas, &betas);
     let theta = tridiagonal_max_eigenvalue(&alphas, &betas, lo, hi, None);
     let vector = ritz(&alphas, &betas, &basis, theta, &mut apply);
-    let second = vector
-        .as_ref()
-        .and_then(|_| tridiagonal_second_eigenvalue(&alphas, &betas, theta));
     Ok(LanczosRun {
         theta,
         steps,
         converged: false,
         vector,
-        second,
+        alphas,
+        betas,
     })
 }
 

@@ -293,7 +293,7 @@ fn estimate(
     )?;
     let (inv_max, s2) = (run_min.theta, run_min.steps);
     // 1/ν₂ of the same run: λ₂ estimated from above (interlacing), for Temple's inertia test.
-    let lambda2 = run_min.second.filter(|&v| v > 0.0).map(|v| 1.0 / v);
+    let lambda2 = run_min.second().filter(|&v| v > 0.0).map(|v| 1.0 / v);
     let lmin_est = 1.0 / inv_max;
     let y_bottom = run_min.vector.unwrap_or_default();
     let mut x_hat = y_bottom.clone();
