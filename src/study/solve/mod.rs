@@ -33,7 +33,10 @@ pub fn solve_scene(
     cond_tol: Option<f64>,
 ) -> Result<Value> {
     MetricSet::check_cond_tol(cond_tol)?;
-    let sc = scene::read_scene(scene)?;
+    // K in the storage its structure prefers, as `sweep` reads scenes: the same solve and
+    // cond₂ routes (a dense-stored 400-DOF membrane takes the sparse ones, not a dense
+    // eigensolver with Kahan-wide bounds).
+    let sc = scene::read_scene_preferred(scene)?;
     let p = &sc.problem;
     let mut knobs = knobs;
     let strategy = registry::lookup(name)?;
