@@ -46,11 +46,19 @@
 //! [`super::certify`]: σ_max ≥ |ρ(y_top)|, σ_max < s once `−H(s) ≻ 0` and `H(−s) ≻ 0` are
 //! *verified* (a Cholesky test shifted down by its backward-error margin, so that success
 //! proves definiteness of the exact matrix); σ_min ≤ ‖Ax̂‖/‖x̂‖ for x̂ = A⁻¹y, y a Ritz vector
-//! of A⁻¹ (compensated residual, `certify::image_norm_upper`); σ_min ≥ s once `H(s) ≻ 0` is
-//! verified, since then σ_min ≥ min(s, t) with t = s₀ or, where s lies above s₀, t from an
-//! LDLᵀ inertia test of `H(−s)` with exactly m negative pivots and its backward error
-//! bounded (`Shifts::no_eigenvalue_above`, Lemma 8 of [`super::temple`] read for m pivots;
-//! a simplicial factor of K). Where that bracket would leave cond₂ uncertain by more than a
+//! of A⁻¹ (compensated residual, `certify::image_norm_upper`). σ_min from below, first by
+//! Temple's inequality ([`super::temple`]'s Theorem 9, second order in the residual of x̂),
+//! which holds for the eigenvalue of ±A closest to 0 on its positive side as for λ₁ of an SPD
+//! matrix, given a gap μ from one LDLᵀ inertia test of `H(±τ)` with its backward error
+//! bounded (Lemma 8 read for this congruence, `Shifts::side_gap`): `λ⁺_min ≥ lo⁺` and
+//! `|λ⁻_max| ≥ lo⁻` leave no eigenvalue in (−lo⁻, lo⁺), so σ_min ≥ min(lo⁺, lo⁻)
+//! (`SaddleRun::side_lower`; with s₀, or an inertia test of `H(−lo⁺)`, in place of lo⁻ where
+//! the −A⁻¹ run was not needed). On the beams' graded saddle points this takes the bracket
+//! from 1e-9–1e-6 to ≈ 1e-13. Where Temple's bound is not had (supernodal factor, no test
+//! isolating one eigenvalue, clustered eigenvalues as on the elasticity scenes): σ_min ≥ s
+//! once `H(s) ≻ 0` is verified, since then σ_min ≥ min(s, t) with t = s₀ or, where s lies
+//! above s₀, t from an LDLᵀ inertia test of `H(−s)` with exactly m negative pivots
+//! (`Shifts::no_eigenvalue_above`; a simplicial factor of K). Where that bracket would leave cond₂ uncertain by more than a
 //! factor of 2 (the inertia test unavailable or inconclusive, or a margin m·cond₂ ≳ 1) the
 //! inertia brackets of the search are reported instead, with `CondReport::bounds_proven =
 //! false`; their target width is `max(1e-11, 64·ε_mach·cond₂)`.
@@ -120,31 +128,24 @@ impl Shifts<'_> {
         self.is_pd(alpha, sigma - c, beta)
     }
 
-    /// The fourth end by inertia (`temple`'s Lemma 8 read for m pivots): where the LDLᵀ of
-    /// `fl(H(−t)) = fl(K + tI − t⁻¹1_B)` has exactly m negative pivots, A has no eigenvalue in
-    /// `[−t', 0)` for the returned `t' = t − η` (None where it has not, or t' ≤ 0). Proof:
-    /// `L̂D̂L̂ᵀ = H(−t) + F` with `‖F‖₂ ≤ η` (the Collatz–Wielandt bound of `γ|L̂||D̂||L̂ᵀ|`,
-    /// `residual::perron_bound`, plus the diagonal's formation, ≤ 4u(|k_ii| + t + 1/t)), so
-    /// `H(−t) − ηI ⪯ L̂D̂L̂ᵀ` has at least m negative eigenvalues, and so has
-    /// `H(−t') ⪯ H(−t) − ηI` (their difference is `−(1/t' − 1/t)1_B ⪯ 0`): `#{λ < −t'} ≥ m`.
-    /// With `H(s) ≻ 0` verified for an `s > 0` (`#{λ < s} = m`), no eigenvalue lies in
-    /// `[−t', s)`.
-    fn no_eigenvalue_above(&mut self, t: f64, m: usize) -> Option<f64> {
+    /// An LDLᵀ inertia test of `T = K + σI + β1_B` (`temple`'s Lemma 8, normwise): the
+    /// number of negative pivots of the LDLᵀ of `fl(T)` and η with `L̂D̂L̂ᵀ = T + F`,
+    /// `‖F‖₂ ≤ η` (the Collatz–Wielandt bound of `γ|L̂||D̂||L̂ᵀ|`, `residual::perron_bound`,
+    /// plus the diagonal's formation, ≤ 4u(|k_ii| + |σ| + |β|)). By Sylvester `T + F` has
+    /// exactly that many negative eigenvalues, so `T + ηI ⪰ T + F` has at most as many. None
+    /// where the factor has no LDLᵀ (supernodal) or a zero pivot.
+    fn ldlt_inertia(&mut self, sigma: f64, beta: f64) -> Option<(usize, f64)> {
         let v = &mut self.work;
         v.clear();
         v.extend_from_slice(&self.pattern.values);
-        let beta = -1.0 / t;
         let mut max_e = 0.0f64;
         for (j, &p) in self.pattern.diag.iter().enumerate() {
             let b = if self.in_b[j] { beta } else { 0.0 };
-            max_e = max_e.max(v[p].abs() + t + b.abs());
-            v[p] += t + b;
+            max_e = max_e.max(v[p].abs() + sigma.abs() + b.abs());
+            v[p] += sigma + b;
         }
         self.factorizations += 1;
         let test = self.pattern.ldlt(v)?;
-        if m == 0 || test.negative != m {
-            return None;
-        }
         let rho = perron_bound(
             test.col_ptr,
             test.row_idx,
@@ -154,8 +155,56 @@ impl Shifts<'_> {
             true,
         )?;
         let eta = certify::up(rho + certify::up(4.0 * certify::U * max_e));
+        eta.is_finite().then_some((test.negative, eta))
+    }
+
+    /// The fourth end by inertia: where the LDLᵀ test of `H(−t) = K + tI − t⁻¹1_B`
+    /// ([`Shifts::ldlt_inertia`]) has exactly m negative pivots, A has no eigenvalue in
+    /// `[−t', 0)` for the returned `t' = t − η` (None where it has not, or t' ≤ 0). Proof:
+    /// `H(−t) + ηI` has at least m negative eigenvalues, and so has
+    /// `H(−t') ⪯ H(−t) − ηI` (their difference is `−(1/t' − 1/t)1_B ⪯ 0`): `#{λ < −t'} ≥ m`.
+    /// With `#{λ < s} ≤ m` proven for an `s > 0` (`H(s) ≻ 0` verified, or Temple's bound of
+    /// λ⁺_min, [`SaddleRun::positive_min_lower`]), no eigenvalue lies in `[−t', s)`.
+    fn no_eigenvalue_above(&mut self, t: f64, m: usize) -> Option<f64> {
+        let (negative, eta) = self.ldlt_inertia(t, -1.0 / t)?;
+        if m == 0 || negative != m {
+            return None;
+        }
         let t2 = (t - eta) * (1.0 - 8.0 * certify::U);
         (t2 > 0.0 && t2.is_finite()).then_some(t2)
+    }
+
+    /// A gap for Temple's bound on one side of 0 (`sign` > 0: the positive eigenvalues, < 0:
+    /// the negative ones, as eigenvalues of −A): `μ = τ − η` where the LDLᵀ test
+    /// ([`Shifts::ldlt_inertia`]) finds exactly one eigenvalue of `sign·A` in (0, τ), i.e.
+    /// `H(τ) = K − τI + τ⁻¹1_B` has one negative pivot (sign > 0), or `H(−τ) = K + τI − τ⁻¹1_B`
+    /// has m − 1 (sign < 0). Then at most one eigenvalue of `sign·A` lies in (0, μ): for
+    /// sign > 0, `H(μ) ⪰ H(τ) + ηI` (their difference is `(1/μ − 1/τ)1_B ⪰ 0`) has at most one
+    /// negative eigenvalue, so `#{λ < μ} = m + #neg H(μ) ≤ m + 1`; for sign < 0,
+    /// `H(−μ) ⪯ H(−τ) − ηI` has at least m − 1, so `#{λ < −μ} ≥ m − 1`
+    /// ([`Shifts::no_eigenvalue_above`]'s argument). `Err(k)`: the test found k ≠ 1
+    /// eigenvalues of `sign·A` in (0, τ); `Err(usize::MAX)`: no test (no LDLᵀ, or μ ≤ 0).
+    fn side_gap(&mut self, sign: f64, tau: f64, m: usize) -> std::result::Result<f64, usize> {
+        let (sigma, beta) = if sign > 0.0 {
+            (-tau, 1.0 / tau)
+        } else {
+            (tau, -1.0 / tau)
+        };
+        let (negative, eta) = self.ldlt_inertia(sigma, beta).ok_or(usize::MAX)?;
+        let inside = if sign > 0.0 {
+            negative
+        } else {
+            m.saturating_sub(negative)
+        };
+        if inside != 1 {
+            return Err(inside);
+        }
+        let mu = (tau - eta) * (1.0 - 8.0 * certify::U);
+        if mu > 0.0 && mu.is_finite() {
+            Ok(mu)
+        } else {
+            Err(usize::MAX)
+        }
     }
 }
 
@@ -201,6 +250,8 @@ pub fn cond2_saddle_with(
         s0: s0(k, &in_b),
         lanczos_steps: 0,
         bottom_vectors: Vec::new(),
+        positive: None,
+        negative: None,
     };
     // Each estimate is wanted only to 1/64 of the bracket width it will be certified to,
     // `bracket_tol(cond₂)` (as in the SPD route), with cond₂ bounded below by what is known
@@ -275,8 +326,14 @@ struct SaddleRun<'a> {
     /// eigenvalue of A in (−s₀, 0) (module docs).
     s0: f64,
     lanczos_steps: usize,
-    /// Ritz vectors of A⁻¹'s extreme eigenvalues: the vectors of σ_min's proven upper bound.
+    /// Ritz vectors of A⁻¹'s extreme eigenvalues: the vectors of σ_min's proven upper bound
+    /// (the first one λ⁺_min's, for Temple's lower bound).
     bottom_vectors: Vec<Vec<f64>>,
+    /// λ⁺_min as estimated by the A⁻¹ run, and λ⁺₂ (from above) by its second Ritz value
+    /// where it gives one: they place Temple's inertia test.
+    positive: Option<(f64, Option<f64>)>,
+    /// The same of |λ⁻_max| and the next negative eigenvalue's modulus (the −A⁻¹ run).
+    negative: Option<(f64, Option<f64>)>,
 }
 
 impl SaddleRun<'_> {
@@ -300,8 +357,65 @@ impl SaddleRun<'_> {
             |x, y| inverse.apply(x, y, sign),
         )?;
         self.lanczos_steps += run.steps;
+        let second = run.second().filter(|&v| v > 0.0).map(|v| 1.0 / v);
+        let estimates = Some((1.0 / run.theta, second));
+        if sign > 0.0 {
+            self.positive = estimates;
+        } else {
+            self.negative = estimates;
+        }
         self.bottom_vectors.extend(run.vector);
         Ok(run.theta)
+    }
+
+    /// The eigenvalue of `sign·A` closest to 0 on its positive side from below by Temple's
+    /// inequality (`temple`'s Theorem 9): λ⁺_min for sign > 0, |λ⁻_max| for sign < 0. The
+    /// theorem holds for this indefinite A as it stands: with μ from [`Shifts::side_gap`], let
+    /// `k = #{λ(sign·A) < μ}` and λ_k the largest eigenvalue of sign·A below μ; then
+    /// `(λ_i − λ_k)(λ_i − μ) ≥ 0` for every eigenvalue (both factors ≤ 0 below λ_k, the
+    /// other side's eigenvalues included, both ≥ 0 from μ on), which is all the proof uses.
+    /// So the returned `lo` proves `#{λ(sign·A) < lo} ≤ k − 1`, i.e. `#{λ < lo} ≤ m` (sign > 0)
+    /// or `#{λ ≤ −lo} ≥ m` (sign < 0). The tests sit at `τ = θ(1 + f)`, placed as the SPD route
+    /// places them (`temple::lambda_min_lower`: halfway to the estimate of the next
+    /// eigenvalue, then `f/(2k)` after k eigenvalues in (0, τ)). With m = 1 the negative side
+    /// has one eigenvalue, and `μ = 2·σ_max_hi` needs no test. `x = A⁻¹y` for the side's Ritz
+    /// vector y. None where no test gives μ or the hypotheses fail as computed.
+    fn side_lower(&mut self, sign: f64, x: &[f64], sigma_max_hi: f64) -> Option<f64> {
+        use super::temple::{temple_lower, FIRST_SHIFT, MAX_TESTS, MIN_SHIFT};
+        let (theta, second) = if sign > 0.0 {
+            self.positive?
+        } else {
+            self.negative?
+        };
+        if !(theta > 0.0 && theta.is_finite()) {
+            return None;
+        }
+        let m = self.inverse.dofs.len();
+        let values: std::borrow::Cow<[f64]> = if sign > 0.0 {
+            std::borrow::Cow::Borrowed(&self.a_values)
+        } else {
+            std::borrow::Cow::Owned(self.a_values.iter().map(|v| -v).collect())
+        };
+        let temple =
+            |mu: f64| temple_lower(self.a_pattern.as_ref(), &values, x, mu).filter(|&l| l > 0.0);
+        if sign < 0.0 && m == 1 {
+            return (sigma_max_hi.is_finite()).then(|| temple(2.0 * sigma_max_hi))?;
+        }
+        let mut f = second
+            .map(|l2| 0.5 * (l2 / theta - 1.0))
+            .filter(|&f| f >= MIN_SHIFT)
+            .map_or(FIRST_SHIFT, |f| f.min(FIRST_SHIFT));
+        for _ in 0..MAX_TESTS {
+            if f < MIN_SHIFT {
+                break;
+            }
+            match self.shifts.side_gap(sign, theta * (1.0 + f), m) {
+                Ok(mu) => return temple(mu),
+                Err(0) | Err(usize::MAX) => return None,
+                Err(k) => f /= 2.0 * k as f64,
+            }
+        }
+        None
     }
 
     /// The top Ritz value of `sign`·A, and its vector where `keep`.
@@ -432,6 +546,7 @@ impl SaddleRun<'_> {
         })
         .unwrap_or(f64::INFINITY);
         let mut min_hi = f64::INFINITY;
+        let mut x_hats = Vec::new();
         for y in &self.bottom_vectors {
             let mut x = vec![0.0; self.size];
             self.inverse.apply(y, &mut x, 1.0);
@@ -440,24 +555,44 @@ impl SaddleRun<'_> {
             if nx > 0.0 {
                 min_hi = min_hi.min(ax / nx * (1.0 + 4.0 * f64::EPSILON));
             }
+            x_hats.push(x);
         }
         let base = bottom.estimate.min(min_hi);
-        let w0 = (4.0 * margin.m * top.bracket.1 / base).max(4.0 * f64::EPSILON);
         let (s0, m) = (self.s0, self.inverse.dofs.len());
+        // σ_min ≥ min(s, t) once `#{λ < s} ≤ m` is proven for an s > 0 and no eigenvalue lies
+        // in [−t, 0) (t = s₀ or, above it, t from an inertia test of H(−s)).
+        let floor = |shifts: &mut Shifts, s: f64| {
+            let t = if s > s0 {
+                s0.max(shifts.no_eigenvalue_above(s, m).unwrap_or(0.0))
+            } else {
+                s0
+            };
+            s.min(t)
+        };
+        // By Temple's bounds (second order in the residuals of x = A⁻¹y): λ⁺_min ≥ lo⁺ gives
+        // `#{λ < lo⁺} ≤ m`, and where the −A⁻¹ run gave |λ⁻_max| its vector too, |λ⁻_max| ≥ lo⁻
+        // gives `#{λ ≤ −lo⁻} ≥ m`: no eigenvalue in (−lo⁻, lo⁺), σ_min ≥ min(lo⁺, lo⁻); without
+        // it, lo⁺ with t as above. Else verified Cholesky tests of H(s) stepping down from the
+        // estimate (first order: Lemma 1's margin times cond₂).
+        let xs = std::mem::take(&mut x_hats);
+        let temple_pos = xs.first().and_then(|x| self.side_lower(1.0, x, max_hi));
+        let temple = match (temple_pos, xs.get(1)) {
+            (Some(lo), Some(x)) => self.side_lower(-1.0, x, max_hi).map(|l| lo.min(l)),
+            (Some(lo), None) => Some(floor(&mut self.shifts, lo)),
+            (None, _) => None,
+        };
         let shifts = &mut self.shifts;
-        let min_lo = certify::step_outwards(w0, |w, _| {
-            let s = base * (1.0 - w);
-            // λ⁺_min > s, and no eigenvalue in [−t, 0) for t = s₀ or, above it, t from an
-            // inertia test of H(−s): σ_min ≥ min(s, t).
-            (s > 0.0 && shifts.verified_pd(1.0, -s, 1.0 / s, margin)).then(|| {
-                let t = if s > s0 {
-                    s0.max(shifts.no_eigenvalue_above(s, m).unwrap_or(0.0))
-                } else {
-                    s0
-                };
-                s.min(t)
-            })
-        })?;
+        let min_lo = match temple {
+            Some(s) => s,
+            None => {
+                let w0 = (4.0 * margin.m * top.bracket.1 / base).max(4.0 * f64::EPSILON);
+                certify::step_outwards(w0, |w, _| {
+                    let s = base * (1.0 - w);
+                    (s > 0.0 && shifts.verified_pd(1.0, -s, 1.0 / s, margin))
+                        .then(|| floor(shifts, s))
+                })?
+            }
+        };
         let informative = max_hi.is_finite()
             && min_hi.is_finite()
             && min_lo > 0.0

@@ -92,6 +92,16 @@ fn every_cond2_meets_the_contract_and_every_bound_holds() {
                 case.case, r.cond2_lo, r.cond2_hi
             ));
         }
+        // The saddle points' brackets (σ_min's lower end by Temple's bound, second order): at
+        // the contract's floor of 1e-12 (before it, 9.2e-7 on the beam and 1.1e-11 on the
+        // membrane).
+        if case.saddle_dofs.is_some() && r.relative_width() > 1e-12 {
+            failures.push(format!(
+                "{}: saddle bracket width {:e} > 1e-12",
+                case.case,
+                r.relative_width()
+            ));
+        }
         // σ_max and σ_min themselves, each within the contract's share.
         for (what, got, want) in [
             ("σ_max", r.sigma_max, reference(&case.sigma_max)),

@@ -137,6 +137,44 @@ fn membranes_sparse_bracket_contains_dense() {
     }
 }
 
+/// Beams (graded K: cond₂ of the saddle point 1e5–1e8): σ_min's lower end by Temple's bound
+/// (second order in the residual) instead of Cholesky tests stepping down from the estimate
+/// (first order: Lemma 1's margin times cond₂, 1e-9–1e-6 wide on these before), so every
+/// bracket is proven and within the contract's floor of 1e-12.
+#[test]
+fn beams_saddle_brackets_are_second_order() {
+    // The benchmark folder's beams (scripts/folder.toml): 36–336 DOFs, stored sparse.
+    let cfg = GeneratorConfig {
+        beam_elements: (12, 112),
+        ..Default::default()
+    };
+    let mut checked = 0;
+    for i in 0..6 {
+        let p = generate(Family::Beam, i, 2011, &cfg)
+            .unwrap()
+            .problem
+            .in_preferred_storage();
+        let Stiffness::Sparse(_) = &p.k else {
+            continue;
+        };
+        let (act, sparse) = sparse_saddle(&p, SCHUR_TEST_MAX);
+        if act.is_empty() {
+            continue;
+        }
+        let (lo, hi) = sparse.certificate.unwrap().cond2_bounds();
+        eprintln!(
+            "beam {i}: cond₂ {:.3e}, width {:.1e}",
+            sparse.cond2,
+            hi / lo - 1.0
+        );
+        assert!(sparse.bounds_proven, "{sparse:?}");
+        assert!(hi / lo - 1.0 <= 1e-12, "beam {i}: [{lo:e}, {hi:e}]");
+        check(&p, &act, &sparse, "beam");
+        checked += 1;
+    }
+    assert!(checked >= 3, "{checked} beams with contact");
+}
+
 /// Without the m×m test (as for m > SCHUR_TEST_MAX), the bracket keeps only certified ends:
 /// wider on the elasticity scenes, and still containing the dense value.
 #[test]
