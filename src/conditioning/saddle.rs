@@ -93,14 +93,10 @@ struct Shifts<'a> {
 
 impl Shifts<'_> {
     fn factor(&mut self, alpha: f64, sigma: f64, beta: f64) -> Option<SparseLlt> {
-        let v = &mut self.work;
-        v.clear();
-        v.extend(self.pattern.values.iter().map(|x| alpha * x));
-        for (j, &p) in self.pattern.diag.iter().enumerate() {
-            v[p] += sigma + if self.in_b[j] { beta } else { 0.0 };
-        }
+        self.pattern
+            .fill_shifted(&mut self.work, alpha, sigma, beta, Some(self.in_b));
         self.factorizations += 1;
-        self.pattern.factor(v)
+        self.pattern.factor(&self.work)
     }
     fn is_pd(&mut self, alpha: f64, sigma: f64, beta: f64) -> bool {
         self.factor(alpha, sigma, beta).is_some()
@@ -135,17 +131,11 @@ impl Shifts<'_> {
     /// exactly that many negative eigenvalues, so `T + ηI ⪰ T + F` has at most as many. None
     /// where the factor has no LDLᵀ (supernodal) or a zero pivot.
     fn ldlt_inertia(&mut self, sigma: f64, beta: f64) -> Option<(usize, f64)> {
-        let v = &mut self.work;
-        v.clear();
-        v.extend_from_slice(&self.pattern.values);
-        let mut max_e = 0.0f64;
-        for (j, &p) in self.pattern.diag.iter().enumerate() {
-            let b = if self.in_b[j] { beta } else { 0.0 };
-            max_e = max_e.max(v[p].abs() + sigma.abs() + b.abs());
-            v[p] += sigma + b;
-        }
+        let max_e = self
+            .pattern
+            .fill_shifted(&mut self.work, 1.0, sigma, beta, Some(self.in_b));
         self.factorizations += 1;
-        let test = self.pattern.ldlt(v)?;
+        let test = self.pattern.ldlt(&self.work)?;
         let rho = perron_bound(
             test.col_ptr,
             test.row_idx,

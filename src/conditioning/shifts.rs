@@ -31,14 +31,10 @@ impl ShiftFamily {
 
     /// Cholesky of `alpha·A + sigma·I` (None if not positive definite).
     pub(super) fn factor(&mut self, alpha: f64, sigma: f64) -> Option<SparseLlt> {
-        let v = &mut self.work;
-        v.clear();
-        v.extend(self.pattern.values.iter().map(|x| alpha * x));
-        for &p in &self.pattern.diag {
-            v[p] += sigma;
-        }
+        self.pattern
+            .fill_shifted(&mut self.work, alpha, sigma, 0.0, None);
         self.factorizations += 1;
-        self.pattern.factor(v)
+        self.pattern.factor(&self.work)
     }
 
     /// A Cholesky test of `fl(alpha·A + sigma·I)` (alpha = ±1): on success its factor and the

@@ -182,11 +182,7 @@ pub(crate) fn lambda_min_lower(
         .map_or(FIRST_SHIFT, |f| f.min(FIRST_SHIFT));
     while tests < MAX_TESTS && f >= MIN_SHIFT {
         let tau = theta * (1.0 + f);
-        buf.clear();
-        buf.extend_from_slice(&pattern.values);
-        for &p in &pattern.diag {
-            buf[p] -= tau;
-        }
+        pattern.fill_shifted(&mut buf, 1.0, -tau, 0.0, None);
         tests += 1;
         let Some(test) = pattern.ldlt(&buf) else {
             f *= 0.5;

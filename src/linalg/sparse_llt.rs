@@ -714,6 +714,33 @@ impl DiagonalPattern {
         SparseLlt::factorize_permuted(self.symbolic.clone(), self.permuted.as_deref(), m)
     }
 
+    /// Writes `α·A + σI + β·1_B` on this pattern into `out` (B: the j with `in_b[j]`; no β
+    /// term where `in_b` is None), each entry formed as `α·a_ij`, then `+ (σ + β)` on the
+    /// diagonal; returns `max_i(|α·a_ii| + |σ| + |β_i|)`, which bounds the diagonal's
+    /// formation error (one rounding of each addition). The test matrices of the certified
+    /// routes (shifts, inertia tests) are all formed here.
+    pub fn fill_shifted(
+        &self,
+        out: &mut Vec<f64>,
+        alpha: f64,
+        sigma: f64,
+        beta: f64,
+        in_b: Option<&[bool]>,
+    ) -> f64 {
+        out.clear();
+        out.extend(self.values.iter().map(|x| alpha * x));
+        let mut max_e = 0.0f64;
+        for (j, &p) in self.diag.iter().enumerate() {
+            let b = match in_b {
+                Some(m) if m[j] => beta,
+                _ => 0.0,
+            };
+            max_e = max_e.max(out[p].abs() + sigma.abs() + b.abs());
+            out[p] += sigma + b;
+        }
+        max_e
+    }
+
     /// `y = A x` with A's values on this pattern (both triangles stored). Every user holds a
     /// symmetric A, so the product is formed as `Aᵀx` column by column (`y_j = Σ_i A_ij x_i`,
     /// a gather: one accumulator per entry of y instead of scattered updates; ≈ 2× faster on
