@@ -81,7 +81,8 @@ fn system_cond(
     if let (SystemKind::SaddlePoint { active }, Stiffness::Sparse(k)) = (&sol.system, &problem.k) {
         if crate::route::saddle_route(sys.n(), true, problem.k.is_symmetric()) {
             let dofs: Vec<usize> = active.iter().map(|&c| problem.constraints[c].dof).collect();
-            match conditioning::saddle::cond2_saddle(k, &dofs) {
+            let schur = conditioning::saddle::SCHUR_TEST_MAX;
+            match conditioning::saddle::cond2_saddle_warm(k, &dofs, schur, starts) {
                 Ok(r) => return Ok(Some(r)),
                 // Not its structure (repeated DOFs, no active constraint) or K_FF not
                 // positive definite: the generic route decides below.

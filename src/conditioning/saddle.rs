@@ -70,8 +70,8 @@
 use super::certify::{self, Margin};
 use super::residual::perron_bound;
 use super::sparse::{
-    bracket, bracket_tol, bracket_top, lanczos, rayleigh_interval, Certificate, MAX_LANCZOS_STEPS,
-    RITZ_VECTOR_MAX_N, STAGNATION,
+    bracket, bracket_tol, bracket_top, lanczos, rayleigh_interval, Certificate, RitzStarts,
+    MAX_LANCZOS_STEPS, RITZ_VECTOR_MAX_N, STAGNATION,
 };
 use super::{CondReport, CondRoute};
 use crate::error::{Error, Result};
@@ -212,6 +212,18 @@ pub fn cond2_saddle_with(
     dofs: &[usize],
     schur_test_max: usize,
 ) -> Result<CondReport> {
+    cond2_saddle_warm(k, dofs, schur_test_max, None)
+}
+
+/// [`cond2_saddle_with`] whose Lanczos runs for λ_max (on A) and λ⁺_min (on A⁻¹) start from
+/// K's Ritz vectors ([`RitzStarts`] of K, padded with zeros on the multipliers): D adds unit
+/// entries only, so A's top eigenvector is close to K's. Fewer steps, the same certificate.
+pub fn cond2_saddle_warm(
+    k: &SparseColMat<usize, f64>,
+    dofs: &[usize],
+    schur_test_max: usize,
+    starts: Option<&RitzStarts>,
+) -> Result<CondReport> {
     let n = k.nrows();
     let in_b = constrained_mask(n, dofs)?;
     let pattern = DiagonalPattern::new(k)?;
@@ -242,6 +254,12 @@ pub fn cond2_saddle_with(
         bottom_vectors: Vec::new(),
         positive: None,
         negative: None,
+        starts: starts
+            .filter(|s| s.top.len() == n && s.bottom.len() == n)
+            .map(|s| {
+                let pad = |v: &[f64]| v.iter().copied().chain(dofs.iter().map(|_| 0.0)).collect();
+                (pad(&s.top), pad(&s.bottom))
+            }),
     };
     // Each estimate is wanted only to 1/64 of the bracket width it will be certified to,
     // `bracket_tol(cond₂)` (as in the SPD route), with cond₂ bounded below by what is known
@@ -324,6 +342,8 @@ struct SaddleRun<'a> {
     positive: Option<(f64, Option<f64>)>,
     /// The same of |λ⁻_max| and the next negative eigenvalue's modulus (the −A⁻¹ run).
     negative: Option<(f64, Option<f64>)>,
+    /// Warm starts of the λ_max and λ⁺_min runs: K's Ritz vectors padded to N + m.
+    starts: Option<(Vec<f64>, Vec<f64>)>,
 }
 
 impl SaddleRun<'_> {
@@ -338,11 +358,16 @@ impl SaddleRun<'_> {
     /// The top Ritz value of `sign`·A⁻¹ (its vector kept for σ_min's proven upper bound).
     fn inverse_top(&mut self, sign: f64) -> Result<f64> {
         let inverse = &mut self.inverse;
+        let start = self
+            .starts
+            .as_ref()
+            .filter(|_| sign > 0.0)
+            .map(|s| s.1.as_slice());
         let run = lanczos(
             self.size,
             MAX_LANCZOS_STEPS,
             |_| STAGNATION,
-            None,
+            start,
             true,
             |x, y| inverse.apply(x, y, sign),
         )?;
@@ -411,11 +436,16 @@ impl SaddleRun<'_> {
     /// The top Ritz value of `sign`·A, and its vector where `keep`.
     fn top(&mut self, sign: f64, keep: bool) -> Result<(f64, Option<Vec<f64>>)> {
         let this = &*self;
+        let start = this
+            .starts
+            .as_ref()
+            .filter(|_| sign > 0.0)
+            .map(|s| s.0.as_slice());
         let run = lanczos(
             this.size,
             MAX_LANCZOS_STEPS,
             |_| STAGNATION,
-            None,
+            start,
             keep,
             |x, y| this.apply_a(x, y, sign),
         )?;
