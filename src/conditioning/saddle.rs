@@ -63,8 +63,15 @@
 //! inertia brackets of the search are reported instead, with `CondReport::bounds_proven =
 //! false`; their target width is `max(1e-11, 64·ε_mach·cond₂)`.
 //!
+//! **Order.** The proof is tried first from the Lanczos estimates alone (σ_max = λ_max; the
+//! −A⁻¹ run only where λ⁺_min lies above s₀); the inertia searches that give the unproven
+//! brackets run only where it fails or leaves σ_max wider than the bracket width wanted
+//! (−λ_min above λ_max, clustered spectra). The λ_max and λ⁺_min runs start from K's Ritz
+//! vectors where the caller has them ([`cond2_saddle_warm`]).
+//!
 //! Cost: one Cholesky of K_FF, Lanczos products and solves (O(nnz) and O(nnz of the factor)
-//! each), 2–4 shifted Cholesky factorizations per certified end; memory O(nnz of the factor).
+//! each), 3–4 shifted factorizations for the proof (2–4 more per end for the searches where
+//! they run); memory O(nnz of the factor).
 //! Use it for the `lagrange` system of a sparse K (the metrics pick it automatically).
 
 use super::certify::{self, Margin};
