@@ -77,12 +77,19 @@ fn system_cond(
     tol: Option<f64>,
     unavailable: &mut Vec<String>,
 ) -> Result<Option<CondReport>> {
-    // A sparse saddle point with Boolean D: block-structure route, never densified.
-    if let (SystemKind::SaddlePoint { active }, Stiffness::Sparse(k)) = (&sol.system, &problem.k) {
-        if crate::route::saddle_route(sys.n(), true, problem.k.is_symmetric()) {
+    // A saddle point with Boolean D and symmetric K: block-structure route, never densified
+    // (a dense K in compressed columns).
+    if let SystemKind::SaddlePoint { active } = &sol.system {
+        if crate::route::saddle_route(problem.k.is_symmetric()) {
+            let k = match &problem.k {
+                Stiffness::Sparse(k) => std::borrow::Cow::Borrowed(k),
+                Stiffness::Dense(k) => {
+                    std::borrow::Cow::Owned(crate::system::sparse_of_dense(k.as_ref()))
+                }
+            };
             let dofs: Vec<usize> = active.iter().map(|&c| problem.constraints[c].dof).collect();
             let schur = conditioning::saddle::SCHUR_TEST_MAX;
-            match conditioning::saddle::cond2_saddle_warm(k, &dofs, schur, starts) {
+            match conditioning::saddle::cond2_saddle_warm(&k, &dofs, schur, starts) {
                 Ok(r) => return Ok(Some(r)),
                 // Not its structure (repeated DOFs, no active constraint) or K_FF not
                 // positive definite: the generic route decides below.

@@ -206,6 +206,54 @@ fn metrics_use_the_saddle_route() {
     );
 }
 
+/// A dense-stored K (the `spectrum` family: dense rotations of a prescribed spectrum) takes
+/// the saddle route too, handed to it in compressed columns: σ_min by Temple's bounds, where
+/// the dense eigensolver's Kahan bounds were 1e-9–9e-3 wide on the default sweep's dense
+/// `lagrange` systems. The bracket holds the dense eigenvalues' cond₂ (`check`), and its width
+/// is second order in ε_mach·cond₂ (the residual of x̂ = A⁻¹y is ≈ ε_mach·cond₂ relative,
+/// Temple's loss its square over the relative gap, ≥ 1 %) plus a few n·ε_mach, where a
+/// first-order bound is ≈ n·ε_mach·cond₂ (cond₂ 1e6–3e10 here).
+#[test]
+fn dense_k_saddle_points_take_the_saddle_route() {
+    let cfg = GeneratorConfig::default();
+    let mut checked = 0;
+    for i in 0..6 {
+        let p = generate(Family::Spectrum, i, 2011, &cfg).unwrap().problem;
+        assert!(
+            matches!(p.k, Stiffness::Dense(_)),
+            "spectrum K is stored dense"
+        );
+        let s = strategy::solve(&p, Method::lagrange()).unwrap();
+        let SystemKind::SaddlePoint { active } = &s.system else {
+            panic!("lagrange returns a saddle point")
+        };
+        if active.is_empty() {
+            continue;
+        }
+        let set = MetricSet {
+            cond: true,
+            det: false,
+            cond_tol: None,
+        };
+        let r = metrics::compute(&p, &s, set).unwrap().cond2_system.unwrap();
+        assert_eq!(r.route, CondRoute::SparseSaddleInertia);
+        assert!(r.bounds_proven, "{r:?}");
+        let width = r.relative_width();
+        let n = (p.n() + active.len()) as f64;
+        let e = f64::EPSILON;
+        eprintln!("spectrum {i}: cond₂ {:.3e}, width {width:.1e}", r.cond2);
+        let second_order = 1e3 * n * e + 1e4 * (e * r.cond2).powi(2);
+        assert!(
+            width <= second_order && width < n * e * r.cond2,
+            "spectrum {i}: width {width:e} (cond₂ {:e})",
+            r.cond2
+        );
+        check(&p, active, &r, "spectrum (dense K)");
+        checked += 1;
+    }
+    assert!(checked >= 3, "{checked} spectrum scenes with contact");
+}
+
 /// Bad input: a repeated DOF is refused with a clear error.
 #[test]
 fn repeated_dof_is_an_input_error() {

@@ -75,7 +75,6 @@
 //! Use it for the `lagrange` system of a sparse K (the metrics pick it automatically).
 
 use super::certify::{self, Margin};
-use super::residual::perron_bound;
 use super::sparse::{
     bracket, bracket_tol, bracket_top, lanczos, rayleigh_interval, Certificate, RitzStarts,
     MAX_LANCZOS_STEPS, RITZ_VECTOR_MAX_N, STAGNATION,
@@ -86,124 +85,11 @@ use crate::linalg::{symmetric_matvec, DiagonalPattern, SparseLlt};
 use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 use faer::Side;
 
+mod shifts;
+use shifts::Shifts;
+
 /// Largest m for which the fourth end (λ⁻_max) is certified by the m×m test `λ_min(M(s)) ≥ s`.
 pub const SCHUR_TEST_MAX: usize = 1500;
-
-/// `α·K + σ·I + β·1_B` on K's pattern, factorized with one symbolic analysis.
-struct Shifts<'a> {
-    pattern: &'a DiagonalPattern,
-    in_b: &'a [bool],
-    factorizations: usize,
-    /// Value buffer reused by every factorization.
-    work: Vec<f64>,
-}
-
-impl Shifts<'_> {
-    fn factor(&mut self, alpha: f64, sigma: f64, beta: f64) -> Option<SparseLlt> {
-        self.pattern
-            .fill_shifted(&mut self.work, alpha, sigma, beta, Some(self.in_b));
-        self.factorizations += 1;
-        self.pattern.factor(&self.work)
-    }
-    fn is_pd(&mut self, alpha: f64, sigma: f64, beta: f64) -> bool {
-        self.factor(alpha, sigma, beta).is_some()
-    }
-
-    /// A proof that `T = αK + σI + β1_B ≻ 0` (β = ±1/s as passed, its own rounding
-    /// included): Cholesky of the matrix shifted further down by
-    /// `c = m·max_i b_ii + 6u·max_i(|αk_ii| + |σ| + |β|)` succeeds. By [`certify`]'s Lemma 1
-    /// the stored shifted matrix B̃ has `xᵀB̃x ≥ −m·max_i b̃_ii`, and T differs from `B̃ + cI`
-    /// by the diagonal roundings of its formation (≤ 6u·max_i(…) with the rounding of β
-    /// against the exact ±1/s), so `xᵀTx ≥ c − m·max b − 6u·max(…) > 0`.
-    fn verified_pd(&mut self, alpha: f64, sigma: f64, beta: f64, margin: Margin) -> bool {
-        let (mut max_b, mut max_e) = (f64::NEG_INFINITY, 0.0f64);
-        for (j, &p) in self.pattern.diag.iter().enumerate() {
-            let k = alpha * self.pattern.values[p];
-            let b = if self.in_b[j] { beta } else { 0.0 };
-            max_b = max_b.max(k + sigma + b);
-            max_e = max_e.max(k.abs() + sigma.abs() + b.abs());
-        }
-        if max_b.is_nan() || max_b <= 0.0 {
-            return false;
-        }
-        let u = certify::U;
-        let c = (margin.m * max_b + 6.0 * u * max_e) * (1.0 + 16.0 * u);
-        self.is_pd(alpha, sigma - c, beta)
-    }
-
-    /// An LDLᵀ inertia test of `T = K + σI + β1_B` (`temple`'s Lemma 8, normwise): the
-    /// number of negative pivots of the LDLᵀ of `fl(T)` and η with `L̂D̂L̂ᵀ = T + F`,
-    /// `‖F‖₂ ≤ η` (the Collatz–Wielandt bound of `γ|L̂||D̂||L̂ᵀ|`, `residual::perron_bound`,
-    /// plus the diagonal's formation, ≤ 4u(|k_ii| + |σ| + |β|)). By Sylvester `T + F` has
-    /// exactly that many negative eigenvalues, so `T + ηI ⪰ T + F` has at most as many. None
-    /// where the factor has no LDLᵀ (supernodal) or a zero pivot.
-    fn ldlt_inertia(&mut self, sigma: f64, beta: f64) -> Option<(usize, f64)> {
-        let max_e = self
-            .pattern
-            .fill_shifted(&mut self.work, 1.0, sigma, beta, Some(self.in_b));
-        self.factorizations += 1;
-        let test = self.pattern.ldlt(&self.work)?;
-        let rho = perron_bound(
-            test.col_ptr,
-            test.row_idx,
-            &test.values,
-            4,
-            |_| Some(1.0),
-            true,
-        )?;
-        let eta = certify::up(rho + certify::up(4.0 * certify::U * max_e));
-        eta.is_finite().then_some((test.negative, eta))
-    }
-
-    /// The fourth end by inertia: where the LDLᵀ test of `H(−t) = K + tI − t⁻¹1_B`
-    /// ([`Shifts::ldlt_inertia`]) has exactly m negative pivots, A has no eigenvalue in
-    /// `[−t', 0)` for the returned `t' = t − η` (None where it has not, or t' ≤ 0). Proof:
-    /// `H(−t) + ηI` has at least m negative eigenvalues, and so has
-    /// `H(−t') ⪯ H(−t) − ηI` (their difference is `−(1/t' − 1/t)1_B ⪯ 0`): `#{λ < −t'} ≥ m`.
-    /// With `#{λ < s} ≤ m` proven for an `s > 0` (`H(s) ≻ 0` verified, or Temple's bound of
-    /// λ⁺_min, [`SaddleRun::positive_min_lower`]), no eigenvalue lies in `[−t', s)`.
-    fn no_eigenvalue_above(&mut self, t: f64, m: usize) -> Option<f64> {
-        let (negative, eta) = self.ldlt_inertia(t, -1.0 / t)?;
-        if m == 0 || negative != m {
-            return None;
-        }
-        let t2 = (t - eta) * (1.0 - 8.0 * certify::U);
-        (t2 > 0.0 && t2.is_finite()).then_some(t2)
-    }
-
-    /// A gap for Temple's bound on one side of 0 (`sign` > 0: the positive eigenvalues, < 0:
-    /// the negative ones, as eigenvalues of −A): `μ = τ − η` where the LDLᵀ test
-    /// ([`Shifts::ldlt_inertia`]) finds exactly one eigenvalue of `sign·A` in (0, τ), i.e.
-    /// `H(τ) = K − τI + τ⁻¹1_B` has one negative pivot (sign > 0), or `H(−τ) = K + τI − τ⁻¹1_B`
-    /// has m − 1 (sign < 0). Then at most one eigenvalue of `sign·A` lies in (0, μ): for
-    /// sign > 0, `H(μ) ⪰ H(τ) + ηI` (their difference is `(1/μ − 1/τ)1_B ⪰ 0`) has at most one
-    /// negative eigenvalue, so `#{λ < μ} = m + #neg H(μ) ≤ m + 1`; for sign < 0,
-    /// `H(−μ) ⪯ H(−τ) − ηI` has at least m − 1, so `#{λ < −μ} ≥ m − 1`
-    /// ([`Shifts::no_eigenvalue_above`]'s argument). `Err(k)`: the test found k ≠ 1
-    /// eigenvalues of `sign·A` in (0, τ); `Err(usize::MAX)`: no test (no LDLᵀ, or μ ≤ 0).
-    fn side_gap(&mut self, sign: f64, tau: f64, m: usize) -> std::result::Result<f64, usize> {
-        let (sigma, beta) = if sign > 0.0 {
-            (-tau, 1.0 / tau)
-        } else {
-            (tau, -1.0 / tau)
-        };
-        let (negative, eta) = self.ldlt_inertia(sigma, beta).ok_or(usize::MAX)?;
-        let inside = if sign > 0.0 {
-            negative
-        } else {
-            m.saturating_sub(negative)
-        };
-        if inside != 1 {
-            return Err(inside);
-        }
-        let mu = (tau - eta) * (1.0 - 8.0 * certify::U);
-        if mu > 0.0 && mu.is_finite() {
-            Ok(mu)
-        } else {
-            Err(usize::MAX)
-        }
-    }
-}
 
 /// cond₂ of `[K D; Dᵀ 0]` (D: columns `e_d` for `dofs`, distinct) for sparse SPD K (both
 /// triangles stored), certified as in the module docs. Errors with [`Error::Input`] on
