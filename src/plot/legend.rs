@@ -165,22 +165,34 @@ fn samples_in(pts: &[(f64, f64)], (a, b): (f64, f64), (c, d): (f64, f64)) -> usi
 }
 
 /// Where an hline label of width `w` and height `th` (normalised) at height `v` hides least:
-/// (right end?, above the line?) — right or left end, above or below, by `cost` of its box
-/// (lowest first; ties keep the earlier of right-above, left-above, right-below, left-below).
+/// its box's x range (the right end, the left end, or — where a legend sits at one end —
+/// `beside`, just inside the legend's edge) and whether it is above the line, by `cost` of
+/// its box (lowest first; ties keep the earlier of right-above, left-above, right-below,
+/// left-below, beside-above, beside-below).
 fn hline_label_place(
     v: f64,
     w: f64,
     th: f64,
+    beside: Option<(f64, f64)>,
     cost: &impl Fn((f64, f64), (f64, f64)) -> (bool, usize),
-) -> (bool, bool) {
-    [(true, true), (false, true), (true, false), (false, false)]
+) -> ((f64, f64), bool) {
+    let ends = [(1.0 - w, 1.0), (0.0, w)];
+    let xs = ends.iter().chain(beside.iter());
+    let (mut above, mut below): (Vec<_>, Vec<_>) = (Vec::new(), Vec::new());
+    for (i, &x) in xs.enumerate() {
+        // Ends first, then beside the legend; above before below.
+        let rank = if i < 2 { i } else { 4 };
+        above.push((rank, x, true));
+        below.push((rank + 2, x, false));
+    }
+    above
         .into_iter()
-        .min_by_key(|&(r, up)| {
-            let x = if r { (1.0 - w, 1.0) } else { (0.0, w) };
+        .chain(below)
+        .min_by_key(|&(rank, x, up)| {
             let y = if up { (v, v + th) } else { (v - th, v) };
-            cost(x, y)
+            (cost(x, y), rank)
         })
-        .unwrap_or((true, true))
+        .map_or(((1.0 - w, 1.0), true), |(_, x, up)| (x, up))
 }
 
 /// [`pick_corner`] with the number of data samples inside its legend box.
@@ -298,18 +310,31 @@ pub(super) fn draw_reference_labels<'a, DB: DrawingBackend + 'a, X: Axis, Y: Axi
             .any(|(px, py)| px.0 < x.1 && x.0 < px.1 && py.0 < y.1 && y.0 < py.1);
         (legend || overlaps, samples_in(&pts, x, y))
     };
+    // The legend's inner edge, as a gap from the plot's side (its margin and a gap more).
+    let legend_edge = legend_wh.0 + (st.px(8.0) + gap) as f64 / pw;
     for (y, label) in fig.hlines.iter().filter(|l| ok(ys, l.0) && !l.1.is_empty()) {
         let v = norm(fig, prep, (prep.x.0, *y)).1;
         let w = tw(label);
-        let (right, above) = hline_label_place(v, w, th, &cost);
-        placed.borrow_mut().push((
-            if right { (1.0 - w, 1.0) } else { (0.0, w) },
-            if above { (v, v + th) } else { (v - th, v) },
-        ));
-        let (x, dx, hp) = if right {
+        let beside = (legend_wh.0 > 0.0 && legend_edge + w < 1.0).then(|| {
+            if legend_right {
+                (1.0 - legend_edge - w, 1.0 - legend_edge)
+            } else {
+                (legend_edge, legend_edge + w)
+            }
+        });
+        let (xb, above) = hline_label_place(v, w, th, beside, &cost);
+        placed
+            .borrow_mut()
+            .push((xb, if above { (v, v + th) } else { (v - th, v) }));
+        // Anchored at a side of the plot, offset in pixels to the box's outer edge.
+        let (x, dx, hp) = if xb.1 >= 1.0 - 1e-12 {
             (prep.x.1, -gap, HPos::Right)
-        } else {
+        } else if xb.0 <= 1e-12 {
             (prep.x.0, gap, HPos::Left)
+        } else if legend_right {
+            (prep.x.1, -((legend_edge * pw) as i32), HPos::Right)
+        } else {
+            (prep.x.0, (legend_edge * pw) as i32, HPos::Left)
         };
         let (dy, vp) = if above {
             (-gap / 2, VPos::Bottom)
@@ -385,19 +410,41 @@ mod tests {
                 .map(|k| (x0 + (x1 - x0) * k as f64 / 50.0, y))
                 .collect()
         };
+        let (right, left) = ((1.0 - w, 1.0), (0.0, w));
         let place = |pts: Vec<(f64, f64)>| {
-            hline_label_place(v, w, th, &|x, y| (false, samples_in(&pts, x, y)))
+            hline_label_place(v, w, th, None, &|x, y| (false, samples_in(&pts, x, y)))
         };
-        assert_eq!(place(vec![]), (true, true));
-        assert_eq!(place(line(0.6, 1.0, 0.52)), (false, true));
+        assert_eq!(place(vec![]), (right, true));
+        assert_eq!(place(line(0.6, 1.0, 0.52)), (left, true));
         let mut both = line(0.0, 1.0, 0.52);
         both.extend(line(0.0, 1.0, 0.53));
-        assert_eq!(place(both), (true, false));
+        assert_eq!(place(both.clone()), (right, false));
         // The legend outranks any number of samples.
         let legend_right_above = |x: (f64, f64), y: (f64, f64)| (x.1 > 0.9 && y.0 >= v, 0);
         assert_eq!(
-            hline_label_place(v, w, th, &legend_right_above),
-            (false, true)
+            hline_label_place(v, w, th, None, &legend_right_above),
+            (left, true)
+        );
+        // A legend over the right end, data over the left end: beside the legend, where
+        // nothing runs (the contact benchmark's leaderboard).
+        let beside = (0.35, 0.65);
+        let legend_right = |x: (f64, f64), y: (f64, f64)| {
+            let legend = x.1 > 0.7 && y.1 >= 0.4;
+            let data =
+                samples_in(&line(0.0, 0.2, 0.51), x, y) + samples_in(&line(0.0, 0.2, 0.47), x, y);
+            (legend, data)
+        };
+        assert_eq!(
+            hline_label_place(v, w, th, Some(beside), &legend_right),
+            (beside, true)
+        );
+        // Where an end is free, it is kept over the place beside the legend.
+        assert_eq!(
+            hline_label_place(v, w, th, Some(beside), &|x, y| (
+                false,
+                samples_in(&both, x, y)
+            )),
+            (right, false)
         );
     }
 

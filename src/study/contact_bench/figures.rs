@@ -186,10 +186,7 @@ fn leaderboard_panels(s: &Summary, case: Case) -> Vec<Figure> {
             "penalty error ‖p − p_lagrange‖ / ‖p_exact‖",
         )
         .scales(Scale::Log10, Scale::Log10)
-        .hline(
-            first.err_discretization,
-            "discretization error (Lagrange vs analytic)",
-        );
+        .hline(first.err_discretization, "discretization error");
         for rule in rules(&s.rows) {
             if rule == "lagrange" {
                 continue;
