@@ -315,12 +315,10 @@ pub(super) fn draw_reference_labels<'a, DB: DrawingBackend + 'a, X: Axis, Y: Axi
     for (y, label) in fig.hlines.iter().filter(|l| ok(ys, l.0) && !l.1.is_empty()) {
         let v = norm(fig, prep, (prep.x.0, *y)).1;
         let w = tw(label);
-        let beside = (legend_wh.0 > 0.0 && legend_edge + w < 1.0).then(|| {
-            if legend_right {
-                (1.0 - legend_edge - w, 1.0 - legend_edge)
-            } else {
-                (legend_edge, legend_edge + w)
-            }
+        let beside = (legend_wh.0 > 0.0 && legend_edge + w < 1.0).then_some(if legend_right {
+            (1.0 - legend_edge - w, 1.0 - legend_edge)
+        } else {
+            (legend_edge, legend_edge + w)
         });
         let (xb, above) = hline_label_place(v, w, th, beside, &cost);
         placed

@@ -216,6 +216,13 @@ pub fn cond2_saddle_warm(
     ))
 }
 
+/// The warm start of a `sign > 0` run: K's padded top Ritz vector for the run on A (`top`),
+/// its bottom one for the run on A⁻¹; none for the runs on −A and −A⁻¹.
+fn warm_start(starts: &Option<(Vec<f64>, Vec<f64>)>, sign: f64, top: bool) -> Option<&[f64]> {
+    let (t, b) = starts.as_ref().filter(|_| sign > 0.0)?;
+    Some(if top { t } else { b })
+}
+
 /// A Lanczos estimate, or an error naming it where it is not a positive finite number.
 fn usable(what: &str, v: f64) -> Result<f64> {
     if v.is_finite() && v > 0.0 {
@@ -273,11 +280,7 @@ impl SaddleRun<'_> {
     /// The top Ritz value of `sign`·A⁻¹ (its vector kept for σ_min's proven upper bound).
     fn inverse_top(&mut self, sign: f64) -> Result<f64> {
         let inverse = &mut self.inverse;
-        let start = self
-            .starts
-            .as_ref()
-            .filter(|_| sign > 0.0)
-            .map(|s| s.1.as_slice());
+        let start = warm_start(&self.starts, sign, false);
         let run = lanczos(
             self.size,
             MAX_LANCZOS_STEPS,
@@ -351,11 +354,7 @@ impl SaddleRun<'_> {
     /// The top Ritz value of `sign`·A, and its vector where `keep`.
     fn top(&mut self, sign: f64, keep: bool) -> Result<(f64, Option<Vec<f64>>)> {
         let this = &*self;
-        let start = this
-            .starts
-            .as_ref()
-            .filter(|_| sign > 0.0)
-            .map(|s| s.0.as_slice());
+        let start = warm_start(&this.starts, sign, true);
         let run = lanczos(
             this.size,
             MAX_LANCZOS_STEPS,
