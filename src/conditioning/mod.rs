@@ -460,14 +460,11 @@ pub fn log10_abs_det(a: &Stiffness) -> Result<f64> {
 /// matrix. `-∞` where K_FF is singular; an error for repeated or out-of-range DOFs.
 pub fn log10_abs_det_saddle(k: &Stiffness, dofs: &[usize]) -> Result<f64> {
     let n = k.n();
-    let mut constrained = vec![false; n];
-    for &d in dofs {
-        if d >= n || std::mem::replace(&mut constrained[d], true) {
-            return Err(Error::input(format!(
-                "saddle determinant: DOF {d} is out of range or repeated"
-            )));
-        }
-    }
+    let constrained = saddle::dof_mask(n, dofs).map_err(|d| {
+        Error::input(format!(
+            "saddle determinant: DOF {d} is out of range or repeated"
+        ))
+    })?;
     let free: Vec<usize> = (0..n).filter(|&i| !constrained[i]).collect();
     if free.is_empty() {
         return Ok(0.0); // |det [0 I; I 0]| = 1

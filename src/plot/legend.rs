@@ -164,35 +164,39 @@ fn samples_in(pts: &[(f64, f64)], (a, b): (f64, f64), (c, d): (f64, f64)) -> usi
         .count()
 }
 
+/// Where along its line an hline label sits.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum LabelAt {
+    RightEnd,
+    LeftEnd,
+    /// Just inside the edge of a legend at one end.
+    BesideLegend,
+}
+
 /// Where an hline label of width `w` and height `th` (normalised) at height `v` hides least:
-/// its box's x range (the right end, the left end, or — where a legend sits at one end —
-/// `beside`, just inside the legend's edge) and whether it is above the line, by `cost` of
-/// its box (lowest first; ties keep the earlier of right-above, left-above, right-below,
-/// left-below, beside-above, beside-below).
+/// its place, its box's x range (`beside`: the box beside a legend at one end, where there is
+/// one) and whether it is above the line, by `cost` of its box (lowest first; ties keep the
+/// earlier of right-above, left-above, right-below, left-below, beside-above, beside-below).
 fn hline_label_place(
     v: f64,
     w: f64,
     th: f64,
     beside: Option<(f64, f64)>,
     cost: &impl Fn((f64, f64), (f64, f64)) -> (bool, usize),
-) -> ((f64, f64), bool) {
-    let ends = [(1.0 - w, 1.0), (0.0, w)];
-    let xs = ends.iter().chain(beside.iter());
-    let (mut above, mut below): (Vec<_>, Vec<_>) = (Vec::new(), Vec::new());
-    for (i, &x) in xs.enumerate() {
-        // Ends first, then beside the legend; above before below.
-        let rank = if i < 2 { i } else { 4 };
-        above.push((rank, x, true));
-        below.push((rank + 2, x, false));
-    }
-    above
+) -> (LabelAt, (f64, f64), bool) {
+    let right = (LabelAt::RightEnd, (1.0 - w, 1.0));
+    let ends = [right, (LabelAt::LeftEnd, (0.0, w))];
+    let at_ends = [true, false]
         .into_iter()
-        .chain(below)
-        .min_by_key(|&(rank, x, up)| {
-            let y = if up { (v, v + th) } else { (v - th, v) };
-            (cost(x, y), rank)
-        })
-        .map_or(((1.0 - w, 1.0), true), |(_, x, up)| (x, up))
+        .flat_map(move |up| ends.into_iter().map(move |(at, x)| (at, x, up)));
+    let at_legend = beside
+        .into_iter()
+        .flat_map(|x| [true, false].map(|up| (LabelAt::BesideLegend, x, up)));
+    // `min_by_key` keeps the first of equal costs: the order above is the preference.
+    at_ends
+        .chain(at_legend)
+        .min_by_key(|&(_, x, up)| cost(x, if up { (v, v + th) } else { (v - th, v) }))
+        .unwrap_or((right.0, right.1, true))
 }
 
 /// [`pick_corner`] with the number of data samples inside its legend box.
@@ -320,19 +324,17 @@ pub(super) fn draw_reference_labels<'a, DB: DrawingBackend + 'a, X: Axis, Y: Axi
         } else {
             (legend_edge, legend_edge + w)
         });
-        let (xb, above) = hline_label_place(v, w, th, beside, &cost);
+        let (at, xb, above) = hline_label_place(v, w, th, beside, &cost);
         placed
             .borrow_mut()
             .push((xb, if above { (v, v + th) } else { (v - th, v) }));
         // Anchored at a side of the plot, offset in pixels to the box's outer edge.
-        let (x, dx, hp) = if xb.1 >= 1.0 - 1e-12 {
-            (prep.x.1, -gap, HPos::Right)
-        } else if xb.0 <= 1e-12 {
-            (prep.x.0, gap, HPos::Left)
-        } else if legend_right {
-            (prep.x.1, -((legend_edge * pw) as i32), HPos::Right)
-        } else {
-            (prep.x.0, (legend_edge * pw) as i32, HPos::Left)
+        let edge = (legend_edge * pw) as i32;
+        let (x, dx, hp) = match at {
+            LabelAt::RightEnd => (prep.x.1, -gap, HPos::Right),
+            LabelAt::LeftEnd => (prep.x.0, gap, HPos::Left),
+            LabelAt::BesideLegend if legend_right => (prep.x.1, -edge, HPos::Right),
+            LabelAt::BesideLegend => (prep.x.0, edge, HPos::Left),
         };
         let (dy, vp) = if above {
             (-gap / 2, VPos::Bottom)
@@ -408,9 +410,12 @@ mod tests {
                 .map(|k| (x0 + (x1 - x0) * k as f64 / 50.0, y))
                 .collect()
         };
-        let (right, left) = ((1.0 - w, 1.0), (0.0, w));
+        let right = (LabelAt::RightEnd, (1.0 - w, 1.0));
+        let left = (LabelAt::LeftEnd, (0.0, w));
         let place = |pts: Vec<(f64, f64)>| {
-            hline_label_place(v, w, th, None, &|x, y| (false, samples_in(&pts, x, y)))
+            let (at, x, up) =
+                hline_label_place(v, w, th, None, &|x, y| (false, samples_in(&pts, x, y)));
+            ((at, x), up)
         };
         assert_eq!(place(vec![]), (right, true));
         assert_eq!(place(line(0.6, 1.0, 0.52)), (left, true));
@@ -421,7 +426,7 @@ mod tests {
         let legend_right_above = |x: (f64, f64), y: (f64, f64)| (x.1 > 0.9 && y.0 >= v, 0);
         assert_eq!(
             hline_label_place(v, w, th, None, &legend_right_above),
-            (left, true)
+            (left.0, left.1, true)
         );
         // A legend over the right end, data over the left end: beside the legend, where
         // nothing runs (the contact benchmark's leaderboard).
@@ -434,7 +439,7 @@ mod tests {
         };
         assert_eq!(
             hline_label_place(v, w, th, Some(beside), &legend_right),
-            (beside, true)
+            (LabelAt::BesideLegend, beside, true)
         );
         // Where an end is free, it is kept over the place beside the legend.
         assert_eq!(
@@ -442,7 +447,7 @@ mod tests {
                 false,
                 samples_in(&both, x, y)
             )),
-            (right, false)
+            (right.0, right.1, false)
         );
     }
 

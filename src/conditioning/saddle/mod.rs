@@ -63,16 +63,18 @@
 //! inertia brackets of the search are reported instead, with `CondReport::bounds_proven =
 //! false`; their target width is `max(1e-11, 64·ε_mach·cond₂)`.
 //!
-//! **Order.** The proof is tried first from the Lanczos estimates alone (σ_max = λ_max; the
-//! −A⁻¹ run only where λ⁺_min lies above s₀); the inertia searches that give the unproven
-//! brackets run only where it fails or leaves σ_max wider than the bracket width wanted
-//! (−λ_min above λ_max, clustered spectra). The λ_max and λ⁺_min runs start from K's Ritz
+//! **Order.** Where K's factor is simplicial (it has an LDLᵀ), the proof is tried first from
+//! the Lanczos estimates alone (σ_max = λ_max; the −A⁻¹ run only where λ⁺_min lies above s₀);
+//! the inertia searches that give the unproven brackets run only where it fails or leaves
+//! σ_max wider than the bracket width wanted (−λ_min above λ_max, clustered spectra), and
+//! always on a supernodal factor. The λ_max and λ⁺_min runs start from K's Ritz
 //! vectors where the caller has them ([`cond2_saddle_warm`]).
 //!
 //! Cost: one Cholesky of K_FF, Lanczos products and solves (O(nnz) and O(nnz of the factor)
 //! each), 3–4 shifted factorizations for the proof (2–4 more per end for the searches where
 //! they run); memory O(nnz of the factor).
-//! Use it for the `lagrange` system of a sparse K (the metrics pick it automatically).
+//! Use it for the `lagrange` system of any symmetric K (the metrics pick it automatically,
+//! a dense K in compressed columns).
 
 use super::certify::{self, Margin};
 use super::sparse::{
@@ -534,9 +536,8 @@ impl SaddleRun<'_> {
         // gives `#{λ ≤ −lo⁻} ≥ m`: no eigenvalue in (−lo⁻, lo⁺), σ_min ≥ min(lo⁺, lo⁻); without
         // it, lo⁺ with t as above. Else verified Cholesky tests of H(s) stepping down from the
         // estimate (first order: Lemma 1's margin times cond₂).
-        let xs = std::mem::take(&mut x_hats);
-        let temple_pos = xs.first().and_then(|x| self.side_lower(1.0, x, max_hi));
-        let temple = match (temple_pos, xs.get(1)) {
+        let temple_pos = x_hats.first().and_then(|x| self.side_lower(1.0, x, max_hi));
+        let temple = match (temple_pos, x_hats.get(1)) {
             (Some(lo), Some(x)) => self.side_lower(-1.0, x, max_hi).map(|l| lo.min(l)),
             (Some(lo), None) => Some(floor(&mut self.shifts, lo)),
             (None, _) => None,
@@ -648,18 +649,27 @@ impl BlockInverse<'_> {
     }
 }
 
+/// `mask[i]` = whether DOF i is among `dofs` (N = `n`); `Err(d)` for the first DOF d that is
+/// out of range or repeated (the callers word the error).
+pub(crate) fn dof_mask(n: usize, dofs: &[usize]) -> std::result::Result<Vec<bool>, usize> {
+    let mut mask = vec![false; n];
+    for &d in dofs {
+        if d >= n || std::mem::replace(&mut mask[d], true) {
+            return Err(d);
+        }
+    }
+    Ok(mask)
+}
+
 /// The mask of the constrained DOFs B; errors on a repeated or out-of-range DOF and unless
 /// 0 < m < N.
 fn constrained_mask(n: usize, dofs: &[usize]) -> Result<Vec<bool>> {
     let m = dofs.len();
-    let mut in_b = vec![false; n];
-    for &d in dofs {
-        if d >= n || std::mem::replace(&mut in_b[d], true) {
-            return Err(Error::input(format!(
-                "saddle-point cond₂: constraint DOF {d} repeated or out of range (N = {n})"
-            )));
-        }
-    }
+    let in_b = dof_mask(n, dofs).map_err(|d| {
+        Error::input(format!(
+            "saddle-point cond₂: constraint DOF {d} repeated or out of range (N = {n})"
+        ))
+    })?;
     if m == 0 || m >= n {
         return Err(Error::input(format!(
             "saddle-point cond₂ needs 0 < m < N (m = {m}, N = {n})"
