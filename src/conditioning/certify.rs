@@ -417,6 +417,28 @@ pub(crate) fn rayleigh_interval(
     (lo > 0.0 && hi.is_finite() && den > 0.0).then_some((lo, hi))
 }
 
+/// [`rayleigh_interval`] to the u² level: `−Ay` by compensated dot products
+/// ([`residual_dot2`] with c = 0, each entry within `e_j` of the exact one), then
+/// `yᵀAy ∈ −[Σ_j y_j r̂_j] ± Σ_j |y_j| e_j` and `yᵀy` by [`dot_interval`] (double-double). For
+/// the top of a spectrum where the plain bound (`≈ (n + k)·u` relative) is wider than the
+/// bracket wanted; ≈ 3 products' work. None unless the numerator is certainly positive.
+pub(crate) fn rayleigh_interval_dot2(
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+    values: &[f64],
+    y: &[f64],
+) -> Option<(f64, f64)> {
+    let zero = vec![0.0; y.len()];
+    let (r, e): (Vec<f64>, Vec<f64>) = residual_dot2(pattern, values, y, 0.0, &zero)
+        .into_iter()
+        .unzip();
+    let rerr = up(y.iter().zip(&e).map(|(a, b)| a.abs() * b).sum::<f64>()) * (1.0 + gamma(y.len()));
+    let (lo_r, hi_r) = dot_interval(y, &r);
+    let (num_lo, num_hi) = (down(-hi_r - rerr), up(-lo_r + rerr));
+    let (yy_lo, yy_hi) = dot_interval(y, y);
+    (num_lo > 0.0 && yy_lo > 0.0 && num_hi.is_finite())
+        .then(|| (down(num_lo / yy_hi), up(num_hi / yy_lo)))
+}
+
 #[cfg(test)]
 pub(crate) mod tests {
     use super::*;

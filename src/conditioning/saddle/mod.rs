@@ -54,8 +54,17 @@
 //! `|λ⁻_max| ≥ lo⁻` leave no eigenvalue in (−lo⁻, lo⁺), so σ_min ≥ min(lo⁺, lo⁻)
 //! (`SaddleRun::side_lower`; with s₀, or an inertia test of `H(−lo⁺)`, in place of lo⁻ where
 //! the −A⁻¹ run was not needed). On the beams' graded saddle points this takes the bracket
-//! from 1e-9–1e-6 to ≈ 1e-13. Where Temple's bound is not had (supernodal factor, no test
-//! isolating one eigenvalue, clustered eigenvalues as on the elasticity scenes): σ_min ≥ s
+//! from 1e-9–1e-6 to ≈ 1e-13. Where the negative side's bound misses the bracket width
+//! wanted (clustered negative eigenvalues, as on the elasticity scenes, where no inertia test
+//! isolates one), |λ⁻_max| is bracketed through the Schur complement of K onto B
+//! ([`schur`]: the root of `s·λ_max(S_B(s)) = 1`, m×m dense eigenproblems with their rounding
+//! bounded, a few units of rounding wide), and σ_min ≥ min(p, lo⁻) with p from Temple or a
+//! verified `H(p) ≻ 0` placed above the negative side (`SaddleRun::schur_floor`); 0.48 → 9e-14
+//! on the quad block. σ_max's upper end, with a simplicial factor, comes from tests at the
+//! estimate itself judged by their factors' own margins (Lemmas 7a and 7,
+//! `Shifts::tested_margin`), its lower end from a compensated Rayleigh quotient where the
+//! plain one is wider than 2.5e-13. Where neither Temple nor the Schur complement gives a
+//! bound (supernodal factor, m or N·m above [`schur`]'s limits): σ_min ≥ s
 //! once `H(s) ≻ 0` is verified, since then σ_min ≥ min(s, t) with t = s₀ or, where s lies
 //! above s₀, t from an LDLᵀ inertia test of `H(−s)` with exactly m negative pivots
 //! (`Shifts::no_eigenvalue_above`; a simplicial factor of K). Where that bracket would leave cond₂ uncertain by more than a
@@ -87,6 +96,7 @@ use crate::linalg::{symmetric_matvec, DiagonalPattern, SparseLlt};
 use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 use faer::Side;
 
+pub mod schur;
 mod shifts;
 use shifts::Shifts;
 
@@ -149,6 +159,7 @@ pub fn cond2_saddle_warm(
         bottom_vectors: Vec::new(),
         positive: None,
         negative: None,
+        negative_value: None,
         starts: starts
             .filter(|s| s.top.len() == n && s.bottom.len() == n)
             .map(|s| {
@@ -216,7 +227,13 @@ pub fn cond2_saddle_warm(
         .estimate
         .max(top.bracket.0)
         .clamp(sigma_max.0, sigma_max.1);
-    let smin = bottom.estimate.clamp(sigma_min.0, sigma_min.1);
+    // |λ⁻_max| from the Schur complement where it ran: converged to rounding where the −A⁻¹
+    // run stops short in a cluster.
+    let estimate = match run.negative_value {
+        Some(v) => run.positive.map_or(v, |(p, _)| p.min(v)),
+        None => bottom.estimate,
+    };
+    let smin = estimate.clamp(sigma_min.0, sigma_min.1);
     Ok(CondReport::with_certificate(
         smax,
         smin,
@@ -277,6 +294,8 @@ struct SaddleRun<'a> {
     negative: Option<(f64, Option<f64>)>,
     /// Warm starts of the λ_max and λ⁺_min runs: K's Ritz vectors padded to N + m.
     starts: Option<(Vec<f64>, Vec<f64>)>,
+    /// |λ⁻_max| by the Schur complement's Newton steps, where they ran ([`schur`]).
+    negative_value: Option<f64>,
 }
 
 impl SaddleRun<'_> {
@@ -385,9 +404,17 @@ impl SaddleRun<'_> {
         let keep = self.size <= RITZ_VECTOR_MAX_N;
         let (theta, vector) = self.top(1.0, keep)?;
         let lmax_est = usable("λ_max", theta)?;
-        let top_rq = vector
-            .as_deref()
-            .and_then(|y| rayleigh_interval(self.a_pattern.as_ref(), &self.a_values, y));
+        // The plain interval (≈ (n + k)·u wide), compensated where that exceeds a quarter of
+        // the contract's floor of 1e-12.
+        let top_rq = vector.as_deref().and_then(|y| {
+            let plain = rayleigh_interval(self.a_pattern.as_ref(), &self.a_values, y)?;
+            if plain.1 / plain.0 - 1.0 <= 2.5e-13 {
+                return Some(plain);
+            }
+            certify::rayleigh_interval_dot2(self.a_pattern.as_ref(), &self.a_values, y)
+                .map(|(lo, hi)| (lo.max(plain.0), hi.min(plain.1)))
+                .or(Some(plain))
+        });
         let lo = top_rq.map_or(0.0, |(lo, _)| lo);
         Ok(End {
             bracket: (lo, lmax_est.max(lo)),
@@ -478,6 +505,52 @@ impl SaddleRun<'_> {
         })
     }
 
+    /// σ_min from below with the negative side bracketed through the Schur complement onto B
+    /// ([`schur`]): `(min(p, lo⁻), hi⁻)` where `|λ⁻_max| ∈ [lo⁻, hi⁻]` and p proves
+    /// `#{λ < p} ≤ m` — Temple's `lo⁺` where it was had, else a verified `H(p) ≻ 0`, placed
+    /// at 2·hi⁻ where λ⁺_min is estimated above 4·hi⁻ (so that p ≥ lo⁻), else stepping down
+    /// from λ⁺_min's estimate. Either proves K_FF ≻ 0 (`H(p)`'s F block is `K_FF − pI`),
+    /// which Lemma S2 assumes with λ_min(K_FF) ≥ 0. The Newton value of |λ⁻_max| is kept as
+    /// its estimate. None where the sizes exceed schur's limits or a step fails.
+    fn schur_floor(
+        &mut self,
+        temple_pos: Option<f64>,
+        tol: f64,
+        margin: Margin,
+    ) -> Option<(f64, f64)> {
+        let neg_est = self.negative.map(|(t, _)| t);
+        let pos_est = self.positive?.0;
+        let (kff, dofs) = (self.inverse.kff, self.inverse.dofs);
+        let nb = schur::negative_bracket(
+            &mut self.shifts,
+            kff,
+            dofs,
+            neg_est,
+            0.0,
+            0.25 * tol.min(1e-12),
+        )?;
+        let shifts = &mut self.shifts;
+        let p = match temple_pos {
+            Some(lo) => lo,
+            None => {
+                let s = 2.0 * nb.hi;
+                if pos_est > 4.0 * nb.hi && shifts.verified_pd(1.0, -s, 1.0 / s, margin) {
+                    s
+                } else {
+                    certify::step_outwards((4.0 * f64::EPSILON).max(0.25 * tol), |w, _| {
+                        let s = pos_est * (1.0 - w);
+                        (s > 0.0 && shifts.verified_pd(1.0, -s, 1.0 / s, margin)).then_some(s)
+                    })?
+                }
+            }
+        };
+        if p.is_nan() || p <= 0.0 {
+            return None;
+        }
+        self.negative_value = Some(nb.value);
+        Some((p.min(nb.lo), nb.hi))
+    }
+
     /// The proven brackets (certify) of σ_max and σ_min, where they pin cond₂ within a factor
     /// of 2: σ_max ≥ |ρ(y_top)| and σ_max < s once both −H(s) ≻ 0 and H(−s) ≻ 0 are
     /// verified; σ_min ≤ ‖Ax̂‖/‖x̂‖ for x̂ = A⁻¹y (y a Ritz vector of A⁻¹), and σ_min ≥ s once
@@ -500,12 +573,28 @@ impl SaddleRun<'_> {
             .map_or(0.0, |(lo, _)| lo)
             .max(pattern.max_diagonal());
         let shifts = &mut self.shifts;
-        let max_hi = certify::step_outwards((4.0 * margin.m).max(4.0 * f64::EPSILON), |w, _| {
-            let s = smax_est * (1.0 + w);
-            (shifts.verified_pd(-1.0, s, -1.0 / s, margin)
-                && shifts.verified_pd(1.0, s, -1.0 / s, margin))
-            .then_some(s)
-        })
+        // With a simplicial factor, tests at σ_max's estimate itself, judged by their factors'
+        // own margins (Lemma 7a): `−H(s) + cI ⪰ 0` gives `−H(s + c) ⪰ 0` (its B entries
+        // `−1/(s + c) ≥ −1/s`), so λ_max ≤ s + c, and `H(−s) + cI ⪰ 0` likewise λ_min ≥ −(s + c).
+        // Else verified tests with Lemma 1's margin (first order in the factor's size).
+        let max_hi = if pattern.has_ldlt() {
+            // Each test's margin is wanted below 2.5e-13·s (a quarter of the contract's floor;
+            // Lemma 7's residual where Lemma 7a misses it).
+            certify::step_outwards_by(16.0 * f64::EPSILON, 4.0, |w, _| {
+                let s = smax_est * (1.0 + w);
+                let need = 2.5e-13 * s;
+                let c1 = shifts.tested_margin(-1.0, s, -1.0 / s, margin, need)?;
+                let c2 = shifts.tested_margin(1.0, s, -1.0 / s, margin, need)?;
+                Some(certify::up(s + c1.max(c2)))
+            })
+        } else {
+            certify::step_outwards((4.0 * margin.m).max(4.0 * f64::EPSILON), |w, _| {
+                let s = smax_est * (1.0 + w);
+                (shifts.verified_pd(-1.0, s, -1.0 / s, margin)
+                    && shifts.verified_pd(1.0, s, -1.0 / s, margin))
+                .then_some(s)
+            })
+        }
         .unwrap_or(f64::INFINITY);
         let mut min_hi = f64::INFINITY;
         let mut x_hats = Vec::new();
@@ -541,6 +630,18 @@ impl SaddleRun<'_> {
             (Some(lo), Some(x)) => self.side_lower(-1.0, x, max_hi).map(|l| lo.min(l)),
             (Some(lo), None) => Some(floor(&mut self.shifts, lo)),
             (None, _) => None,
+        };
+        // Where Temple's bounds miss the bracket width wanted (clustered negative
+        // eigenvalues), the negative side through the Schur complement onto B (schur).
+        let temple = match temple {
+            Some(lo) if min_hi / lo - 1.0 <= bottom.tol => Some(lo),
+            _ => match self.schur_floor(temple_pos, bottom.tol, margin) {
+                Some((lo, hi)) => {
+                    min_hi = min_hi.min(hi);
+                    Some(temple.map_or(lo, |t| t.max(lo)))
+                }
+                None => temple,
+            },
         };
         let shifts = &mut self.shifts;
         let min_lo = match temple {
@@ -681,18 +782,27 @@ fn constrained_mask(n: usize, dofs: &[usize]) -> Result<Vec<bool>> {
 /// Cholesky of K_FF, stored as K with the rows and columns of B replaced by the identity (for
 /// the block elimination behind A⁻¹); errors when K_FF is not positive definite.
 fn free_block_factor(pattern: &DiagonalPattern, in_b: &[bool]) -> Result<SparseLlt> {
-    let (cp, ri) = (pattern.pattern.col_ptr(), pattern.pattern.row_idx());
-    let mut vff = pattern.values.clone();
-    for j in 0..in_b.len() {
-        for p in cp[j]..cp[j + 1] {
-            if in_b[ri[p]] || in_b[j] {
-                vff[p] = if ri[p] == j { 1.0 } else { 0.0 };
-            }
-        }
-    }
+    let mut vff = Vec::new();
+    free_block_values(pattern, in_b, 0.0, &mut vff);
     pattern.factor(&vff).ok_or_else(|| {
         Error::singular("saddle-point matrix is singular: K without the constrained DOFs is not positive definite")
     })
+}
+
+/// `K_FF + sI` on K's pattern with the rows and columns of B replaced by the identity.
+fn free_block_values(pattern: &DiagonalPattern, in_b: &[bool], s: f64, out: &mut Vec<f64>) {
+    let (cp, ri) = (pattern.pattern.col_ptr(), pattern.pattern.row_idx());
+    out.clear();
+    out.extend_from_slice(&pattern.values);
+    for j in 0..in_b.len() {
+        for p in cp[j]..cp[j + 1] {
+            if in_b[ri[p]] || in_b[j] {
+                out[p] = if ri[p] == j { 1.0 } else { 0.0 };
+            } else if ri[p] == j {
+                out[p] += s;
+            }
+        }
+    }
 }
 
 /// Gershgorin upper bound of the principal submatrix K_BB.

@@ -54,6 +54,52 @@ impl Shifts<'_> {
         self.is_pd(alpha, sigma - c, beta)
     }
 
+    /// A posteriori [`Shifts::verified_pd`]: Cholesky of `T̃ = fl(αK + σI + β1_B)` itself;
+    /// where it succeeds, `c` with `T ⪰ −c·I` for the exact T: `xᵀT̃x ≥ −m Σ_i t̃_ii x_i²` with
+    /// m the smaller of Lemma 1's and the factor's own (`certify::factor_margin`, Lemma 7a;
+    /// where `m·max_i t̃_ii` exceeds `need`, also Lemma 7's residual margin), plus the diagonal's formation (≤ 6u·max_i(|αk_ii| + |σ| + |β|)). So `T + cI ⪰ 0`: for
+    /// `T = ∓H(±s)` that moves the tested end of A's spectrum by at most c (`proven`).
+    /// Simplicial factors only (Lemma 7a reads the factor in compressed columns); None where
+    /// the Cholesky fails or the factor is supernodal.
+    pub(super) fn tested_margin(
+        &mut self,
+        alpha: f64,
+        sigma: f64,
+        beta: f64,
+        margin: Margin,
+        need: f64,
+    ) -> Option<f64> {
+        if !self.pattern.has_ldlt() {
+            return None;
+        }
+        let max_e = self
+            .pattern
+            .fill_shifted(&mut self.work, alpha, sigma, beta, Some(self.in_b));
+        self.factorizations += 1;
+        let f = self.pattern.factor(&self.work)?;
+        let stored: Vec<f64> = self.pattern.diag.iter().map(|&p| self.work[p]).collect();
+        let max_b = stored.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        if !(max_b > 0.0 && max_b.is_finite()) {
+            return None;
+        }
+        let lower = f.lower_factor();
+        let mut m = certify::factor_margin(&lower, &stored).map_or(margin.m, |m| m.min(margin.m));
+        if m * max_b > need {
+            // Lemma 7 on the stored T̃ itself (α = 1, σ = 0: T̃ exactly as factored).
+            if let Some(p) = certify::posterior_margin(
+                &lower,
+                self.pattern.pattern.as_ref(),
+                &self.work,
+                1.0,
+                0.0,
+            ) {
+                m = m.min(p);
+            }
+        }
+        let c = (m * max_b + 6.0 * certify::U * max_e) * (1.0 + 16.0 * certify::U);
+        c.is_finite().then_some(c)
+    }
+
     /// An LDLᵀ inertia test of `T = K + σI + β1_B` (`temple`'s Lemma 8, normwise): the
     /// number of negative pivots of the LDLᵀ of `fl(T)` and η with `L̂D̂L̂ᵀ = T + F`,
     /// `‖F‖₂ ≤ η` (the Collatz–Wielandt bound of `γ|L̂||D̂||L̂ᵀ|`, `residual::perron_bound`,
