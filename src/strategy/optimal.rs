@@ -42,7 +42,8 @@
 //!   (F = the unconstrained DOFs): `λ_max(K + DEDᵀ) ≥ λ_max(K)` since DEDᵀ ⪰ 0, and the
 //!   eigenvector of `K_FF` padded with zeros on the constrained DOFs has Rayleigh quotient
 //!   `λ_min(K_FF)` for every E, so `λ_min(K + DEDᵀ) ≤ λ_min(K_FF)`. It holds for any penalties,
-//!   feasible or not.
+//!   feasible or not. [`cond2_lower_bound`] computes it from the certified cond₂ routes at any
+//!   size (`contact_bench` reports it for every mesh: the floor no penalty rule goes below).
 //!
 //! # Limits
 //! Dense eigendecompositions of the n×n system at every evaluation: n ≤ [`MAX_N`],
@@ -83,7 +84,7 @@
 use super::{fixed_energy, Context, Glyph, Knob, Knobs, Method, Solution, Strategy};
 use crate::conditioning;
 use crate::error::{Error, Result};
-use crate::system::{ConstraintKind, Problem};
+use crate::system::{ConstraintKind, Problem, Stiffness};
 use faer::{Mat, Side};
 use serde::Serialize;
 
@@ -168,27 +169,53 @@ pub fn check_affordable(problem: &Problem) -> Result<()> {
 }
 
 /// Certified lower bound `λ_max(K) / λ_min(K_FF)` of cond₂(K + DEDᵀ) over all E ≥ 0 (module
-/// docs); 1 when every DOF is constrained.
+/// docs), from the proven brackets of the certified cond₂ routes ([`conditioning::cond2`]
+/// on K and on K_FF, any size, sparse or dense): the lower end of λ_max(K)'s bracket over
+/// the upper end of λ_min(K_FF)'s, rounded down. 1 when every DOF is constrained; +∞ when
+/// K_FF is not positive definite (every K + DEDᵀ is then singular). K symmetric positive
+/// definite (errors otherwise).
 pub fn cond2_lower_bound(problem: &Problem) -> Result<f64> {
-    let k = problem.k.to_dense();
     let n = problem.n();
-    let mut constrained = vec![false; n];
+    let mut index = vec![usize::MAX; n];
     for c in &problem.constraints {
-        constrained[c.dof] = true;
+        index[c.dof] = 0;
     }
-    let free: Vec<usize> = (0..n).filter(|&i| !constrained[i]).collect();
-    let eig = |a: faer::MatRef<'_, f64>| {
-        a.self_adjoint_eigenvalues(Side::Lower)
-            .map_err(|e| Error::Numerical(format!("symmetric eigenvalues failed: {e:?}")))
-    };
-    let lmax = eig(k.as_ref())?.last().copied().unwrap_or(0.0);
-    if free.is_empty() {
+    let mut free = 0usize;
+    for i in index.iter_mut() {
+        if *i == usize::MAX {
+            *i = free;
+            free += 1;
+        } else {
+            *i = usize::MAX;
+        }
+    }
+    if free == 0 {
         return Ok(1.0);
     }
-    let kff = Mat::from_fn(free.len(), free.len(), |i, j| k[(free[i], free[j])]);
-    let lmin_ff = eig(kff.as_ref())?[0];
-    Ok(if lmin_ff > 0.0 {
-        (lmax / lmin_ff).max(1.0)
+    let mut t = Vec::new();
+    problem.k.for_each_entry(|i, j, v| {
+        if index[i] != usize::MAX && index[j] != usize::MAX {
+            t.push((index[i], index[j], v));
+        }
+    });
+    let kff = Stiffness::from_triplets(free, &t)?.in_preferred_storage();
+    let top = conditioning::cond2(&problem.k)?;
+    let bottom = match conditioning::cond2(&kff) {
+        Ok(r) => r,
+        Err(Error::Singular(_)) => return Ok(f64::INFINITY),
+        Err(e) => return Err(e),
+    };
+    // The proven ends where the route proves them, else its estimates.
+    let lmax = top
+        .certificate
+        .filter(|_| top.bounds_proven)
+        .map_or(top.sigma_max, |c| c.lambda_max_lo);
+    let lmin = bottom
+        .certificate
+        .filter(|_| bottom.bounds_proven)
+        .map_or(bottom.sigma_min, |c| c.lambda_min_hi);
+    Ok(if lmin > 0.0 {
+        (lmax / lmin * (1.0 - 4.0 * f64::EPSILON)).max(1.0)
     } else {
         f64::INFINITY
     })

@@ -3,20 +3,24 @@
 //! for, computed by the library's study.
 
 use penalty_lab::progress::Progress;
-use penalty_lab::study::contact_bench::{self, BenchConfig, BenchRow};
+use penalty_lab::study::contact_bench::{self, analytic::Case, BenchConfig, BenchRun};
 
-fn suite() -> Vec<BenchRow> {
-    let cfg = BenchConfig {
+fn config() -> BenchConfig {
+    BenchConfig {
         methods: vec!["lagrange".into(), "condensed".into()],
         deltas_rel: vec![1e-3, 1e-5],
         ..BenchConfig::default()
-    };
-    contact_bench::run(&cfg, &Progress::quiet()).unwrap().rows
+    }
+}
+
+fn suite() -> BenchRun {
+    contact_bench::run(&config(), &Progress::quiet()).unwrap()
 }
 
 #[test]
 fn hertz_and_patch_match_the_analytic_solutions() {
-    let rows = suite();
+    let run = suite();
+    let rows = run.rows;
     assert!(
         rows.iter().all(|r| r.error.is_empty()),
         "every solve succeeds"
@@ -77,4 +81,63 @@ fn hertz_and_patch_match_the_analytic_solutions() {
             r.p_err_rel
         );
     }
+}
+
+/// The conditioning floor of each mesh (`optimal::cond2_lower_bound` from the certified
+/// routes) bounds every penalized system's cond₂ from below, and on the coarsest patch mesh
+/// (60 DOFs) it is λ_max(K)/λ_min(K_FF) as nalgebra's dense eigensolver gives it (error
+/// ≲ n·ε_mach·cond₂(K_FF) relative).
+#[test]
+fn every_penalized_system_is_above_its_floor() {
+    let run = contact_bench::run(
+        &BenchConfig {
+            cases: vec![Case::Patch, Case::HertzPlane],
+            meshes: vec![0.2],
+            ..config()
+        },
+        &Progress::quiet(),
+    )
+    .unwrap();
+    assert_eq!(run.floors.len(), 2);
+    for r in run.rows.iter().filter(|r| r.method != "lagrange") {
+        let floor = run
+            .floors
+            .iter()
+            .find(|f| f.case == r.case && f.h == r.h)
+            .expect("a floor per mesh")
+            .cond2_floor;
+        let c = r.cond2_system.expect("cond₂");
+        // cond₂ is reported to cond_tol.
+        assert!(
+            floor <= c * (1.0 + r.cond_tol),
+            "{} {:?}: {c:e} < {floor:e}",
+            r.case,
+            r.knob_rel
+        );
+    }
+    let cfg = config();
+    let grid = cfg.grid(Case::Patch, 0.2).unwrap();
+    let scene = cfg.scene(Case::Patch, &grid, 0.0).unwrap();
+    let p = &scene.problem;
+    let k = p.k.to_nalgebra();
+    let n = p.n();
+    let free: Vec<usize> = (0..n)
+        .filter(|i| !p.constraints.iter().any(|c| c.dof == *i))
+        .collect();
+    let kff = nalgebra::DMatrix::from_fn(free.len(), free.len(), |i, j| k[(free[i], free[j])]);
+    let lmax = k.symmetric_eigenvalues().max();
+    let ev = kff.symmetric_eigenvalues();
+    let lmin = ev.min();
+    let dense = lmax / lmin;
+    let floor = run
+        .floors
+        .iter()
+        .find(|f| f.case == "patch")
+        .unwrap()
+        .cond2_floor;
+    let tol = 16.0 * free.len() as f64 * f64::EPSILON * ev.max() / lmin;
+    assert!(
+        (floor / dense - 1.0).abs() <= tol,
+        "floor {floor:e}, dense {dense:e} (tol {tol:e})"
+    );
 }

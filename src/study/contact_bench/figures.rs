@@ -6,7 +6,7 @@
 //! - `leaderboard_<case>`: penalty error against cond₂ as each rule's knob moves, one panel
 //!   per mesh, the mesh's discretization error as a horizontal line.
 
-use super::{analytic::Case, rule_of, BenchRow, Leader, Summary};
+use super::{analytic::Case, rule_of, BenchRow, Summary};
 use crate::error::Result;
 use crate::plot::{render_panels, share_legend, Figure, Mark, Scale, Series};
 use crate::study::text::{fmt_e, table};
@@ -187,6 +187,14 @@ fn leaderboard_panels(s: &Summary, case: Case) -> Vec<Figure> {
         )
         .scales(Scale::Log10, Scale::Log10)
         .hline(first.err_discretization, "discretization error");
+        // The cond₂ no penalties can go below on this mesh (λ_max(K)/λ_min(K_FF)).
+        if let Some(fl) = s
+            .floors
+            .iter()
+            .find(|fl| fl.case == case.name() && fl.h == h && fl.cond2_floor.is_finite())
+        {
+            f = f.vline(fl.cond2_floor, "floor");
+        }
         for rule in rules(&s.rows) {
             if rule == "lagrange" {
                 continue;
@@ -278,6 +286,7 @@ pub fn tables(s: &Summary) -> String {
                     "—".into()
                 },
                 r.cond2_system.map_or("—".into(), |c| fmt_e(c, 3)),
+                floor_of(s, &r.case, r.h).map_or("—".into(), |c| fmt_e(c, 3)),
             ]
         })
         .collect();
@@ -291,9 +300,10 @@ pub fn tables(s: &Summary) -> String {
             "L2 error",
             "spread",
             "cond₂",
+            "penalty floor",
         ],
         &lag,
-        &[false, true, true, true, true, true, true, true],
+        &[false, true, true, true, true, true, true, true, true],
     ));
     for (case, rate) in &s.rates {
         out.push_str(&format!(
@@ -304,12 +314,21 @@ pub fn tables(s: &Summary) -> String {
     out.push_str(
         "\nLeaderboard: cheapest knob with penalty error below the discretization error\n",
     );
-    out.push_str(&leader_table(&s.leaderboard));
+    out.push_str(&leader_table(s));
     out
 }
 
-fn leader_table(leaders: &[Leader]) -> String {
-    let rows: Vec<Vec<String>> = leaders
+/// The mesh's conditioning floor ([`super::Floor`]), where the summary has one.
+fn floor_of(s: &Summary, case: &str, h: f64) -> Option<f64> {
+    s.floors
+        .iter()
+        .find(|f| f.case == case && f.h == h)
+        .map(|f| f.cond2_floor)
+}
+
+fn leader_table(s: &Summary) -> String {
+    let rows: Vec<Vec<String>> = s
+        .leaderboard
         .iter()
         .filter(|l| l.rule != "lagrange")
         .map(|l| {
@@ -323,6 +342,10 @@ fn leader_table(leaders: &[Leader]) -> String {
                     (None, _) => "none below".into(),
                 },
                 l.cond2_system.map_or("—".into(), |c| fmt_e(c, 3)),
+                match (l.cond2_system, floor_of(s, &l.case, l.h)) {
+                    (Some(c), Some(f)) if f.is_finite() => format!("{:.3}", c / f),
+                    _ => "—".into(),
+                },
                 l.err_penalty.map_or("—".into(), |e| fmt_e(e, 2)),
                 fmt_e(l.err_discretization, 2),
             ]
@@ -335,10 +358,11 @@ fn leader_table(leaders: &[Leader]) -> String {
             "rule",
             "cheapest knob",
             "cond₂",
+            "/ floor",
             "penalty err",
             "discr. err",
         ],
         &rows,
-        &[false, true, false, true, true, true, true],
+        &[false, true, false, true, true, true, true, true],
     )
 }

@@ -14,7 +14,8 @@
 //!
 //! The **leaderboard** ([`leaderboard`]) answers "how much penalty is enough": per rule and
 //! mesh, the knob value with the smallest cond₂ among those whose penalty error is below the
-//! mesh's discretization error.
+//! mesh's discretization error; each mesh's [`Floor`] says how far below that any penalties
+//! could go.
 
 pub mod analytic;
 pub mod figures;
@@ -299,13 +300,31 @@ pub struct Profile {
     pub p: Vec<f64>,
 }
 
-/// What [`run`] returns: the rows and the pressure profiles of the finest meshes.
+/// The conditioning floor of one mesh: no penalties on its contact DOFs give a system matrix
+/// better conditioned than `cond2_floor` ([`strategy::optimal::cond2_lower_bound`]:
+/// `λ_max(K)/λ_min(K_FF)`, F the DOFs without a contact constraint, from proven brackets).
+#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
+pub struct Floor {
+    /// Case.
+    pub case: String,
+    /// Element size at the contact.
+    pub h: f64,
+    /// Free DOFs.
+    pub n_dofs: usize,
+    /// The certified lower bound of cond₂(K + DEDᵀ) over every E ≥ 0.
+    pub cond2_floor: f64,
+}
+
+/// What [`run`] returns: the rows, the pressure profiles of the finest meshes and each mesh's
+/// conditioning floor.
 #[derive(Clone, Debug, Default)]
 pub struct BenchRun {
     /// One per (case, method, knob, mesh).
     pub rows: Vec<BenchRow>,
     /// One per (case, rule, knob) on the case's finest mesh.
     pub profiles: Vec<Profile>,
+    /// One per (case, mesh).
+    pub floors: Vec<Floor>,
 }
 
 /// One method at one knob value.
@@ -514,6 +533,13 @@ pub fn run(cfg: &BenchConfig, progress: &Progress) -> Result<BenchRun> {
             };
             let lag = solve_at_load(cfg, case, &grid, Method::lagrange(), load, guess, FORCE_TOL)?;
             let p_lag = lag.scene.pressures(&lag.sol.u);
+            // K and the contact DOFs do not depend on the lift: one floor per mesh.
+            out.floors.push(Floor {
+                case: case.name().into(),
+                h: h_rel * cfg.a_target,
+                n_dofs: lag.scene.n_free,
+                cond2_floor: strategy::optimal::cond2_lower_bound(&lag.scene.problem)?,
+            });
             let mesh = Mesh {
                 case,
                 grid: &grid,

@@ -1,7 +1,7 @@
 //! What the benchmark records: the leaderboard, the convergence rates, and the saved summary.
 
 use super::analytic::Case;
-use super::{BenchConfig, BenchRow, BenchRun, Profile, BLOCK_OVER_A, FINE_OVER_A, GROWTH};
+use super::{BenchConfig, BenchRow, BenchRun, Floor, Profile, BLOCK_OVER_A, FINE_OVER_A, GROWTH};
 use crate::error::{Error, Result};
 use crate::strategy;
 use serde::{Deserialize, Serialize};
@@ -113,6 +113,9 @@ pub struct Summary {
     pub rows: Vec<BenchRow>,
     /// Nodal pressures on each case's finest mesh.
     pub profiles: Vec<Profile>,
+    /// Per (case, mesh): the cond₂ no penalties can go below.
+    #[serde(default)]
+    pub floors: Vec<Floor>,
 }
 
 /// Writes `OUT/rows.csv` and `OUT/summary.json` (provenance, rates, leaderboard, rows).
@@ -131,6 +134,7 @@ pub fn save(out: &std::path::Path, cfg: &BenchConfig, run: &BenchRun) -> Result<
         leaderboard: leaderboard(rows),
         rows: rows.to_vec(),
         profiles: run.profiles.clone(),
+        floors: run.floors.clone(),
     };
     crate::provenance::write_csv(&out.join("rows.csv"), rows)?;
     crate::provenance::write_json(&out.join("summary.json"), &summary)?;
