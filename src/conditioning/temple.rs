@@ -31,6 +31,10 @@
 //! Lemma 5) and `‖Ŝx‖² ≤ xᵀAx/h`, `λ₂ ≥ τ/(1 + m'/h)` ([`lambda2_lower`]). The margin enters
 //! Theorem 9 only through δ, so a coarse bound costs little.
 //!
+//! **Lemma 10 (λ₂ by interlacing, for factors without an LDLᵀ).** A Cholesky test of A with
+//! one DOF pinned bounds λ₂ from below (Cauchy's interlacing; [`interlaced_lower`]): the
+//! supernodal factors of 10⁵–10⁶ unknowns get Temple's bound too.
+//!
 //! ρ², g and ‖x‖² are evaluated by compensated sums (Dot2, as Lemma 6) with their rounding
 //! bounded, every final operation rounded outwards.
 
@@ -159,7 +163,8 @@ pub const MAX_TESTS: usize = 4;
 
 /// λ₁ of the SPD A (`pattern` with its values) from below by Theorem 9 with `x ≈` its
 /// eigenvector, `theta ≈ λ₁` and `lambda2 ≈ λ₂`: LDLᵀ inertia tests of `fl(A − τI)` ([`FIRST_SHIFT`]) until
-/// one finds exactly one negative pivot (Lemma 8: `μ ≤ λ₂`), then Temple's bound. `h`: a
+/// one finds exactly one negative pivot (Lemma 8: `μ ≤ λ₂`), then Temple's bound; on a
+/// supernodal factor (no LDLᵀ) the gap comes from Lemma 10 ([`interlaced_lower`]). `h`: a
 /// proven lower bound of λ_min(Ŝ⁻¹AŜ⁻¹) where there is one. Returns the bound (None where no
 /// test found one negative pivot or the hypotheses failed) and the factorizations made.
 pub(crate) fn lambda_min_lower(
@@ -171,7 +176,7 @@ pub(crate) fn lambda_min_lower(
     h: Option<f64>,
 ) -> (Option<f64>, usize) {
     if !pattern.has_ldlt() {
-        return (None, 0);
+        return interlaced_lower(pattern, x, theta, h);
     }
     let max_s2 = up(s_hat.iter().fold(0.0f64, |m, s| m.max(s * s)));
     let mut buf = Vec::with_capacity(pattern.values.len());
@@ -199,6 +204,62 @@ pub(crate) fn lambda_min_lower(
             }
             k => f /= 2.0 * k as f64,
         }
+    }
+    (None, tests)
+}
+
+/// Shifts `τ = θ(1 + f)` of the interlacing test ([`interlaced_lower`]), smallest first: the
+/// pinned DOF's lowest eigenvalue lies above λ₁ by a fraction of the gap to λ₂ (≈ 1/ln N on a
+/// 2-D membrane), and Temple's loss `ρ²/(δ‖x‖²)` barely needs more than f = 1e-2.
+pub const INTERLACED_SHIFTS: [f64; 2] = [1e-2, 1e-3];
+
+/// λ₁ from below by Theorem 9 with its gap from **Lemma 10 (λ₂ by interlacing)**, for factors
+/// without an LDLᵀ (supernodal): let `A'` be A without row and column i. By Cauchy's
+/// interlacing theorem `λ₁(A') ≤ λ₂(A)`. `A_i`, A with row and column i replaced by
+/// `a_ii e_i` (off-diagonal entries 0, the same pattern and symbolic analysis), has the
+/// spectrum of A' and a_ii, so a Cholesky test of `fl(A_i − τI)` that succeeds proves
+/// `λ₂(A) ≥ λ₁(A') ≥ λ_min(A_i) ≥ μ` by certify's Corollary 3 or Theorem 4
+/// (`Margin::lower_from_test`; `Ŝ⁻¹A_iŜ⁻¹ = Ŝ'⁻¹A'Ŝ'⁻¹ ⊕ [1]`, whose λ_min is ≥ h by
+/// interlacing and h ≤ 1). i is the DOF where x is largest (pinning it lifts the lowest mode
+/// most). Returns the bound and the factorizations made.
+pub fn interlaced_lower(
+    pattern: &DiagonalPattern,
+    x: &[f64],
+    theta: f64,
+    h: Option<f64>,
+) -> (Option<f64>, usize) {
+    use super::certify::Margin;
+    let n = pattern.n();
+    if n < 2 || x.len() != n {
+        return (None, 0);
+    }
+    let i = (0..n).fold(0, |b, k| if x[k].abs() > x[b].abs() { k } else { b });
+    let margin = Margin::of(&pattern.symbolic);
+    let (cp, ri) = (pattern.pattern.col_ptr(), pattern.pattern.row_idx());
+    let mut buf = Vec::with_capacity(pattern.values.len());
+    let mut tests = 0;
+    for f in INTERLACED_SHIFTS {
+        let tau = theta * (1.0 + f);
+        pattern.fill_shifted(&mut buf, 1.0, -tau, 0.0, None);
+        for j in 0..n {
+            for p in cp[j]..cp[j + 1] {
+                if (j == i) != (ri[p] == i) {
+                    buf[p] = 0.0;
+                }
+            }
+        }
+        let max_b = pattern
+            .diag
+            .iter()
+            .map(|&p| buf[p])
+            .fold(f64::NEG_INFINITY, f64::max);
+        tests += 1;
+        if pattern.factor(&buf).is_none() {
+            continue;
+        }
+        let mu = margin.lower_from_test(tau, max_b, h);
+        let lower = temple_lower(pattern.pattern.as_ref(), &pattern.values, x, mu);
+        return (lower.filter(|&l| l > 0.0), tests);
     }
     (None, tests)
 }
@@ -337,6 +398,33 @@ mod tests {
             let lo = temple_lower(a.symbolic(), a.val(), &x, mu).unwrap();
             assert!(lo <= l1 + slack, "n {n}: {lo} > λ₁ {l1}");
             assert!(l1 - lo <= 1e-12 * l1 + slack, "n {n}: {lo} vs λ₁ {l1}");
+        }
+    }
+
+    /// Lemma 10 on the second difference: pinning the DOF where the lowest mode is largest
+    /// lifts it far enough for the first shift, and Temple's bound from the perturbed
+    /// eigenvector lies below λ₁ and within the square of the perturbation of it.
+    #[test]
+    fn interlacing_gap_gives_a_second_order_bound() {
+        let n = 200;
+        let a = second_difference(n);
+        let pattern = DiagonalPattern::new(&a).unwrap();
+        let th = std::f64::consts::PI / (n as f64 + 1.0);
+        let lambda = |j: usize| 4.0 * (0.5 * j as f64 * th).sin().powi(2);
+        for eta in [1e-4, 1e-6] {
+            let x: Vec<f64> = (1..=n)
+                .map(|i| (i as f64 * th).sin() + eta * (2.0 * i as f64 * th).sin())
+                .collect();
+            let (lo, tests) = interlaced_lower(&pattern, &x, lambda(1), None);
+            let lo = lo.expect("a bound");
+            assert_eq!(tests, 1);
+            assert!(lo <= lambda(1), "η {eta}: {lo} > λ₁ {}", lambda(1));
+            // Loss ≈ η²(λ₂ − λ₁)²/(μ − λ₁) with μ − λ₁ ≈ 1e-2·λ₁.
+            let loss = eta * eta * (lambda(2) - lambda(1)).powi(2) / (1e-2 * lambda(1));
+            assert!(
+                lambda(1) - lo <= 4.0 * loss + 1e-12 * lambda(1),
+                "η {eta}: {lo}"
+            );
         }
     }
 }
