@@ -470,11 +470,13 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
         _ => 1.0,
     };
     let target = width_target(tol, (est.inv_hmin_lo * hmax_lo).max(1.0));
-    // The top end's share of the target: a fifth, or half where Temple's bound (a few ε_mach
-    // wide) is expected to serve the bottom end.
-    let top_share = if fam.pattern.has_ldlt() { 0.5 } else { 0.2 };
+    // The top end's share of the target: half, Temple's bound (a few ε_mach wide; an LDLᵀ
+    // or, on supernodal factors, an interlacing test) being expected to serve the bottom end.
+    let top_share = 0.5;
     let top_need = 0.25 * top_share * target;
-    let top_posterior = margin.m > top_need && fam.posterior_ok;
+    // Tests placed for their own margins where one can be had: Lemma 7's residual up to
+    // POSTERIOR_MAX_PRODUCTS, Lemma 7a (the factor read in place) on supernodal factors above.
+    let top_posterior = margin.m > top_need && (fam.posterior_ok || !fam.pattern.has_ldlt());
     let w0 = if top_posterior {
         (0.5 * top_share * target).max(4.0 * f64::EPSILON)
     } else {

@@ -248,6 +248,66 @@ impl SparseLlt {
         }
     }
 
+    /// Visits L's columns in the permuted order in place: `f(n, fwd, columns)`, where
+    /// `columns(visit)` calls `visit(k, l_kk, rows, values)` for every column k with the
+    /// entries below its diagonal. A supernodal factor's columns are its supernodes' columns
+    /// (no copy of L); a simplicial one goes through [`SparseLlt::lower_factor`]. `fwd`: the
+    /// fill-reducing permutation (position → original index), None for the identity.
+    #[allow(clippy::type_complexity)]
+    pub fn with_columns<R>(
+        &self,
+        f: impl FnOnce(
+            usize,
+            Option<&[usize]>,
+            &dyn Fn(&mut dyn FnMut(usize, f64, &[usize], &[f64])),
+        ) -> R,
+    ) -> R {
+        let fwd = self.symbolic.perm().map(|p| p.arrays().0);
+        match self.symbolic.raw() {
+            SymbolicCholeskyRaw::Simplicial(_) => {
+                let l = self.lower_factor();
+                let n = l.col_ptr.len() - 1;
+                let columns = |visit: &mut dyn FnMut(usize, f64, &[usize], &[f64])| {
+                    for k in 0..n {
+                        let (a, b) = (l.col_ptr[k], l.col_ptr[k + 1]);
+                        visit(k, l.values[a], &l.row_idx[a + 1..b], &l.values[a + 1..b]);
+                    }
+                };
+                f(n, fwd, &columns)
+            }
+            SymbolicCholeskyRaw::Supernodal(s) => {
+                let l = faer::sparse::linalg::cholesky::supernodal::SupernodalLltRef::new(
+                    s,
+                    &self.values,
+                );
+                let columns = |visit: &mut dyn FnMut(usize, f64, &[usize], &[f64])| {
+                    let (mut rows, mut copy) = (Vec::new(), Vec::new());
+                    for k in 0..s.n_supernodes() {
+                        let node = l.supernode(k);
+                        let (start, v, below) = (node.start(), node.val(), node.pattern());
+                        let w = v.ncols();
+                        rows.clear();
+                        rows.extend(start..start + w);
+                        rows.extend_from_slice(below);
+                        for t in 0..w {
+                            let col = v.col(t);
+                            let vals: &[f64] = match col.try_as_col_major() {
+                                Some(c) => c.as_slice(),
+                                None => {
+                                    copy.clear();
+                                    copy.extend((0..col.nrows()).map(|i| col[i]));
+                                    &copy
+                                }
+                            };
+                            visit(start + t, vals[t], &rows[t + 1..], &vals[t + 1..]);
+                        }
+                    }
+                };
+                f(s.nrows(), fwd, &columns)
+            }
+        }
+    }
+
     /// Is the factor supernodal? faer chooses the supernodal structure where the
     /// factorization costs more than 40 flops per entry of L; below that (simplicial), one
     /// numeric factorization costs only a few solves with the factor (Σ c_j² against
