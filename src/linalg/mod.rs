@@ -17,13 +17,15 @@
 //! (`pivot ≤ ε_mach · max pivot`) is reported as [`Error::Singular`]: K is singular to working
 //! precision and `K⁻¹` does not exist numerically.
 
+mod factor_columns;
 mod ldlt;
 mod pcg;
 mod sparse_llt;
 
+pub use factor_columns::LowerFactor;
 pub use ldlt::InertiaTest;
 pub use pcg::{pcg, PcgOutcome};
-pub use sparse_llt::{DiagonalPattern, LowerFactor, SparseLlt, SYMBOLIC_CACHE_LEN};
+pub use sparse_llt::{DiagonalPattern, SparseLlt, SYMBOLIC_CACHE_LEN};
 
 use crate::error::{Error, Result};
 use crate::system::Stiffness;
