@@ -88,11 +88,11 @@
 use super::certify::{self, Margin};
 use super::sparse::{
     bracket, bracket_tol, bracket_top, lanczos, rayleigh_interval, Certificate, RitzStarts,
-    MAX_LANCZOS_STEPS, RITZ_VECTOR_MAX_N, STAGNATION,
+    MAX_LANCZOS_STEPS, STAGNATION,
 };
 use super::{CondReport, CondRoute};
 use crate::error::{Error, Result};
-use crate::linalg::{symmetric_matvec, DiagonalPattern};
+use crate::linalg::{symmetric_matvec, DiagonalPattern, SparseLlt};
 use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 use faer::Side;
 
@@ -369,6 +369,26 @@ impl SaddleRun<'_> {
         if sign < 0.0 && m == 1 {
             return (sigma_max_hi.is_finite()).then(|| temple(2.0 * sigma_max_hi))?;
         }
+        if !self.shifts.pattern.has_ldlt() {
+            // No LDLᵀ (supernodal): the positive side's gap by interlacing
+            // (`Shifts::pinned_gap`); the negative side has none.
+            if sign < 0.0 {
+                return None;
+            }
+            let n = self.inverse.in_b.len();
+            let pin = (0..n).filter(|&i| !self.inverse.in_b[i]).fold(
+                None,
+                |b: Option<usize>, i| match b {
+                    Some(j) if x[j].abs() >= x[i].abs() => Some(j),
+                    _ => Some(i),
+                },
+            )?;
+            let margin = Margin::of(&self.shifts.pattern.symbolic);
+            let mu = super::temple::INTERLACED_SHIFTS
+                .iter()
+                .find_map(|f| self.shifts.pinned_gap(theta * (1.0 + f), pin, margin))?;
+            return temple(mu);
+        }
         let mut f = second
             .map(|l2| 0.5 * (l2 / theta - 1.0))
             .filter(|&f| f >= MIN_SHIFT)
@@ -406,8 +426,9 @@ impl SaddleRun<'_> {
     /// side of its bracket, Courant–Fischer) and the bracket width wanted; the bracket's upper
     /// end is the estimate itself (a scale, not a bound).
     fn top_estimate(&mut self, pos_min_est: f64) -> Result<End> {
-        let keep = self.size <= RITZ_VECTOR_MAX_N;
-        let (theta, vector) = self.top(1.0, keep)?;
+        // The Ritz vector always (above RITZ_VECTOR_MAX_N by a second pass of the recurrence,
+        // memory O(n)): without it σ_max's proven lower end is only max_i K_ii.
+        let (theta, vector) = self.top(1.0, true)?;
         let lmax_est = usable("λ_max", theta)?;
         // The plain interval (≈ (n + k)·u wide), compensated where that exceeds a quarter of
         // the contract's floor of 1e-12.
@@ -556,6 +577,40 @@ impl SaddleRun<'_> {
         Some((p.min(nb.lo), nb.hi))
     }
 
+    /// λ_max from below after a test `−H(s) ≻ 0` passed with factor `f`: Lanczos on
+    /// `(sI − A)⁻¹` (positive definite; its top eigenvalue `1/(s − λ_max)` is separated by
+    /// the gap at the top over `s − λ_max`), each product one solve with f: for
+    /// `(A − sI)[x; y] = [p; g]`, `H(s)x = p + Dg/s` and `y = (Dᵀx − g)/s`. Returns the proven
+    /// lower end of its Ritz vector's Rayleigh quotient (compensated, Courant–Fischer).
+    fn refine_top(&mut self, f: &SparseLlt, s: f64) -> Option<f64> {
+        let (dofs, n) = (self.inverse.dofs, self.inverse.in_b.len());
+        let run = lanczos(
+            self.size,
+            MAX_LANCZOS_STEPS,
+            |_| STAGNATION,
+            None,
+            true,
+            |v, z| {
+                let (p, g) = v.split_at(n);
+                let (zx, zy) = z.split_at_mut(n);
+                zx.copy_from_slice(p);
+                for (c, &d) in dofs.iter().enumerate() {
+                    zx[d] += g[c] / s;
+                }
+                // f factors −H(s): x = −f⁻¹(p + Dg/s); z = −[x; y] = (sI − A)⁻¹v.
+                f.solve_vec_in_place(zx);
+                for (c, &d) in dofs.iter().enumerate() {
+                    zy[c] = (zx[d] + g[c]) / s;
+                }
+            },
+        )
+        .ok()?;
+        self.lanczos_steps += run.steps;
+        let y = run.vector?;
+        certify::rayleigh_interval_dot2(self.a_pattern.as_ref(), &self.a_values, &y)
+            .map(|(lo, _)| lo)
+    }
+
     /// The proven brackets (certify) of σ_max and σ_min, where they pin cond₂ within a factor
     /// of 2: σ_max ≥ |ρ(y_top)| and σ_max < s once both −H(s) ≻ 0 and H(−s) ≻ 0 are
     /// verified; σ_min ≤ ‖Ax̂‖/‖x̂‖ for x̂ = A⁻¹y (y a Ritz vector of A⁻¹), and σ_min ≥ s once
@@ -571,36 +626,53 @@ impl SaddleRun<'_> {
         bottom: &End,
     ) -> Option<((f64, f64), (f64, f64))> {
         let margin = Margin::of(&pattern.symbolic);
-        let smax_est = top.estimate.max(top.bracket.0);
+        // The tests start from the estimate or, where the inertia search ran, from its upper
+        // end (a Cholesky test passed there, unverified): in a cluster at the top (the
+        // 10⁶-unknown membrane's λ_max, gaps ≈ 1e-5) the Lanczos estimate stops short and
+        // tests stepping out from it would cost a factorization per step.
+        let smax_est = top
+            .estimate
+            .max(top.bracket.0)
+            .max(if top.bracket.1.is_finite() {
+                top.bracket.1
+            } else {
+                0.0
+            });
         // e_iᵀAe_i = K_ii ≤ σ_max for a unit vector of the N block (K ≻ 0).
         let max_lo = top
             .top_rq
             .map_or(0.0, |(lo, _)| lo)
             .max(pattern.max_diagonal());
         let shifts = &mut self.shifts;
-        // With a simplicial factor, tests at σ_max's estimate itself, judged by their factors'
-        // own margins (Lemma 7a): `−H(s) + cI ⪰ 0` gives `−H(s + c) ⪰ 0` (its B entries
-        // `−1/(s + c) ≥ −1/s`), so λ_max ≤ s + c, and `H(−s) + cI ⪰ 0` likewise λ_min ≥ −(s + c).
-        // Else verified tests with Lemma 1's margin (first order in the factor's size).
-        let max_hi = if pattern.has_ldlt() {
-            // Each test's margin is wanted below 2.5e-13·s (a quarter of the contract's floor;
-            // Lemma 7's residual where Lemma 7a misses it).
-            certify::step_outwards_by(16.0 * f64::EPSILON, 4.0, |w, _| {
-                let s = smax_est * (1.0 + w);
-                let need = 2.5e-13 * s;
-                let c1 = shifts.tested_margin(-1.0, s, -1.0 / s, margin, need)?;
-                let c2 = shifts.tested_margin(1.0, s, -1.0 / s, margin, need)?;
-                Some(certify::up(s + c1.max(c2)))
-            })
+        // Tests just above σ_max's estimate, judged by their factors' own margins (Lemma 7a):
+        // `−H(s) + cI ⪰ 0` gives `−H(s + c) ⪰ 0` (its B entries `−1/(s + c) ≥ −1/s`), so
+        // λ_max ≤ s + c, and `H(−s) + cI ⪰ 0` likewise λ_min ≥ −(s + c).
+        // Each test's margin is wanted below 2.5e-13·s (a quarter of the contract's floor;
+        // Lemma 7's residual where Lemma 7a misses it, on simplicial factors). The first test
+        // sits a few ε above the estimate on a simplicial factor, at Lemma 1's m/64 on a
+        // supernodal one (its factorizations cost seconds at 10⁶ unknowns; Lemma 7a is
+        // ≈ 300× below Lemma 1 there).
+        let w0 = if pattern.has_ldlt() {
+            16.0 * f64::EPSILON
         } else {
-            certify::step_outwards((4.0 * margin.m).max(4.0 * f64::EPSILON), |w, _| {
-                let s = smax_est * (1.0 + w);
-                (shifts.verified_pd(-1.0, s, -1.0 / s, margin)
-                    && shifts.verified_pd(1.0, s, -1.0 / s, margin))
-                .then_some(s)
-            })
-        }
-        .unwrap_or(f64::INFINITY);
+            (margin.m / 64.0).max(16.0 * f64::EPSILON)
+        };
+        let top_test = certify::step_outwards_by(w0, 4.0, |w, _| {
+            let s = smax_est * (1.0 + w);
+            let need = 2.5e-13 * s;
+            let (c1, f) = shifts.tested_factor(-1.0, s, -1.0 / s, margin, need)?;
+            let c2 = shifts.tested_margin(1.0, s, -1.0 / s, margin, need)?;
+            Some((certify::up(s + c1.max(c2)), s, f))
+        });
+        let max_hi = top_test.as_ref().map_or(f64::INFINITY, |t| t.0);
+        // Where the lower end lags (a Ritz vector stopped short in a cluster at the top), the
+        // passing test's factor drives a shift-invert run (`SaddleRun::refine_top`).
+        let max_lo = match top_test {
+            Some((hi, s_ok, f)) if hi / max_lo - 1.0 > 2.5e-13 => {
+                max_lo.max(self.refine_top(&f, s_ok).unwrap_or(0.0))
+            }
+            _ => max_lo,
+        };
         let mut min_hi = f64::INFINITY;
         let mut x_hats = Vec::new();
         for y in &self.bottom_vectors {
@@ -632,7 +704,10 @@ impl SaddleRun<'_> {
         // estimate (first order: Lemma 1's margin times cond₂).
         let temple_pos = x_hats.first().and_then(|x| self.side_lower(1.0, x, max_hi));
         let temple = match (temple_pos, x_hats.get(1)) {
-            (Some(lo), Some(x)) => self.side_lower(-1.0, x, max_hi).map(|l| lo.min(l)),
+            (Some(lo), Some(x)) => self
+                .side_lower(-1.0, x, max_hi)
+                .map(|l| lo.min(l))
+                .or_else(|| Some(floor(&mut self.shifts, lo))),
             (Some(lo), None) => Some(floor(&mut self.shifts, lo)),
             (None, _) => None,
         };

@@ -59,8 +59,8 @@ impl Shifts<'_> {
     /// m the smaller of Lemma 1's and the factor's own (`certify::factor_margin`, Lemma 7a;
     /// where `m·max_i t̃_ii` exceeds `need`, also Lemma 7's residual margin), plus the diagonal's formation (≤ 6u·max_i(|αk_ii| + |σ| + |β|)). So `T + cI ⪰ 0`: for
     /// `T = ∓H(±s)` that moves the tested end of A's spectrum by at most c (`proven`).
-    /// Simplicial factors only (Lemma 7a reads the factor in compressed columns); None where
-    /// the Cholesky fails or the factor is supernodal.
+    /// A supernodal factor's Lemma 7a is read in place, without Lemma 7. None where the
+    /// Cholesky fails.
     pub(super) fn tested_margin(
         &mut self,
         alpha: f64,
@@ -69,9 +69,19 @@ impl Shifts<'_> {
         margin: Margin,
         need: f64,
     ) -> Option<f64> {
-        if !self.pattern.has_ldlt() {
-            return None;
-        }
+        self.tested_factor(alpha, sigma, beta, margin, need)
+            .map(|(c, _)| c)
+    }
+
+    /// [`Shifts::tested_margin`] with the test's factor.
+    pub(super) fn tested_factor(
+        &mut self,
+        alpha: f64,
+        sigma: f64,
+        beta: f64,
+        margin: Margin,
+        need: f64,
+    ) -> Option<(f64, SparseLlt)> {
         let max_e = self
             .pattern
             .fill_shifted(&mut self.work, alpha, sigma, beta, Some(self.in_b));
@@ -81,6 +91,11 @@ impl Shifts<'_> {
         let max_b = stored.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         if !(max_b > 0.0 && max_b.is_finite()) {
             return None;
+        }
+        if f.is_supernodal() {
+            // Lemma 7a read in place (no copy of L); Lemma 7's residual needs the copy.
+            let c = self.margin_of_factor(&f, margin, max_e)?;
+            return Some((c, f));
         }
         let lower = f.lower_factor();
         let mut m = certify::factor_margin(&lower, &stored).map_or(margin.m, |m| m.min(margin.m));
@@ -96,6 +111,51 @@ impl Shifts<'_> {
                 m = m.min(p);
             }
         }
+        let c = (m * max_b + 6.0 * certify::U * max_e) * (1.0 + 16.0 * certify::U);
+        c.is_finite().then_some((c, f))
+    }
+
+    /// The positive side's gap for Temple's bound without an LDLᵀ (supernodal factors), by
+    /// Cauchy's interlacing: with the free DOF `pin` (not in B) removed from K, A' has
+    /// `#{λ(A) < μ} ≤ #{λ(A') < μ} + 1`, and `#{λ(A') < μ} = m` once `H'(μ) ⪰ 0`. `H(τ)` with
+    /// row and column `pin` reduced to its diagonal has the spectrum of `H'(τ)` and
+    /// `k_pp − τ`; where its Cholesky succeeds, [`Shifts::tested_margin`]'s c gives
+    /// `H'(τ) + cI ⪰ 0`, hence `H'(μ) ⪰ 0` for `μ = τ − c` (its B entries `1/μ ≥ 1/τ`): at
+    /// most one eigenvalue of A in (0, μ). The margin is Lemma 7a's, read in place (Lemma 1's
+    /// would be first order in the 1/τ of B's diagonal). None where the test fails.
+    pub(super) fn pinned_gap(&mut self, tau: f64, pin: usize, margin: Margin) -> Option<f64> {
+        let n = self.in_b.len();
+        let max_e =
+            self.pattern
+                .fill_shifted(&mut self.work, 1.0, -tau, 1.0 / tau, Some(self.in_b));
+        let (cp, ri) = (
+            self.pattern.pattern.col_ptr(),
+            self.pattern.pattern.row_idx(),
+        );
+        for j in 0..n {
+            for p in cp[j]..cp[j + 1] {
+                if (j == pin) != (ri[p] == pin) {
+                    self.work[p] = 0.0;
+                }
+            }
+        }
+        self.factorizations += 1;
+        let f = self.pattern.factor(&self.work)?;
+        let c = self.margin_of_factor(&f, margin, max_e)?;
+        let mu = (tau - c) * (1.0 - 8.0 * certify::U);
+        (mu > 0.0 && mu.is_finite()).then_some(mu)
+    }
+
+    /// `c` with `T ⪰ −c·I` for the exact test matrix T of a Cholesky `f` that succeeded on the
+    /// stored `T̃` in `work` (`max_e` from its formation): the smaller of Lemma 1's and Lemma
+    /// 7a's margin (read in place) times max_i t̃_ii, plus the diagonal's formation.
+    fn margin_of_factor(&self, f: &SparseLlt, margin: Margin, max_e: f64) -> Option<f64> {
+        let stored: Vec<f64> = self.pattern.diag.iter().map(|&p| self.work[p]).collect();
+        let max_b = stored.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        if !(max_b > 0.0 && max_b.is_finite()) {
+            return None;
+        }
+        let m = certify::factor_margin_of(f, &stored).map_or(margin.m, |m| m.min(margin.m));
         let c = (m * max_b + 6.0 * certify::U * max_e) * (1.0 + 16.0 * certify::U);
         c.is_finite().then_some(c)
     }
