@@ -36,7 +36,7 @@
 //! **Estimates** by Lanczos: plain on A and −A for λ_max and λ_min, and on `A⁻¹` and `−A⁻¹`
 //! for λ⁺_min and λ⁻_max, each stopped at 1/64 of the bracket width it will be certified to
 //! (as in the SPD route). λ_max is the top of A's spectrum, so the Rayleigh quotient of its
-//! Ritz vector (stored Lanczos vectors, up to [`RITZ_VECTOR_MAX_N`] unknowns) is one side of
+//! Ritz vector (stored Lanczos vectors, up to [`super::sparse::RITZ_VECTOR_MAX_N`] unknowns, a second pass above) is one side of
 //! its bracket and one inertia test the other. `A⁻¹` costs one solve with K_FF (K without the
 //! rows and columns of B, factored once; `|det A| = det K_FF` comes with it): for
 //! `A [x; y] = [f; g]`, `x_B = g`, `K_FF x_F = f_F − K_FB g`, `y = f_B − (K x)_B`.
@@ -60,11 +60,15 @@
 //! ([`schur`]: the root of `s·λ_max(S_B(s)) = 1`, m×m dense eigenproblems with their rounding
 //! bounded, a few units of rounding wide), and σ_min ≥ min(p, lo⁻) with p from Temple or a
 //! verified `H(p) ≻ 0` placed above the negative side (`SaddleRun::schur_floor`); 0.48 → 9e-14
-//! on the quad block. σ_max's upper end, with a simplicial factor, comes from tests at the
-//! estimate itself judged by their factors' own margins (Lemmas 7a and 7,
-//! `Shifts::tested_margin`), its lower end from a compensated Rayleigh quotient where the
-//! plain one is wider than 2.5e-13. Where neither Temple nor the Schur complement gives a
-//! bound (supernodal factor, m or N·m above [`schur`]'s limits): σ_min ≥ s
+//! on the quad block. On a supernodal factor (no LDLᵀ) λ⁺_min's gap comes from a verified
+//! Cholesky test of `H(τ)` with one free DOF pinned (Cauchy's interlacing,
+//! `Shifts::pinned_gap`). σ_max's upper end comes from tests just above the estimate (or the
+//! inertia search's upper end) judged by their factors' own margins (Lemmas 7a and 7,
+//! `Shifts::tested_margin`; 7a read in place on supernodal factors), its lower end from a
+//! compensated Rayleigh quotient where the plain one is wider than 2.5e-13, of a Ritz vector
+//! refined by a shift-invert run with the passing test's factor where a cluster at the top
+//! left it short (`SaddleRun::refine_top`). Where neither Temple nor the Schur complement
+//! gives a bound (m or N·m above [`schur`]'s limits, no gap): σ_min ≥ s
 //! once `H(s) ≻ 0` is verified, since then σ_min ≥ min(s, t) with t = s₀ or, where s lies
 //! above s₀, t from an LDLᵀ inertia test of `H(−s)` with exactly m negative pivots
 //! (`Shifts::no_eigenvalue_above`; a simplicial factor of K). Where that bracket would leave cond₂ uncertain by more than a

@@ -133,9 +133,10 @@ impl Shifts<'_> {
             self.pattern.pattern.row_idx(),
         );
         for j in 0..n {
-            for p in cp[j]..cp[j + 1] {
-                if (j == pin) != (ri[p] == pin) {
-                    self.work[p] = 0.0;
+            let range = cp[j]..cp[j + 1];
+            for (&r, w) in ri[range.clone()].iter().zip(&mut self.work[range]) {
+                if (j == pin) != (r == pin) {
+                    *w = 0.0;
                 }
             }
         }
