@@ -668,15 +668,32 @@ impl SaddleRun<'_> {
             let c2 = shifts.tested_margin(1.0, s, -1.0 / s, margin, need)?;
             Some((certify::up(s + c1.max(c2)), s, f))
         });
-        let max_hi = top_test.as_ref().map_or(f64::INFINITY, |t| t.0);
-        // Where the lower end lags (a Ritz vector stopped short in a cluster at the top), the
-        // passing test's factor drives a shift-invert run (`SaddleRun::refine_top`).
-        let max_lo = match top_test {
-            Some((hi, s_ok, f)) if hi / max_lo - 1.0 > 2.5e-13 => {
-                max_lo.max(self.refine_top(&f, s_ok).unwrap_or(0.0))
+        let mut max_hi = top_test.as_ref().map_or(f64::INFINITY, |t| t.0);
+        // Where the bracket is wider than wanted (a Ritz vector stopped short in a cluster at
+        // the top, or tests started from the search's upper end), the passing test's factor
+        // drives a shift-invert run (`SaddleRun::refine_top`) that raises the lower end, and
+        // tests stepping out from it — below the one that passed — lower the upper end.
+        let mut max_lo = max_lo;
+        if let Some((hi, s_ok, f)) = top_test.filter(|t| t.0 / max_lo - 1.0 > 2.5e-13) {
+            max_lo = max_lo.max(self.refine_top(&f, s_ok).unwrap_or(0.0));
+            drop(f);
+            let shifts = &mut self.shifts;
+            let from = max_lo;
+            if hi / from - 1.0 > 2.5e-13 {
+                if let Some(h) = certify::step_outwards_by(16.0 * f64::EPSILON, 4.0, |w, _| {
+                    let s = from * (1.0 + w);
+                    if s >= s_ok {
+                        return Some(f64::INFINITY);
+                    }
+                    let need = 2.5e-13 * s;
+                    let c1 = shifts.tested_margin(-1.0, s, -1.0 / s, margin, need)?;
+                    let c2 = shifts.tested_margin(1.0, s, -1.0 / s, margin, need)?;
+                    Some(certify::up(s + c1.max(c2)))
+                }) {
+                    max_hi = max_hi.min(h);
+                }
             }
-            _ => max_lo,
-        };
+        }
         let mut min_hi = f64::INFINITY;
         let mut x_hats = Vec::new();
         for y in &self.bottom_vectors {
