@@ -64,7 +64,7 @@
 //! Cholesky test of `H(τ)` with one free DOF pinned (Cauchy's interlacing,
 //! `Shifts::pinned_gap`). σ_max's upper end comes from tests just above the estimate (or the
 //! inertia search's upper end) judged by their factors' own margins (Lemmas 7a and 7,
-//! `Shifts::tested_margin`; 7a read in place on supernodal factors), its lower end from a
+//! `Shifts::tested_factor`; 7a read in place on supernodal factors), its lower end from a
 //! compensated Rayleigh quotient where the plain one is wider than 2.5e-13, of a Ritz vector
 //! refined by a shift-invert run with the passing test's factor where a cluster at the top
 //! left it short (`SaddleRun::refine_top`). Where neither Temple nor the Schur complement
@@ -665,7 +665,7 @@ impl SaddleRun<'_> {
             let s = smax_est * (1.0 + w);
             let need = 2.5e-13 * s;
             let (c1, f) = shifts.tested_factor(-1.0, s, -1.0 / s, margin, need)?;
-            let c2 = shifts.tested_margin(1.0, s, -1.0 / s, margin, need)?;
+            let c2 = shifts.tested_factor(1.0, s, -1.0 / s, margin, need)?.0;
             Some((certify::up(s + c1.max(c2)), s, f))
         });
         let mut max_hi = top_test.as_ref().map_or(f64::INFINITY, |t| t.0);
@@ -686,8 +686,8 @@ impl SaddleRun<'_> {
                         return Some(f64::INFINITY);
                     }
                     let need = 2.5e-13 * s;
-                    let c1 = shifts.tested_margin(-1.0, s, -1.0 / s, margin, need)?;
-                    let c2 = shifts.tested_margin(1.0, s, -1.0 / s, margin, need)?;
+                    let c1 = shifts.tested_factor(-1.0, s, -1.0 / s, margin, need)?.0;
+                    let c2 = shifts.tested_factor(1.0, s, -1.0 / s, margin, need)?.0;
                     Some(certify::up(s + c1.max(c2)))
                 }) {
                     max_hi = max_hi.min(h);

@@ -55,25 +55,13 @@ impl Shifts<'_> {
     }
 
     /// A posteriori [`Shifts::verified_pd`]: Cholesky of `T̃ = fl(αK + σI + β1_B)` itself;
-    /// where it succeeds, `c` with `T ⪰ −c·I` for the exact T: `xᵀT̃x ≥ −m Σ_i t̃_ii x_i²` with
-    /// m the smaller of Lemma 1's and the factor's own (`certify::factor_margin`, Lemma 7a;
-    /// where `m·max_i t̃_ii` exceeds `need`, also Lemma 7's residual margin), plus the diagonal's formation (≤ 6u·max_i(|αk_ii| + |σ| + |β|)). So `T + cI ⪰ 0`: for
-    /// `T = ∓H(±s)` that moves the tested end of A's spectrum by at most c (`proven`).
-    /// A supernodal factor's Lemma 7a is read in place, without Lemma 7. None where the
-    /// Cholesky fails.
-    pub(super) fn tested_margin(
-        &mut self,
-        alpha: f64,
-        sigma: f64,
-        beta: f64,
-        margin: Margin,
-        need: f64,
-    ) -> Option<f64> {
-        self.tested_factor(alpha, sigma, beta, margin, need)
-            .map(|(c, _)| c)
-    }
-
-    /// [`Shifts::tested_margin`] with the test's factor.
+    /// where it succeeds, its factor and `c` with `T ⪰ −c·I` for the exact T:
+    /// `xᵀT̃x ≥ −m Σ_i t̃_ii x_i²` with m the smaller of Lemma 1's and the factor's own
+    /// (`certify::factor_margin`, Lemma 7a; where `m·max_i t̃_ii` exceeds `need`, also
+    /// Lemma 7's residual margin), plus the diagonal's formation
+    /// (≤ 6u·max_i(|αk_ii| + |σ| + |β|)). So `T + cI ⪰ 0`: for `T = ∓H(±s)` that moves the
+    /// tested end of A's spectrum by at most c (`proven`). A supernodal factor's Lemma 7a is
+    /// read in place, without Lemma 7. None where the Cholesky fails.
     pub(super) fn tested_factor(
         &mut self,
         alpha: f64,
@@ -119,7 +107,7 @@ impl Shifts<'_> {
     /// Cauchy's interlacing: with the free DOF `pin` (not in B) removed from K, A' has
     /// `#{λ(A) < μ} ≤ #{λ(A') < μ} + 1`, and `#{λ(A') < μ} = m` once `H'(μ) ⪰ 0`. `H(τ)` with
     /// row and column `pin` reduced to its diagonal has the spectrum of `H'(τ)` and
-    /// `k_pp − τ`; where its Cholesky succeeds, [`Shifts::tested_margin`]'s c gives
+    /// `k_pp − τ`; where its Cholesky succeeds, [`Shifts::tested_factor`]'s c gives
     /// `H'(τ) + cI ⪰ 0`, hence `H'(μ) ⪰ 0` for `μ = τ − c` (its B entries `1/μ ≥ 1/τ`): at
     /// most one eigenvalue of A in (0, μ). The margin is Lemma 7a's, read in place (Lemma 1's
     /// would be first order in the 1/τ of B's diagonal). None where the test fails.
