@@ -79,6 +79,7 @@
 //! estimates, or the dense routine's) equals the exact value; it is tested against
 //! outside references, and it is clamped into the proven bracket.
 
+pub(crate) use super::residual::own_margin;
 pub use super::residual::{factor_margin, factor_margin_of, posterior_margin};
 use crate::conditioning::lanczos::dot;
 use crate::dd::{two_prod, two_sum, Dd};

@@ -133,6 +133,36 @@ pub fn factor_margin_of(factor: &crate::linalg::SparseLlt, stored_diagonal: &[f6
     })
 }
 
+/// The margin a successful Cholesky test is judged by: the smallest of Lemma 1's `apriori`,
+/// the factor's own (Lemma 7a, [`factor_margin_of`]) and, where that still exceeds `need` and
+/// `posterior` names the exact test matrix `B = α·values + σI` (`values` on `pattern`), its
+/// residual's (Lemma 7, [`posterior_margin`]; needs L in compressed columns, a copy on a
+/// supernodal factor). `stored`: the test matrix's diagonal as factored (original order).
+pub(crate) fn own_margin(
+    f: &crate::linalg::SparseLlt,
+    stored: &[f64],
+    apriori: f64,
+    need: f64,
+    posterior: Option<(SymbolicSparseColMatRef<'_, usize>, &[f64], f64, f64)>,
+) -> f64 {
+    // Lemma 7a: a supernodal factor read in place, a simplicial one from its sorted copy
+    // (kept for Lemma 7's residual).
+    let (m7a, lower) = if f.is_supernodal() {
+        (factor_margin_of(f, stored), None)
+    } else {
+        let lower = f.lower_factor();
+        (factor_margin(&lower, stored), Some(lower))
+    };
+    let mut m = m7a.map_or(apriori, |m| m.min(apriori));
+    if let Some((pattern, values, alpha, sigma)) = posterior.filter(|_| m > need) {
+        let lower = lower.unwrap_or_else(|| f.lower_factor());
+        if let Some(p) = posterior_margin(&lower, pattern, values, alpha, sigma) {
+            m = m.min(p);
+        }
+    }
+    m
+}
+
 crate::dd::fma_dispatch! {
     /// Lemma 7 (a-posteriori margin): `m` with `xᵀBx ≥ −m Σ_i b̃_ii x_i²` for the exact
     /// `B = αA + σI` (α = ±1; A: `values` on `pattern`, CSC, both triangles, its lower triangle

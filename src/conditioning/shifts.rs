@@ -60,27 +60,15 @@ impl ShiftFamily {
             return apriori;
         }
         let stored: Vec<f64> = self.pattern.diag.iter().map(|&p| self.work[p]).collect();
-        // Lemma 7a: a supernodal factor read in place, a simplicial one from its sorted copy
-        // (kept for Lemma 7's residual).
-        let (m7a, lower) = if f.is_supernodal() {
-            (certify::factor_margin_of(f, &stored), None)
-        } else {
-            let lower = f.lower_factor();
-            (certify::factor_margin(&lower, &stored), Some(lower))
-        };
-        let mut m = m7a.map_or(apriori.m, |m| m.min(apriori.m));
-        if m > need && self.posterior_ok {
-            let lower = lower.unwrap_or_else(|| f.lower_factor());
-            if let Some(p) = certify::posterior_margin(
-                &lower,
+        let posterior = self.posterior_ok.then(|| {
+            (
                 self.pattern.pattern.as_ref(),
-                &self.pattern.values,
+                self.pattern.values.as_slice(),
                 alpha,
                 sigma,
-            ) {
-                m = m.min(p);
-            }
-        }
+            )
+        });
+        let m = certify::own_margin(f, &stored, apriori.m, need, posterior);
         Margin { m }
     }
 

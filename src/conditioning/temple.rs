@@ -235,19 +235,12 @@ pub fn interlaced_lower(
     }
     let i = (0..n).fold(0, |b, k| if x[k].abs() > x[b].abs() { k } else { b });
     let margin = Margin::of(&pattern.symbolic);
-    let (cp, ri) = (pattern.pattern.col_ptr(), pattern.pattern.row_idx());
     let mut buf = Vec::with_capacity(pattern.values.len());
     let mut tests = 0;
     for f in INTERLACED_SHIFTS {
         let tau = theta * (1.0 + f);
         pattern.fill_shifted(&mut buf, 1.0, -tau, 0.0, None);
-        for j in 0..n {
-            for p in cp[j]..cp[j + 1] {
-                if (j == i) != (ri[p] == i) {
-                    buf[p] = 0.0;
-                }
-            }
-        }
+        pattern.pin(&mut buf, i);
         let max_b = pattern
             .diag
             .iter()

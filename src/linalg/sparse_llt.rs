@@ -678,6 +678,21 @@ impl DiagonalPattern {
         max_e
     }
 
+    /// Row and column `i` of `values` (on this pattern) reduced to their diagonal entry: the
+    /// matrix then has the spectrum of the one without row and column i, and that entry
+    /// (Cauchy's interlacing tests of `conditioning::temple` and the saddle-point route).
+    pub fn pin(&self, values: &mut [f64], i: usize) {
+        let (cp, ri) = (self.pattern.col_ptr(), self.pattern.row_idx());
+        for j in 0..self.n() {
+            let range = cp[j]..cp[j + 1];
+            for (&r, v) in ri[range.clone()].iter().zip(&mut values[range]) {
+                if (j == i) != (r == i) {
+                    *v = 0.0;
+                }
+            }
+        }
+    }
+
     /// `y = A x` with A's values on this pattern (both triangles stored). Every user holds a
     /// symmetric A, so the product is formed as `Aᵀx` column by column (`y_j = Σ_i A_ij x_i`,
     /// a gather: one accumulator per entry of y instead of scattered updates; ≈ 2× faster on

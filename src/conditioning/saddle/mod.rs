@@ -648,14 +648,10 @@ impl SaddleRun<'_> {
             .map_or(0.0, |(lo, _)| lo)
             .max(pattern.max_diagonal());
         let shifts = &mut self.shifts;
-        // Tests just above σ_max's estimate, judged by their factors' own margins (Lemma 7a):
-        // `−H(s) + cI ⪰ 0` gives `−H(s + c) ⪰ 0` (its B entries `−1/(s + c) ≥ −1/s`), so
-        // λ_max ≤ s + c, and `H(−s) + cI ⪰ 0` likewise λ_min ≥ −(s + c).
-        // Each test's margin is wanted below 2.5e-13·s (a quarter of the contract's floor;
-        // Lemma 7's residual where Lemma 7a misses it, on simplicial factors). The first test
-        // sits a few ε above the estimate on a simplicial factor, at Lemma 1's m/64 on a
-        // supernodal one (its factorizations cost seconds at 10⁶ unknowns; Lemma 7a is
-        // ≈ 300× below Lemma 1 there).
+        // Tests just above σ_max's estimate, judged by their factors' own margins
+        // (`Shifts::sigma_max_test`). The first sits a few ε above the estimate on a
+        // simplicial factor, at Lemma 1's m/64 on a supernodal one (its factorizations cost
+        // seconds at 10⁶ unknowns; Lemma 7a is ≈ 300× below Lemma 1 there).
         let w0 = if pattern.has_ldlt() {
             16.0 * f64::EPSILON
         } else {
@@ -663,10 +659,7 @@ impl SaddleRun<'_> {
         };
         let top_test = certify::step_outwards_by(w0, 4.0, |w, _| {
             let s = smax_est * (1.0 + w);
-            let need = 2.5e-13 * s;
-            let (c1, f) = shifts.tested_factor(-1.0, s, -1.0 / s, margin, need)?;
-            let c2 = shifts.tested_factor(1.0, s, -1.0 / s, margin, need)?.0;
-            Some((certify::up(s + c1.max(c2)), s, f))
+            shifts.sigma_max_test(s, margin).map(|(hi, f)| (hi, s, f))
         });
         let mut max_hi = top_test.as_ref().map_or(f64::INFINITY, |t| t.0);
         // Where the bracket is wider than wanted (a Ritz vector stopped short in a cluster at
@@ -685,10 +678,7 @@ impl SaddleRun<'_> {
                     if s >= s_ok {
                         return Some(f64::INFINITY);
                     }
-                    let need = 2.5e-13 * s;
-                    let c1 = shifts.tested_factor(-1.0, s, -1.0 / s, margin, need)?.0;
-                    let c2 = shifts.tested_factor(1.0, s, -1.0 / s, margin, need)?.0;
-                    Some(certify::up(s + c1.max(c2)))
+                    shifts.sigma_max_test(s, margin).map(|t| t.0)
                 }) {
                     max_hi = max_hi.min(h);
                 }

@@ -75,32 +75,21 @@ impl Shifts<'_> {
             .fill_shifted(&mut self.work, alpha, sigma, beta, Some(self.in_b));
         self.factorizations += 1;
         let f = self.pattern.factor(&self.work)?;
-        let stored: Vec<f64> = self.pattern.diag.iter().map(|&p| self.work[p]).collect();
-        let max_b = stored.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        if !(max_b > 0.0 && max_b.is_finite()) {
-            return None;
-        }
-        if f.is_supernodal() {
-            // Lemma 7a read in place (no copy of L); Lemma 7's residual needs the copy.
-            let c = self.margin_of_factor(&f, margin, max_e)?;
-            return Some((c, f));
-        }
-        let lower = f.lower_factor();
-        let mut m = certify::factor_margin(&lower, &stored).map_or(margin.m, |m| m.min(margin.m));
-        if m * max_b > need {
-            // Lemma 7 on the stored T̃ itself (α = 1, σ = 0: T̃ exactly as factored).
-            if let Some(p) = certify::posterior_margin(
-                &lower,
-                self.pattern.pattern.as_ref(),
-                &self.work,
-                1.0,
-                0.0,
-            ) {
-                m = m.min(p);
-            }
-        }
-        let c = (m * max_b + 6.0 * certify::U * max_e) * (1.0 + 16.0 * certify::U);
-        c.is_finite().then_some((c, f))
+        // Lemma 7's residual only where it needs no copy of a supernodal factor.
+        let c = self.margin_of_factor(&f, margin, max_e, need, !f.is_supernodal())?;
+        Some((c, f))
+    }
+
+    /// σ_max < the returned bound once both ends' tests at s pass ([`Shifts::tested_factor`]
+    /// with each margin wanted below 2.5e-13·s, a quarter of the contract's floor):
+    /// `−H(s) + c₁I ⪰ 0` gives `−H(s + c₁) ⪰ 0` (its B entries `−1/(s + c₁) ≥ −1/s`), so
+    /// λ_max ≤ s + c₁, and `H(−s) + c₂I ⪰ 0` likewise λ_min ≥ −(s + c₂). Also returns the
+    /// factor of `−H(s)` (for `SaddleRun::refine_top`).
+    pub(super) fn sigma_max_test(&mut self, s: f64, margin: Margin) -> Option<(f64, SparseLlt)> {
+        let need = 2.5e-13 * s;
+        let (c1, f) = self.tested_factor(-1.0, s, -1.0 / s, margin, need)?;
+        let c2 = self.tested_factor(1.0, s, -1.0 / s, margin, need)?.0;
+        Some((certify::up(s + c1.max(c2)), f))
     }
 
     /// The positive side's gap for Temple's bound without an LDLᵀ (supernodal factors), by
@@ -112,39 +101,43 @@ impl Shifts<'_> {
     /// most one eigenvalue of A in (0, μ). The margin is Lemma 7a's, read in place (Lemma 1's
     /// would be first order in the 1/τ of B's diagonal). None where the test fails.
     pub(super) fn pinned_gap(&mut self, tau: f64, pin: usize, margin: Margin) -> Option<f64> {
-        let n = self.in_b.len();
         let max_e =
             self.pattern
                 .fill_shifted(&mut self.work, 1.0, -tau, 1.0 / tau, Some(self.in_b));
-        let (cp, ri) = (
-            self.pattern.pattern.col_ptr(),
-            self.pattern.pattern.row_idx(),
-        );
-        for j in 0..n {
-            let range = cp[j]..cp[j + 1];
-            for (&r, w) in ri[range.clone()].iter().zip(&mut self.work[range]) {
-                if (j == pin) != (r == pin) {
-                    *w = 0.0;
-                }
-            }
-        }
+        self.pattern.pin(&mut self.work, pin);
         self.factorizations += 1;
         let f = self.pattern.factor(&self.work)?;
-        let c = self.margin_of_factor(&f, margin, max_e)?;
+        let c = self.margin_of_factor(&f, margin, max_e, f64::INFINITY, false)?;
         let mu = (tau - c) * (1.0 - 8.0 * certify::U);
         (mu > 0.0 && mu.is_finite()).then_some(mu)
     }
 
     /// `c` with `T ⪰ −c·I` for the exact test matrix T of a Cholesky `f` that succeeded on the
-    /// stored `T̃` in `work` (`max_e` from its formation): the smaller of Lemma 1's and Lemma
-    /// 7a's margin (read in place) times max_i t̃_ii, plus the diagonal's formation.
-    fn margin_of_factor(&self, f: &SparseLlt, margin: Margin, max_e: f64) -> Option<f64> {
+    /// stored `T̃` in `work` (`max_e` from its formation): `m·max_i t̃_ii` with m the smaller
+    /// of Lemma 1's and Lemma 7a's (and, with `posterior`, where `m·max_i t̃_ii` exceeds `need`,
+    /// Lemma 7's on `T̃` itself: α = 1, σ = 0), plus the diagonal's formation.
+    fn margin_of_factor(
+        &self,
+        f: &SparseLlt,
+        margin: Margin,
+        max_e: f64,
+        need: f64,
+        posterior: bool,
+    ) -> Option<f64> {
         let stored: Vec<f64> = self.pattern.diag.iter().map(|&p| self.work[p]).collect();
         let max_b = stored.iter().copied().fold(f64::NEG_INFINITY, f64::max);
         if !(max_b > 0.0 && max_b.is_finite()) {
             return None;
         }
-        let m = certify::factor_margin_of(f, &stored).map_or(margin.m, |m| m.min(margin.m));
+        let residual = posterior.then(|| {
+            (
+                self.pattern.pattern.as_ref(),
+                self.work.as_slice(),
+                1.0,
+                0.0,
+            )
+        });
+        let m = certify::own_margin(f, &stored, margin.m, need / max_b, residual);
         let c = (m * max_b + 6.0 * certify::U * max_e) * (1.0 + 16.0 * certify::U);
         c.is_finite().then_some(c)
     }

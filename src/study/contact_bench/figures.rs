@@ -188,12 +188,8 @@ fn leaderboard_panels(s: &Summary, case: Case) -> Vec<Figure> {
         .scales(Scale::Log10, Scale::Log10)
         .hline(first.err_discretization, "discretization error");
         // The cond₂ no penalties can go below on this mesh (λ_max(K)/λ_min(K_FF)).
-        if let Some(fl) = s
-            .floors
-            .iter()
-            .find(|fl| fl.case == case.name() && fl.h == h && fl.cond2_floor.is_finite())
-        {
-            f = f.vline(fl.cond2_floor, "floor");
+        if let Some(fl) = floor_of(s, case.name(), h).filter(|fl| fl.is_finite()) {
+            f = f.vline(fl, "floor");
         }
         for rule in rules(&s.rows) {
             if rule == "lagrange" {
