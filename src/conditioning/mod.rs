@@ -13,7 +13,8 @@
 //! | other sparse | densified, then as above ([`CondRoute::DensifiedSymmetricEigen`] / [`CondRoute::DensifiedSvd`]) | n² memory |
 //!
 //! **Accuracy contract.** The reported `cond2` is the route's best estimate — the ratio of the
-//! converged Lanczos Ritz values, or of the dense routine's values — never the midpoint of a
+//! converged Lanczos Ritz values, or of the dense routine's values (their vectors' Rayleigh
+//! quotients where Kato–Temple applies) — never the midpoint of a
 //! bracket. It agrees with the exact cond₂ of the *stored* matrix to
 //! `max(1e-12, 4·ε_mach·cond₂)` relative (what a dense LAPACK SVD achieves), and the SPD routes
 //! do better on graded matrices such as `K + D E Dᵀ` with a large ε: their λ_min comes from
@@ -25,7 +26,8 @@
 //! **Bounds.** Every report carries `cond2_lo ≤ cond₂ ≤ cond2_hi`. On the SPD routes they are
 //! proven for the stored matrix including the rounding of the Cholesky factorizations they
 //! rest on ([`certify`]); on the dense eigen/SVD routes by Kahan's residual theorem
-//! ([`residual_radius`]); on the saddle-point route proven where that pins cond₂ within a
+//! ([`residual_radius`]), the two extreme values sharpened to second order by Kato–Temple
+//! ([`kato_temple`]); on the saddle-point route proven where that pins cond₂ within a
 //! factor of 2, else the search's inertia brackets with `bounds_proven = false` ([`saddle`]).
 //!
 //! `log10|det A|` is read off a factorization (never the raw determinant, which overflows at
@@ -36,6 +38,7 @@
 
 pub mod bracket;
 pub mod certify;
+pub mod kato_temple;
 pub mod lanczos;
 pub mod residual;
 pub mod saddle;
@@ -173,7 +176,9 @@ pub use crate::route::DENSIFY_LIMIT;
 /// * Other symmetric: eigenvalues and eigenvectors, `σ = |λ|` ([`CondRoute::SymmetricEigen`]).
 /// * Unsymmetric: the SVD ([`CondRoute::Svd`]).
 ///
-/// The last two are bounded by Kahan's residual theorem ([`residual_radius`]).
+/// The last two are bounded by Kahan's residual theorem ([`residual_radius`]); their extreme
+/// values by Kato–Temple where the gap to their neighbours is resolved ([`kato_temple`]): then
+/// σ_max and σ_min are the Rayleigh quotients of their vectors, second-order accurate.
 pub fn cond2_dense(a: MatRef<'_, f64>, symmetric: bool) -> Result<CondReport> {
     let n = a.nrows();
     if n == 0 || a.ncols() != n {
@@ -201,22 +206,25 @@ pub fn cond2_dense(a: MatRef<'_, f64>, symmetric: bool) -> Result<CondReport> {
             Err(e) => return Err(e),
         }
     }
-    // θ: the computed |λ| or σ, ascending; radius: Kahan's bound on |θ_i − σ_i|.
-    let (mut theta, radius, route) = if symmetric {
+    // θ: the computed |λ| or σ, ascending; radius: Kahan's bound on |θ_i − σ_i|; the
+    // extremes refined by Kato–Temple where the gap allows.
+    let (mut theta, radius, refined, route) = if symmetric {
         let e = a
             .self_adjoint_eigen(Side::Lower)
             .map_err(|e| Error::Numerical(format!("symmetric eigenvalues failed: {e:?}")))?;
         let lambda: Vec<f64> = (0..n).map(|i| e.S()[i]).collect();
         let r = residual_radius(a, e.U(), &lambda, e.U(), &lambda, false);
+        let refined = kato_temple::symmetric_extremes(a, &lambda, e.U(), r);
         let theta: Vec<f64> = lambda.iter().map(|l| l.abs()).collect();
-        (theta, r, CondRoute::SymmetricEigen)
+        (theta, r, refined, CondRoute::SymmetricEigen)
     } else {
         let svd = a
             .svd()
             .map_err(|e| Error::Numerical(format!("singular values failed: {e:?}")))?;
         let sigma: Vec<f64> = (0..n).map(|i| svd.S()[i]).collect();
         let r = residual_radius(a, svd.V(), &sigma, svd.U(), &sigma, true);
-        (sigma, r, CondRoute::Svd)
+        let refined = kato_temple::svd_extremes(a, &sigma, svd.U(), svd.V(), r);
+        (sigma, r, refined, CondRoute::Svd)
     };
     theta.sort_by(f64::total_cmp);
     let (smin, smax) = (theta[0], theta[n - 1]);
@@ -227,17 +235,24 @@ pub fn cond2_dense(a: MatRef<'_, f64>, symmetric: bool) -> Result<CondReport> {
     }
     let up = |x: f64| x * (1.0 + 4.0 * f64::EPSILON);
     let down = |x: f64| x * (1.0 - 4.0 * f64::EPSILON);
+    let kahan = |s: f64| kato_temple::Refined {
+        lo: down(s - radius).max(0.0),
+        hi: up(s + radius),
+        value: s,
+    };
+    let max = refined.max.unwrap_or_else(|| kahan(smax));
+    let min = refined.min.unwrap_or_else(|| kahan(smin));
     let certificate = sparse::Certificate {
-        lambda_max_lo: down(smax - radius).max(0.0),
-        lambda_max_hi: up(smax + radius),
-        lambda_min_lo: down(smin - radius).max(0.0),
-        lambda_min_hi: up(smin + radius),
+        lambda_max_lo: max.lo,
+        lambda_max_hi: max.hi,
+        lambda_min_lo: min.lo,
+        lambda_min_hi: min.hi,
         lanczos_steps: 0,
         factorizations: 0,
     };
     Ok(CondReport::with_certificate(
-        smax,
-        smin,
+        max.value,
+        min.value,
         route,
         certificate,
         radius.is_finite(),
