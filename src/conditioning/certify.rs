@@ -371,14 +371,17 @@ pub fn image_norm_upper(
     x: &[f64],
     y: &[f64],
 ) -> f64 {
-    let (mut sq, mut err2) = (0.0f64, 0.0f64);
+    let mut err2 = 0.0f64;
+    let mut d = Vec::with_capacity(y.len());
     for (&yj, (r, e)) in y.iter().zip(residual_dot2(pattern, values, x, 1.0, y)) {
         // |fl(y_j − r̂_j) − (y_j − r̂_j)| ≤ u|fl(·)|.
-        let d = up((yj - r).abs() * (1.0 + 2.0 * U));
-        sq += d * d;
+        d.push(up((yj - r).abs() * (1.0 + 2.0 * U)));
         err2 += e * e;
     }
-    up(up(sq.sqrt()) + up(err2.sqrt())) * (1.0 + gamma(2 * y.len() + 2))
+    // ‖d‖² in double-double (a plain sum of N squares would carry γ_N, ≈ N·u relative: 1e-10
+    // at a million unknowns); the tiny e only in f64.
+    let (_, sq) = dot_interval(&d, &d);
+    up(up(sq.sqrt()) + up(err2.sqrt() * (1.0 + gamma(y.len() + 2))))
 }
 
 /// An interval `[lo, hi]` that contains the exact Rayleigh quotient `ρ(y) = yᵀAy / yᵀy` of the

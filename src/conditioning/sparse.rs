@@ -437,6 +437,23 @@ pub fn width_target(tol: Option<f64>, cond_eq: f64) -> f64 {
         .max(8.0 * f64::EPSILON * cond_eq)
 }
 
+/// ρ(y) of a top vector as a proven interval: the plain one ([`rayleigh_interval`]) carries
+/// γ_N of rounding (≈ N·u: 1e-12 relative at 10⁴ unknowns, 1e-10 at 10⁶); where that is
+/// wider than `need`, ρ to the u² level ([`certify::rayleigh_interval_dot2`]).
+fn top_rayleigh(
+    pat: faer::sparse::SymbolicSparseColMatRef<'_, usize>,
+    vals: &[f64],
+    y: &[f64],
+    need: f64,
+) -> Option<(f64, f64)> {
+    let plain = rayleigh_interval(pat, vals, y)?;
+    if plain.1 / plain.0 - 1.0 <= need {
+        Some(plain)
+    } else {
+        certify::rayleigh_interval_dot2(pat, vals, y).or(Some(plain))
+    }
+}
+
 fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Option<f64>) -> Ends {
     let max_diag = fam.pattern.max_diagonal();
     let (lmax_est, lmin_est) = (est.lmax, est.lmin);
@@ -447,21 +464,20 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
     // ρ(y_top) in f64 with its rounding bounded (`rayleigh_interval`: ≈ k·ε relative at the
     // top of the spectrum); the bottom end only through Lemma 6 with compensated sums (a
     // plain ρ(y_bottom) carries ε·cond₂ of rounding and is rarely sharper).
-    let top_rq = est
+    let top_plain = est
         .top
         .as_deref()
         .and_then(|y| rayleigh_interval(pat, vals, y));
     let refined_min = certify::inverse_rayleigh_upper(pat, vals, &est.bottom, &est.x_hat);
-    let max_lo = top_rq.map_or(max_diag, |(lo, _)| lo.max(max_diag));
+    let max_lo = top_plain.map_or(max_diag, |(lo, _)| lo.max(max_diag));
     // A first test that fails means the plain Lanczos run stopped short of λ_max (a cluster
     // at the top creeps below the stagnation test): the factor of the test that succeeds,
     // σI − A with σ just above λ_max, drives a shift-invert run, λ_max = σ − 1/ν_max, accurate
     // to ε_mach·‖A‖.
     // Where Lemma 1's a-priori margin alone would miss the target width, the tests start
     // at a few ε and each success is judged by its own residual (Lemma 7).
-    let base = lmax_est.max(max_lo);
     // cond₂(Ĥ) from below: λ_max(Ĥ) ≥ max(1, ρ_Ĥ(Ŝy_top)), ρ_Ĥ(Ŝy) = ρ(y)·‖y‖²/Σ a_ii y_i².
-    let hmax_lo = match (&est.top, top_rq) {
+    let hmax_lo = match (&est.top, top_plain) {
         (Some(t), Some((lo, _))) => {
             let tt: f64 = t.iter().map(|v| v * v).sum();
             let wt: f64 = t.iter().zip(&est.s_hat).map(|(v, s)| (v * s).powi(2)).sum();
@@ -474,6 +490,12 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
     // or, on supernodal factors, an interlacing test) being expected to serve the bottom end.
     let top_share = 0.5;
     let top_need = 0.25 * top_share * target;
+    let max_lo = est
+        .top
+        .as_deref()
+        .and_then(|y| top_rayleigh(pat, vals, y, top_need))
+        .map_or(max_lo, |(lo, _)| lo.max(max_lo));
+    let base = lmax_est.max(max_lo);
     // Tests placed for their own margins where one can be had: Lemma 7's residual up to
     // POSTERIOR_MAX_PRODUCTS, Lemma 7a (the factor read in place) on supernodal factors above.
     let top_posterior = margin.m > top_need && (fam.posterior_ok || !fam.pattern.has_ldlt());
@@ -528,7 +550,7 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
     let mut max_lo = max_lo;
     let refined_max = refined.map(|(r, s_ok, vector)| {
         let (pat, vals) = (fam.pattern.pattern.as_ref(), fam.pattern.values.as_slice());
-        if let Some((lo, _)) = vector.and_then(|v| rayleigh_interval(pat, vals, &v)) {
+        if let Some((lo, _)) = vector.and_then(|v| top_rayleigh(pat, vals, &v, top_need)) {
             max_lo = max_lo.max(lo);
         }
         if max_hi / r.max(max_lo) - 1.0 > top_share * target {
