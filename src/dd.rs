@@ -108,6 +108,7 @@ impl Dd {
     }
 
     /// `a·b` for two f64, exactly.
+    #[inline]
     pub fn prod(a: f64, b: f64) -> Dd {
         let (p, e) = two_prod(a, b);
         Dd { hi: p, lo: e }
@@ -139,6 +140,7 @@ impl Neg for Dd {
 impl Add for Dd {
     type Output = Dd;
     /// IEEE-style (accurate) double-double addition.
+    #[inline]
     fn add(self, b: Dd) -> Dd {
         let (s1, s2) = two_sum(self.hi, b.hi);
         let (t1, t2) = two_sum(self.lo, b.lo);

@@ -261,8 +261,13 @@ fn interval(v: Dd, err: f64) -> (f64, f64) {
     )
 }
 
-/// `xᵀy` in double-double, as a rigorous interval.
-pub fn dot_interval(x: &[f64], y: &[f64]) -> (f64, f64) {
+crate::dd::fma_dispatch! {
+    /// `xᵀy` in double-double, as a rigorous interval (FMA build where the CPU has it).
+    pub fn dot_interval(x: &[f64], y: &[f64]) -> (f64, f64) => dot_interval_kernel
+}
+
+#[inline(always)]
+fn dot_interval_kernel(x: &[f64], y: &[f64]) -> (f64, f64) {
     let mut s = Dd::ZERO;
     let mut abs = 0.0f64;
     for (a, b) in x.iter().zip(y) {
@@ -421,12 +426,21 @@ pub(crate) fn rayleigh_interval(
     (lo > 0.0 && hi.is_finite() && den > 0.0).then_some((lo, hi))
 }
 
-/// [`rayleigh_interval`] to the u² level: `−Ay` by compensated dot products
-/// ([`residual_dot2`] with c = 0, each entry within `e_j` of the exact one), then
-/// `yᵀAy ∈ −[Σ_j y_j r̂_j] ± Σ_j |y_j| e_j` and `yᵀy` by [`dot_interval`] (double-double). For
-/// the top of a spectrum where the plain bound (`≈ (n + k)·u` relative) is wider than the
-/// bracket wanted; ≈ 3 products' work. None unless the numerator is certainly positive.
-pub(crate) fn rayleigh_interval_dot2(
+crate::dd::fma_dispatch! {
+    /// [`rayleigh_interval`] to the u² level: `−Ay` by compensated dot products
+    /// ([`residual_dot2`] with c = 0, each entry within `e_j` of the exact one), then
+    /// `yᵀAy ∈ −[Σ_j y_j r̂_j] ± Σ_j |y_j| e_j` and `yᵀy` by [`dot_interval`] (double-double). For
+    /// the top of a spectrum where the plain bound (`≈ (n + k)·u` relative) is wider than the
+    /// bracket wanted; ≈ 3 products' work. None unless the numerator is certainly positive.
+    pub(crate) fn rayleigh_interval_dot2(
+        pattern: SymbolicSparseColMatRef<'_, usize>,
+        values: &[f64],
+        y: &[f64],
+    ) -> Option<(f64, f64)> => rayleigh_dot2_kernel
+}
+
+#[inline(always)]
+fn rayleigh_dot2_kernel(
     pattern: SymbolicSparseColMatRef<'_, usize>,
     values: &[f64],
     y: &[f64],
@@ -436,9 +450,9 @@ pub(crate) fn rayleigh_interval_dot2(
         .into_iter()
         .unzip();
     let rerr = up(y.iter().zip(&e).map(|(a, b)| a.abs() * b).sum::<f64>()) * (1.0 + gamma(y.len()));
-    let (lo_r, hi_r) = dot_interval(y, &r);
+    let (lo_r, hi_r) = dot_interval_kernel(y, &r);
     let (num_lo, num_hi) = (down(-hi_r - rerr), up(-lo_r + rerr));
-    let (yy_lo, yy_hi) = dot_interval(y, y);
+    let (yy_lo, yy_hi) = dot_interval_kernel(y, y);
     (num_lo > 0.0 && yy_lo > 0.0 && num_hi.is_finite())
         .then(|| (down(num_lo / yy_hi), up(num_hi / yy_lo)))
 }

@@ -493,7 +493,7 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
     let max_lo = est
         .top
         .as_deref()
-        .and_then(|y| top_rayleigh(pat, vals, y, top_need))
+        .and_then(|y| top_rayleigh(pat, vals, y, 2.0 * top_need))
         .map_or(max_lo, |(lo, _)| lo.max(max_lo));
     let base = lmax_est.max(max_lo);
     // Tests placed for their own margins where one can be had: Lemma 7's residual up to
@@ -550,7 +550,7 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
     let mut max_lo = max_lo;
     let refined_max = refined.map(|(r, s_ok, vector)| {
         let (pat, vals) = (fam.pattern.pattern.as_ref(), fam.pattern.values.as_slice());
-        if let Some((lo, _)) = vector.and_then(|v| top_rayleigh(pat, vals, &v, top_need)) {
+        if let Some((lo, _)) = vector.and_then(|v| top_rayleigh(pat, vals, &v, 2.0 * top_need)) {
             max_lo = max_lo.max(lo);
         }
         if max_hi / r.max(max_lo) - 1.0 > top_share * target {
