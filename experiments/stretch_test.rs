@@ -20,7 +20,7 @@ use penalty_lab::study::forming_runs::Cli;
 use penalty_lab::study::stretch_test;
 use std::process::ExitCode;
 
-fn main() -> ExitCode {
+pub fn main() -> ExitCode {
     let cli = Cli::parse_for(&stretch_test::EXPERIMENT);
     penalty_lab::error::run_main(|| {
         let doc = cli.execute(stretch_test::EXPERIMENT)?;

@@ -10,6 +10,8 @@ fn run(bin: &str, args: &[&str]) -> std::process::Output {
 
 const DD: &str = env!("CARGO_BIN_EXE_deep_drawing");
 const TE: &str = env!("CARGO_BIN_EXE_stretch_test");
+/// `stretch_test` under its former name, as issue 27 runs it.
+const TE_ALIAS: &str = env!("CARGO_BIN_EXE_test_example");
 
 #[test]
 fn bad_input_exits_with_status_2_and_one_line() {
@@ -120,7 +122,7 @@ fn json_shapes_and_out_files() {
 /// δ-rules' accuracy — and the δ-rules are compared with it step by step.
 #[test]
 fn classical_matched_penetrates_between_half_delta_and_delta() {
-    for bin in [DD, TE] {
+    for bin in [DD, TE, TE_ALIAS] {
         let o = run(bin, &["--json"]);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
