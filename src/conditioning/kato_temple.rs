@@ -393,6 +393,49 @@ mod tests {
         }
     }
 
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig {
+            cases: 96,
+            ..proptest::prelude::ProptestConfig::default()
+        })]
+        /// On random exactly known matrices (n = 4, 16, 64; values over up to 40 binades,
+        /// signed for the symmetric route; repeated values allowed) both brackets contain the
+        /// exact extremes, and where the extremes are simple and separated (a factor 2 from
+        /// their neighbours) they are second order: within the contract's width target.
+        #[test]
+        fn dense_brackets_contain_the_exact_extremes(
+            levels in 1u32..=3,
+            draws in proptest::collection::vec((0u8..8, 0i32..=40, proptest::bool::ANY), 64),
+            symmetric in proptest::bool::ANY,
+        ) {
+            let n = 4usize.pow(levels);
+            let d: Vec<f64> = draws[..n]
+                .iter()
+                .map(|&(m, e, neg)| {
+                    let v = (1.0 + f64::from(m) / 8.0) * 2f64.powi(-e);
+                    if neg { -v } else { v }
+                })
+                .collect();
+            let a = exact_matrix(levels, &d, !symmetric);
+            let (smax, smin) = exact_cond(&d);
+            let r = cond2_dense(a.as_ref(), symmetric).unwrap();
+            let c = r.certificate.unwrap();
+            proptest::prop_assert!(c.lambda_max_lo <= smax && smax <= c.lambda_max_hi, "{:?}", c);
+            proptest::prop_assert!(c.lambda_min_lo <= smin && smin <= c.lambda_min_hi, "{:?}", c);
+            let mut abs: Vec<f64> = d.iter().map(|v| v.abs()).collect();
+            abs.sort_by(f64::total_cmp);
+            let separated = n > 1 && abs[1] >= 2.0 * abs[0] && abs[n - 1] >= 2.0 * abs[n - 2];
+            if separated {
+                let target = (8.0 * f64::EPSILON * smax / smin).max(1e-12);
+                proptest::prop_assert!(
+                    r.relative_width() <= target,
+                    "width {:e} > {target:e}",
+                    r.relative_width()
+                );
+            }
+        }
+    }
+
     /// Where the gap is not resolved (σ_min = σ_2 exactly, or σ_min below Kahan's radius) the
     /// bracket falls back to Kahan's and still holds.
     #[test]
