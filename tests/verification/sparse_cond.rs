@@ -290,3 +290,46 @@ fn brackets_at_ten_thousand_unknowns_meet_the_width_target() {
     // A saddle point has no diagonal equilibration (its zero block): its own cond₂ stands in.
     check("lagrange", r.cond2, &r);
 }
+
+/// A warm start (K's Ritz vectors, as the sweep and `metrics::compute` use them) can settle
+/// short of a clustered end; where the bracket then misses its target the route runs again
+/// from the generic start. The default sweep's first membrane under `paper` at δ = 0.1·scale
+/// was such a case: its warm λ_min estimate was 8.8e-13 high (cond₂ off by 8.7e-13, the
+/// contract is 1e-12) and its bracket 2.5e-12 wide. Checked against double-double bisection.
+#[test]
+fn a_warm_start_that_misses_the_target_is_redone_cold() {
+    use penalty_lab::metrics::{self, MetricSet};
+    use penalty_lab::strategy::{self, Method};
+    let p = generate(Family::Membrane, 0, 2011, &GeneratorConfig::default())
+        .unwrap()
+        .problem;
+    let u0 = p.k.solve(&p.q).unwrap();
+    let delta = 0.1 * p.displacement_scale(&u0);
+    let sol = strategy::solve(&p, Method::paper(delta)).unwrap();
+    let set = MetricSet {
+        cond: true,
+        det: false,
+        cond_tol: None,
+    };
+    let r = metrics::compute(&p, &sol, set)
+        .unwrap()
+        .cond2_system
+        .unwrap();
+    let sys = metrics::system_matrix(&p, &sol);
+    let (lmax, lmin) = conditioning::reference::extreme_eigenvalues_dd(&sys);
+    let exact = lmax / lmin;
+    let err = rel(r.cond2, exact);
+    let contract = (4.0 * f64::EPSILON * exact).max(1e-12);
+    eprintln!(
+        "cond₂ {:.15e} (exact {exact:.15e}): error {err:.1e}, width {:.1e}",
+        r.cond2,
+        r.relative_width()
+    );
+    assert!(r.cond2_lo <= exact && exact <= r.cond2_hi);
+    assert!(err <= 0.25 * contract, "error {err:e}");
+    assert!(
+        r.relative_width() <= 1e-12,
+        "width {:e}",
+        r.relative_width()
+    );
+}
