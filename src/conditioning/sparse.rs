@@ -223,7 +223,13 @@ pub fn extreme_eigenvalues(
         )));
     }
     let (lo, hi) = certificate.cond2_bounds();
-    if starts.is_some() && !(hi <= lo * (1.0 + ends.target)) {
+    // An upper end above the target, infinite or NaN misses it.
+    let within = hi.partial_cmp(&(lo * (1.0 + ends.target)));
+    let missed = !matches!(
+        within,
+        Some(std::cmp::Ordering::Less | std::cmp::Ordering::Equal)
+    );
+    if starts.is_some() && missed {
         // A warm start can settle short of a clustered end: the stagnation test sees the
         // start's own components converge, the estimate stays off by up to the bracket (the
         // bracket itself holds). Where the bracket misses its target, the analysis again from
