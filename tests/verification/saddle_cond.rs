@@ -261,3 +261,40 @@ fn repeated_dof_is_an_input_error() {
     let e = cond2_saddle(k, &[3, 3]).unwrap_err().to_string();
     assert!(e.contains("repeated"), "{e}");
 }
+
+/// Warm starts that point away from both ends (a smooth mode for the top, an alternating one
+/// for the bottom) cost no accuracy: the result is proven, within the width target and within
+/// the brackets of the generic-start analysis (the SPD route, which can settle short from a
+/// warm start, reruns cold where its bracket misses: `sparse_cond`).
+#[test]
+fn misleading_warm_starts_do_not_cost_accuracy() {
+    use penalty_lab::conditioning::saddle::cond2_saddle_warm;
+    use penalty_lab::conditioning::sparse::{width_target, RitzStarts};
+    for p in membranes() {
+        let Stiffness::Sparse(k) = &p.k else { panic!() };
+        let (_, dofs) = active(&p);
+        let cold = cond2_saddle_warm(k, &dofs, SCHUR_TEST_MAX, None).unwrap();
+        let n = p.n();
+        let starts = RitzStarts {
+            top: (0..n).map(|i| 1.0 + (i as f64 / n as f64)).collect(),
+            bottom: (0..n)
+                .map(|i| if i % 2 == 0 { 1.0 } else { -1.0 })
+                .collect(),
+        };
+        let warm = cond2_saddle_warm(k, &dofs, SCHUR_TEST_MAX, Some(&starts)).unwrap();
+        let target = width_target(None, warm.cond2);
+        eprintln!(
+            "n {n}: cold {:.15e} ({:.1e}), misled {:.15e} ({:.1e}, {} steps against {})",
+            cold.cond2,
+            cold.relative_width(),
+            warm.cond2,
+            warm.relative_width(),
+            warm.certificate.unwrap().lanczos_steps,
+            cold.certificate.unwrap().lanczos_steps
+        );
+        assert!(warm.bounds_proven && warm.relative_width() <= target);
+        assert!(
+            (warm.cond2 / cold.cond2 - 1.0).abs() <= warm.relative_width() + cold.relative_width()
+        );
+    }
+}
