@@ -176,6 +176,15 @@ pub struct Extremes {
     pub min: Option<Refined>,
 }
 
+/// The permutation that sorts `values` ascending, and the sorted values (Kahan's pairing is
+/// between sorted lists).
+fn ascending(values: &[f64]) -> (Vec<usize>, Vec<f64>) {
+    let mut order: Vec<usize> = (0..values.len()).collect();
+    order.sort_by(|&p, &q| values[p].total_cmp(&values[q]));
+    let sorted = order.iter().map(|&p| values[p]).collect();
+    (order, sorted)
+}
+
 /// Symmetric A with eigenvalues `lambda` (any order) and eigenvectors `vectors` (columns),
 /// Kahan's radius `radius`: brackets of `max |λ|` and `min |λ|`.
 pub fn symmetric_extremes(
@@ -190,9 +199,7 @@ pub fn symmetric_extremes(
     }
     let sparse = crate::system::sparse_of_dense(a);
     let j = Jordan::Symmetric(&sparse);
-    let mut order: Vec<usize> = (0..n).collect();
-    order.sort_by(|&p, &q| lambda[p].total_cmp(&lambda[q]));
-    let sorted: Vec<f64> = order.iter().map(|&p| lambda[p]).collect();
+    let (order, sorted) = ascending(lambda);
     // λ_(k) of J, as a bracket of |λ_(k)|.
     let refine = |k: usize| -> Option<Refined> {
         let alpha = if k > 0 {
@@ -265,9 +272,7 @@ pub fn svd_extremes(
         crate::system::sparse_of_dense(a.transpose()),
     );
     let j = Jordan::Wielandt { a: &sa, at: &sat };
-    let mut order: Vec<usize> = (0..n).collect();
-    order.sort_by(|&p, &q| sigma[p].total_cmp(&sigma[q]));
-    let sorted: Vec<f64> = order.iter().map(|&p| sigma[p]).collect();
+    let (order, sorted) = ascending(sigma);
     let vector = |k: usize| -> Vec<f64> {
         let c = order[k];
         (0..n)
