@@ -293,12 +293,7 @@ pub fn svd_extremes(
     } else {
         f64::INFINITY
     };
-    let min = bracket(&j, &vector(0), upper(radius - sorted[0]), beta)
-        .filter(|r| r.lo > 0.0)
-        .map(|r| Refined {
-            lo: r.lo.max(0.0),
-            ..r
-        });
+    let min = bracket(&j, &vector(0), upper(radius - sorted[0]), beta).filter(|r| r.lo > 0.0);
     Extremes { max, min }
 }
 

@@ -223,13 +223,9 @@ pub fn extreme_eigenvalues(
         )));
     }
     let (lo, hi) = certificate.cond2_bounds();
-    // An upper end above the target, infinite or NaN misses it.
-    let within = hi.partial_cmp(&(lo * (1.0 + ends.target)));
-    let missed = !matches!(
-        within,
-        Some(std::cmp::Ordering::Less | std::cmp::Ordering::Equal)
-    );
-    if starts.is_some() && missed {
+    let width = hi / lo - 1.0;
+    // (An infinite or NaN width misses the target too.)
+    if starts.is_some() && !(width.is_finite() && width <= ends.target) {
         // A warm start can settle short of a clustered end: the stagnation test sees the
         // start's own components converge, the estimate stays off by up to the bracket (the
         // bracket itself holds). Where the bracket misses its target, the analysis again from
@@ -241,7 +237,7 @@ pub fn extreme_eigenvalues(
         if let Ok(mut cold) = extreme_eigenvalues(a, max_steps, cold) {
             let (c_lo, c_hi) = cold.certificate.cond2_bounds();
             let (warm, spent) = (&mut certificate, &mut cold.certificate);
-            if c_hi / c_lo < hi / lo {
+            if c_hi / c_lo - 1.0 < width {
                 spent.lanczos_steps += warm.lanczos_steps;
                 spent.factorizations += warm.factorizations;
                 return Ok(cold);
@@ -467,20 +463,21 @@ pub fn width_target(tol: Option<f64>, cond_eq: f64) -> f64 {
         .max(8.0 * f64::EPSILON * cond_eq)
 }
 
-/// ρ(y) of a top vector as a proven interval: the plain one ([`rayleigh_interval`]) carries
-/// γ_N of rounding (≈ N·u: 1e-12 relative at 10⁴ unknowns, 1e-10 at 10⁶); where that is
-/// wider than `need`, ρ to the u² level ([`certify::rayleigh_interval_dot2`]).
-fn top_rayleigh(
+/// ρ(y) of a top vector as a proven interval, from its plain one `plain`
+/// ([`rayleigh_interval`], which carries γ_N of rounding: ≈ N·u, 1e-12 relative at 10⁴
+/// unknowns, 1e-10 at 10⁶): where that is wider than `need`, ρ to the u² level
+/// ([`certify::rayleigh_interval_dot2`]).
+fn sharpen_top(
     pat: faer::sparse::SymbolicSparseColMatRef<'_, usize>,
     vals: &[f64],
     y: &[f64],
+    plain: (f64, f64),
     need: f64,
-) -> Option<(f64, f64)> {
-    let plain = rayleigh_interval(pat, vals, y)?;
+) -> (f64, f64) {
     if plain.1 / plain.0 - 1.0 <= need {
-        Some(plain)
+        plain
     } else {
-        certify::rayleigh_interval_dot2(pat, vals, y).or(Some(plain))
+        certify::rayleigh_interval_dot2(pat, vals, y).unwrap_or(plain)
     }
 }
 
@@ -499,13 +496,6 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
         .as_deref()
         .and_then(|y| rayleigh_interval(pat, vals, y));
     let refined_min = certify::inverse_rayleigh_upper(pat, vals, &est.bottom, &est.x_hat);
-    let max_lo = top_plain.map_or(max_diag, |(lo, _)| lo.max(max_diag));
-    // A first test that fails means the plain Lanczos run stopped short of λ_max (a cluster
-    // at the top creeps below the stagnation test): the factor of the test that succeeds,
-    // σI − A with σ just above λ_max, drives a shift-invert run, λ_max = σ − 1/ν_max, accurate
-    // to ε_mach·‖A‖.
-    // Where Lemma 1's a-priori margin alone would miss the target width, the tests start
-    // at a few ε and each success is judged by its own residual (Lemma 7).
     // cond₂(Ĥ) from below: λ_max(Ĥ) ≥ max(1, ρ_Ĥ(Ŝy_top)), ρ_Ĥ(Ŝy) = ρ(y)·‖y‖²/Σ a_ii y_i².
     let hmax_lo = match (&est.top, top_plain) {
         (Some(t), Some((lo, _))) => {
@@ -520,11 +510,19 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
     // or, on supernodal factors, an interlacing test) being expected to serve the bottom end.
     let top_share = 0.5;
     let top_need = 0.25 * top_share * target;
-    let max_lo = est
-        .top
-        .as_deref()
-        .and_then(|y| top_rayleigh(pat, vals, y, 2.0 * top_need))
-        .map_or(max_lo, |(lo, _)| lo.max(max_lo));
+    let mut max_lo = match (est.top.as_deref(), top_plain) {
+        (Some(y), Some(plain)) => {
+            let (lo, _) = sharpen_top(pat, vals, y, plain, 2.0 * top_need);
+            lo.max(plain.0).max(max_diag)
+        }
+        _ => max_diag,
+    };
+    // A first test that fails means the plain Lanczos run stopped short of λ_max (a cluster
+    // at the top creeps below the stagnation test): the factor of the test that succeeds,
+    // σI − A with σ just above λ_max, drives a shift-invert run, λ_max = σ − 1/ν_max, accurate
+    // to ε_mach·‖A‖.
+    // Where Lemma 1's a-priori margin alone would miss the target width, the tests start
+    // at a few ε and each success is judged by its own residual (Lemma 7).
     let base = lmax_est.max(max_lo);
     // Tests placed for their own margins where one can be had: Lemma 7's residual up to
     // POSTERIOR_MAX_PRODUCTS, Lemma 7a (the factor read in place) on supernodal factors above.
@@ -577,10 +575,13 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
     // After a shift-invert refinement (the plain run stopped short below a cluster), its Ritz
     // vector raises the lower end, and tests stepping out from the refined value — below the
     // test that succeeded — tighten the upper end.
-    let mut max_lo = max_lo;
     let refined_max = refined.map(|(r, s_ok, vector)| {
         let (pat, vals) = (fam.pattern.pattern.as_ref(), fam.pattern.values.as_slice());
-        if let Some((lo, _)) = vector.and_then(|v| top_rayleigh(pat, vals, &v, 2.0 * top_need)) {
+        let rq = vector.and_then(|v| {
+            let plain = rayleigh_interval(pat, vals, &v)?;
+            Some(sharpen_top(pat, vals, &v, plain, 2.0 * top_need))
+        });
+        if let Some((lo, _)) = rq {
             max_lo = max_lo.max(lo);
         }
         if max_hi / r.max(max_lo) - 1.0 > top_share * target {
