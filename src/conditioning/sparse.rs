@@ -517,6 +517,32 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
         }
         _ => max_diag,
     };
+    // A Ritz vector whose Rayleigh quotient lags the Ritz value beyond the lower side's share
+    // (lost behind a large gap, the value not): a second, short run started from it.
+    let mut restart_steps = 0;
+    if let Some(y) = est
+        .top
+        .as_deref()
+        .filter(|_| lmax_est / max_lo - 1.0 > 2.0 * top_need)
+    {
+        let n = fam.pattern.n();
+        if let Ok(run) = lanczos(
+            n,
+            PLAIN_LANCZOS_STEPS,
+            |_| TOP_STAGNATION,
+            Some(y),
+            true,
+            |x, z| fam.pattern.matvec(x, z),
+        ) {
+            restart_steps = run.steps;
+            if let Some(v) = run.vector {
+                if let Some(plain) = rayleigh_interval(pat, vals, &v) {
+                    let (lo, _) = sharpen_top(pat, vals, &v, plain, 2.0 * top_need);
+                    max_lo = max_lo.max(lo.max(plain.0));
+                }
+            }
+        }
+    }
     // A first test that fails means the plain Lanczos run stopped short of λ_max (a cluster
     // at the top creeps below the stagnation test): the factor of the test that succeeds,
     // σI − A with σ just above λ_max, drives a shift-invert run, λ_max = σ − 1/ν_max, accurate
@@ -688,7 +714,7 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
         min_hi,
         refined_max,
         refined_min,
-        steps,
+        steps: steps + restart_steps,
         target,
     }
 }
