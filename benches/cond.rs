@@ -10,8 +10,8 @@
 use criterion::measurement::WallTime;
 use criterion::{criterion_group, criterion_main, BenchmarkGroup, BenchmarkId, Criterion};
 use penalty_lab::conditioning::{cond2_dense, cond2_sparse_spd};
+use penalty_lab::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::linalg::{DiagonalPattern, Factorization};
-use penalty_lab::model::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::model::membrane;
 use penalty_lab::system::Stiffness;
 use std::hint::black_box;

@@ -4,8 +4,8 @@
 //! `cargo bench --bench strategies`.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use penalty_lab::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::model::beam::{Frame, Section};
-use penalty_lab::model::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::strategy::{self, Method};
 use penalty_lab::system::{Constraint, ConstraintKind, Problem};
 use std::hint::black_box;

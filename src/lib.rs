@@ -17,7 +17,7 @@
 //!   recorded; what the bounds prove: [`conditioning::certify`]), log10|det|, ratios.
 //! * [`linalg`] — factorize once, solve many; log-det from the factor.
 //! * [`model`] — the 1-DOF spring (Eq. 10–17), Euler–Bernoulli beams (Eq. 30–34), the 5-point
-//!   membrane; seeded random scenes of those families ([`model::generate`]) and scenes that
+//!   membrane; seeded random scenes of those families ([`generate`]) and scenes that
 //!   scale to 10⁶ DOFs ([`model::scalable`]).
 //! * [`scene`] — scene files (JSON, Matrix Market) in and out.
 //! * [`forming`] — the axisymmetric flow-approach sheet-forming solver (paper sections 2, 5;
@@ -84,7 +84,8 @@
 //! 1. foundation — `error`, `stats`, `progress`, `provenance`, `dd`;
 //! 2. numerics, bottom up — `route` (the one storage / solve / cond₂ route policy), `system`,
 //!    `linalg`, `conditioning`;
-//! 3. core — `model`, `scene`; then `strategy`; then `metrics`, `plot`, `forming`;
+//! 3. core — `model`, `scene`; then `strategy`; then `metrics`, `plot`, `forming`,
+//!    `generate` (the seeded scene families, some calibrated by a Lagrange solve);
 //! 4. studies — `study::<binary>` for every binary, and the support modules `study::text`,
 //!    `study::forming_runs` that several studies share;
 //! 5. binaries (`experiments/`) — arguments → study → record → figures.
@@ -117,6 +118,7 @@ pub mod conditioning;
 pub mod dd;
 pub mod error;
 pub mod forming;
+pub mod generate;
 pub mod linalg;
 pub mod metrics;
 pub mod model;

@@ -45,6 +45,28 @@ pub enum Geometry {
     Axisymmetric,
 }
 
+impl Geometry {
+    /// Hertz's contact half-width (plane strain, cylinder) or radius (axisymmetric, sphere) a
+    /// of a rigid indenter of radius R pressed by the total load P onto an elastic half-space
+    /// of contact modulus E* (frictionless; Johnson, *Contact Mechanics*, 1985, §4.2, §5.8):
+    /// `a = √(4PR/(πE*))` (P per unit length) or `a = (3PR/(4E*))^(1/3)`.
+    pub fn hertz_half_width(self, load: f64, radius: f64, e_star: f64) -> f64 {
+        match self {
+            Geometry::PlaneStrain => (4.0 * load * radius / (std::f64::consts::PI * e_star)).sqrt(),
+            Geometry::Axisymmetric => (3.0 * load * radius / (4.0 * e_star)).cbrt(),
+        }
+    }
+
+    /// The load of [`Self::hertz_half_width`] for the half-width a: `P = πa²E*/(4R)` (per unit
+    /// length) or `P = 4E*a³/(3R)`.
+    pub fn hertz_load(self, a: f64, radius: f64, e_star: f64) -> f64 {
+        match self {
+            Geometry::PlaneStrain => std::f64::consts::PI * a * a * e_star / (4.0 * radius),
+            Geometry::Axisymmetric => 4.0 * e_star * a.powi(3) / (3.0 * radius),
+        }
+    }
+}
+
 /// Isotropic linear elastic material.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Material {

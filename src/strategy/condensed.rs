@@ -304,7 +304,7 @@ pub fn solve_dense(mut ctx: Context, delta: f64) -> Result<Solution> {
 
 #[cfg(test)]
 mod tests {
-    use crate::model::generate::{generate, Family, GeneratorConfig};
+    use crate::model::beam::{bed, paper};
     use crate::strategy::{solve, solve_prepared, Method, Prepared};
 
     /// W = K⁻¹D is computed by the first `condensed` solve of a [`Prepared`] and shared by the
@@ -312,9 +312,13 @@ mod tests {
     /// compute everything themselves.
     #[test]
     fn constraint_columns_are_shared_and_change_nothing() {
-        let cfg = GeneratorConfig::default();
-        for (family, index) in [(Family::Spectrum, 3), (Family::Beam, 1)] {
-            let p = generate(family, index, 2011, &cfg).unwrap().problem;
+        let bed = bed::Bed {
+            n_el: 12,
+            load: -1.0,
+            amp: 0.5,
+            waves: 3.0,
+        };
+        for p in [paper::problem(), bed::problem(bed).unwrap()] {
             assert!(!super::super::eliminated::applies(&p), "the dense route");
             let prep = Prepared::new(&p).unwrap();
             let scale = p

@@ -32,6 +32,7 @@ pub mod box_qp;
 pub mod condensed;
 pub mod constant;
 pub mod eliminated;
+pub mod force_control;
 pub mod lagrange;
 pub mod optimal;
 pub mod paper;

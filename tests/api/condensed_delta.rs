@@ -5,7 +5,7 @@
 //! error of g0 − g* grows like |g0|/δ. Penalized constraints sit within 1e-6·δ of δ, or the
 //! solution says (in a warning) how close rounding let them get.
 
-use penalty_lab::model::generate::{generate, Family, GeneratorConfig};
+use penalty_lab::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::strategy::{self, Method};
 
 #[test]

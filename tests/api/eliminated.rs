@@ -4,9 +4,9 @@
 //! start, the exact contact set as a start and the PCG reuse of factors change the work, not
 //! the answer.
 
+use penalty_lab::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::linalg::{pcg, DiagonalPattern};
 use penalty_lab::metrics::relative_error;
-use penalty_lab::model::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::strategy::box_qp::{start_state, BoundState};
 use penalty_lab::strategy::{self, condensed, eliminated, lagrange, Context, Method};
 use penalty_lab::system::{ConstraintKind, Problem, Stiffness};

@@ -4,7 +4,7 @@
 //! agrees with an LU of the whole matrix.
 
 use penalty_lab::conditioning::{self, reference, sparse::SPARSE_ROUTE_MIN_N, CondRoute, Reuse};
-use penalty_lab::model::generate::{generate, Family, GeneratorConfig};
+use penalty_lab::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::route::SPARSE_MAX_DENSITY;
 use penalty_lab::strategy::lagrange::saddle_matrix;
 use penalty_lab::system::{Problem, Stiffness};

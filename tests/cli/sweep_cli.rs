@@ -5,7 +5,7 @@
 //!
 //! Every test uses small configs and its own folder under `std::env::temp_dir()`.
 
-use penalty_lab::model::generate::DEFAULT_FAMILIES as FAMILY_NAMES;
+use penalty_lab::generate::DEFAULT_FAMILIES as FAMILY_NAMES;
 use penalty_lab::study::sweep::rows::{self, Row};
 use penalty_lab::study::sweep::{self, figures::FIGURE_KINDS, SweepConfig};
 use std::io::Write;

@@ -4,11 +4,15 @@
 //!   plus a rounding allowance cond₂(system) · ε_mach · ‖u‖∞) with every ε_c ≥ 0;
 //! * `barrier` never penetrates on the unilateral families (membrane, hertz, patch): every gap
 //!   recomputed from u is feasible in floating point, and Newton converges;
+//! * the `hertz` and `patch` scenes sit where the Lagrange solution carries the drawn load:
+//!   the total contact force recomputed from its residual, `c Σ_c (q − K u)_{d_c}` (c = 2 per
+//!   unit thickness of the half model, 2π per radian), matches `meta.load` to the force
+//!   control's 1e-10 plus the residual's rounding allowance;
 //! * generation is a pure function of (seed, family, index): twice, interleaved with other
 //!   scenes, or on another thread, it gives bit-identical K, q, constraints and metadata.
 
+use penalty_lab::generate::{generate, Family, GeneratedScene, GeneratorConfig};
 use penalty_lab::metrics::{self, MetricSet};
-use penalty_lab::model::generate::{generate, Family, GeneratedScene, GeneratorConfig};
 use penalty_lab::strategy::{self, Method, Prepared};
 use penalty_lab::system::Problem;
 use proptest::prelude::*;
@@ -152,6 +156,39 @@ proptest! {
         prop_assert_eq!(sol.max_penetration, 0.0);
         prop_assert!(sol.penalties.iter().all(|e| e.is_finite() && *e >= 0.0));
         prop_assert!(sol.stats.converged, "{}: {:?}", g.name, sol.warnings);
+    }
+
+    #[test]
+    fn elastic_scenes_carry_their_load_under_lagrange(
+        patch in any::<bool>(),
+        seed in any::<u64>(),
+        index in 0usize..10_000,
+    ) {
+        let fam = if patch { Family::Patch } else { Family::Hertz };
+        let g = generate(fam, index, seed, &small()).expect("generation succeeds");
+        let p = &g.problem;
+        let sol = strategy::solve(p, Method::lagrange()).expect("Lagrange solves");
+        let ku = p.k.matvec(&sol.u);
+        let (mut force, mut magnitude) = (0.0, 0.0);
+        for c in &p.constraints {
+            force += p.q[c.dof] - ku[c.dof];
+            // |q| + |K||u| on the row bounds what rounding of the residual can reach.
+            let row: f64 = (0..p.n()).map(|j| (p.k.get(c.dof, j) * sol.u[j]).abs()).sum();
+            magnitude += p.q[c.dof].abs() + row;
+        }
+        let factor = match g.meta["geometry"].as_str() {
+            Some("plane-strain") => 2.0,
+            Some("axisymmetric") => 2.0 * std::f64::consts::PI,
+            other => panic!("{}: geometry {other:?}", g.name),
+        };
+        let load = g.meta["load"].as_f64().expect("meta.load");
+        let allowance = 1e-10 * load + factor * p.n() as f64 * f64::EPSILON * magnitude;
+        prop_assert!(
+            (factor * force - load).abs() <= allowance,
+            "{}: force {:e} against load {load:e} (allowance {allowance:e})",
+            g.name, factor * force
+        );
+        prop_assert!(g.meta["lift"].as_f64().is_some_and(|w| w > 0.0));
     }
 
     #[test]

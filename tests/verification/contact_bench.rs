@@ -43,7 +43,7 @@ fn hertz_and_patch_match_the_analytic_solutions() {
                 r.knob_rel
             );
             // Force control: every rule carries the load.
-            assert!(r.force_mismatch.abs() <= contact_bench::FORCE_TOL);
+            assert!(r.force_mismatch.abs() <= penalty_lab::strategy::force_control::FORCE_TOL);
         }
         // condensed under force control is Lagrange shifted by δ: the same pressures to the
         // rounding of the solves (cond₂(K) ≈ 1e7 here).

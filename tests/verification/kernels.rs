@@ -7,8 +7,8 @@
 use faer::linalg::solvers::Solve;
 use faer::sparse::{SparseColMat, Triplet};
 use faer::{Mat, Side};
+use penalty_lab::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::linalg::{DiagonalPattern, Factorization};
-use penalty_lab::model::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::model::membrane;
 use penalty_lab::scene::{read_scene, read_scene_preferred, write_scene_as, Storage};
 use penalty_lab::system::{Problem, Stiffness};

@@ -3,8 +3,8 @@
 //! feasible δ-driven rule at the same δ" on random small scenes.
 
 use penalty_lab::conditioning;
+use penalty_lab::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::model::beam::paper;
-use penalty_lab::model::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::strategy::{self, penalized_matrix, Method};
 use penalty_lab::system::Problem;
 use proptest::prelude::*;
@@ -111,7 +111,7 @@ fn paper_beam_study_records_the_optimum() {
 /// at its δ, and a feasible rule's ratio is ≥ 1 (to rounding).
 #[test]
 fn sweep_rows_carry_the_ratio_to_the_optimum() {
-    use penalty_lab::model::generate::Family;
+    use penalty_lab::generate::Family;
     use penalty_lab::study::sweep::{run_scene, SceneSpec, SweepConfig};
     let cfg = SweepConfig {
         count: 1,

@@ -7,9 +7,9 @@
 use penalty_lab::conditioning::certify::Margin;
 use penalty_lab::conditioning::saddle::{cond2_saddle, cond2_saddle_with, SCHUR_TEST_MAX};
 use penalty_lab::conditioning::{cond2_dense, CondReport, CondRoute};
+use penalty_lab::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::linalg::SparseLlt;
 use penalty_lab::metrics::{self, MetricSet};
-use penalty_lab::model::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::scene::read_scene;
 use penalty_lab::strategy::{self, lagrange, Method, SystemKind};
 use penalty_lab::system::{Problem, Stiffness};

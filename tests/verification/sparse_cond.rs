@@ -5,8 +5,8 @@
 //! eigensolver, `c·n·ε_mach·cond₂`, which matters only for the ill-conditioned cases.
 
 use penalty_lab::conditioning::{self, sparse, CondRoute};
+use penalty_lab::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::model::beam::{Frame, Section};
-use penalty_lab::model::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::model::membrane;
 use penalty_lab::system::Stiffness;
 use std::f64::consts::PI;

@@ -18,8 +18,8 @@
 
 use crate::conditioning::{self, reference, sparse};
 use crate::error::{Error, Result};
+use crate::generate::{generate, Family, GeneratorConfig};
 use crate::linalg::Factorization;
-use crate::model::generate::{generate, Family, GeneratorConfig};
 use crate::stats::median_time;
 use crate::system::{Problem, Stiffness};
 use serde::{Deserialize, Serialize};

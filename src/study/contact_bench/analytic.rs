@@ -78,15 +78,10 @@ impl Exact {
     /// Hertz for load `load`, radius `radius` and contact modulus `e_star` in `geometry`.
     pub fn hertz(geometry: Geometry, load: f64, radius: f64, e_star: f64) -> Exact {
         let pi = std::f64::consts::PI;
-        let (a, p0) = match geometry {
-            Geometry::PlaneStrain => {
-                let a = (4.0 * load * radius / (pi * e_star)).sqrt();
-                (a, 2.0 * load / (pi * a))
-            }
-            Geometry::Axisymmetric => {
-                let a = (3.0 * load * radius / (4.0 * e_star)).cbrt();
-                (a, 3.0 * load / (2.0 * pi * a * a))
-            }
+        let a = geometry.hertz_half_width(load, radius, e_star);
+        let p0 = match geometry {
+            Geometry::PlaneStrain => 2.0 * load / (pi * a),
+            Geometry::Axisymmetric => 3.0 * load / (2.0 * pi * a * a),
         };
         Exact {
             a,
@@ -160,6 +155,10 @@ mod tests {
     fn hertz_closed_forms_are_consistent() {
         let pi = std::f64::consts::PI;
         let (r, e) = (50.0, 2.0e5);
+        for g in [Geometry::PlaneStrain, Geometry::Axisymmetric] {
+            let a = g.hertz_half_width(100.0, r, e);
+            assert!((g.hertz_load(a, r, e) - 100.0).abs() <= 4.0 * f64::EPSILON * 100.0);
+        }
         let pl = Exact::hertz(Geometry::PlaneStrain, 100.0, r, e);
         // P = π a p0 / 2 (plane), P = 2π a² p0 / 3 (axisymmetric): the integrals of p.
         assert!((pi * pl.a * pl.p0 / 2.0 - 100.0).abs() <= 1e-12 * 100.0);

@@ -19,16 +19,15 @@
 
 pub mod analytic;
 pub mod figures;
-mod force;
 mod record;
 
-pub use force::{solve_at_load, Loaded, FORCE_TOL, MAX_FORCE_SOLVES};
 pub use record::{convergence_rates, leaderboard, load, rule_of, save, Leader, Summary};
 
 use crate::error::{Error, Result};
 use crate::metrics::{self, MetricSet};
-use crate::model::elasticity::{self, Base, Geometry, Grid, Indentation, Material};
+use crate::model::elasticity::{self, Base, Grid, Indentation, Material};
 use crate::progress::Progress;
+use crate::strategy::force_control::{solve_at_load, Loaded, FORCE_TOL};
 use crate::strategy::{self, registry, Knob, Knobs, Method};
 use analytic::{Case, Exact};
 use serde::{Deserialize, Serialize};
@@ -136,13 +135,9 @@ impl BenchConfig {
     pub fn exact(&self, case: Case) -> (f64, Exact) {
         let (a, r, es) = (self.a_target, self.radius, self.e_star());
         match case {
-            Case::HertzPlane => {
-                let p = std::f64::consts::PI * es * a * a / (4.0 * r);
-                (p, Exact::hertz(Geometry::PlaneStrain, p, r, es))
-            }
-            Case::HertzAxi => {
-                let p = 4.0 * es * a.powi(3) / (3.0 * r);
-                (p, Exact::hertz(Geometry::Axisymmetric, p, r, es))
+            Case::HertzPlane | Case::HertzAxi => {
+                let p = case.geometry().hertz_load(a, r, es);
+                (p, Exact::hertz(case.geometry(), p, r, es))
             }
             Case::Patch => {
                 // Uniform pressure 1e-3·E* on the top of an a × a block (half model).
@@ -459,9 +454,8 @@ fn run_job(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> (BenchRow, Vec<f64
     }
     let t = Instant::now();
     let loaded = solve_at_load(
-        cfg,
-        mesh.case,
-        mesh.grid,
+        mesh.case.name(),
+        |w| cfg.scene(mesh.case, mesh.grid, w),
         job.method,
         mesh.load,
         mesh.lift_lagrange,
@@ -531,7 +525,15 @@ pub fn run(cfg: &BenchConfig, progress: &Progress) -> Result<BenchRun> {
                 Case::Patch => exact.p0 * grid.height() / cfg.e_star(),
                 _ => cfg.a_target * cfg.a_target / cfg.radius,
             };
-            let lag = solve_at_load(cfg, case, &grid, Method::lagrange(), load, guess, FORCE_TOL)?;
+            let scene = |w| cfg.scene(case, &grid, w);
+            let lag = solve_at_load(
+                case.name(),
+                scene,
+                Method::lagrange(),
+                load,
+                guess,
+                FORCE_TOL,
+            )?;
             let p_lag = lag.scene.pressures(&lag.sol.u);
             // K and the contact DOFs do not depend on the lift: one floor per mesh.
             out.floors.push(Floor {

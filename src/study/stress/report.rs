@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::error::{Error, Result};
-use crate::model::generate::FAMILY_NAMES;
+use crate::generate::FAMILY_NAMES;
 use crate::plot::{self, Figure};
 use crate::progress::Progress;
 use crate::provenance::{self, csv_opt, Provenance};

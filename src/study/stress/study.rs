@@ -517,7 +517,7 @@ pub fn strategy_study(scene: &StressScene, cfg: &StressConfig) -> Result<Vec<Str
 /// (beams of 3–12 elements, a 10×10 membrane, spectrum matrices of N = 8–40 with eigenvalue
 /// spreads 10¹⁰–10¹⁶).
 pub fn stress_scenes(seed: u64, count: usize, families: &[String]) -> Result<Vec<StressScene>> {
-    use crate::model::generate::{generate, Family, GeneratorConfig};
+    use crate::generate::{generate, Family, GeneratorConfig};
     let mut out = vec![
         StressScene {
             name: "paper-beam".into(),

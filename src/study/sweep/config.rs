@@ -2,8 +2,8 @@
 //! its checks.
 
 use crate::error::{Error, Result};
+use crate::generate::{self, Family, GeneratorConfig};
 use crate::metrics::MetricSet;
-use crate::model::generate::{self, Family, GeneratorConfig};
 use crate::strategy::{self, registry, Knob};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};

@@ -2,7 +2,7 @@
 
 use super::SweepConfig;
 use crate::error::{Error, Result};
-use crate::model::generate::{self, Family};
+use crate::generate::{self, Family};
 use crate::scene;
 use crate::system::Problem;
 use std::path::PathBuf;

@@ -15,13 +15,19 @@
 //! * `spectrum` — dense SPD `K = Q diag(λ) Qᵀ` with log-spaced eigenvalues spanning a
 //!   prescribed spread (10²…10¹⁰), random loads and contact DOFs; a stress family.
 //! * `hertz` — a block of Q4 elements (plane strain or axisymmetric, drawn at random; random
-//!   E, ν, indenter radius R ∈ [5, 50]·a and mesh size h ∈ `elastic_h`·a, a = 1) lifted by
-//!   a²/R onto a rigid parabolic indenter ([`crate::model::elasticity`]): unilateral
-//!   constraints on the top nodes. Displacement-controlled at the Hertz indentation depth of the
-//!   sphere on a half-space, a²/R (in plane strain the contact width then differs from a);
-//!   the force-controlled benchmark against the analytic solution is `contact_bench`.
+//!   E, ν, indenter radius R ∈ [5, 50]·a, mesh size h ∈ `elastic_h`·a, a = 1) under a rigid
+//!   parabolic indenter ([`crate::model::elasticity`]) and a total load P drawn log-uniformly
+//!   between the Hertz loads of contact half-widths 0.75a and 1.25a: unilateral constraints
+//!   on the top nodes. The scene is displacement-controlled at the lift where the **Lagrange**
+//!   solution carries P ([`force_control::solve_at_load`], mismatch ≤ 1e-10); the penalty
+//!   rules see the same scene and carry loads of their own (the force-controlled benchmark of
+//!   every rule against the analytic solution is `contact_bench`).
 //! * `patch` — the contact patch test: an a × a block (plane strain or axisymmetric) on a
-//!   frictionless base lifted by 1e-3·a onto a flat rigid punch over its whole top.
+//!   frictionless base under a flat rigid punch over its whole top, at the lift where the
+//!   Lagrange solution carries a uniform pressure p̄ ∈ [1e-4, 1e-2]·E* (log-uniform).
+//!
+//! The metadata of both records the draws (`geometry`, `young`, `poisson`, `h_over_a`,
+//! `radius`, `load`, `a_hertz`) and the lift found (`lift`, `force_solves`).
 //!
 //! The default families ([`DEFAULT_FAMILIES`]) are the first three; `hertz` and `patch` are
 //! asked for by name (`--families hertz,patch`). Their constraints are all unilateral, so every
@@ -31,6 +37,7 @@ use crate::error::{Error, Result};
 use crate::model::beam::{Frame, Section};
 use crate::model::elasticity::{self, Base, Geometry, Grid, Material};
 use crate::model::membrane as membrane_model;
+use crate::strategy::{force_control, Method};
 use crate::system::{Constraint, ConstraintKind, Problem, Stiffness};
 use faer::Mat;
 use rand::{Rng, SeedableRng};
@@ -194,20 +201,21 @@ pub fn generate(
     cfg: &GeneratorConfig,
 ) -> Result<GeneratedScene> {
     let s = scene_seed(seed, family, index);
+    let name = format!("{}-{index:04}", family.name());
     let mut rng = ChaCha8Rng::seed_from_u64(s);
     let (problem, mut meta) = match family {
         Family::Beam => beam(&mut rng, cfg)?,
         Family::Membrane => membrane(&mut rng, cfg)?,
         Family::Spectrum => spectrum(&mut rng, cfg)?,
-        Family::Hertz => elastic(&mut rng, cfg, false)?,
-        Family::Patch => elastic(&mut rng, cfg, true)?,
+        Family::Hertz => elastic(&mut rng, cfg, false, &name)?,
+        Family::Patch => elastic(&mut rng, cfg, true, &name)?,
     };
     meta["generator"] = serde_json::json!(family.name());
     meta["seed"] = serde_json::json!(seed);
     meta["index"] = serde_json::json!(index);
     meta["scene_seed"] = serde_json::json!(s);
     Ok(GeneratedScene {
-        name: format!("{}-{index:04}", family.name()),
+        name,
         family,
         problem,
         meta,
@@ -384,11 +392,12 @@ fn spectrum(rng: &mut ChaCha8Rng, cfg: &GeneratorConfig) -> Result<(Problem, ser
     Ok((Problem::new(k, q, cons)?, meta))
 }
 
-/// A `hertz` (`patch = false`) or `patch` scene (module doc).
+/// A `hertz` (`patch = false`) or `patch` scene (module doc), named `name` in errors.
 fn elastic(
     rng: &mut ChaCha8Rng,
     cfg: &GeneratorConfig,
     patch: bool,
+    name: &str,
 ) -> Result<(Problem, serde_json::Value)> {
     let geometry = if rng.random_bool(0.5) {
         Geometry::PlaneStrain
@@ -399,26 +408,63 @@ fn elastic(
         young: log_uniform(rng, 1e3, 1e6),
         poisson: rng.random_range(0.0..0.45),
     };
+    let e_star = material.contact_modulus();
     let h = log_uniform(rng, cfg.elastic_h.0, cfg.elastic_h.1);
-    let (scene, radius) = if patch {
-        let grid = Grid::graded(1.0, 1.0, h, 1.0, 1.0)?;
-        let s = elasticity::indentation(&grid, geometry, &material, Base::Sliding, 1e-3, |_| 0.0)?;
-        (s, None)
+    let (grid, base, radius) = if patch {
+        (Grid::graded(1.0, 1.0, h, 1.0, 1.0)?, Base::Sliding, None)
     } else {
         let r = log_uniform(rng, 5.0, 50.0);
-        let grid = Grid::graded(8.0, 8.0, h, 1.5, 1.3)?;
-        let s = elasticity::indentation(&grid, geometry, &material, Base::Clamped, 1.0 / r, |x| {
-            x * x / (2.0 * r)
-        })?;
-        (s, Some(r))
+        (Grid::graded(8.0, 8.0, h, 1.5, 1.3)?, Base::Clamped, Some(r))
     };
+    // The load, and the half-space's response to it as the search's first lift.
+    let (load, guess, a_hertz) = match radius {
+        None => {
+            // Mean pressure p̄ on the whole top: A = 2 (plane, per unit thickness) or π.
+            let p_mean = log_uniform(rng, 1e-4, 1e-2) * e_star;
+            let area = match geometry {
+                Geometry::PlaneStrain => 2.0,
+                Geometry::Axisymmetric => std::f64::consts::PI,
+            };
+            (p_mean * area, p_mean * grid.height() / e_star, None)
+        }
+        Some(r) => {
+            let (lo, hi) = (
+                geometry.hertz_load(A_HERTZ.0, r, e_star),
+                geometry.hertz_load(A_HERTZ.1, r, e_star),
+            );
+            let load = log_uniform(rng, lo, hi);
+            let a = geometry.hertz_half_width(load, r, e_star);
+            (load, a * a / r, Some(a))
+        }
+    };
+    let scene = |w: f64| {
+        elasticity::indentation(&grid, geometry, &material, base, w, |x| match radius {
+            Some(r) => x * x / (2.0 * r),
+            None => 0.0,
+        })
+    };
+    let loaded = force_control::solve_at_load(
+        name,
+        scene,
+        Method::lagrange(),
+        load,
+        guess,
+        force_control::FORCE_TOL,
+    )?;
     let meta = serde_json::json!({
         "geometry": geometry,
         "young": material.young,
         "poisson": material.poisson,
         "h_over_a": h,
         "radius": radius,
-        "lift": scene.lift,
+        "load": load,
+        "a_hertz": a_hertz,
+        "lift": loaded.scene.lift,
+        "force_solves": loaded.solves,
     });
-    Ok((scene.problem, meta))
+    Ok((loaded.scene.problem, meta))
 }
+
+/// `hertz`: the load is drawn log-uniformly between the Hertz loads of these contact
+/// half-widths (radii), in units of a; the mesh is fine (size h) up to 1.5.
+const A_HERTZ: (f64, f64) = (0.75, 1.25);

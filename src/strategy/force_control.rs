@@ -1,10 +1,15 @@
-//! Force control: the lift of the block's base at which a rule's own solution carries the load.
+//! Force control of an indentation scene ([`crate::model::elasticity::indentation`]): the
+//! lift w of the block's base at which a rule's own solution carries a total load P,
+//!
+//! `F(w) = Σ_c ω_c p_c(u(w)) = P` (times 2 or 2π: [`Indentation::total_force`]),
+//!
+//! so that rules are compared at equal load, as a user loads a model. `contact_bench` solves
+//! every rule this way; the `hertz` and `patch` scene families of the `generate` module place
+//! their lift where the Lagrange solution carries the drawn load.
 
-use super::analytic::Case;
-use super::BenchConfig;
+use super::{Method, Solution};
 use crate::error::{Error, Result};
-use crate::model::elasticity::{Grid, Indentation};
-use crate::strategy::{self, Method, Solution};
+use crate::model::elasticity::Indentation;
 
 /// A scene solved by one rule under force control: the scene at the lift found, its solution
 /// and the number of solves the search took.
@@ -25,25 +30,30 @@ pub struct Loaded {
 /// contact (the indenter touches the top at x = 0); a barrier acts before contact, so where
 /// the force at w = 0 exceeds the load the bracket extends below 0. Regula falsi (Illinois
 /// variant) in a doubling bracket from `guess` converges in a few solves.
+///
+/// `scene(w)` builds the scene at lift w; `name` names it in errors.
 pub fn solve_at_load(
-    cfg: &BenchConfig,
-    case: Case,
-    grid: &Grid,
+    name: &str,
+    scene: impl Fn(f64) -> Result<Indentation>,
     method: Method,
     load: f64,
     guess: f64,
     rel_tol: f64,
 ) -> Result<Loaded> {
+    if !(load.is_finite() && load > 0.0 && guess.is_finite() && guess > 0.0) {
+        return Err(Error::input(format!(
+            "{name}: force control needs a finite load > 0 and a first lift > 0 (got {load:e}, {guess:e})"
+        )));
+    }
     let force = |w: f64| -> Result<(f64, Indentation, Solution)> {
-        let scene = cfg.scene(case, grid, w)?;
-        let sol = strategy::solve(&scene.problem, method)?;
+        let scene = scene(w)?;
+        let sol = super::solve(&scene.problem, method)?;
         let f = scene.total_force(&sol.u);
         Ok((f - load, scene, sol))
     };
     let fail = |what: &str, w: f64, r: f64| {
         Error::Numerical(format!(
-            "{} {}: force control {what} (lift {w:e}, force mismatch {:e})",
-            case.name(),
+            "{name} {}: force control {what} (lift {w:e}, force mismatch {:e})",
             method.name(),
             r / load
         ))
