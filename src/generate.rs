@@ -27,7 +27,8 @@
 //!   Lagrange solution carries a uniform pressure p̄ ∈ [1e-4, 1e-2]·E* (log-uniform).
 //!
 //! The metadata of both records the draws (`geometry`, `young`, `poisson`, `h_over_a`,
-//! `radius`, `load`, `a_hertz`) and the lift found (`lift`, `force_solves`).
+//! `radius`, `load`: the total force on the whole body, per unit thickness in plane strain,
+//! `a_hertz`: Hertz's half-width for it) and the lift found (`lift`, `force_solves`).
 //!
 //! The default families ([`DEFAULT_FAMILIES`]) are the first three; `hertz` and `patch` are
 //! asked for by name (`--families hertz,patch`). Their constraints are all unilateral, so every
