@@ -505,10 +505,10 @@ fn mark_not_converged(
         .collect();
     for (i, &(x, y)) in bad.iter().enumerate() {
         let label = if i == 0 {
-            format!(
-                "NOT CONVERGED ({} solves, each at its own value)",
-                bad.len()
-            )
+            match bad.len() {
+                1 => "NOT CONVERGED (1 solve, at its own value)".to_string(),
+                n => format!("NOT CONVERGED ({n} solves, each at its own value)"),
+            }
         } else {
             String::new()
         };
