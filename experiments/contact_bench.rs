@@ -36,6 +36,19 @@ struct Args {
     /// Methods (default: every registered one).
     #[arg(long, value_parser = registry::method_parser(), value_delimiter = ',')]
     methods: Option<Vec<String>>,
+    /// `constant`: ε grid over E* = E/(1 − ν²).
+    #[arg(long, value_delimiter = ',')]
+    eps_rel: Option<Vec<f64>>,
+    /// `scaled`: factors f of ε_c = f·K[d_c,d_c].
+    #[arg(long, value_delimiter = ',')]
+    factors: Option<Vec<f64>>,
+    /// δ-rules, barrier d̂ and augmented tolerances over a.
+    #[arg(long, value_delimiter = ',')]
+    deltas_rel: Option<Vec<f64>>,
+    /// `optimal` runs on meshes of at most this many DOFs (default 100; dense, ≈ n³ per
+    /// evaluation: the 220-DOF patch mesh takes minutes per δ).
+    #[arg(long)]
+    optimal_max_n: Option<usize>,
     /// Relative accuracy asked of cond₂.
     #[arg(long)]
     cond_tol: Option<f64>,
@@ -72,6 +85,18 @@ fn config(a: &Args) -> Result<BenchConfig> {
     }
     if let Some(m) = &a.methods {
         cfg.methods = m.clone();
+    }
+    for (flag, v) in [
+        (&mut cfg.eps_rel, &a.eps_rel),
+        (&mut cfg.factors, &a.factors),
+        (&mut cfg.deltas_rel, &a.deltas_rel),
+    ] {
+        if let Some(v) = v {
+            *flag = v.clone();
+        }
+    }
+    if let Some(n) = a.optimal_max_n {
+        cfg.optimal_max_n = n;
     }
     if let Some(t) = a.cond_tol {
         cfg.cond_tol = t;

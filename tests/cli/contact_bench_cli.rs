@@ -64,6 +64,45 @@ fn small_suite_writes_rows_summary_and_figures() {
     );
 }
 
+/// The knob grids are the user's: `--eps-rel`, `--factors`, `--deltas-rel` replace the
+/// defaults row for row, and `--optimal-max-n` moves where `optimal` is skipped.
+#[test]
+fn knob_grids_and_the_optimal_limit_are_options() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = bin()
+        .args(["--cases", "patch", "--meshes", "0.2", "--quiet", "--json"])
+        .args(["--methods", "constant,scaled,condensed,optimal"])
+        .args([
+            "--eps-rel",
+            "1,10",
+            "--factors",
+            "3",
+            "--deltas-rel",
+            "1e-3",
+        ])
+        .args(["--optimal-max-n", "59", "--out"])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let rows = s["rows"].as_array().unwrap();
+    let knobs = |m: &str| -> Vec<f64> {
+        rows.iter()
+            .filter(|r| r["method"] == m)
+            .map(|r| r["knob_rel"].as_f64().unwrap())
+            .collect()
+    };
+    assert_eq!(knobs("constant"), [1.0, 10.0]);
+    assert_eq!(knobs("scaled"), [3.0]);
+    assert_eq!(knobs("condensed"), [1e-3]);
+    // The 60-DOF mesh is above 59: optimal's row says it was skipped.
+    let opt: Vec<_> = rows.iter().filter(|r| r["method"] == "optimal").collect();
+    assert_eq!(opt.len(), 1);
+    let err = opt[0]["error"].as_str().unwrap();
+    assert!(err.contains("optimal_max_n = 59"), "{err}");
+}
+
 #[test]
 fn bad_options_exit_2_with_one_line() {
     for args in [
@@ -72,6 +111,10 @@ fn bad_options_exit_2_with_one_line() {
         &["--meshes", "nan"],
         &["--methods", "nonsense"],
         &["--cond-tol", "2"],
+        &["--eps-rel", "-1"],
+        &["--factors", "inf"],
+        &["--deltas-rel", "0"],
+        &["--optimal-max-n", "5000"],
     ] {
         let o = bin().args(args).arg("--quiet").output().unwrap();
         assert_eq!(o.status.code(), Some(2), "{args:?}");

@@ -120,6 +120,13 @@ impl BenchConfig {
                 self.poisson
             )));
         }
+        if self.optimal_max_n > strategy::optimal::MAX_N {
+            return Err(Error::input(format!(
+                "--optimal-max-n: {} exceeds the dense optimiser's limit n ≤ {}",
+                self.optimal_max_n,
+                strategy::optimal::MAX_N
+            )));
+        }
         MetricSet::check_cond_tol(Some(self.cond_tol))?;
         for m in &self.methods {
             registry::lookup(m)?;
