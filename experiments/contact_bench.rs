@@ -39,7 +39,7 @@ struct Args {
     /// `constant`: ε grid over E* = E/(1 − ν²).
     #[arg(long, value_delimiter = ',')]
     eps_rel: Option<Vec<f64>>,
-    /// `scaled`: factors f of ε_c = f·K[d_c,d_c].
+    /// `scaled`: factors f of ε_c = f·K_dd (d the constraint's DOF).
     #[arg(long, value_delimiter = ',')]
     factors: Option<Vec<f64>>,
     /// δ-rules, barrier d̂ and augmented tolerances over a.
