@@ -471,6 +471,16 @@ pub(crate) fn second_pass(
 /// estimate wanted to rounding).
 pub const STAGNATION: f64 = 1e-14;
 
+/// The stagnation tolerances (λ_min run, λ_max run): a tolerance asked for loosens both
+/// runs' stopping rule, never below the defaults; `scale` tightens them.
+pub(crate) fn stagnation_tolerances(tol: Option<f64>, scale: f64) -> (f64, f64) {
+    let (bottom, top) = match tol {
+        Some(t) => ((t / 8.0).max(STAGNATION), (t / 8.0).max(TOP_STAGNATION)),
+        None => (STAGNATION, TOP_STAGNATION),
+    };
+    (bottom * scale, top * scale)
+}
+
 /// The stagnation at which plain Lanczos on A stops for λ_max: the top of the spectrum
 /// converges fastest, and a change below 1e-13 over a few steps leaves an error far
 /// below the 1e-12 floor of the cond₂ contract (its share of that budget).

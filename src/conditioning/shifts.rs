@@ -3,6 +3,7 @@
 //! ([`super::certify`], Lemmas 1, 5, 7 and 7a).
 
 use super::certify::{self, Margin};
+use super::lanczos::lanczos;
 use super::sparse::POSTERIOR_MAX_PRODUCTS;
 use crate::error::Result;
 use crate::linalg::{DiagonalPattern, SparseLlt};
@@ -126,3 +127,33 @@ pub(super) fn graded_floor(
         Some(margin.graded_floor(tau, max_c, rowsum)).filter(|&h| h > 0.0)
     })
 }
+
+/// A rough λ_min(Ĥ), `Ĥ = Ŝ⁻¹AŜ⁻¹` (wanted within a factor of 2, certified by Lemma 5): a short
+/// Lanczos run on `Ĥ⁻¹ = Ŝ A⁻¹ Ŝ` from `z = Ŝy_bottom`, `solve` applying A⁻¹ in place. Returns
+/// the estimate (None where the run gives none) and the steps.
+pub(super) fn graded_estimate(
+    s_hat: &[f64],
+    z: &[f64],
+    solve: impl Fn(&mut [f64]),
+) -> Result<(Option<f64>, usize)> {
+    let run = lanczos(
+        s_hat.len(),
+        GRADED_LANCZOS_STEPS,
+        |_| 1e-2,
+        Some(z),
+        false,
+        |x, y| {
+            for ((yi, xi), si) in y.iter_mut().zip(x).zip(s_hat) {
+                *yi = xi * si;
+            }
+            solve(y);
+            for (yi, si) in y.iter_mut().zip(s_hat) {
+                *yi *= si;
+            }
+        },
+    )?;
+    Ok(((run.theta > 0.0).then(|| 1.0 / run.theta), run.steps))
+}
+
+/// Lanczos steps of the rough λ_min(Ŝ⁻¹AŜ⁻¹) estimate (wanted within a factor of 2).
+const GRADED_LANCZOS_STEPS: usize = 16;
