@@ -243,42 +243,33 @@ fn analyse(
     let width = hi / lo - 1.0;
     // (An infinite or NaN width misses the target too.)
     let missed = !(width.is_finite() && width <= ends.target);
-    if starts.is_none() && missed && stagnation_scale == 1.0 {
-        // The stagnation test can pass a few steps early (the geometric tail of the Ritz
-        // value's changes; proptest: n 250, cond₂ 8, λ_min 4.4e-13 high after 20 steps), and a
-        // test placed from it fails and steps out ×8: a stricter rerun, the narrower kept.
-        if let Ok(mut strict) = analyse(a, max_steps, reuse, STRICT_STAGNATION) {
-            let (s_lo, s_hi) = strict.certificate.cond2_bounds();
-            let (first, spent) = (&mut certificate, &mut strict.certificate);
-            if s_hi / s_lo - 1.0 < width {
-                spent.lanczos_steps += first.lanczos_steps;
-                spent.factorizations += first.factorizations;
-                return Ok(strict);
-            }
-            first.lanczos_steps += spent.lanczos_steps;
-            first.factorizations += spent.factorizations;
+    // Where the bracket misses its target, the analysis again, kept where its bracket is the
+    // narrower (both costs counted). From a warm start: from the generic start (a warm start
+    // can settle short of a clustered end: the stagnation test sees the start's own components
+    // converge, the estimate stays off by up to the bracket). From the generic start: with
+    // stricter stopping (the geometric-tail test can pass a few steps early; proptest: n 250,
+    // cond₂ 8, λ_min 4.4e-13 high after 20 steps, and a test placed from it steps out ×8).
+    let again = match (missed, starts) {
+        (true, Some(_)) => Some((
+            Reuse {
+                starts: None,
+                ..reuse
+            },
+            stagnation_scale,
+        )),
+        (true, None) if stagnation_scale == 1.0 => Some((reuse, STRICT_STAGNATION)),
+        _ => None,
+    };
+    if let Some(Ok(mut other)) = again.map(|(r, scale)| analyse(a, max_steps, r, scale)) {
+        let (o_lo, o_hi) = other.certificate.cond2_bounds();
+        let (first, spent) = (&mut certificate, &mut other.certificate);
+        if o_hi / o_lo - 1.0 < width {
+            spent.lanczos_steps += first.lanczos_steps;
+            spent.factorizations += first.factorizations;
+            return Ok(other);
         }
-    }
-    if starts.is_some() && missed {
-        // A warm start can settle short of a clustered end: the stagnation test sees the
-        // start's own components converge, the estimate stays off by up to the bracket (the
-        // bracket itself holds). Where the bracket misses its target, the analysis again from
-        // the generic start, kept where its bracket is the narrower (both cost counted).
-        let cold = Reuse {
-            starts: None,
-            ..reuse
-        };
-        if let Ok(mut cold) = analyse(a, max_steps, cold, stagnation_scale) {
-            let (c_lo, c_hi) = cold.certificate.cond2_bounds();
-            let (warm, spent) = (&mut certificate, &mut cold.certificate);
-            if c_hi / c_lo - 1.0 < width {
-                spent.lanczos_steps += warm.lanczos_steps;
-                spent.factorizations += warm.factorizations;
-                return Ok(cold);
-            }
-            warm.lanczos_steps += spent.lanczos_steps;
-            warm.factorizations += spent.factorizations;
-        }
+        first.lanczos_steps += spent.lanczos_steps;
+        first.factorizations += spent.factorizations;
     }
     Ok(SparseSpectrum {
         lambda_max: ends.refined_max.unwrap_or(est.lmax).clamp(max_lo, max_hi),
