@@ -411,32 +411,28 @@ fn elastic(
     };
     let e_star = material.contact_modulus();
     let h = log_uniform(rng, cfg.elastic_h.0, cfg.elastic_h.1);
-    let (grid, base, radius) = if patch {
-        (Grid::graded(1.0, 1.0, h, 1.0, 1.0)?, Base::Sliding, None)
+    // The grid, its support, the load, and the half-space's response to it as the search's
+    // first lift.
+    let (grid, base, radius, load, guess, a_hertz) = if patch {
+        let grid = Grid::graded(1.0, 1.0, h, 1.0, 1.0)?;
+        // Mean pressure p̄ on the whole top: A = 2 (plane, per unit thickness) or π.
+        let p_mean = log_uniform(rng, 1e-4, 1e-2) * e_star;
+        let area = match geometry {
+            Geometry::PlaneStrain => 2.0,
+            Geometry::Axisymmetric => std::f64::consts::PI,
+        };
+        let guess = p_mean * grid.height() / e_star;
+        (grid, Base::Sliding, None, p_mean * area, guess, None)
     } else {
         let r = log_uniform(rng, 5.0, 50.0);
-        (Grid::graded(8.0, 8.0, h, 1.5, 1.3)?, Base::Clamped, Some(r))
-    };
-    // The load, and the half-space's response to it as the search's first lift.
-    let (load, guess, a_hertz) = match radius {
-        None => {
-            // Mean pressure p̄ on the whole top: A = 2 (plane, per unit thickness) or π.
-            let p_mean = log_uniform(rng, 1e-4, 1e-2) * e_star;
-            let area = match geometry {
-                Geometry::PlaneStrain => 2.0,
-                Geometry::Axisymmetric => std::f64::consts::PI,
-            };
-            (p_mean * area, p_mean * grid.height() / e_star, None)
-        }
-        Some(r) => {
-            let (lo, hi) = (
-                geometry.hertz_load(A_HERTZ.0, r, e_star),
-                geometry.hertz_load(A_HERTZ.1, r, e_star),
-            );
-            let load = log_uniform(rng, lo, hi);
-            let a = geometry.hertz_half_width(load, r, e_star);
-            (load, a * a / r, Some(a))
-        }
+        let grid = Grid::graded(8.0, 8.0, h, 1.5, 1.3)?;
+        let (lo, hi) = (
+            geometry.hertz_load(A_HERTZ.0, r, e_star),
+            geometry.hertz_load(A_HERTZ.1, r, e_star),
+        );
+        let load = log_uniform(rng, lo, hi);
+        let a = geometry.hertz_half_width(load, r, e_star);
+        (grid, Base::Clamped, Some(r), load, a * a / r, Some(a))
     };
     let scene = |w: f64| {
         elasticity::indentation(&grid, geometry, &material, base, w, |x| match radius {

@@ -456,9 +456,9 @@ pub fn width_target(tol: Option<f64>, cond_eq: f64) -> f64 {
         .max(8.0 * f64::EPSILON * cond_eq)
 }
 
-/// ρ(y) of a top vector as a proven interval, from its plain one `plain`
+/// A proven lower end of ρ(y) for a top vector, from its plain interval `plain`
 /// ([`rayleigh_interval`], which carries γ_N of rounding: ≈ N·u, 1e-12 relative at 10⁴
-/// unknowns, 1e-10 at 10⁶): where that is wider than `need`, ρ to the u² level
+/// unknowns, 1e-10 at 10⁶): where that is wider than `need`, raised by ρ to the u² level
 /// ([`certify::rayleigh_interval_dot2`]).
 fn sharpen_top(
     pat: faer::sparse::SymbolicSparseColMatRef<'_, usize>,
@@ -466,11 +466,11 @@ fn sharpen_top(
     y: &[f64],
     plain: (f64, f64),
     need: f64,
-) -> (f64, f64) {
+) -> f64 {
     if plain.1 / plain.0 - 1.0 <= need {
-        plain
+        plain.0
     } else {
-        certify::rayleigh_interval_dot2(pat, vals, y).unwrap_or(plain)
+        certify::rayleigh_interval_dot2(pat, vals, y).map_or(plain.0, |(lo, _)| lo.max(plain.0))
     }
 }
 
@@ -504,10 +504,7 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
     let top_share = 0.5;
     let top_need = 0.25 * top_share * target;
     let mut max_lo = match (est.top.as_deref(), top_plain) {
-        (Some(y), Some(plain)) => {
-            let (lo, _) = sharpen_top(pat, vals, y, plain, 2.0 * top_need);
-            lo.max(plain.0).max(max_diag)
-        }
+        (Some(y), Some(plain)) => sharpen_top(pat, vals, y, plain, 2.0 * top_need).max(max_diag),
         _ => max_diag,
     };
     // A Ritz vector whose Rayleigh quotient lags the Ritz value beyond the lower side's share
@@ -530,8 +527,7 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
             restart_steps = run.steps;
             if let Some(v) = run.vector {
                 if let Some(plain) = rayleigh_interval(pat, vals, &v) {
-                    let (lo, _) = sharpen_top(pat, vals, &v, plain, 2.0 * top_need);
-                    max_lo = max_lo.max(lo.max(plain.0));
+                    max_lo = max_lo.max(sharpen_top(pat, vals, &v, plain, 2.0 * top_need));
                 }
             }
         }
@@ -596,12 +592,10 @@ fn certify_ends(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opt
     // test that succeeded — tighten the upper end.
     let refined_max = refined.map(|(r, s_ok, vector)| {
         let (pat, vals) = (fam.pattern.pattern.as_ref(), fam.pattern.values.as_slice());
-        let rq = vector.and_then(|v| {
-            let plain = rayleigh_interval(pat, vals, &v)?;
-            Some(sharpen_top(pat, vals, &v, plain, 2.0 * top_need))
-        });
-        if let Some((lo, _)) = rq {
-            max_lo = max_lo.max(lo);
+        if let Some(v) = vector {
+            if let Some(plain) = rayleigh_interval(pat, vals, &v) {
+                max_lo = max_lo.max(sharpen_top(pat, vals, &v, plain, 2.0 * top_need));
+            }
         }
         if max_hi / r.max(max_lo) - 1.0 > top_share * target {
             let from = r.max(max_lo);
