@@ -45,6 +45,7 @@ pub mod saddle;
 pub(crate) mod shifts;
 pub mod sparse;
 pub mod temple;
+pub mod window;
 
 use crate::error::{Error, Result};
 use crate::linalg::Factorization;

@@ -114,7 +114,7 @@ fn bad_options_exit_2_with_one_line() {
         &["--eps-rel", "-1"],
         &["--factors", "inf"],
         &["--deltas-rel", "0"],
-        &["--optimal-max-n", "5000"],
+        &["--optimal-max-n", "20001"],
     ] {
         let o = bin().args(args).arg("--quiet").output().unwrap();
         assert_eq!(o.status.code(), Some(2), "{args:?}");

@@ -18,8 +18,16 @@
 //!   and the exact gradient `∂F_t/∂ε_c = Σ_k (w⁺_k − w⁻_k) v_k[d_c]² / λ_k` (softmax weights
 //!   `w^±` of `±t ln λ`), valid whatever the multiplicities (a spectral function's gradient
 //!   is `V f'(Λ) Vᵀ`). t grows to 6·10⁴ (smoothing gap ≤ 2 ln n / t) over the stages.
-//! * **Constraints**: the gaps and their derivatives come from the same eigendecomposition:
-//!   `u = V Λ⁻¹ Vᵀ (q + D E û)`, `∂g_i/∂ε_j = −(A⁻¹)_{d_i d_j} g_j`. They enter through a
+//!   The sparse route ([`Route`]) sums over windows instead: the [`spectrum::WINDOW`] largest
+//!   eigenvalues in the first sum, the [`spectrum::WINDOW`] smallest in the second. Each
+//!   truncated sum still contains the extreme eigenvalue, so the truncated `F_t` still lies
+//!   between ln cond₂ and the full `F_t` (gap ≤ 2 ln WINDOW / t), and its gradient is the
+//!   same formula over the windows; it is smooth except where an eigenvalue crosses a
+//!   window's edge, where its weight is `≤ (λ_edge/λ_extreme)^t`.
+//! * **Constraints**: the gaps `u = A⁻¹(q + D E û)` and their derivatives
+//!   `∂g_i/∂ε_j = −(A⁻¹)_{d_i d_j} g_j`, which enter the gradient through one adjoint solve
+//!   `z = A⁻¹ Σ_i (∂Φ/∂g_i) e_{d_i}` (`∂Φ/∂ε_j ∋ −g_j z[d_j]`), by the route's solver (the
+//!   dense eigendecomposition or the sparse Cholesky factor). They enter through a
 //!   log barrier `−μ Σ ln(h/δ)` on `h = δ − penetration` (both sides for bilateral ties), plus
 //!   `h = s g > 0` for penalized unilateral constraints (they must stay violated, or their ε
 //!   would not be in the system). μ falls from 10⁻² to 10⁻⁷ with t. Every iterate is strictly
@@ -45,10 +53,15 @@
 //!   feasible or not. [`cond2_lower_bound`] computes it from the certified cond₂ routes at any
 //!   size (`contact_bench` reports it for every mesh: the floor no penalty rule goes below).
 //!
-//! # Limits
-//! Dense eigendecompositions of the n×n system at every evaluation: n ≤ [`MAX_N`],
-//! m ≤ [`MAX_M`]; larger problems are refused with [`Error::Input`]. K must be symmetric
-//! positive definite.
+//! # Routes and limits
+//! Up to [`DENSE_MAX_N`] DOFs every evaluation takes a dense eigendecomposition of the n×n
+//! system; above, the sparse route ([`spectrum`]): a sparse Cholesky factor and Lanczos
+//! windows at both ends of the spectrum. n ≤ [`MAX_N`], m ≤ [`MAX_M`]; larger problems are
+//! refused with [`Error::Input`]. K must be symmetric positive definite. Both routes end the
+//! same way (exact re-solve, exact cond₂, best feasible candidate), so the route changes the
+//! path of the optimiser, never the exactness of the reported numbers; on scenes both take
+//! (beams, Hertz and patch scenes of 51–136 DOFs) the optima agree to 5·10⁻⁹ relative
+//! (`tests/verification/optimal.rs`). [`solve_by`] picks a route explicitly.
 //!
 //! # What the optimum looks like
 //!
@@ -75,18 +88,24 @@
 //!
 //! # Cost
 //!
-//! Each evaluation is one dense symmetric eigendecomposition (≈ 9n³ flops with vectors) plus
-//! O(n m²); an optimisation takes ≈ 1 000–1 800 evaluations over its starts, independent of n
-//! and weakly of m: the cost grows about like n³ (`cargo run --release --example
-//! optimal_cost` measures it; its numbers are in docs/performance.md), so n = 1000 takes
-//! minutes.
+//! An optimisation takes ≈ 1 000–1 800 evaluations over its starts, independent of n and
+//! weakly of m. A dense evaluation is one symmetric eigendecomposition (≈ 9n³ flops with
+//! vectors); a sparse one is one sparse Cholesky, two solves and two Lanczos windows
+//! (≈ 25–60 steps each, fully reorthogonalized), about linear in n on a mesh.
+//! `cargo run --release --example optimal_cost` compares the routes on beams;
+//! docs/performance.md has its numbers and `contact_bench`'s.
+
+mod model;
+pub mod spectrum;
 
 use super::{fixed_energy, Context, Glyph, Knob, Knobs, Method, Solution, Strategy};
 use crate::conditioning;
 use crate::error::{Error, Result};
 use crate::system::{ConstraintKind, Problem, Stiffness};
-use faer::{Mat, Side};
+use model::{bfgs, Model};
 use serde::Serialize;
+pub use spectrum::Route;
+use spectrum::Spectrum;
 
 /// `optimal`: everything the registry knows about this strategy ([`super::registry`]).
 pub static STRATEGY: Strategy = Strategy {
@@ -114,10 +133,12 @@ fn run(ctx: Context, m: &Method) -> Result<Solution> {
     solve(ctx, m.need_delta()?)
 }
 
-/// Largest n the dense optimiser accepts.
-pub const MAX_N: usize = 1000;
-/// Largest m the dense optimiser accepts.
-pub const MAX_M: usize = 100;
+/// Largest n `optimal` accepts (the sparse route above [`DENSE_MAX_N`]).
+pub const MAX_N: usize = 20_000;
+/// Largest n of the dense route; larger problems take the sparse one ([`Route::for_size`]).
+pub const DENSE_MAX_N: usize = 300;
+/// Largest m `optimal` accepts (BFGS keeps a dense inverse Hessian over the penalized set).
+pub const MAX_M: usize = 200;
 
 /// Continuation stages (smoothing t, barrier weight μ).
 const STAGES: [(f64, f64); 6] = [
@@ -148,8 +169,10 @@ pub struct OptimalReport {
     pub cond2_lower_bound: f64,
     /// Which candidate won (`optimised from condensed`, `paper`, ...).
     pub winner: String,
-    /// Objective evaluations (one dense eigendecomposition each).
+    /// Objective evaluations (one eigendecomposition each: dense, or the extreme windows).
     pub evaluations: usize,
+    /// The evaluation route (`dense` or `sparse`, [`Route`]).
+    pub route: String,
 }
 
 /// Refuses problems the dense optimiser cannot afford (and unsymmetric K).
@@ -157,7 +180,7 @@ pub fn check_affordable(problem: &Problem) -> Result<()> {
     let (n, m) = (problem.n(), problem.m());
     if n > MAX_N || m > MAX_M {
         return Err(Error::input(format!(
-            "optimal: dense optimisation needs n ≤ {MAX_N} and m ≤ {MAX_M} (got n = {n}, m = {m})"
+            "optimal: needs n ≤ {MAX_N} and m ≤ {MAX_M} (got n = {n}, m = {m})"
         )));
     }
     if !problem.k.is_symmetric() {
@@ -221,189 +244,6 @@ pub fn cond2_lower_bound(problem: &Problem) -> Result<f64> {
     })
 }
 
-/// The smooth model over a fixed penalized set.
-struct Model<'a> {
-    p: &'a Problem,
-    k: Mat<f64>,
-    /// Penalized constraint indices (the variables).
-    set: Vec<usize>,
-    delta: f64,
-}
-
-/// One evaluation: Φ and its gradient in x = ln ε, plus the exact ln cond₂.
-struct Eval {
-    phi: f64,
-    grad: Vec<f64>,
-}
-
-impl Model<'_> {
-    /// Φ = F_t + μ·barrier at x, or None if x is infeasible (or A is not SPD).
-    fn eval(&self, x: &[f64], t: f64, mu: f64) -> Result<Option<Eval>> {
-        let p = self.p;
-        let n = p.n();
-        let eps: Vec<f64> = x.iter().map(|v| v.exp()).collect();
-        let mut a = self.k.clone();
-        let mut rhs = p.q.clone();
-        for (&c, &e) in self.set.iter().zip(&eps) {
-            let con = p.constraints[c];
-            a[(con.dof, con.dof)] += e;
-            rhs[con.dof] += e * con.limit;
-        }
-        let evd = a
-            .self_adjoint_eigen(Side::Lower)
-            .map_err(|e| Error::Numerical(format!("symmetric eigen failed: {e:?}")))?;
-        let (v, s) = (evd.U(), evd.S().column_vector());
-        let lam: Vec<f64> = (0..n).map(|k| s[k]).collect();
-        if !lam.iter().all(|l| l.is_finite() && *l > 0.0) {
-            return Ok(None);
-        }
-        // u = V Λ⁻¹ Vᵀ rhs.
-        let mut y = vec![0.0; n];
-        for (k, yk) in y.iter_mut().enumerate() {
-            *yk = (0..n).map(|i| v[(i, k)] * rhs[i]).sum::<f64>() / lam[k];
-        }
-        let gaps: Vec<f64> = p
-            .constraints
-            .iter()
-            .map(|con| (0..n).map(|k| v[(con.dof, k)] * y[k]).sum::<f64>() - con.limit)
-            .collect();
-        // Barrier terms h(g_i) > 0 with dh/dg_i.
-        let mut terms: Vec<(usize, f64, f64)> = Vec::new();
-        for (i, con) in p.constraints.iter().enumerate() {
-            let g = gaps[i];
-            match con.kind {
-                ConstraintKind::Bilateral => {
-                    terms.push((i, self.delta - g, -1.0));
-                    terms.push((i, self.delta + g, 1.0));
-                }
-                kind => {
-                    let s = if kind == ConstraintKind::Upper {
-                        1.0
-                    } else {
-                        -1.0
-                    };
-                    terms.push((i, self.delta - s * g, -s));
-                    if self.set.contains(&i) {
-                        terms.push((i, s * g, s));
-                    }
-                }
-            }
-        }
-        if !terms.iter().all(|&(_, h, _)| h > 0.0) {
-            return Ok(None);
-        }
-        // Smoothed ln cond and its weights.
-        let ll: Vec<f64> = lam.iter().map(|l| l.ln()).collect();
-        let (hi, lo) = (ll[n - 1], ll[0]);
-        let wp: Vec<f64> = ll.iter().map(|l| (t * (l - hi)).exp()).collect();
-        let wm: Vec<f64> = ll.iter().map(|l| (-t * (l - lo)).exp()).collect();
-        let (sp, sm) = (wp.iter().sum::<f64>(), wm.iter().sum::<f64>());
-        let f = hi + sp.ln() / t - lo + sm.ln() / t;
-        let barrier: f64 = terms.iter().map(|&(_, h, _)| -(h / self.delta).ln()).sum();
-        let phi = f + mu * barrier;
-        // dΦ/dg_i from the barrier.
-        let mut dphi_dg = vec![0.0; p.m()];
-        for &(i, h, dh) in &terms {
-            dphi_dg[i] += -mu * dh / h;
-        }
-        let grad = self
-            .set
-            .iter()
-            .zip(&eps)
-            .map(|(&j, &e)| {
-                let dj = p.constraints[j].dof;
-                let mut df = 0.0;
-                for k in 0..n {
-                    df += (wp[k] / sp - wm[k] / sm) * v[(dj, k)] * v[(dj, k)] / lam[k];
-                }
-                // ∂g_i/∂ε_j = −(A⁻¹)_{d_i d_j} g_j.
-                let mut db = 0.0;
-                for (i, con) in p.constraints.iter().enumerate() {
-                    if dphi_dg[i] != 0.0 {
-                        let z: f64 = (0..n).map(|k| v[(con.dof, k)] * v[(dj, k)] / lam[k]).sum();
-                        db += dphi_dg[i] * (-z * gaps[j]);
-                    }
-                }
-                e * (df + db)
-            })
-            .collect();
-        Ok(Some(Eval { phi, grad }))
-    }
-}
-
-fn inf_norm(v: &[f64]) -> f64 {
-    v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
-}
-
-/// BFGS on Φ(·; t, μ) from a strictly feasible x; returns the final x and ‖∇Φ‖∞.
-fn bfgs(
-    model: &Model,
-    x0: Vec<f64>,
-    t: f64,
-    mu: f64,
-    evals: &mut usize,
-) -> Result<(Vec<f64>, f64)> {
-    let d = x0.len();
-    let mut x = x0;
-    *evals += 1;
-    let Some(mut cur) = model.eval(&x, t, mu)? else {
-        return Ok((x, f64::NAN));
-    };
-    let mut h = Mat::<f64>::identity(d, d);
-    for _ in 0..MAX_INNER {
-        let gn = inf_norm(&cur.grad);
-        if gn < 1e-10 {
-            break;
-        }
-        let mut dir: Vec<f64> = (0..d)
-            .map(|i| -(0..d).map(|j| h[(i, j)] * cur.grad[j]).sum::<f64>())
-            .collect();
-        let mut slope: f64 = dir.iter().zip(&cur.grad).map(|(a, b)| a * b).sum();
-        if slope.is_nan() || slope >= 0.0 {
-            h = Mat::identity(d, d);
-            dir = cur.grad.iter().map(|g| -g).collect();
-            slope = -cur.grad.iter().map(|g| g * g).sum::<f64>();
-        }
-        let cap = inf_norm(&dir);
-        let mut step = if cap > 2.0 { 2.0 / cap } else { 1.0 };
-        let mut accepted = None;
-        for _ in 0..40 {
-            let xt: Vec<f64> = x.iter().zip(&dir).map(|(a, b)| a + step * b).collect();
-            *evals += 1;
-            if let Some(e) = model.eval(&xt, t, mu)? {
-                if e.phi <= cur.phi + 1e-4 * step * slope {
-                    accepted = Some((xt, e));
-                    break;
-                }
-            }
-            step *= 0.5;
-        }
-        let Some((xn, en)) = accepted else { break };
-        let sv: Vec<f64> = xn.iter().zip(&x).map(|(a, b)| a - b).collect();
-        let yv: Vec<f64> = en.grad.iter().zip(&cur.grad).map(|(a, b)| a - b).collect();
-        let sy: f64 = sv.iter().zip(&yv).map(|(a, b)| a * b).sum();
-        let done = (cur.phi - en.phi).abs() <= 1e-15 * cur.phi.abs().max(1.0);
-        x = xn;
-        cur = en;
-        if sy > 1e-300 {
-            // H ← (I − ρ s yᵀ) H (I − ρ y sᵀ) + ρ s sᵀ.
-            let rho = 1.0 / sy;
-            let hy: Vec<f64> = (0..d)
-                .map(|i| (0..d).map(|j| h[(i, j)] * yv[j]).sum())
-                .collect();
-            let yhy: f64 = yv.iter().zip(&hy).map(|(a, b)| a * b).sum();
-            h = Mat::from_fn(d, d, |i, j| {
-                h[(i, j)] - rho * (hy[i] * sv[j] + sv[i] * hy[j])
-                    + (rho * rho * yhy + rho) * sv[i] * sv[j]
-            });
-        }
-        if done {
-            break;
-        }
-    }
-    Ok((x, inf_norm(&cur.grad)))
-}
-
 /// A feasible candidate: its solution and exact cond₂.
 struct Candidate {
     label: String,
@@ -427,7 +267,7 @@ fn feasible(sol: &Solution, delta: f64) -> bool {
 /// Runs the continuation from a start's penalties; None if the start is not strictly feasible.
 fn optimise_from(
     p: &Problem,
-    k: &Mat<f64>,
+    spectrum: &Spectrum,
     delta: f64,
     start: &[f64],
     evals: &mut usize,
@@ -441,7 +281,7 @@ fn optimise_from(
     }
     let model = Model {
         p,
-        k: k.clone(),
+        spectrum,
         set,
         delta,
     };
@@ -488,12 +328,19 @@ fn scaled_start(p: &Problem, delta: f64, f0: f64) -> Result<Option<Vec<f64>>> {
     Ok(None)
 }
 
-/// Solves for the cond-optimal penalties at allowed penetration δ (module docs).
+/// Solves for the cond-optimal penalties at allowed penetration δ (module docs), by the
+/// route [`Route::for_size`] picks.
 pub fn solve(ctx: Context, delta: f64) -> Result<Solution> {
+    let route = Route::for_size(ctx.problem.n());
+    solve_by(ctx, delta, route)
+}
+
+/// [`solve`] by a given route (the sparse one needs n ≥ [`spectrum::SPARSE_MIN_N`]).
+pub fn solve_by(ctx: Context, delta: f64, route: Route) -> Result<Solution> {
     let p = ctx.problem;
     check_affordable(p)?;
     let lower = cond2_lower_bound(p)?;
-    let k = p.k.to_dense();
+    let spectrum = Spectrum::new(p, route)?;
     let mut cands: Vec<Candidate> = Vec::new();
     let mut starts: Vec<(String, Vec<f64>)> = Vec::new();
     for m in [
@@ -530,7 +377,7 @@ pub fn solve(ctx: Context, delta: f64) -> Result<Solution> {
     let mut evals = 0;
     let mut n_opt = 0;
     for (label, start) in &starts {
-        let Some((eps, opt)) = optimise_from(p, &k, delta, start, &mut evals)? else {
+        let Some((eps, opt)) = optimise_from(p, &spectrum, delta, start, &mut evals)? else {
             continue;
         };
         n_opt += 1;
@@ -585,6 +432,7 @@ pub fn solve(ctx: Context, delta: f64) -> Result<Solution> {
         cond2_lower_bound: lower,
         winner: best.label,
         evaluations: evals,
+        route: route.name().into(),
     });
     Ok(sol)
 }
