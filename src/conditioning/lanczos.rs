@@ -541,6 +541,22 @@ pub(crate) fn dot(x: &[f64], y: &[f64]) -> f64 {
     (acc[0] + acc[1]) + (acc[2] + acc[3])
 }
 
+/// The k×k symmetric tridiagonal matrix with diagonal `a` and off-diagonal `b`, dense.
+pub(crate) fn tridiagonal_dense(a: &[f64], b: &[f64]) -> faer::Mat<f64> {
+    let k = a.len();
+    faer::Mat::from_fn(k, k, |i, j| {
+        if i == j {
+            a[i]
+        } else if i == j + 1 {
+            b[j]
+        } else if j == i + 1 {
+            b[i]
+        } else {
+            0.0
+        }
+    })
+}
+
 pub(crate) fn norm(x: &[f64]) -> f64 {
     dot(x, x).sqrt()
 }
@@ -552,19 +568,7 @@ mod tests {
 
     /// λ_max of T from faer's dense symmetric eigenvalues (the independent reference).
     fn dense_max(a: &[f64], b: &[f64]) -> f64 {
-        let k = a.len();
-        let t = faer::Mat::from_fn(k, k, |i, j| {
-            if i == j {
-                a[i]
-            } else if i == j + 1 {
-                b[j]
-            } else if j == i + 1 {
-                b[i]
-            } else {
-                0.0
-            }
-        });
-        let ev = t
+        let ev = super::tridiagonal_dense(a, b)
             .self_adjoint_eigenvalues(faer::Side::Lower)
             .expect("eigenvalues");
         ev.iter().copied().fold(f64::NEG_INFINITY, f64::max)

@@ -16,7 +16,7 @@
 //! 90-DOF beam whose Krylov subspace became numerically invariant (observed in this
 //! project), and it takes one start vector where a warm start needs the whole window.
 
-use super::lanczos::start_vector;
+use super::lanczos::{start_vector, tridiagonal_dense};
 use faer::linalg::matmul::matmul;
 use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Accum, Col, ColRef, Mat, Par, Side};
@@ -39,7 +39,8 @@ pub struct Window {
 
 /// The `r` largest eigenpairs of the symmetric positive semidefinite operator `apply`
 /// (`y ← A x`) of dimension `n` (module docs); `warm`: vectors to start from (the previous
-/// window), may be empty. None if the operator returned a non-finite value.
+/// window), may be empty. None if the operator returned a non-finite value or the
+/// tridiagonal's eigensolver failed.
 pub fn top_window(
     apply: &mut dyn FnMut(&[f64], &mut [f64]),
     n: usize,
@@ -100,7 +101,7 @@ pub fn top_window(
         }
         let breakdown = b <= 1e3 * f64::EPSILON * scale;
         if breakdown || k == max_steps || (k >= r && (k - r).is_multiple_of(CHECK)) {
-            let (values, s) = ritz(&alpha, &beta, r);
+            let (values, s) = ritz(&alpha, &beta, r)?;
             let top = values[0].abs().max(f64::MIN_POSITIVE);
             let done = breakdown || s.iter().all(|si| b * si[k - 1].abs() <= tol * top);
             if done || k == max_steps {
@@ -128,28 +129,20 @@ pub fn top_window(
 }
 
 /// The `r` largest eigenvalues of the tridiagonal `T_k` (diagonal `a`, off-diagonal `b`) and
-/// their unit eigenvectors, largest first (faer's dense symmetric eigensolver).
-fn ritz(a: &[f64], b: &[f64], r: usize) -> (Vec<f64>, Vec<Vec<f64>>) {
+/// their unit eigenvectors, largest first (faer's dense symmetric eigensolver; None if it
+/// fails).
+fn ritz(a: &[f64], b: &[f64], r: usize) -> Option<(Vec<f64>, Vec<Vec<f64>>)> {
     let k = a.len();
-    let t = Mat::from_fn(k, k, |i, j| {
-        if i == j {
-            a[i]
-        } else if i == j + 1 {
-            b[j]
-        } else if j == i + 1 {
-            b[i]
-        } else {
-            0.0
-        }
-    });
-    let evd = t
+    let evd = tridiagonal_dense(a, b)
         .self_adjoint_eigen(Side::Lower)
-        .expect("the eigendecomposition of a finite symmetric tridiagonal converges");
+        .ok()?;
     let (u, s) = (evd.U(), evd.S().column_vector());
-    (0..r.min(k))
-        .map(|i| k - 1 - i)
-        .map(|c| (s[c], (0..k).map(|row| u[(row, c)]).collect()))
-        .unzip()
+    Some(
+        (0..r.min(k))
+            .map(|i| k - 1 - i)
+            .map(|c| (s[c], (0..k).map(|row| u[(row, c)]).collect()))
+            .unzip(),
+    )
 }
 
 #[cfg(test)]
