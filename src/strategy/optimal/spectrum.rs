@@ -11,7 +11,8 @@
 //!   of the previous evaluation, Ritz residuals ≤ [`RESIDUAL`] relative to the end's
 //!   eigenvalue; solves through the factor. The smoothing runs over these windows only,
 //!   which keeps it an upper bound of ln cond₂ to the Ritz values' accuracy (module docs of
-//!   [`super`]).
+//!   [`super`]). A window not converged within its step limit is used as it stands: it
+//!   steers the optimiser only; the reported cond₂ is computed exactly afterwards.
 
 use crate::conditioning::window::top_window;
 use crate::error::{Error, Result};
