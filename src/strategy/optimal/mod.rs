@@ -33,19 +33,31 @@
 //!   would not be in the system). μ falls from 10⁻² to 10⁻⁷ with t. Every iterate is strictly
 //!   feasible, so the result is feasible by construction, not to a tolerance.
 //! * **Inner solver**: BFGS in x with Armijo backtracking (infeasible trial points are
-//!   rejected), steps capped at 2 in ln ε.
+//!   rejected), steps capped at 2 in ln ε, for t < [`NEWTON_MIN_T`]; from there on, when the
+//!   penalized set has ≤ [`NEWTON_MAX_D`] constraints, Newton with a finite-difference
+//!   Hessian of the analytic gradient refreshed every 5th iteration ([`model::newton`]). At
+//!   large t the smoothed objective is ~t times more curved across an eigenvalue cluster than
+//!   along it, and BFGS from the identity crawled: on the 2 211-DOF Hertz mesh it hit the
+//!   150-iteration cap in stages 4–6 with ‖∇Φ‖∞ ≈ 10⁻⁴–10⁻³. Newton ends them below 10⁻⁸.
+//!   That matters beyond the last digits of cond₂: an unconverged optimum jumps as the lift
+//!   moves, and force control then hunts the jump (20–31 solves instead of 6;
+//!   docs/performance.md).
 //! * **Starts**: `condensed` at δ(1 − 10⁻³) (strictly feasible), `paper` at δ, `spring` at δ
 //!   when it is feasible, and `scaled` with the smallest factor `2^k f₀` that is strictly
 //!   feasible (`f₀` from condensed's largest ε/K_dd). Each optimised point is re-solved by
 //!   the exact penalty driver ([`super::fixed_energy`]) and its cond₂ recomputed exactly; the
 //!   result is the best **feasible** point among the optimised points and the raw `spring`,
 //!   `paper`, `condensed` solutions at δ. So `optimal` is never worse than those rules.
+//!   A start whose point at the end of a stage lies within [`MERGE`] (∞-norm in ln ε, same
+//!   penalized set) of an earlier start's point there stops: from the same point it would
+//!   retrace the same path (on the Hertz meshes every start merges after the first stage).
 //!
 //! # Report ([`OptimalReport`] in [`super::Stats`])
 //! * `optimality`: KKT residual at the winning optimised point: `max(‖∇ₓΦ‖∞, μ)`. The barrier
 //!   gradient is `Σ_j (μ/h_j)∇h_j`, i.e. multipliers `μ/h_j ≥ 0` with complementarity `μ`, so
 //!   `‖∇ₓΦ‖∞` is the stationarity residual of the smoothed problem in ln ε.
 //! * `starts_agreeing`: optimised starts whose exact cond₂ is within 10⁻³ (relative) of the best.
+//! * `starts_merged`: starts stopped on an earlier start's path (not counted in `starts`).
 //! * `cond2_lower_bound`: a certified lower bound of the optimum, `λ_max(K) / λ_min(K_FF)`
 //!   (F = the unconstrained DOFs): `λ_max(K + DEDᵀ) ≥ λ_max(K)` since DEDᵀ ⪰ 0, and the
 //!   eigenvector of `K_FF` padded with zeros on the constrained DOFs has Rayleigh quotient
@@ -89,7 +101,9 @@
 //! # Cost
 //!
 //! An optimisation takes ≈ 850–2 050 evaluations over its starts on the beams of
-//! `optimal_cost`, ≈ 950–1 300 on the 990-DOF Hertz mesh and ≈ 2 250 on the 2 211-DOF one.
+//! `optimal_cost` (measured before Newton stages and merging), ≈ 510 on the 990-DOF Hertz
+//! mesh, ≈ 880 on the 2 211-DOF one and ≈ 1 600 on the 5 253-DOF one (δ = 10⁻³·a; every
+//! start but the first merges).
 //! A dense evaluation is one symmetric eigendecomposition (≈ 9n³ flops with vectors); a
 //! sparse one is one sparse Cholesky, two solves and two Lanczos windows (≈ 25–75 steps
 //! each, fully reorthogonalized): ≈ 4 ms at 990 DOFs and 14 ms at 2 211 on the Hertz
@@ -104,7 +118,7 @@ use super::{fixed_energy, Context, Glyph, Knob, Knobs, Method, Solution, Strateg
 use crate::conditioning;
 use crate::error::{Error, Result};
 use crate::system::{ConstraintKind, Problem, Stiffness};
-use model::{bfgs, Model};
+use model::{bfgs, newton, Model};
 use serde::Serialize;
 pub use spectrum::Route;
 use spectrum::Spectrum;
@@ -151,8 +165,16 @@ const STAGES: [(f64, f64); 6] = [
     (1.25e4, 1e-6),
     (6e4, 1e-7),
 ];
-/// BFGS iterations per stage.
+/// Iterations (BFGS or Newton) per stage.
 const MAX_INNER: usize = 150;
+/// Stages from this smoothing t on take Newton steps ([`model::newton`]) when the penalized
+/// set has at most [`NEWTON_MAX_D`] constraints; the others, and every earlier stage, BFGS.
+const NEWTON_MIN_T: f64 = 2e3;
+/// Largest penalized set solved by Newton (its finite-difference Hessian costs d evaluations).
+const NEWTON_MAX_D: usize = 64;
+/// Distance (∞-norm in ln ε) below which a start's point at the end of a stage is the
+/// point an earlier start had there: it would retrace that start's path, so it stops.
+const MERGE: f64 = 1e-6;
 /// Relative cond₂ agreement for `starts_agreeing`.
 const AGREE: f64 = 1e-3;
 
@@ -167,6 +189,8 @@ pub struct OptimalReport {
     pub starts: usize,
     /// Optimised starts within 10⁻³ of the best cond₂.
     pub starts_agreeing: usize,
+    /// Starts stopped because they reached an earlier start's point (not in `starts`).
+    pub starts_merged: usize,
     /// Certified lower bound λ_max(K)/λ_min(K_FF) of the optimum.
     pub cond2_lower_bound: f64,
     /// Which candidate won (`optimised from condensed`, `paper`, ...).
@@ -266,20 +290,34 @@ fn feasible(sol: &Solution, delta: f64) -> bool {
     sol.max_penetration <= delta && sol.u.iter().all(|v| v.is_finite())
 }
 
-/// Runs the continuation from a start's penalties; None if the start is not strictly feasible.
+/// Where a start's continuation ended.
+enum Outcome {
+    /// Not strictly feasible: not optimised.
+    Infeasible,
+    /// Reached an earlier start's point at the end of a stage ([`MERGE`]).
+    Merged,
+    /// Optimised penalties (all m) and the KKT residual.
+    Optimised(Vec<f64>, f64),
+}
+
+/// The penalized set and the point after each stage, of every start run so far.
+type Trail = Vec<(Vec<usize>, Vec<Vec<f64>>)>;
+
+/// Runs the continuation from a start's penalties (BFGS, Newton at large t; module docs).
 fn optimise_from(
     p: &Problem,
     spectrum: &Spectrum,
     delta: f64,
     start: &[f64],
+    trail: &mut Trail,
     evals: &mut usize,
-) -> Result<Option<(Vec<f64>, f64)>> {
+) -> Result<Outcome> {
     let floor = 1e-8;
     let set: Vec<usize> = (0..p.m())
         .filter(|&c| start[c] > 0.0 || p.constraints[c].kind == ConstraintKind::Bilateral)
         .collect();
     if set.is_empty() {
-        return Ok(None);
+        return Ok(Outcome::Infeasible);
     }
     let model = Model {
         p,
@@ -297,19 +335,35 @@ fn optimise_from(
         .collect();
     *evals += 1;
     if model.eval(&x, STAGES[0].0, STAGES[0].1)?.is_none() {
-        return Ok(None);
+        return Ok(Outcome::Infeasible);
     }
     let mut opt = f64::NAN;
-    for (t, mu) in STAGES {
-        let (xn, gn) = bfgs(&model, x, t, mu, evals)?;
+    let mut path = Vec::with_capacity(STAGES.len());
+    for (stage, (t, mu)) in STAGES.into_iter().enumerate() {
+        let (xn, gn) = if t >= NEWTON_MIN_T && model.set.len() <= NEWTON_MAX_D {
+            newton(&model, x, t, mu, evals)?
+        } else {
+            bfgs(&model, x, t, mu, evals)?
+        };
         x = xn;
         opt = gn.max(mu);
+        let retraces = trail.iter().any(|(set, points)| {
+            *set == model.set
+                && points
+                    .get(stage)
+                    .is_some_and(|q| q.iter().zip(&x).all(|(a, b)| (a - b).abs() <= MERGE))
+        });
+        if retraces {
+            return Ok(Outcome::Merged);
+        }
+        path.push(x.clone());
     }
+    trail.push((model.set.clone(), path));
     let mut eps = vec![0.0; p.m()];
     for (&c, v) in model.set.iter().zip(&x) {
         eps[c] = v.exp();
     }
-    Ok(Some((eps, opt)))
+    Ok(Outcome::Optimised(eps, opt))
 }
 
 /// Strictly feasible `scaled` start: ε_c = 2^k f₀ K_dd for the smallest k that works.
@@ -376,11 +430,16 @@ pub fn solve_by(ctx: Context, delta: f64, route: Route) -> Result<Solution> {
     if let Some(e) = scaled_start(p, delta, f0)? {
         starts.push((super::scaled::STRATEGY.name.into(), e));
     }
-    let mut evals = 0;
-    let mut n_opt = 0;
+    let (mut evals, mut n_opt, mut merged) = (0, 0, 0);
+    let mut trail = Trail::new();
     for (label, start) in &starts {
-        let Some((eps, opt)) = optimise_from(p, &spectrum, delta, start, &mut evals)? else {
-            continue;
+        let (eps, opt) = match optimise_from(p, &spectrum, delta, start, &mut trail, &mut evals)? {
+            Outcome::Infeasible => continue,
+            Outcome::Merged => {
+                merged += 1;
+                continue;
+            }
+            Outcome::Optimised(eps, opt) => (eps, opt),
         };
         n_opt += 1;
         let (sol, c) = verify(p, delta, eps)?;
@@ -431,6 +490,7 @@ pub fn solve_by(ctx: Context, delta: f64, route: Route) -> Result<Solution> {
         optimality: best.optimality,
         starts: n_opt,
         starts_agreeing: agreeing,
+        starts_merged: merged,
         cond2_lower_bound: lower,
         winner: best.label,
         evaluations: evals,

@@ -126,6 +126,40 @@ fn inf_norm(v: &[f64]) -> f64 {
     v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
 }
 
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// Armijo backtracking along `dir` from x (slope = ∇Φ·dir < 0), the first trial step capped
+/// at 2 in ln ε; infeasible trial points are rejected like rising ones. None after 40 halvings.
+fn line_search(
+    model: &Model,
+    (x, cur): (&[f64], &Eval),
+    dir: &[f64],
+    slope: f64,
+    (t, mu): (f64, f64),
+    evals: &mut usize,
+) -> Result<Option<(Vec<f64>, Eval)>> {
+    let cap = inf_norm(dir);
+    let mut step = if cap > 2.0 { 2.0 / cap } else { 1.0 };
+    for _ in 0..40 {
+        let xt: Vec<f64> = x.iter().zip(dir).map(|(a, b)| a + step * b).collect();
+        *evals += 1;
+        if let Some(e) = model.eval(&xt, t, mu)? {
+            if e.phi <= cur.phi + 1e-4 * step * slope {
+                return Ok(Some((xt, e)));
+            }
+        }
+        step *= 0.5;
+    }
+    Ok(None)
+}
+
+/// Whether the step from `old` to `new` no longer changes Φ (relative 10⁻¹⁵).
+fn stalled(old: &Eval, new: &Eval) -> bool {
+    (old.phi - new.phi).abs() <= 1e-15 * old.phi.abs().max(1.0)
+}
+
 /// BFGS on Φ(·; t, μ) from a strictly feasible x; returns the final x and ‖∇Φ‖∞.
 pub(super) fn bfgs(
     model: &Model,
@@ -142,38 +176,25 @@ pub(super) fn bfgs(
     };
     let mut h = Mat::<f64>::identity(d, d);
     for _ in 0..MAX_INNER {
-        let gn = inf_norm(&cur.grad);
-        if gn < 1e-10 {
+        if inf_norm(&cur.grad) < 1e-10 {
             break;
         }
         let mut dir: Vec<f64> = (0..d)
             .map(|i| -(0..d).map(|j| h[(i, j)] * cur.grad[j]).sum::<f64>())
             .collect();
-        let mut slope: f64 = dir.iter().zip(&cur.grad).map(|(a, b)| a * b).sum();
+        let mut slope = dot(&dir, &cur.grad);
         if slope.is_nan() || slope >= 0.0 {
             h = Mat::identity(d, d);
             dir = cur.grad.iter().map(|g| -g).collect();
-            slope = -cur.grad.iter().map(|g| g * g).sum::<f64>();
+            slope = -dot(&cur.grad, &cur.grad);
         }
-        let cap = inf_norm(&dir);
-        let mut step = if cap > 2.0 { 2.0 / cap } else { 1.0 };
-        let mut accepted = None;
-        for _ in 0..40 {
-            let xt: Vec<f64> = x.iter().zip(&dir).map(|(a, b)| a + step * b).collect();
-            *evals += 1;
-            if let Some(e) = model.eval(&xt, t, mu)? {
-                if e.phi <= cur.phi + 1e-4 * step * slope {
-                    accepted = Some((xt, e));
-                    break;
-                }
-            }
-            step *= 0.5;
-        }
-        let Some((xn, en)) = accepted else { break };
+        let Some((xn, en)) = line_search(model, (&x, &cur), &dir, slope, (t, mu), evals)? else {
+            break;
+        };
         let sv: Vec<f64> = xn.iter().zip(&x).map(|(a, b)| a - b).collect();
         let yv: Vec<f64> = en.grad.iter().zip(&cur.grad).map(|(a, b)| a - b).collect();
-        let sy: f64 = sv.iter().zip(&yv).map(|(a, b)| a * b).sum();
-        let done = (cur.phi - en.phi).abs() <= 1e-15 * cur.phi.abs().max(1.0);
+        let sy = dot(&sv, &yv);
+        let done = stalled(&cur, &en);
         x = xn;
         cur = en;
         if sy > 1e-300 {
@@ -182,12 +203,135 @@ pub(super) fn bfgs(
             let hy: Vec<f64> = (0..d)
                 .map(|i| (0..d).map(|j| h[(i, j)] * yv[j]).sum())
                 .collect();
-            let yhy: f64 = yv.iter().zip(&hy).map(|(a, b)| a * b).sum();
+            let yhy = dot(&yv, &hy);
             h = Mat::from_fn(d, d, |i, j| {
                 h[(i, j)] - rho * (hy[i] * sv[j] + sv[i] * hy[j])
                     + (rho * rho * yhy + rho) * sv[i] * sv[j]
             });
         }
+        if done {
+            break;
+        }
+    }
+    Ok((x, inf_norm(&cur.grad)))
+}
+
+/// Step (in ln ε) of the forward differences of the gradient that make Newton's Hessian.
+const FD_STEP: f64 = 1e-6;
+
+/// The symmetric finite-difference Hessian of Φ at x (gradient `grad` there): column j from
+/// one evaluation at x + [`FD_STEP`]·e_j, or at x − [`FD_STEP`]·e_j where that point is
+/// infeasible. None if both are.
+fn fd_hessian(
+    model: &Model,
+    x: &[f64],
+    grad: &[f64],
+    (t, mu): (f64, f64),
+    evals: &mut usize,
+) -> Result<Option<Mat<f64>>> {
+    let d = x.len();
+    let mut hess = Mat::<f64>::zeros(d, d);
+    for j in 0..d {
+        let mut column = None;
+        for step in [FD_STEP, -FD_STEP] {
+            let mut xt = x.to_vec();
+            xt[j] += step;
+            *evals += 1;
+            if let Some(e) = model.eval(&xt, t, mu)? {
+                column = Some((e.grad, step));
+                break;
+            }
+        }
+        let Some((g, step)) = column else {
+            return Ok(None);
+        };
+        for i in 0..d {
+            hess[(i, j)] = (g[i] - grad[i]) / step;
+        }
+    }
+    Ok(Some(Mat::from_fn(d, d, |i, j| {
+        0.5 * (hess[(i, j)] + hess[(j, i)])
+    })))
+}
+
+/// Iterations between finite-difference Hessians in [`newton`] (direct BFGS updates between).
+const HESSIAN_EVERY: usize = 5;
+
+/// Newton on Φ(·; t, μ) from a strictly feasible x; returns the final x and ‖∇Φ‖∞.
+///
+/// Every [`HESSIAN_EVERY`]th iteration the Hessian is [`fd_hessian`]'s (d evaluations), in
+/// between its direct BFGS update `B ← B − B s sᵀ B/(sᵀB s) + y yᵀ/(yᵀs)` (skipped unless
+/// sᵀy, sᵀBs > 0). Its eigenvalues are replaced by their absolute values (floored at 10⁻¹⁰ of
+/// the largest) so that −B⁻¹∇Φ descends, and the step is [`line_search`]'s. This is the
+/// price of convergence where BFGS from the identity crawls: at large t the smoothed
+/// objective is ~t times more curved across an eigenvalue cluster than along it. Stops when
+/// the Newton decrement ∇Φᵀ|B|⁻¹∇Φ falls below 10⁻¹⁴, ‖∇Φ‖∞ below 10⁻¹⁰, or Φ stalls.
+pub(super) fn newton(
+    model: &Model,
+    x0: Vec<f64>,
+    t: f64,
+    mu: f64,
+    evals: &mut usize,
+) -> Result<(Vec<f64>, f64)> {
+    let d = x0.len();
+    let mut x = x0;
+    *evals += 1;
+    let Some(mut cur) = model.eval(&x, t, mu)? else {
+        return Ok((x, f64::NAN));
+    };
+    let mut hess = Mat::<f64>::zeros(d, d);
+    let mut last: Option<(Vec<f64>, Vec<f64>)> = None;
+    for iter in 0..MAX_INNER {
+        if inf_norm(&cur.grad) < 1e-10 {
+            break;
+        }
+        if iter % HESSIAN_EVERY == 0 {
+            let Some(h) = fd_hessian(model, &x, &cur.grad, (t, mu), evals)? else {
+                break;
+            };
+            hess = h;
+        } else if let Some((sv, yv)) = last.take() {
+            // Direct BFGS update B ← B − B s sᵀ B / (sᵀ B s) + y yᵀ / (yᵀ s).
+            let sy = dot(&sv, &yv);
+            let bs: Vec<f64> = (0..d)
+                .map(|i| (0..d).map(|j| hess[(i, j)] * sv[j]).sum())
+                .collect();
+            let sbs = dot(&sv, &bs);
+            if sy > 1e-300 && sbs > 1e-300 {
+                hess = Mat::from_fn(d, d, |i, j| {
+                    hess[(i, j)] - bs[i] * bs[j] / sbs + yv[i] * yv[j] / sy
+                });
+            }
+        }
+        let Ok(evd) = hess.as_ref().self_adjoint_eigen(faer::Side::Lower) else {
+            break;
+        };
+        let (u, s) = (evd.U(), evd.S().column_vector());
+        let top = (0..d).map(|k| s[k].abs()).fold(0.0f64, f64::max);
+        let floor = (1e-10 * top).max(f64::MIN_POSITIVE);
+        let (mut dir, mut decrement) = (vec![0.0; d], 0.0);
+        for k in 0..d {
+            let c: f64 = (0..d).map(|i| u[(i, k)] * cur.grad[i]).sum();
+            let l = s[k].abs().max(floor);
+            decrement += c * c / l;
+            for (i, v) in dir.iter_mut().enumerate() {
+                *v -= u[(i, k)] * c / l;
+            }
+        }
+        let slope = dot(&dir, &cur.grad);
+        if slope.is_nan() || slope >= 0.0 {
+            break;
+        }
+        let Some((xn, en)) = line_search(model, (&x, &cur), &dir, slope, (t, mu), evals)? else {
+            break;
+        };
+        let done = stalled(&cur, &en) || decrement < 1e-14;
+        last = Some((
+            xn.iter().zip(&x).map(|(a, b)| a - b).collect(),
+            en.grad.iter().zip(&cur.grad).map(|(a, b)| a - b).collect(),
+        ));
+        x = xn;
+        cur = en;
         if done {
             break;
         }
