@@ -125,7 +125,8 @@ pub fn save(out: &std::path::Path, cfg: &BenchConfig, run: &BenchRun) -> Result<
     let summary = Summary {
         provenance: crate::provenance::Provenance::new("contact_bench").record(serde_json::json!({
             "config": cfg,
-            "threads": 1,
+            // The jobs of a mesh run on rayon's pool (results do not depend on it; `seconds` do).
+            "threads": rayon::current_num_threads(),
             "block_over_a": BLOCK_OVER_A,
             "growth": GROWTH,
             "fine_over_a": FINE_OVER_A,
