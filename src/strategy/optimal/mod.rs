@@ -35,7 +35,7 @@
 //! * **Inner solver**: BFGS in x with Armijo backtracking (infeasible trial points are
 //!   rejected), steps capped at 2 in ln ε, for t < [`NEWTON_MIN_T`]; from there on, when the
 //!   penalized set has ≤ [`NEWTON_MAX_D`] constraints, Newton with a finite-difference
-//!   Hessian of the analytic gradient refreshed every 5th iteration ([`model::newton`]). At
+//!   Hessian of the analytic gradient refreshed every 5th iteration ([`model::Newton`]). At
 //!   large t the smoothed objective is ~t times more curved across an eigenvalue cluster than
 //!   along it, and BFGS from the identity crawled: on the 2 211-DOF Hertz mesh it hit the
 //!   150-iteration cap in stages 4–6 with ‖∇Φ‖∞ ≈ 10⁻⁴–10⁻³. Newton ends them below 10⁻⁸.
@@ -118,7 +118,7 @@ use super::{fixed_energy, Context, Glyph, Knob, Knobs, Method, Solution, Strateg
 use crate::conditioning;
 use crate::error::{Error, Result};
 use crate::system::{ConstraintKind, Problem, Stiffness};
-use model::{bfgs, newton, Model};
+use model::{descend, Bfgs, Model, Newton};
 use serde::Serialize;
 pub use spectrum::Route;
 use spectrum::Spectrum;
@@ -167,7 +167,7 @@ const STAGES: [(f64, f64); 6] = [
 ];
 /// Iterations (BFGS or Newton) per stage.
 const MAX_INNER: usize = 150;
-/// Stages from this smoothing t on take Newton steps ([`model::newton`]) when the penalized
+/// Stages from this smoothing t on take Newton steps ([`model::Newton`]) when the penalized
 /// set has at most [`NEWTON_MAX_D`] constraints; the others, and every earlier stage, BFGS.
 const NEWTON_MIN_T: f64 = 2e3;
 /// Largest penalized set solved by Newton (its finite-difference Hessian costs d evaluations).
@@ -340,10 +340,11 @@ fn optimise_from(
     let mut opt = f64::NAN;
     let mut path = Vec::with_capacity(STAGES.len());
     for (stage, (t, mu)) in STAGES.into_iter().enumerate() {
-        let (xn, gn) = if t >= NEWTON_MIN_T && model.set.len() <= NEWTON_MAX_D {
-            newton(&model, x, t, mu, evals)?
+        let d = model.set.len();
+        let (xn, gn) = if t >= NEWTON_MIN_T && d <= NEWTON_MAX_D {
+            descend(&model, x, (t, mu), &mut Newton::new(d), evals)?
         } else {
-            bfgs(&model, x, t, mu, evals)?
+            descend(&model, x, (t, mu), &mut Bfgs::new(d), evals)?
         };
         x = xn;
         opt = gn.max(mu);

@@ -155,65 +155,114 @@ fn line_search(
     Ok(None)
 }
 
-/// Whether the step from `old` to `new` no longer changes Φ (relative 10⁻¹⁵).
-fn stalled(old: &Eval, new: &Eval) -> bool {
-    (old.phi - new.phi).abs() <= 1e-15 * old.phi.abs().max(1.0)
+/// A rule for the search direction of [`descend`].
+pub(super) trait Direction {
+    /// The direction at x (Φ and ∇Φ in `cur`; `last` = the previous step s and gradient
+    /// change y) and whether to stop after the step along it; None to stop now.
+    fn next(
+        &mut self,
+        model: &Model,
+        at: (&[f64], &Eval),
+        last: Option<(&[f64], &[f64])>,
+        tm: (f64, f64),
+        evals: &mut usize,
+    ) -> Result<Option<(Vec<f64>, bool)>>;
 }
 
-/// BFGS on Φ(·; t, μ) from a strictly feasible x; returns the final x and ‖∇Φ‖∞.
-pub(super) fn bfgs(
+/// Minimises Φ(·; t, μ) from a strictly feasible x by `rule`'s directions and
+/// [`line_search`]'s steps, at most [`MAX_INNER`] of them; stops when ‖∇Φ‖∞ < 10⁻¹⁰, a step
+/// leaves Φ unchanged (relative 10⁻¹⁵), or the rule says so. Returns the final x and ‖∇Φ‖∞.
+pub(super) fn descend(
     model: &Model,
     x0: Vec<f64>,
-    t: f64,
-    mu: f64,
+    (t, mu): (f64, f64),
+    rule: &mut impl Direction,
     evals: &mut usize,
 ) -> Result<(Vec<f64>, f64)> {
-    let d = x0.len();
     let mut x = x0;
     *evals += 1;
     let Some(mut cur) = model.eval(&x, t, mu)? else {
         return Ok((x, f64::NAN));
     };
-    let mut h = Mat::<f64>::identity(d, d);
+    let mut last: Option<(Vec<f64>, Vec<f64>)> = None;
     for _ in 0..MAX_INNER {
         if inf_norm(&cur.grad) < 1e-10 {
             break;
         }
-        let mut dir: Vec<f64> = (0..d)
-            .map(|i| -(0..d).map(|j| h[(i, j)] * cur.grad[j]).sum::<f64>())
-            .collect();
-        let mut slope = dot(&dir, &cur.grad);
+        let sy = last.as_ref().map(|(s, y)| (s.as_slice(), y.as_slice()));
+        let Some((dir, last_step)) = rule.next(model, (&x, &cur), sy, (t, mu), evals)? else {
+            break;
+        };
+        let slope = dot(&dir, &cur.grad);
         if slope.is_nan() || slope >= 0.0 {
-            h = Mat::identity(d, d);
-            dir = cur.grad.iter().map(|g| -g).collect();
-            slope = -dot(&cur.grad, &cur.grad);
+            break;
         }
         let Some((xn, en)) = line_search(model, (&x, &cur), &dir, slope, (t, mu), evals)? else {
             break;
         };
-        let sv: Vec<f64> = xn.iter().zip(&x).map(|(a, b)| a - b).collect();
-        let yv: Vec<f64> = en.grad.iter().zip(&cur.grad).map(|(a, b)| a - b).collect();
-        let sy = dot(&sv, &yv);
-        let done = stalled(&cur, &en);
+        let stalled = (cur.phi - en.phi).abs() <= 1e-15 * cur.phi.abs().max(1.0);
+        last = Some((
+            xn.iter().zip(&x).map(|(a, b)| a - b).collect(),
+            en.grad.iter().zip(&cur.grad).map(|(a, b)| a - b).collect(),
+        ));
         x = xn;
         cur = en;
-        if sy > 1e-300 {
-            // H ← (I − ρ s yᵀ) H (I − ρ y sᵀ) + ρ s sᵀ.
-            let rho = 1.0 / sy;
-            let hy: Vec<f64> = (0..d)
-                .map(|i| (0..d).map(|j| h[(i, j)] * yv[j]).sum())
-                .collect();
-            let yhy = dot(&yv, &hy);
-            h = Mat::from_fn(d, d, |i, j| {
-                h[(i, j)] - rho * (hy[i] * sv[j] + sv[i] * hy[j])
-                    + (rho * rho * yhy + rho) * sv[i] * sv[j]
-            });
-        }
-        if done {
+        if stalled || last_step {
             break;
         }
     }
     Ok((x, inf_norm(&cur.grad)))
+}
+
+/// BFGS from the identity on the inverse Hessian H (update skipped unless sᵀy > 0; reset to
+/// the identity where −H∇Φ does not descend).
+pub(super) struct Bfgs {
+    h: Mat<f64>,
+}
+
+impl Bfgs {
+    pub fn new(d: usize) -> Self {
+        Bfgs {
+            h: Mat::identity(d, d),
+        }
+    }
+}
+
+impl Direction for Bfgs {
+    fn next(
+        &mut self,
+        _: &Model,
+        (_, cur): (&[f64], &Eval),
+        last: Option<(&[f64], &[f64])>,
+        _: (f64, f64),
+        _: &mut usize,
+    ) -> Result<Option<(Vec<f64>, bool)>> {
+        let (d, h) = (cur.grad.len(), &mut self.h);
+        if let Some((sv, yv)) = last {
+            let sy = dot(sv, yv);
+            if sy > 1e-300 {
+                // H ← (I − ρ s yᵀ) H (I − ρ y sᵀ) + ρ s sᵀ.
+                let rho = 1.0 / sy;
+                let hy: Vec<f64> = (0..d)
+                    .map(|i| (0..d).map(|j| h[(i, j)] * yv[j]).sum())
+                    .collect();
+                let yhy = dot(yv, &hy);
+                *h = Mat::from_fn(d, d, |i, j| {
+                    h[(i, j)] - rho * (hy[i] * sv[j] + sv[i] * hy[j])
+                        + (rho * rho * yhy + rho) * sv[i] * sv[j]
+                });
+            }
+        }
+        let dir: Vec<f64> = (0..d)
+            .map(|i| -(0..d).map(|j| h[(i, j)] * cur.grad[j]).sum::<f64>())
+            .collect();
+        let slope = dot(&dir, &cur.grad);
+        if slope.is_nan() || slope >= 0.0 {
+            *h = Mat::identity(d, d);
+            return Ok(Some((cur.grad.iter().map(|g| -g).collect(), false)));
+        }
+        Ok(Some((dir, false)))
+    }
 }
 
 /// Step (in ln ε) of the forward differences of the gradient that make Newton's Hessian.
@@ -254,57 +303,61 @@ fn fd_hessian(
     })))
 }
 
-/// Iterations between finite-difference Hessians in [`newton`] (direct BFGS updates between).
+/// Iterations between finite-difference Hessians in [`Newton`] (direct BFGS updates between).
 const HESSIAN_EVERY: usize = 5;
 
-/// Newton on Φ(·; t, μ) from a strictly feasible x; returns the final x and ‖∇Φ‖∞.
-///
-/// Every [`HESSIAN_EVERY`]th iteration the Hessian is [`fd_hessian`]'s (d evaluations), in
-/// between its direct BFGS update `B ← B − B s sᵀ B/(sᵀB s) + y yᵀ/(yᵀs)` (skipped unless
-/// sᵀy, sᵀBs > 0). Its eigenvalues are replaced by their absolute values (floored at 10⁻¹⁰ of
-/// the largest) so that −B⁻¹∇Φ descends, and the step is [`line_search`]'s. This is the
-/// price of convergence where BFGS from the identity crawls: at large t the smoothed
-/// objective is ~t times more curved across an eigenvalue cluster than along it. Stops when
-/// the Newton decrement ∇Φᵀ|B|⁻¹∇Φ falls below 10⁻¹⁴, ‖∇Φ‖∞ below 10⁻¹⁰, or Φ stalls.
-pub(super) fn newton(
-    model: &Model,
-    x0: Vec<f64>,
-    t: f64,
-    mu: f64,
-    evals: &mut usize,
-) -> Result<(Vec<f64>, f64)> {
-    let d = x0.len();
-    let mut x = x0;
-    *evals += 1;
-    let Some(mut cur) = model.eval(&x, t, mu)? else {
-        return Ok((x, f64::NAN));
-    };
-    let mut hess = Mat::<f64>::zeros(d, d);
-    let mut last: Option<(Vec<f64>, Vec<f64>)> = None;
-    for iter in 0..MAX_INNER {
-        if inf_norm(&cur.grad) < 1e-10 {
-            break;
+/// Newton directions: every [`HESSIAN_EVERY`]th iteration the Hessian is [`fd_hessian`]'s
+/// (d evaluations), in between its direct BFGS update `B ← B − B s sᵀ B/(sᵀB s) + y yᵀ/(yᵀs)`
+/// (skipped unless sᵀy, sᵀBs > 0). Its eigenvalues are replaced by their absolute values
+/// (floored at 10⁻¹⁰ of the largest) so that −B⁻¹∇Φ descends. This is the price of
+/// convergence where BFGS from the identity crawls: at large t the smoothed objective is ~t
+/// times more curved across an eigenvalue cluster than along it. Stops after the step when
+/// the Newton decrement ∇Φᵀ|B|⁻¹∇Φ is below 10⁻¹⁴.
+pub(super) struct Newton {
+    hess: Mat<f64>,
+    iteration: usize,
+}
+
+impl Newton {
+    pub fn new(d: usize) -> Self {
+        Newton {
+            hess: Mat::zeros(d, d),
+            iteration: 0,
         }
-        if iter % HESSIAN_EVERY == 0 {
-            let Some(h) = fd_hessian(model, &x, &cur.grad, (t, mu), evals)? else {
-                break;
+    }
+}
+
+impl Direction for Newton {
+    fn next(
+        &mut self,
+        model: &Model,
+        (x, cur): (&[f64], &Eval),
+        last: Option<(&[f64], &[f64])>,
+        tm: (f64, f64),
+        evals: &mut usize,
+    ) -> Result<Option<(Vec<f64>, bool)>> {
+        let d = x.len();
+        if self.iteration.is_multiple_of(HESSIAN_EVERY) {
+            let Some(h) = fd_hessian(model, x, &cur.grad, tm, evals)? else {
+                return Ok(None);
             };
-            hess = h;
-        } else if let Some((sv, yv)) = last.take() {
-            // Direct BFGS update B ← B − B s sᵀ B / (sᵀ B s) + y yᵀ / (yᵀ s).
-            let sy = dot(&sv, &yv);
+            self.hess = h;
+        } else if let Some((sv, yv)) = last {
+            let hess = &mut self.hess;
+            let sy = dot(sv, yv);
             let bs: Vec<f64> = (0..d)
                 .map(|i| (0..d).map(|j| hess[(i, j)] * sv[j]).sum())
                 .collect();
-            let sbs = dot(&sv, &bs);
+            let sbs = dot(sv, &bs);
             if sy > 1e-300 && sbs > 1e-300 {
-                hess = Mat::from_fn(d, d, |i, j| {
+                *hess = Mat::from_fn(d, d, |i, j| {
                     hess[(i, j)] - bs[i] * bs[j] / sbs + yv[i] * yv[j] / sy
                 });
             }
         }
-        let Ok(evd) = hess.as_ref().self_adjoint_eigen(faer::Side::Lower) else {
-            break;
+        self.iteration += 1;
+        let Ok(evd) = self.hess.as_ref().self_adjoint_eigen(faer::Side::Lower) else {
+            return Ok(None);
         };
         let (u, s) = (evd.U(), evd.S().column_vector());
         let top = (0..d).map(|k| s[k].abs()).fold(0.0f64, f64::max);
@@ -318,23 +371,6 @@ pub(super) fn newton(
                 *v -= u[(i, k)] * c / l;
             }
         }
-        let slope = dot(&dir, &cur.grad);
-        if slope.is_nan() || slope >= 0.0 {
-            break;
-        }
-        let Some((xn, en)) = line_search(model, (&x, &cur), &dir, slope, (t, mu), evals)? else {
-            break;
-        };
-        let done = stalled(&cur, &en) || decrement < 1e-14;
-        last = Some((
-            xn.iter().zip(&x).map(|(a, b)| a - b).collect(),
-            en.grad.iter().zip(&cur.grad).map(|(a, b)| a - b).collect(),
-        ));
-        x = xn;
-        cur = en;
-        if done {
-            break;
-        }
+        Ok(Some((dir, decrement < 1e-14)))
     }
-    Ok((x, inf_norm(&cur.grad)))
 }
