@@ -33,9 +33,9 @@
 //!   would not be in the system). μ falls from 10⁻² to 10⁻⁷ with t. Every iterate is strictly
 //!   feasible, so the result is feasible by construction, not to a tolerance.
 //! * **Inner solver**: BFGS in x with Armijo backtracking (infeasible trial points are
-//!   rejected), steps capped at 2 in ln ε, for t < [`NEWTON_MIN_T`]; from there on, when the
-//!   penalized set has ≤ [`NEWTON_MAX_D`] constraints, Newton with a finite-difference
-//!   Hessian of the analytic gradient refreshed every 5th iteration ([`model::Newton`]). At
+//!   rejected), steps capped at 2 in ln ε, for t < 2·10³ (`NEWTON_MIN_T`); from there on, when the
+//!   penalized set has ≤ 64 constraints (`NEWTON_MAX_D`), Newton with a finite-difference
+//!   Hessian of the analytic gradient refreshed every 5th iteration (`model::Newton`). At
 //!   large t the smoothed objective is ~t times more curved across an eigenvalue cluster than
 //!   along it, and BFGS from the identity crawled: on the 2 211-DOF Hertz mesh it hit the
 //!   150-iteration cap in stages 4–6 with ‖∇Φ‖∞ ≈ 10⁻⁴–10⁻³. Newton ends them below 10⁻⁸.
@@ -48,7 +48,7 @@
 //!   the exact penalty driver ([`super::fixed_energy`]) and its cond₂ recomputed exactly; the
 //!   result is the best **feasible** point among the optimised points and the raw `spring`,
 //!   `paper`, `condensed` solutions at δ. So `optimal` is never worse than those rules.
-//!   A start whose point at the end of a stage lies within [`MERGE`] (∞-norm in ln ε, same
+//!   A start whose point at the end of a stage lies within 10⁻⁶ (`MERGE`; ∞-norm in ln ε, same
 //!   penalized set) of an earlier start's point there stops: from the same point it would
 //!   retrace the same path (on the Hertz meshes every start merges after the first stage).
 //!
@@ -167,7 +167,7 @@ const STAGES: [(f64, f64); 6] = [
 ];
 /// Iterations (BFGS or Newton) per stage.
 const MAX_INNER: usize = 150;
-/// Stages from this smoothing t on take Newton steps ([`model::Newton`]) when the penalized
+/// Stages from this smoothing t on take Newton steps (`model::Newton`) when the penalized
 /// set has at most [`NEWTON_MAX_D`] constraints; the others, and every earlier stage, BFGS.
 const NEWTON_MIN_T: f64 = 2e3;
 /// Largest penalized set solved by Newton (its finite-difference Hessian costs d evaluations).

@@ -61,9 +61,9 @@ pub struct BenchConfig {
     /// Hertz contact half-width (radius) a the load is chosen for: P from a.
     pub a_target: f64,
     /// `optimal` runs only on meshes with at most this many DOFs (≤ `optimal::MAX_N`): each
-    /// solve takes 1 000–2 300 evaluations of the spectrum's ends, and force control solves
-    /// it several times (10–55 s per δ at 990 DOFs); larger meshes get a row saying it was
-    /// skipped.
+    /// solve takes ≈ 500–1 600 evaluations of the spectrum's ends on the Hertz meshes, and
+    /// force control solves it about six times (≈ 2 min per δ at 2 211 DOFs, over 25 min
+    /// at 5 253 by a stopped run); larger meshes get a row saying it was skipped.
     pub optimal_max_n: usize,
 }
 
