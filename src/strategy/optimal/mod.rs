@@ -338,9 +338,8 @@ fn optimise_from(
         return Ok(Outcome::Infeasible);
     }
     let mut opt = f64::NAN;
-    let mut path = Vec::with_capacity(STAGES.len());
+    let (d, mut path) = (model.set.len(), Vec::with_capacity(STAGES.len()));
     for (stage, (t, mu)) in STAGES.into_iter().enumerate() {
-        let d = model.set.len();
         let (xn, gn) = if t >= NEWTON_MIN_T && d <= NEWTON_MAX_D {
             descend(&model, x, (t, mu), &mut Newton::new(d), evals)?
         } else {

@@ -130,6 +130,13 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
+/// `M v` for the small dense matrices of the direction rules (d ≤ [`super::MAX_M`]).
+fn mat_vec(m: &Mat<f64>, v: &[f64]) -> Vec<f64> {
+    (0..m.nrows())
+        .map(|i| (0..v.len()).map(|j| m[(i, j)] * v[j]).sum())
+        .collect()
+}
+
 /// Armijo backtracking along `dir` from x (slope = ∇Φ·dir < 0), the first trial step capped
 /// at 2 in ln ε; infeasible trial points are rejected like rising ones. None after 40 halvings.
 fn line_search(
@@ -243,9 +250,7 @@ impl Direction for Bfgs {
             if sy > 1e-300 {
                 // H ← (I − ρ s yᵀ) H (I − ρ y sᵀ) + ρ s sᵀ.
                 let rho = 1.0 / sy;
-                let hy: Vec<f64> = (0..d)
-                    .map(|i| (0..d).map(|j| h[(i, j)] * yv[j]).sum())
-                    .collect();
+                let hy = mat_vec(h, yv);
                 let yhy = dot(yv, &hy);
                 *h = Mat::from_fn(d, d, |i, j| {
                     h[(i, j)] - rho * (hy[i] * sv[j] + sv[i] * hy[j])
@@ -253,9 +258,7 @@ impl Direction for Bfgs {
                 });
             }
         }
-        let dir: Vec<f64> = (0..d)
-            .map(|i| -(0..d).map(|j| h[(i, j)] * cur.grad[j]).sum::<f64>())
-            .collect();
+        let dir: Vec<f64> = mat_vec(h, &cur.grad).iter().map(|v| -v).collect();
         let slope = dot(&dir, &cur.grad);
         if slope.is_nan() || slope >= 0.0 {
             *h = Mat::identity(d, d);
@@ -345,9 +348,7 @@ impl Direction for Newton {
         } else if let Some((sv, yv)) = last {
             let hess = &mut self.hess;
             let sy = dot(sv, yv);
-            let bs: Vec<f64> = (0..d)
-                .map(|i| (0..d).map(|j| hess[(i, j)] * sv[j]).sum())
-                .collect();
+            let bs = mat_vec(hess, sv);
             let sbs = dot(sv, &bs);
             if sy > 1e-300 && sbs > 1e-300 {
                 *hess = Mat::from_fn(d, d, |i, j| {
