@@ -46,7 +46,7 @@ struct Args {
     #[arg(long, value_delimiter = ',')]
     deltas_rel: Option<Vec<f64>>,
     /// `optimal` runs on meshes of at most this many DOFs (default 100, at most 20000; one
-    /// δ takes tens of seconds at 990 DOFs, ≈ 2 min at 2 211, over 25 min at 5 253).
+    /// δ took ≈ 2 min at 2 211 DOFs; at 5 253 an estimated 25 min or more).
     #[arg(long)]
     optimal_max_n: Option<usize>,
     /// Relative accuracy asked of cond₂.

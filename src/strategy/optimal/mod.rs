@@ -40,8 +40,8 @@
 //!   along it, and BFGS from the identity crawled: on the 2 211-DOF Hertz mesh it hit the
 //!   150-iteration cap in stages 4–6 with ‖∇Φ‖∞ ≈ 10⁻⁴–10⁻³. Newton ends them below 10⁻⁸.
 //!   That matters beyond the last digits of cond₂: an unconverged optimum jumps as the lift
-//!   moves, and force control then hunts the jump (20–31 solves instead of 6;
-//!   docs/performance.md).
+//!   moves, and force control then hunts the jump (13–31 solves on the six 2 211-DOF rows
+//!   of the a9af79d run whose force jumped; 6 on the one row re-run with Newton stages; docs/performance.md).
 //! * **Starts**: `condensed` at δ(1 − 10⁻³) (strictly feasible), `paper` at δ, `spring` at δ
 //!   when it is feasible, and `scaled` with the smallest factor `2^k f₀` that is strictly
 //!   feasible (`f₀` from condensed's largest ε/K_dd). Each optimised point is re-solved by
@@ -50,7 +50,8 @@
 //!   `paper`, `condensed` solutions at δ. So `optimal` is never worse than those rules.
 //!   A start whose point at the end of a stage lies within 10⁻⁶ (`MERGE`; ∞-norm in ln ε, same
 //!   penalized set) of an earlier start's point there stops: from the same point it would
-//!   retrace the same path (on the Hertz meshes every start merges after the first stage).
+//!   retrace the same path (on the Hertz meshes measured, every start after the first
+//!   merges after stage 1 or 2).
 //!
 //! # Report ([`OptimalReport`] in [`super::Stats`])
 //! * `optimality`: KKT residual at the winning optimised point: `max(‖∇ₓΦ‖∞, μ)`. The barrier
