@@ -6,16 +6,19 @@
 //! cargo run --release --bin contact_bench                          # default suite
 //! cargo run --release --bin contact_bench -- --cases hertz-axi --meshes 0.1,0.05
 //! cargo run --release --bin contact_bench -- --render-only
+//! cargo run --release --bin contact_bench -- --resume             # after an interruption
 //! ```
 //!
 //! The study is [`penalty_lab::study::contact_bench`]. Writes `rows.csv`, `summary.json` (with
 //! provenance, the convergence rates and the leaderboard) and the figures into `--out`
-//! (default `results/contact_bench`). Bad options exit with status 2 and one line.
+//! (default `results/contact_bench`). Each finished mesh is checkpointed in `OUT/meshes/`
+//! (removed at the end); `--resume` reuses those of the same build and options. Bad options
+//! exit with status 2 and one line.
 
 use clap::Parser;
 use penalty_lab::progress::Progress;
 use penalty_lab::strategy::registry;
-use penalty_lab::study::contact_bench::{self, analytic::Case, figures, BenchConfig};
+use penalty_lab::study::contact_bench::{self, analytic::Case, figures, BenchConfig, Checkpoints};
 use penalty_lab::{provenance, Error, Result};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -61,6 +64,10 @@ struct Args {
     /// Re-render the figures from `OUT/summary.json` without solving.
     #[arg(long)]
     render_only: bool,
+    /// Reuse the meshes an interrupted run of the same build and options checkpointed in
+    /// `OUT/meshes/`.
+    #[arg(long)]
+    resume: bool,
     /// No progress bar or progress lines on stderr.
     #[arg(long)]
     quiet: bool,
@@ -110,8 +117,12 @@ fn run(a: &Args) -> Result<()> {
         contact_bench::load(&a.out)?
     } else {
         let cfg = config(a)?;
-        let run = contact_bench::run(&cfg, &Progress::new("contact_bench (meshes)", a.quiet))?;
-        contact_bench::save(&a.out, &cfg, &run)?
+        let checkpoints = Checkpoints::in_out(&a.out, a.resume);
+        let progress = Progress::new("contact_bench (meshes)", a.quiet);
+        let run = contact_bench::run(&cfg, &progress, Some(&checkpoints))?;
+        let summary = contact_bench::save(&a.out, &cfg, &run)?;
+        checkpoints.remove()?;
+        summary
     };
     let files = figures::render(&a.out, &summary)?;
     if a.json {

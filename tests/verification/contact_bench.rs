@@ -3,7 +3,7 @@
 //! for, computed by the library's study.
 
 use penalty_lab::progress::Progress;
-use penalty_lab::study::contact_bench::{self, analytic::Case, BenchConfig, BenchRun};
+use penalty_lab::study::contact_bench::{self, analytic::Case, BenchConfig, BenchRun, Checkpoints};
 
 fn config() -> BenchConfig {
     BenchConfig {
@@ -14,7 +14,7 @@ fn config() -> BenchConfig {
 }
 
 fn suite() -> BenchRun {
-    contact_bench::run(&config(), &Progress::quiet()).unwrap()
+    contact_bench::run(&config(), &Progress::quiet(), None).unwrap()
 }
 
 #[test]
@@ -96,6 +96,7 @@ fn every_penalized_system_is_above_its_floor() {
             ..config()
         },
         &Progress::quiet(),
+        None,
     )
     .unwrap();
     assert_eq!(run.floors.len(), 2);
@@ -140,4 +141,52 @@ fn every_penalized_system_is_above_its_floor() {
         (floor / dense - 1.0).abs() <= tol,
         "floor {floor:e}, dense {dense:e} (tol {tol:e})"
     );
+}
+
+/// A run writes one checkpoint per mesh; a resumed run reads back those of the same build and
+/// config (a row edited in the file comes back edited) and solves again where the config
+/// differs or `resume` is off (the edit is gone).
+#[test]
+fn resumed_runs_reuse_matching_checkpoints_only() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = BenchConfig {
+        cases: vec![Case::Patch],
+        meshes: vec![0.2],
+        ..config()
+    };
+    let fresh = Checkpoints::in_out(dir.path(), false);
+    let first = contact_bench::run(&cfg, &Progress::quiet(), Some(&fresh)).unwrap();
+    let file = fresh.dir.join("patch-h0.2.json");
+    let mut json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
+    assert_eq!(
+        json["mesh"]["rows"].as_array().unwrap().len(),
+        first.rows.len()
+    );
+    json["mesh"]["rows"][0]["seconds"] = serde_json::json!(-1.0);
+    std::fs::write(&file, json.to_string()).unwrap();
+    let marked = |run: &BenchRun| run.rows[0].seconds == -1.0;
+
+    let resume = Checkpoints::in_out(dir.path(), true);
+    let resumed = contact_bench::run(&cfg, &Progress::quiet(), Some(&resume)).unwrap();
+    assert!(marked(&resumed), "the checkpoint is reused");
+    for (a, b) in first.rows.iter().zip(&resumed.rows).skip(1) {
+        assert_eq!(a.cond2_system, b.cond2_system, "rows read back exactly");
+        let same = |x: f64, y: f64| x == y || (x.is_nan() && y.is_nan());
+        assert!(same(a.p_err_rel, b.p_err_rel) && same(a.err_penalty, b.err_penalty));
+    }
+    assert_eq!(first.floors, resumed.floors);
+
+    let other = BenchConfig {
+        cond_tol: 1e-5,
+        ..cfg.clone()
+    };
+    let resolved = contact_bench::run(&other, &Progress::quiet(), Some(&resume)).unwrap();
+    assert!(!marked(&resolved), "another config solves again");
+    json["mesh"]["rows"][0]["seconds"] = serde_json::json!(-1.0);
+    std::fs::write(&file, json.to_string()).unwrap();
+    let again = contact_bench::run(&cfg, &Progress::quiet(), Some(&fresh)).unwrap();
+    assert!(!marked(&again), "without resume every mesh is solved");
+    resume.remove().unwrap();
+    assert!(!resume.dir.exists());
 }

@@ -21,7 +21,9 @@ pub mod analytic;
 pub mod figures;
 mod record;
 
-pub use record::{convergence_rates, leaderboard, load, rule_of, save, Leader, Summary};
+pub use record::{
+    convergence_rates, leaderboard, load, rule_of, save, Checkpoints, Leader, Summary,
+};
 
 use crate::error::{Error, Result};
 use crate::metrics::{self, MetricSet};
@@ -519,76 +521,135 @@ fn run_job(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> (BenchRow, Vec<f64
     (row, p)
 }
 
-/// Runs the suite: per case and mesh, the force-controlled Lagrange scene, then every job.
-pub fn run(cfg: &BenchConfig, progress: &Progress) -> Result<BenchRun> {
+/// What one mesh of one case gives: its rows, its pressure profiles (finest mesh only) and its
+/// conditioning floor. [`run`] checkpoints one per mesh ([`Checkpoints`]).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct MeshRun {
+    /// Case.
+    pub case: Case,
+    /// Element size at the contact over a (the `meshes` entry).
+    pub h_rel: f64,
+    /// Free DOFs.
+    pub n_dofs: usize,
+    /// Lagrange's lift at the load.
+    pub lift: f64,
+    /// One per (method, knob).
+    pub rows: Vec<BenchRow>,
+    /// One per (rule, knob) if this is the finest mesh, else none.
+    pub profiles: Vec<Profile>,
+    /// The mesh's conditioning floor.
+    pub floor: Floor,
+}
+
+/// Solves one mesh: the force-controlled Lagrange scene, then every job (in parallel).
+pub fn run_mesh(cfg: &BenchConfig, case: Case, h_rel: f64) -> Result<MeshRun> {
+    let finest = cfg.meshes.iter().copied().fold(f64::INFINITY, f64::min);
+    let (load, exact) = cfg.exact(case);
+    let grid = cfg.grid(case, h_rel)?;
+    // Half-space indentation a²/R as the first guess (the patch: p̄H/E*).
+    let guess = match case {
+        Case::Patch => exact.p0 * grid.height() / cfg.e_star(),
+        _ => cfg.a_target * cfg.a_target / cfg.radius,
+    };
+    let scene = |w| cfg.scene(case, &grid, w);
+    let lag = solve_at_load(
+        case.name(),
+        scene,
+        Method::lagrange(),
+        load,
+        guess,
+        FORCE_TOL,
+    )?;
+    let p_lag = lag.scene.pressures(&lag.sol.u);
+    // K and the contact DOFs do not depend on the lift: one floor per mesh.
+    let floor = Floor {
+        case: case.name().into(),
+        h: h_rel * cfg.a_target,
+        n_dofs: lag.scene.n_free,
+        cond2_floor: strategy::optimal::cond2_lower_bound(&lag.scene.problem)?,
+    };
+    let mesh = Mesh {
+        case,
+        grid: &grid,
+        exact,
+        load,
+        h: h_rel * cfg.a_target,
+        n_free: lag.scene.n_free,
+        lift_lagrange: lag.scene.lift,
+        err_discretization: analytic::pressure_error(&lag.scene.contact, &p_lag, &exact),
+        p_lagrange: &p_lag,
+    };
+    // The jobs of a mesh are independent: solved in parallel, kept in job order.
+    let solved: Vec<(BenchRow, Vec<f64>)> = jobs(cfg, &lag.scene, cfg.a_target)
+        .par_iter()
+        .map(|job| run_job(cfg, &mesh, job))
+        .collect();
+    let mut out = MeshRun {
+        case,
+        h_rel,
+        n_dofs: lag.scene.n_free,
+        lift: lag.scene.lift,
+        rows: Vec::new(),
+        profiles: Vec::new(),
+        floor,
+    };
+    for (row, p) in solved {
+        if h_rel == finest && !p.is_empty() {
+            out.profiles.push(Profile {
+                case: row.case.clone(),
+                rule: rule_of(&row),
+                knob: row.knob.clone(),
+                knob_rel: row.knob_rel,
+                h: row.h,
+                x: lag.scene.contact.iter().map(|n| n.x).collect(),
+                p,
+            });
+        }
+        out.rows.push(row);
+    }
+    Ok(out)
+}
+
+/// Runs the suite: [`run_mesh`] per case and mesh, in order. With `checkpoints`, each finished
+/// mesh is written to its directory at once, and with `resume` a mesh whose checkpoint was
+/// written by the same build ([`crate::provenance::VERSION`]) for the same config is read
+/// back instead of solved; long runs (hours with `optimal` on 5 000-DOF meshes) survive an
+/// interruption.
+pub fn run(
+    cfg: &BenchConfig,
+    progress: &Progress,
+    checkpoints: Option<&Checkpoints>,
+) -> Result<BenchRun> {
     cfg.validate()?;
     let mut out = BenchRun::default();
-    let finest = cfg.meshes.iter().copied().fold(f64::INFINITY, f64::min);
-    let total = cfg.cases.len() * cfg.meshes.len();
-    progress.set_total(total);
+    progress.set_total(cfg.cases.len() * cfg.meshes.len());
     for &case in &cfg.cases {
-        let (load, exact) = cfg.exact(case);
         for &h_rel in &cfg.meshes {
-            let grid = cfg.grid(case, h_rel)?;
-            // Half-space indentation a²/R as the first guess (the patch: p̄H/E*).
-            let guess = match case {
-                Case::Patch => exact.p0 * grid.height() / cfg.e_star(),
-                _ => cfg.a_target * cfg.a_target / cfg.radius,
+            let resumed = match checkpoints {
+                Some(c) if c.resume => c.read(cfg, case, h_rel)?,
+                _ => None,
             };
-            let scene = |w| cfg.scene(case, &grid, w);
-            let lag = solve_at_load(
-                case.name(),
-                scene,
-                Method::lagrange(),
-                load,
-                guess,
-                FORCE_TOL,
-            )?;
-            let p_lag = lag.scene.pressures(&lag.sol.u);
-            // K and the contact DOFs do not depend on the lift: one floor per mesh.
-            out.floors.push(Floor {
-                case: case.name().into(),
-                h: h_rel * cfg.a_target,
-                n_dofs: lag.scene.n_free,
-                cond2_floor: strategy::optimal::cond2_lower_bound(&lag.scene.problem)?,
-            });
-            let mesh = Mesh {
-                case,
-                grid: &grid,
-                exact,
-                load,
-                h: h_rel * cfg.a_target,
-                n_free: lag.scene.n_free,
-                lift_lagrange: lag.scene.lift,
-                err_discretization: analytic::pressure_error(&lag.scene.contact, &p_lag, &exact),
-                p_lagrange: &p_lag,
-            };
-            // The jobs of a mesh are independent: solved in parallel, kept in job order.
-            let solved: Vec<(BenchRow, Vec<f64>)> = jobs(cfg, &lag.scene, cfg.a_target)
-                .par_iter()
-                .map(|job| run_job(cfg, &mesh, job))
-                .collect();
-            for (row, p) in solved {
-                if h_rel == finest && !p.is_empty() {
-                    out.profiles.push(Profile {
-                        case: row.case.clone(),
-                        rule: rule_of(&row),
-                        knob: row.knob.clone(),
-                        knob_rel: row.knob_rel,
-                        h: row.h,
-                        x: lag.scene.contact.iter().map(|n| n.x).collect(),
-                        p,
-                    });
+            let was_resumed = resumed.is_some();
+            let mesh = match resumed {
+                Some(m) => m,
+                None => {
+                    let m = run_mesh(cfg, case, h_rel)?;
+                    if let Some(c) = checkpoints {
+                        c.write(cfg, &m)?;
+                    }
+                    m
                 }
-                out.rows.push(row);
-            }
-            let scene = &lag.scene;
+            };
             progress.step(&format!(
-                "{} h/a = {h_rel}: {} DOFs, lift {:.4e}",
+                "{} h/a = {h_rel}: {} DOFs, lift {:.4e}{}",
                 case.name(),
-                scene.n_free,
-                scene.lift
+                mesh.n_dofs,
+                mesh.lift,
+                if was_resumed { " (checkpoint)" } else { "" }
             ));
+            out.rows.extend(mesh.rows);
+            out.profiles.extend(mesh.profiles);
+            out.floors.push(mesh.floor);
         }
     }
     progress.finish();

@@ -1,7 +1,9 @@
 //! What the benchmark records: the leaderboard, the convergence rates, and the saved summary.
 
 use super::analytic::Case;
-use super::{BenchConfig, BenchRow, BenchRun, Floor, Profile, BLOCK_OVER_A, FINE_OVER_A, GROWTH};
+use super::{
+    BenchConfig, BenchRow, BenchRun, Floor, MeshRun, Profile, BLOCK_OVER_A, FINE_OVER_A, GROWTH,
+};
 use crate::error::{Error, Result};
 use crate::strategy;
 use serde::{Deserialize, Serialize};
@@ -145,4 +147,80 @@ pub fn save(out: &std::path::Path, cfg: &BenchConfig, run: &BenchRun) -> Result<
 /// Reads `OUT/summary.json` back.
 pub fn load(out: &std::path::Path) -> Result<Summary> {
     crate::provenance::read_json(&out.join("summary.json"))
+}
+
+/// Where [`super::run`] keeps each finished mesh: `dir/<case>-h<h_rel>.json`, holding the build
+/// ([`crate::provenance::git_commit`]), the config and the [`MeshRun`]. With `resume`, a
+/// checkpoint is reused only when both match the running build and config exactly (a
+/// `-dirty` build matches another `-dirty` build of the same commit: rebuild from a clean tree
+/// for records); any other is solved again and overwritten.
+#[derive(Clone, Debug)]
+pub struct Checkpoints {
+    /// The directory (created on the first write).
+    pub dir: std::path::PathBuf,
+    /// Reuse matching checkpoints instead of solving.
+    pub resume: bool,
+}
+
+/// One checkpoint file.
+#[derive(Serialize, Deserialize)]
+struct Checkpoint {
+    git_commit: String,
+    config: serde_json::Value,
+    mesh: MeshRun,
+}
+
+impl Checkpoints {
+    /// The checkpoint directory of an output directory: `out/meshes`.
+    pub fn in_out(out: &std::path::Path, resume: bool) -> Checkpoints {
+        Checkpoints {
+            dir: out.join("meshes"),
+            resume,
+        }
+    }
+
+    fn path(&self, case: Case, h_rel: f64) -> std::path::PathBuf {
+        self.dir.join(format!("{}-h{h_rel}.json", case.name()))
+    }
+
+    fn config_value(cfg: &BenchConfig) -> Result<serde_json::Value> {
+        serde_json::to_value(cfg)
+            .map_err(|e| Error::Numerical(format!("cannot write the config as JSON: {e}")))
+    }
+
+    /// The checkpoint of (case, h_rel) if one exists for this build and config; a malformed
+    /// file is an input error naming it.
+    pub fn read(&self, cfg: &BenchConfig, case: Case, h_rel: f64) -> Result<Option<MeshRun>> {
+        let path = self.path(case, h_rel);
+        if !path.exists() {
+            return Ok(None);
+        }
+        let c: Checkpoint = crate::provenance::read_json(&path)?;
+        let fits = c.git_commit == crate::provenance::git_commit()
+            && c.config == Self::config_value(cfg)?
+            && c.mesh.case == case
+            && c.mesh.h_rel == h_rel;
+        Ok(fits.then_some(c.mesh))
+    }
+
+    /// Writes the checkpoint of `mesh` (atomically).
+    pub fn write(&self, cfg: &BenchConfig, mesh: &MeshRun) -> Result<()> {
+        std::fs::create_dir_all(&self.dir).map_err(|e| Error::io(self.dir.display(), e))?;
+        let c = Checkpoint {
+            git_commit: crate::provenance::git_commit(),
+            config: Self::config_value(cfg)?,
+            mesh: mesh.clone(),
+        };
+        crate::provenance::write_json(&self.path(mesh.case, mesh.h_rel), &c)
+    }
+
+    /// Removes the directory (after the summary is saved).
+    pub fn remove(&self) -> Result<()> {
+        match std::fs::remove_dir_all(&self.dir) {
+            Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                Err(Error::io(self.dir.display(), e))
+            }
+            _ => Ok(()),
+        }
+    }
 }
