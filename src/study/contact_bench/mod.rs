@@ -64,8 +64,8 @@ pub struct BenchConfig {
     pub a_target: f64,
     /// `optimal` runs only on meshes with at most this many DOFs (≤ `optimal::MAX_N`): each
     /// solve takes ≈ 500–1 600 evaluations of the spectrum's ends on the Hertz meshes, and
-    /// force control solves it about six times (≈ 2 min per δ measured at 2 211 DOFs; 25 min
-    /// or more estimated at 5 253 from a stopped run); larger meshes get a row saying it was
+    /// force control solves it 6–15 times (1–8 min per δ measured at 2 211 DOFs; the 5 253-DOF
+    /// plane mesh takes over 2 h for its four δ); larger meshes get a row saying it was
     /// skipped.
     pub optimal_max_n: usize,
 }
