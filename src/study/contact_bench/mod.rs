@@ -595,13 +595,12 @@ pub fn run_mesh(cfg: &BenchConfig, case: Case, h_rel: f64, progress: &Progress) 
             let name = case.name();
             progress.message(format!("{name} h/a = {h_rel}: {k}/{} jobs", jobs.len()));
             if row.seconds >= LONG_JOB_S {
+                let knob = row
+                    .knob_rel
+                    .map_or(String::new(), |v| format!(" {} {v:e} (relative)", row.knob));
                 progress.note(&format!(
-                    "  {name} h/a = {h_rel}: {} {} {} (relative) done in {:.0} s, {} solves",
-                    row.method,
-                    row.knob,
-                    crate::provenance::csv_opt(row.knob_rel),
-                    row.seconds,
-                    row.force_solves
+                    "  {name} h/a = {h_rel}: {}{knob} done in {:.0} s, {} solves",
+                    row.method, row.seconds, row.force_solves
                 ));
             }
             (row, p)
@@ -635,7 +634,7 @@ pub fn run_mesh(cfg: &BenchConfig, case: Case, h_rel: f64, progress: &Progress) 
 
 /// Runs the suite: [`run_mesh`] per case and mesh, in order. With `checkpoints`, each finished
 /// mesh is written to its directory at once, and with `resume` a mesh whose checkpoint was
-/// written by the same build ([`crate::provenance::VERSION`]) for the same config is read
+/// written by the same build ([`crate::provenance::git_commit`]) for the same config is read
 /// back instead of solved; long runs (hours with `optimal` on 5 000-DOF meshes) survive an
 /// interruption.
 pub fn run(
@@ -652,15 +651,14 @@ pub fn run(
                 Some(c) if c.resume => c.read(cfg, case, h_rel)?,
                 _ => None,
             };
-            let was_resumed = resumed.is_some();
-            let mesh = match resumed {
-                Some(m) => m,
+            let (mesh, from_checkpoint) = match resumed {
+                Some(m) => (m, true),
                 None => {
                     let m = run_mesh(cfg, case, h_rel, progress)?;
                     if let Some(c) = checkpoints {
                         c.write(cfg, &m)?;
                     }
-                    m
+                    (m, false)
                 }
             };
             progress.step(&format!(
@@ -668,7 +666,7 @@ pub fn run(
                 case.name(),
                 mesh.n_dofs,
                 mesh.lift,
-                if was_resumed { " (checkpoint)" } else { "" }
+                if from_checkpoint { " (checkpoint)" } else { "" }
             ));
             out.rows.extend(mesh.rows);
             out.profiles.extend(mesh.profiles);

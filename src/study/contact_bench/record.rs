@@ -162,12 +162,12 @@ pub struct Checkpoints {
     pub resume: bool,
 }
 
-/// One checkpoint file.
+/// One checkpoint file (`M`: the [`MeshRun`] read, or a reference to the one written).
 #[derive(Serialize, Deserialize)]
-struct Checkpoint {
+struct Checkpoint<M> {
     git_commit: String,
     config: serde_json::Value,
-    mesh: MeshRun,
+    mesh: M,
 }
 
 impl Checkpoints {
@@ -195,7 +195,7 @@ impl Checkpoints {
         if !path.exists() {
             return Ok(None);
         }
-        let c: Checkpoint = crate::provenance::read_json(&path)?;
+        let c: Checkpoint<MeshRun> = crate::provenance::read_json(&path)?;
         let fits = c.git_commit == crate::provenance::git_commit()
             && c.config == Self::config_value(cfg)?
             && c.mesh.case == case
@@ -209,7 +209,7 @@ impl Checkpoints {
         let c = Checkpoint {
             git_commit: crate::provenance::git_commit(),
             config: Self::config_value(cfg)?,
-            mesh: mesh.clone(),
+            mesh,
         };
         crate::provenance::write_json(&self.path(mesh.case, mesh.h_rel), &c)
     }
