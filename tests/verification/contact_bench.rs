@@ -42,7 +42,7 @@ fn hertz_and_patch_match_the_analytic_solutions() {
                 r.method,
                 r.knob_rel
             );
-            // Force control: every rule carries the load.
+            // Force control: every rule carries the load (these two: to `FORCE_TOL`).
             assert!(r.force_mismatch.abs() <= penalty_lab::strategy::force_control::FORCE_TOL);
         }
         // condensed under force control is Lagrange shifted by δ: the same pressures to the
