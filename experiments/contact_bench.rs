@@ -49,7 +49,7 @@ struct Args {
     #[arg(long, value_delimiter = ',')]
     deltas_rel: Option<Vec<f64>>,
     /// `optimal` runs on meshes of at most this many DOFs (default 100, at most 20000; one
-    /// δ took 1–8 min at 2 211 DOFs; at 5 253 the plane mesh takes over 2 h: see `--resume`).
+    /// δ took 60–132 s at 2 211 DOFs, 8–64 min at 5 253 on 2 cores: see `--resume`).
     #[arg(long)]
     optimal_max_n: Option<usize>,
     /// Relative accuracy asked of cond₂.

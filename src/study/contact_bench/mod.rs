@@ -64,9 +64,9 @@ pub struct BenchConfig {
     pub a_target: f64,
     /// `optimal` runs only on meshes with at most this many DOFs (≤ `optimal::MAX_N`): each
     /// solve takes ≈ 500–1 600 evaluations of the spectrum's ends on the Hertz meshes, and
-    /// force control solves it 6–15 times (1–8 min per δ measured at 2 211 DOFs; the 5 253-DOF
-    /// plane mesh takes over 2 h for its four δ); larger meshes get a row saying it was
-    /// skipped.
+    /// force control solves it 4–11 times (measured on 2 cores: 60–132 s per δ at 2 211 DOFs,
+    /// 8–64 min at 5 253, where the plane mesh took 75 min for its four δ); larger meshes get
+    /// a row saying it was skipped.
     pub optimal_max_n: usize,
 }
 
@@ -547,7 +547,7 @@ pub const LONG_JOB_S: f64 = 10.0;
 
 /// Solves one mesh: the force-controlled Lagrange scene, then every job (in parallel). The
 /// progress message counts the mesh's finished jobs; each job of [`LONG_JOB_S`] or more
-/// gets a line (`optimal` takes minutes to an hour per δ on the 5 253-DOF meshes).
+/// gets a line (`optimal` takes 8–64 min per δ on the 5 253-DOF plane mesh).
 pub fn run_mesh(cfg: &BenchConfig, case: Case, h_rel: f64, progress: &Progress) -> Result<MeshRun> {
     let finest = cfg.meshes.iter().copied().fold(f64::INFINITY, f64::min);
     let (load, exact) = cfg.exact(case);
