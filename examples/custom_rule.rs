@@ -41,6 +41,7 @@ pub static GAP_SCALED: Strategy = Strategy {
     needs_k_inverse: true,
     targets_delta: false,
     bilateral: true,
+    force_tol: penalty_lab::strategy::force_control::FORCE_TOL,
     solve: solve_gap_scaled,
 };
 

@@ -31,6 +31,7 @@ pub static STRATEGY: Strategy = Strategy {
     needs_k_inverse: false,
     targets_delta: false,
     bilateral: true,
+    force_tol: super::force_control::FORCE_TOL,
     solve: run,
 };
 

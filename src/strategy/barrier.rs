@@ -52,6 +52,7 @@ pub static STRATEGY: Strategy = Strategy {
     needs_k_inverse: false,
     targets_delta: true,
     bilateral: false,
+    force_tol: super::force_control::FORCE_TOL,
     solve: run,
 };
 

@@ -51,6 +51,7 @@ pub static STRATEGY: Strategy = Strategy {
     needs_k_inverse: true,
     targets_delta: true,
     bilateral: true,
+    force_tol: super::force_control::FORCE_TOL,
     solve: run,
 };
 

@@ -150,16 +150,5 @@ pub fn solve_at_load(
 pub const MAX_FORCE_SOLVES: usize = 40;
 
 /// Relative mismatch of the total force that force control accepts for a rule whose solution
-/// is exact for its penalties ([`tolerance`]).
+/// is exact for its penalties (each strategy declares its own: `Strategy::force_tol`).
 pub const FORCE_TOL: f64 = 1e-10;
-
-/// The relative force mismatch force control accepts for `method`: [`FORCE_TOL`], or the
-/// rule's own coarser tolerance where its solution is an optimiser's output
-/// ([`super::optimal::LOAD_TOL`]).
-pub fn tolerance(method: Method) -> f64 {
-    if method.is(&super::optimal::STRATEGY) {
-        super::optimal::LOAD_TOL
-    } else {
-        FORCE_TOL
-    }
-}

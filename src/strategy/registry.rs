@@ -96,6 +96,10 @@ pub struct Strategy {
     /// Whether it handles bilateral ties (`u[d] = û`); studies whose scenes have ties (the
     /// sweep's default families, `runtime_vs_error`) leave the others out of their defaults.
     pub bilateral: bool,
+    /// Relative force mismatch at which force control ([`super::force_control`]) accepts its
+    /// solution: [`super::force_control::FORCE_TOL`] for a rule whose solution is exact for its
+    /// penalties, coarser where the solution is an optimiser's output (`optimal`).
+    pub force_tol: f64,
     /// Runs it: `method` carries this descriptor and the knob values it declared.
     pub solve: fn(Context, &Method) -> Result<Solution>,
 }

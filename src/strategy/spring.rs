@@ -27,6 +27,7 @@ pub static STRATEGY: Strategy = Strategy {
     needs_k_inverse: true,
     targets_delta: false,
     bilateral: true,
+    force_tol: super::force_control::FORCE_TOL,
     solve: run,
 };
 

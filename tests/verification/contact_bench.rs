@@ -212,7 +212,7 @@ fn force_control_takes_optimal_to_its_own_tolerance() {
     )
     .unwrap();
     assert_eq!(run.rows.len(), 2);
-    let tol = force_control::tolerance(Method::optimal(1e-3));
+    let tol = Method::optimal(1e-3).strategy().force_tol;
     assert_eq!(tol, optimal::LOAD_TOL);
     assert!(tol > force_control::FORCE_TOL);
     for r in &run.rows {

@@ -136,6 +136,7 @@ pub static STRATEGY: Strategy = Strategy {
     needs_k_inverse: true,
     targets_delta: true,
     bilateral: true,
+    force_tol: LOAD_TOL,
     solve: run,
 };
 
@@ -178,8 +179,8 @@ const NEWTON_MAX_D: usize = 64;
 const MERGE: f64 = 1e-6;
 /// Relative cond₂ agreement for `starts_agreeing`.
 const AGREE: f64 = 1e-3;
-/// Relative force mismatch at which force control accepts an `optimal` solution
-/// ([`super::force_control::tolerance`]), instead of the 10⁻¹⁰ of the other rules.
+/// Relative force mismatch at which force control accepts an `optimal` solution (its
+/// `force_tol`), instead of the 10⁻¹⁰ of the other rules.
 ///
 /// `optimal`'s penalties are an optimiser's output, so its force at a given lift is only as
 /// continuous as the optimiser is exact: where the winning start or the penalized set changes

@@ -29,7 +29,7 @@ use crate::error::{Error, Result};
 use crate::metrics::{self, MetricSet};
 use crate::model::elasticity::{self, Base, Grid, Indentation, Material};
 use crate::progress::Progress;
-use crate::strategy::force_control::{solve_at_load, tolerance, Loaded, FORCE_TOL};
+use crate::strategy::force_control::{solve_at_load, Loaded, FORCE_TOL};
 use crate::strategy::{self, registry, Knob, Knobs, Method};
 use analytic::{Case, Exact};
 use rayon::prelude::*;
@@ -278,7 +278,7 @@ pub struct BenchRow {
     /// Solves the force control took.
     pub force_solves: usize,
     /// (total force − P)/P of the reported solution (in magnitude at most the rule's
-    /// `force_control::tolerance`: 1e-10, `optimal` 1e-6; more only where the rule's force
+    /// `Strategy::force_tol`: 1e-10, `optimal` 1e-6; more only where the rule's force
     /// jumps with the lift and the bracket collapsed at the jump).
     #[serde(deserialize_with = "crate::provenance::null_as_nan")]
     pub force_mismatch: f64,
@@ -472,7 +472,7 @@ fn run_job(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> (BenchRow, Vec<f64
         job.method,
         mesh.load,
         mesh.lift_lagrange,
-        tolerance(job.method),
+        job.method.strategy().force_tol,
     );
     let Loaded {
         scene,
