@@ -356,14 +356,12 @@ pub(crate) fn tridiagonal_second_eigenvalue(a: &[f64], b: &[f64], theta: f64) ->
     (lo < theta * (1.0 - 1e-6)).then_some(lo)
 }
 
-/// The deterministic start vector of [`lanczos`]: every component nonzero (so no eigenvector
-/// is missed), mixed with the warm start where there is one, normalized.
+/// The deterministic start vector of [`lanczos`]: seeded random ([`random_start`], seed 0),
+/// so that it cannot share a mesh's symmetry (a start symmetric under a mirror is orthogonal
+/// to every antisymmetric mode, and Lanczos would return the lowest symmetric eigenvalue in
+/// place of λ_min), mixed with the warm start where there is one, normalized.
 pub(crate) fn start_vector(n: usize, warm: Option<&[f64]>) -> Vec<f64> {
-    let mut q: Vec<f64> = (0..n)
-        .map(|i| 1.0 + 0.5 * ((i as f64 * 0.618_033_988_749_895).fract() - 0.5))
-        .collect();
-    let nq = norm(&q);
-    q.iter_mut().for_each(|x| *x /= nq);
+    let mut q = random_start(n, 0);
     if let Some(v) = warm {
         let nv = norm(v);
         if nv > 0.0 {
@@ -374,6 +372,28 @@ pub(crate) fn start_vector(n: usize, warm: Option<&[f64]>) -> Vec<f64> {
             q.iter_mut().for_each(|x| *x /= nq);
         }
     }
+    q
+}
+
+/// A unit vector of `n` components `±(0.5 + U[0, 1))` with random signs, from ChaCha8
+/// seeded with `seed`: every component nonzero (no eigenvector is missed for lack of a
+/// component, bar measure zero), no structure in common with any mesh, and the same on every
+/// machine and thread count.
+pub(crate) fn random_start(n: usize, seed: u64) -> Vec<f64> {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(0x4c41_4e43_5a4f_5300 ^ seed);
+    let mut q: Vec<f64> = (0..n)
+        .map(|_| {
+            let v = 0.5 + rng.random::<f64>();
+            if rng.random::<bool>() {
+                v
+            } else {
+                -v
+            }
+        })
+        .collect();
+    let nq = norm(&q);
+    q.iter_mut().for_each(|x| *x /= nq);
     q
 }
 

@@ -245,10 +245,17 @@ pub fn element_stiffness(
             for (r, cbr) in cb.iter_mut().enumerate() {
                 *cbr = (0..4).map(|s| c[r][s] * b[s][p]).sum();
             }
-            for q in 0..8 {
+            // The lower triangle (q ≥ p); the upper is its mirror, so that Kₑ — and K, summed
+            // in the same element order for (i, j) and (j, i) — is symmetric bit for bit, as the
+            // certified cond₂ routes and Cholesky need (Bᵀ(CB) in the other order would differ
+            // in the last bits).
+            for q in p..8 {
                 ke[q][p] += w * (0..4).map(|r| b[r][q] * cb[r]).sum::<f64>();
             }
         }
+    }
+    for (p, q) in (0..8).flat_map(|p| (p + 1..8).map(move |q| (p, q))) {
+        ke[p][q] = ke[q][p];
     }
     ke
 }

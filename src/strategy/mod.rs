@@ -355,7 +355,7 @@ pub fn solve_prepared(
 fn not_spd_warning(problem: &Problem, prepared: Option<&Prepared>) -> Option<String> {
     let k = &problem.k;
     if !prepared.map_or_else(|| k.is_symmetric(), |p| p.symmetric) {
-        return None;
+        return asymmetry_warning(k);
     }
     let bad_diagonal = (0..k.n()).find(|&i| k.diag(i) <= 0.0 || k.diag(i).is_nan());
     let lu = prepared.is_some_and(|p| {
@@ -372,6 +372,32 @@ fn not_spd_warning(problem: &Problem, prepared: Option<&Prepared>) -> Option<Str
         None => lu.then(|| format!("{NOT_SPD_WARNING} (its Cholesky factorization failed)")),
     }
 }
+
+/// The warning for a K that is not symmetric bit for bit, naming the asymmetry: the energy
+/// ½uᵀKu − qᵀu the strategies minimize sees only K's symmetric part, so u (the solution of the
+/// stored system, by LU) is a stationary point of no energy; cond₂ is certified through the
+/// symmetric part (a rounding-level asymmetry) or by the SVD.
+fn asymmetry_warning(k: &crate::system::Stiffness) -> Option<String> {
+    use crate::system::Symmetry;
+    match k.symmetry() {
+        Symmetry::Exact => None,
+        Symmetry::Near(a) => Some(format!(
+            "{NOT_SYMMETRIC_WARNING}, by rounding only ({}): u solves the stored matrix (LU, \
+             not Cholesky); cond₂ is certified through its symmetric part, the bracket widened \
+             for the skew part",
+            a.describe()
+        )),
+        Symmetry::Unsymmetric(a) => Some(format!(
+            "{NOT_SYMMETRIC_WARNING} ({}): the energy ½uᵀKu − qᵀu the strategies assume sees only \
+             its symmetric part, so u (the solution of the stored system, by LU) minimizes no \
+             energy; cond₂ is the SVD's",
+            a.describe()
+        )),
+    }
+}
+
+/// The start of the warning for a K that is not symmetric bit for bit.
+pub const NOT_SYMMETRIC_WARNING: &str = "K is not symmetric";
 
 /// The start of the warning for a symmetric K that is not positive definite.
 pub const NOT_SPD_WARNING: &str = "K is symmetric but not positive definite: the energy the \

@@ -220,6 +220,61 @@ fn method_names_are_the_strategy_names() {
     assert_eq!(names.len(), registry::BUILT_IN.len(), "names are unique");
 }
 
+/// A K that is not symmetric bit for bit is warned once, naming the largest asymmetry and
+/// where it is: by rounding only (`Near`: LU solve, cond₂ through the symmetric part with a
+/// widened bracket) or beyond (`Unsymmetric`: the SVD); a symmetric K gets no such warning.
+/// The JSON carries `cond2_bounds_proven` and `cond2_within_contract` either way.
+#[test]
+fn unsymmetric_k_is_warned_and_the_json_says_what_is_proven() {
+    let dir = tmpdir("unsymmetric");
+    let cases = [
+        ("far", "[[4, -1], [-2, 4]]", "(1, 0)", false),
+        // -1 against -1 − 2ε: within 8 ε_mach·max|K|, not bit for bit.
+        ("near", "[[4, -1], [-1.0000000000000004, 4]]", "(1, 0)", true),
+    ];
+    for (name, k, at, near) in cases {
+        let path = dir.join(format!("{name}.scene.json"));
+        std::fs::write(
+            &path,
+            format!(
+                r#"{{"name": "{name}", "stiffness": {{"dense": {k}}}, "load": [1, 1],
+                    "constraints": [{{"dof": 0, "limit": 0.1, "kind": "upper"}}]}}"#
+            ),
+        )
+        .unwrap();
+        let p = path.to_str().unwrap();
+        for method in [vec!["constant", "--eps", "10"], vec!["lagrange"]] {
+            let mut args = vec![p, "--method"];
+            args.extend(method);
+            args.push("--json");
+            let (code, out, err) = solve(&args);
+            assert_eq!(code, 0, "{err}");
+            let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+            let w: Vec<String> = serde_json::from_value(v["warnings"].clone()).unwrap();
+            let flagged: Vec<&String> = w
+                .iter()
+                .filter(|x| x.starts_with("K is not symmetric"))
+                .collect();
+            assert_eq!(flagged.len(), 1, "{name}: {w:?}");
+            assert!(flagged[0].contains(at), "{name}: {}", flagged[0]);
+            assert_eq!(flagged[0].contains("by rounding"), near, "{}", flagged[0]);
+            assert_eq!(v["cond2_bounds_proven"], true, "{name}");
+            assert!(v["cond2_within_contract"].is_boolean(), "{name}");
+            let (lo, c, hi) = (
+                v["cond2_system_lo"].as_f64().unwrap(),
+                v["cond2_system"].as_f64().unwrap(),
+                v["cond2_system_hi"].as_f64().unwrap(),
+            );
+            assert!(lo <= c && c <= hi, "{name}: {lo} {c} {hi}");
+        }
+    }
+    let (code, out, _) = solve(&[SCENE, "--method", "paper", "--delta", "0.1", "--json"]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert!(!v["warnings"].to_string().contains("not symmetric"));
+    assert_eq!(v["cond2_within_contract"], true);
+}
+
 /// A symmetric K that is not positive definite is outside every strategy's energy model:
 /// `solve` says so once (strategy and cond₂(K) both notice), and a positive definite K gets no
 /// such warning. The JSON carries the cond₂ bounds around the value.

@@ -282,7 +282,7 @@ fn misleading_warm_starts_do_not_cost_accuracy() {
                 .collect(),
         };
         let warm = cond2_saddle_warm(k, &dofs, SCHUR_TEST_MAX, Some(&starts)).unwrap();
-        let target = width_target(None, warm.cond2);
+        let target = width_target(None, warm.cond2, f64::INFINITY);
         eprintln!(
             "n {n}: cold {:.15e} ({:.1e}), misled {:.15e} ({:.1e}, {} steps against {})",
             cold.cond2,

@@ -252,7 +252,7 @@ fn brackets_at_ten_thousand_unknowns_meet_the_width_target() {
             .cond2
     };
     let check = |what: &str, cond_eq: f64, r: &conditioning::CondReport| {
-        let target = sparse::width_target(None, cond_eq);
+        let target = sparse::width_target(None, cond_eq, r.cond2);
         assert!(r.bounds_proven, "{what}");
         assert!(
             r.relative_width() <= target,

@@ -223,16 +223,19 @@ impl Simulation {
             .map(|ci| (s.uhat[ci] - vn(v, &s.cands[ci])).max(0.0) * s.dt)
             .fold(0.0, f64::max);
         let sys = metrics::system_matrix(&p.solve.problem, &p.solve.solution);
-        let cond2 = conditioning::cond2(&sys)?.cond2;
+        let sys_report = conditioning::cond2(&sys)?;
+        let cond2 = sys_report.cond2;
         let log10_det = conditioning::log10_abs_det(&sys)?;
         let k_alone = self.k_alone(s, &p.coeffs)?;
-        let cond2_k = conditioning::cond2(&k_alone)?.cond2;
+        let k_report = conditioning::cond2(&k_alone)?;
+        let cond2_k = k_report.cond2;
         let log10_det_ratio = log10_det - conditioning::log10_abs_det(&k_alone)?;
-        let equilibrated = |a: &crate::system::Stiffness| {
-            conditioning::cond2(&a.scaled(&a.equilibration())).map(|r| r.cond2)
-        };
-        let cond2_equilibrated = equilibrated(&sys)?;
-        let cond2_k_equilibrated = equilibrated(&k_alone)?;
+        let equilibrated =
+            |a: &crate::system::Stiffness| conditioning::cond2(&a.scaled(&a.equilibration()));
+        let (sys_eq, k_eq) = (equilibrated(&sys)?, equilibrated(&k_alone)?);
+        let (cond2_equilibrated, cond2_k_equilibrated) = (sys_eq.cond2, k_eq.cond2);
+        let (proven, within) =
+            conditioning::CondReport::flags([&sys_report, &k_report, &sys_eq, &k_eq].map(Some));
         let punch_force = s.punch_force(v, &p.coeffs.friction_c, &p.normal_force);
         let sol = &p.solve.solution;
         let active: Vec<f64> = sol.penalties.iter().copied().filter(|&e| e > 0.0).collect();
@@ -249,6 +252,8 @@ impl Simulation {
             log10_det_ratio,
             cond2_equilibrated,
             cond2_k_equilibrated,
+            cond2_bounds_proven: proven.unwrap_or(false),
+            cond2_within_contract: within.unwrap_or(false),
             max_penetration,
             punch_force,
             clipped: sol.stats.clipped,

@@ -384,6 +384,8 @@ impl Simulation {
             log10_det_ratio: tel.log10_det_ratio,
             cond2_equilibrated: tel.cond2_equilibrated,
             cond2_k_equilibrated: tel.cond2_k_equilibrated,
+            cond2_bounds_proven: tel.cond2_bounds_proven,
+            cond2_within_contract: tel.cond2_within_contract,
             max_penetration: tel.max_penetration,
             geometric_penetration,
             volume: self.volume(),

@@ -44,6 +44,14 @@ pub struct StepRecord {
     /// cond₂ of the equilibrated K alone.
     #[serde(default = "nan", deserialize_with = "null_as_nan")]
     pub cond2_k_equilibrated: f64,
+    /// The four cond₂ brackets of the step (system, K, both equilibrated) are proven
+    /// ([`crate::conditioning::CondReport::bounds_proven`]); false in records written before.
+    #[serde(default)]
+    pub cond2_bounds_proven: bool,
+    /// The four cond₂ values are proven within the accuracy contract
+    /// `max(1e-12, 4·ε_mach·cond₂)` ([`crate::conditioning::CondReport::within_contract`]).
+    #[serde(default)]
+    pub cond2_within_contract: bool,
     /// Max penetration of the last solve, in length: `max_c p_c · Δt` (in) — the quantity δ
     /// bounds.
     pub max_penetration: f64,

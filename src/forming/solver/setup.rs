@@ -106,6 +106,8 @@ pub(super) struct SolveTelemetry {
     pub(super) log10_det_ratio: f64,
     pub(super) cond2_equilibrated: f64,
     pub(super) cond2_k_equilibrated: f64,
+    pub(super) cond2_bounds_proven: bool,
+    pub(super) cond2_within_contract: bool,
     pub(super) max_penetration: f64,
     pub(super) punch_force: f64,
     pub(super) clipped: usize,

@@ -144,7 +144,7 @@ fn measure(
             contract: (4.0 * f64::EPSILON * cond2_ref).max(1e-12),
             bounds_width,
             cond2_equilibrated,
-            width_target: sparse::width_target(None, cond2_equilibrated),
+            width_target: sparse::width_target(None, cond2_equilibrated, cond2_ref),
             seconds,
         })
     };

@@ -273,6 +273,14 @@ pub struct BenchRow {
     /// Relative accuracy asked of cond₂.
     #[serde(deserialize_with = "crate::provenance::null_as_nan")]
     pub cond_tol: f64,
+    /// cond₂'s bracket is proven ([`crate::conditioning::CondReport::bounds_proven`]).
+    #[serde(default)]
+    pub cond2_bounds_proven: Option<bool>,
+    /// cond₂ is proven within the accuracy contract `max(1e-12, 4·ε_mach·cond₂)`
+    /// ([`crate::conditioning::CondReport::within_contract`]); false where the bracket is
+    /// only as narrow as `cond_tol` asked (1e-6 by default), which is wider.
+    #[serde(default)]
+    pub cond2_within_contract: Option<bool>,
     /// The solver's own convergence flag (of the last solve of the force control).
     pub converged: bool,
     /// Solves the force control took.
@@ -452,6 +460,8 @@ fn run_job(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> (BenchRow, Vec<f64
         p_spread: f64::NAN,
         cond2_system: None,
         cond_tol: cfg.cond_tol,
+        cond2_bounds_proven: None,
+        cond2_within_contract: None,
         converged: false,
         force_solves: 0,
         force_mismatch: f64::NAN,
@@ -516,7 +526,11 @@ fn run_job(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> (BenchRow, Vec<f64
         cond_tol: Some(cfg.cond_tol),
     };
     match metrics::compute(problem, &sol, set) {
-        Ok(m) => row.cond2_system = m.cond2_system.map(|c| c.cond2),
+        Ok(m) => {
+            row.cond2_system = m.cond2_system.map(|c| c.cond2);
+            (row.cond2_bounds_proven, row.cond2_within_contract) =
+                crate::conditioning::CondReport::flags([m.cond2_system.as_ref()]);
+        }
         Err(e) => row.error = format!("cond₂: {e}"),
     }
     (row, p)

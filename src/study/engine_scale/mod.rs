@@ -146,6 +146,13 @@ pub struct ScaleRow {
     pub cond2_system_hi: Option<f64>,
     /// Route of the system's cond₂, or why it was not computed.
     pub cond_route_system: String,
+    /// Every cond₂ bracket of the row is proven (empty where none was taken).
+    #[serde(default)]
+    pub cond2_bounds_proven: Option<bool>,
+    /// Every cond₂ value of the row is proven within the accuracy contract
+    /// `max(1e-12, 4·ε_mach·cond₂)` ([`crate::conditioning::CondReport::within_contract`]).
+    #[serde(default)]
+    pub cond2_within_contract: Option<bool>,
 }
 
 /// Resets the process's peak resident memory (Linux; false elsewhere).
@@ -228,6 +235,8 @@ pub fn run(cfg: &ScaleConfig, progress: &Progress) -> Result<Vec<ScaleRow>> {
                 (None, None, "not requested".to_string())
             };
             let (s_lo, s_hi) = sys.as_ref().map_or((None, None), bounds);
+            let (cond2_bounds_proven, cond2_within_contract) =
+                crate::conditioning::CondReport::flags([k_cond.as_ref(), sys.as_ref()]);
             let row = ScaleRow {
                 n: p.n(),
                 m: p.m(),
@@ -250,6 +259,8 @@ pub fn run(cfg: &ScaleConfig, progress: &Progress) -> Result<Vec<ScaleRow>> {
                 cond2_system_lo: s_lo,
                 cond2_system_hi: s_hi,
                 cond_route_system: route,
+                cond2_bounds_proven,
+                cond2_within_contract,
             };
             progress.step(&format!(
                 "N = {:>8} {:<10} {:>3} iterations {:>3} factorizations {:>4} CG  solve {:.2} s",

@@ -96,6 +96,8 @@ pub fn solve_scene(
             "the solution contains NaN/Inf (system singular to working precision)".into(),
         ));
     }
+    let flags =
+        crate::conditioning::CondReport::flags([m.cond2_k.as_ref(), m.cond2_system.as_ref()]);
     Ok(json!({
         "scene": sc.name,
         "n": p.n(),
@@ -116,7 +118,10 @@ pub fn solve_scene(
         "cond2_system_lo": finite_or_null(m.cond2_system.map(|c| c.cond2_lo)),
         "cond2_system_hi": finite_or_null(m.cond2_system.map(|c| c.cond2_hi)),
         "cond_tol": cond_tol,
-        "cond2_bounds_proven": m.cond2_system.map(|c| c.bounds_proven && m.cond2_k.is_none_or(|k| k.bounds_proven)),
+        "cond2_bounds_proven": flags.0,
+        "cond2_within_contract": flags.1,
+        "cond2_error_bound_K": m.cond2_k.map(|c| finite_or_null(Some(c.error_bound()))),
+        "cond2_error_bound_system": m.cond2_system.map(|c| finite_or_null(Some(c.error_bound()))),
         "log10_det_K": finite_or_null(m.log10_det_k),
         "log10_det_system": finite_or_null(m.log10_det_system),
         "log10_det_ratio": finite_or_null(m.log10_det_ratio),
@@ -167,6 +172,8 @@ pub fn table(v: &Value) -> String {
         "cond_route_system",
         "cond2_system_lo",
         "cond2_system_hi",
+        "cond2_bounds_proven",
+        "cond2_within_contract",
         "log10_det_K",
         "log10_det_system",
         "log10_det_ratio",

@@ -76,6 +76,8 @@ pub struct SceneWork {
     pub cond2_k: Option<f64>,
     /// Its bounds `[cond2_lo, cond2_hi]`.
     pub cond2_k_bounds: Option<(f64, f64)>,
+    /// Its whole report (for the rows' proven / within-contract flags).
+    pub cond2_k_report: Option<conditioning::CondReport>,
     /// log10|det K|, when requested and available.
     pub log10_det_k: Option<f64>,
     /// K's Ritz vectors of λ_max and λ_min (sparse route): every job's cond₂ starts its
@@ -148,6 +150,7 @@ pub fn prepare_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<SceneWork> {
         prepared,
         cond2_k: cond.map(|c| c.cond2),
         cond2_k_bounds: cond.map(|c| (c.cond2_lo, c.cond2_hi)),
+        cond2_k_report: cond,
         log10_det_k,
         ritz_k: ritz_k.flatten(),
         jobs,
@@ -245,6 +248,11 @@ pub fn run_job(
             row.cond2_system_lo = m.cond2_system.map(|c| c.cond2_lo);
             row.cond2_system_hi = m.cond2_system.map(|c| c.cond2_hi);
             row.cond_route = m.cond2_system.map(|c| c.route.name().to_string());
+            (row.cond2_bounds_proven, row.cond2_within_contract) =
+                conditioning::CondReport::flags([
+                    work.cond2_k_report.as_ref(),
+                    m.cond2_system.as_ref(),
+                ]);
             row.log10_det_ratio = m.log10_det_ratio;
             row.max_penetration = Some(sol.max_penetration);
             row.error_vs_exact = u_ref.map(|r| metrics::relative_error(&sol.u, r));

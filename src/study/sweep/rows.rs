@@ -60,6 +60,12 @@ pub struct Row {
     pub cond_tol: Option<f64>,
     /// Route of the system cond.
     pub cond_route: Option<String>,
+    /// Every cond₂ bracket of the row (K's and the system's) is proven
+    /// ([`crate::conditioning::CondReport::bounds_proven`]); empty where no cond₂ was taken.
+    pub cond2_bounds_proven: Option<bool>,
+    /// Every cond₂ value of the row is proven within the accuracy contract
+    /// `max(1e-12, 4·ε_mach·cond₂)` ([`crate::conditioning::CondReport::within_contract`]).
+    pub cond2_within_contract: Option<bool>,
     /// log10|det system| − log10|det K|.
     pub log10_det_ratio: Option<f64>,
     /// Max penetration.
@@ -89,7 +95,7 @@ pub struct Row {
 }
 
 /// Column names, in file order.
-pub const COLUMNS: [&str; 35] = [
+pub const COLUMNS: [&str; 37] = [
     "scene",
     "family",
     "n",
@@ -113,6 +119,8 @@ pub const COLUMNS: [&str; 35] = [
     "cond2_K_hi",
     "cond_tol",
     "cond_route",
+    "cond2_bounds_proven",
+    "cond2_within_contract",
     "log10_det_ratio",
     "max_penetration",
     "error_vs_exact",
@@ -199,16 +207,14 @@ impl Row {
         c.float(self.cond2_k_hi)?;
         c.float(self.cond_tol)?;
         c.text(self.cond_route.as_deref().unwrap_or(""))?;
+        c.text(flag(self.cond2_bounds_proven))?;
+        c.text(flag(self.cond2_within_contract))?;
         c.float(self.log10_det_ratio)?;
         c.float(self.max_penetration)?;
         c.float(self.error_vs_exact)?;
         c.whole(self.linear_solves)?;
         c.whole(self.iterations)?;
-        c.text(match self.converged {
-            Some(true) => "true",
-            Some(false) => "false",
-            None => "",
-        })?;
+        c.text(flag(self.converged))?;
         c.float(self.seconds)?;
         c.float(self.seconds_solve)?;
         c.float(self.seconds_cond)?;
@@ -227,6 +233,15 @@ impl Row {
             seconds_det: None,
             ..self.clone()
         }
+    }
+}
+
+/// A boolean cell: `true`, `false`, or empty for none.
+fn flag(b: Option<bool>) -> &'static str {
+    match b {
+        Some(true) => "true",
+        Some(false) => "false",
+        None => "",
     }
 }
 
@@ -352,6 +367,14 @@ fn parse_record(rec: &csv::StringRecord) -> std::result::Result<Row, String> {
         cond2_k_hi: fl(next())?,
         cond_tol: fl(next())?,
         cond_route: Some(next().to_string()).filter(|s| !s.is_empty()),
+        cond2_bounds_proven: {
+            let c = next();
+            parse_opt(c).map_err(|_| format!("bad cond2_bounds_proven '{c}'"))?
+        },
+        cond2_within_contract: {
+            let c = next();
+            parse_opt(c).map_err(|_| format!("bad cond2_within_contract '{c}'"))?
+        },
         log10_det_ratio: fl(next())?,
         max_penetration: fl(next())?,
         error_vs_exact: fl(next())?,
@@ -412,6 +435,12 @@ mod tests {
                 fl(r.cond2_k_hi),
                 fl(r.cond_tol),
                 r.cond_route.clone().unwrap_or_default(),
+                r.cond2_bounds_proven
+                    .map(|c| c.to_string())
+                    .unwrap_or_default(),
+                r.cond2_within_contract
+                    .map(|c| c.to_string())
+                    .unwrap_or_default(),
                 fl(r.log10_det_ratio),
                 fl(r.max_penetration),
                 fl(r.error_vs_exact),
@@ -493,6 +522,8 @@ mod tests {
                     cond2_k_hi: x(18),
                     cond_tol: x(19),
                     cond_route: (i % 3 != 0).then(|| texts[(i + 3) % texts.len()].into()),
+                    cond2_bounds_proven: [Some(true), None, Some(false)][i % 3],
+                    cond2_within_contract: [Some(false), Some(true), None][i % 3],
                     log10_det_ratio: x(8),
                     max_penetration: x(9),
                     error_vs_exact: x(10),
@@ -536,6 +567,10 @@ mod tests {
             assert_eq!(
                 (a.m, &a.warnings, a.converged),
                 (b.m, &b.warnings, b.converged)
+            );
+            assert_eq!(
+                (a.cond2_bounds_proven, a.cond2_within_contract),
+                (b.cond2_bounds_proven, b.cond2_within_contract)
             );
         }
     }

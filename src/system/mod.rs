@@ -30,7 +30,7 @@ pub enum Stiffness {
 /// bit? The common case of [`Stiffness::is_symmetric`], decided in one pass without a
 /// transpose: the upper entries of column i are met in row order as the columns j < i are
 /// scanned for their mirrors, so one cursor per column walks them.
-fn exactly_symmetric(m: &SparseColMat<usize, f64>) -> bool {
+pub(crate) fn exactly_symmetric(m: &SparseColMat<usize, f64>) -> bool {
     let n = m.ncols();
     let (cp, ri, v) = (m.symbolic().col_ptr(), m.symbolic().row_idx(), m.val());
     if m.symbolic().col_nnz().is_some() {
@@ -319,48 +319,18 @@ impl Stiffness {
         ok
     }
 
-    /// `true` if `|K[i,j] − K[j,i]| ≤ 8 ε_mach · max|K|` for all pairs: the test that
-    /// selects the symmetric (eigenvalue) routes and Cholesky.
+    /// `true` if every mirror pair is equal bit for bit ([`Symmetry::Exact`]): the test
+    /// that selects Cholesky and the symmetric (eigenvalue, certified) routes, whose proofs
+    /// factor one triangle and multiply with both. A matrix unsymmetric only by rounding
+    /// ([`Symmetry::Near`]) is not symmetric here: it is solved by LU as stored, and its cond₂
+    /// is certified through its symmetric part (the cond₂ routes, see [`Symmetry`]).
     pub fn is_symmetric(&self) -> bool {
         if let Stiffness::Sparse(m) = self {
             if exactly_symmetric(m) {
                 return true;
             }
         }
-        let tol = 8.0 * f64::EPSILON * self.max_abs();
-        match self {
-            Stiffness::Dense(m) => {
-                let n = m.nrows();
-                (0..n).all(|j| (0..j).all(|i| (m[(i, j)] - m[(j, i)]).abs() <= tol))
-            }
-            Stiffness::Sparse(m) => {
-                // Column j of Kᵀ (row j of K) merged with column j of K, both sorted: O(nnz).
-                let Ok(t) = m.as_ref().transpose().to_col_major() else {
-                    return false;
-                };
-                let (a, b) = (m.symbolic(), t.symbolic());
-                let (av, bv) = (m.val(), t.val());
-                (0..m.ncols()).all(|j| {
-                    let (mut p, pe) = (a.col_ptr()[j], a.col_ptr()[j + 1]);
-                    let (mut q, qe) = (b.col_ptr()[j], b.col_ptr()[j + 1]);
-                    while p < pe || q < qe {
-                        let ri = if p < pe { a.row_idx()[p] } else { usize::MAX };
-                        let rt = if q < qe { b.row_idx()[q] } else { usize::MAX };
-                        let (x, y) = match ri.cmp(&rt) {
-                            std::cmp::Ordering::Less => (av[p], 0.0),
-                            std::cmp::Ordering::Greater => (0.0, bv[q]),
-                            std::cmp::Ordering::Equal => (av[p], bv[q]),
-                        };
-                        if (x - y).abs() > tol {
-                            return false;
-                        }
-                        p += usize::from(ri <= rt);
-                        q += usize::from(rt <= ri);
-                    }
-                    true
-                })
-            }
-        }
+        self.symmetry() == Symmetry::Exact
     }
 
     /// `y = K x`.
@@ -591,3 +561,6 @@ impl Problem {
         self.penetrations(u).into_iter().fold(0.0, f64::max)
     }
 }
+
+mod symmetry;
+pub use symmetry::{Asymmetry, Symmetry};
