@@ -12,6 +12,14 @@
 //! | sparse saddle point `[K D; Dᵀ 0]`, Boolean D | block-structure inertia ([`CondRoute::SparseSaddleInertia`], [`saddle`]) | a few sparse Cholesky |
 //! | other sparse | densified, then as above ([`CondRoute::DensifiedSymmetricEigen`] / [`CondRoute::DensifiedSvd`]) | n² memory |
 //!
+//! **Symmetric means bit for bit** ([`Stiffness::symmetry`]): the symmetric routes factor one
+//! triangle and multiply with both, so their proofs hold for the stored matrix only where every
+//! mirror pair is equal. A matrix unsymmetric by rounding ([`Symmetry::Near`]: every pair within
+//! `8·ε_mach·max|a|`) is certified through its symmetric part, the bracket widened for the skew
+//! part by a second-order bound ([`crate::system::Symmetry`]'s module doc), and goes to the SVD
+//! where that bracket misses the contract; the report carries the asymmetry
+//! ([`CondReport::asymmetry`]). Anything more unsymmetric takes the SVD.
+//!
 //! **Accuracy contract.** The reported `cond2` is the route's best estimate — the ratio of the
 //! converged Lanczos Ritz values, or of the dense routine's values (their vectors' Rayleigh
 //! quotients where Kato–Temple applies) — never the midpoint of a
@@ -22,6 +30,15 @@
 //! (Demmel & Veselić 1992). Tested against outside references: python-flint / mpmath values
 //! of stored matrices (`tests/verification/cond_reference.rs`), double-double eigenvalues on random SPD
 //! matrices (`tests/properties/cond_properties.rs`), and LAPACK (`tests/cross_check.rs`, feature `lapack`).
+//!
+//! Whether a value is *proven* within the contract — its proven bracket allows no value
+//! farther than the contract's tolerance — is [`CondReport::within_contract`] (in every rows.csv
+//! and in `solve --json` as `cond2_within_contract`); where it is false the width is
+//! [`CondReport::error_bound`]. The SPD routes aim their brackets at the contract
+//! ([`sparse::width_target`]); a λ_min that the Lanczos run leaves inside a near-double or a
+//! cluster (its Ritz vector a mixture) is refined by shift-invert with the factor of the first
+//! Cholesky test that passes below it, as λ_max is at the top; the Lanczos runs start from
+//! seeded random vectors, which share no mesh's symmetry.
 //!
 //! **Bounds.** Every report carries `cond2_lo ≤ cond₂ ≤ cond2_hi`. On the SPD routes they are
 //! proven for the stored matrix including the rounding of the Cholesky factorizations they

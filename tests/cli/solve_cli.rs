@@ -230,7 +230,12 @@ fn unsymmetric_k_is_warned_and_the_json_says_what_is_proven() {
     let cases = [
         ("far", "[[4, -1], [-2, 4]]", "(1, 0)", false),
         // -1 against -1 − 2ε: within 8 ε_mach·max|K|, not bit for bit.
-        ("near", "[[4, -1], [-1.0000000000000004, 4]]", "(1, 0)", true),
+        (
+            "near",
+            "[[4, -1], [-1.0000000000000004, 4]]",
+            "(1, 0)",
+            true,
+        ),
     ];
     for (name, k, at, near) in cases {
         let path = dir.join(format!("{name}.scene.json"));

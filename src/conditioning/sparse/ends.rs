@@ -32,7 +32,7 @@ pub(super) struct Ends {
 /// uses estimates), or the tolerance asked for where that is wider. The equilibrated term is
 /// the rounding floor of the graded matrices (far below the contract there); the second keeps
 /// every bracket that meets its target within the contract `max(1e-12, 4·ε_mach·cond₂)`, so
-/// that the point is *proven* within it ([`super::CondReport::within_contract`]). The top end
+/// that the point is *proven* within it ([`crate::conditioning::CondReport::within_contract`]). The top end
 /// takes a fifth, the bottom end the rest.
 pub fn width_target(tol: Option<f64>, cond_eq: f64, cond: f64) -> f64 {
     tol.unwrap_or(0.0)

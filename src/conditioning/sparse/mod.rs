@@ -17,7 +17,7 @@
 //!    λ_min as the inverse-Rayleigh value `yᵀy / (2x̂ᵀy − x̂ᵀAx̂)` (x̂ = A⁻¹y: second order in
 //!    the solve error), λ_max by a shift-invert run with the factor of the certificate's
 //!    test where its first test fails (the plain run stopped short below a cluster).
-//! 2. **Certify** ([`certify`] states and proves each step). λ_max ≥ ρ(y_top) (Courant–
+//! 2. **Certify** ([`certify`](super::certify) states and proves each step). λ_max ≥ ρ(y_top) (Courant–
 //!    Fischer, rounding bounded) and λ_max ≤ σ + m·max b̃_ii once floating-point Cholesky of
 //!    `σI − A` succeeds (σ just above the estimate; m from the backward error of Cholesky and
 //!    the factor's row and column counts). λ_min ≤ yᵀy / (2x̂ᵀy − x̂ᵀAx̂) with y the bottom Ritz
@@ -28,7 +28,8 @@
 //!    one symbolic analysis of the pattern of A (with its diagonal).
 //!
 //! The widths reached are reported ([`Certificate`], `CondReport::cond2_lo/hi`): the tests
-//! aim at `max(1e-12, 8·ε_mach·cond₂(Ŝ⁻¹AŜ⁻¹))` (or the tolerance asked for), a fifth for
+//! aim at `max(1e-12, min(8·ε_mach·cond₂(Ŝ⁻¹AŜ⁻¹), 3.5·ε_mach·cond₂))` ([`width_target`], or
+//! the tolerance asked for), a fifth for
 //! λ_max and the rest for λ_min, and each test that succeeds is judged by the smallest margin
 //! needed of Lemma 1 (worst case, `m ≈ c·r·ε_mach/2`), Lemma 7a (the factor's own) and Lemma 7
 //! (its residual, ≈ 5 factorizations; only up to [`POSTERIOR_MAX_PRODUCTS`]). Where Lemma 1
@@ -173,7 +174,7 @@ impl FactorOfA<'_> {
 }
 
 /// λ_max and λ_min of the sparse SPD matrix `a` (both triangles stored): converged Lanczos
-/// estimates, clamped into brackets proven as in [`certify`]. Errors with [`Error::Singular`]
+/// estimates, clamped into brackets proven as in [`certify`](super::certify). Errors with [`Error::Singular`]
 /// if A is not positive definite (its Cholesky fails).
 ///
 /// `reuse.starts` (of the same dimension; ignored otherwise) start the two Lanczos runs from
@@ -469,7 +470,7 @@ pub fn estimate_extremes(a: &SparseColMat<usize, f64>) -> Result<(f64, f64)> {
     Ok((est.lmax, est.lmin))
 }
 
-/// Largest factor (products `Σ_k c_k²` of a factorization, [`certify::factor_products`]) for
+/// Largest factor (products `Σ_k c_k²` of a factorization, [`certify::factor_products`](super::certify::factor_products)) for
 /// which the tests compute Lemma 7's residual (≈ 5× the factorization; measured 105 µs against
 /// 20 µs on the 400-DOF membrane, `cargo bench --bench cond -- posterior_margin`). Above it
 /// (the 10⁵–10⁶-DOF membranes: seconds per residual) the bounds rest on Lemmas 1 and 7a and the
