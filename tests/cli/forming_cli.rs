@@ -142,6 +142,18 @@ fn classical_matched_penetrates_between_half_delta_and_delta() {
         );
         assert_eq!(m["largest_penetration"].as_f64().unwrap(), largest);
         assert_eq!(m["valid"], true, "{bin}: {:?}", m["invalid_reasons"]);
+        // The search's cost is recorded: at least the returned run's own factorizations.
+        let own: u64 = m["steps"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|s| s["factorizations"].as_u64().unwrap())
+            .sum();
+        let search = &m["search"];
+        let runs = search["runs"].as_u64().unwrap();
+        assert!((1..=12).contains(&runs), "{bin}: {search}");
+        assert!(search["factorizations"].as_u64().unwrap() >= own, "{bin}: {search}");
+        assert!(v["runs"]["classical"]["search"].is_null());
     }
 }
 

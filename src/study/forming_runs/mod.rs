@@ -318,10 +318,12 @@ impl Cli {
 /// One line per run: steps, Picard-converged steps, the largest final change of a step that
 /// stopped at the cap (`-` if none did), median cond₂, final punch force, mean Picard
 /// iterations, max penetration, clipped (Eq. 28 literal) or floored (Eq. 28 at the residual)
-/// penalties, seconds, validity; then one line per reason of an invalid run.
+/// penalties, factorizations, seconds, validity; then what finding `classical-matched`'s ε cost
+/// (its search's runs, factorizations and seconds, beside the one run in the table), the
+/// comparisons, and one line per reason of an invalid run.
 pub fn summary_table(doc: &SavedRuns) -> String {
     let mut out = format!(
-        "{:<17} {:>5} {:>9} {:>10} {:>11} {:>11} {:>9} {:>12} {:>7} {:>6} {:>6}\n",
+        "{:<17} {:>5} {:>9} {:>10} {:>11} {:>11} {:>9} {:>12} {:>7} {:>7} {:>6} {:>6}\n",
         "run",
         "steps",
         "converged",
@@ -331,6 +333,7 @@ pub fn summary_table(doc: &SavedRuns) -> String {
         "mean iter",
         "max pen (in)",
         "clipped",
+        "factor.",
         "sec",
         "valid"
     );
@@ -353,8 +356,9 @@ pub fn summary_table(doc: &SavedRuns) -> String {
             .fold(0.0, f64::max);
         let clip: usize = r.steps.iter().map(|s| s.clipped).sum();
         let f = r.steps.last().map_or(f64::NAN, |s| s.punch_force);
+        let fact: usize = r.steps.iter().map(|s| s.factorizations).sum();
         out.push_str(&format!(
-            "{name:<17} {:>5} {:>9} {:>10} {:>11.3e} {:>11.4} {:>9.1} {:>12.2e} {:>7} {:>6.2} {:>6}\n",
+            "{name:<17} {:>5} {:>9} {:>10} {:>11.3e} {:>11.4} {:>9.1} {:>12.2e} {:>7} {:>7} {:>6.2} {:>6}\n",
             r.steps.len(),
             conv,
             capped.map_or("-".to_string(), |x| format!("{x:.2e}")),
@@ -363,14 +367,32 @@ pub fn summary_table(doc: &SavedRuns) -> String {
             it,
             pen,
             clip,
+            fact,
             r.seconds,
             if r.valid { "yes" } else { "NO" }
         ));
     }
+    for (name, r) in &doc.runs {
+        if let (Some(s), Some(eps)) = (r.search, r.eps) {
+            out.push_str(&format!(
+                "{name}: ε = {} found in {} trial run{} from the classical run's penetration \
+                 (the last is the run above; {} factorizations, {:.2} s in all): a search a user \
+                 without δ has to make\n",
+                report::eps_label(eps),
+                s.runs,
+                if s.runs == 1 { "" } else { "s" },
+                s.factorizations,
+                s.seconds
+            ));
+        }
+    }
     for c in comparisons(doc) {
         out.push_str(&format!(
-            "{} beats {} (ε = {:.2e}) in {}/{} steps (median cond₂ ratio {}/{} = {:.3})\n",
-            c.rule, c.classical, c.eps, c.wins, c.steps, c.classical, c.rule, c.median_ratio
+            "{} beats {} (ε = {}) in {}/{} steps (median cond₂ ratio {}/{} = {:.3})\n",
+            c.rule,
+            c.classical,
+            report::eps_label(c.eps),
+            c.wins, c.steps, c.classical, c.rule, c.median_ratio
         ));
     }
     for r in doc.runs.values() {
@@ -447,6 +469,20 @@ pub fn largest_penetration(steps: &[StepRecord]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// What [`matched_penalty`] found.
+pub struct Matched {
+    /// The constant ε.
+    pub eps: f64,
+    /// Its run.
+    pub run: RunResult,
+    /// The run's numerical failure, if it had one.
+    pub failure: Option<Error>,
+    /// Why no trial landed in [δ/2, δ] (the nearest one is returned), if none did.
+    pub unmatched: Option<String>,
+    /// What the search cost (every trial run, this one included).
+    pub search: report::MatchSearch,
+}
+
 /// The constant ε of `classical-matched` and its run: a classical penalty whose largest
 /// penetration over the run lies in [δ/2, δ].
 ///
@@ -456,15 +492,17 @@ pub fn largest_penetration(steps: &[StepRecord]) -> f64 {
 /// secant steps in log ε – log p (slope clamped to [−3, −1/3]), at most [`MATCH_TRIALS`] runs.
 /// If none lands in [δ/2, δ] the trial nearest 0.75 δ (in log p) is returned with the reason
 /// (the run is then marked invalid).
-pub fn matched_penalty(
-    cfg: &ExperimentConfig,
-    classical: &RunResult,
-) -> Result<(f64, RunResult, Option<Error>, Option<String>)> {
+pub fn matched_penalty(cfg: &ExperimentConfig, classical: &RunResult) -> Result<Matched> {
     let (lo, hi, target) = (0.5 * cfg.delta, cfg.delta, 0.75 * cfg.delta);
     let mut trials: Vec<(f64, f64)> = Vec::new();
     let mut eps = cfg.penalty;
     let mut pen = largest_penetration(&classical.steps);
     let mut best: Option<(f64, RunResult, Option<Error>, f64)> = None;
+    let mut cost = report::MatchSearch {
+        runs: 0,
+        factorizations: 0,
+        seconds: 0.0,
+    };
     for _ in 0..MATCH_TRIALS {
         if !(pen > 0.0 && pen.is_finite()) {
             break;
@@ -477,11 +515,20 @@ pub fn matched_penalty(
         eps = (eps.ln() + (target.ln() - pen.ln()) / slope).exp();
         let (run, failure) =
             Simulation::run_until_failure(&cfg.forming, ContactRule::Classical { eps })?;
+        cost.runs += 1;
+        cost.factorizations += run.steps.iter().map(|s| s.factorizations).sum::<usize>();
+        cost.seconds += run.seconds;
         pen = largest_penetration(&run.steps);
         let miss = (pen.ln() - target.ln()).abs();
         let done = failure.is_none() && run.steps.len() == cfg.forming.steps;
         if done && (lo..=hi).contains(&pen) {
-            return Ok((eps, run, failure, None));
+            return Ok(Matched {
+                eps,
+                run,
+                failure,
+                unmatched: None,
+                search: cost,
+            });
         }
         if done && best.as_ref().is_none_or(|b| miss < b.3) {
             best = Some((eps, run, failure, miss));
@@ -494,7 +541,13 @@ pub fn matched_penalty(
                 "{CLASSICAL_MATCHED}: no ε in {MATCH_TRIALS} trials put the largest penetration in \
                  [δ/2, δ] = [{lo:e}, {hi:e}] in; nearest ε = {eps:e} gives {p:e} in"
             );
-            Ok((eps, run, failure, Some(why)))
+            Ok(Matched {
+                eps,
+                run,
+                failure,
+                unmatched: Some(why),
+                search: cost,
+            })
         }
         None => Err(Error::Numerical(format!(
             "{CLASSICAL_MATCHED}: no complete classical run in the ε search (from ε = {:e})",
@@ -554,13 +607,11 @@ pub fn run_with(
     };
     let mut unmatched = None;
     if let (true, Some(c)) = (cfg.classical_matched, &classical) {
-        let (_, run, failure, why) = matched_penalty(cfg, c)?;
-        unmatched = why;
-        results.push(Ok((
-            CLASSICAL_MATCHED.to_string(),
-            SavedRun::from(&run),
-            failure,
-        )));
+        let m = matched_penalty(cfg, c)?;
+        unmatched = m.unmatched;
+        let mut saved = SavedRun::from(&m.run);
+        saved.search = Some(m.search);
+        results.push(Ok((CLASSICAL_MATCHED.to_string(), saved, m.failure)));
     }
     let mut runs = BTreeMap::new();
     let mut reasons = crate::forming::validity::check_config(&cfg.forming);

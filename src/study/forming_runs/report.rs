@@ -40,6 +40,21 @@ pub struct SavedRun {
     /// Why not (empty when valid).
     #[serde(default)]
     pub invalid_reasons: Vec<String>,
+    /// What finding this run's ε cost (`classical-matched` only): the search is an oracle a
+    /// user without δ would pay for.
+    #[serde(skip_serializing_if = "Option::is_none", default)]
+    pub search: Option<MatchSearch>,
+}
+
+/// The cost of [`super::matched_penalty`]'s search: every trial run, the returned one included.
+#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
+pub struct MatchSearch {
+    /// Full forming runs made.
+    pub runs: usize,
+    /// Matrix factorizations over all their steps.
+    pub factorizations: usize,
+    /// Their wall time (s).
+    pub seconds: f64,
 }
 
 impl From<&RunResult> for SavedRun {
@@ -57,6 +72,7 @@ impl From<&RunResult> for SavedRun {
             seconds: r.seconds,
             valid: true,
             invalid_reasons: Vec::new(),
+            search: None,
         }
     }
 }
@@ -183,6 +199,15 @@ pub fn load(json: &Path) -> Result<SavedRuns> {
     crate::provenance::read_json(json)
 }
 
+/// ε to three significant digits, without trailing zeros (`1e7`, `1.76e3`).
+pub fn eps_label(eps: f64) -> String {
+    let s = format!("{eps:.2e}");
+    match s.split_once('e') {
+        Some((m, e)) => format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.')),
+        None => s,
+    }
+}
+
 fn label(name: &str, run: &SavedRun) -> String {
     let text = rule_label(name, run);
     if run.valid {
@@ -194,7 +219,7 @@ fn label(name: &str, run: &SavedRun) -> String {
 
 fn rule_label(name: &str, run: &SavedRun) -> String {
     match run.rule {
-        ContactRule::Classical { eps } => format!("{name}: constant ε = {eps:.0e}"),
+        ContactRule::Classical { eps } => format!("{name}: constant ε = {}", eps_label(eps)),
         ContactRule::PaperResidual { delta } => {
             format!("{name}: Eq. 28 on the residual, δ = {delta:.0e} in")
         }
@@ -482,4 +507,15 @@ fn profiles_figure(cfg: &FormingConfig, name: &str, run: &SavedRun, title: &str)
         );
     }
     f
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn eps_labels_have_three_significant_digits() {
+        assert_eq!(super::eps_label(1.7612e3), "1.76e3");
+        assert_eq!(super::eps_label(1.45e3), "1.45e3");
+        assert_eq!(super::eps_label(1e7), "1e7");
+        assert_eq!(super::eps_label(2.5e-3), "2.5e-3");
+    }
 }
