@@ -152,7 +152,10 @@ fn classical_matched_penetrates_between_half_delta_and_delta() {
         let search = &m["search"];
         let runs = search["runs"].as_u64().unwrap();
         assert!((1..=12).contains(&runs), "{bin}: {search}");
-        assert!(search["factorizations"].as_u64().unwrap() >= own, "{bin}: {search}");
+        assert!(
+            search["factorizations"].as_u64().unwrap() >= own,
+            "{bin}: {search}"
+        );
         assert!(v["runs"]["classical"]["search"].is_null());
     }
 }

@@ -392,7 +392,11 @@ pub fn summary_table(doc: &SavedRuns) -> String {
             c.rule,
             c.classical,
             report::eps_label(c.eps),
-            c.wins, c.steps, c.classical, c.rule, c.median_ratio
+            c.wins,
+            c.steps,
+            c.classical,
+            c.rule,
+            c.median_ratio
         ));
     }
     for r in doc.runs.values() {
