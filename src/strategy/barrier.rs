@@ -67,6 +67,21 @@ fn run(ctx: Context, m: &Method) -> Result<Solution> {
     solve(ctx, m.need_delta()?)
 }
 
+/// The barrier stiffness κ of a solve: the hidden second knob, recorded in every row.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct KappaReport {
+    /// κ of the first Newton solve (gradient balance, clamped to [κ_min, κ_max]).
+    pub initial: f64,
+    /// κ of the returned solve.
+    pub last: f64,
+    /// Times κ was doubled (each a warm-started Newton solve).
+    pub increases: usize,
+    /// The clamp's lower end κ_min.
+    pub min: f64,
+    /// The clamp's upper end κ_max = 100 κ_min.
+    pub max: f64,
+}
+
 /// `b(d)`, `b'(d)`, `b''(d)` of the clamped log barrier (0 for d ≥ d̂).
 pub fn barrier(d: f64, dhat: f64) -> (f64, f64, f64) {
     if d >= dhat {
@@ -228,10 +243,13 @@ pub fn solve(mut ctx: Context, dhat: f64) -> Result<Solution> {
         kappa_min
     };
     kappa = kappa.clamp(kappa_min, kappa_max);
+    let initial = kappa;
+    let mut increases = 0;
     let mut run = newton(&mut ctx, u, kappa, dhat)?;
     let mut min_d = min_distance(p, &run.u);
     while min_d < 1e-2 * dhat && kappa < kappa_max {
         kappa = (2.0 * kappa).min(kappa_max);
+        increases += 1;
         let next = newton(&mut ctx, run.u.clone(), kappa, dhat)?;
         let d_next = min_distance(p, &next.u);
         run = next;
@@ -241,6 +259,13 @@ pub fn solve(mut ctx: Context, dhat: f64) -> Result<Solution> {
         min_d = d_next;
     }
     ctx.stats.converged = run.converged;
+    ctx.stats.barrier = Some(KappaReport {
+        initial,
+        last: kappa,
+        increases,
+        min: kappa_min,
+        max: kappa_max,
+    });
     let d = distances(p, &run.u);
     let penalties: Vec<f64> = d.iter().map(|&dc| kappa * barrier(dc, dhat).2).collect();
     // Contact forces r with K u = q − D r: r_c = s_c κ b'(d_c).

@@ -274,6 +274,10 @@ pub struct Stats {
     /// bound); absent for the other methods.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub optimal: Option<optimal::OptimalReport>,
+    /// `barrier`: its stiffness κ — a second knob the rule sets itself (initial, final,
+    /// increases, and the bounds it was clamped to); absent for the other methods.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub barrier: Option<barrier::KappaReport>,
 }
 
 /// The final system matrix of a solve (for metrics).

@@ -3,7 +3,7 @@
 //! * `condensed` with δ = R · displacement_scale keeps every penetration ≤ δ (relative 1e-9,
 //!   plus a rounding allowance cond₂(system) · ε_mach · ‖u‖∞) with every ε_c ≥ 0;
 //! * `barrier` never penetrates on the unilateral families (membrane, hertz, patch): every gap
-//!   recomputed from u is feasible in floating point, and Newton converges;
+//!   recomputed from u is feasible in floating point, Newton converges, and κ is reported;
 //! * the `hertz` and `patch` scenes sit where the Lagrange solution carries the drawn load:
 //!   the total contact force recomputed from its residual, `c Σ_c (q − K u)_{d_c}` (c = 2 per
 //!   unit thickness of the half model, 2π per radian), matches `meta.load` to the force
@@ -156,6 +156,13 @@ proptest! {
         prop_assert_eq!(sol.max_penetration, 0.0);
         prop_assert!(sol.penalties.iter().all(|e| e.is_finite() && *e >= 0.0));
         prop_assert!(sol.stats.converged, "{}: {:?}", g.name, sol.warnings);
+        // κ, the rule's own second knob, is reported: the first inside [κ_min, κ_max], the
+        // last the first doubled once per increase (capped at κ_max).
+        let k = sol.stats.barrier.expect("barrier reports κ");
+        prop_assert!(k.min > 0.0 && k.max == 100.0 * k.min);
+        prop_assert!(k.min <= k.initial && k.initial <= k.max);
+        let doubled = (0..k.increases).fold(k.initial, |x, _| (2.0 * x).min(k.max));
+        prop_assert_eq!(k.last, doubled);
     }
 
     #[test]

@@ -289,6 +289,16 @@ pub struct BenchRow {
     /// updates, active-set or Newton steps).
     #[serde(default)]
     pub iterations: usize,
+    /// `barrier` rows: its stiffness κ at the first Newton solve (the rule's hidden second
+    /// knob, [`strategy::barrier::KappaReport`]); empty for other rules.
+    #[serde(default)]
+    pub kappa_initial: Option<f64>,
+    /// `barrier` rows: κ of the returned solve.
+    #[serde(default)]
+    pub kappa_final: Option<f64>,
+    /// `barrier` rows: times κ was doubled.
+    #[serde(default)]
+    pub kappa_increases: Option<usize>,
     /// (total force − P)/P of the reported solution (in magnitude at most the rule's
     /// `Strategy::force_tol`: 1e-10, `optimal` 1e-6; more only where the rule's force
     /// jumps with the lift and the bracket collapsed at the jump).
@@ -481,6 +491,9 @@ fn run_job(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> (BenchRow, Vec<f64
         converged: false,
         force_solves: 0,
         iterations: 0,
+        kappa_initial: None,
+        kappa_final: None,
+        kappa_increases: None,
         force_mismatch: f64::NAN,
         seconds: f64::NAN,
         error: String::new(),
@@ -528,6 +541,10 @@ fn run_job(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> (BenchRow, Vec<f64
     row.max_penetration = sol.max_penetration;
     row.converged = sol.stats.converged;
     row.iterations = sol.stats.iterations;
+    if let Some(k) = sol.stats.barrier {
+        (row.kappa_initial, row.kappa_final, row.kappa_increases) =
+            (Some(k.initial), Some(k.last), Some(k.increases));
+    }
     let loaded: Vec<f64> = p.iter().copied().filter(|v| *v > 1e-9 * exact.p0).collect();
     if !loaded.is_empty() {
         let mean = loaded.iter().sum::<f64>() / loaded.len() as f64;

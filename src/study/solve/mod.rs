@@ -136,6 +136,7 @@ pub fn solve_scene(
         "system": sol.system,
         "optimality": sol.stats.optimal.as_ref().map(|o| finite_or_null(Some(o.optimality))),
         "starts_agreeing": sol.stats.optimal.as_ref().map(|o| o.starts_agreeing),
+        "kappa": sol.stats.barrier,
         "cond2_lower_bound": sol.stats.optimal.as_ref().map(|o| finite_or_null(Some(o.cond2_lower_bound))),
         "seconds": seconds,
         "warnings": warnings,
