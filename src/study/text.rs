@@ -27,6 +27,18 @@ pub fn fmt_e(v: f64, sig: usize) -> String {
     minus(&format!("{v:.p$e}", p = sig.saturating_sub(1)))
 }
 
+/// `v` in scientific notation with at most `sig` significant digits, trailing zeros dropped
+/// (`1e7`, `1.76e3`, `4.64e1`; minus sign U+2212): knob values of a refined grid.
+pub fn fmt_e_trim(v: f64, sig: usize) -> String {
+    let s = format!("{v:.p$e}", p = sig.saturating_sub(1));
+    minus(&match s.split_once('e') {
+        Some((m, e)) if m.contains('.') => {
+            format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.'))
+        }
+        _ => s,
+    })
+}
+
 /// `v` with `decimals` decimals (minus sign U+2212).
 pub fn fmt_f(v: f64, decimals: usize) -> String {
     minus(&format!("{v:.decimals$}"))

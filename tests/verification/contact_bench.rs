@@ -231,3 +231,53 @@ fn force_control_takes_optimal_to_its_own_tolerance() {
         );
     }
 }
+
+/// The leaderboard discriminates (issue 44, item 8): every winner's penalty error is within a
+/// tenth of the discretization error; where a rule's admissibility flips between two decade
+/// values, two more values between them were solved (three per decade at the threshold), so
+/// the winner's softer neighbour is at most a third of a decade away; each winner's
+/// resolution is the cond₂ step to that neighbour, and a rule within it of the mesh's
+/// cheapest is a tie, never a loss.
+#[test]
+fn the_leaderboard_has_a_margin_a_refined_threshold_and_ties() {
+    let cfg = BenchConfig {
+        cases: vec![Case::HertzPlane],
+        meshes: vec![0.2],
+        methods: vec!["lagrange".into(), "constant".into(), "condensed".into()],
+        ..BenchConfig::default()
+    };
+    let run = contact_bench::run(&cfg, &Progress::quiet(), None).unwrap();
+    let leaders = contact_bench::leaderboard(&run.rows);
+    let constant = leaders.iter().find(|l| l.rule == "constant").unwrap();
+    let k = constant.knob_rel.expect("constant has an admissible ε");
+    assert!(constant.err_penalty.unwrap() <= contact_bench::MARGIN * constant.err_discretization);
+    // The softer neighbour tried is within a third of a decade (refined), and failed.
+    let softer: Vec<_> = run
+        .rows
+        .iter()
+        .filter(|r| r.method == "constant" && r.knob_rel.is_some_and(|v| v < k))
+        .collect();
+    let nearest = softer
+        .iter()
+        .max_by(|a, b| a.knob_rel.unwrap().total_cmp(&b.knob_rel.unwrap()))
+        .unwrap();
+    assert!(k / nearest.knob_rel.unwrap() <= 10f64.powf(1.0 / 3.0) * (1.0 + 1e-12));
+    assert!(!contact_bench::admissible(nearest));
+    let res = constant.resolution.expect("a softer knob exists");
+    let want = (constant.cond2_system.unwrap() / nearest.cond2_system.unwrap() - 1.0).abs();
+    assert_eq!(res, want);
+    // Ties: the cheapest rule ties itself; a tie is within the larger resolution.
+    let best = leaders
+        .iter()
+        .filter_map(|l| l.cond2_system.map(|c| (c, l)))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+        .unwrap();
+    assert!(best.1.tied_best);
+    for l in leaders.iter().filter(|l| l.tied_best) {
+        let r = l
+            .resolution
+            .unwrap_or(0.0)
+            .max(best.1.resolution.unwrap_or(0.0));
+        assert!(l.cond2_system.unwrap() / best.0 - 1.0 <= r, "{}", l.rule);
+    }
+}

@@ -37,7 +37,7 @@ fn knob_label(knob: &str, k: Option<f64>) -> String {
     let Some(v) = k else {
         return "exact".to_string();
     };
-    let v = fmt_e(v, 0);
+    let v = crate::study::text::fmt_e_trim(v, 3);
     match knob {
         "eps" => format!("ε = {v}·E*"),
         "factor" => format!("f = {v}"),
@@ -308,7 +308,8 @@ pub fn tables(s: &Summary) -> String {
         ));
     }
     out.push_str(
-        "\nLeaderboard: cheapest knob with penalty error below the discretization error\n",
+        "\nLeaderboard: cheapest knob with penalty error ≤ 0.1 × the discretization error \
+         (resolution: cond₂ step to the next softer knob tried; tie: within it of the mesh's best)\n",
     );
     out.push_str(&leader_table(s));
     out
@@ -335,7 +336,7 @@ fn leader_table(s: &Summary) -> String {
                 match (l.knob_rel, l.tried) {
                     (Some(_), _) => knob_label(&l.knob, l.knob_rel),
                     (None, 0) => "no solve (see rows)".into(),
-                    (None, _) => "none below".into(),
+                    (None, _) => "none within".into(),
                 },
                 l.cond2_system.map_or("—".into(), |c| fmt_e(c, 3)),
                 match (l.cond2_system, floor_of(s, &l.case, l.h)) {
@@ -344,6 +345,11 @@ fn leader_table(s: &Summary) -> String {
                 },
                 l.err_penalty.map_or("—".into(), |e| fmt_e(e, 2)),
                 fmt_e(l.err_discretization, 2),
+                l.resolution.map_or("—".into(), |r| fmt_e(r, 1)),
+                match (l.cond2_system, l.tied_best) {
+                    (Some(_), true) => "tie".into(),
+                    _ => String::new(),
+                },
             ]
         })
         .collect();
@@ -357,8 +363,12 @@ fn leader_table(s: &Summary) -> String {
             "/ floor",
             "penalty err",
             "discr. err",
+            "resolution",
+            "best",
         ],
         &rows,
-        &[false, true, false, true, true, true, true, true],
+        &[
+            false, true, false, true, true, true, true, true, true, false,
+        ],
     )
 }

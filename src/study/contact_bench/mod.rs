@@ -22,7 +22,8 @@ pub mod figures;
 mod record;
 
 pub use record::{
-    convergence_rates, leaderboard, load, rule_of, save, Checkpoints, Leader, Summary,
+    admissible, convergence_rates, leaderboard, load, rule_of, save, Checkpoints, Leader, Summary,
+    MARGIN,
 };
 
 use crate::error::{Error, Result};
@@ -634,28 +635,13 @@ pub fn run_mesh(cfg: &BenchConfig, case: Case, h_rel: f64, progress: &Progress) 
         err_discretization: analytic::pressure_error(&lag.scene.contact, &p_lag, &exact),
         p_lagrange: &p_lag,
     };
-    // The jobs of a mesh are independent: solved in parallel, kept in job order.
-    let jobs = jobs(cfg, &lag.scene, cfg.a_target);
-    let done = std::sync::atomic::AtomicUsize::new(0);
-    let solved: Vec<(BenchRow, Vec<f64>)> = jobs
-        .par_iter()
-        .map(|job| {
-            let (row, p) = run_job(cfg, &mesh, job);
-            let k = 1 + done.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-            let name = case.name();
-            progress.message(format!("{name} h/a = {h_rel}: {k}/{} jobs", jobs.len()));
-            if row.seconds >= LONG_JOB_S {
-                let knob = row
-                    .knob_rel
-                    .map_or(String::new(), |v| format!(" {} {v:e} (relative)", row.knob));
-                progress.note(&format!(
-                    "  {name} h/a = {h_rel}: {}{knob} done in {:.0} s, {} solves",
-                    row.method, row.seconds, row.force_solves
-                ));
-            }
-            (row, p)
-        })
-        .collect();
+    // The jobs of a mesh are independent: solved in parallel, kept in job order; then the
+    // knob values added near each rule's leaderboard threshold, solved the same way.
+    let first = jobs(cfg, &lag.scene, cfg.a_target);
+    let mut solved = solve_jobs(cfg, &mesh, &first, progress, h_rel);
+    let rows: Vec<BenchRow> = solved.iter().map(|(r, _)| r.clone()).collect();
+    let extra = refinement_jobs(cfg, &lag.scene, &rows);
+    solved.extend(solve_jobs(cfg, &mesh, &extra, progress, h_rel));
     let mut out = MeshRun {
         case,
         h_rel,
@@ -680,6 +666,81 @@ pub fn run_mesh(cfg: &BenchConfig, case: Case, h_rel: f64, progress: &Progress) 
         out.rows.push(row);
     }
     Ok(out)
+}
+
+/// Solves `jobs` on one mesh in parallel, rows in job order, with progress.
+fn solve_jobs(
+    cfg: &BenchConfig,
+    mesh: &Mesh<'_>,
+    jobs: &[BenchJob],
+    progress: &Progress,
+    h_rel: f64,
+) -> Vec<(BenchRow, Vec<f64>)> {
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    jobs.par_iter()
+        .map(|job| {
+            let (row, p) = run_job(cfg, mesh, job);
+            let k = 1 + done.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            let name = mesh.case.name();
+            progress.message(format!("{name} h/a = {h_rel}: {k}/{} jobs", jobs.len()));
+            if row.seconds >= LONG_JOB_S {
+                let knob = row
+                    .knob_rel
+                    .map_or(String::new(), |v| format!(" {} {v:e} (relative)", row.knob));
+                progress.note(&format!(
+                    "  {name} h/a = {h_rel}: {}{knob} done in {:.0} s, {} solves",
+                    row.method, row.seconds, row.force_solves
+                ));
+            }
+            (row, p)
+        })
+        .collect()
+}
+
+/// Knob values added near the leaderboard's threshold (issue 44, item 8): where a rule's
+/// admissibility ([`admissible`]) flips between two adjacent values of its grid, two
+/// more log-spaced between them — three per decade there. `optimal` is not refined (one of
+/// its rows costs minutes to an hour at 5 000 DOFs).
+pub fn refinement_jobs(cfg: &BenchConfig, scene: &Indentation, rows: &[BenchRow]) -> Vec<BenchJob> {
+    let mut out = Vec::new();
+    for name in cfg
+        .methods
+        .iter()
+        .filter(|n| n.as_str() != strategy::optimal::STRATEGY.name)
+    {
+        for knob in ["eps", "factor", "delta", "tol", "adaptive-tol"] {
+            let mut grid: Vec<(f64, bool)> = rows
+                .iter()
+                .filter(|r| &r.method == name && r.knob == knob)
+                .filter_map(|r| r.knob_rel.map(|k| (k, record::admissible(r))))
+                .collect();
+            grid.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let mut new: Vec<f64> = Vec::new();
+            for w in grid.windows(2) {
+                if w[0].1 != w[1].1 {
+                    let ratio = w[1].0 / w[0].0;
+                    new.push(w[0].0 * ratio.powf(1.0 / 3.0));
+                    new.push(w[0].0 * ratio.powf(2.0 / 3.0));
+                }
+            }
+            if new.is_empty() {
+                continue;
+            }
+            let sub = BenchConfig {
+                methods: vec![name.clone()],
+                eps_rel: new.clone(),
+                factors: new.clone(),
+                deltas_rel: new,
+                ..cfg.clone()
+            };
+            out.extend(
+                jobs(&sub, scene, sub.a_target)
+                    .into_iter()
+                    .filter(|j| j.knob == knob),
+            );
+        }
+    }
+    out
 }
 
 /// Runs the suite: [`run_mesh`] per case and mesh, in order. With `checkpoints`, each finished

@@ -8,8 +8,19 @@ use crate::error::{Error, Result};
 use crate::strategy;
 use serde::{Deserialize, Serialize};
 
-/// One leaderboard entry: the cheapest knob of a rule on a mesh whose penalty error is below
-/// the discretization error.
+/// The leaderboard's margin: a knob is admissible where its penalty error is at most this
+/// fraction of the mesh's discretization error, so that the penalty's share of the total error
+/// is negligible (a tenth: total ≤ 1.1 × the discretization error by the triangle inequality,
+/// where "below" admitted a winner at 1.83×).
+pub const MARGIN: f64 = 0.1;
+
+/// Is the row admissible on the leaderboard ([`MARGIN`])?
+pub fn admissible(r: &BenchRow) -> bool {
+    r.error.is_empty() && r.cond2_system.is_some() && r.err_penalty <= MARGIN * r.err_discretization
+}
+
+/// One leaderboard entry: the cheapest knob of a rule on a mesh whose penalty error is within
+/// the margin ([`MARGIN`]) of the discretization error.
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct Leader {
     /// Case.
@@ -32,6 +43,15 @@ pub struct Leader {
     pub err_discretization: f64,
     /// Knob values tried (solved).
     pub tried: usize,
+    /// The grid's resolution at the winner: the relative cond₂ difference to the next softer
+    /// knob tried (which failed the margin, or was dearer); the cheapest admissible cond₂ lies
+    /// between the two. None where there is no softer knob.
+    #[serde(default)]
+    pub resolution: Option<f64>,
+    /// Within the resolution of the mesh's cheapest rule (its cond₂ above the cheapest by less
+    /// than either entry's resolution): a tie, not a loss.
+    #[serde(default)]
+    pub tied_best: bool,
 }
 
 /// The rule name of a row on the leaderboard (`augmented` split by its adaptive switch).
@@ -44,8 +64,31 @@ pub fn rule_of(r: &BenchRow) -> String {
 }
 
 /// Per (case, mesh, rule): the cheapest knob value (smallest cond₂) whose penalty error is
-/// below the discretization error.
+/// within the margin ([`MARGIN`]), the grid's resolution there, and whether it ties the
+/// mesh's cheapest rule.
 pub fn leaderboard(rows: &[BenchRow]) -> Vec<Leader> {
+    let mut out = leaders(rows);
+    let meshes: Vec<(String, f64)> = out.iter().map(|l| (l.case.clone(), l.h)).collect();
+    for (case, h) in meshes {
+        let best = out
+            .iter()
+            .filter(|l| l.case == case && l.h == h)
+            .filter_map(|l| l.cond2_system.map(|c| (c, l.resolution.unwrap_or(0.0))))
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        let Some((c_best, res_best)) = best else {
+            continue;
+        };
+        for l in out.iter_mut().filter(|l| l.case == case && l.h == h) {
+            if let Some(c) = l.cond2_system {
+                l.tied_best = c / c_best - 1.0 <= res_best.max(l.resolution.unwrap_or(0.0));
+            }
+        }
+    }
+    out
+}
+
+/// [`leaderboard`] before the ties.
+fn leaders(rows: &[BenchRow]) -> Vec<Leader> {
     let mut keys: Vec<(String, f64, String)> = Vec::new();
     for r in rows {
         let k = (r.case.clone(), r.h, rule_of(r));
@@ -65,9 +108,26 @@ pub fn leaderboard(rows: &[BenchRow]) -> Vec<Leader> {
                 .map_or(f64::NAN, |r| r.err_discretization);
             let best = group
                 .iter()
-                .filter(|r| r.err_penalty <= r.err_discretization)
-                .filter(|r| r.cond2_system.is_some())
+                .filter(|r| admissible(r))
                 .min_by(|a, b| a.cond2_system.unwrap().total_cmp(&b.cond2_system.unwrap()));
+            // The next softer knob tried: cond₂ falls towards the soft end, so the cheapest
+            // admissible value lies between the winner and it.
+            let resolution = best.and_then(|b| {
+                let (cb, kb) = (b.cond2_system?, b.knob_rel?);
+                let soft = |r: &&&BenchRow| match r.knob.as_str() {
+                    "eps" | "factor" => r.knob_rel.is_some_and(|k| k < kb),
+                    _ => r.knob_rel.is_some_and(|k| k > kb),
+                };
+                group
+                    .iter()
+                    .filter(soft)
+                    .filter(|r| r.cond2_system.is_some())
+                    .min_by(|a, b| {
+                        let d = |r: &BenchRow| (r.knob_rel.unwrap() / kb).ln().abs();
+                        d(a).total_cmp(&d(b))
+                    })
+                    .map(|n| (cb / n.cond2_system.unwrap() - 1.0).abs())
+            });
             Leader {
                 case,
                 h,
@@ -78,6 +138,8 @@ pub fn leaderboard(rows: &[BenchRow]) -> Vec<Leader> {
                 err_penalty: best.map(|r| r.err_penalty),
                 err_discretization,
                 tried: group.len(),
+                resolution,
+                tied_best: false,
             }
         })
         .collect()

@@ -201,11 +201,7 @@ pub fn load(json: &Path) -> Result<SavedRuns> {
 
 /// ε to three significant digits, without trailing zeros (`1e7`, `1.76e3`).
 pub fn eps_label(eps: f64) -> String {
-    let s = format!("{eps:.2e}");
-    match s.split_once('e') {
-        Some((m, e)) => format!("{}e{e}", m.trim_end_matches('0').trim_end_matches('.')),
-        None => s,
-    }
+    crate::study::text::fmt_e_trim(eps, 3)
 }
 
 fn label(name: &str, run: &SavedRun) -> String {
@@ -516,6 +512,6 @@ mod tests {
         assert_eq!(super::eps_label(1.7612e3), "1.76e3");
         assert_eq!(super::eps_label(1.45e3), "1.45e3");
         assert_eq!(super::eps_label(1e7), "1e7");
-        assert_eq!(super::eps_label(2.5e-3), "2.5e-3");
+        assert_eq!(super::eps_label(2.5e-3), "2.5e\u{2212}3");
     }
 }
