@@ -12,7 +12,9 @@
 //! Bussetta–Marceau–Ponthot 2012). For one constraint of condensed stiffness k the Uzawa update
 //! contracts the penetration by `ρ = k/(k + ε)`; after each update (from the second on) the
 //! observed `ρ_c = p_c^{(j)} / p_c^{(j−1)}` gives `k/ε_c = ρ_c/(1 − ρ_c)`, and the penalty that
-//! would bring `p_c` to `tol` in one more update is `ε_c' = ε_c · ρ_c/(1 − ρ_c) · (p_c/tol − 1)`.
+//! would bring `p_c` to `tol/2` in one more update is
+//! `ε_c' = ε_c · ρ_c/(1 − ρ_c) · (2p_c/tol − 1)` (half the tolerance, so that the stopping test
+//! is not decided by rounding, as it would be at a prediction of exactly `tol`).
 //! Where the next penetration predicted at the present penalty, `ρ_c·p_c`, is still above
 //! `tol`, ε_c grows to that value — at most ×1000 per update (the prediction of a coupled set
 //! is rough) and at most `K_dd / ε_mach` (beyond it `K_dd + ε_c` no longer holds any digit of
@@ -71,6 +73,9 @@ fn run(ctx: Context, m: &Method) -> Result<Solution> {
 /// Maximum Uzawa updates.
 pub const MAX_UPDATES: usize = 500;
 
+/// The adaptive variant aims the next penetration at this fraction of the tolerance.
+pub const TARGET: f64 = 0.5;
+
 /// Largest growth of a penalty in one update of the adaptive variant.
 pub const MAX_GROWTH: f64 = 1e3;
 
@@ -89,7 +94,7 @@ pub fn adapted_penalty(eps: f64, pen: f64, prev: f64, tol: f64) -> f64 {
     if rho * pen <= tol {
         return eps;
     }
-    let factor = rho / (1.0 - rho) * (pen / tol - 1.0);
+    let factor = rho / (1.0 - rho) * (pen / (TARGET * tol) - 1.0);
     eps * factor.clamp(1.0, MAX_GROWTH)
 }
 
@@ -177,14 +182,15 @@ mod tests {
         let (prev, pen) = (1e-3, 1e-3 * rho);
         let e2 = adapted_penalty(eps, pen, prev, tol);
         assert!(e2 > eps && e2 <= eps * super::MAX_GROWTH);
-        // Unclamped: ε = k (ρ = 1/2), a gap of 20× tol to close.
+        // Unclamped: ε = k (ρ = 1/2), a gap of 20× tol to close (40× its aim).
         let eps = k;
         let pen = 0.5 * prev;
         let tol = pen * 0.05;
         let e2 = adapted_penalty(eps, pen, prev, tol);
         assert!(e2 < eps * super::MAX_GROWTH);
         let next = pen * k / (k + e2);
-        assert!((next / tol - 1.0).abs() < 1e-9, "{next} vs {tol}");
+        let aim = super::TARGET * tol;
+        assert!((next / aim - 1.0).abs() < 1e-9, "{next} vs {aim}");
         // No history, within tol, or one more plain update enough: unchanged.
         assert_eq!(adapted_penalty(eps, pen, f64::INFINITY, tol), eps);
         assert_eq!(adapted_penalty(eps, 0.5 * tol, prev, tol), eps);

@@ -26,8 +26,15 @@ fn small_suite_writes_rows_summary_and_figures() {
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
-    // lagrange, 7 ε values, 4 δ values per case.
-    assert_eq!(s["rows"].as_array().unwrap().len(), 2 * 12);
+    // lagrange, 7 ε values, 4 δ values per case, then two values between the grid values
+    // where a rule crosses the leaderboard's margin (refinement).
+    let rows = s["rows"].as_array().unwrap();
+    let grid = |r: &&serde_json::Value| {
+        let k = r["knob_rel"].as_f64();
+        k.is_none_or(|k| (k.log10() - k.log10().round()).abs() < 1e-9)
+    };
+    assert_eq!(rows.iter().filter(grid).count(), 2 * 12);
+    assert_eq!((rows.len() - 2 * 12) % 2, 0, "refined values come in pairs");
     assert!(s["leaderboard"].as_array().unwrap().len() >= 4);
     let csv = std::fs::read_to_string(dir.path().join("rows.csv")).unwrap();
     let header = csv.lines().next().unwrap();

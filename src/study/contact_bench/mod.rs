@@ -19,7 +19,10 @@
 
 pub mod analytic;
 pub mod figures;
+mod jobs;
 mod record;
+
+pub use jobs::{jobs, refinement_jobs, BenchJob, ADAPTIVE_START};
 
 pub use record::{
     admissible, convergence_rates, leaderboard, load, rule_of, save, Checkpoints, Leader, Summary,
@@ -31,7 +34,7 @@ use crate::metrics::{self, MetricSet};
 use crate::model::elasticity::{self, Base, Grid, Indentation, Material};
 use crate::progress::Progress;
 use crate::strategy::force_control::{solve_at_load, Loaded, FORCE_TOL};
-use crate::strategy::{self, registry, Knob, Knobs, Method};
+use crate::strategy::{self, registry, Method};
 use analytic::{Case, Exact};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -51,7 +54,9 @@ pub struct BenchConfig {
     pub eps_rel: Vec<f64>,
     /// `scaled`: factors f of ε_c = f·K\[d_c,d_c\].
     pub factors: Vec<f64>,
-    /// δ-rules and the augmented Lagrangian's tolerance: δ = value · a.
+    /// δ-rules and the augmented Lagrangian's tolerance: δ = value · L, L the case's length
+    /// scale ([`BenchConfig::length_scale`]: the Hertz half-width a; for the flat punch the
+    /// block's whole compression w, about 1e-3·a, so that no δ exceeds the motion it bounds).
     pub deltas_rel: Vec<f64>,
     /// Relative accuracy asked of cond₂ (recorded in every row).
     pub cond_tol: f64,
@@ -100,6 +105,17 @@ pub const GROWTH: f64 = 1.2;
 pub const FINE_OVER_A: f64 = 1.5;
 
 impl BenchConfig {
+    /// The length δ, d̂ and the augmented tolerance are relative to on `case`: the Hertz
+    /// half-width a, or for the flat punch its whole compression — `lift`, the base lift at
+    /// which Lagrange carries the load (the patch's δ = 1e-2·a was ten times the compression:
+    /// rows with no lift and NaN).
+    pub fn length_scale(&self, case: Case, lift: f64) -> f64 {
+        match case {
+            Case::Patch => lift,
+            _ => self.a_target,
+        }
+    }
+
     /// Validates the grids and the material.
     pub fn validate(&self) -> Result<()> {
         let pos = |name: &str, v: &[f64]| -> Result<()> {
@@ -219,7 +235,7 @@ pub struct BenchRow {
     pub knob: String,
     /// Knob value (absolute: ε, f, δ or tolerance); None without a knob.
     pub knob_value: Option<f64>,
-    /// Knob value relative to its scale (ε/E*, f, δ/a); None without a knob.
+    /// Knob value relative to its scale (ε/E*, f, δ/`length_scale`); None without a knob.
     pub knob_rel: Option<f64>,
     /// Element size at the contact.
     #[serde(deserialize_with = "crate::provenance::null_as_nan")]
@@ -357,79 +373,6 @@ pub struct BenchRun {
     /// One per (case, mesh).
     pub floors: Vec<Floor>,
 }
-
-/// One method at one knob value.
-#[derive(Clone, Copy, Debug)]
-pub struct BenchJob {
-    /// The method.
-    pub method: Method,
-    /// Knob name for the row.
-    pub knob: &'static str,
-    /// Its value relative to its scale.
-    pub rel: Option<f64>,
-}
-
-/// The jobs of one scene: every method over its knob grid (absolute values from the scene's
-/// a, E* and K).
-pub fn jobs(cfg: &BenchConfig, scene: &Indentation, a: f64) -> Vec<BenchJob> {
-    let mut out = Vec::new();
-    let aug_eps = scene.problem.mean_constraint_stiffness();
-    for name in &cfg.methods {
-        let Ok(s) = registry::lookup(name) else {
-            continue;
-        };
-        let mut push = |knobs: Knobs, knob: &'static str, rel: Option<f64>| {
-            if let Ok(method) = Method::new(s, knobs) {
-                out.push(BenchJob { method, knob, rel });
-            }
-        };
-        match s.knob {
-            Knob::None => push(Knobs::NONE, "", None),
-            Knob::Eps => {
-                for &r in &cfg.eps_rel {
-                    push(Knobs::eps(r * cfg.e_star()), "eps", Some(r));
-                }
-            }
-            Knob::Factor => {
-                for &f in &cfg.factors {
-                    push(Knobs::factor(f), "factor", Some(f));
-                }
-            }
-            Knob::Delta => {
-                for &r in &cfg.deltas_rel {
-                    push(Knobs::delta(r * a), "delta", Some(r));
-                }
-            }
-            Knob::EpsTol => {
-                for adaptive in [false, true] {
-                    for &r in &cfg.deltas_rel {
-                        // The adaptive rule starts soft (ε/100) and raises ε where Uzawa
-                        // contracts slowly; at ε = mean K_dd plain Uzawa already contracts
-                        // ≈ 10× per update and the rule has nothing to do.
-                        let knobs = Knobs {
-                            eps: Some(if adaptive {
-                                ADAPTIVE_START * aug_eps
-                            } else {
-                                aug_eps
-                            }),
-                            tol: Some(r * a),
-                            adaptive,
-                            ..Knobs::NONE
-                        };
-                        let knob = if adaptive { "adaptive-tol" } else { "tol" };
-                        push(knobs, knob, Some(r));
-                    }
-                }
-            }
-        }
-    }
-    out
-}
-
-/// The adaptive augmented Lagrangian's starting penalty, relative to the plain one's ε (the
-/// constraints' mean K_dd): soft, so that the rule's raise of ε
-/// ([`strategy::augmented::adapted_penalty`]) is what the row measures.
-pub const ADAPTIVE_START: f64 = 1e-2;
 
 /// The knob value of `m` as the row records it.
 fn knob_value(m: &Method) -> Option<f64> {
@@ -637,10 +580,11 @@ pub fn run_mesh(cfg: &BenchConfig, case: Case, h_rel: f64, progress: &Progress) 
     };
     // The jobs of a mesh are independent: solved in parallel, kept in job order; then the
     // knob values added near each rule's leaderboard threshold, solved the same way.
-    let first = jobs(cfg, &lag.scene, cfg.a_target);
+    let scale = cfg.length_scale(case, lag.scene.lift);
+    let first = jobs(cfg, &lag.scene, scale);
     let mut solved = solve_jobs(cfg, &mesh, &first, progress, h_rel);
     let rows: Vec<BenchRow> = solved.iter().map(|(r, _)| r.clone()).collect();
-    let extra = refinement_jobs(cfg, &lag.scene, &rows);
+    let extra = refinement_jobs(cfg, &lag.scene, scale, &rows);
     solved.extend(solve_jobs(cfg, &mesh, &extra, progress, h_rel));
     let mut out = MeshRun {
         case,
@@ -695,52 +639,6 @@ fn solve_jobs(
             (row, p)
         })
         .collect()
-}
-
-/// Knob values added near the leaderboard's threshold (issue 44, item 8): where a rule's
-/// admissibility ([`admissible`]) flips between two adjacent values of its grid, two
-/// more log-spaced between them — three per decade there. `optimal` is not refined (one of
-/// its rows costs minutes to an hour at 5 000 DOFs).
-pub fn refinement_jobs(cfg: &BenchConfig, scene: &Indentation, rows: &[BenchRow]) -> Vec<BenchJob> {
-    let mut out = Vec::new();
-    for name in cfg
-        .methods
-        .iter()
-        .filter(|n| n.as_str() != strategy::optimal::STRATEGY.name)
-    {
-        for knob in ["eps", "factor", "delta", "tol", "adaptive-tol"] {
-            let mut grid: Vec<(f64, bool)> = rows
-                .iter()
-                .filter(|r| &r.method == name && r.knob == knob)
-                .filter_map(|r| r.knob_rel.map(|k| (k, record::admissible(r))))
-                .collect();
-            grid.sort_by(|a, b| a.0.total_cmp(&b.0));
-            let mut new: Vec<f64> = Vec::new();
-            for w in grid.windows(2) {
-                if w[0].1 != w[1].1 {
-                    let ratio = w[1].0 / w[0].0;
-                    new.push(w[0].0 * ratio.powf(1.0 / 3.0));
-                    new.push(w[0].0 * ratio.powf(2.0 / 3.0));
-                }
-            }
-            if new.is_empty() {
-                continue;
-            }
-            let sub = BenchConfig {
-                methods: vec![name.clone()],
-                eps_rel: new.clone(),
-                factors: new.clone(),
-                deltas_rel: new,
-                ..cfg.clone()
-            };
-            out.extend(
-                jobs(&sub, scene, sub.a_target)
-                    .into_iter()
-                    .filter(|j| j.knob == knob),
-            );
-        }
-    }
-    out
 }
 
 /// Runs the suite: [`run_mesh`] per case and mesh, in order. With `checkpoints`, each finished

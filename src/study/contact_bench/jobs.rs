@@ -1,0 +1,130 @@
+//! The jobs of a mesh: every method over its knob grid, and the values added near each
+//! rule's leaderboard threshold.
+
+use super::{admissible, BenchConfig, BenchRow};
+use crate::model::elasticity::Indentation;
+use crate::strategy::{self, registry, Knob, Knobs, Method};
+
+/// One method at one knob value.
+#[derive(Clone, Copy, Debug)]
+pub struct BenchJob {
+    /// The method.
+    pub method: Method,
+    /// Knob name for the row.
+    pub knob: &'static str,
+    /// Its value relative to its scale.
+    pub rel: Option<f64>,
+}
+
+/// The jobs of one scene: every method over its knob grid (absolute values from the scene's
+/// a, E* and K).
+pub fn jobs(cfg: &BenchConfig, scene: &Indentation, a: f64) -> Vec<BenchJob> {
+    let mut out = Vec::new();
+    let aug_eps = scene.problem.mean_constraint_stiffness();
+    for name in &cfg.methods {
+        let Ok(s) = registry::lookup(name) else {
+            continue;
+        };
+        let mut push = |knobs: Knobs, knob: &'static str, rel: Option<f64>| {
+            if let Ok(method) = Method::new(s, knobs) {
+                out.push(BenchJob { method, knob, rel });
+            }
+        };
+        match s.knob {
+            Knob::None => push(Knobs::NONE, "", None),
+            Knob::Eps => {
+                for &r in &cfg.eps_rel {
+                    push(Knobs::eps(r * cfg.e_star()), "eps", Some(r));
+                }
+            }
+            Knob::Factor => {
+                for &f in &cfg.factors {
+                    push(Knobs::factor(f), "factor", Some(f));
+                }
+            }
+            Knob::Delta => {
+                for &r in &cfg.deltas_rel {
+                    push(Knobs::delta(r * a), "delta", Some(r));
+                }
+            }
+            Knob::EpsTol => {
+                for adaptive in [false, true] {
+                    for &r in &cfg.deltas_rel {
+                        // The adaptive rule starts soft (ε/100) and raises ε where Uzawa
+                        // contracts slowly; at ε = mean K_dd plain Uzawa already contracts
+                        // ≈ 10× per update and the rule has nothing to do.
+                        let knobs = Knobs {
+                            eps: Some(if adaptive {
+                                ADAPTIVE_START * aug_eps
+                            } else {
+                                aug_eps
+                            }),
+                            tol: Some(r * a),
+                            adaptive,
+                            ..Knobs::NONE
+                        };
+                        let knob = if adaptive { "adaptive-tol" } else { "tol" };
+                        push(knobs, knob, Some(r));
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// The adaptive augmented Lagrangian's starting penalty, relative to the plain one's ε (the
+/// constraints' mean K_dd): soft, so that the rule's raise of ε
+/// ([`strategy::augmented::adapted_penalty`]) is what the row measures.
+pub const ADAPTIVE_START: f64 = 1e-2;
+
+/// Knob values added near the leaderboard's threshold (issue 44, item 8): where a rule's
+/// admissibility ([`admissible`]) flips between two adjacent values of its grid, two
+/// more log-spaced between them — three per decade there. `optimal` is not refined (one of
+/// its rows costs minutes to an hour at 5 000 DOFs).
+pub fn refinement_jobs(
+    cfg: &BenchConfig,
+    scene: &Indentation,
+    scale: f64,
+    rows: &[BenchRow],
+) -> Vec<BenchJob> {
+    let mut out = Vec::new();
+    for name in cfg
+        .methods
+        .iter()
+        .filter(|n| n.as_str() != strategy::optimal::STRATEGY.name)
+    {
+        for knob in ["eps", "factor", "delta", "tol", "adaptive-tol"] {
+            let mut grid: Vec<(f64, bool)> = rows
+                .iter()
+                .filter(|r| &r.method == name && r.knob == knob)
+                .filter_map(|r| r.knob_rel.map(|k| (k, admissible(r))))
+                .collect();
+            grid.sort_by(|a, b| a.0.total_cmp(&b.0));
+            let mut new: Vec<f64> = Vec::new();
+            for w in grid.windows(2) {
+                if w[0].1 != w[1].1 {
+                    let ratio = w[1].0 / w[0].0;
+                    new.push(w[0].0 * ratio.powf(1.0 / 3.0));
+                    new.push(w[0].0 * ratio.powf(2.0 / 3.0));
+                }
+            }
+            if new.is_empty() {
+                continue;
+            }
+            let sub = BenchConfig {
+                methods: vec![name.clone()],
+                eps_rel: new.clone(),
+                factors: new.clone(),
+                deltas_rel: new,
+                ..cfg.clone()
+            };
+            out.extend(
+                jobs(&sub, scene, scale)
+                    .into_iter()
+                    .filter(|j| j.knob == knob),
+            );
+        }
+    }
+    out
+}
