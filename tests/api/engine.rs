@@ -173,15 +173,22 @@ fn scaled_penalty_reaches_the_minimizer_where_the_plain_loop_cycles() {
     assert!(cycled >= 2, "only {cycled} cases cycle the plain loop");
 }
 
+/// K_dd at the middle constraint and the largest |limit|: a bed scene's penalty and length
+/// scales.
+fn stiffness_and_scale(p: &Problem) -> (f64, f64) {
+    let kdd = p.k.diag(p.constraints[p.m() / 2].dof);
+    let scale = p
+        .constraints
+        .iter()
+        .map(|c| c.limit.abs())
+        .fold(0.0, f64::max);
+    (kdd, scale)
+}
+
 #[test]
 fn augmented_lagrangian_converges_on_cycling_scenes() {
     for (name, p) in bed_scenes().into_iter().take(3) {
-        let kdd = p.k.diag(p.constraints[p.m() / 2].dof);
-        let scale = p
-            .constraints
-            .iter()
-            .map(|c| c.limit.abs())
-            .fold(0.0, f64::max);
+        let (kdd, scale) = stiffness_and_scale(&p);
         for adaptive in [false, true] {
             let tol = 1e-6 * scale;
             let s = strategy::solve(&p, Method::augmented(kdd, tol, adaptive)).unwrap();
@@ -198,12 +205,7 @@ fn augmented_lagrangian_converges_on_cycling_scenes() {
 #[test]
 fn adaptive_augmented_needs_fewer_solves_from_a_soft_penalty() {
     for (name, p) in bed_scenes().into_iter().take(3) {
-        let kdd = p.k.diag(p.constraints[p.m() / 2].dof);
-        let scale = p
-            .constraints
-            .iter()
-            .map(|c| c.limit.abs())
-            .fold(0.0, f64::max);
+        let (kdd, scale) = stiffness_and_scale(&p);
         let tol = 1e-8 * scale;
         let run =
             |adaptive| strategy::solve(&p, Method::augmented(1e-3 * kdd, tol, adaptive)).unwrap();

@@ -12,38 +12,17 @@
 //! where a dense LAPACK eigensolver is within 1e-14 — are within the contract; an
 //! unsymmetric or near-symmetric matrix carries its asymmetry or goes to the SVD.
 
+use super::cond_reference::{check_extremes, data_dir, read_panel, reference, Panel};
 use penalty_lab::conditioning::{self, CondReport, CondRoute};
 use penalty_lab::scene::matrix_market::read_matrix_market;
 use penalty_lab::system::Symmetry;
-use serde::Deserialize;
-use std::path::Path;
-
-#[derive(Deserialize)]
-struct Panel {
-    cases: Vec<Case>,
-}
-
-#[derive(Deserialize)]
-struct Case {
-    case: String,
-    class: String,
-    matrix: String,
-    sigma_max: String,
-    sigma_min: String,
-    cond2: String,
-}
 
 fn dir() -> std::path::PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/cond_adversarial")
+    data_dir("cond_adversarial")
 }
 
 fn panel() -> Panel {
-    let text = std::fs::read_to_string(dir().join("panel.json")).expect("panel.json");
-    serde_json::from_str(&text).expect("panel.json parses")
-}
-
-fn reference(s: &str) -> f64 {
-    s.trim().parse::<f64>().expect("a decimal number")
+    read_panel(&dir())
 }
 
 #[test]
@@ -96,15 +75,14 @@ fn no_proven_bracket_misses_and_every_point_is_within_the_contract_or_flagged() 
                     r.within_contract()
                 ));
             }
-            for (what, got, want) in [
-                ("σ_max", r.sigma_max, reference(&case.sigma_max)),
-                ("σ_min", r.sigma_min, reference(&case.sigma_min)),
-            ] {
-                let e = (got / want - 1.0).abs();
-                if e > tol {
-                    failures.push(format!("{}: {what} error {e:e} > {tol:e}", case.case));
-                }
-            }
+            check_extremes(
+                &case.case,
+                &r,
+                &case.sigma_max,
+                &case.sigma_min,
+                tol,
+                &mut failures,
+            );
         }
         match (case.class.as_str(), symmetry) {
             ("near-symmetric", Symmetry::Near(a)) => {

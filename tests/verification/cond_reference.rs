@@ -17,35 +17,73 @@ use penalty_lab::system::Stiffness;
 use serde::Deserialize;
 use std::path::Path;
 
+/// A committed panel (`panel.json`): this one's and the adversarial one's.
 #[derive(Deserialize)]
-struct Panel {
-    cases: Vec<Case>,
+pub(crate) struct Panel {
+    pub(crate) cases: Vec<Case>,
 }
 
+/// One matrix of a panel and its references (decimal strings).
 #[derive(Deserialize)]
-struct Case {
-    case: String,
-    matrix: String,
+pub(crate) struct Case {
+    pub(crate) case: String,
+    /// The adversarial panel's class (near-symmetric, near-double, …).
     #[serde(default)]
-    saddle_dofs: Option<Vec<usize>>,
-    engine: String,
-    sigma_max: String,
-    sigma_min: String,
-    cond2: String,
+    pub(crate) class: String,
+    pub(crate) matrix: String,
+    #[serde(default)]
+    pub(crate) saddle_dofs: Option<Vec<usize>>,
+    pub(crate) engine: String,
+    pub(crate) sigma_max: String,
+    pub(crate) sigma_min: String,
+    pub(crate) cond2: String,
 }
 
 fn dir() -> std::path::PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/cond_reference")
+    data_dir("cond_reference")
+}
+
+/// `tests/data/<name>`: a committed panel's folder.
+pub(crate) fn data_dir(name: &str) -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
+}
+
+/// The `panel.json` of a committed panel's folder.
+pub(crate) fn read_panel<T: serde::de::DeserializeOwned>(dir: &Path) -> T {
+    let text = std::fs::read_to_string(dir.join("panel.json")).expect("panel.json");
+    serde_json::from_str(&text).expect("panel.json parses")
 }
 
 fn panel() -> Panel {
-    let text = std::fs::read_to_string(dir().join("panel.json")).expect("panel.json");
-    serde_json::from_str(&text).expect("panel.json parses")
+    read_panel(&dir())
 }
 
 /// The reference as the f64 nearest to its decimal digits: within u relative of the exact
 /// value, so containment is checked with one unit of slack on each side.
-fn reference(s: &str) -> f64 {
+/// σ_max and σ_min of the report `r` each within `tol` of their references (decimal
+/// strings); a line per miss in `failures`.
+pub(crate) fn check_extremes(
+    name: &str,
+    r: &CondReport,
+    sigma_max: &str,
+    sigma_min: &str,
+    tol: f64,
+    failures: &mut Vec<String>,
+) {
+    for (what, got, want) in [
+        ("σ_max", r.sigma_max, reference(sigma_max)),
+        ("σ_min", r.sigma_min, reference(sigma_min)),
+    ] {
+        let e = (got / want - 1.0).abs();
+        if e > tol {
+            failures.push(format!("{name}: {what} error {e:e} > {tol:e}"));
+        }
+    }
+}
+
+pub(crate) fn reference(s: &str) -> f64 {
     s.trim().parse::<f64>().expect("a decimal number")
 }
 
@@ -106,15 +144,14 @@ fn every_cond2_meets_the_contract_and_every_bound_holds() {
             ));
         }
         // σ_max and σ_min themselves, each within the contract's share.
-        for (what, got, want) in [
-            ("σ_max", r.sigma_max, reference(&case.sigma_max)),
-            ("σ_min", r.sigma_min, reference(&case.sigma_min)),
-        ] {
-            let e = (got / want - 1.0).abs();
-            if e > tol {
-                failures.push(format!("{}: {what} error {e:e} > {tol:e}", case.case));
-            }
-        }
+        check_extremes(
+            &case.case,
+            &r,
+            &case.sigma_max,
+            &case.sigma_min,
+            tol,
+            &mut failures,
+        );
     }
     assert!(failures.is_empty(), "{failures:#?}");
 }
