@@ -10,12 +10,21 @@
 //! - `err_discretization` = [`analytic::pressure_error`] of Lagrange,
 //! - `err_penalty` = [`analytic::pressure_distance`] of the rule from Lagrange,
 //! - `p_err_rel` = the rule's own [`analytic::pressure_error`] (≤ the sum of the two),
-//! - `cond2_system` of its final system matrix ([`crate::metrics`], to `cond_tol`).
+//! - `cond2_system` of its final system matrix ([`crate::metrics`], to `cond_tol`), with
+//!   `cond2_bounds_proven` and `cond2_within_contract` (false at the default `cond_tol`, which
+//!   is looser than the contract),
+//! - `iterations` (the rule's own outer iterations), `force_solves`, `force_mismatch`, and for
+//!   `barrier` its stiffness `kappa_initial`, `kappa_final`, `kappa_increases`.
+//!
+//! Knobs: ε relative to E*, factors absolute, δ / d̂ / tolerances relative to the case's
+//! length scale ([`BenchConfig::length_scale`]: a for Hertz, the compression for the flat
+//! punch).
 //!
 //! The **leaderboard** ([`leaderboard`]) answers "how much penalty is enough": per rule and
-//! mesh, the knob value with the smallest cond₂ among those whose penalty error is below the
-//! mesh's discretization error; each mesh's [`Floor`] says how far below that any penalties
-//! could go.
+//! mesh, the knob value with the smallest cond₂ among those whose penalty error is at most
+//! [`MARGIN`] (a tenth) of the mesh's discretization error, the grid refined to three values
+//! per decade where a rule crosses it ([`refinement_jobs`]), with each winner's grid
+//! resolution and ties; each mesh's [`Floor`] says how far below that any penalties could go.
 
 pub mod analytic;
 pub mod figures;
