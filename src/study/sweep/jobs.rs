@@ -258,6 +258,10 @@ pub fn run_job(
             row.error_vs_exact = u_ref.map(|r| metrics::relative_error(&sol.u, r));
             row.linear_solves = Some(sol.stats.linear_solves);
             row.iterations = Some(sol.stats.iterations);
+            if let Some(k) = sol.stats.barrier {
+                (row.kappa_initial, row.kappa_final, row.kappa_increases) =
+                    (Some(k.initial), Some(k.last), Some(k.increases));
+            }
             row.converged = Some(sol.stats.converged);
             row.seconds_cond = set.cond.then_some(m.seconds_cond);
             row.seconds_det = set.det.then_some(m.seconds_det);

@@ -76,6 +76,13 @@ pub struct Row {
     pub linear_solves: Option<usize>,
     /// Outer iterations.
     pub iterations: Option<usize>,
+    /// `barrier` rows: its stiffness κ at the first Newton solve (the rule's own second knob,
+    /// [`crate::strategy::barrier::KappaReport`]); empty for other rules.
+    pub kappa_initial: Option<f64>,
+    /// `barrier` rows: κ of the returned solve.
+    pub kappa_final: Option<f64>,
+    /// `barrier` rows: times κ was doubled.
+    pub kappa_increases: Option<usize>,
     /// The strategy's iteration reached its solution (`Stats::converged`); empty on error.
     pub converged: Option<bool>,
     /// Wall time of this row (s): the solve plus its metrics.
@@ -95,7 +102,7 @@ pub struct Row {
 }
 
 /// Column names, in file order.
-pub const COLUMNS: [&str; 37] = [
+pub const COLUMNS: [&str; 40] = [
     "scene",
     "family",
     "n",
@@ -126,6 +133,9 @@ pub const COLUMNS: [&str; 37] = [
     "error_vs_exact",
     "linear_solves",
     "iterations",
+    "kappa_initial",
+    "kappa_final",
+    "kappa_increases",
     "converged",
     "seconds",
     "seconds_solve",
@@ -214,6 +224,9 @@ impl Row {
         c.float(self.error_vs_exact)?;
         c.whole(self.linear_solves)?;
         c.whole(self.iterations)?;
+        c.float(self.kappa_initial)?;
+        c.float(self.kappa_final)?;
+        c.whole(self.kappa_increases)?;
         c.text(flag(self.converged))?;
         c.float(self.seconds)?;
         c.float(self.seconds_solve)?;
@@ -380,6 +393,9 @@ fn parse_record(rec: &csv::StringRecord) -> std::result::Result<Row, String> {
         error_vs_exact: fl(next())?,
         linear_solves: parse_opt(next())?,
         iterations: parse_opt(next())?,
+        kappa_initial: fl(next())?,
+        kappa_final: fl(next())?,
+        kappa_increases: parse_opt(next())?,
         converged: {
             let c = next();
             parse_opt(c).map_err(|_| format!("bad converged '{c}'"))?
@@ -446,6 +462,9 @@ mod tests {
                 fl(r.error_vs_exact),
                 wh(r.linear_solves),
                 wh(r.iterations),
+                fl(r.kappa_initial),
+                fl(r.kappa_final),
+                wh(r.kappa_increases),
                 r.converged.map(|c| c.to_string()).unwrap_or_default(),
                 fl(r.seconds),
                 fl(r.seconds_solve),
@@ -529,6 +548,9 @@ mod tests {
                     error_vs_exact: x(10),
                     linear_solves: w(1),
                     iterations: w(2),
+                    kappa_initial: x(20),
+                    kappa_final: x(21),
+                    kappa_increases: w(3),
                     converged: [None, Some(true), Some(false)][i % 3],
                     seconds: x(11),
                     seconds_solve: x(12),
