@@ -119,6 +119,15 @@ pub fn wrap(text: &str, cols: usize, indent: usize) -> String {
 mod tests {
     use super::*;
 
+    /// Knob labels: three significant digits, trailing zeros dropped, U+2212 minus.
+    #[test]
+    fn trimmed_labels_have_three_significant_digits() {
+        assert_eq!(fmt_e_trim(1.7612e3, 3), "1.76e3");
+        assert_eq!(fmt_e_trim(1.45e3, 3), "1.45e3");
+        assert_eq!(fmt_e_trim(1e7, 3), "1e7");
+        assert_eq!(fmt_e_trim(2.5e-3, 3), "2.5e\u{2212}3");
+    }
+
     #[test]
     fn formats() {
         assert_eq!(fmt_g(-1234.56), "\u{2212}1234.6");

@@ -325,11 +325,6 @@ impl Stiffness {
     /// ([`Symmetry::Near`]) is not symmetric here: it is solved by LU as stored, and its cond₂
     /// is certified through its symmetric part (the cond₂ routes, see [`Symmetry`]).
     pub fn is_symmetric(&self) -> bool {
-        if let Stiffness::Sparse(m) = self {
-            if exactly_symmetric(m) {
-                return true;
-            }
-        }
         self.symmetry() == Symmetry::Exact
     }
 

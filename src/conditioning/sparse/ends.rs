@@ -6,6 +6,7 @@ use super::{
     TOP_STAGNATION,
 };
 use crate::conditioning::certify::{self, Margin};
+use crate::conditioning::lanczos::LanczosRun;
 use crate::conditioning::shifts::{graded_estimate, graded_floor, ShiftFamily};
 use crate::conditioning::temple;
 use crate::linalg::SparseLlt;
@@ -56,6 +57,29 @@ fn sharpen_top(
     } else {
         certify::rayleigh_interval_dot2(pat, vals, y).map_or(plain.0, |(lo, _)| lo.max(plain.0))
     }
+}
+
+/// The shift-invert Lanczos run of a refinement: the top eigenvalue ν of `B⁻¹`, `f` the
+/// Cholesky factor of a passing test `B = ±(A − sI)` of order `n`, from `start`; then λ = s ∓ 1/ν. Converged
+/// further than the estimates (a rare path): a near-double end needs the vector resolved, not
+/// only the value, for its Rayleigh quotient to tighten the bracket (a proptest
+/// counterexample, committed).
+fn shift_invert(
+    n: usize,
+    f: &SparseLlt,
+    start: Option<&[f64]>,
+) -> crate::error::Result<LanczosRun> {
+    lanczos(
+        n,
+        MAX_LANCZOS_STEPS,
+        |_| 1e-2 * STAGNATION,
+        start,
+        true,
+        |x, y| {
+            y.copy_from_slice(x);
+            f.solve_vec_in_place(y);
+        },
+    )
 }
 
 pub(super) fn certify_ends(
@@ -187,22 +211,7 @@ fn certify_top(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opti
     let (mut max_hi, refined, steps) = certify::step_outwards(w0, |w, k| {
         let s = base * (1.0 + w);
         let (f, max_b) = fam.test_factor(-1.0, s)?;
-        let refined = (k > 0).then(|| {
-            lanczos(
-                fam.pattern.n(),
-                MAX_LANCZOS_STEPS,
-                // Converged further than the estimates (a rare path): a near-double top
-                // eigenvalue needs the vector resolved, not only the value, for its Rayleigh
-                // quotient to raise the lower end (a proptest counterexample, committed).
-                |_| 1e-2 * STAGNATION,
-                est.top.as_deref(),
-                true,
-                |x, y| {
-                    y.copy_from_slice(x);
-                    f.solve_vec_in_place(y);
-                },
-            )
-        });
+        let refined = (k > 0).then(|| shift_invert(fam.pattern.n(), &f, est.top.as_deref()));
         let steps = refined
             .as_ref()
             .map_or(0, |r| r.as_ref().map_or(0, |r| r.steps));
@@ -350,20 +359,7 @@ fn certify_bottom(
                 let (f, max_b) = fam.test_factor(1.0, -s)?;
                 let bound = bound_of(fam, &f, s, max_b, w);
                 let refined = (k > 0)
-                    .then(|| {
-                        lanczos(
-                            fam.pattern.n(),
-                            MAX_LANCZOS_STEPS,
-                            |_| 1e-2 * STAGNATION,
-                            Some(&est.bottom),
-                            true,
-                            |x, y| {
-                                y.copy_from_slice(x);
-                                f.solve_vec_in_place(y);
-                            },
-                        )
-                        .ok()
-                    })
+                    .then(|| shift_invert(fam.pattern.n(), &f, Some(&est.bottom)).ok())
                     .flatten()
                     .filter(|r| r.theta > 0.0 && r.theta.is_finite());
                 if let Some(r) = &refined {

@@ -142,7 +142,7 @@ fn measure(
             route: route.into(),
             value,
             rel_error: (value / cond2_ref - 1.0).abs(),
-            contract: (4.0 * f64::EPSILON * cond2_ref).max(1e-12),
+            contract: crate::conditioning::CondReport::contract_tol(cond2_ref),
             bounds_width,
             cond2_equilibrated,
             width_target: sparse::width_target(None, cond2_equilibrated, cond2_ref),

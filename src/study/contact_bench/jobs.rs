@@ -86,7 +86,7 @@ pub fn refinement_jobs(
     cfg: &BenchConfig,
     scene: &Indentation,
     scale: f64,
-    rows: &[BenchRow],
+    rows: &[&BenchRow],
 ) -> Vec<BenchJob> {
     let mut out = Vec::new();
     for name in cfg

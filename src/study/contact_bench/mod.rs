@@ -592,7 +592,7 @@ pub fn run_mesh(cfg: &BenchConfig, case: Case, h_rel: f64, progress: &Progress) 
     let scale = cfg.length_scale(case, lag.scene.lift);
     let first = jobs(cfg, &lag.scene, scale);
     let mut solved = solve_jobs(cfg, &mesh, &first, progress, h_rel);
-    let rows: Vec<BenchRow> = solved.iter().map(|(r, _)| r.clone()).collect();
+    let rows: Vec<&BenchRow> = solved.iter().map(|(r, _)| r).collect();
     let extra = refinement_jobs(cfg, &lag.scene, scale, &rows);
     solved.extend(solve_jobs(cfg, &mesh, &extra, progress, h_rel));
     let mut out = MeshRun {

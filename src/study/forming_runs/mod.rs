@@ -378,7 +378,7 @@ pub fn summary_table(doc: &SavedRuns) -> String {
                 "{name}: ε = {} found in {} trial run{} from the classical run's penetration \
                  (the last is the run above; {} factorizations, {:.2} s in all): a search a user \
                  without δ has to make\n",
-                report::eps_label(eps),
+                crate::study::text::fmt_e_trim(eps, 3),
                 s.runs,
                 if s.runs == 1 { "" } else { "s" },
                 s.factorizations,
@@ -391,7 +391,7 @@ pub fn summary_table(doc: &SavedRuns) -> String {
             "{} beats {} (ε = {}) in {}/{} steps (median cond₂ ratio {}/{} = {:.3})\n",
             c.rule,
             c.classical,
-            report::eps_label(c.eps),
+            crate::study::text::fmt_e_trim(c.eps, 3),
             c.wins,
             c.steps,
             c.classical,

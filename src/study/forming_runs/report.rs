@@ -199,11 +199,6 @@ pub fn load(json: &Path) -> Result<SavedRuns> {
     crate::provenance::read_json(json)
 }
 
-/// ε to three significant digits, without trailing zeros (`1e7`, `1.76e3`).
-pub fn eps_label(eps: f64) -> String {
-    crate::study::text::fmt_e_trim(eps, 3)
-}
-
 fn label(name: &str, run: &SavedRun) -> String {
     let text = rule_label(name, run);
     if run.valid {
@@ -215,7 +210,10 @@ fn label(name: &str, run: &SavedRun) -> String {
 
 fn rule_label(name: &str, run: &SavedRun) -> String {
     match run.rule {
-        ContactRule::Classical { eps } => format!("{name}: constant ε = {}", eps_label(eps)),
+        ContactRule::Classical { eps } => format!(
+            "{name}: constant ε = {}",
+            crate::study::text::fmt_e_trim(eps, 3)
+        ),
         ContactRule::PaperResidual { delta } => {
             format!("{name}: Eq. 28 on the residual, δ = {delta:.0e} in")
         }
@@ -503,15 +501,4 @@ fn profiles_figure(cfg: &FormingConfig, name: &str, run: &SavedRun, title: &str)
         );
     }
     f
-}
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn eps_labels_have_three_significant_digits() {
-        assert_eq!(super::eps_label(1.7612e3), "1.76e3");
-        assert_eq!(super::eps_label(1.45e3), "1.45e3");
-        assert_eq!(super::eps_label(1e7), "1e7");
-        assert_eq!(super::eps_label(2.5e-3), "2.5e\u{2212}3");
-    }
 }
