@@ -39,7 +39,7 @@ struct Args {
     /// Methods (default: every registered one).
     #[arg(long, value_parser = registry::method_parser(), value_delimiter = ',')]
     methods: Option<Vec<String>>,
-    /// `constant`: ε grid over E* = E/(1 − ν²).
+    /// `constant`: ε grid over E*/a (E* = E/(1 − ν²)): ε per unit contact length/area.
     #[arg(long, value_delimiter = ',')]
     eps_rel: Option<Vec<f64>>,
     /// `scaled`: factors f of ε_c = f·K_dd (d the constraint's DOF).
@@ -81,7 +81,7 @@ fn config(a: &Args) -> Result<BenchConfig> {
             .map(|c| {
                 Case::from_name(c).ok_or_else(|| {
                     Error::input(format!(
-                        "--cases: unknown case {c} (hertz-plane, hertz-axi, patch)"
+                        "--cases: unknown case {c} (hertz-plane, hertz-axi, flat-punch)"
                     ))
                 })
             })

@@ -22,16 +22,17 @@
 //!   solution carries P ([`force_control::solve_at_load`], mismatch ≤ 1e-10); the penalty
 //!   rules see the same scene and carry loads of their own (the force-controlled benchmark of
 //!   every rule against the analytic solution is `contact_bench`).
-//! * `patch` — the contact patch test: an a × a block (plane strain or axisymmetric) on a
+//! * `flat-punch` (`patch` before issue 44, still accepted) — an a × a block (plane strain or axisymmetric) on a
 //!   frictionless base under a flat rigid punch over its whole top, at the lift where the
-//!   Lagrange solution carries a uniform pressure p̄ ∈ [1e-4, 1e-2]·E* (log-uniform).
+//!   Lagrange solution carries a uniform pressure p̄ ∈ [1e-4, 1e-2]·E* (log-uniform). One body
+//!   in uniform compression, not the two-body contact patch test.
 //!
 //! The metadata of both records the draws (`geometry`, `young`, `poisson`, `h_over_a`,
 //! `radius`, `load`: the total force on the whole body, per unit thickness in plane strain,
 //! `a_hertz`: Hertz's half-width for it) and the lift found (`lift`, `force_solves`).
 //!
-//! The default families ([`DEFAULT_FAMILIES`]) are the first three; `hertz` and `patch` are
-//! asked for by name (`--families hertz,patch`). Their constraints are all unilateral, so every
+//! The default families ([`DEFAULT_FAMILIES`]) are the first three; `hertz` and `flat-punch`
+//! are asked for by name (`--families hertz,flat-punch`). Their constraints are all unilateral, so every
 //! rule runs on them, `barrier` included.
 
 use crate::error::{Error, Result};
@@ -56,12 +57,12 @@ pub enum Family {
     Spectrum,
     /// Elastic block on a rigid parabolic indenter (Hertz configuration).
     Hertz,
-    /// Elastic block under a flat rigid punch (contact patch test).
-    Patch,
+    /// Elastic block under a flat rigid punch (`flat-punch`; `patch` before issue 44).
+    FlatPunch,
 }
 
 /// Family names accepted on the command line.
-pub const FAMILY_NAMES: [&str; 5] = ["beam", "membrane", "spectrum", "hertz", "patch"];
+pub const FAMILY_NAMES: [&str; 5] = ["beam", "membrane", "spectrum", "hertz", "flat-punch"];
 
 /// The families a sweep runs when none are named.
 pub const DEFAULT_FAMILIES: [&str; 3] = ["beam", "membrane", "spectrum"];
@@ -74,7 +75,8 @@ impl Family {
             "membrane" => Ok(Family::Membrane),
             "spectrum" => Ok(Family::Spectrum),
             "hertz" => Ok(Family::Hertz),
-            "patch" => Ok(Family::Patch),
+            // `patch`: the family's name before issue 44.
+            "flat-punch" | "patch" => Ok(Family::FlatPunch),
             _ => Err(Error::input(format!(
                 "unknown family '{s}' (valid: {})",
                 FAMILY_NAMES.join(", ")
@@ -89,7 +91,7 @@ impl Family {
             Family::Membrane => "membrane",
             Family::Spectrum => "spectrum",
             Family::Hertz => "hertz",
-            Family::Patch => "patch",
+            Family::FlatPunch => "flat-punch",
         }
     }
 }
@@ -106,7 +108,7 @@ pub struct GeneratorConfig {
     pub spectrum_n: (usize, usize),
     /// Spectrum family: log10 of the eigenvalue spread in `[min, max]`.
     pub spectrum_log10_spread: (f64, f64),
-    /// `hertz` and `patch`: element size at the contact over a, log-uniform in `[min, max]`
+    /// `hertz` and `flat-punch`: element size at the contact over a, log-uniform in `[min, max]`
     /// (0.02 ≤ min ≤ max ≤ 0.5).
     pub elastic_h: (f64, f64),
 }
@@ -209,7 +211,7 @@ pub fn generate(
         Family::Membrane => membrane(&mut rng, cfg)?,
         Family::Spectrum => spectrum(&mut rng, cfg)?,
         Family::Hertz => elastic(&mut rng, cfg, false, &name)?,
-        Family::Patch => elastic(&mut rng, cfg, true, &name)?,
+        Family::FlatPunch => elastic(&mut rng, cfg, true, &name)?,
     };
     meta["generator"] = serde_json::json!(family.name());
     meta["seed"] = serde_json::json!(seed);
@@ -393,11 +395,11 @@ fn spectrum(rng: &mut ChaCha8Rng, cfg: &GeneratorConfig) -> Result<(Problem, ser
     Ok((Problem::new(k, q, cons)?, meta))
 }
 
-/// A `hertz` (`patch = false`) or `patch` scene (module doc), named `name` in errors.
+/// A `hertz` (`punch = false`) or `flat-punch` scene (module doc), named `name` in errors.
 fn elastic(
     rng: &mut ChaCha8Rng,
     cfg: &GeneratorConfig,
-    patch: bool,
+    punch: bool,
     name: &str,
 ) -> Result<(Problem, serde_json::Value)> {
     let geometry = if rng.random_bool(0.5) {
@@ -413,7 +415,7 @@ fn elastic(
     let h = log_uniform(rng, cfg.elastic_h.0, cfg.elastic_h.1);
     // The grid, its support, the load, and the half-space's response to it as the search's
     // first lift.
-    let (grid, base, radius, load, guess, a_hertz) = if patch {
+    let (grid, base, radius, load, guess, a_hertz) = if punch {
         let grid = Grid::graded(1.0, 1.0, h, 1.0, 1.0)?;
         // Mean pressure p̄ on the whole top: A = 2 (plane, per unit thickness) or π.
         let p_mean = log_uniform(rng, 1e-4, 1e-2) * e_star;

@@ -33,7 +33,7 @@
 //! checked against scikit-fem's K of the same block (`tests/verification`).
 
 use crate::error::{Error, Result};
-use crate::system::{Constraint, ConstraintKind, Problem, Stiffness};
+use crate::system::{Constraint, ConstraintKind, Problem, Stiffness, Surface};
 
 /// Plane strain or axisymmetry.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -333,6 +333,28 @@ pub struct Indentation {
 }
 
 impl Indentation {
+    /// The scene with its contact surface attached to the problem ([`Surface`]: the top
+    /// nodes' tributary weights ω, and the diagonal of the whole block's bounding box — the
+    /// half model mirrored: √((2W)² + H²) in plane strain, √(2·(2W)² + H²) for the cylinder of
+    /// radius W), so that `constant`'s ε is per unit contact length (plane strain) or area
+    /// per radian (axisymmetric) and the barrier's κ rule has its length scale.
+    pub fn with_surface(self, grid: &Grid) -> Result<Indentation> {
+        let across = 2.0 * *grid.xs.last().unwrap_or(&0.0);
+        let h = grid.height();
+        let bbox_diagonal = match self.geometry {
+            Geometry::PlaneStrain => across.hypot(h),
+            Geometry::Axisymmetric => (2.0 * across * across + h * h).sqrt(),
+        };
+        let surface = Surface {
+            weights: self.contact.iter().map(|n| n.weight).collect(),
+            bbox_diagonal,
+        };
+        Ok(Indentation {
+            problem: self.problem.with_surface(surface)?,
+            ..self
+        })
+    }
+
     /// Contact pressures p_c = −(K u − q)_c / ω_c at the contact nodes for the solution `u`
     /// (compressive positive).
     pub fn pressures(&self, u: &[f64]) -> Vec<f64> {

@@ -437,6 +437,23 @@ pub struct Problem {
     pub q: Vec<f64>,
     /// Contact constraints (m of them).
     pub constraints: Vec<Constraint>,
+    /// The contact surface behind the constraints, where the model knows it (None for a bare
+    /// K, q, D as scene files give them). Set by [`Problem::with_surface`].
+    pub surface: Option<Surface>,
+}
+
+/// What a model knows of its contact surface: the quantities that give a penalty physical
+/// units and a barrier its length scale.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Surface {
+    /// Tributary weight ω_c of each constraint: the contact length (plane strain, per unit
+    /// thickness) or area (axisymmetric, per radian) its DOF stands for, ω_c = ∫ N_c ds. A
+    /// penalty ε per unit contact length/area (pressure per penetration, force/length³)
+    /// acts on DOF d_c as the nodal penalty ε·ω_c (force/length).
+    pub weights: Vec<f64>,
+    /// Diagonal of the model's bounding box (length units of u): the length scale of the
+    /// barrier's stiffness rule (`strategy::barrier`, as in ipc-toolkit).
+    pub bbox_diagonal: f64,
 }
 
 impl Problem {
@@ -513,7 +530,49 @@ impl Problem {
             }
             seen[con.dof] = true;
         }
-        Ok(Problem { k, q, constraints })
+        Ok(Problem {
+            k,
+            q,
+            constraints,
+            surface: None,
+        })
+    }
+
+    /// The problem with its contact surface: one finite weight > 0 per constraint and a
+    /// finite bounding-box diagonal > 0, else an error naming the bad value.
+    pub fn with_surface(self, surface: Surface) -> Result<Problem> {
+        if surface.weights.len() != self.m() {
+            return Err(Error::input(format!(
+                "surface: {} weights for {} constraints",
+                surface.weights.len(),
+                self.m()
+            )));
+        }
+        if let Some((c, w)) = surface
+            .weights
+            .iter()
+            .enumerate()
+            .find(|(_, w)| !(w.is_finite() && **w > 0.0))
+        {
+            return Err(Error::input(format!(
+                "surface: weight of constraint {c} is {w}, not a finite number > 0"
+            )));
+        }
+        let b = surface.bbox_diagonal;
+        if !(b.is_finite() && b > 0.0) {
+            return Err(Error::input(format!(
+                "surface: bounding-box diagonal {b} is not a finite number > 0"
+            )));
+        }
+        Ok(Problem {
+            surface: Some(surface),
+            ..self
+        })
+    }
+
+    /// The tributary weight ω_c of constraint `c` (1 without a [`Surface`]).
+    pub fn weight(&self, c: usize) -> f64 {
+        self.surface.as_ref().map_or(1.0, |s| s.weights[c])
     }
 
     /// The problem with K in its preferred storage ([`Stiffness::in_preferred_storage`]);

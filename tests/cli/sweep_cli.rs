@@ -1192,9 +1192,10 @@ fn scenes_dir_reproduces_large_dense_scenes() {
     );
 }
 
-/// The elastic families (`hertz`, `patch`): every constraint unilateral, so `barrier` runs on
-/// them beside the penalties; it never penetrates, every rule solves, and the scenes export
-/// like any other family's.
+/// The elastic families (`hertz`, `flat-punch`): every constraint unilateral, so `barrier`
+/// runs on them beside the penalties; it never penetrates, every rule solves, and the scenes
+/// export like any other family's. The flat punch is asked for by its old name `patch`,
+/// which still reads.
 #[test]
 fn elastic_families_run_every_rule_and_the_barrier_never_penetrates() {
     let d = tmp_dir("elastic");
@@ -1218,7 +1219,9 @@ fn elastic_families_run_every_rule_and_the_barrier_never_penetrates() {
         ],
     );
     let rows = rows_of(&out);
-    assert!(rows.iter().any(|r| r.family == "hertz") && rows.iter().any(|r| r.family == "patch"));
+    assert!(
+        rows.iter().any(|r| r.family == "hertz") && rows.iter().any(|r| r.family == "flat-punch")
+    );
     for r in &rows {
         assert!(
             !r.warnings.contains("error"),
@@ -1233,7 +1236,12 @@ fn elastic_families_run_every_rule_and_the_barrier_never_penetrates() {
     for r in barrier {
         assert_eq!(r.max_penetration, Some(0.0), "{}", r.scene);
     }
-    for name in ["hertz-0000", "hertz-0001", "patch-0000", "patch-0001"] {
+    for name in [
+        "hertz-0000",
+        "hertz-0001",
+        "flat-punch-0000",
+        "flat-punch-0001",
+    ] {
         assert!(
             scenes.join(format!("{name}.scene.json")).is_file(),
             "{name} not written"

@@ -2,9 +2,9 @@
 //!
 //! * `condensed` with δ = R · displacement_scale keeps every penetration ≤ δ (relative 1e-9,
 //!   plus a rounding allowance cond₂(system) · ε_mach · ‖u‖∞) with every ε_c ≥ 0;
-//! * `barrier` never penetrates on the unilateral families (membrane, hertz, patch): every gap
+//! * `barrier` never penetrates on the unilateral families (membrane, hertz, flat-punch): every gap
 //!   recomputed from u is feasible in floating point, Newton converges, and κ is reported;
-//! * the `hertz` and `patch` scenes sit where the Lagrange solution carries the drawn load:
+//! * the `hertz` and `flat-punch` scenes sit where the Lagrange solution carries the drawn load:
 //!   the total contact force recomputed from its residual, `c Σ_c (q − K u)_{d_c}` (c = 2 per
 //!   unit thickness of the half model, 2π per radian), matches `meta.load` to the force
 //!   control's 1e-10 plus the residual's rounding allowance;
@@ -34,7 +34,7 @@ fn family() -> impl Strategy<Value = Family> {
         Just(Family::Membrane),
         Just(Family::Spectrum),
         Just(Family::Hertz),
-        Just(Family::Patch)
+        Just(Family::FlatPunch)
     ]
 }
 
@@ -43,7 +43,7 @@ fn unilateral_family() -> impl Strategy<Value = Family> {
     prop_oneof![
         Just(Family::Membrane),
         Just(Family::Hertz),
-        Just(Family::Patch)
+        Just(Family::FlatPunch)
     ]
 }
 
@@ -167,11 +167,11 @@ proptest! {
 
     #[test]
     fn elastic_scenes_carry_their_load_under_lagrange(
-        patch in any::<bool>(),
+        punch in any::<bool>(),
         seed in any::<u64>(),
         index in 0usize..10_000,
     ) {
-        let fam = if patch { Family::Patch } else { Family::Hertz };
+        let fam = if punch { Family::FlatPunch } else { Family::Hertz };
         let g = generate(fam, index, seed, &small()).expect("generation succeeds");
         let p = &g.problem;
         let sol = strategy::solve(p, Method::lagrange()).expect("Lagrange solves");

@@ -1,5 +1,5 @@
 //! The contact benchmarks against their analytic solutions (Hertz, Johnson 1985 §4.2, §5.8;
-//! the uniform pressure of the patch test) on the default meshes: the numbers issue 27 asks
+//! the uniform pressure of the flat punch) on the default meshes: the numbers issue 27 asks
 //! for, computed by the library's study.
 
 use penalty_lab::progress::Progress;
@@ -18,7 +18,7 @@ fn suite() -> BenchRun {
 }
 
 #[test]
-fn hertz_and_patch_match_the_analytic_solutions() {
+fn hertz_and_flat_punch_match_the_analytic_solutions() {
     let run = suite();
     let rows = run.rows;
     assert!(
@@ -64,8 +64,8 @@ fn hertz_and_patch_match_the_analytic_solutions() {
         let rate = rate.expect("three meshes");
         assert!(rate >= 0.8, "{case}: rate {rate}");
     }
-    // Patch test: Lagrange and condensed give a uniform pressure to 1e-8, equal to p̄.
-    for r in rows.iter().filter(|r| r.case == "patch") {
+    // Flat punch: Lagrange and condensed give a uniform pressure to 1e-8, equal to p̄.
+    for r in rows.iter().filter(|r| r.case == "flat-punch") {
         assert!(
             r.p_spread <= 1e-8,
             "{} {:?}: spread {}",
@@ -84,14 +84,14 @@ fn hertz_and_patch_match_the_analytic_solutions() {
 }
 
 /// The conditioning floor of each mesh (`optimal::cond2_lower_bound` from the certified
-/// routes) bounds every penalized system's cond₂ from below, and on the coarsest patch mesh
+/// routes) bounds every penalized system's cond₂ from below, and on the coarsest flat-punch mesh
 /// (60 DOFs) it is λ_max(K)/λ_min(K_FF) as nalgebra's dense eigensolver gives it (error
 /// ≲ n·ε_mach·cond₂(K_FF) relative).
 #[test]
 fn every_penalized_system_is_above_its_floor() {
     let run = contact_bench::run(
         &BenchConfig {
-            cases: vec![Case::Patch, Case::HertzPlane],
+            cases: vec![Case::FlatPunch, Case::HertzPlane],
             meshes: vec![0.2],
             ..config()
         },
@@ -117,8 +117,8 @@ fn every_penalized_system_is_above_its_floor() {
         );
     }
     let cfg = config();
-    let grid = cfg.grid(Case::Patch, 0.2).unwrap();
-    let scene = cfg.scene(Case::Patch, &grid, 0.0).unwrap();
+    let grid = cfg.grid(Case::FlatPunch, 0.2).unwrap();
+    let scene = cfg.scene(Case::FlatPunch, &grid, 0.0).unwrap();
     let p = &scene.problem;
     let k = p.k.to_nalgebra();
     let n = p.n();
@@ -133,7 +133,7 @@ fn every_penalized_system_is_above_its_floor() {
     let floor = run
         .floors
         .iter()
-        .find(|f| f.case == "patch")
+        .find(|f| f.case == "flat-punch")
         .unwrap()
         .cond2_floor;
     let tol = 16.0 * free.len() as f64 * f64::EPSILON * ev.max() / lmin;
@@ -150,13 +150,13 @@ fn every_penalized_system_is_above_its_floor() {
 fn resumed_runs_reuse_matching_checkpoints_only() {
     let dir = tempfile::tempdir().unwrap();
     let cfg = BenchConfig {
-        cases: vec![Case::Patch],
+        cases: vec![Case::FlatPunch],
         meshes: vec![0.2],
         ..config()
     };
     let fresh = Checkpoints::in_out(dir.path(), false);
     let first = contact_bench::run(&cfg, &Progress::quiet(), Some(&fresh)).unwrap();
-    let file = fresh.dir.join("patch-h0.2.json");
+    let file = fresh.dir.join("flat-punch-h0.2.json");
     let mut json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
     assert_eq!(
@@ -192,7 +192,7 @@ fn resumed_runs_reuse_matching_checkpoints_only() {
 }
 
 /// Force control takes `optimal` to its own tolerance (`optimal::LOAD_TOL`): on the 60-DOF
-/// patch mesh at δ = 1e-2·a the optimal force jumps with the lift, so the 1e-10 of exact rules
+/// flat-punch mesh at δ = 1e-2·a the optimal force jumps with the lift, so the 1e-10 of exact rules
 /// is out of reach there (with it, the bracket collapses at the jump with a mismatch of
 /// 2.5e-10; the a9af79d rows, before Newton stages, failed after 40 solves); at 1e-6 every δ
 /// carries the load within a few solves, and the mismatch is reported.
@@ -201,7 +201,7 @@ fn force_control_takes_optimal_to_its_own_tolerance() {
     use penalty_lab::strategy::{force_control, optimal, Method};
     let run = contact_bench::run(
         &BenchConfig {
-            cases: vec![Case::Patch],
+            cases: vec![Case::FlatPunch],
             meshes: vec![0.2],
             methods: vec!["optimal".into()],
             deltas_rel: vec![1e-2, 1e-3],
@@ -279,5 +279,74 @@ fn the_leaderboard_has_a_margin_a_refined_threshold_and_ties() {
             .unwrap_or(0.0)
             .max(best.1.resolution.unwrap_or(0.0));
         assert!(l.cond2_system.unwrap() / best.0 - 1.0 <= r, "{}", l.rule);
+    }
+}
+
+/// `constant`'s ε is per unit contact length/area (issue 44, item 7): node c gets ε·ω_c. On the
+/// flat punch any ε then gives the exact uniform pressure (a uniform penetration is a rigid
+/// shift) — a nodal ε equal on every node, as before, loaded the half-weight edge node like
+/// the others and spread the pressure; on Hertz the axis node, whose tributary area is the
+/// smallest, no longer spikes above Lagrange's peak (it was 1.47 p0 in plane strain and 1.9 p0
+/// axisymmetric), and the penalty error at one ε barely moves with h.
+#[test]
+fn constant_penalty_is_per_unit_contact_area() {
+    let cfg = BenchConfig {
+        cases: vec![Case::FlatPunch, Case::HertzPlane, Case::HertzAxi],
+        meshes: vec![0.2, 0.1],
+        methods: vec!["lagrange".into(), "constant".into()],
+        eps_rel: vec![1.0, 10.0, 1e3],
+        ..BenchConfig::default()
+    };
+    let rows = contact_bench::run(&cfg, &Progress::quiet(), None)
+        .unwrap()
+        .rows;
+    let constant = |case: &str| -> Vec<&contact_bench::BenchRow> {
+        rows.iter()
+            .filter(|r| r.case == case && r.method == "constant" && r.knob == "eps")
+            .collect()
+    };
+    for r in constant("flat-punch") {
+        let tol = r.n_dofs as f64 * f64::EPSILON;
+        assert!(
+            r.p_spread <= tol,
+            "ε/(E*/a) = {:?}: spread {:e}",
+            r.knob_rel,
+            r.p_spread
+        );
+        assert!(
+            r.err_penalty <= tol,
+            "{:?}: {:e}",
+            r.knob_rel,
+            r.err_penalty
+        );
+    }
+    for case in ["hertz-plane", "hertz-axi"] {
+        for r in constant(case) {
+            let lag = rows
+                .iter()
+                .find(|l| l.case == case && l.method == "lagrange" && l.h == r.h)
+                .unwrap();
+            assert!(
+                r.p0_num <= lag.p0_num * (1.0 + 1e-3),
+                "{case} h = {} ε/(E*/a) = {:?}: axis pressure {} above Lagrange's {}",
+                r.h,
+                r.knob_rel,
+                r.p0_num,
+                lag.p0_num
+            );
+        }
+        // One ε, two meshes: the penalty error moves by less than a third.
+        for rel in [1.0, 10.0, 1e3] {
+            let e: Vec<f64> = constant(case)
+                .into_iter()
+                .filter(|r| r.knob_rel == Some(rel))
+                .map(|r| r.err_penalty)
+                .collect();
+            assert_eq!(e.len(), 2);
+            assert!(
+                (e[0] / e[1] - 1.0).abs() <= 1.0 / 3.0,
+                "{case} ε/(E*/a) = {rel}: penalty errors {e:?}"
+            );
+        }
     }
 }

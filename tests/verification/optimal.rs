@@ -70,7 +70,7 @@ fn sparse_route_reaches_the_dense_route_optimum() {
         (Family::Beam, 0, 0.5),
         (Family::Beam, 1, 0.5),
         (Family::Hertz, 0, 0.5),
-        (Family::Patch, 0, 0.15),
+        (Family::FlatPunch, 0, 0.15),
     ] {
         let p = generate(family, index, 3, &cfg(h)).unwrap().problem;
         let u0 = p.k.solve(&p.q).unwrap();

@@ -10,10 +10,13 @@
 //! The half-space is modelled by a block much larger than a (`BLOCK_OVER_A` times), clamped at
 //! its base; the indenter's surface is the parabola x²/(2R) of Hertz theory.
 //!
-//! **Patch test** (El-Abbasi & Bathe 2001): a flat rigid punch covering the whole top of a
-//! block on a frictionless base; the exact pressure is uniform, `p̄ = P / A` (A the contact
-//! length of the half model times 2, or the disc area πW²), and it is reproduced exactly by
-//! bilinear elements, so any deviation is the contact rule's.
+//! **Flat punch** (`flat-punch`): a flat rigid punch covering the whole top of a block on a
+//! frictionless base; the exact pressure is uniform, `p̄ = P / A` (A the contact length of the
+//! half model times 2, or the disc area πW²), and it is reproduced exactly by bilinear
+//! elements, so any deviation is the contact rule's. One body in uniform compression: this is
+//! *not* the two-body, non-matching contact patch test of El-Abbasi & Bathe (2001), which needs
+//! constraints that couple DOFs (issue 45). It was called `patch` before issue 44; that name
+//! still reads.
 //!
 //! **Measures** (nodal, over the top nodes with weights ω_c of [`crate::model::elasticity`]):
 //! - `p_err_rel`: `√(Σ ω_c (p_c − p(x_c))²) / √(Σ ω_c p(x_c)²)` over every top node (p = 0
@@ -33,25 +36,29 @@ pub enum Case {
     HertzPlane,
     /// Rigid sphere on a cylindrical block, axisymmetric.
     HertzAxi,
-    /// Flat rigid punch covering the top of a block, plane strain.
-    Patch,
+    /// Flat rigid punch covering the top of a block, plane strain (one body, uniform
+    /// compression: not the two-body contact patch test). Serialized `flat-punch`; `patch`
+    /// (its name before issue 44) still reads.
+    #[serde(alias = "patch")]
+    FlatPunch,
 }
 
 impl Case {
     /// Every case, in table order.
-    pub const ALL: [Case; 3] = [Case::HertzPlane, Case::HertzAxi, Case::Patch];
+    pub const ALL: [Case; 3] = [Case::HertzPlane, Case::HertzAxi, Case::FlatPunch];
 
-    /// Its name in rows and options (`hertz-plane`, `hertz-axi`, `patch`).
+    /// Its name in rows and options (`hertz-plane`, `hertz-axi`, `flat-punch`).
     pub fn name(self) -> &'static str {
         match self {
             Case::HertzPlane => "hertz-plane",
             Case::HertzAxi => "hertz-axi",
-            Case::Patch => "patch",
+            Case::FlatPunch => "flat-punch",
         }
     }
 
-    /// The case named `s`.
+    /// The case named `s` (`patch` is read as `flat-punch`, its name before issue 44).
     pub fn from_name(s: &str) -> Option<Case> {
+        let s = if s == "patch" { "flat-punch" } else { s };
         Case::ALL.into_iter().find(|c| c.name() == s)
     }
 
@@ -67,11 +74,11 @@ impl Case {
 /// The analytic solution of one case: contact half-width (radius) and peak pressure.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Exact {
-    /// Contact half-width (plane) or radius (axisymmetric); the block half-width for the patch.
+    /// Contact half-width (plane) or radius (axisymmetric); the block half-width for the flat punch.
     pub a: f64,
-    /// Peak (for the patch: uniform) pressure.
+    /// Peak (for the flat punch: uniform) pressure.
     pub p0: f64,
-    /// Whether the pressure is Hertzian (`p0 √(1 − x²/a²)`) or uniform (the patch).
+    /// Whether the pressure is Hertzian (`p0 √(1 − x²/a²)`) or uniform (the flat punch).
     pub hertzian: bool,
 }
 

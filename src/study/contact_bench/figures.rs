@@ -1,6 +1,6 @@
 //! The benchmark's figures and printed tables, from the saved [`Summary`]:
 //! - `pressure_<case>`: nodal pressures on the finest mesh against the analytic curve, one
-//!   panel per rule, one line per knob value (the patch test is `pressure_patch`);
+//!   panel per rule, one line per knob value (the flat punch is `pressure_flat-punch`);
 //! - `convergence`: Lagrange's pressure error and peak-pressure error against h, per case,
 //!   with the least-squares rate in the legend;
 //! - `leaderboard_<case>`: penalty error against cond₂ as each rule's knob moves, one panel
@@ -46,21 +46,21 @@ fn knob_label(knob: &str, k: Option<f64>) -> String {
     }
 }
 
-/// Nodal pressures against Hertz (or the uniform patch pressure), one panel per rule.
+/// Nodal pressures against Hertz (or the flat punch's uniform pressure), one panel per rule.
 fn pressure_panels(s: &Summary, case: Case) -> Vec<Figure> {
     let Some(exact) = s.rows.iter().find(|r| r.case == case.name()) else {
         return Vec::new();
     };
     let (a, p0) = (exact.a_exact, exact.p0_exact);
-    let x_max = if case == Case::Patch { a } else { 1.6 * a };
+    let x_max = if case == Case::FlatPunch { a } else { 1.6 * a };
     let xs: Vec<f64> = (0..=200).map(|k| x_max * k as f64 / 200.0).collect();
     let ex = super::analytic::Exact {
         a,
         p0,
-        hertzian: case != Case::Patch,
+        hertzian: case != Case::FlatPunch,
     };
     let reference = Series::new(
-        if case == Case::Patch {
+        if case == Case::FlatPunch {
             "exact (uniform)"
         } else {
             "Hertz"
@@ -140,7 +140,7 @@ fn convergence(s: &Summary) -> Figure {
             )
             .color(k),
         );
-        if case != Case::Patch {
+        if case != Case::FlatPunch {
             f = f.with_series(
                 Series::new(
                     format!("{}: |p0 − p0_exact| / p0_exact", case.name()),
@@ -276,7 +276,7 @@ pub fn tables(s: &Summary) -> String {
                 format!("{:.4}", r.a_num / r.a_exact),
                 format!("{:.4}", r.p0_num / r.p0_exact),
                 fmt_e(r.err_discretization, 2),
-                if r.case == Case::Patch.name() {
+                if r.case == Case::FlatPunch.name() {
                     fmt_e(r.p_spread, 1)
                 } else {
                     "—".into()

@@ -34,7 +34,7 @@ pub fn jobs(cfg: &BenchConfig, scene: &Indentation, a: f64) -> Vec<BenchJob> {
             Knob::None => push(Knobs::NONE, "", None),
             Knob::Eps => {
                 for &r in &cfg.eps_rel {
-                    push(Knobs::eps(r * cfg.e_star()), "eps", Some(r));
+                    push(Knobs::eps(r * cfg.e_star() / cfg.a_target), "eps", Some(r));
                 }
             }
             Knob::Factor => {

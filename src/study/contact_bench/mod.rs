@@ -1,5 +1,5 @@
 //! `contact_bench`: every contact rule judged against physics — Hertz contact (plane strain
-//! and axisymmetric) and the contact patch test — on graded Q4 meshes
+//! and axisymmetric) and a rigid flat punch (`flat-punch`) — on graded Q4 meshes
 //! ([`crate::model::elasticity`]), with the analytic references of [`analytic`].
 //!
 //! Every solve is **force-controlled**: the lift w of the block's base is found (regula falsi
@@ -16,7 +16,8 @@
 //! - `iterations` (the rule's own outer iterations), `force_solves`, `force_mismatch`, and for
 //!   `barrier` its stiffness `kappa_initial`, `kappa_final`, `kappa_increases`.
 //!
-//! Knobs: ε relative to E*, factors absolute, δ / d̂ / tolerances relative to the case's
+//! Knobs: ε per unit contact length/area relative to E*/a (force/length³; the nodal penalty
+//! is ε·ω_c, ω_c the node's tributary weight), factors absolute, δ / d̂ / tolerances relative to the case's
 //! length scale ([`BenchConfig::length_scale`]: a for Hertz, the compression for the flat
 //! punch).
 //!
@@ -52,14 +53,17 @@ use std::time::Instant;
 /// The benchmark suite: cases, meshes and the knob grids.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct BenchConfig {
-    /// Cases (`hertz-plane`, `hertz-axi`, `patch`).
+    /// Cases (`hertz-plane`, `hertz-axi`, `flat-punch`).
     pub cases: Vec<Case>,
-    /// Element sizes at the contact over a (the Hertz contact half-width; the patch block is
+    /// Element sizes at the contact over a (the Hertz contact half-width; the flat-punch block is
     /// a × a), coarse to fine.
     pub meshes: Vec<f64>,
     /// Methods (registry names).
     pub methods: Vec<String>,
-    /// `constant`: ε = value · E* (E* = E/(1 − ν²); per unit thickness or per radian).
+    /// `constant`: ε = value · E*/a (E* = E/(1 − ν²), a the Hertz half-width or the punch's
+    /// half-width): a penalty per unit contact length (plane strain) or area (axisymmetric),
+    /// pressure per penetration, force/length³; node c gets ε·ω_c with its tributary weight
+    /// ω_c ([`crate::system::Surface`]).
     pub eps_rel: Vec<f64>,
     /// `scaled`: factors f of ε_c = f·K\[d_c,d_c\].
     pub factors: Vec<f64>,
@@ -91,7 +95,9 @@ impl Default for BenchConfig {
             cases: Case::ALL.to_vec(),
             meshes: vec![0.2, 0.1, 0.05],
             methods: registry::names().into_iter().map(str::to_string).collect(),
-            eps_rel: vec![1e-1, 1e0, 1e1, 1e2, 1e3, 1e4, 1e5],
+            // Per unit area (nodal ε·ω_c with ω ≈ h inside the contact): the nodal penalties
+            // of the earlier grid 0.1 … 1e5·E* at h = a/20 are 2 … 2e6·E*/a.
+            eps_rel: vec![1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6],
             // 0.1: LS-DYNA's SLSFAC default; 1: ANSYS's FKN default; 10: Abaqus/Standard's
             // default penalty (10 × a representative element stiffness); then stiffer.
             factors: vec![0.1, 1.0, 10.0, 100.0, 1000.0],
@@ -116,11 +122,11 @@ pub const FINE_OVER_A: f64 = 1.5;
 impl BenchConfig {
     /// The length δ, d̂ and the augmented tolerance are relative to on `case`: the Hertz
     /// half-width a, or for the flat punch its whole compression — `lift`, the base lift at
-    /// which Lagrange carries the load (the patch's δ = 1e-2·a was ten times the compression:
+    /// which Lagrange carries the load (the flat punch's δ = 1e-2·a was ten times the compression:
     /// rows with no lift and NaN).
     pub fn length_scale(&self, case: Case, lift: f64) -> f64 {
         match case {
-            Case::Patch => lift,
+            Case::FlatPunch => lift,
             _ => self.a_target,
         }
     }
@@ -177,9 +183,9 @@ impl BenchConfig {
                 let p = case.geometry().hertz_load(a, r, es);
                 (p, Exact::hertz(case.geometry(), p, r, es))
             }
-            Case::Patch => {
+            Case::FlatPunch => {
                 // Uniform pressure 1e-3·E* on the top of an a × a block (half model).
-                let half = self.patch_half_width();
+                let half = self.punch_half_width();
                 let p0 = 1e-3 * es;
                 (
                     2.0 * half * p0,
@@ -193,7 +199,7 @@ impl BenchConfig {
         }
     }
 
-    fn patch_half_width(&self) -> f64 {
+    fn punch_half_width(&self) -> f64 {
         self.a_target
     }
 
@@ -201,8 +207,8 @@ impl BenchConfig {
     pub fn grid(&self, case: Case, h_rel: f64) -> Result<Grid> {
         let a = self.a_target;
         match case {
-            Case::Patch => {
-                let w = self.patch_half_width();
+            Case::FlatPunch => {
+                let w = self.punch_half_width();
                 Grid::graded(w, w, h_rel * self.a_target, w, 1.0)
             }
             _ => Grid::graded(
@@ -215,36 +221,39 @@ impl BenchConfig {
         }
     }
 
-    /// The contact scene of `case` on `grid` with base lift `lift`.
+    /// The contact scene of `case` on `grid` with base lift `lift`, with its contact surface
+    /// ([`Indentation::with_surface`]).
     pub fn scene(&self, case: Case, grid: &Grid, lift: f64) -> Result<Indentation> {
         let mat = Material {
             young: self.young,
             poisson: self.poisson,
         };
         let r = self.radius;
-        match case {
-            Case::Patch => {
+        let scene = match case {
+            Case::FlatPunch => {
                 elasticity::indentation(grid, case.geometry(), &mat, Base::Sliding, lift, |_| 0.0)
             }
             _ => elasticity::indentation(grid, case.geometry(), &mat, Base::Clamped, lift, |x| {
                 x * x / (2.0 * r)
             }),
-        }
+        }?;
+        scene.with_surface(grid)
     }
 }
 
 /// One (case, method, knob, mesh).
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct BenchRow {
-    /// `hertz-plane`, `hertz-axi` or `patch`.
+    /// `hertz-plane`, `hertz-axi` or `flat-punch`.
     pub case: String,
     /// Method name.
     pub method: String,
     /// Knob name (`eps`, `factor`, `delta`, `tol`, `adaptive-tol`, or empty).
     pub knob: String,
-    /// Knob value (absolute: ε, f, δ or tolerance); None without a knob.
+    /// Knob value (absolute: ε per unit contact length/area in force/length³, f, δ or
+    /// tolerance in length); None without a knob.
     pub knob_value: Option<f64>,
-    /// Knob value relative to its scale (ε/E*, f, δ/`length_scale`); None without a knob.
+    /// Knob value relative to its scale (ε/(E*/a), f, δ/`length_scale`); None without a knob.
     pub knob_rel: Option<f64>,
     /// Element size at the contact.
     #[serde(deserialize_with = "crate::provenance::null_as_nan")]
@@ -290,8 +299,8 @@ pub struct BenchRow {
     /// Max penetration.
     #[serde(deserialize_with = "crate::provenance::null_as_nan")]
     pub max_penetration: f64,
-    /// Relative spread (max − min)/mean of the pressures over the contact nodes (the patch
-    /// test's measure; NaN where no node carries pressure).
+    /// Relative spread (max − min)/mean of the pressures over the contact nodes (the flat
+    /// punch's measure; NaN where no node carries pressure).
     #[serde(deserialize_with = "crate::provenance::null_as_nan")]
     pub p_spread: f64,
     /// cond₂ of the final system matrix.
@@ -421,7 +430,7 @@ fn run_job(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> (BenchRow, Vec<f64
         n_dofs: 0,
         load: mesh.load,
         lift: f64::NAN,
-        radius: if mesh.case == Case::Patch {
+        radius: if mesh.case == Case::FlatPunch {
             0.0
         } else {
             cfg.radius
@@ -554,9 +563,9 @@ pub fn run_mesh(cfg: &BenchConfig, case: Case, h_rel: f64, progress: &Progress) 
     let finest = cfg.meshes.iter().copied().fold(f64::INFINITY, f64::min);
     let (load, exact) = cfg.exact(case);
     let grid = cfg.grid(case, h_rel)?;
-    // Half-space indentation a²/R as the first guess (the patch: p̄H/E*).
+    // Half-space indentation a²/R as the first guess (the flat punch: p̄H/E*).
     let guess = match case {
-        Case::Patch => exact.p0 * grid.height() / cfg.e_star(),
+        Case::FlatPunch => exact.p0 * grid.height() / cfg.e_star(),
         _ => cfg.a_target * cfg.a_target / cfg.radius,
     };
     let scene = |w| cfg.scene(case, &grid, w);

@@ -146,7 +146,7 @@ fn leaders(rows: &[BenchRow]) -> Vec<Leader> {
 }
 
 /// Convergence of Lagrange's pressure error with h per Hertz case: the least-squares slope of
-/// log(err) against log(h) over the meshes (None with fewer than two meshes). The patch test
+/// log(err) against log(h) over the meshes (None with fewer than two meshes). The flat punch
 /// has none: its error is rounding on every mesh.
 pub fn convergence_rates(rows: &[BenchRow]) -> Vec<(String, Option<f64>)> {
     let mut out = Vec::new();

@@ -14,7 +14,7 @@ pub struct ConfigArgs {
     /// Run over every *.scene.json in DIR instead of generating scenes.
     #[arg(long, value_name = "DIR")]
     scenes_dir: Option<PathBuf>,
-    /// Families, comma-separated: beam, membrane, spectrum (the default), hertz, patch.
+    /// Families, comma-separated: beam, membrane, spectrum (the default), hertz, flat-punch (or patch, its old name).
     #[arg(long, value_delimiter = ',')]
     families: Option<Vec<String>>,
     /// Scenes per family.

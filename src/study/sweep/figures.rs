@@ -174,10 +174,17 @@ fn scene_scales<'a>(rows: &[&'a Row]) -> Option<BTreeMap<&'a str, f64>> {
 fn families(rows: &[Row]) -> Vec<Fam> {
     let names: BTreeSet<&str> = rows.iter().map(|r| r.family.as_str()).collect();
     let rank = |n: &str| {
-        ["beam", "membrane", "spectrum", "hertz", "patch", "file"]
-            .iter()
-            .position(|k| *k == n)
-            .unwrap_or(6)
+        [
+            "beam",
+            "membrane",
+            "spectrum",
+            "hertz",
+            "flat-punch",
+            "file",
+        ]
+        .iter()
+        .position(|k| *k == n)
+        .unwrap_or(6)
     };
     let mut names: Vec<&str> = names.into_iter().collect();
     names.sort_by_key(|n| (rank(n), *n));
