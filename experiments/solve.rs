@@ -70,6 +70,7 @@ fn main() -> ExitCode {
             delta: args.delta,
             tol: args.tol,
             adaptive: args.adaptive,
+            ..Knobs::NONE
         };
         let v = solve_scene(
             &args.scene,

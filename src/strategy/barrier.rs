@@ -15,14 +15,32 @@
 //! (64 ε_mach times the sum of its terms' magnitudes: no smaller decrease is observable) or the
 //! step moves no DOF by more than 1e-12 of max(‖u‖∞, d̂).
 //!
-//! **Stiffness κ.** Initial κ by gradient balance at the start, `κ = −∇Bᵀ∇E / ‖∇B‖²`
-//! (E the elastic energy, B = Σ b), clamped to [κ_min, 100 κ_min], where κ_min makes the
-//! barrier as stiff as the structure halfway into its band: `κ_min b''(d̂/2) = k̄` (k̄ the
-//! geometric mean of K\[d_c, d_c\], [`crate::system::Problem::mean_constraint_stiffness`]; in
-//! ipc-toolkit k̄ is the average mass at 1e-8 of the bounding box). After each converged Newton
-//! solve, κ doubles (warm-started re-solve, at most up to 100 κ_min) while the smallest
-//! distance is below d̂_ε = 1e-2·d̂ and fell since the previous solve — ipc-toolkit's
-//! `update_barrier_stiffness`, applied between static solves instead of between time steps.
+//! **Stiffness κ** ([`KappaRule`]). Both adaptive rules start from gradient balance,
+//! `κ = −∇Bᵀ∇E / ‖∇B‖²` (E the elastic energy, B = Σ b), clamped to [κ_min, 100 κ_min], and
+//! differ in κ_min and in when κ doubles:
+//! - `ipc` (the default where the problem knows its contact surface,
+//!   [`crate::system::Surface`]): ipc-toolkit's `initial_barrier_stiffness` and
+//!   `update_barrier_stiffness` (`src/ipc/barrier/adaptive_stiffness.cpp`). κ_min makes the
+//!   barrier's stiffness at the distance d₀ = 1e-8·bbox (bbox the bounding-box diagonal; d̂/√2
+//!   if that is not below d̂) equal to a reference stiffness: `κ_min b''(d₀) = k̄`. After every
+//!   accepted Newton step κ doubles (up to 100 κ_min) when the smallest distance is below
+//!   d_ε = 1e-9·bbox on this and the previous iterate and fell. ipc-toolkit works with squared
+//!   distances (d₀² = (1e-8·bbox)², d_ε² = (1e-9·bbox)²) and a mass: its reference is
+//!   `min_barrier_stiffness_scale · m̄` = 1e11·m̄, the inertia of its incremental potential. A
+//!   static problem has no mass; its stand-in is the structure's own stiffness k̄, the
+//!   geometric mean of K\[d_c, d_c\] ([`crate::system::Problem::mean_constraint_stiffness`]).
+//!   (For SI solids on centimetre meshes 1e11·m̄ is 1e-4…1 times k̄: rubber ρ = 1e3, E = 1e7 gives
+//!   ≈ 1, steel ≈ 4e-4.) The distances being those of the scene's geometry, κ and the gap it
+//!   leaves do not depend on how the mesh was scaled.
+//! - `balanced` (the rule before issue 44, and the default without a surface: a bare K, q, D
+//!   has no length but d̂): `κ_min b''(d̂/2) = k̄`, the barrier as stiff as the structure
+//!   halfway into its band; after each converged Newton solve κ doubles (warm-started
+//!   re-solve, at most up to 100 κ_min) while the smallest distance is below 1e-2·d̂ and fell
+//!   since the previous solve — ipc-toolkit's update applied between static solves with a
+//!   threshold relative to d̂.
+//! - `fixed`: κ as given, never updated (sensitivity studies).
+//!
+//! Every solve reports its κ ([`KappaReport`]: rule, initial, final, increases, the clamp).
 //!
 //! **Where it differs from a quadratic penalty.** A penalty acts only once a constraint is
 //! violated and lets it penetrate (∝ 1/ε); the barrier acts before contact, at distances below
@@ -64,21 +82,97 @@ impl Method {
 }
 
 fn run(ctx: Context, m: &Method) -> Result<Solution> {
-    solve(ctx, m.need_delta()?)
+    solve_with(ctx, m.need_delta()?, m.knobs().kappa)
+}
+
+/// How the barrier chooses its stiffness κ (module doc).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum KappaRule {
+    /// `ipc` where the problem carries its [`crate::system::Surface`], else `balanced`.
+    #[default]
+    Auto,
+    /// ipc-toolkit's κ_min from the bounding box and its in-Newton update.
+    Ipc,
+    /// κ_min balanced at d̂/2 and doubling between solves (the rule before issue 44).
+    Balanced,
+    /// This κ (> 0), never updated.
+    Fixed(f64),
+}
+
+impl KappaRule {
+    /// The rule if its value is valid (`Fixed` needs a finite κ > 0).
+    pub fn validated(self) -> Result<KappaRule> {
+        match self {
+            KappaRule::Fixed(k) if !(k.is_finite() && k > 0.0) => Err(Error::input(format!(
+                "barrier: fixed κ must be a finite number > 0 (got {k})"
+            ))),
+            r => Ok(r),
+        }
+    }
+
+    /// Its name in rows (`ipc`, `balanced`, `fixed`; `auto` before it is resolved).
+    pub fn name(self) -> &'static str {
+        match self {
+            KappaRule::Auto => "auto",
+            KappaRule::Ipc => "ipc",
+            KappaRule::Balanced => "balanced",
+            KappaRule::Fixed(_) => "fixed",
+        }
+    }
+}
+
+/// ipc-toolkit's d₀ over the bounding-box diagonal (`initial_barrier_stiffness`).
+pub const IPC_D0: f64 = 1e-8;
+/// ipc-toolkit's `dhat_epsilon_scale` (`update_barrier_stiffness`): κ doubles below this
+/// distance over the bounding-box diagonal.
+pub const IPC_D_EPS: f64 = 1e-9;
+
+/// The clamp [κ_min, κ_max] of `rule` (resolved: not `Auto`) for activation distance `dhat`
+/// on `p`, and the distance below which the `ipc` rule doubles κ inside Newton.
+pub fn kappa_bounds(p: &Problem, dhat: f64, rule: KappaRule) -> Result<(f64, f64, Option<f64>)> {
+    let kbar = p.mean_constraint_stiffness();
+    let (min, below) = match rule {
+        KappaRule::Ipc => {
+            let Some(surface) = &p.surface else {
+                return Err(Error::input(
+                    "barrier: the ipc κ rule needs the problem's contact surface (its \
+                     bounding box); use the balanced rule for a bare K, q, D",
+                ));
+            };
+            let bbox = surface.bbox_diagonal;
+            let mut d0 = IPC_D0 * bbox;
+            if d0 >= dhat {
+                d0 = dhat / std::f64::consts::SQRT_2;
+            }
+            (kbar / barrier(d0, dhat).2, Some(IPC_D_EPS * bbox))
+        }
+        KappaRule::Fixed(k) => (k, None),
+        _ => (kbar / barrier(0.5 * dhat, dhat).2, None),
+    };
+    let max = if matches!(rule, KappaRule::Fixed(_)) {
+        min
+    } else {
+        100.0 * min
+    };
+    Ok((min, max, below))
 }
 
 /// The barrier stiffness κ of a solve: the hidden second knob, recorded in every row.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct KappaReport {
+    /// The rule that chose it (resolved: `ipc`, `balanced` or `fixed`).
+    pub rule: KappaRule,
     /// κ of the first Newton solve (gradient balance, clamped to [κ_min, κ_max]).
     pub initial: f64,
     /// κ of the returned solve.
     pub last: f64,
-    /// Times κ was doubled (each a warm-started Newton solve).
+    /// Times κ was doubled (`balanced`: each a warm-started Newton solve; `ipc`: inside
+    /// Newton).
     pub increases: usize,
-    /// The clamp's lower end κ_min.
+    /// The clamp's lower end κ_min (`fixed`: κ).
     pub min: f64,
-    /// The clamp's upper end κ_max = 100 κ_min.
+    /// The clamp's upper end κ_max = 100 κ_min (`fixed`: κ).
     pub max: f64,
 }
 
@@ -143,12 +237,30 @@ struct NewtonRun {
 /// Cap on Newton iterations per κ.
 const MAX_NEWTON: usize = 200;
 
-fn newton(ctx: &mut Context, mut u: Vec<f64>, kappa: f64, dhat: f64) -> Result<NewtonRun> {
+/// ipc-toolkit's `update_barrier_stiffness` test: the smallest distance is below `eps` on
+/// the previous and the current iterate and fell.
+pub fn ipc_doubles(prev_min: f64, now_min: f64, eps: f64) -> bool {
+    prev_min < eps && now_min < eps && now_min < prev_min
+}
+
+/// κ during a solve, and the `ipc` rule's in-Newton update.
+struct Kappa {
+    now: f64,
+    max: f64,
+    increases: usize,
+    /// `ipc`: double κ when the smallest distance is below this on two consecutive iterates
+    /// and fell.
+    below: Option<f64>,
+}
+
+fn newton(ctx: &mut Context, mut u: Vec<f64>, k: &mut Kappa, dhat: f64) -> Result<NewtonRun> {
     let p = ctx.problem;
+    let mut prev_min = min_distance(p, &u);
     let scale_u = |u: &[f64]| u.iter().fold(dhat, |a, v| a.max(v.abs()));
     let mut ku = p.k.matvec(&u);
     for _ in 0..MAX_NEWTON {
         ctx.stats.iterations += 1;
+        let kappa = k.now;
         let d = distances(p, &u);
         // Penalties κ b''(d) and the limits ℓ with (K + D h Dᵀ) u_new = q + D h ℓ equal to
         // the Newton step: ℓ_c = u[dof] − s_c κ b'(d_c) / h_c.
@@ -197,6 +309,15 @@ fn newton(ctx: &mut Context, mut u: Vec<f64>, kappa: f64, dhat: f64) -> Result<N
                 return Ok(NewtonRun { u, converged: true });
             }
         }
+        // ipc-toolkit's update (`ipc` rule): the barrier struggles to push apart.
+        let now_min = min_distance(p, &u);
+        if let Some(eps) = k.below {
+            if ipc_doubles(prev_min, now_min, eps) && k.now < k.max {
+                k.now = (2.0 * k.now).min(k.max);
+                k.increases += 1;
+            }
+        }
+        prev_min = now_min;
     }
     Ok(NewtonRun {
         u,
@@ -204,8 +325,14 @@ fn newton(ctx: &mut Context, mut u: Vec<f64>, kappa: f64, dhat: f64) -> Result<N
     })
 }
 
-/// Solves with the IPC log-barrier of activation distance `dhat` (module doc).
-pub fn solve(mut ctx: Context, dhat: f64) -> Result<Solution> {
+/// Solves with the IPC log-barrier of activation distance `dhat` and the default κ rule
+/// ([`KappaRule::Auto`]; module doc).
+pub fn solve(ctx: Context, dhat: f64) -> Result<Solution> {
+    solve_with(ctx, dhat, KappaRule::Auto)
+}
+
+/// Solves with the IPC log-barrier of activation distance `dhat`, κ chosen by `rule`.
+pub fn solve_with(mut ctx: Context, dhat: f64, rule: KappaRule) -> Result<Solution> {
     let p = ctx.problem;
     if let Some(c) = p
         .constraints
@@ -217,6 +344,11 @@ pub fn solve(mut ctx: Context, dhat: f64) -> Result<Solution> {
              constraints only — use a penalty rule or lagrange"
         )));
     }
+    let rule = match rule.validated()? {
+        KappaRule::Auto if p.surface.is_some() => KappaRule::Ipc,
+        KappaRule::Auto => KappaRule::Balanced,
+        r => r,
+    };
     // Feasible start: u0, with every constraint closer than d̂/2 (or violated) moved to d̂/2.
     let mut u = ctx.u0()?.to_vec();
     for con in &p.constraints {
@@ -225,9 +357,7 @@ pub fn solve(mut ctx: Context, dhat: f64) -> Result<Solution> {
             u[con.dof] = con.limit + side(con.kind) * 0.5 * dhat;
         }
     }
-    let kbar = p.mean_constraint_stiffness();
-    let kappa_min = kbar / barrier(0.5 * dhat, dhat).2;
-    let kappa_max = 100.0 * kappa_min;
+    let (kappa_min, kappa_max, below) = kappa_bounds(p, dhat, rule)?;
     // Gradient balance at the start.
     let d = distances(p, &u);
     let ku = p.k.matvec(&u);
@@ -237,32 +367,40 @@ pub fn solve(mut ctx: Context, dhat: f64) -> Result<Solution> {
         gb[con.dof] += side(con.kind) * barrier(d[c], dhat).1;
     }
     let nb: f64 = gb.iter().map(|v| v * v).sum();
-    let mut kappa = if nb > 0.0 {
+    let balanced = if nb > 0.0 {
         -gb.iter().zip(&ge).map(|(a, b)| a * b).sum::<f64>() / nb
     } else {
         kappa_min
     };
-    kappa = kappa.clamp(kappa_min, kappa_max);
-    let initial = kappa;
-    let mut increases = 0;
-    let mut run = newton(&mut ctx, u, kappa, dhat)?;
-    let mut min_d = min_distance(p, &run.u);
-    while min_d < 1e-2 * dhat && kappa < kappa_max {
-        kappa = (2.0 * kappa).min(kappa_max);
-        increases += 1;
-        let next = newton(&mut ctx, run.u.clone(), kappa, dhat)?;
-        let d_next = min_distance(p, &next.u);
-        run = next;
-        if d_next >= min_d {
-            break;
+    let initial = balanced.clamp(kappa_min, kappa_max);
+    let mut k = Kappa {
+        now: initial,
+        max: kappa_max,
+        increases: 0,
+        below,
+    };
+    let mut run = newton(&mut ctx, u, &mut k, dhat)?;
+    if rule == KappaRule::Balanced {
+        let mut min_d = min_distance(p, &run.u);
+        while min_d < 1e-2 * dhat && k.now < kappa_max {
+            k.now = (2.0 * k.now).min(kappa_max);
+            k.increases += 1;
+            let next = newton(&mut ctx, run.u.clone(), &mut k, dhat)?;
+            let d_next = min_distance(p, &next.u);
+            run = next;
+            if d_next >= min_d {
+                break;
+            }
+            min_d = d_next;
         }
-        min_d = d_next;
     }
+    let kappa = k.now;
     ctx.stats.converged = run.converged;
     ctx.stats.barrier = Some(KappaReport {
+        rule,
         initial,
         last: kappa,
-        increases,
+        increases: k.increases,
         min: kappa_min,
         max: kappa_max,
     });
@@ -294,6 +432,109 @@ pub fn solve(mut ctx: Context, dhat: f64) -> Result<Solution> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::system::{Constraint, Stiffness, Surface};
+
+    /// Two springs in series, the free end pushed by `q` onto an upper limit at 0 from a
+    /// start at −1: with or without a surface of bounding-box diagonal `bbox`.
+    fn chain(q: f64, bbox: Option<f64>) -> Problem {
+        let k =
+            Stiffness::from_triplets(2, &[(0, 0, 2e3), (0, 1, -1e3), (1, 0, -1e3), (1, 1, 1e3)])
+                .unwrap();
+        let p = Problem::new(
+            k,
+            vec![0.0, q],
+            vec![Constraint {
+                dof: 1,
+                limit: 0.0,
+                kind: ConstraintKind::Upper,
+            }],
+        )
+        .unwrap();
+        match bbox {
+            Some(b) => p
+                .with_surface(Surface {
+                    weights: vec![1.0],
+                    bbox_diagonal: b,
+                })
+                .unwrap(),
+            None => p,
+        }
+    }
+
+    /// κ_min of each rule is what the module doc says: `ipc` balances the barrier's stiffness
+    /// at d₀ = 1e-8·bbox against k̄ (d̂/√2 when d₀ is not below d̂), `balanced` at d̂/2; κ_max
+    /// is 100 κ_min; `ipc` needs the surface.
+    #[test]
+    fn kappa_bounds_follow_the_rules() {
+        let dhat = 1e-3;
+        let p = chain(1.0, Some(2.0));
+        let kbar = p.mean_constraint_stiffness();
+        let (lo, hi, below) = kappa_bounds(&p, dhat, KappaRule::Ipc).unwrap();
+        assert!((lo * barrier(2e-8, dhat).2 / kbar - 1.0).abs() <= 1e-14);
+        assert_eq!(hi, 100.0 * lo);
+        assert_eq!(below, Some(2e-9));
+        let (lo, _, below) = kappa_bounds(&p, dhat, KappaRule::Balanced).unwrap();
+        assert!((lo * barrier(0.5 * dhat, dhat).2 / kbar - 1.0).abs() <= 1e-14);
+        assert_eq!(below, None);
+        let huge = chain(1.0, Some(1e6));
+        let (lo, _, _) = kappa_bounds(&huge, dhat, KappaRule::Ipc).unwrap();
+        let d0 = dhat / std::f64::consts::SQRT_2;
+        assert!((lo * barrier(d0, dhat).2 / kbar - 1.0).abs() <= 1e-14);
+        let err = kappa_bounds(&chain(1.0, None), dhat, KappaRule::Ipc).unwrap_err();
+        assert!(err.to_string().contains("contact surface"), "{err}");
+        assert!(KappaRule::Fixed(f64::NAN).validated().is_err());
+        assert!(KappaRule::Fixed(-1.0).validated().is_err());
+    }
+
+    /// `Auto` is `ipc` with a surface and `balanced` without; a fixed κ stays put; pressed
+    /// hard, the `ipc` rule's gradient balance is clamped at κ_max, where no update can raise
+    /// it, and the solve neither fails nor penetrates. The update's test is ipc-toolkit's.
+    #[test]
+    fn kappa_rules_resolve_and_ipc_clamps() {
+        let solve_rule = |p: &Problem, rule| {
+            let m = Method::new(
+                &STRATEGY,
+                Knobs {
+                    kappa: rule,
+                    ..Knobs::delta(1e-3)
+                },
+            )
+            .unwrap();
+            crate::strategy::solve(p, m).unwrap()
+        };
+        let report = |s: &Solution| s.stats.barrier.unwrap();
+        let with = chain(1.0, Some(2.0));
+        let without = chain(1.0, None);
+        assert_eq!(
+            report(&solve_rule(&with, KappaRule::Auto)).rule,
+            KappaRule::Ipc
+        );
+        assert_eq!(
+            report(&solve_rule(&without, KappaRule::Auto)).rule,
+            KappaRule::Balanced
+        );
+        let fixed = report(&solve_rule(&with, KappaRule::Fixed(3.0)));
+        assert_eq!((fixed.initial, fixed.last, fixed.increases), (3.0, 3.0, 0));
+        // κ_max = 100 κ_min ≈ 4e-5 here: under a push q = 10 the balance distance κ d̂²/q is
+        // below d_ε = 2e-9 for every κ in the clamp.
+        let pressed = chain(10.0, Some(2.0));
+        let s = solve_rule(&pressed, KappaRule::Ipc);
+        let k = report(&s);
+        assert_eq!((k.initial, k.last, k.increases), (k.max, k.max, 0), "{k:?}");
+        assert!(s.stats.converged);
+        assert!(
+            s.u[1] < 0.0 && -s.u[1] < 2e-9,
+            "gap below d_ε: u = {}",
+            s.u[1]
+        );
+        assert!(ipc_doubles(1.5e-9, 1e-9, 2e-9));
+        assert!(
+            !ipc_doubles(3e-9, 1e-9, 2e-9),
+            "the previous iterate was above d_ε"
+        );
+        assert!(!ipc_doubles(1e-9, 1.5e-9, 2e-9), "the distance rose");
+        assert!(!ipc_doubles(1e-9, 1e-9, 2e-9), "the distance did not fall");
+    }
 
     /// b, b', b'' against central differences, and the barrier's shape: positive and
     /// decreasing on (0, d̂), zero with zero slope at d̂.

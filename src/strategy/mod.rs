@@ -82,7 +82,12 @@ impl Serialize for Method {
             Knob::None => {}
             Knob::Eps => map.serialize_entry("eps", &k.eps)?,
             Knob::Factor => map.serialize_entry("factor", &k.factor)?,
-            Knob::Delta => map.serialize_entry("delta", &k.delta)?,
+            Knob::Delta => {
+                map.serialize_entry("delta", &k.delta)?;
+                if k.kappa != barrier::KappaRule::Auto {
+                    map.serialize_entry("kappa", &k.kappa)?;
+                }
+            }
             Knob::EpsTol => {
                 map.serialize_entry("eps", &k.eps)?;
                 map.serialize_entry("tol", &k.tol)?;
@@ -107,6 +112,8 @@ pub struct Knobs {
     pub tol: Option<f64>,
     /// Adaptive penalty update for `augmented`.
     pub adaptive: bool,
+    /// How `barrier` chooses its stiffness κ ([`barrier::KappaRule`]; `Auto` by default).
+    pub kappa: barrier::KappaRule,
 }
 
 impl Knobs {
@@ -117,6 +124,7 @@ impl Knobs {
         delta: None,
         tol: None,
         adaptive: false,
+        kappa: barrier::KappaRule::Auto,
     };
 
     /// ε alone ([`Knob::Eps`]).
@@ -178,7 +186,10 @@ impl Method {
             Knob::None => Knobs::NONE,
             Knob::Eps => Knobs::eps(positive(n, "--eps", knobs.eps)?),
             Knob::Factor => Knobs::factor(positive(n, "--factor", knobs.factor)?),
-            Knob::Delta => Knobs::delta(positive(n, "--delta", knobs.delta)?),
+            Knob::Delta => Knobs {
+                kappa: knobs.kappa.validated()?,
+                ..Knobs::delta(positive(n, "--delta", knobs.delta)?)
+            },
             Knob::EpsTol => Knobs {
                 eps: Some(positive(n, "--eps", knobs.eps)?),
                 tol: Some(positive(n, "--tol", knobs.tol)?),

@@ -132,3 +132,55 @@ fn bad_options_exit_2_with_one_line() {
         assert!(o.stdout.is_empty(), "{args:?}: wrote to stdout");
     }
 }
+
+/// The barrier's κ study (issue 44, item 10): `kappa.csv` holds fixed-κ rows spanning both
+/// rules' clamps and one row per rule and d̂; the benchmark's own barrier rows use the `ipc`
+/// rule (the scene carries its surface); the figure is drawn.
+#[test]
+fn barrier_rows_name_their_kappa_rule_and_the_kappa_study_is_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = bin()
+        .args(["--cases", "hertz-plane", "--meshes", "0.2", "--quiet"])
+        .args([
+            "--methods",
+            "lagrange,barrier",
+            "--deltas-rel",
+            "1e-3",
+            "--out",
+        ])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let read = |f: &str| -> Vec<std::collections::HashMap<String, String>> {
+        csv::Reader::from_path(dir.path().join(f))
+            .unwrap()
+            .deserialize()
+            .map(|r| r.unwrap())
+            .collect()
+    };
+    for r in read("rows.csv").iter().filter(|r| r["method"] == "barrier") {
+        assert_eq!(r["kappa_rule"], "ipc");
+    }
+    let kappa = read("kappa.csv");
+    for dhat in ["0.001", "0.0001"] {
+        let at = |rule: &str| -> Vec<f64> {
+            kappa
+                .iter()
+                .filter(|r| r["knob_rel"] == dhat && r["kappa_rule"] == rule)
+                .map(|r| r["kappa_final"].parse().unwrap())
+                .collect()
+        };
+        let fixed = at("fixed");
+        let (ipc, balanced) = (at("ipc"), at("balanced"));
+        assert_eq!((ipc.len(), balanced.len()), (1, 1), "d̂ = {dhat}");
+        let lo = fixed.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = fixed.iter().copied().fold(0.0, f64::max);
+        assert!(fixed.len() >= 10, "d̂ = {dhat}: {fixed:?}");
+        assert!(
+            lo <= ipc[0] && balanced[0] <= hi,
+            "{lo} {ipc:?} {balanced:?} {hi}"
+        );
+    }
+    assert!(dir.path().join("figures/kappa_sensitivity.png").is_file());
+}

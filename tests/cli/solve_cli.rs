@@ -206,6 +206,7 @@ fn method_names_are_the_strategy_names() {
         delta: Some(1.0),
         tol: Some(1.0),
         adaptive: false,
+        ..Knobs::NONE
     };
     for s in registry::BUILT_IN {
         let listed = out.lines().any(|l| {

@@ -4,11 +4,13 @@
 //! - `convergence`: Lagrange's pressure error and peak-pressure error against h, per case,
 //!   with the least-squares rate in the legend;
 //! - `leaderboard_<case>`: penalty error against cond₂ as each rule's knob moves, one panel
-//!   per mesh, the mesh's discretization error as a horizontal line.
+//!   per mesh, the mesh's discretization error as a horizontal line;
+//! - `kappa_sensitivity`: the barrier's penalty error and cond₂ against a fixed κ, per Hertz
+//!   case and d̂, with the κ each adaptive rule (`ipc`, `balanced`) ends at ([`super::kappa`]).
 
 use super::{analytic::Case, rule_of, BenchRow, Summary};
 use crate::error::Result;
-use crate::plot::{render_panels, share_legend, Figure, Mark, Scale, Series};
+use crate::plot::{render_panels, share_legend, Figure, Mark, Marker, Scale, Series};
 use crate::study::text::{fmt_e, table};
 use std::path::{Path, PathBuf};
 
@@ -226,6 +228,68 @@ fn leaderboard_panels(s: &Summary, case: Case) -> Vec<Figure> {
     panels
 }
 
+/// The κ study's panels: per Hertz case, penalty error and cond₂ against κ, one line per d̂,
+/// each rule's end point a marker.
+fn kappa_panels(s: &Summary) -> Vec<Figure> {
+    let mut panels = Vec::new();
+    for case in [Case::HertzPlane, Case::HertzAxi] {
+        let rows: Vec<&BenchRow> = s.kappa.iter().filter(|r| r.case == case.name()).collect();
+        if rows.is_empty() {
+            continue;
+        }
+        type Measure = fn(&BenchRow) -> Option<f64>;
+        let measures: [(&str, Measure); 2] = [
+            ("penalty error (distance from Lagrange)", |r| {
+                Some(r.err_penalty.max(FLOOR)).filter(|v| v.is_finite())
+            }),
+            ("cond₂ of the final system", |r| r.cond2_system),
+        ];
+        for (what, y_of) in measures {
+            let h = rows[0].h;
+            let mut f = Figure::new(
+                format!("{} (h = {}·a): barrier, {what}", case.name(), fmt_e(h, 2)),
+                "κ (fixed)",
+                what,
+            )
+            .scales(Scale::Log10, Scale::Log10);
+            let mut dhats: Vec<f64> = rows.iter().filter_map(|r| r.knob_rel).collect();
+            dhats.sort_by(|a, b| b.total_cmp(a));
+            dhats.dedup();
+            for (k, &d) in dhats.iter().enumerate() {
+                let at = |rule: &'static str| {
+                    rows.iter().filter(move |r| {
+                        r.knob_rel == Some(d) && r.kappa_rule.as_deref() == Some(rule)
+                    })
+                };
+                let (x, y): (Vec<f64>, Vec<f64>) = at("fixed")
+                    .filter_map(|r| Some((r.kappa_final?, y_of(r)?)))
+                    .unzip();
+                f = f.with_series(
+                    Series::new(
+                        format!("fixed κ, d̂ = {}·a", fmt_e(d, 0)),
+                        x,
+                        y,
+                        Mark::LinePoints,
+                    )
+                    .color(k),
+                );
+                for (j, rule) in ["ipc", "balanced"].into_iter().enumerate() {
+                    for r in at(rule) {
+                        if let (Some(kx), Some(v)) = (r.kappa_final, y_of(r)) {
+                            f = f.with_marker(
+                                Marker::new(format!("{rule} rule, d̂ = {}·a", fmt_e(d, 0)), kx, v)
+                                    .color(2 + 2 * k + j),
+                            );
+                        }
+                    }
+                }
+            }
+            panels.push(f);
+        }
+    }
+    panels
+}
+
 /// Renders every figure into `out/figures`; returns the files written.
 pub fn render(out: &Path, s: &Summary) -> Result<Vec<PathBuf>> {
     let dir = out.join("figures");
@@ -248,6 +312,16 @@ pub fn render(out: &Path, s: &Summary) -> Result<Vec<PathBuf>> {
             share_legend(&mut l, cols, size)?;
             files.extend(render_panels(&l, cols, &stem, size)?);
         }
+    }
+    let k = kappa_panels(s);
+    if !k.is_empty() {
+        let stem = dir.join("kappa_sensitivity");
+        files.extend(render_panels(
+            &k,
+            2,
+            &stem,
+            (1500, 520 * k.len().div_ceil(2) as u32),
+        )?);
     }
     if s.rows.iter().any(|r| r.method == "lagrange") {
         let f = convergence(s);

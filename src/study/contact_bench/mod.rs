@@ -14,7 +14,12 @@
 //!   `cond2_bounds_proven` and `cond2_within_contract` (false at the default `cond_tol`, which
 //!   is looser than the contract),
 //! - `iterations` (the rule's own outer iterations), `force_solves`, `force_mismatch`, and for
-//!   `barrier` its stiffness `kappa_initial`, `kappa_final`, `kappa_increases`.
+//!   `barrier` its stiffness `kappa_initial`, `kappa_final`, `kappa_increases` and the rule
+//!   that chose it, `kappa_rule` (`ipc`: ipc-toolkit's, from the block's bounding box; the
+//!   scenes carry their contact surface, [`crate::system::Surface`]).
+//!
+//! The barrier's κ is a second knob: [`kappa`] solves it at fixed κ across both adaptive
+//! rules' clamps (`kappa.csv`, figure `kappa_sensitivity`).
 //!
 //! Knobs: ε per unit contact length/area relative to E*/a (force/length³; the nodal penalty
 //! is ε·ω_c, ω_c the node's tributary weight), factors absolute, δ / d̂ / tolerances relative to the case's
@@ -30,6 +35,7 @@
 pub mod analytic;
 pub mod figures;
 mod jobs;
+pub mod kappa;
 mod record;
 
 pub use jobs::{jobs, refinement_jobs, BenchJob, ADAPTIVE_START};
@@ -334,6 +340,10 @@ pub struct BenchRow {
     /// `barrier` rows: times κ was doubled.
     #[serde(default)]
     pub kappa_increases: Option<usize>,
+    /// `barrier` rows: the rule that chose κ ([`strategy::barrier::KappaRule`]: `ipc`, the
+    /// default here, the scene having its surface; `balanced` or `fixed` in the κ study).
+    #[serde(default)]
+    pub kappa_rule: Option<String>,
     /// (total force − P)/P of the reported solution (in magnitude at most the rule's
     /// `Strategy::force_tol`: 1e-10, `optimal` 1e-6; more only where the rule's force
     /// jumps with the lift and the bracket collapsed at the jump).
@@ -390,6 +400,8 @@ pub struct BenchRun {
     pub profiles: Vec<Profile>,
     /// One per (case, mesh).
     pub floors: Vec<Floor>,
+    /// The barrier's κ study ([`kappa::kappa_sensitivity`]).
+    pub kappa: Vec<BenchRow>,
 }
 
 /// The knob value of `m` as the row records it.
@@ -403,7 +415,7 @@ fn knob_value(m: &Method) -> Option<f64> {
 }
 
 /// What one case on one mesh shares across its rows.
-struct Mesh<'a> {
+pub(crate) struct Mesh<'a> {
     case: Case,
     grid: &'a Grid,
     exact: Exact,
@@ -418,7 +430,7 @@ struct Mesh<'a> {
 }
 
 /// One job on one mesh: its row and its nodal pressures (empty if it failed).
-fn run_job(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> (BenchRow, Vec<f64>) {
+pub(crate) fn run_job(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> (BenchRow, Vec<f64>) {
     let exact = &mesh.exact;
     let mut row = BenchRow {
         case: mesh.case.name().into(),
@@ -456,6 +468,7 @@ fn run_job(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> (BenchRow, Vec<f64
         kappa_initial: None,
         kappa_final: None,
         kappa_increases: None,
+        kappa_rule: None,
         force_mismatch: f64::NAN,
         seconds: f64::NAN,
         error: String::new(),
@@ -506,6 +519,7 @@ fn run_job(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> (BenchRow, Vec<f64
     if let Some(k) = sol.stats.barrier {
         (row.kappa_initial, row.kappa_final, row.kappa_increases) =
             (Some(k.initial), Some(k.last), Some(k.increases));
+        row.kappa_rule = Some(k.rule.name().into());
     }
     let loaded: Vec<f64> = p.iter().copied().filter(|v| *v > 1e-9 * exact.p0).collect();
     if !loaded.is_empty() {
@@ -553,6 +567,71 @@ pub struct MeshRun {
     pub floor: Floor,
 }
 
+/// One case on one mesh before its jobs: the grid, the load and its analytic solution, and
+/// Lagrange's force-controlled solve (the reference of every rule's penalty error).
+pub(crate) struct Prepared {
+    case: Case,
+    /// Element size at the contact.
+    h: f64,
+    grid: Grid,
+    load: f64,
+    exact: Exact,
+    /// Lagrange at the load.
+    pub(crate) lagrange: Loaded,
+    p_lagrange: Vec<f64>,
+}
+
+impl Prepared {
+    /// Builds the mesh and solves Lagrange at the load.
+    pub(crate) fn new(cfg: &BenchConfig, case: Case, h_rel: f64) -> Result<Prepared> {
+        let (load, exact) = cfg.exact(case);
+        let grid = cfg.grid(case, h_rel)?;
+        // Half-space indentation a²/R as the first guess (the flat punch: p̄H/E*).
+        let guess = match case {
+            Case::FlatPunch => exact.p0 * grid.height() / cfg.e_star(),
+            _ => cfg.a_target * cfg.a_target / cfg.radius,
+        };
+        let lagrange = solve_at_load(
+            case.name(),
+            |w| cfg.scene(case, &grid, w),
+            Method::lagrange(),
+            load,
+            guess,
+            FORCE_TOL,
+        )?;
+        let p_lagrange = lagrange.scene.pressures(&lagrange.sol.u);
+        Ok(Prepared {
+            case,
+            h: h_rel * cfg.a_target,
+            grid,
+            load,
+            exact,
+            lagrange,
+            p_lagrange,
+        })
+    }
+
+    /// What the mesh's jobs share.
+    pub(crate) fn mesh(&self) -> Mesh<'_> {
+        let lag = &self.lagrange;
+        Mesh {
+            case: self.case,
+            grid: &self.grid,
+            exact: self.exact,
+            load: self.load,
+            h: self.h,
+            n_free: lag.scene.n_free,
+            lift_lagrange: lag.scene.lift,
+            err_discretization: analytic::pressure_error(
+                &lag.scene.contact,
+                &self.p_lagrange,
+                &self.exact,
+            ),
+            p_lagrange: &self.p_lagrange,
+        }
+    }
+}
+
 /// A job that takes at least this long (s) gets its own progress line.
 pub const LONG_JOB_S: f64 = 10.0;
 
@@ -561,23 +640,8 @@ pub const LONG_JOB_S: f64 = 10.0;
 /// gets a line (`optimal` takes 8–64 min per δ on the 5 253-DOF plane mesh).
 pub fn run_mesh(cfg: &BenchConfig, case: Case, h_rel: f64, progress: &Progress) -> Result<MeshRun> {
     let finest = cfg.meshes.iter().copied().fold(f64::INFINITY, f64::min);
-    let (load, exact) = cfg.exact(case);
-    let grid = cfg.grid(case, h_rel)?;
-    // Half-space indentation a²/R as the first guess (the flat punch: p̄H/E*).
-    let guess = match case {
-        Case::FlatPunch => exact.p0 * grid.height() / cfg.e_star(),
-        _ => cfg.a_target * cfg.a_target / cfg.radius,
-    };
-    let scene = |w| cfg.scene(case, &grid, w);
-    let lag = solve_at_load(
-        case.name(),
-        scene,
-        Method::lagrange(),
-        load,
-        guess,
-        FORCE_TOL,
-    )?;
-    let p_lag = lag.scene.pressures(&lag.sol.u);
+    let prep = Prepared::new(cfg, case, h_rel)?;
+    let lag = &prep.lagrange;
     // K and the contact DOFs do not depend on the lift: one floor per mesh.
     let floor = Floor {
         case: case.name().into(),
@@ -585,17 +649,7 @@ pub fn run_mesh(cfg: &BenchConfig, case: Case, h_rel: f64, progress: &Progress) 
         n_dofs: lag.scene.n_free,
         cond2_floor: strategy::optimal::cond2_lower_bound(&lag.scene.problem)?,
     };
-    let mesh = Mesh {
-        case,
-        grid: &grid,
-        exact,
-        load,
-        h: h_rel * cfg.a_target,
-        n_free: lag.scene.n_free,
-        lift_lagrange: lag.scene.lift,
-        err_discretization: analytic::pressure_error(&lag.scene.contact, &p_lag, &exact),
-        p_lagrange: &p_lag,
-    };
+    let mesh = prep.mesh();
     // The jobs of a mesh are independent: solved in parallel, kept in job order; then the
     // knob values added near each rule's leaderboard threshold, solved the same way.
     let scale = cfg.length_scale(case, lag.scene.lift);
@@ -700,6 +754,7 @@ pub fn run(
             out.floors.push(mesh.floor);
         }
     }
+    out.kappa = kappa::kappa_sensitivity(cfg, progress)?;
     progress.finish();
     Ok(out)
 }

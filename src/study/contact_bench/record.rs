@@ -180,9 +180,13 @@ pub struct Summary {
     /// Per (case, mesh): the cond₂ no penalties can go below.
     #[serde(default)]
     pub floors: Vec<Floor>,
+    /// The barrier at fixed κ and under each κ rule ([`super::kappa`]).
+    #[serde(default)]
+    pub kappa: Vec<BenchRow>,
 }
 
-/// Writes `OUT/rows.csv` and `OUT/summary.json` (provenance, rates, leaderboard, rows).
+/// Writes `OUT/rows.csv`, `OUT/kappa.csv` (the κ study, if run) and `OUT/summary.json`
+/// (provenance, rates, leaderboard, rows, the κ study).
 pub fn save(out: &std::path::Path, cfg: &BenchConfig, run: &BenchRun) -> Result<Summary> {
     let rows = &run.rows;
     std::fs::create_dir_all(out).map_err(|e| Error::io(out.display(), e))?;
@@ -200,8 +204,12 @@ pub fn save(out: &std::path::Path, cfg: &BenchConfig, run: &BenchRun) -> Result<
         rows: rows.to_vec(),
         profiles: run.profiles.clone(),
         floors: run.floors.clone(),
+        kappa: run.kappa.clone(),
     };
     crate::provenance::write_csv(&out.join("rows.csv"), rows)?;
+    if !run.kappa.is_empty() {
+        crate::provenance::write_csv(&out.join("kappa.csv"), &run.kappa)?;
+    }
     crate::provenance::write_json(&out.join("summary.json"), &summary)?;
     Ok(summary)
 }
