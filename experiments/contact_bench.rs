@@ -55,6 +55,9 @@ struct Args {
     /// Relative accuracy asked of cond₂.
     #[arg(long)]
     cond_tol: Option<f64>,
+    /// Hertz block size over a (default 16; the domain study's blocks are fixed).
+    #[arg(long)]
+    block_over_a: Option<f64>,
     /// Output directory.
     #[arg(long, default_value = "results/contact_bench")]
     out: PathBuf,
@@ -107,6 +110,9 @@ fn config(a: &Args) -> Result<BenchConfig> {
     }
     if let Some(t) = a.cond_tol {
         cfg.cond_tol = t;
+    }
+    if let Some(b) = a.block_over_a {
+        cfg.block_over_a = b;
     }
     cfg.validate()?;
     Ok(cfg)

@@ -162,7 +162,15 @@ impl Grid {
                  (got {width}, {height}, {h}, {fine}, {growth})"
             )));
         }
-        if width / h > 1e5 || height / h > 1e5 {
+        // Elements per axis: the uniform zone, then a geometric growth (all uniform if 1).
+        let count = |len: f64| {
+            if growth > 1.0 {
+                fine.min(len) / h + (len / fine).max(1.0).ln() / growth.ln()
+            } else {
+                len / h
+            }
+        };
+        if count(width) > 1e5 || count(height) > 1e5 {
             return Err(Error::input(format!(
                 "graded grid: h = {h} is too small for a {width} × {height} block"
             )));

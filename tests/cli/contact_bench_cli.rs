@@ -124,6 +124,8 @@ fn bad_options_exit_2_with_one_line() {
         &["--factors", "inf"],
         &["--deltas-rel", "0"],
         &["--optimal-max-n", "20001"],
+        &["--block-over-a", "1"],
+        &["--block-over-a", "nan"],
     ] {
         let o = bin().args(args).arg("--quiet").output().unwrap();
         assert_eq!(o.status.code(), Some(2), "{args:?}");

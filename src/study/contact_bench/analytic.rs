@@ -7,8 +7,9 @@
 //! - axisymmetric (sphere): `a = (3PR/(4E*))^(1/3)`, `p0 = 3P/(2πa²)`;
 //! - both: `p(x) = p0 √(1 − x²/a²)` for |x| ≤ a, 0 beyond.
 //!
-//! The half-space is modelled by a block much larger than a (`BLOCK_OVER_A` times), clamped at
-//! its base; the indenter's surface is the parabola x²/(2R) of Hertz theory.
+//! The half-space is modelled by a block much larger than a (`block_over_a` times, 16 by
+//! default), clamped at its base, whose bias the domain study measures
+//! ([`super::domain`]); the indenter's surface is the parabola x²/(2R) of Hertz theory.
 //!
 //! **Flat punch** (`flat-punch`): a flat rigid punch covering the whole top of a block on a
 //! frictionless base; the exact pressure is uniform, `p̄ = P / A` (A the contact length of the

@@ -10,7 +10,7 @@
 
 use super::{analytic::Case, rule_of, BenchRow, Summary};
 use crate::error::Result;
-use crate::plot::{render_panels, share_legend, Figure, Mark, Marker, Scale, Series};
+use crate::plot::{render_panels, share_legend, Figure, Glyph, Mark, Marker, Scale, Series};
 use crate::study::text::{fmt_e, table};
 use std::path::{Path, PathBuf};
 
@@ -34,14 +34,14 @@ fn method_of(rule: &str) -> &str {
     rule.split(' ').next().unwrap_or(rule)
 }
 
-/// A knob value as the legends write it: `ε = 1e2·E*`, `f = 10`, `δ = 1e−3·a`, `tol = …`.
+/// A knob value as the legends write it: `ε = 1e2·E*/a`, `f = 10`, `δ = 1e−3·a`, `tol = …`.
 fn knob_label(knob: &str, k: Option<f64>) -> String {
     let Some(v) = k else {
         return "exact".to_string();
     };
     let v = crate::study::text::fmt_e_trim(v, 3);
     match knob {
-        "eps" => format!("ε = {v}·E*"),
+        "eps" => format!("ε = {v}·E*/a"),
         "factor" => format!("f = {v}"),
         "delta" => format!("δ = {v}·a"),
         _ => format!("tol = {v}·a"),
@@ -107,7 +107,9 @@ fn pressure_panels(s: &Summary, case: Case) -> Vec<Figure> {
     panels
 }
 
-/// Lagrange's errors against h, per case.
+/// Lagrange's errors against h, per case: the discretization error (Hertz: on the reference
+/// block, [`super::domain`]; the rate is its fit), the error on the benchmark's block and its
+/// domain error.
 fn convergence(s: &Summary) -> Figure {
     let mut f = Figure::new(
         "Lagrange against the analytic solution",
@@ -131,9 +133,15 @@ fn convergence(s: &Summary) -> Figure {
             .and_then(|(_, r)| *r)
             .map_or(String::new(), |r| format!(", rate {r:.2}"));
         let h: Vec<f64> = lag.iter().map(|r| r.h).collect();
+        let hertz = case != Case::FlatPunch;
+        let disc = if hertz {
+            "discretization error (reference block)"
+        } else {
+            "L2 pressure error"
+        };
         f = f.with_series(
             Series::new(
-                format!("{}: L2 pressure error{rate}", case.name()),
+                format!("{}: {disc}{rate}", case.name()),
                 h.clone(),
                 lag.iter()
                     .map(|r| r.err_discretization.max(FLOOR))
@@ -142,10 +150,38 @@ fn convergence(s: &Summary) -> Figure {
             )
             .color(k),
         );
-        if case != Case::FlatPunch {
+        if hertz {
             f = f.with_series(
                 Series::new(
-                    format!("{}: |p0 − p0_exact| / p0_exact", case.name()),
+                    format!(
+                        "{}: error on the benchmark's block (with its domain error)",
+                        case.name()
+                    ),
+                    h.clone(),
+                    lag.iter().map(|r| r.p_err_rel.max(FLOOR)).collect(),
+                    Mark::Points,
+                )
+                .color(k)
+                .glyph(Glyph::Square),
+            );
+            f = f.with_series(
+                Series::new(
+                    format!("{}: domain error of the benchmark's block", case.name()),
+                    h.clone(),
+                    lag.iter().map(|r| r.err_domain.max(FLOOR)).collect(),
+                    Mark::Points,
+                )
+                .color(k)
+                .glyph(Glyph::Cross),
+            );
+        }
+        if hertz {
+            f = f.with_series(
+                Series::new(
+                    format!(
+                        "{}: |p0 − p0_exact| / p0_exact (benchmark's block)",
+                        case.name()
+                    ),
                     h,
                     lag.iter()
                         .map(|r| ((r.p0_num - r.p0_exact) / r.p0_exact).abs().max(FLOOR))
@@ -157,6 +193,53 @@ fn convergence(s: &Summary) -> Figure {
         }
     }
     f
+}
+
+/// The domain study: each Hertz mesh's distance from the reference block against the block
+/// size, with a tenth of the finest mesh's discretization error for scale.
+fn domain_panels(s: &Summary) -> Vec<Figure> {
+    let mut panels = Vec::new();
+    for case in [Case::HertzPlane, Case::HertzAxi] {
+        let rows: Vec<_> = s.domain.iter().filter(|r| r.case == case.name()).collect();
+        let Some(reference) = rows.iter().map(|r| r.block_over_a).reduce(f64::max) else {
+            continue;
+        };
+        let mut f = Figure::new(
+            format!(
+                "{}: domain error against the {reference}a block (Lagrange)",
+                case.name()
+            ),
+            "block size / a",
+            "‖p_block − p_reference‖ / ‖p_exact‖",
+        )
+        .scales(Scale::Log10, Scale::Log10);
+        let mut hs: Vec<f64> = rows.iter().map(|r| r.h).collect();
+        hs.sort_by(|a, b| b.total_cmp(a));
+        hs.dedup();
+        for (k, &h) in hs.iter().enumerate() {
+            let (x, y): (Vec<f64>, Vec<f64>) = rows
+                .iter()
+                .filter(|r| r.h == h && r.block_over_a < reference)
+                .map(|r| (r.block_over_a, r.err_domain.max(FLOOR)))
+                .unzip();
+            f = f.with_series(
+                Series::new(format!("h = {}·a", fmt_e(h, 2)), x, y, Mark::LinePoints).color(k),
+            );
+        }
+        let finest = s
+            .rows
+            .iter()
+            .filter(|r| r.case == case.name() && r.method == "lagrange")
+            .min_by(|a, b| a.h.total_cmp(&b.h));
+        if let Some(r) = finest {
+            f = f.hline(
+                0.1 * r.err_discretization,
+                "a tenth of the finest mesh's discretization error",
+            );
+        }
+        panels.push(f);
+    }
+    panels
 }
 
 /// Penalty error against cond₂ per rule, one panel per mesh.
@@ -313,6 +396,11 @@ pub fn render(out: &Path, s: &Summary) -> Result<Vec<PathBuf>> {
             files.extend(render_panels(&l, cols, &stem, size)?);
         }
     }
+    let d = domain_panels(s);
+    if !d.is_empty() {
+        let stem = dir.join("domain");
+        files.extend(render_panels(&d, 2, &stem, (1500, 560))?);
+    }
     let k = kappa_panels(s);
     if !k.is_empty() {
         let stem = dir.join("kappa_sensitivity");
@@ -350,6 +438,8 @@ pub fn tables(s: &Summary) -> String {
                 format!("{:.4}", r.a_num / r.a_exact),
                 format!("{:.4}", r.p0_num / r.p0_exact),
                 fmt_e(r.err_discretization, 2),
+                fmt_e(r.p_err_rel, 2),
+                fmt_e(r.err_domain, 2),
                 if r.case == Case::FlatPunch.name() {
                     fmt_e(r.p_spread, 1)
                 } else {
@@ -367,13 +457,17 @@ pub fn tables(s: &Summary) -> String {
             "DOFs",
             "a/a_exact",
             "p0/p0_exact",
-            "L2 error",
+            "discretization",
+            "on the block",
+            "domain",
             "spread",
             "cond₂",
             "penalty floor",
         ],
         &lag,
-        &[false, true, true, true, true, true, true, true, true],
+        &[
+            false, true, true, true, true, true, true, true, true, true, true,
+        ],
     ));
     for (case, rate) in &s.rates {
         out.push_str(&format!(

@@ -7,7 +7,11 @@
 //! are compared at equal load, as a user loads a model. Lagrange's pressure against the
 //! analytic one is the discretization error of the mesh; a rule's against Lagrange's on the
 //! same mesh is the error its penalty adds. One row per (case, method, knob, mesh):
-//! - `err_discretization` = [`analytic::pressure_error`] of Lagrange,
+//! - `err_discretization` = [`analytic::pressure_error`] of Lagrange — for Hertz on the
+//!   reference block of the domain study ([`domain`]), so that the finite block's bias is not
+//!   counted as the mesh's; `err_domain` = that bias, the distance of Lagrange on the
+//!   benchmark's block from Lagrange on the reference block (Lagrange's own `p_err_rel` holds
+//!   both); `domain.csv` and the figure `domain` hold the study,
 //! - `err_penalty` = [`analytic::pressure_distance`] of the rule from Lagrange,
 //! - `p_err_rel` = the rule's own [`analytic::pressure_error`] (≤ the sum of the two),
 //! - `cond2_system` of its final system matrix ([`crate::metrics`], to `cond_tol`), with
@@ -33,6 +37,7 @@
 //! resolution and ties; each mesh's [`Floor`] says how far below that any penalties could go.
 
 pub mod analytic;
+pub mod domain;
 pub mod figures;
 mod jobs;
 pub mod kappa;
@@ -87,6 +92,10 @@ pub struct BenchConfig {
     pub radius: f64,
     /// Hertz contact half-width (radius) a the load is chosen for: P from a.
     pub a_target: f64,
+    /// Hertz block size over a (a square block, clamped at its base: the model of the
+    /// half-space; [`domain`] measures what it costs against larger blocks).
+    #[serde(default = "default_block")]
+    pub block_over_a: f64,
     /// `optimal` runs only on meshes with at most this many DOFs (≤ `optimal::MAX_N`): each
     /// solve takes ≈ 500–1 600 evaluations of the spectrum's ends on the Hertz meshes, and
     /// force control solves it 4–11 times (measured on 2 cores: 60–132 s per δ at 2 211 DOFs,
@@ -114,11 +123,16 @@ impl Default for BenchConfig {
             radius: 10.0,
             a_target: 1.0,
             optimal_max_n: 100,
+            block_over_a: BLOCK_OVER_A,
         }
     }
 }
 
-/// Block size over a (Hertz) : the model of the half-space.
+fn default_block() -> f64 {
+    BLOCK_OVER_A
+}
+
+/// Default Hertz block size over a: the model of the half-space ([`domain`]).
 pub const BLOCK_OVER_A: f64 = 16.0;
 /// Geometric growth of the elements away from the contact zone.
 pub const GROWTH: f64 = 1.2;
@@ -152,6 +166,13 @@ impl BenchConfig {
         pos("--factors", &self.factors)?;
         pos("--deltas-rel", &self.deltas_rel)?;
         pos("E, R, a", &[self.young, self.radius, self.a_target])?;
+        if !(self.block_over_a >= 2.0 * FINE_OVER_A && self.block_over_a <= 1e4) {
+            return Err(Error::input(format!(
+                "--block-over-a: {} is outside [{}, 1e4]",
+                self.block_over_a,
+                2.0 * FINE_OVER_A
+            )));
+        }
         if let Some(h) = self.meshes.iter().find(|h| **h > 0.5 || **h < 1e-3) {
             return Err(Error::input(format!(
                 "--meshes: h/a = {h} is outside [1e-3, 0.5]"
@@ -211,19 +232,19 @@ impl BenchConfig {
 
     /// The mesh of `case` at relative size `h_rel`.
     pub fn grid(&self, case: Case, h_rel: f64) -> Result<Grid> {
+        self.grid_sized(case, h_rel, self.block_over_a)
+    }
+
+    /// The mesh of `case` at relative size `h_rel` on a Hertz block of `block`·a (the flat
+    /// punch's block is a × a whatever `block`).
+    pub fn grid_sized(&self, case: Case, h_rel: f64, block: f64) -> Result<Grid> {
         let a = self.a_target;
         match case {
             Case::FlatPunch => {
                 let w = self.punch_half_width();
                 Grid::graded(w, w, h_rel * self.a_target, w, 1.0)
             }
-            _ => Grid::graded(
-                BLOCK_OVER_A * a,
-                BLOCK_OVER_A * a,
-                h_rel * a,
-                FINE_OVER_A * a,
-                GROWTH,
-            ),
+            _ => Grid::graded(block * a, block * a, h_rel * a, FINE_OVER_A * a, GROWTH),
         }
     }
 
@@ -299,9 +320,16 @@ pub struct BenchRow {
     /// Pressure distance from Lagrange on the same mesh (relative to ‖p_exact‖).
     #[serde(deserialize_with = "crate::provenance::null_as_nan")]
     pub err_penalty: f64,
-    /// Lagrange's pressure error against the analytic pressure on this mesh.
+    /// Lagrange's pressure error against the analytic pressure on this mesh — Hertz: on the
+    /// reference block ([`domain`]), the finite block's bias removed; the flat punch: on its
+    /// block (exact there).
     #[serde(deserialize_with = "crate::provenance::null_as_nan")]
     pub err_discretization: f64,
+    /// What the finite block adds ([`domain`]): the distance of Lagrange's pressure on the
+    /// benchmark's block from the reference block's, relative to ‖p_exact‖ (0 for the flat
+    /// punch).
+    #[serde(default, deserialize_with = "crate::provenance::null_as_nan")]
+    pub err_domain: f64,
     /// Max penetration.
     #[serde(deserialize_with = "crate::provenance::null_as_nan")]
     pub max_penetration: f64,
@@ -402,6 +430,8 @@ pub struct BenchRun {
     pub floors: Vec<Floor>,
     /// The barrier's κ study ([`kappa::kappa_sensitivity`]).
     pub kappa: Vec<BenchRow>,
+    /// The domain study ([`domain`]), per Hertz mesh and block size.
+    pub domain: Vec<domain::DomainRow>,
 }
 
 /// The knob value of `m` as the row records it.
@@ -427,6 +457,7 @@ pub(crate) struct Mesh<'a> {
     lift_lagrange: f64,
     p_lagrange: &'a [f64],
     err_discretization: f64,
+    err_domain: f64,
 }
 
 /// One job on one mesh: its row and its nodal pressures (empty if it failed).
@@ -456,6 +487,7 @@ pub(crate) fn run_job(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> (BenchR
         p_err_rel: f64::NAN,
         err_penalty: f64::NAN,
         err_discretization: mesh.err_discretization,
+        err_domain: mesh.err_domain,
         max_penetration: f64::NAN,
         p_spread: f64::NAN,
         cond2_system: None,
@@ -565,27 +597,47 @@ pub struct MeshRun {
     pub profiles: Vec<Profile>,
     /// The mesh's conditioning floor.
     pub floor: Floor,
+    /// Hertz: Lagrange on every block of the domain study ([`domain`]).
+    #[serde(default)]
+    pub domain: Vec<domain::DomainRow>,
 }
 
 /// One case on one mesh before its jobs: the grid, the load and its analytic solution, and
 /// Lagrange's force-controlled solve (the reference of every rule's penalty error).
 pub(crate) struct Prepared {
-    case: Case,
+    pub(crate) case: Case,
+    /// The `meshes` entry.
+    pub(crate) h_rel: f64,
     /// Element size at the contact.
-    h: f64,
+    pub(crate) h: f64,
     grid: Grid,
     load: f64,
-    exact: Exact,
+    pub(crate) exact: Exact,
     /// Lagrange at the load.
     pub(crate) lagrange: Loaded,
-    p_lagrange: Vec<f64>,
+    pub(crate) p_lagrange: Vec<f64>,
+    /// Lagrange's error against the analytic pressure that the rows report as
+    /// `err_discretization` (Hertz: on the reference block, [`domain`]).
+    err_discretization: f64,
+    /// `err_domain` of the rows.
+    err_domain: f64,
 }
 
 impl Prepared {
     /// Builds the mesh and solves Lagrange at the load.
     pub(crate) fn new(cfg: &BenchConfig, case: Case, h_rel: f64) -> Result<Prepared> {
+        Prepared::new_sized(cfg, case, h_rel, cfg.block_over_a)
+    }
+
+    /// [`Prepared::new`] on a Hertz block of `block`·a.
+    pub(crate) fn new_sized(
+        cfg: &BenchConfig,
+        case: Case,
+        h_rel: f64,
+        block: f64,
+    ) -> Result<Prepared> {
         let (load, exact) = cfg.exact(case);
-        let grid = cfg.grid(case, h_rel)?;
+        let grid = cfg.grid_sized(case, h_rel, block)?;
         // Half-space indentation a²/R as the first guess (the flat punch: p̄H/E*).
         let guess = match case {
             Case::FlatPunch => exact.p0 * grid.height() / cfg.e_star(),
@@ -600,14 +652,19 @@ impl Prepared {
             FORCE_TOL,
         )?;
         let p_lagrange = lagrange.scene.pressures(&lagrange.sol.u);
+        let err_discretization =
+            analytic::pressure_error(&lagrange.scene.contact, &p_lagrange, &exact);
         Ok(Prepared {
             case,
+            h_rel,
             h: h_rel * cfg.a_target,
             grid,
             load,
             exact,
             lagrange,
             p_lagrange,
+            err_discretization,
+            err_domain: 0.0,
         })
     }
 
@@ -622,11 +679,8 @@ impl Prepared {
             h: self.h,
             n_free: lag.scene.n_free,
             lift_lagrange: lag.scene.lift,
-            err_discretization: analytic::pressure_error(
-                &lag.scene.contact,
-                &self.p_lagrange,
-                &self.exact,
-            ),
+            err_discretization: self.err_discretization,
+            err_domain: self.err_domain,
             p_lagrange: &self.p_lagrange,
         }
     }
@@ -640,7 +694,13 @@ pub const LONG_JOB_S: f64 = 10.0;
 /// gets a line (`optimal` takes 8–64 min per δ on the 5 253-DOF plane mesh).
 pub fn run_mesh(cfg: &BenchConfig, case: Case, h_rel: f64, progress: &Progress) -> Result<MeshRun> {
     let finest = cfg.meshes.iter().copied().fold(f64::INFINITY, f64::min);
-    let prep = Prepared::new(cfg, case, h_rel)?;
+    let mut prep = Prepared::new(cfg, case, h_rel)?;
+    let mut domain_rows = Vec::new();
+    if case != Case::FlatPunch {
+        let d = domain::domain(cfg, &prep)?;
+        (prep.err_discretization, prep.err_domain) = (d.err_discretization, d.err_domain);
+        domain_rows = d.rows;
+    }
     let lag = &prep.lagrange;
     // K and the contact DOFs do not depend on the lift: one floor per mesh.
     let floor = Floor {
@@ -666,6 +726,7 @@ pub fn run_mesh(cfg: &BenchConfig, case: Case, h_rel: f64, progress: &Progress) 
         rows: Vec::new(),
         profiles: Vec::new(),
         floor,
+        domain: domain_rows,
     };
     for (row, p) in solved {
         if h_rel == finest && !p.is_empty() {
@@ -752,6 +813,7 @@ pub fn run(
             out.rows.extend(mesh.rows);
             out.profiles.extend(mesh.profiles);
             out.floors.push(mesh.floor);
+            out.domain.extend(mesh.domain);
         }
     }
     out.kappa = kappa::kappa_sensitivity(cfg, progress)?;

@@ -1,9 +1,7 @@
 //! What the benchmark records: the leaderboard, the convergence rates, and the saved summary.
 
 use super::analytic::Case;
-use super::{
-    BenchConfig, BenchRow, BenchRun, Floor, MeshRun, Profile, BLOCK_OVER_A, FINE_OVER_A, GROWTH,
-};
+use super::{BenchConfig, BenchRow, BenchRun, Floor, MeshRun, Profile, FINE_OVER_A, GROWTH};
 use crate::error::{Error, Result};
 use crate::strategy;
 use serde::{Deserialize, Serialize};
@@ -183,10 +181,14 @@ pub struct Summary {
     /// The barrier at fixed κ and under each κ rule ([`super::kappa`]).
     #[serde(default)]
     pub kappa: Vec<BenchRow>,
+    /// Lagrange per Hertz mesh and block size ([`super::domain`]).
+    #[serde(default)]
+    pub domain: Vec<super::domain::DomainRow>,
 }
 
-/// Writes `OUT/rows.csv`, `OUT/kappa.csv` (the κ study, if run) and `OUT/summary.json`
-/// (provenance, rates, leaderboard, rows, the κ study).
+/// Writes `OUT/rows.csv`, `OUT/kappa.csv` (the κ study, if run), `OUT/domain.csv` (the domain
+/// study, with a Hertz case) and `OUT/summary.json` (provenance, rates, leaderboard, rows and
+/// both studies).
 pub fn save(out: &std::path::Path, cfg: &BenchConfig, run: &BenchRun) -> Result<Summary> {
     let rows = &run.rows;
     std::fs::create_dir_all(out).map_err(|e| Error::io(out.display(), e))?;
@@ -195,7 +197,7 @@ pub fn save(out: &std::path::Path, cfg: &BenchConfig, run: &BenchRun) -> Result<
             "config": cfg,
             // The jobs of a mesh run on rayon's pool (results do not depend on it; `seconds` do).
             "threads": rayon::current_num_threads(),
-            "block_over_a": BLOCK_OVER_A,
+            "domain_sizes": super::domain::DOMAIN_SIZES,
             "growth": GROWTH,
             "fine_over_a": FINE_OVER_A,
         })),
@@ -205,10 +207,14 @@ pub fn save(out: &std::path::Path, cfg: &BenchConfig, run: &BenchRun) -> Result<
         profiles: run.profiles.clone(),
         floors: run.floors.clone(),
         kappa: run.kappa.clone(),
+        domain: run.domain.clone(),
     };
     crate::provenance::write_csv(&out.join("rows.csv"), rows)?;
     if !run.kappa.is_empty() {
         crate::provenance::write_csv(&out.join("kappa.csv"), &run.kappa)?;
+    }
+    if !run.domain.is_empty() {
+        crate::provenance::write_csv(&out.join("domain.csv"), &run.domain)?;
     }
     crate::provenance::write_json(&out.join("summary.json"), &summary)?;
     Ok(summary)
