@@ -21,7 +21,7 @@ const LAYERS: &[&[&str]] = &[
     &["study"],
 ];
 /// Children of `src/study/` that are no binary's study but shared by studies.
-const STUDY_SUPPORT: &[&str] = &["study::text", "study::forming_runs"];
+const STUDY_SUPPORT: &[&str] = &["study::text", "study::forming_runs", "study::shape"];
 
 fn layer(module: &str) -> Option<usize> {
     let key = if module.starts_with("study::") {

@@ -7,7 +7,9 @@
 //! it): [`sweep`], [`solve`], [`paper_beam`], [`deep_drawing`], [`stretch_test`],
 //! [`runtime_vs_error`], [`stress`], [`cond_cost`], [`cond_accuracy`], [`engine_scale`]. No
 //! study imports another; what several share is a support module: [`text`] (number formats,
-//! aligned tables and wrapped notes of the printed reports) and [`forming_runs`] (the forming
+//! aligned tables and wrapped notes of the printed reports), [`shape`] (the one shape of a
+//! study, [`Study`], and the entry every study binary goes through, [`main`]) and
+//! [`forming_runs`] (the forming
 //! experiments' runs, records and figures).
 
 pub mod cond_accuracy;
@@ -18,8 +20,11 @@ pub mod engine_scale;
 pub mod forming_runs;
 pub mod paper_beam;
 pub mod runtime_vs_error;
+pub mod shape;
 pub mod solve;
 pub mod stress;
 pub mod stretch_test;
 pub mod sweep;
 pub mod text;
+
+pub use shape::{main, Drawing, RunContext, Study};

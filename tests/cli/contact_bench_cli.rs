@@ -55,9 +55,11 @@ fn small_suite_writes_rows_summary_and_figures() {
         "p_err_rel",
         "err_penalty",
         "err_discretization",
+        "err_domain",
         "max_penetration",
         "cond2_system",
         "converged",
+        "kappa_rule",
         "seconds",
     ] {
         assert!(header.split(',').any(|c| c == col), "column {col} missing");

@@ -14,5 +14,6 @@ mod paper_beam_cli;
 mod plot_smoke;
 mod runtime_vs_error_cli;
 mod solve_cli;
+mod study_entry;
 mod sweep_cli;
 mod sweep_figures;

@@ -16,6 +16,12 @@
 //!   of κ₁, not κ₂ (`n^{-1}κ₁ ≤ κ₂ ≤ n·κ₁`), so its "error" says how far a 1-norm condition
 //!   estimate is from cond₂.
 
+mod figures;
+mod report;
+
+pub use figures::{figures, ERROR_FLOOR};
+pub use report::table;
+
 use crate::conditioning::{self, reference, sparse};
 use crate::error::{Error, Result};
 use crate::generate::{generate, Family, GeneratorConfig};
@@ -297,47 +303,77 @@ pub fn load(out: &std::path::Path) -> Result<Vec<Row>> {
     Ok(doc.rows)
 }
 
-/// Smallest error drawn (an exact value has error 0, which a log axis cannot show).
-pub const ERROR_FLOOR: f64 = 1e-17;
-
-/// Renders `OUT/cond_accuracy.{png,svg}`: relative error of cond₂ against wall time, one
-/// marker colour per route, log–log; errors below [`ERROR_FLOOR`] drawn at it.
-pub fn render_figure(rows: &[Row], out: &std::path::Path) -> Result<Vec<PathBuf>> {
-    use crate::plot::{render, Figure, Mark, Series};
-    let mut fig = Figure::new(
-        "cond₂ by route: relative error against the double-double reference vs wall time",
-        "wall time (s, median, 1 thread)",
-        "|cond₂ / reference − 1|",
-    )
-    .log_log()
-    .with_size(1000, 650);
-    for (k, route) in ROUTES.iter().enumerate() {
-        let (x, y): (Vec<f64>, Vec<f64>) = rows
-            .iter()
-            .filter(|r| r.route == *route)
-            .map(|r| (r.seconds, r.rel_error.max(ERROR_FLOOR)))
-            .unzip();
-        if !x.is_empty() {
-            fig = fig.with_series(Series::new(*route, x, y, Mark::Points).color(k));
-        }
-    }
-    render(&fig, &out.join("cond_accuracy"))
+/// The `cond_accuracy` binary's flags.
+#[derive(clap::Args, Debug)]
+pub struct Flags {
+    /// Generated scenes per family (beam, membrane, spectrum).
+    #[arg(long, default_value_t = 2)]
+    per_family: usize,
+    /// Seed of the generated scenes.
+    #[arg(long, default_value_t = 2024)]
+    seed: u64,
+    /// Penalty factors f (ε_c = f·K_dd on every constraint DOF; 0 = K alone).
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true, default_values_t = [0.0, 1.0, 1e3, 1e6, 1e9, 1e12])]
+    factors: Vec<f64>,
+    /// Scene files measured besides the generated ones ("" for none).
+    #[arg(long, value_delimiter = ',', default_values_t = [
+        "tests/data/elasticity/elasticity-quad-block.scene.json".to_string(),
+        "tests/data/elasticity/elasticity-tet-brick.scene.json".to_string(),
+    ])]
+    scenes: Vec<String>,
+    /// Repeats per timing (the median is reported).
+    #[arg(long, default_value_t = 3)]
+    repeats: usize,
 }
 
-/// The per-route summary as a Markdown table.
-pub fn table(rows: &[Row]) -> String {
-    let mut t = String::from(
-        "| route | median time (s) | median error | largest error | within max(1e-12, 4ε·cond₂) | bounds within target |\n\
-         |---|---:|---:|---:|---:|---:|\n",
-    );
-    for s in summary(rows) {
-        let tight = s
-            .tight
-            .map_or("—".to_string(), |(k, n)| format!("{k} / {n}"));
-        t.push_str(&format!(
-            "| `{}` | {:.2e} | {:.1e} | {:.1e} | {} / {} | {tight} |\n",
-            s.route, s.median_seconds, s.median_error, s.max_error, s.within, s.total
-        ));
+/// The study as the shared entry runs it ([`crate::study::shape::main`]).
+pub struct CondAccuracy;
+
+impl crate::study::shape::Study for CondAccuracy {
+    const NAME: &'static str = "cond_accuracy";
+    const ABOUT: &'static str =
+        "Error of cond2 against a double-double reference vs run time, for every route";
+    const PROGRESS: &'static str = "cond_accuracy (matrices)";
+    const DEFAULT_OUT: &'static str = "figures/cond_accuracy";
+    const FIGURES_DIR: &'static str = "";
+    type Flags = Flags;
+    type Config = Config;
+    type Record = Vec<Row>;
+
+    fn config(a: &Flags) -> Result<Config> {
+        Ok(Config {
+            per_family: a.per_family,
+            seed: a.seed,
+            factors: a.factors.clone(),
+            scene_files: a
+                .scenes
+                .iter()
+                .filter(|s| !s.is_empty())
+                .map(PathBuf::from)
+                .collect(),
+            repeats: a.repeats,
+        })
     }
-    t
+
+    fn run(cfg: &Config, ctx: &crate::study::shape::RunContext) -> Result<Vec<Row>> {
+        let progress = ctx.progress;
+        progress.set_total((3 * cfg.per_family + cfg.scene_files.len()) * cfg.factors.len());
+        run(cfg, |what| progress.step(what))
+    }
+
+    fn save(out: &std::path::Path, cfg: &Config, rows: &Vec<Row>) -> Result<()> {
+        save(out, cfg, rows)
+    }
+
+    fn load(out: &std::path::Path) -> Result<Vec<Row>> {
+        load(out)
+    }
+
+    fn figures(rows: &Vec<Row>) -> Result<Vec<crate::study::shape::Drawing>> {
+        Ok(figures(rows))
+    }
+
+    fn report(rows: &Vec<Row>) -> String {
+        table(rows)
+    }
 }

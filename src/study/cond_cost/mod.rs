@@ -8,18 +8,23 @@
 //! certificate), and, up to `dense_max` unknowns, of the dense symmetric eigenvalue and SVD
 //! routes. Times are medians of `repeats` runs, single-threaded.
 
+mod figures;
+mod report;
+
+pub use figures::figures;
+pub use report::table;
+
 use crate::conditioning::{self, cond2_dense, cond2_sparse_spd};
 use crate::error::{Error, Result};
 use crate::linalg::Factorization;
 use crate::model::beam::{Frame, Section};
 use crate::model::membrane;
-use crate::plot::{render, Figure, Mark, Series};
 use crate::progress::Progress;
 use crate::provenance::{self, Provenance};
-use crate::stats::{loglog_slope, median_time};
+use crate::stats::median_time;
 use crate::system::Stiffness;
 use serde::{Deserialize, Serialize};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// Smallest n used for the least-squares slopes of the figure's legend.
 pub const SLOPE_MIN_N: f64 = 300.0;
@@ -178,82 +183,67 @@ pub fn measure(family: &str, a: &Stiffness, repeats: usize, dense_max: usize) ->
     })
 }
 
-/// Reads one route's wall time (s) off a row; `None` where the route was skipped.
-type RouteTime = fn(&Row) -> Option<f64>;
-
-/// Renders `OUT/cond_cost.{png,svg}`: time against n per route and family, log–log, with the
-/// least-squares slopes in the legend.
-pub fn render_figure(rows: &[Row], out: &Path) -> Result<Vec<PathBuf>> {
-    let mut fig = Figure::new(
-        "Exact cond₂: cost by route vs one sparse Cholesky (median, 1 thread)",
-        "unknowns n",
-        "wall time (s)",
-    )
-    .log_log()
-    .with_size(1000, 650);
-    let routes: [(&str, RouteTime); 4] = [
-        ("one sparse Cholesky", |r| Some(r.cholesky_s)),
-        ("sparse exact (Lanczos + inertia)", |r| {
-            Some(r.sparse_exact_s)
-        }),
-        ("dense symmetric eigenvalues", |r| r.dense_eigen_s),
-        ("dense SVD", |r| r.dense_svd_s),
-    ];
-    let mut color = 0;
-    for family in ["membrane", "beam"] {
-        for (name, get) in routes.iter() {
-            let pts: Vec<(f64, f64)> = rows
-                .iter()
-                .filter(|r| r.family == family)
-                .filter_map(|r| get(r).map(|t| (r.n as f64, t)))
-                .collect();
-            if pts.is_empty() {
-                continue;
-            }
-            let (x, y): (Vec<f64>, Vec<f64>) = pts.into_iter().unzip();
-            // The growth rate is fitted where the asymptotics show (n ≥ SLOPE_MIN_N): the small
-            // sizes measure the sweep's crossover, where fixed costs dominate.
-            let (xs, ys): (Vec<f64>, Vec<f64>) =
-                x.iter().zip(&y).filter(|(n, _)| **n >= SLOPE_MIN_N).unzip();
-            let label = match loglog_slope(&xs, &ys) {
-                Some(s) => format!("{family}: {name} (slope {s:.2})"),
-                None => format!("{family}: {name}"),
-            };
-            let mark = if family == "membrane" {
-                Mark::LinePoints
-            } else {
-                Mark::Dashed
-            };
-            fig = fig.with_series(Series::new(label, x, y, mark).color(color % 8));
-            color += 1;
-        }
-        color = 0;
-    }
-    render(&fig, &out.join("cond_cost"))
+/// The `cond_cost` binary's flags.
+#[derive(clap::Args, Debug)]
+pub struct Flags {
+    /// Membrane grid sides (n = side²).
+    #[arg(long, value_delimiter = ',', default_values_t = [4usize, 6, 10, 14, 20, 45, 100, 224, 316])]
+    sides: Vec<usize>,
+    /// Cantilever element counts (n = 3·elements).
+    #[arg(long, value_delimiter = ',', default_values_t = [4usize, 12, 40, 112, 150, 700, 3300, 33000])]
+    elements: Vec<usize>,
+    /// Repeats per measurement (the median is reported).
+    #[arg(long, default_value_t = 5)]
+    repeats: usize,
+    /// Largest n for the dense routes.
+    #[arg(long, default_value_t = 2100)]
+    dense_max: usize,
 }
 
-/// The rows as a Markdown table.
-pub fn table(rows: &[Row]) -> String {
-    let mut t = String::new();
-    t.push_str(
-        "| family | n | cond₂ | bracket | Cholesky (s) | sparse exact (s) | ratio | dense eigen (s) | dense SVD (s) | vs SVD |\n",
-    );
-    t.push_str("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
-    let f = |v: Option<f64>| v.map_or("—".to_string(), |t| format!("{t:.3e}"));
-    for r in rows {
-        t.push_str(&format!(
-            "| {} | {} | {:.4e} | {:.0e} | {:.3e} | {:.3e} | {:.1} | {} | {} | {} |\n",
-            r.family,
-            r.n,
-            r.cond2,
-            r.cond2_bracket,
-            r.cholesky_s,
-            r.sparse_exact_s,
-            r.sparse_exact_s / r.cholesky_s,
-            f(r.dense_eigen_s),
-            f(r.dense_svd_s),
-            r.rel_diff_vs_svd.map_or("—".into(), |d| format!("{d:.0e}")),
-        ));
+/// The study as the shared entry runs it ([`crate::study::shape::main`]).
+pub struct CondCost;
+
+impl crate::study::shape::Study for CondCost {
+    const NAME: &'static str = "cond_cost";
+    const ABOUT: &'static str =
+        "Time of an exact cond2 by route (sparse inertia, dense eigen, dense SVD) against one Cholesky";
+    const PROGRESS: &'static str = "cond_cost (matrices)";
+    const DEFAULT_OUT: &'static str = "figures/cond_cost";
+    const FIGURES_DIR: &'static str = "";
+    type Flags = Flags;
+    type Config = CostConfig;
+    type Record = Vec<Row>;
+
+    fn config(a: &Flags) -> Result<CostConfig> {
+        Ok(CostConfig {
+            sides: a.sides.clone(),
+            elements: a.elements.clone(),
+            repeats: a.repeats,
+            dense_max: a.dense_max,
+        })
     }
-    t
+
+    fn run(cfg: &CostConfig, ctx: &crate::study::shape::RunContext) -> Result<Vec<Row>> {
+        run(cfg, ctx.progress)
+    }
+
+    fn save(out: &Path, cfg: &CostConfig, rows: &Vec<Row>) -> Result<()> {
+        save(out, cfg, rows)
+    }
+
+    fn load(out: &Path) -> Result<Vec<Row>> {
+        load(out)
+    }
+
+    fn figures(rows: &Vec<Row>) -> Result<Vec<crate::study::shape::Drawing>> {
+        Ok(figures(rows))
+    }
+
+    fn report(rows: &Vec<Row>) -> String {
+        table(rows)
+    }
+
+    fn json(rows: &Vec<Row>) -> Result<String> {
+        provenance::json_text("cond_cost rows", rows)
+    }
 }

@@ -1,17 +1,20 @@
-//! The benchmark's figures and printed tables, from the saved [`Summary`]:
+//! The benchmark's figures, from the saved [`Summary`] (the printed tables: [`super::tables`]):
 //! - `pressure_<case>`: nodal pressures on the finest mesh against the analytic curve, one
 //!   panel per rule, one line per knob value (the flat punch is `pressure_flat-punch`);
 //! - `convergence`: Lagrange's pressure error and peak-pressure error against h, per case,
 //!   with the least-squares rate in the legend;
 //! - `leaderboard_<case>`: penalty error against cond₂ as each rule's knob moves, one panel
 //!   per mesh, the mesh's discretization error as a horizontal line;
+//! - `domain`: the domain study ([`super::domain`]);
 //! - `kappa_sensitivity`: the barrier's penalty error and cond₂ against a fixed κ, per Hertz
 //!   case and d̂, with the κ each adaptive rule (`ipc`, `balanced`) ends at ([`super::kappa`]).
 
+use super::record::floor_of;
 use super::{analytic::Case, rule_of, BenchRow, Summary};
 use crate::error::Result;
-use crate::plot::{render_panels, share_legend, Figure, Glyph, Mark, Marker, Scale, Series};
-use crate::study::text::{fmt_e, table};
+use crate::plot::{share_legend, Figure, Glyph, Mark, Marker, Scale, Series};
+use crate::study::shape::Drawing;
+use crate::study::text::fmt_e;
 use std::path::{Path, PathBuf};
 
 /// Errors below this are drawn at this value on log axes.
@@ -35,7 +38,7 @@ fn method_of(rule: &str) -> &str {
 }
 
 /// A knob value as the legends write it: `ε = 1e2·E*/a`, `f = 10`, `δ = 1e−3·a`, `tol = …`.
-fn knob_label(knob: &str, k: Option<f64>) -> String {
+pub(super) fn knob_label(knob: &str, k: Option<f64>) -> String {
     let Some(v) = k else {
         return "exact".to_string();
     };
@@ -377,166 +380,47 @@ fn kappa_panels(s: &Summary) -> Vec<Figure> {
 pub fn render(out: &Path, s: &Summary) -> Result<Vec<PathBuf>> {
     let dir = out.join("figures");
     let mut files = Vec::new();
-    for case in Case::ALL {
-        let p = pressure_panels(s, case);
-        if !p.is_empty() {
-            let stem = dir.join(format!("pressure_{}", case.name()));
-            files.extend(render_panels(
-                &p,
-                3,
-                &stem,
-                (1500, 420 * p.len().div_ceil(3) as u32),
-            )?);
-        }
-        let mut l = leaderboard_panels(s, case);
-        if !l.is_empty() {
-            let stem = dir.join(format!("leaderboard_{}", case.name()));
-            let (cols, size) = (l.len().min(3), (1700, 700));
-            share_legend(&mut l, cols, size)?;
-            files.extend(render_panels(&l, cols, &stem, size)?);
-        }
-    }
-    let d = domain_panels(s);
-    if !d.is_empty() {
-        let stem = dir.join("domain");
-        files.extend(render_panels(&d, 2, &stem, (1500, 560))?);
-    }
-    let k = kappa_panels(s);
-    if !k.is_empty() {
-        let stem = dir.join("kappa_sensitivity");
-        files.extend(render_panels(
-            &k,
-            2,
-            &stem,
-            (1500, 520 * k.len().div_ceil(2) as u32),
-        )?);
-    }
-    if s.rows.iter().any(|r| r.method == "lagrange") {
-        let f = convergence(s);
-        files.extend(render_panels(
-            &[f],
-            1,
-            &dir.join("convergence"),
-            (900, 620),
-        )?);
+    for d in drawings(s)? {
+        files.extend(d.render(&dir)?);
     }
     Ok(files)
 }
 
-/// The printed report: Lagrange per mesh (a, p0, errors, rates), then the leaderboard.
-pub fn tables(s: &Summary) -> String {
-    let mut out = String::from("Lagrange against the analytic solution\n");
-    let lag: Vec<Vec<String>> = s
-        .rows
-        .iter()
-        .filter(|r| r.method == "lagrange")
-        .map(|r| {
-            vec![
-                r.case.clone(),
-                fmt_e(r.h, 2),
-                r.n_dofs.to_string(),
-                format!("{:.4}", r.a_num / r.a_exact),
-                format!("{:.4}", r.p0_num / r.p0_exact),
-                fmt_e(r.err_discretization, 2),
-                fmt_e(r.p_err_rel, 2),
-                fmt_e(r.err_domain, 2),
-                if r.case == Case::FlatPunch.name() {
-                    fmt_e(r.p_spread, 1)
-                } else {
-                    "—".into()
-                },
-                r.cond2_system.map_or("—".into(), |c| fmt_e(c, 3)),
-                floor_of(s, &r.case, r.h).map_or("—".into(), |c| fmt_e(c, 3)),
-            ]
+/// Every figure of the record, as [`crate::study::shape::main`] draws them into `OUT/figures`.
+pub fn drawings(s: &Summary) -> Result<Vec<Drawing>> {
+    let mut out = Vec::new();
+    let mut push = |name: String, panels: Vec<Figure>, cols: usize, size: (u32, u32)| {
+        out.push(Drawing {
+            name,
+            panels,
+            cols,
+            size,
         })
-        .collect();
-    out.push_str(&table(
-        &[
-            "case",
-            "h",
-            "DOFs",
-            "a/a_exact",
-            "p0/p0_exact",
-            "discretization",
-            "on the block",
-            "domain",
-            "spread",
-            "cond₂",
-            "penalty floor",
-        ],
-        &lag,
-        &[
-            false, true, true, true, true, true, true, true, true, true, true,
-        ],
-    ));
-    for (case, rate) in &s.rates {
-        out.push_str(&format!(
-            "{case}: discretization error ∝ h^{}\n",
-            rate.map_or("—".into(), |r| format!("{r:.2}"))
-        ));
+    };
+    for case in Case::ALL {
+        let p = pressure_panels(s, case);
+        if !p.is_empty() {
+            let size = (1500, 420 * p.len().div_ceil(3) as u32);
+            push(format!("pressure_{}", case.name()), p, 3, size);
+        }
+        let mut l = leaderboard_panels(s, case);
+        if !l.is_empty() {
+            let (cols, size) = (l.len().min(3), (1700, 700));
+            share_legend(&mut l, cols, size)?;
+            push(format!("leaderboard_{}", case.name()), l, cols, size);
+        }
     }
-    out.push_str(
-        "\nLeaderboard: cheapest knob with penalty error ≤ 0.1 × the discretization error \
-         (resolution: cond₂ step to the next softer knob tried; tie: within it of the mesh's best)\n",
-    );
-    out.push_str(&leader_table(s));
-    out
-}
-
-/// The mesh's conditioning floor ([`super::Floor`]), where the summary has one.
-fn floor_of(s: &Summary, case: &str, h: f64) -> Option<f64> {
-    s.floors
-        .iter()
-        .find(|f| f.case == case && f.h == h)
-        .map(|f| f.cond2_floor)
-}
-
-fn leader_table(s: &Summary) -> String {
-    let rows: Vec<Vec<String>> = s
-        .leaderboard
-        .iter()
-        .filter(|l| l.rule != "lagrange")
-        .map(|l| {
-            vec![
-                l.case.clone(),
-                fmt_e(l.h, 2),
-                l.rule.clone(),
-                match (l.knob_rel, l.tried) {
-                    (Some(_), _) => knob_label(&l.knob, l.knob_rel),
-                    (None, 0) => "no solve (see rows)".into(),
-                    (None, _) => "none within".into(),
-                },
-                l.cond2_system.map_or("—".into(), |c| fmt_e(c, 3)),
-                match (l.cond2_system, floor_of(s, &l.case, l.h)) {
-                    (Some(c), Some(f)) if f.is_finite() => format!("{:.3}", c / f),
-                    _ => "—".into(),
-                },
-                l.err_penalty.map_or("—".into(), |e| fmt_e(e, 2)),
-                fmt_e(l.err_discretization, 2),
-                l.resolution.map_or("—".into(), |r| fmt_e(r, 1)),
-                match (l.cond2_system, l.tied_best) {
-                    (Some(_), true) => "tie".into(),
-                    _ => String::new(),
-                },
-            ]
-        })
-        .collect();
-    table(
-        &[
-            "case",
-            "h",
-            "rule",
-            "cheapest knob",
-            "cond₂",
-            "/ floor",
-            "penalty err",
-            "discr. err",
-            "resolution",
-            "best",
-        ],
-        &rows,
-        &[
-            false, true, false, true, true, true, true, true, true, false,
-        ],
-    )
+    let d = domain_panels(s);
+    if !d.is_empty() {
+        push("domain".into(), d, 2, (1500, 560));
+    }
+    let k = kappa_panels(s);
+    if !k.is_empty() {
+        let size = (1500, 520 * k.len().div_ceil(2) as u32);
+        push("kappa_sensitivity".into(), k, 2, size);
+    }
+    if s.rows.iter().any(|r| r.method == "lagrange") {
+        push("convergence".into(), vec![convergence(s)], 1, (900, 620));
+    }
+    Ok(out)
 }

@@ -37,13 +37,19 @@
 //! resolution and ties; each mesh's [`Floor`] says how far below that any penalties could go.
 
 pub mod analytic;
+mod cli;
 pub mod domain;
 pub mod figures;
 mod jobs;
 pub mod kappa;
 mod record;
+mod report;
+mod row;
 
+pub use cli::{ContactBench, Flags};
 pub use jobs::{jobs, refinement_jobs, BenchJob, ADAPTIVE_START};
+pub use report::tables;
+pub use row::{BenchRow, Floor, Profile};
 
 pub use record::{
     admissible, convergence_rates, leaderboard, load, rule_of, save, Checkpoints, Leader, Summary,
@@ -266,156 +272,6 @@ impl BenchConfig {
         }?;
         scene.with_surface(grid)
     }
-}
-
-/// One (case, method, knob, mesh).
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-pub struct BenchRow {
-    /// `hertz-plane`, `hertz-axi` or `flat-punch`.
-    pub case: String,
-    /// Method name.
-    pub method: String,
-    /// Knob name (`eps`, `factor`, `delta`, `tol`, `adaptive-tol`, or empty).
-    pub knob: String,
-    /// Knob value (absolute: ε per unit contact length/area in force/length³, f, δ or
-    /// tolerance in length); None without a knob.
-    pub knob_value: Option<f64>,
-    /// Knob value relative to its scale (ε/(E*/a), f, δ/`length_scale`); None without a knob.
-    pub knob_rel: Option<f64>,
-    /// Element size at the contact.
-    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
-    pub h: f64,
-    /// Free DOFs.
-    pub n_dofs: usize,
-    /// Total load P (per unit thickness in plane strain).
-    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
-    pub load: f64,
-    /// Lift of the base at which this rule carries P.
-    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
-    pub lift: f64,
-    /// Indenter radius R (∞ for the flat punch: written as 0).
-    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
-    pub radius: f64,
-    /// Young's modulus.
-    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
-    pub young: f64,
-    /// Poisson's ratio.
-    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
-    pub poisson: f64,
-    /// Exact contact half-width a.
-    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
-    pub a_exact: f64,
-    /// Contact half-width from the nodal pressures.
-    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
-    pub a_num: f64,
-    /// Exact peak pressure.
-    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
-    pub p0_exact: f64,
-    /// Pressure at the axis node.
-    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
-    pub p0_num: f64,
-    /// Relative L2 pressure error against the analytic pressure.
-    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
-    pub p_err_rel: f64,
-    /// Pressure distance from Lagrange on the same mesh (relative to ‖p_exact‖).
-    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
-    pub err_penalty: f64,
-    /// Lagrange's pressure error against the analytic pressure on this mesh — Hertz: on the
-    /// reference block ([`domain`]), the finite block's bias removed; the flat punch: on its
-    /// block (exact there).
-    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
-    pub err_discretization: f64,
-    /// What the finite block adds ([`domain`]): the distance of Lagrange's pressure on the
-    /// benchmark's block from the reference block's, relative to ‖p_exact‖ (0 for the flat
-    /// punch).
-    #[serde(default, deserialize_with = "crate::provenance::null_as_nan")]
-    pub err_domain: f64,
-    /// Max penetration.
-    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
-    pub max_penetration: f64,
-    /// Relative spread (max − min)/mean of the pressures over the contact nodes (the flat
-    /// punch's measure; NaN where no node carries pressure).
-    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
-    pub p_spread: f64,
-    /// cond₂ of the final system matrix.
-    pub cond2_system: Option<f64>,
-    /// Relative accuracy asked of cond₂.
-    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
-    pub cond_tol: f64,
-    /// cond₂'s bracket is proven ([`crate::conditioning::CondReport::bounds_proven`]).
-    #[serde(default)]
-    pub cond2_bounds_proven: Option<bool>,
-    /// cond₂ is proven within the accuracy contract `max(1e-12, 4·ε_mach·cond₂)`
-    /// ([`crate::conditioning::CondReport::within_contract`]); false where the bracket is
-    /// only as narrow as `cond_tol` asked (1e-6 by default), which is wider.
-    #[serde(default)]
-    pub cond2_within_contract: Option<bool>,
-    /// The solver's own convergence flag (of the last solve of the force control).
-    pub converged: bool,
-    /// Solves the force control took.
-    pub force_solves: usize,
-    /// The rule's own outer iterations in the last solve (`Stats::iterations`: Uzawa
-    /// updates, active-set or Newton steps).
-    #[serde(default)]
-    pub iterations: usize,
-    /// `barrier` rows: its stiffness κ at the first Newton solve (the rule's hidden second
-    /// knob, [`strategy::barrier::KappaReport`]); empty for other rules.
-    #[serde(default)]
-    pub kappa_initial: Option<f64>,
-    /// `barrier` rows: κ of the returned solve.
-    #[serde(default)]
-    pub kappa_final: Option<f64>,
-    /// `barrier` rows: times κ was doubled.
-    #[serde(default)]
-    pub kappa_increases: Option<usize>,
-    /// `barrier` rows: the rule that chose κ ([`strategy::barrier::KappaRule`]: `ipc`, the
-    /// default here, the scene having its surface; `balanced` or `fixed` in the κ study).
-    #[serde(default)]
-    pub kappa_rule: Option<String>,
-    /// (total force − P)/P of the reported solution (in magnitude at most the rule's
-    /// `Strategy::force_tol`: 1e-10, `optimal` 1e-6; more only where the rule's force
-    /// jumps with the lift and the bracket collapsed at the jump).
-    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
-    pub force_mismatch: f64,
-    /// Wall time of the force-controlled solve, all its solves (s; cond₂ not included).
-    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
-    pub seconds: f64,
-    /// Error message where the rule refused the scene (empty if it solved).
-    pub error: String,
-}
-
-/// The nodal pressures of one solve (kept for the finest mesh of each case).
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-pub struct Profile {
-    /// Case.
-    pub case: String,
-    /// Rule ([`rule_of`]).
-    pub rule: String,
-    /// Knob name (as in the rows).
-    pub knob: String,
-    /// Relative knob value.
-    pub knob_rel: Option<f64>,
-    /// Element size at the contact.
-    pub h: f64,
-    /// Node abscissae.
-    pub x: Vec<f64>,
-    /// Pressures.
-    pub p: Vec<f64>,
-}
-
-/// The conditioning floor of one mesh: no penalties on its contact DOFs give a system matrix
-/// better conditioned than `cond2_floor` ([`strategy::optimal::cond2_lower_bound`]:
-/// `λ_max(K)/λ_min(K_FF)`, F the DOFs without a contact constraint, from proven brackets).
-#[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
-pub struct Floor {
-    /// Case.
-    pub case: String,
-    /// Element size at the contact.
-    pub h: f64,
-    /// Free DOFs.
-    pub n_dofs: usize,
-    /// The certified lower bound of cond₂(K + DEDᵀ) over every E ≥ 0.
-    pub cond2_floor: f64,
 }
 
 /// What [`run`] returns: the rows, the pressure profiles of the finest meshes and each mesh's

@@ -300,3 +300,11 @@ impl Checkpoints {
         }
     }
 }
+
+/// The mesh's conditioning floor ([`super::Floor`]), where the summary has one.
+pub(super) fn floor_of(s: &Summary, case: &str, h: f64) -> Option<f64> {
+    s.floors
+        .iter()
+        .find(|f| f.case == case && f.h == h)
+        .map(|f| f.cond2_floor)
+}

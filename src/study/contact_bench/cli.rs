@@ -1,0 +1,136 @@
+//! The `contact_bench` binary's flags and the study as the shared entry runs it
+//! ([`crate::study::shape::main`]): flags → [`BenchConfig`] here, nowhere else.
+
+use super::{analytic::Case, figures, BenchConfig, Checkpoints, Summary};
+use crate::error::{Error, Result};
+use crate::strategy::registry;
+use crate::study::shape::{Drawing, RunContext, Study};
+use std::path::Path;
+
+/// The `contact_bench` binary's flags (each replaces the default of [`BenchConfig`]).
+#[derive(clap::Args, Debug)]
+pub struct Flags {
+    /// Cases: hertz-plane, hertz-axi, flat-punch (default: all; `patch` reads as flat-punch).
+    #[arg(long, value_delimiter = ',')]
+    cases: Option<Vec<String>>,
+    /// Element sizes at the contact over a (Hertz) or over the block half-width (flat punch).
+    #[arg(long, value_delimiter = ',')]
+    meshes: Option<Vec<f64>>,
+    /// Methods (default: every registered one).
+    #[arg(long, value_parser = registry::method_parser(), value_delimiter = ',')]
+    methods: Option<Vec<String>>,
+    /// `constant`: ε grid over E*/a (E* = E/(1 − ν²)): ε per unit contact length/area.
+    #[arg(long, value_delimiter = ',')]
+    eps_rel: Option<Vec<f64>>,
+    /// `scaled`: factors f of ε_c = f·K_dd (d the constraint's DOF).
+    #[arg(long, value_delimiter = ',')]
+    factors: Option<Vec<f64>>,
+    /// δ-rules, barrier d̂ and augmented tolerances over the case's length scale (a; the
+    /// flat punch's compression).
+    #[arg(long, value_delimiter = ',')]
+    deltas_rel: Option<Vec<f64>>,
+    /// `optimal` runs on meshes of at most this many DOFs (default 100, at most 20000; one
+    /// δ took 60–132 s at 2 211 DOFs, 8–64 min at 5 253 on 2 cores: see `--resume`).
+    #[arg(long)]
+    optimal_max_n: Option<usize>,
+    /// Relative accuracy asked of cond₂.
+    #[arg(long)]
+    cond_tol: Option<f64>,
+    /// Hertz block size over a (default 16; the domain study's blocks are fixed).
+    #[arg(long)]
+    block_over_a: Option<f64>,
+}
+
+impl Flags {
+    /// The configuration these flags ask for, validated.
+    pub fn config(&self) -> Result<BenchConfig> {
+        let mut cfg = BenchConfig::default();
+        if let Some(cs) = &self.cases {
+            cfg.cases = cs
+                .iter()
+                .map(|c| {
+                    Case::from_name(c).ok_or_else(|| {
+                        Error::input(format!(
+                            "--cases: unknown case {c} (hertz-plane, hertz-axi, flat-punch)"
+                        ))
+                    })
+                })
+                .collect::<Result<_>>()?;
+        }
+        if let Some(m) = &self.meshes {
+            cfg.meshes = m.clone();
+        }
+        if let Some(m) = &self.methods {
+            cfg.methods = m.clone();
+        }
+        for (grid, v) in [
+            (&mut cfg.eps_rel, &self.eps_rel),
+            (&mut cfg.factors, &self.factors),
+            (&mut cfg.deltas_rel, &self.deltas_rel),
+        ] {
+            if let Some(v) = v {
+                *grid = v.clone();
+            }
+        }
+        if let Some(n) = self.optimal_max_n {
+            cfg.optimal_max_n = n;
+        }
+        if let Some(t) = self.cond_tol {
+            cfg.cond_tol = t;
+        }
+        if let Some(b) = self.block_over_a {
+            cfg.block_over_a = b;
+        }
+        cfg.validate()?;
+        Ok(cfg)
+    }
+}
+
+/// The study as the shared entry runs it.
+pub struct ContactBench;
+
+impl Study for ContactBench {
+    const NAME: &'static str = "contact_bench";
+    const ABOUT: &'static str =
+        "Contact rules against Hertz and a flat punch: pressure errors, cond2, leaderboard";
+    const PROGRESS: &'static str = "contact_bench (meshes)";
+    const DEFAULT_OUT: &'static str = "results/contact_bench";
+    const RESUMABLE: bool = true;
+    type Flags = Flags;
+    type Config = BenchConfig;
+    type Record = Summary;
+
+    fn config(flags: &Flags) -> Result<BenchConfig> {
+        flags.config()
+    }
+
+    /// Runs with the checkpoints of `OUT/meshes/` (reused with `--resume`).
+    fn run(cfg: &BenchConfig, ctx: &RunContext) -> Result<Summary> {
+        let checkpoints = Checkpoints::in_out(ctx.out, ctx.resume);
+        let run = super::run(cfg, ctx.progress, Some(&checkpoints))?;
+        let summary = super::save(ctx.out, cfg, &run)?;
+        checkpoints.remove()?;
+        Ok(summary)
+    }
+
+    /// [`Study::run`] has saved it already (the checkpoints go only once it is written).
+    fn save(_out: &Path, _cfg: &BenchConfig, _summary: &Summary) -> Result<()> {
+        Ok(())
+    }
+
+    fn load(out: &Path) -> Result<Summary> {
+        super::load(out)
+    }
+
+    fn figures(summary: &Summary) -> Result<Vec<Drawing>> {
+        figures::drawings(summary)
+    }
+
+    fn report(summary: &Summary) -> String {
+        super::tables(summary)
+    }
+
+    fn json(summary: &Summary) -> Result<String> {
+        crate::provenance::json_text("contact_bench summary", summary)
+    }
+}

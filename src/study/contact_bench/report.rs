@@ -1,0 +1,117 @@
+//! The benchmark's printed report: Lagrange per mesh against the analytic solution, the
+//! rates, then the leaderboard.
+
+use super::figures::knob_label;
+use super::record::floor_of;
+use super::{analytic::Case, Summary};
+use crate::study::text::{fmt_e, table};
+
+/// The printed report: Lagrange per mesh (a, p0, errors, rates), then the leaderboard.
+pub fn tables(s: &Summary) -> String {
+    let mut out = String::from("Lagrange against the analytic solution\n");
+    let lag: Vec<Vec<String>> = s
+        .rows
+        .iter()
+        .filter(|r| r.method == "lagrange")
+        .map(|r| {
+            vec![
+                r.case.clone(),
+                fmt_e(r.h, 2),
+                r.n_dofs.to_string(),
+                format!("{:.4}", r.a_num / r.a_exact),
+                format!("{:.4}", r.p0_num / r.p0_exact),
+                fmt_e(r.err_discretization, 2),
+                fmt_e(r.p_err_rel, 2),
+                fmt_e(r.err_domain, 2),
+                if r.case == Case::FlatPunch.name() {
+                    fmt_e(r.p_spread, 1)
+                } else {
+                    "—".into()
+                },
+                r.cond2_system.map_or("—".into(), |c| fmt_e(c, 3)),
+                floor_of(s, &r.case, r.h).map_or("—".into(), |c| fmt_e(c, 3)),
+            ]
+        })
+        .collect();
+    out.push_str(&table(
+        &[
+            "case",
+            "h",
+            "DOFs",
+            "a/a_exact",
+            "p0/p0_exact",
+            "discretization",
+            "on the block",
+            "domain",
+            "spread",
+            "cond₂",
+            "penalty floor",
+        ],
+        &lag,
+        &[
+            false, true, true, true, true, true, true, true, true, true, true,
+        ],
+    ));
+    for (case, rate) in &s.rates {
+        out.push_str(&format!(
+            "{case}: discretization error ∝ h^{}\n",
+            rate.map_or("—".into(), |r| format!("{r:.2}"))
+        ));
+    }
+    out.push_str(
+        "\nLeaderboard: cheapest knob with penalty error ≤ 0.1 × the discretization error \
+         (resolution: cond₂ step to the next softer knob tried; tie: within it of the mesh's best)\n",
+    );
+    out.push_str(&leader_table(s));
+    out
+}
+
+fn leader_table(s: &Summary) -> String {
+    let rows: Vec<Vec<String>> = s
+        .leaderboard
+        .iter()
+        .filter(|l| l.rule != "lagrange")
+        .map(|l| {
+            vec![
+                l.case.clone(),
+                fmt_e(l.h, 2),
+                l.rule.clone(),
+                match (l.knob_rel, l.tried) {
+                    (Some(_), _) => knob_label(&l.knob, l.knob_rel),
+                    (None, 0) => "no solve (see rows)".into(),
+                    (None, _) => "none within".into(),
+                },
+                l.cond2_system.map_or("—".into(), |c| fmt_e(c, 3)),
+                match (l.cond2_system, floor_of(s, &l.case, l.h)) {
+                    (Some(c), Some(f)) if f.is_finite() => format!("{:.3}", c / f),
+                    _ => "—".into(),
+                },
+                l.err_penalty.map_or("—".into(), |e| fmt_e(e, 2)),
+                fmt_e(l.err_discretization, 2),
+                l.resolution.map_or("—".into(), |r| fmt_e(r, 1)),
+                match (l.cond2_system, l.tied_best) {
+                    (Some(_), true) => "tie".into(),
+                    _ => String::new(),
+                },
+            ]
+        })
+        .collect();
+    table(
+        &[
+            "case",
+            "h",
+            "rule",
+            "cheapest knob",
+            "cond₂",
+            "/ floor",
+            "penalty err",
+            "discr. err",
+            "resolution",
+            "best",
+        ],
+        &rows,
+        &[
+            false, true, false, true, true, true, true, true, true, false,
+        ],
+    )
+}

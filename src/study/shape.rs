@@ -1,0 +1,189 @@
+//! The one shape of a study and the one entry every study binary goes through.
+//!
+//! A study declares its flags, its configuration and its record, and five steps: `config`
+//! (flags → a validated configuration, at the edge), `run` (configuration → record; never
+//! prints), `save` / `load` (the record's files in `--out`, with provenance), `figures`
+//! (record → drawings) and `report` (record → the text printed on stdout). [`main`] owns what
+//! every binary shares:
+//!
+//! - `--out DIR` (default [`Study::DEFAULT_OUT`]): where the record and `figures/` go;
+//! - `--render-only`: load the saved record and redraw, without running;
+//! - `--json`: print the record as JSON (one writer, [`crate::provenance::json_text`])
+//!   instead of the report;
+//! - `--quiet`: no progress bar or progress lines on stderr;
+//! - `--resume` (only where [`Study::RESUMABLE`]): reuse the checkpoints of an interrupted
+//!   run of the same build and configuration;
+//! - the exit codes of [`crate::error::run_main`]: 0, 2 for an error (one line on stderr), 3
+//!   for a run outside its model.
+//!
+//! A binary is then `fn main() -> ExitCode { study::main::<TheStudy>() }`. Each study's
+//! module has the same files: `mod.rs` (configuration, record and run), `figures.rs` and
+//! `report.rs`.
+
+use crate::error::Result;
+use crate::plot::{render_panels, Figure};
+use crate::progress::Progress;
+use clap::{Args, CommandFactory, FromArgMatches, Parser};
+use serde::{de::DeserializeOwned, Serialize};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+/// One image: its panels, laid out `cols` per row in a canvas of `size` pixels; written as
+/// `<name>.{png,svg}` in [`Study::FIGURES_DIR`] under `--out`.
+#[derive(Clone, Debug)]
+pub struct Drawing {
+    /// File stem.
+    pub name: String,
+    /// The panels (one figure: the whole image).
+    pub panels: Vec<Figure>,
+    /// Panels per row.
+    pub cols: usize,
+    /// Canvas size (width, height) in pixels.
+    pub size: (u32, u32),
+}
+
+impl Drawing {
+    /// One figure drawn at its own size.
+    pub fn single(name: impl Into<String>, fig: Figure) -> Drawing {
+        let size = fig.size;
+        Drawing {
+            name: name.into(),
+            panels: vec![fig],
+            cols: 1,
+            size,
+        }
+    }
+
+    /// Renders into `dir` (`<dir>/<name>.png` and `.svg`).
+    pub fn render(&self, dir: &Path) -> Result<Vec<PathBuf>> {
+        render_panels(&self.panels, self.cols, &dir.join(&self.name), self.size)
+    }
+}
+
+/// What a run gets besides its configuration.
+pub struct RunContext<'a> {
+    /// Progress on stderr (silent with `--quiet`).
+    pub progress: &'a Progress,
+    /// The output directory (for checkpoints).
+    pub out: &'a Path,
+    /// `--resume` was given (only for [`Study::RESUMABLE`] studies).
+    pub resume: bool,
+}
+
+/// One study (module doc).
+pub trait Study {
+    /// The binary's name.
+    const NAME: &'static str;
+    /// One line for `--help`.
+    const ABOUT: &'static str;
+    /// The progress bar's label.
+    const PROGRESS: &'static str;
+    /// `--out`'s default.
+    const DEFAULT_OUT: &'static str;
+    /// Whether the study checkpoints and takes `--resume`.
+    const RESUMABLE: bool = false;
+    /// Where under `--out` the drawings go (`""`: `--out` itself).
+    const FIGURES_DIR: &'static str = "figures";
+    /// The study's own flags (clap).
+    type Flags: Args;
+    /// The validated configuration.
+    type Config;
+    /// What a run returns and the saved files hold.
+    type Record: Serialize + DeserializeOwned;
+
+    /// Flags → configuration, validated (an error names the flag and the bad value).
+    fn config(flags: &Self::Flags) -> Result<Self::Config>;
+    /// Runs the study.
+    fn run(cfg: &Self::Config, ctx: &RunContext) -> Result<Self::Record>;
+    /// Writes the record's files into `out` (with provenance).
+    fn save(out: &Path, cfg: &Self::Config, record: &Self::Record) -> Result<()>;
+    /// Reads the record back from `out`.
+    fn load(out: &Path) -> Result<Self::Record>;
+    /// The record's drawings.
+    fn figures(record: &Self::Record) -> Result<Vec<Drawing>>;
+    /// The text printed on stdout (without `--json`).
+    fn report(record: &Self::Record) -> String;
+    /// What `--json` prints: the record by default.
+    fn json(record: &Self::Record) -> Result<String> {
+        crate::provenance::json_text(Self::NAME, record)
+    }
+}
+
+/// The flags every study binary shares, around the study's own.
+#[derive(Parser, Debug)]
+struct Cli<F: Args> {
+    #[command(flatten)]
+    flags: F,
+    /// Output directory.
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Redraw the figures (and print the report) from the saved record, without running.
+    #[arg(long)]
+    render_only: bool,
+    /// Print the record as JSON on stdout instead of the report.
+    #[arg(long)]
+    json: bool,
+    /// No progress bar or progress lines on stderr.
+    #[arg(long)]
+    quiet: bool,
+    /// Reuse the checkpoints an interrupted run of the same build and options left in `--out`.
+    #[arg(long, hide = true)]
+    resume: bool,
+}
+
+/// The `main` of a study binary (module doc).
+pub fn main<S: Study>() -> ExitCode {
+    let mut cmd = Cli::<S::Flags>::command()
+        .name(S::NAME)
+        .bin_name(S::NAME)
+        .about(S::ABOUT)
+        .version(crate::provenance::VERSION);
+    cmd = cmd.mut_arg("out", |a| a.default_value(S::DEFAULT_OUT));
+    if S::RESUMABLE {
+        cmd = cmd.mut_arg("resume", |a| a.hide(false));
+    }
+    let matches = cmd.get_matches();
+    let cli = match Cli::<S::Flags>::from_arg_matches(&matches) {
+        Ok(c) => c,
+        Err(e) => e.exit(),
+    };
+    crate::error::run_main(std::panic::AssertUnwindSafe(move || entry::<S>(&cli)))
+}
+
+fn entry<S: Study>(cli: &Cli<S::Flags>) -> Result<()> {
+    let out = cli
+        .out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(S::DEFAULT_OUT));
+    if cli.resume && !S::RESUMABLE {
+        return Err(crate::Error::input(format!(
+            "--resume: {} keeps no checkpoints",
+            S::NAME
+        )));
+    }
+    let record = if cli.render_only {
+        S::load(&out)?
+    } else {
+        let cfg = S::config(&cli.flags)?;
+        let progress = Progress::new(S::PROGRESS, cli.quiet);
+        let ctx = RunContext {
+            progress: &progress,
+            out: &out,
+            resume: cli.resume,
+        };
+        let record = S::run(&cfg, &ctx)?;
+        progress.finish();
+        S::save(&out, &cfg, &record)?;
+        record
+    };
+    let dir = out.join(S::FIGURES_DIR);
+    for d in S::figures(&record)? {
+        d.render(&dir)?;
+    }
+    if cli.json {
+        println!("{}", S::json(&record)?);
+    } else {
+        print!("{}", S::report(&record));
+    }
+    Ok(())
+}
