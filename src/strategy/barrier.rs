@@ -111,6 +111,15 @@ impl KappaRule {
         }
     }
 
+    /// The rule `p` gets: `Auto` is `Ipc` where `p` carries its surface, else `Balanced`.
+    pub fn resolved(self, p: &Problem) -> KappaRule {
+        match self {
+            KappaRule::Auto if p.surface.is_some() => KappaRule::Ipc,
+            KappaRule::Auto => KappaRule::Balanced,
+            r => r,
+        }
+    }
+
     /// Its name in rows (`ipc`, `balanced`, `fixed`; `auto` before it is resolved).
     pub fn name(self) -> &'static str {
         match self {
@@ -128,10 +137,11 @@ pub const IPC_D0: f64 = 1e-8;
 /// distance over the bounding-box diagonal.
 pub const IPC_D_EPS: f64 = 1e-9;
 
-/// The clamp [κ_min, κ_max] of `rule` (resolved: not `Auto`) for activation distance `dhat`
-/// on `p`, and the distance below which the `ipc` rule doubles κ inside Newton.
+/// The clamp [κ_min, κ_max] of `rule` ([`KappaRule::resolved`] on `p`) for activation
+/// distance `dhat` on `p`, and the distance below which the `ipc` rule doubles κ inside Newton.
 pub fn kappa_bounds(p: &Problem, dhat: f64, rule: KappaRule) -> Result<(f64, f64, Option<f64>)> {
     let kbar = p.mean_constraint_stiffness();
+    let rule = rule.resolved(p);
     let (min, below) = match rule {
         KappaRule::Ipc => {
             let Some(surface) = &p.surface else {
@@ -148,7 +158,7 @@ pub fn kappa_bounds(p: &Problem, dhat: f64, rule: KappaRule) -> Result<(f64, f64
             (kbar / barrier(d0, dhat).2, Some(IPC_D_EPS * bbox))
         }
         KappaRule::Fixed(k) => (k, None),
-        _ => (kbar / barrier(0.5 * dhat, dhat).2, None),
+        KappaRule::Balanced | KappaRule::Auto => (kbar / barrier(0.5 * dhat, dhat).2, None),
     };
     let max = if matches!(rule, KappaRule::Fixed(_)) {
         min
@@ -344,11 +354,7 @@ pub fn solve_with(mut ctx: Context, dhat: f64, rule: KappaRule) -> Result<Soluti
              constraints only — use a penalty rule or lagrange"
         )));
     }
-    let rule = match rule.validated()? {
-        KappaRule::Auto if p.surface.is_some() => KappaRule::Ipc,
-        KappaRule::Auto => KappaRule::Balanced,
-        r => r,
-    };
+    let rule = rule.validated()?.resolved(p);
     // Feasible start: u0, with every constraint closer than d̂/2 (or violated) moved to d̂/2.
     let mut u = ctx.u0()?.to_vec();
     for con in &p.constraints {
@@ -434,8 +440,8 @@ mod tests {
     use super::*;
     use crate::system::{Constraint, Stiffness, Surface};
 
-    /// Two springs in series, the free end pushed by `q` onto an upper limit at 0 from a
-    /// start at −1: with or without a surface of bounding-box diagonal `bbox`.
+    /// Two springs in series, the free end pushed by `q` onto an upper limit at 0: with or
+    /// without a surface of bounding-box diagonal `bbox`.
     fn chain(q: f64, bbox: Option<f64>) -> Problem {
         let k =
             Stiffness::from_triplets(2, &[(0, 0, 2e3), (0, 1, -1e3), (1, 0, -1e3), (1, 1, 1e3)])
@@ -480,6 +486,12 @@ mod tests {
         let (lo, _, _) = kappa_bounds(&huge, dhat, KappaRule::Ipc).unwrap();
         let d0 = dhat / std::f64::consts::SQRT_2;
         assert!((lo * barrier(d0, dhat).2 / kbar - 1.0).abs() <= 1e-14);
+        let (lo, _, _) = kappa_bounds(&p, dhat, KappaRule::Auto).unwrap();
+        assert_eq!(
+            lo,
+            kappa_bounds(&p, dhat, KappaRule::Ipc).unwrap().0,
+            "Auto is ipc here"
+        );
         let err = kappa_bounds(&chain(1.0, None), dhat, KappaRule::Ipc).unwrap_err();
         assert!(err.to_string().contains("contact surface"), "{err}");
         assert!(KappaRule::Fixed(f64::NAN).validated().is_err());

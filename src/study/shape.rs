@@ -60,6 +60,40 @@ impl Drawing {
     }
 }
 
+/// The saved record of a study whose record is its rows: `<name>.json` holds this (the run's
+/// provenance with its configuration, and the rows), `<name>.csv` the rows.
+#[derive(Serialize, serde::Deserialize)]
+pub struct RowsDocument<R> {
+    /// [`crate::provenance::Provenance::record`] of the run.
+    pub provenance: serde_json::Value,
+    /// The rows.
+    pub rows: Vec<R>,
+}
+
+/// Writes `out/<name>.json` ([`RowsDocument`], provenance recording `fields`) and
+/// `out/<name>.csv`.
+pub fn save_rows<R: Serialize + Clone>(
+    out: &Path,
+    name: &str,
+    fields: serde_json::Value,
+    rows: &[R],
+) -> Result<()> {
+    use crate::provenance::{self, Provenance};
+    std::fs::create_dir_all(out).map_err(|e| crate::Error::io(out.display(), e))?;
+    let doc = RowsDocument {
+        provenance: Provenance::new(name).record(fields),
+        rows: rows.to_vec(),
+    };
+    provenance::write_json(&out.join(format!("{name}.json")), &doc)?;
+    provenance::write_csv(&out.join(format!("{name}.csv")), rows)
+}
+
+/// The rows of `out/<name>.json` ([`save_rows`]).
+pub fn load_rows<R: DeserializeOwned>(out: &Path, name: &str) -> Result<Vec<R>> {
+    let doc: RowsDocument<R> = crate::provenance::read_json(&out.join(format!("{name}.json")))?;
+    Ok(doc.rows)
+}
+
 /// What a run gets besides its configuration.
 pub struct RunContext<'a> {
     /// Progress on stderr (silent with `--quiet`).

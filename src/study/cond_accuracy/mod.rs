@@ -274,35 +274,6 @@ pub fn summary(rows: &[Row]) -> Vec<RouteSummary> {
         .collect()
 }
 
-/// The saved data (`cond_accuracy.json`): the record and the rows.
-#[derive(Serialize, Deserialize)]
-pub struct Document {
-    /// [`crate::provenance::Provenance::record`] of the run with its configuration.
-    pub provenance: serde_json::Value,
-    /// One row per matrix and route.
-    pub rows: Vec<Row>,
-}
-
-/// Writes `cond_accuracy.json` (record + rows) and `cond_accuracy.csv` into `out`.
-pub fn save(out: &std::path::Path, cfg: &Config, rows: &[Row]) -> Result<()> {
-    use crate::provenance::{self, Provenance};
-    std::fs::create_dir_all(out).map_err(|e| Error::io(out.display(), e))?;
-    let doc = Document {
-        provenance: Provenance::new("cond_accuracy")
-            .record(serde_json::json!({ "config": cfg, "threads": 1 })),
-        rows: rows.to_vec(),
-    };
-    provenance::write_json(&out.join("cond_accuracy.json"), &doc)?;
-    provenance::write_csv(&out.join("cond_accuracy.csv"), rows)
-}
-
-/// Reads the rows back from `OUT/cond_accuracy.json`.
-pub fn load(out: &std::path::Path) -> Result<Vec<Row>> {
-    let path = out.join("cond_accuracy.json");
-    let doc: Document = crate::provenance::read_json(&path)?;
-    Ok(doc.rows)
-}
-
 /// The `cond_accuracy` binary's flags.
 #[derive(clap::Args, Debug)]
 pub struct Flags {
@@ -362,11 +333,16 @@ impl crate::study::shape::Study for CondAccuracy {
     }
 
     fn save(out: &std::path::Path, cfg: &Config, rows: &Vec<Row>) -> Result<()> {
-        save(out, cfg, rows)
+        crate::study::shape::save_rows(
+            out,
+            Self::NAME,
+            serde_json::json!({ "config": cfg, "threads": 1 }),
+            rows,
+        )
     }
 
     fn load(out: &std::path::Path) -> Result<Vec<Row>> {
-        load(out)
+        crate::study::shape::load_rows(out, Self::NAME)
     }
 
     fn figures(rows: &Vec<Row>) -> Result<Vec<crate::study::shape::Drawing>> {

@@ -20,7 +20,7 @@ use crate::linalg::Factorization;
 use crate::model::beam::{Frame, Section};
 use crate::model::membrane;
 use crate::progress::Progress;
-use crate::provenance::{self, Provenance};
+use crate::provenance;
 use crate::stats::median_time;
 use crate::system::Stiffness;
 use serde::{Deserialize, Serialize};
@@ -40,15 +40,6 @@ pub struct CostConfig {
     pub repeats: usize,
     /// Largest n for the dense routes.
     pub dense_max: usize,
-}
-
-/// The saved data (`cond_cost.json`): the record and the rows.
-#[derive(Serialize, Deserialize)]
-pub struct Document {
-    /// [`Provenance::record`] of the run with its configuration.
-    pub provenance: serde_json::Value,
-    /// One row per matrix.
-    pub rows: Vec<Row>,
 }
 
 /// Measures every matrix of `cfg`, one progress step per matrix.
@@ -87,28 +78,6 @@ pub fn run(cfg: &CostConfig, progress: &Progress) -> Result<Vec<Row>> {
     }
     progress.finish();
     Ok(rows)
-}
-
-/// Writes `cond_cost.json` (record + rows) and `cond_cost.csv` into `out`.
-pub fn save(out: &Path, cfg: &CostConfig, rows: &[Row]) -> Result<()> {
-    std::fs::create_dir_all(out).map_err(|e| Error::io(out.display(), e))?;
-    let doc = Document {
-        provenance: Provenance::new("cond_cost").record(serde_json::json!({
-            "config": cfg,
-            "threads": 1,
-            "bracket_tol": conditioning::sparse::BRACKET_TOL,
-        })),
-        rows: rows.to_vec(),
-    };
-    provenance::write_json(&out.join("cond_cost.json"), &doc)?;
-    provenance::write_csv(&out.join("cond_cost.csv"), rows)
-}
-
-/// Reads the rows back from `OUT/cond_cost.json`.
-pub fn load(out: &Path) -> Result<Vec<Row>> {
-    let path = out.join("cond_cost.json");
-    let doc: Document = crate::provenance::read_json(&path)?;
-    Ok(doc.rows)
 }
 
 /// One matrix, all routes.
@@ -228,11 +197,20 @@ impl crate::study::shape::Study for CondCost {
     }
 
     fn save(out: &Path, cfg: &CostConfig, rows: &Vec<Row>) -> Result<()> {
-        save(out, cfg, rows)
+        crate::study::shape::save_rows(
+            out,
+            Self::NAME,
+            serde_json::json!({
+                "config": cfg,
+                "threads": 1,
+                "bracket_tol": conditioning::sparse::BRACKET_TOL,
+            }),
+            rows,
+        )
     }
 
     fn load(out: &Path) -> Result<Vec<Row>> {
-        load(out)
+        crate::study::shape::load_rows(out, Self::NAME)
     }
 
     fn figures(rows: &Vec<Row>) -> Result<Vec<crate::study::shape::Drawing>> {

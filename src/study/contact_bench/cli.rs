@@ -108,14 +108,13 @@ impl Study for ContactBench {
     fn run(cfg: &BenchConfig, ctx: &RunContext) -> Result<Summary> {
         let checkpoints = Checkpoints::in_out(ctx.out, ctx.resume);
         let run = super::run(cfg, ctx.progress, Some(&checkpoints))?;
-        let summary = super::save(ctx.out, cfg, &run)?;
-        checkpoints.remove()?;
-        Ok(summary)
+        Ok(super::summary(cfg, run))
     }
 
-    /// [`Study::run`] has saved it already (the checkpoints go only once it is written).
-    fn save(_out: &Path, _cfg: &BenchConfig, _summary: &Summary) -> Result<()> {
-        Ok(())
+    /// Writes the record, then removes the checkpoints it makes redundant.
+    fn save(out: &Path, _cfg: &BenchConfig, summary: &Summary) -> Result<()> {
+        super::save(out, summary)?;
+        Checkpoints::in_out(out, false).remove()
     }
 
     fn load(out: &Path) -> Result<Summary> {

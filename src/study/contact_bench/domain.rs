@@ -14,7 +14,7 @@
 //!
 //! The flat punch is exact on its finite block: `err_domain` = 0 and no study.
 
-use super::{analytic, BenchConfig, Prepared};
+use super::{analytic, BenchConfig, MeshErrors, Prepared};
 use crate::error::Result;
 use crate::model::elasticity::ContactNode;
 use rayon::prelude::*;
@@ -65,19 +65,8 @@ pub fn block_distance(
     (sum / norm).sqrt()
 }
 
-/// The reference block's Lagrange (its error is the mesh's `err_discretization`), the
-/// benchmark block's `err_domain`, and the study's rows of one Hertz mesh.
-pub struct Domain {
-    /// Lagrange's error on the reference block.
-    pub err_discretization: f64,
-    /// The benchmark block's distance from the reference block.
-    pub err_domain: f64,
-    /// One per block size.
-    pub rows: Vec<DomainRow>,
-}
-
 /// Solves the domain study of one Hertz mesh; `block` is the benchmark's own solve.
-pub(crate) fn domain(cfg: &BenchConfig, block: &Prepared) -> Result<Domain> {
+pub(crate) fn domain(cfg: &BenchConfig, block: &Prepared) -> Result<MeshErrors> {
     // Every block but the benchmark's own, solved in parallel.
     let solved: Vec<Option<Prepared>> = DOMAIN_SIZES
         .par_iter()
@@ -98,17 +87,18 @@ pub(crate) fn domain(cfg: &BenchConfig, block: &Prepared) -> Result<Domain> {
             h: block.h,
             block_over_a: size,
             n_dofs: s.lagrange.scene.n_free,
-            err_total: analytic::pressure_error(nodes, &s.p_lagrange, &s.exact),
+            err_total: s.err_own,
             err_domain: block_distance((nodes, &s.p_lagrange), (r_nodes, r_p), &s.exact),
         });
     }
-    Ok(Domain {
-        err_discretization: analytic::pressure_error(r_nodes, r_p, &r.exact),
-        err_domain: block_distance(
+    Ok(MeshErrors {
+        discretization: r.err_own,
+        // The benchmark's block need not be one of the study's sizes (`--block-over-a`).
+        domain: block_distance(
             (&block.lagrange.scene.contact, &block.p_lagrange),
             (r_nodes, r_p),
             &block.exact,
         ),
-        rows,
+        study: rows,
     })
 }

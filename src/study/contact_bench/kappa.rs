@@ -35,7 +35,9 @@ pub fn kappa_sensitivity(cfg: &BenchConfig, progress: &Progress) -> Result<Vec<B
         .filter(|c| **c != super::analytic::Case::FlatPunch)
     {
         let prep = Prepared::new(cfg, case, h_rel)?;
-        let mesh = prep.mesh();
+        // The rows' `err_discretization` and `err_domain` mean what they mean in rows.csv.
+        let errors = prep.errors(cfg)?;
+        let mesh = prep.mesh(&errors);
         let problem = &prep.lagrange.scene.problem;
         let mut jobs = Vec::new();
         for &rel in &KAPPA_DHATS {

@@ -52,8 +52,8 @@ pub use report::tables;
 pub use row::{BenchRow, Floor, Profile};
 
 pub use record::{
-    admissible, convergence_rates, leaderboard, load, rule_of, save, Checkpoints, Leader, Summary,
-    MARGIN,
+    admissible, convergence_rates, leaderboard, load, rule_of, save, summary, Checkpoints, Leader,
+    Summary, MARGIN,
 };
 
 use crate::error::{Error, Result};
@@ -472,11 +472,16 @@ pub(crate) struct Prepared {
     /// Lagrange at the load.
     pub(crate) lagrange: Loaded,
     pub(crate) p_lagrange: Vec<f64>,
-    /// Lagrange's error against the analytic pressure that the rows report as
-    /// `err_discretization` (Hertz: on the reference block, [`domain`]).
-    err_discretization: f64,
-    /// `err_domain` of the rows.
-    err_domain: f64,
+    /// Lagrange's error against the analytic pressure on this block.
+    pub(crate) err_own: f64,
+}
+
+/// What the rows of one mesh report as `err_discretization` and `err_domain`, and the domain
+/// study behind them.
+pub(crate) struct MeshErrors {
+    pub(crate) discretization: f64,
+    pub(crate) domain: f64,
+    pub(crate) study: Vec<domain::DomainRow>,
 }
 
 impl Prepared {
@@ -508,8 +513,7 @@ impl Prepared {
             FORCE_TOL,
         )?;
         let p_lagrange = lagrange.scene.pressures(&lagrange.sol.u);
-        let err_discretization =
-            analytic::pressure_error(&lagrange.scene.contact, &p_lagrange, &exact);
+        let err_own = analytic::pressure_error(&lagrange.scene.contact, &p_lagrange, &exact);
         Ok(Prepared {
             case,
             h_rel,
@@ -519,13 +523,25 @@ impl Prepared {
             exact,
             lagrange,
             p_lagrange,
-            err_discretization,
-            err_domain: 0.0,
+            err_own,
         })
     }
 
-    /// What the mesh's jobs share.
-    pub(crate) fn mesh(&self) -> Mesh<'_> {
+    /// The rows' errors: Hertz from the domain study ([`domain`]); the flat punch is exact
+    /// on its block (its own error, no domain error).
+    pub(crate) fn errors(&self, cfg: &BenchConfig) -> Result<MeshErrors> {
+        if self.case == Case::FlatPunch {
+            return Ok(MeshErrors {
+                discretization: self.err_own,
+                domain: 0.0,
+                study: Vec::new(),
+            });
+        }
+        domain::domain(cfg, self)
+    }
+
+    /// What the mesh's jobs share, with the rows' `errors`.
+    pub(crate) fn mesh(&self, errors: &MeshErrors) -> Mesh<'_> {
         let lag = &self.lagrange;
         Mesh {
             case: self.case,
@@ -535,8 +551,8 @@ impl Prepared {
             h: self.h,
             n_free: lag.scene.n_free,
             lift_lagrange: lag.scene.lift,
-            err_discretization: self.err_discretization,
-            err_domain: self.err_domain,
+            err_discretization: errors.discretization,
+            err_domain: errors.domain,
             p_lagrange: &self.p_lagrange,
         }
     }
@@ -550,13 +566,8 @@ pub const LONG_JOB_S: f64 = 10.0;
 /// gets a line (`optimal` takes 8–64 min per δ on the 5 253-DOF plane mesh).
 pub fn run_mesh(cfg: &BenchConfig, case: Case, h_rel: f64, progress: &Progress) -> Result<MeshRun> {
     let finest = cfg.meshes.iter().copied().fold(f64::INFINITY, f64::min);
-    let mut prep = Prepared::new(cfg, case, h_rel)?;
-    let mut domain_rows = Vec::new();
-    if case != Case::FlatPunch {
-        let d = domain::domain(cfg, &prep)?;
-        (prep.err_discretization, prep.err_domain) = (d.err_discretization, d.err_domain);
-        domain_rows = d.rows;
-    }
+    let prep = Prepared::new(cfg, case, h_rel)?;
+    let errors = prep.errors(cfg)?;
     let lag = &prep.lagrange;
     // K and the contact DOFs do not depend on the lift: one floor per mesh.
     let floor = Floor {
@@ -565,7 +576,7 @@ pub fn run_mesh(cfg: &BenchConfig, case: Case, h_rel: f64, progress: &Progress) 
         n_dofs: lag.scene.n_free,
         cond2_floor: strategy::optimal::cond2_lower_bound(&lag.scene.problem)?,
     };
-    let mesh = prep.mesh();
+    let mesh = prep.mesh(&errors);
     // The jobs of a mesh are independent: solved in parallel, kept in job order; then the
     // knob values added near each rule's leaderboard threshold, solved the same way.
     let scale = cfg.length_scale(case, lag.scene.lift);
@@ -582,7 +593,7 @@ pub fn run_mesh(cfg: &BenchConfig, case: Case, h_rel: f64, progress: &Progress) 
         rows: Vec::new(),
         profiles: Vec::new(),
         floor,
-        domain: domain_rows,
+        domain: errors.study,
     };
     for (row, p) in solved {
         if h_rel == finest && !p.is_empty() {

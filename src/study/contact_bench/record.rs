@@ -186,13 +186,10 @@ pub struct Summary {
     pub domain: Vec<super::domain::DomainRow>,
 }
 
-/// Writes `OUT/rows.csv`, `OUT/kappa.csv` (the κ study, if run), `OUT/domain.csv` (the domain
-/// study, with a Hertz case) and `OUT/summary.json` (provenance, rates, leaderboard, rows and
-/// both studies).
-pub fn save(out: &std::path::Path, cfg: &BenchConfig, run: &BenchRun) -> Result<Summary> {
-    let rows = &run.rows;
-    std::fs::create_dir_all(out).map_err(|e| Error::io(out.display(), e))?;
-    let summary = Summary {
+/// The record of a run: provenance with `cfg`, the rates, the leaderboard, and the run's rows,
+/// profiles, floors and both studies.
+pub fn summary(cfg: &BenchConfig, run: BenchRun) -> Summary {
+    Summary {
         provenance: crate::provenance::Provenance::new("contact_bench").record(serde_json::json!({
             "config": cfg,
             // The jobs of a mesh run on rayon's pool (results do not depend on it; `seconds` do).
@@ -201,23 +198,28 @@ pub fn save(out: &std::path::Path, cfg: &BenchConfig, run: &BenchRun) -> Result<
             "growth": GROWTH,
             "fine_over_a": FINE_OVER_A,
         })),
-        rates: convergence_rates(rows),
-        leaderboard: leaderboard(rows),
-        rows: rows.to_vec(),
-        profiles: run.profiles.clone(),
-        floors: run.floors.clone(),
-        kappa: run.kappa.clone(),
-        domain: run.domain.clone(),
-    };
-    crate::provenance::write_csv(&out.join("rows.csv"), rows)?;
-    if !run.kappa.is_empty() {
-        crate::provenance::write_csv(&out.join("kappa.csv"), &run.kappa)?;
+        rates: convergence_rates(&run.rows),
+        leaderboard: leaderboard(&run.rows),
+        rows: run.rows,
+        profiles: run.profiles,
+        floors: run.floors,
+        kappa: run.kappa,
+        domain: run.domain,
     }
-    if !run.domain.is_empty() {
-        crate::provenance::write_csv(&out.join("domain.csv"), &run.domain)?;
+}
+
+/// Writes `OUT/rows.csv`, `OUT/kappa.csv` (the κ study, if run), `OUT/domain.csv` (the domain
+/// study, with a Hertz case) and `OUT/summary.json` (everything).
+pub fn save(out: &std::path::Path, summary: &Summary) -> Result<()> {
+    std::fs::create_dir_all(out).map_err(|e| Error::io(out.display(), e))?;
+    crate::provenance::write_csv(&out.join("rows.csv"), &summary.rows)?;
+    if !summary.kappa.is_empty() {
+        crate::provenance::write_csv(&out.join("kappa.csv"), &summary.kappa)?;
     }
-    crate::provenance::write_json(&out.join("summary.json"), &summary)?;
-    Ok(summary)
+    if !summary.domain.is_empty() {
+        crate::provenance::write_csv(&out.join("domain.csv"), &summary.domain)?;
+    }
+    crate::provenance::write_json(&out.join("summary.json"), summary)
 }
 
 /// Reads `OUT/summary.json` back.
