@@ -14,15 +14,9 @@
 //! status 2 and one line on stderr; a run outside the model's domain with status 3 (see
 //! `--help`; `--allow-invalid` keeps it, marked `"valid": false`).
 
-use penalty_lab::study::deep_drawing;
-use penalty_lab::study::forming_runs::Cli;
+use penalty_lab::study::{self, deep_drawing::DeepDrawing};
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    let cli = Cli::parse_for(&deep_drawing::EXPERIMENT);
-    penalty_lab::error::run_main(|| {
-        let doc = cli.execute(deep_drawing::EXPERIMENT)?;
-        print!("{}", cli.output(&doc, &doc)?);
-        Ok(())
-    })
+    study::main::<DeepDrawing>()
 }

@@ -16,15 +16,9 @@
 //! steps, and the per-step series of every run. Bad input exits with status 2; a run outside the
 //! model's domain with status 3 (`--allow-invalid` keeps it, marked `"valid": false`).
 
-use penalty_lab::study::forming_runs::Cli;
-use penalty_lab::study::stretch_test;
+use penalty_lab::study::{self, stretch_test::StretchTest};
 use std::process::ExitCode;
 
-pub fn main() -> ExitCode {
-    let cli = Cli::parse_for(&stretch_test::EXPERIMENT);
-    penalty_lab::error::run_main(|| {
-        let doc = cli.execute(stretch_test::EXPERIMENT)?;
-        print!("{}", cli.output(&doc, &stretch_test::json_summary(&doc))?);
-        Ok(())
-    })
+fn main() -> ExitCode {
+    study::main::<StretchTest>()
 }

@@ -1,10 +1,10 @@
 //! `test_example`: the paper's first example under the name it had before it became
-//! `stretch_test` (issue 27's commands and older scripts call it so). The same program —
-//! `experiments/stretch_test.rs` compiled under this name: same flags, same output.
+//! `stretch_test` (issue 27's commands and older scripts call it so). The same study through
+//! the same entry: same flags, same output.
 
-#[path = "../stretch_test.rs"]
-mod stretch_test;
+use penalty_lab::study::{self, stretch_test::StretchTest};
+use std::process::ExitCode;
 
-fn main() -> std::process::ExitCode {
-    stretch_test::main()
+fn main() -> ExitCode {
+    study::main::<StretchTest>()
 }

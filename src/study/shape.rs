@@ -16,6 +16,9 @@
 //! - the exit codes of [`crate::error::run_main`]: 0, 2 for an error (one line on stderr), 3
 //!   for a run outside its model.
 //!
+//! After a run the record is saved and read back, so that the figures, the report and the
+//! JSON come from the saved files exactly as with `--render-only`.
+//!
 //! A binary is then `fn main() -> ExitCode { study::main::<TheStudy>() }`. Each study's
 //! module has the same files: `mod.rs` (configuration, record and run), `figures.rs` and
 //! `report.rs`.
@@ -118,6 +121,9 @@ pub trait Study {
     const RESUMABLE: bool = false;
     /// Where under `--out` the drawings go (`""`: `--out` itself).
     const FIGURES_DIR: &'static str = "figures";
+    /// Whether the study keeps a record in `--out` (`false`: a one-shot command such as
+    /// `solve`, which refuses `--out` and `--render-only` with one line).
+    const SAVES: bool = true;
     /// The study's own flags (clap).
     type Flags: Args;
     /// The validated configuration.
@@ -137,6 +143,15 @@ pub trait Study {
     fn figures(record: &Self::Record) -> Result<Vec<Drawing>>;
     /// The text printed on stdout (without `--json`).
     fn report(record: &Self::Record) -> String;
+    /// Text after the options in `--help` (exit statuses, units).
+    fn after_help() -> String {
+        String::new()
+    }
+    /// An output directory the configuration names itself (`sweep merge OUT ...`), in place of
+    /// `--out`.
+    fn out_override(_cfg: &Self::Config) -> Option<PathBuf> {
+        None
+    }
     /// What `--json` prints: the record by default.
     fn json(record: &Self::Record) -> Result<String> {
         crate::provenance::json_text(Self::NAME, record)
@@ -163,6 +178,9 @@ struct Cli<F: Args> {
     /// Reuse the checkpoints an interrupted run of the same build and options left in `--out`.
     #[arg(long, hide = true)]
     resume: bool,
+    /// Skip the figures.
+    #[arg(long, global = true)]
+    no_figures: bool,
 }
 
 /// The `main` of a study binary (module doc).
@@ -171,8 +189,19 @@ pub fn main<S: Study>() -> ExitCode {
         .name(S::NAME)
         .bin_name(S::NAME)
         .about(S::ABOUT)
-        .version(crate::provenance::VERSION);
-    cmd = cmd.mut_arg("out", |a| a.default_value(S::DEFAULT_OUT));
+        .version(crate::provenance::VERSION)
+        .args_conflicts_with_subcommands(true);
+    let after = S::after_help();
+    if !after.is_empty() {
+        cmd = cmd.after_help(after);
+    }
+    if S::SAVES {
+        cmd = cmd.mut_arg("out", |a| a.default_value(S::DEFAULT_OUT));
+    } else {
+        for hidden in ["out", "render_only", "no_figures"] {
+            cmd = cmd.mut_arg(hidden, |a| a.hide(true));
+        }
+    }
     if S::RESUMABLE {
         cmd = cmd.mut_arg("resume", |a| a.hide(false));
     }
@@ -195,10 +224,17 @@ fn entry<S: Study>(cli: &Cli<S::Flags>) -> Result<()> {
             S::NAME
         )));
     }
-    let record = if cli.render_only {
-        S::load(&out)?
+    if !S::SAVES && (cli.out.is_some() || cli.render_only) {
+        return Err(crate::Error::input(format!(
+            "--out/--render-only: {} keeps no record",
+            S::NAME
+        )));
+    }
+    let (record, out) = if cli.render_only {
+        (S::load(&out)?, out)
     } else {
         let cfg = S::config(&cli.flags)?;
+        let out = S::out_override(&cfg).unwrap_or(out);
         let progress = Progress::new(S::PROGRESS, cli.quiet);
         let ctx = RunContext {
             progress: &progress,
@@ -207,12 +243,23 @@ fn entry<S: Study>(cli: &Cli<S::Flags>) -> Result<()> {
         };
         let record = S::run(&cfg, &ctx)?;
         progress.finish();
-        S::save(&out, &cfg, &record)?;
-        record
+        if S::SAVES {
+            // What follows is drawn and printed from the saved files, as --render-only would.
+            S::save(&out, &cfg, &record)?;
+            (S::load(&out)?, out)
+        } else {
+            (record, out)
+        }
     };
-    let dir = out.join(S::FIGURES_DIR);
-    for d in S::figures(&record)? {
-        d.render(&dir)?;
+    if S::SAVES && !cli.no_figures {
+        let dir = out.join(S::FIGURES_DIR);
+        let mut files = 0;
+        for d in S::figures(&record)? {
+            files += d.render(&dir)?.len();
+        }
+        if !cli.quiet {
+            eprintln!("rendered {files} figure files into {}", dir.display());
+        }
     }
     if cli.json {
         println!("{}", S::json(&record)?);

@@ -4,8 +4,16 @@
 use crate::common;
 use std::process::Command;
 
+/// Runs `bin`; without `--out` in `args`, into a fresh temporary folder (the binaries write
+/// into `--out`, whose default is under `results/`).
 fn run(bin: &str, args: &[&str]) -> std::process::Output {
-    Command::new(bin).args(args).output().expect("binary runs")
+    let tmp = tempfile::tempdir().expect("temp dir");
+    let mut cmd = Command::new(bin);
+    cmd.args(args);
+    if !args.contains(&"--out") && !args.contains(&"--help") {
+        cmd.arg("--out").arg(tmp.path());
+    }
+    cmd.output().expect("binary runs")
 }
 
 const DD: &str = env!("CARGO_BIN_EXE_deep_drawing");

@@ -7,7 +7,7 @@
 
 use penalty_lab::forming::FormingConfig;
 use penalty_lab::strategy::paper;
-use penalty_lab::study::forming_runs::report::SavedRuns;
+use penalty_lab::study::forming_runs::record::SavedRuns;
 use penalty_lab::study::forming_runs::{self, ExperimentConfig};
 use penalty_lab::system::{Constraint, ConstraintKind, Problem, Stiffness};
 use std::sync::OnceLock;

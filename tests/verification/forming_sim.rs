@@ -5,7 +5,7 @@
 //! The default runs are computed once per test binary and shared.
 
 use penalty_lab::forming::{ContactRule, FormingConfig, Simulation};
-use penalty_lab::study::forming_runs::report::SavedRuns;
+use penalty_lab::study::forming_runs::record::SavedRuns;
 use penalty_lab::study::forming_runs::{self, ExperimentConfig};
 use std::sync::OnceLock;
 

@@ -14,17 +14,25 @@
 //! it; the scene itself (K, q, constraints) and K's cond₂ are alive during every method and
 //! are included. No crate exposes a resettable peak, hence these two small readers.
 //!
+//! [`EngineScale`] is the study as the shared entry ([`crate::study::shape::main`]) runs it:
+//! `rows.csv`, `rows.json`, `manifest.json` (provenance) and the figure `engine_scale`.
+//!
 //! Use it to measure the engine against the factorization floor (README, Performance):
 //! `cargo run --release --bin engine_scale`.
+
+pub mod figures;
+pub mod report;
 
 use crate::conditioning;
 use crate::error::{Error, Result};
 use crate::metrics::{self, MetricSet};
 use crate::model::scalable::{self, PerfScene};
-use crate::plot::{Figure, Mark, Series};
 use crate::progress::Progress;
 use crate::strategy::{self, Knob, Knobs, Method, Strategy};
+use crate::strategy::registry;
+use crate::study::shape::{Drawing, RunContext, Study};
 use serde::{Deserialize, Serialize};
+use std::path::Path;
 use std::time::Instant;
 
 /// Methods the study runs (fixed-energy penalties, δ-targeting, exact contact).
@@ -278,45 +286,76 @@ pub fn run(cfg: &ScaleConfig, progress: &Progress) -> Result<Vec<ScaleRow>> {
     Ok(rows)
 }
 
-/// Two panels against N (log–log), one series per method: wall time of the solve, and
-/// numeric factorizations.
-pub fn figures(rows: &[ScaleRow]) -> Vec<Figure> {
-    let mut time = Figure::new(
-        "Solve wall time, full-contact membranes",
-        "N (DOFs)",
-        "seconds",
-    )
-    .log_log();
-    let mut fact = Figure::new(
-        "Numeric factorizations per solve",
-        "N (DOFs)",
-        "factorizations",
-    )
-    .log_log();
-    for name in scale_method_names() {
-        let r: Vec<&ScaleRow> = rows.iter().filter(|r| r.method == name).collect();
-        if r.is_empty() {
-            continue;
-        }
-        let x: Vec<f64> = r.iter().map(|r| r.n as f64).collect();
-        time = time.with_series(
-            Series::new(
-                name,
-                x.clone(),
-                r.iter().map(|r| r.seconds_solve).collect(),
-                Mark::LinePoints,
-            )
-            .method(name),
-        );
-        fact = fact.with_series(
-            Series::new(
-                name,
-                x,
-                r.iter().map(|r| r.factorizations as f64).collect(),
-                Mark::LinePoints,
-            )
-            .method(name),
-        );
+/// The `engine_scale` binary's flags.
+#[derive(clap::Args, Debug)]
+pub struct Flags {
+    /// Requested DOF counts (membrane side = round(√size)).
+    #[arg(long, value_delimiter = ',', default_values_t = [10_000usize, 100_000])]
+    sizes: Vec<usize>,
+    /// Methods (default: constant, scaled, condensed, lagrange).
+    #[arg(long, value_parser = registry::method_parser(), value_delimiter = ',')]
+    methods: Option<Vec<String>>,
+    /// Skip the cond₂ metrics.
+    #[arg(long)]
+    no_cond: bool,
+}
+
+/// The study as the shared entry runs it.
+pub struct EngineScale;
+
+impl Study for EngineScale {
+    const NAME: &'static str = "engine_scale";
+    const ABOUT: &'static str = "The contact solve engine at 1e4-1e6 DOFs";
+    const PROGRESS: &'static str = "engine_scale (solves)";
+    const DEFAULT_OUT: &'static str = "figures/engine_scale";
+    const FIGURES_DIR: &'static str = "";
+    type Flags = Flags;
+    type Config = ScaleConfig;
+    type Record = Vec<ScaleRow>;
+
+    fn config(f: &Flags) -> Result<ScaleConfig> {
+        let cfg = ScaleConfig {
+            sizes: f.sizes.clone(),
+            methods: f.methods.clone().unwrap_or_else(|| {
+                scale_method_names()
+                    .iter()
+                    .map(|s| s.to_string())
+                    .collect()
+            }),
+            cond: !f.no_cond,
+            ..Default::default()
+        };
+        cfg.validate()?;
+        Ok(cfg)
     }
-    vec![time, fact]
+
+    fn run(cfg: &ScaleConfig, ctx: &RunContext) -> Result<Vec<ScaleRow>> {
+        run(cfg, ctx.progress)
+    }
+
+    /// `rows.csv`, `rows.json` and `manifest.json`.
+    fn save(out: &Path, cfg: &ScaleConfig, rows: &Vec<ScaleRow>) -> Result<()> {
+        use crate::provenance;
+        std::fs::create_dir_all(out).map_err(|e| Error::io(out.display(), e))?;
+        provenance::write_csv(&out.join("rows.csv"), rows)?;
+        provenance::write_json(&out.join("rows.json"), rows)?;
+        let manifest = provenance::Provenance::new("engine_scale").record(serde_json::json!({
+            "config": cfg,
+            "threads": 1,
+            "timing": "wall time (std::time::Instant) of one strategy::solve, release build",
+        }));
+        provenance::write_json(&out.join("manifest.json"), &manifest)
+    }
+
+    fn load(out: &Path) -> Result<Vec<ScaleRow>> {
+        crate::provenance::read_json(&out.join("rows.json"))
+    }
+
+    fn figures(rows: &Vec<ScaleRow>) -> Result<Vec<Drawing>> {
+        Ok(figures::drawings(rows))
+    }
+
+    fn report(rows: &Vec<ScaleRow>) -> String {
+        report::table(rows)
+    }
 }

@@ -3,16 +3,21 @@
 //! the "modified approach" of Fig. 7, named `adaptive` — and the exact `condensed` rule (δ).
 //! The three runs are independent and run in parallel (rayon).
 
+pub mod cli;
+pub mod figures;
+pub mod record;
 pub mod report;
+
+pub use cli::{Experiment, Forming, FormingExperiment, EXIT_STATUSES};
+pub use report::{comparisons, summary_table, Comparison};
 
 use crate::error::{Error, Result};
 use crate::forming::config::{ContactRule, FormingConfig};
 use crate::forming::solver::{RunResult, Simulation, StepRecord};
 use crate::provenance::Provenance;
-use report::{SavedRun, SavedRuns};
+use record::{SavedRun, SavedRuns};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
-use std::path::PathBuf;
 use std::time::Instant;
 
 /// An experiment: the forming configuration and the two contact knobs.
@@ -176,288 +181,6 @@ impl ExperimentConfig {
     }
 }
 
-/// The command line shared by `deep_drawing` and `stretch_test` (`#[command(flatten)]`).
-#[derive(clap::Args, Debug, Clone, Default)]
-pub struct Cli {
-    /// Print the JSON document on stdout.
-    #[arg(long)]
-    pub json: bool,
-    /// Write JSON, CSV step tables and figures into DIR.
-    #[arg(long, value_name = "DIR")]
-    pub out: Option<PathBuf>,
-    /// Re-render the figures from `DIR/<experiment>.json` (needs `--out DIR`) without running.
-    #[arg(long, requires = "out")]
-    pub render_only: bool,
-    /// Number of elements (default 50).
-    #[arg(long)]
-    pub elements: Option<usize>,
-    /// Number of time steps (default 100).
-    #[arg(long)]
-    pub steps: Option<usize>,
-    /// Punch travel in inches (default: the experiment's, given below).
-    #[arg(long, allow_negative_numbers = true)]
-    pub travel: Option<f64>,
-    /// Coulomb friction coefficient (default 0.2).
-    #[arg(long, allow_negative_numbers = true)]
-    pub friction: Option<f64>,
-    /// Classical penalty ε in ton-force·s/in (default 1e7).
-    #[arg(long, allow_negative_numbers = true)]
-    pub penalty: Option<f64>,
-    /// Allowed penetration δ in inches for the adaptive runs (default 1e-5).
-    #[arg(long, allow_negative_numbers = true)]
-    pub delta: Option<f64>,
-    /// TOML file: `penalty`, `delta`, `condensed`, `paper_literal`, and a `[forming]` table;
-    /// flags override it.
-    #[arg(long, value_name = "FILE.toml")]
-    pub config: Option<PathBuf>,
-    /// Complete (status 0) a run that left the model's domain, with `"valid": false` and the
-    /// reasons in the JSON, the CSV files and the figure titles (without it: status 3).
-    #[arg(long)]
-    pub allow_invalid: bool,
-}
-
-/// The exit statuses of the experiment binaries, for their `--help`.
-pub const EXIT_STATUSES: &str = "Exit status: 0 ok; 2 bad input or a failed run; 3 the run left \
-     the model's domain (blank drawn off the holder or through the die, a node through a tool, \
-     volume drift > 1 %, a step longer than half an element, Picard unconverged in > 5 % of the \
-     steps; the paper-literal run is a diagnostic whose own validity is reported per run): one \
-     line on stderr names the reasons, and nothing is written; --allow-invalid completes such \
-     a run with \"valid\": false.";
-
-/// What an experiment binary passes besides its flags.
-#[derive(Clone, Copy, Debug)]
-pub struct Experiment {
-    /// Name: the JSON file stem and `experiment` field (`deep_drawing`, `stretch_test`).
-    pub name: &'static str,
-    /// Figure title prefix.
-    pub title: &'static str,
-    /// File stem of the cond-per-step figure (`fig7_condition_per_step` for the deep draw).
-    pub cond_figure: &'static str,
-    /// The preset the TOML file and flags modify.
-    pub preset: fn() -> FormingConfig,
-    /// One line for `--help`.
-    pub about: &'static str,
-}
-
-impl Cli {
-    /// Parses the process's arguments as the binary of `exp` (its name, `--help` text, the
-    /// preset's travel and the exit statuses); `--help`, `--version` and bad options exit here
-    /// as clap does (status 0, 0, 2).
-    pub fn parse_for(exp: &Experiment) -> Cli {
-        use clap::{Args, Command, FromArgMatches};
-        let help = format!(
-            "Default travel {:.1} in. Units: inch, ton-force, second. {EXIT_STATUSES}",
-            (exp.preset)().travel
-        );
-        let cmd = Cli::augment_args(Command::new(exp.name))
-            .version(crate::provenance::VERSION)
-            .about(exp.about)
-            .long_about(None)
-            .after_help(help);
-        Cli::from_arg_matches(&cmd.get_matches()).unwrap_or_else(|e| e.exit())
-    }
-
-    /// What the binary prints for `doc`: `json` (the document or a summary of it) under
-    /// `--json`, otherwise the [`summary_table`].
-    pub fn output(&self, doc: &SavedRuns, json: &impl Serialize) -> Result<String> {
-        if self.json {
-            Ok(crate::provenance::json_text(doc.experiment.as_str(), json)? + "\n")
-        } else {
-            Ok(summary_table(doc))
-        }
-    }
-
-    /// The experiment configuration: the TOML file (or the paper's knobs) on the preset, then
-    /// the flags; validated.
-    pub fn config(&self, preset: FormingConfig) -> Result<ExperimentConfig> {
-        let c = match &self.config {
-            Some(p) => ExperimentConfig::from_toml_file(p, preset)?,
-            None => ExperimentConfig::paper_knobs(preset),
-        };
-        c.apply(&Overrides {
-            elements: self.elements,
-            steps: self.steps,
-            travel: self.travel,
-            friction: self.friction,
-            penalty: self.penalty,
-            delta: self.delta,
-        })
-    }
-
-    /// Runs the experiment (or, with `--render-only`, loads `OUT/<name>.json`), writes the data
-    /// and renders the figures from the saved file when `--out` is given, and returns the
-    /// document for the binary to print.
-    pub fn execute(&self, exp: Experiment) -> Result<SavedRuns> {
-        if self.render_only {
-            let dir = self
-                .out
-                .as_ref()
-                .ok_or_else(|| Error::input("--render-only needs --out DIR"))?;
-            let doc = report::load(&dir.join(format!("{}.json", exp.name)))?;
-            report::render_figures(dir, &doc, exp.title, exp.cond_figure)?;
-            return Ok(doc);
-        }
-        let cfg = self.config((exp.preset)())?;
-        let command = std::env::args().collect::<Vec<_>>().join(" ");
-        let doc = run_with(exp.name, &cfg, &command, self.allow_invalid)?;
-        if !doc.valid && !self.allow_invalid {
-            return Err(Error::OutsideModel(format!(
-                "{} (rerun with --allow-invalid to keep the outputs)",
-                doc.invalid_reasons.join("; ")
-            )));
-        }
-        if let Some(dir) = &self.out {
-            let json = report::save(dir, exp.name, &doc)?;
-            let saved = report::load(&json)?;
-            report::render_figures(dir, &saved, exp.title, exp.cond_figure)?;
-        }
-        Ok(doc)
-    }
-}
-
-/// One line per run: steps, Picard-converged steps, the largest final change of a step that
-/// stopped at the cap (`-` if none did), median cond₂, final punch force, mean Picard
-/// iterations, max penetration, clipped (Eq. 28 literal) or floored (Eq. 28 at the residual)
-/// penalties, factorizations, seconds, validity; then what finding `classical-matched`'s ε cost
-/// (its search's runs, factorizations and seconds, beside the one run in the table), the
-/// comparisons, and one line per reason of an invalid run.
-pub fn summary_table(doc: &SavedRuns) -> String {
-    let mut out = format!(
-        "{:<17} {:>5} {:>9} {:>10} {:>11} {:>11} {:>9} {:>12} {:>7} {:>7} {:>6} {:>6}\n",
-        "run",
-        "steps",
-        "converged",
-        "cap change",
-        "median cond",
-        "final force",
-        "mean iter",
-        "max pen (in)",
-        "clipped",
-        "factor.",
-        "sec",
-        "valid"
-    );
-    for (name, r) in &doc.runs {
-        let c: Vec<f64> = r.steps.iter().map(|s| s.cond2).collect();
-        let med = crate::stats::median(&c).unwrap_or(f64::NAN);
-        let conv = r.steps.iter().filter(|s| s.converged).count();
-        let capped = r
-            .steps
-            .iter()
-            .filter(|s| !s.converged)
-            .map(|s| s.picard_change)
-            .fold(None, |a: Option<f64>, x| Some(a.map_or(x, |a| a.max(x))));
-        let it: f64 =
-            r.steps.iter().map(|s| s.iterations as f64).sum::<f64>() / r.steps.len().max(1) as f64;
-        let pen = r
-            .steps
-            .iter()
-            .map(|s| s.max_penetration)
-            .fold(0.0, f64::max);
-        let clip: usize = r.steps.iter().map(|s| s.clipped).sum();
-        let f = r.steps.last().map_or(f64::NAN, |s| s.punch_force);
-        let fact: usize = r.steps.iter().map(|s| s.factorizations).sum();
-        out.push_str(&format!(
-            "{name:<17} {:>5} {:>9} {:>10} {:>11.3e} {:>11.4} {:>9.1} {:>12.2e} {:>7} {:>7} {:>6.2} {:>6}\n",
-            r.steps.len(),
-            conv,
-            capped.map_or("-".to_string(), |x| format!("{x:.2e}")),
-            med,
-            f,
-            it,
-            pen,
-            clip,
-            fact,
-            r.seconds,
-            if r.valid { "yes" } else { "NO" }
-        ));
-    }
-    for (name, r) in &doc.runs {
-        if let (Some(s), Some(eps)) = (r.search, r.eps) {
-            out.push_str(&format!(
-                "{name}: ε = {} found in {} trial run{} from the classical run's penetration \
-                 (the last is the run above; {} factorizations, {:.2} s in all): a search a user \
-                 without δ has to make\n",
-                crate::study::text::fmt_e_trim(eps, 3),
-                s.runs,
-                if s.runs == 1 { "" } else { "s" },
-                s.factorizations,
-                s.seconds
-            ));
-        }
-    }
-    for c in comparisons(doc) {
-        out.push_str(&format!(
-            "{} beats {} (ε = {}) in {}/{} steps (median cond₂ ratio {}/{} = {:.3})\n",
-            c.rule,
-            c.classical,
-            crate::study::text::fmt_e_trim(c.eps, 3),
-            c.wins,
-            c.steps,
-            c.classical,
-            c.rule,
-            c.median_ratio
-        ));
-    }
-    for r in doc.runs.values() {
-        for reason in &r.invalid_reasons {
-            out.push_str(&format!("invalid: {reason}\n"));
-        }
-    }
-    out
-}
-
-/// One δ-rule against one classical run, step by step.
-#[derive(Clone, Debug, Serialize)]
-pub struct Comparison {
-    /// The δ-rule's run (`adaptive`, `condensed`).
-    pub rule: String,
-    /// The classical run (`classical`, `classical-matched`).
-    pub classical: String,
-    /// The classical run's ε.
-    pub eps: f64,
-    /// Steps where the δ-rule's cond₂ is below the classical run's.
-    pub wins: usize,
-    /// Steps compared (both runs have them).
-    pub steps: usize,
-    /// Median over the steps of cond₂(classical) / cond₂(rule): > 1 = the δ-rule is better
-    /// conditioned.
-    pub median_ratio: f64,
-}
-
-/// Every δ-rule of the document (not the diagnostic `paper-literal`) against every classical
-/// run: in how many steps its cond₂ is lower, and the median ratio — the paper's claim,
-/// stated against the classical penalty of the paper (ε = 1e7, far more accurate than δ) and
-/// against `classical-matched` (the same accuracy).
-pub fn comparisons(doc: &SavedRuns) -> Vec<Comparison> {
-    let mut out = Vec::new();
-    for (cname, c) in &doc.runs {
-        let ContactRule::Classical { eps } = c.rule else {
-            continue;
-        };
-        for (rname, r) in &doc.runs {
-            if matches!(r.rule, ContactRule::Classical { .. }) || diagnostic_only(&r.rule) {
-                continue;
-            }
-            let ratios: Vec<f64> = c
-                .steps
-                .iter()
-                .zip(&r.steps)
-                .map(|(a, b)| a.cond2 / b.cond2)
-                .collect();
-            out.push(Comparison {
-                rule: rname.clone(),
-                classical: cname.clone(),
-                eps,
-                wins: ratios.iter().filter(|&&q| q > 1.0).count(),
-                steps: ratios.len(),
-                median_ratio: crate::stats::median(&ratios).unwrap_or(f64::NAN),
-            });
-        }
-    }
-    out
-}
-
 /// The name of the classical run matched to δ.
 pub const CLASSICAL_MATCHED: &str = "classical-matched";
 
@@ -484,7 +207,7 @@ pub struct Matched {
     /// Why no trial landed in [δ/2, δ] (the nearest one is returned), if none did.
     pub unmatched: Option<String>,
     /// What the search cost (every trial run, this one included).
-    pub search: report::MatchSearch,
+    pub search: record::MatchSearch,
 }
 
 /// The constant ε of `classical-matched` and its run: a classical penalty whose largest
@@ -502,7 +225,7 @@ pub fn matched_penalty(cfg: &ExperimentConfig, classical: &RunResult) -> Result<
     let mut eps = cfg.penalty;
     let mut pen = largest_penetration(&classical.steps);
     let mut best: Option<(f64, RunResult, Option<Error>, f64)> = None;
-    let mut cost = report::MatchSearch {
+    let mut cost = record::MatchSearch {
         runs: 0,
         factorizations: 0,
         seconds: 0.0,

@@ -1,504 +1,151 @@
-//! Outputs of forming runs: step tables (CSV), the JSON document, and the figures — the
-//! paper's Fig. 7 (four panels: cond₂ of the system matrix and of K alone per step, the
-//! ratio to classical, the determinant ratio, the equilibrated cond₂), punch force vs travel,
-//! thickness strain ln(t/t₀) vs initial radius at several depths, deformed profiles with the
-//! tools. Figures are rendered from the saved JSON ([`SavedRuns`]), never from live state.
+//! The printed report of forming runs: one line per run and the δ-rules against the classical
+//! runs, step by step.
 
-use crate::error::{Error, Result};
-use crate::forming::config::{ContactRule, FormingConfig};
-use crate::forming::solver::{RunResult, Snapshot, StepRecord};
-use crate::forming::tools::{Die, Punch};
-use crate::plot::{method_color, render, render_panels, Figure, Mark, Scale, Series};
-use serde::{Deserialize, Serialize};
-use std::collections::BTreeMap;
-use std::path::{Path, PathBuf};
+use super::diagnostic_only;
+use super::record::SavedRuns;
+use crate::forming::config::ContactRule;
+use serde::Serialize;
 
-/// One run as saved in the JSON document.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct SavedRun {
-    /// Contact rule.
-    pub rule: ContactRule,
-    /// Penalty ε (classical only).
-    #[serde(skip_serializing_if = "Option::is_none", default)]
-    pub eps: Option<f64>,
-    /// Allowed penetration δ (in; adaptive rules only).
-    #[serde(skip_serializing_if = "Option::is_none", default)]
-    pub delta: Option<f64>,
-    /// Largest penetration over the run, `max_steps max_c p_c·Δt` (in): what δ bounds
-    /// ([`super::largest_penetration`]).
-    #[serde(default)]
-    pub largest_penetration: f64,
-    /// Per-step telemetry.
-    pub steps: Vec<StepRecord>,
-    /// Sheet snapshots.
-    pub snapshots: Vec<Snapshot>,
-    /// Wall time (s).
-    pub seconds: f64,
-    /// This run stayed inside the model's domain ([`crate::forming::validity`]).
-    #[serde(default = "valid_default")]
-    pub valid: bool,
-    /// Why not (empty when valid).
-    #[serde(default)]
-    pub invalid_reasons: Vec<String>,
-    /// What finding this run's ε cost (`classical-matched` only): the search is an oracle a
-    /// user without δ would pay for.
-    #[serde(skip_serializing_if = "Option::is_none", default)]
-    pub search: Option<MatchSearch>,
-}
-
-/// The cost of [`super::matched_penalty`]'s search: every trial run, the returned one included.
-#[derive(Clone, Copy, Debug, Serialize, Deserialize, PartialEq)]
-pub struct MatchSearch {
-    /// Full forming runs made.
-    pub runs: usize,
-    /// Matrix factorizations over all their steps.
-    pub factorizations: usize,
-    /// Their wall time (s).
-    pub seconds: f64,
-}
-
-impl From<&RunResult> for SavedRun {
-    fn from(r: &RunResult) -> Self {
-        SavedRun {
-            rule: r.rule,
-            eps: match r.rule {
-                ContactRule::Classical { eps } => Some(eps),
-                _ => None,
-            },
-            delta: r.rule.delta(),
-            largest_penetration: super::largest_penetration(&r.steps),
-            steps: r.steps.clone(),
-            snapshots: r.snapshots.clone(),
-            seconds: r.seconds,
-            valid: true,
-            invalid_reasons: Vec::new(),
-            search: None,
-        }
-    }
-}
-
-/// The JSON document of an experiment: provenance, configuration, runs by name.
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct SavedRuns {
-    /// Experiment name.
-    pub experiment: String,
-    /// Git commit, command line, wall time, …
-    pub provenance: serde_json::Value,
-    /// The configuration shared by the runs.
-    pub config: FormingConfig,
-    /// Runs by name (`classical`, `adaptive`, `paper-literal`, `condensed`).
-    pub runs: BTreeMap<String, SavedRun>,
-    /// Every run stayed inside the model's domain ([`crate::forming::validity`]).
-    #[serde(default = "valid_default")]
-    pub valid: bool,
-    /// Why not (empty when valid).
-    #[serde(default)]
-    pub invalid_reasons: Vec<String>,
-}
-
-fn valid_default() -> bool {
-    true
-}
-
-/// Writes one run's step table as CSV; a run outside the model's domain (`invalid` = its
-/// reasons, non-empty) gets a first comment line `# valid: false; <reasons>`.
-pub fn write_steps_csv(path: &Path, steps: &[StepRecord], invalid: &[String]) -> Result<()> {
-    let mut file = std::fs::File::create(path).map_err(|e| Error::io(path.display(), e))?;
-    if !invalid.is_empty() {
-        use std::io::Write;
-        writeln!(file, "# valid: false; {}", invalid.join("; "))
-            .map_err(|e| Error::io(path.display(), e))?;
-    }
-    let mut w = csv::Writer::from_writer(file);
-    w.write_record([
-        "step",
-        "punch_travel",
-        "punch_force",
-        "cond2",
-        "log10_det",
-        "cond2_k",
-        "log10_det_ratio",
-        "cond2_equilibrated",
-        "cond2_k_equilibrated",
-        "cond2_bounds_proven",
-        "cond2_within_contract",
-        "max_penetration",
-        "geometric_penetration",
-        "volume",
-        "rim_r",
-        "iterations",
+/// One line per run: steps, Picard-converged steps, the largest final change of a step that
+/// stopped at the cap (`-` if none did), median cond₂, final punch force, mean Picard
+/// iterations, max penetration, clipped (Eq. 28 literal) or floored (Eq. 28 at the residual)
+/// penalties, factorizations, seconds, validity; then what finding `classical-matched`'s ε cost
+/// (its search's runs, factorizations and seconds, beside the one run in the table), the
+/// comparisons, and one line per reason of an invalid run.
+pub fn summary_table(doc: &SavedRuns) -> String {
+    let mut out = format!(
+        "{:<17} {:>5} {:>9} {:>10} {:>11} {:>11} {:>9} {:>12} {:>7} {:>7} {:>6} {:>6}\n",
+        "run",
+        "steps",
         "converged",
-        "picard_change",
-        "contact_nodes",
-        "candidates",
+        "cap change",
+        "median cond",
+        "final force",
+        "mean iter",
+        "max pen (in)",
         "clipped",
-        "min_penalty",
-        "max_penalty",
-        "mu_ratio",
-        "drag_force",
-        "factorizations",
-    ])
-    .map_err(|e| Error::io(path.display(), e))?;
-    for s in steps {
-        w.write_record([
-            s.step.to_string(),
-            s.punch_travel.to_string(),
-            s.punch_force.to_string(),
-            s.cond2.to_string(),
-            s.log10_det.to_string(),
-            s.cond2_k.to_string(),
-            s.log10_det_ratio.to_string(),
-            s.cond2_equilibrated.to_string(),
-            s.cond2_k_equilibrated.to_string(),
-            s.cond2_bounds_proven.to_string(),
-            s.cond2_within_contract.to_string(),
-            s.max_penetration.to_string(),
-            s.geometric_penetration.to_string(),
-            s.volume.to_string(),
-            s.rim_r.to_string(),
-            s.iterations.to_string(),
-            s.converged.to_string(),
-            s.picard_change.to_string(),
-            s.contact_nodes.to_string(),
-            s.candidates.to_string(),
-            s.clipped.to_string(),
-            s.min_penalty.to_string(),
-            s.max_penalty.to_string(),
-            s.mu_ratio.to_string(),
-            s.drag_force.to_string(),
-            s.factorizations.to_string(),
-        ])
-        .map_err(|e| Error::io(path.display(), e))?;
-    }
-    w.flush().map_err(|e| Error::io(path.display(), e))
-}
-
-/// Writes `DIR/<stem>.json` and `DIR/steps_<run>.csv` for every run; returns the JSON path.
-pub fn save(dir: &Path, stem: &str, doc: &SavedRuns) -> Result<PathBuf> {
-    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir.display(), e))?;
-    let json = dir.join(format!("{stem}.json"));
-    let text = serde_json::to_string_pretty(doc)
-        .map_err(|e| Error::Numerical(format!("cannot serialize results: {e}")))?;
-    std::fs::write(&json, text).map_err(|e| Error::io(json.display(), e))?;
-    for (name, run) in &doc.runs {
-        let mut reasons = doc.invalid_reasons.clone();
-        reasons.extend(
-            run.invalid_reasons
-                .iter()
-                .filter(|r| !reasons.contains(r))
-                .cloned()
-                .collect::<Vec<_>>(),
-        );
-        write_steps_csv(&dir.join(format!("steps_{name}.csv")), &run.steps, &reasons)?;
-    }
-    Ok(json)
-}
-
-/// Reads a document written by [`save`].
-pub fn load(json: &Path) -> Result<SavedRuns> {
-    crate::provenance::read_json(json)
-}
-
-fn label(name: &str, run: &SavedRun) -> String {
-    let text = rule_label(name, run);
-    if run.valid {
-        text
-    } else {
-        format!("{text} [INVALID run]")
-    }
-}
-
-fn rule_label(name: &str, run: &SavedRun) -> String {
-    match run.rule {
-        ContactRule::Classical { eps } => format!(
-            "{name}: constant ε = {}",
-            crate::study::text::fmt_e_trim(eps, 3)
-        ),
-        ContactRule::PaperResidual { delta } => {
-            format!("{name}: Eq. 28 on the residual, δ = {delta:.0e} in")
-        }
-        ContactRule::PaperLiteral { delta } => {
-            format!("{name}: Eq. 28 literal, δ = {delta:.0e} in")
-        }
-        ContactRule::Condensed { delta } => {
-            format!("{name}: exact δ-targeting, δ = {delta:.0e} in")
-        }
-    }
-}
-
-/// Renders the four figures into `dir` from a saved document: `<cond_stem>` (cond₂ per step;
-/// `fig7_condition_per_step` for the deep draw, the paper's Fig. 7), `punch_force_vs_travel`,
-/// `thickness_strain`, `deformed_profiles` (PNG + SVG each). Returns the files written.
-pub fn render_figures(
-    dir: &Path,
-    doc: &SavedRuns,
-    title: &str,
-    cond_stem: &str,
-) -> Result<Vec<PathBuf>> {
-    let mut files = Vec::new();
-    let marked = invalid_title(doc, title);
-    let title = marked.as_str();
-    let fig7 = if cond_stem.starts_with("fig7") {
-        " (paper Fig. 7)"
-    } else {
-        ""
-    };
-    let panels = condition_panels(doc, title, fig7);
-    files.extend(render_panels(
-        &panels,
-        2,
-        &dir.join(cond_stem),
-        (1400, 1040),
-    )?);
-    // Punch force vs travel.
-    let mut ff = Figure::new(
-        format!("{title}: punch force"),
-        "punch travel (in)",
-        "punch force (ton-force)",
+        "factor.",
+        "sec",
+        "valid"
     );
-    // The curves coincide to line width for most runs: each run carries its glyph every
-    // `stride` steps, staggered so that glyphs of coinciding curves do not cover each other.
-    let stride = 2 * doc.runs.len().max(1);
-    for (k, (name, run)) in doc.runs.iter().enumerate() {
-        ff = ff.with_series(
-            Series::new(
-                label(name, run),
-                run.steps.iter().map(|s| s.punch_travel).collect(),
-                run.steps.iter().map(|s| s.punch_force).collect(),
-                Mark::LinePoints,
-            )
-            .method(name)
-            .glyph_every(2 * k + 1, stride),
-        );
-    }
-    files.extend(render(&ff, &dir.join("punch_force_vs_travel"))?);
-    // Thickness strain vs initial radius, one panel per run.
-    let panels: Vec<Figure> = doc
-        .runs
-        .iter()
-        .map(|(name, run)| {
-            let panel = if doc.valid {
-                label(name, run)
-            } else {
-                format!("INVALID {}", label(name, run))
-            };
-            let mut f = Figure::new(panel, "initial radius (in)", "thickness strain ln(t/t₀)");
-            for (k, s) in run.snapshots.iter().enumerate() {
-                f = f.with_series(
-                    Series::new(
-                        format!("travel {:.2} in", s.travel),
-                        s.r0.clone(),
-                        s.thickness_strain.clone(),
-                        Mark::LinePoints,
-                    )
-                    .color(k),
-                );
-            }
-            f
-        })
-        .collect();
-    if !panels.is_empty() && panels.iter().all(|p| !p.series.is_empty()) {
-        files.extend(render_panels(
-            &panels,
-            panels.len().min(3),
-            &dir.join("thickness_strain"),
-            (650 * panels.len().min(3) as u32, 520),
-        )?);
-    }
-    // Deformed profiles with tools (the classical run if present: its penetration is
-    // negligible).
-    let pick = doc
-        .runs
-        .get_key_value("classical")
-        .or_else(|| doc.runs.iter().next())
-        .filter(|(_, r)| !r.snapshots.is_empty());
-    if let Some((name, run)) = pick {
-        files.extend(render(
-            &profiles_figure(&doc.config, name, run, title),
-            &dir.join("deformed_profiles"),
-        )?);
-    }
-    Ok(files)
-}
-
-/// `(step, y)` of one run's steps.
-fn per_step(run: &SavedRun, y: impl Fn(&StepRecord) -> f64) -> (Vec<f64>, Vec<f64>) {
-    (
-        run.steps.iter().map(|s| s.step as f64).collect(),
-        run.steps.iter().map(y).collect(),
-    )
-}
-
-/// The four panels of the condition figure (paper Fig. 7 and its claims): (a) cond₂ of the
-/// main system of every run and of K alone (no contact terms); (b) cond₂(classical) /
-/// cond₂(run) per step; (c) log10 |K + D E Dᵀ| / |K|; (d) cond₂ after diagonal
-/// equilibration (the scaling hypothesis for our absolute levels).
-fn condition_panels(doc: &SavedRuns, title: &str, fig7: &str) -> Vec<Figure> {
-    let mut a = Figure::new(
-        format!("{title}: (a) cond₂ of the main system per step{fig7}"),
-        "time step",
-        "cond₂",
-    )
-    .scales(Scale::Linear, Scale::Log10);
-    let mut b = Figure::new(
-        "(b) cond₂ classical / run, > 1: run better (dashed: vs matched)",
-        "time step",
-        "ratio",
-    )
-    .scales(Scale::Linear, Scale::Log10)
-    .hline(1.0, "1")
-    .hline(100.0, "100");
-    let mut c = Figure::new(
-        "(c) determinant ratio log10 |K + D E Dᵀ| / |K|",
-        "time step",
-        "log10 det ratio",
-    );
-    let mut d = Figure::new(
-        "(d) cond₂ after diagonal equilibration S A S, S ≈ diag(A)^(-1/2)",
-        "time step",
-        "cond₂ (equilibrated)",
-    )
-    .scales(Scale::Linear, Scale::Log10);
-    let classical = doc.runs.get("classical");
-    let matched = doc.runs.get(super::CLASSICAL_MATCHED);
-    let ratio_to = |cl: &SavedRun, run: &SavedRun| -> (Vec<f64>, Vec<f64>) {
-        cl.steps
+    for (name, r) in &doc.runs {
+        let c: Vec<f64> = r.steps.iter().map(|s| s.cond2).collect();
+        let med = crate::stats::median(&c).unwrap_or(f64::NAN);
+        let conv = r.steps.iter().filter(|s| s.converged).count();
+        let capped = r
+            .steps
             .iter()
-            .zip(&run.steps)
-            .map(|(c, r)| (r.step as f64, c.cond2 / r.cond2))
-            .unzip()
-    };
-    for (name, run) in &doc.runs {
-        let col = method_color(name);
-        // Dashed: the matched classical run (it shares the classical colour) and condensed
-        // (it lies on the adaptive curve in every panel).
-        let mark = if name == super::CLASSICAL_MATCHED
-            || matches!(run.rule, ContactRule::Condensed { .. })
-        {
-            Mark::Dashed
-        } else {
-            Mark::Line
-        };
-        let (x, y) = per_step(run, |s| s.cond2);
-        a = a.with_series(Series::new(label(name, run), x, y, mark).color(col));
-        if let (Some(cl), false) = (classical, name == "classical") {
-            // Panel (b): solid against ε = 1e7, dashed against the matched run.
-            let (x, y) = ratio_to(cl, run);
-            let solid = if name == super::CLASSICAL_MATCHED {
-                Mark::Dashed
-            } else {
-                Mark::Line
-            };
-            b = b.with_series(Series::new(name.clone(), x, y, solid).color(col));
-        }
-        let skip =
-            matches!(run.rule, ContactRule::Classical { .. }) || super::diagnostic_only(&run.rule);
-        if let (Some(cl), false) = (matched, skip) {
-            let (x, y) = ratio_to(cl, run);
-            let lab = format!("{name} vs {}", super::CLASSICAL_MATCHED);
-            b = b.with_series(Series::new(lab, x, y, Mark::Dashed).color(col));
-        }
-        let (x, y) = per_step(run, |s| s.log10_det_ratio);
-        c = c.with_series(Series::new(name.clone(), x, y, mark).color(col));
-        let (x, y) = per_step(run, |s| s.cond2_equilibrated);
-        d = d.with_series(Series::new(name.clone(), x, y, mark).color(col));
+            .filter(|s| !s.converged)
+            .map(|s| s.picard_change)
+            .fold(None, |a: Option<f64>, x| Some(a.map_or(x, |a| a.max(x))));
+        let it: f64 =
+            r.steps.iter().map(|s| s.iterations as f64).sum::<f64>() / r.steps.len().max(1) as f64;
+        let pen = r
+            .steps
+            .iter()
+            .map(|s| s.max_penetration)
+            .fold(0.0, f64::max);
+        let clip: usize = r.steps.iter().map(|s| s.clipped).sum();
+        let f = r.steps.last().map_or(f64::NAN, |s| s.punch_force);
+        let fact: usize = r.steps.iter().map(|s| s.factorizations).sum();
+        out.push_str(&format!(
+            "{name:<17} {:>5} {:>9} {:>10} {:>11.3e} {:>11.4} {:>9.1} {:>12.2e} {:>7} {:>7} {:>6.2} {:>6}\n",
+            r.steps.len(),
+            conv,
+            capped.map_or("-".to_string(), |x| format!("{x:.2e}")),
+            med,
+            f,
+            it,
+            pen,
+            clip,
+            fact,
+            r.seconds,
+            if r.valid { "yes" } else { "NO" }
+        ));
     }
-    // K alone of one run (its μ* field; the runs' K alone agree to a few per cent).
-    if let Some((name, run)) = doc
-        .runs
-        .get_key_value("adaptive")
-        .or_else(|| doc.runs.iter().next())
-    {
-        let k = method_color("K alone");
-        let (x, y) = per_step(run, |s| s.cond2_k);
-        a = a.with_series(
-            Series::new(
-                format!("K alone, no contact terms ({name} run)"),
-                x,
-                y,
-                Mark::Dashed,
-            )
-            .color(k),
-        );
-        let (x, y) = per_step(run, |s| s.cond2_k_equilibrated);
-        d = d
-            .with_series(Series::new(format!("K alone ({name} run)"), x, y, Mark::Dashed).color(k));
+    for (name, r) in &doc.runs {
+        if let (Some(s), Some(eps)) = (r.search, r.eps) {
+            out.push_str(&format!(
+                "{name}: ε = {} found in {} trial run{} from the classical run's penetration \
+                 (the last is the run above; {} factorizations, {:.2} s in all): a search a user \
+                 without δ has to make\n",
+                crate::study::text::fmt_e_trim(eps, 3),
+                s.runs,
+                if s.runs == 1 { "" } else { "s" },
+                s.factorizations,
+                s.seconds
+            ));
+        }
     }
-    vec![a, b, c, d]
+    for c in comparisons(doc) {
+        out.push_str(&format!(
+            "{} beats {} (ε = {}) in {}/{} steps (median cond₂ ratio {}/{} = {:.3})\n",
+            c.rule,
+            c.classical,
+            crate::study::text::fmt_e_trim(c.eps, 3),
+            c.wins,
+            c.steps,
+            c.classical,
+            c.rule,
+            c.median_ratio
+        ));
+    }
+    for r in doc.runs.values() {
+        for reason in &r.invalid_reasons {
+            out.push_str(&format!("invalid: {reason}\n"));
+        }
+    }
+    out
 }
 
-/// The figure title prefix: `title`, or for a run outside the model's domain
-/// `INVALID (<first reason>[, +k more]) <title>`.
-fn invalid_title(doc: &SavedRuns, title: &str) -> String {
-    match doc.invalid_reasons.split_first() {
-        None if doc.valid => title.to_string(),
-        None => format!("INVALID {title}"),
-        Some((first, rest)) => {
-            let more = if rest.is_empty() {
-                String::new()
-            } else {
-                format!(", +{} more", rest.len())
-            };
-            format!("INVALID ({first}{more}) {title}")
-        }
-    }
+/// One δ-rule against one classical run, step by step.
+#[derive(Clone, Debug, Serialize)]
+pub struct Comparison {
+    /// The δ-rule's run (`adaptive`, `condensed`).
+    pub rule: String,
+    /// The classical run (`classical`, `classical-matched`).
+    pub classical: String,
+    /// The classical run's ε.
+    pub eps: f64,
+    /// Steps where the δ-rule's cond₂ is below the classical run's.
+    pub wins: usize,
+    /// Steps compared (both runs have them).
+    pub steps: usize,
+    /// Median over the steps of cond₂(classical) / cond₂(rule): > 1 = the δ-rule is better
+    /// conditioned.
+    pub median_ratio: f64,
 }
 
-fn profiles_figure(cfg: &FormingConfig, name: &str, run: &SavedRun, title: &str) -> Figure {
-    let mut f = Figure::new(
-        format!(
-            "{title}: deformed mid-surface and tools ({})",
-            label(name, run)
-        ),
-        "r (in)",
-        "z (in)",
-    )
-    .with_size(1000, 600);
-    let die = Die {
-        opening_radius: cfg.die.opening_radius,
-        profile_radius: cfg.die.profile_radius,
-        face_z: -0.5 * cfg.thickness,
-    };
-    let depth = cfg.travel + 0.2;
-    let pts = die.outline(depth, cfg.blank_radius * 1.05);
-    f = f.with_series(
-        Series::new(
-            "die",
-            pts.iter().map(|p| p[0]).collect(),
-            pts.iter().map(|p| p[1]).collect(),
-            Mark::Line,
-        )
-        .color(6),
-    );
-    for (k, s) in run.snapshots.iter().enumerate() {
-        let punch = Punch {
-            radius: cfg.punch.radius,
-            profile_radius: cfg.punch.profile_radius.unwrap_or(cfg.punch.radius),
-            tip_z: s.punch_tip_z,
+/// Every δ-rule of the document (not the diagnostic `paper-literal`) against every classical
+/// run: in how many steps its cond₂ is lower, and the median ratio — the paper's claim,
+/// stated against the classical penalty of the paper (ε = 1e7, far more accurate than δ) and
+/// against `classical-matched` (the same accuracy).
+pub fn comparisons(doc: &SavedRuns) -> Vec<Comparison> {
+    let mut out = Vec::new();
+    for (cname, c) in &doc.runs {
+        let ContactRule::Classical { eps } = c.rule else {
+            continue;
         };
-        let pts = punch.outline(cfg.punch.radius.max(0.3));
-        f = f.with_series(
-            Series::new(
-                if k + 1 == run.snapshots.len() {
-                    "punch".to_string()
-                } else {
-                    String::new()
-                },
-                pts.iter().map(|p| p[0]).collect(),
-                pts.iter().map(|p| p[1]).collect(),
-                Mark::Dashed,
-            )
-            .color(k),
-        );
-        f = f.with_series(
-            Series::new(
-                format!("sheet, travel {:.2} in", s.travel),
-                s.r.clone(),
-                s.z.clone(),
-                Mark::LinePoints,
-            )
-            .color(k),
-        );
+        for (rname, r) in &doc.runs {
+            if matches!(r.rule, ContactRule::Classical { .. }) || diagnostic_only(&r.rule) {
+                continue;
+            }
+            let ratios: Vec<f64> = c
+                .steps
+                .iter()
+                .zip(&r.steps)
+                .map(|(a, b)| a.cond2 / b.cond2)
+                .collect();
+            out.push(Comparison {
+                rule: rname.clone(),
+                classical: cname.clone(),
+                eps,
+                wins: ratios.iter().filter(|&&q| q > 1.0).count(),
+                steps: ratios.len(),
+                median_ratio: crate::stats::median(&ratios).unwrap_or(f64::NAN),
+            });
+        }
     }
-    f
+    out
 }
+

@@ -6,11 +6,10 @@ use super::cond_vs_eps::CondRow;
 use super::deflection::DeflectionRow;
 use super::record::ConstraintInfo;
 use super::Study;
-use crate::error::Result;
-use crate::plot::{method_color, render, render_panels, Figure, Mark, Marker, Series};
+use crate::plot::{method_color, Figure, Mark, Marker, Series};
 use crate::strategy::{condensed, lagrange, optimal, paper, spring};
 use crate::study::text::fmt_e;
-use std::path::{Path, PathBuf};
+use crate::study::shape::Drawing;
 
 /// Palette index per solution: the strategy's colour (one per method in every figure); the
 /// solution without contact in black.
@@ -354,26 +353,28 @@ fn cond_vs_delta(rows: &[CondRow], lower: Option<f64>, delta: f64) -> Figure {
 
 /// Renders the three figures into `out` from a saved study ([`super::load`]); returns the
 /// files written.
-pub fn render_figures(out: &Path, study: &Study) -> Result<Vec<PathBuf>> {
-    let mut written = render(&fig3(study), &out.join("fig3_deflection_free"))?;
-    written.extend(render_panels(
-        &fig4(study),
-        3,
-        &out.join("fig4_deflection_contact"),
-        (2100, 700),
-    )?);
-    written.extend(render_panels(
-        &cond_vs_eps(&study.cond, study.record.delta),
-        2,
-        &out.join("cond_vs_eps"),
-        (1900, 720),
-    )?);
+pub fn drawings(study: &Study) -> Vec<Drawing> {
+    let mut written = vec![
+        Drawing::single("fig3_deflection_free", fig3(study)),
+        Drawing {
+            name: "fig4_deflection_contact".into(),
+            panels: fig4(study).to_vec(),
+            cols: 3,
+            size: (2100, 700),
+        },
+        Drawing {
+            name: "cond_vs_eps".into(),
+            panels: cond_vs_eps(&study.cond, study.record.delta).to_vec(),
+            cols: 2,
+            size: (1900, 720),
+        },
+    ];
     if !study.cond_delta.is_empty() {
         let lower = study.record.optimum.as_ref().map(|o| o.cond2_lower_bound);
-        written.extend(render(
-            &cond_vs_delta(&study.cond_delta, lower, study.record.delta),
-            &out.join("cond_vs_delta"),
-        )?);
+        written.push(Drawing::single(
+            "cond_vs_delta",
+            cond_vs_delta(&study.cond_delta, lower, study.record.delta),
+        ));
     }
-    Ok(written)
+    written
 }

@@ -11,9 +11,10 @@
 //!   plus the δ-driven strategies (`paper`, `condensed`, `spring`) at δ ∈ [`DELTAS`]
 //!   ([`CondRow`]).
 //!
-//! [`figures::render_figures`] draws `fig3_deflection_free`, `fig4_deflection_contact` and
+//! [`figures::drawings`] draws `fig3_deflection_free`, `fig4_deflection_contact` and
 //! `cond_vs_eps`, `cond_vs_delta` (PNG + SVG) from what [`load`] reads back, never from live state;
-//! [`summary::text`] is the printed report.
+//! [`report::text`] is the printed report; [`PaperBeam`] is the study as the shared entry
+//! ([`crate::study::shape::main`]) runs it.
 //!
 //! * [`printed`] — the paper's printed numbers (one copy, also used by the tests).
 //! * [`record`] — the record's types, writing and reading.
@@ -30,7 +31,7 @@ mod notes;
 pub mod printed;
 pub mod record;
 mod solves;
-pub mod summary;
+pub mod report;
 mod tables;
 
 pub use cond_vs_eps::CondRow;
@@ -38,6 +39,7 @@ pub use deflection::DeflectionRow;
 pub use record::{load, save, Optimum, Record};
 
 use crate::error::Result;
+use crate::study::shape::{self, Drawing, RunContext};
 use crate::model::beam::paper;
 use crate::strategy;
 use record::{BeamInfo, ConstraintInfo};
@@ -65,7 +67,7 @@ pub const COND_FILE: &str = "cond_vs_eps.csv";
 pub const COND_DELTA_FILE: &str = "cond_vs_delta.csv";
 
 /// The outcome of the study: the record and the data behind the figures.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Study {
     /// `paper_beam.json`.
     pub record: Record,
@@ -177,5 +179,46 @@ fn optimum(s: &solves::Solves) -> Optimum {
         starts: rep.starts,
         starts_agreeing: rep.starts_agreeing,
         outside_cond2: printed::OUTSIDE_OPTIMUM_COND2,
+    }
+}
+
+/// The `paper_beam` binary: no flags of its own.
+#[derive(clap::Args, Debug)]
+pub struct Flags {}
+
+/// The study as the shared entry runs it.
+pub struct PaperBeam;
+
+impl shape::Study for PaperBeam {
+    const NAME: &'static str = "paper_beam";
+    const ABOUT: &'static str =
+        "The paper's beam example (Eq. 30-37): paper's numbers vs ours, data files and figures";
+    const PROGRESS: &'static str = "paper_beam";
+    const DEFAULT_OUT: &'static str = "figures/paper_beam";
+    const FIGURES_DIR: &'static str = "";
+    type Flags = Flags;
+    type Config = ();
+    type Record = Study;
+
+    fn config(_: &Flags) -> Result<()> {
+        Ok(())
+    }
+    fn run(_: &(), _: &RunContext) -> Result<Study> {
+        run()
+    }
+    fn save(out: &std::path::Path, _: &(), study: &Study) -> Result<()> {
+        save(out, study)
+    }
+    fn load(out: &std::path::Path) -> Result<Study> {
+        load(out)
+    }
+    fn figures(study: &Study) -> Result<Vec<Drawing>> {
+        Ok(figures::drawings(study))
+    }
+    fn report(study: &Study) -> String {
+        report::text(&study.record)
+    }
+    fn json(study: &Study) -> Result<String> {
+        crate::provenance::json_text("paper_beam results", &study.record)
     }
 }

@@ -1,10 +1,16 @@
-//! One scene, one strategy, every metric: the `solve` binary's study and its table.
+//! One scene, one strategy, every metric: the `solve` binary's study ([`Solve`], a one-shot
+//! study: no record in `--out`, no figures) and its table ([`report::table`]).
+
+pub mod report;
+
+pub use report::table;
 
 use crate::error::{Error, Result};
 use crate::metrics::{self, MetricSet};
 use crate::scene;
 use crate::strategy::{self, registry, Knob, Knobs, Method};
 use serde_json::{json, Value};
+use crate::study::shape::{Drawing, RunContext, Study};
 use std::path::Path;
 use std::time::Instant;
 
@@ -143,67 +149,104 @@ pub fn solve_scene(
     }))
 }
 
-fn fmt_vec(v: &Value) -> String {
-    match v.as_array() {
-        Some(a) if a.len() <= 12 => a
-            .iter()
-            .map(|x| x.as_f64().map_or("null".into(), |f| format!("{f:.6}")))
-            .collect::<Vec<_>>()
-            .join("  "),
-        Some(a) => format!("[{} values]", a.len()),
-        None => v.to_string(),
-    }
+/// The `solve` binary's flags.
+#[derive(clap::Args, Clone, Debug)]
+pub struct Flags {
+    /// Scene file (JSON; stiffness dense or Matrix Market).
+    scene: std::path::PathBuf,
+    /// Strategy.
+    #[arg(long, value_parser = registry::method_parser())]
+    method: String,
+    /// Allowed penetration δ (units of u) for spring, paper, condensed.
+    #[arg(long, allow_negative_numbers = true)]
+    delta: Option<f64>,
+    /// Penalty ε for constant and augmented.
+    #[arg(long, allow_negative_numbers = true)]
+    eps: Option<f64>,
+    /// Factor f for scaled (ε_c = f times the diagonal entry of K at the DOF).
+    #[arg(long, allow_negative_numbers = true)]
+    factor: Option<f64>,
+    /// Penetration tolerance for augmented.
+    #[arg(long, allow_negative_numbers = true)]
+    tol: Option<f64>,
+    /// Adaptive per-constraint penalty update (augmented).
+    #[arg(long)]
+    adaptive: bool,
+    /// Skip cond₂ and log-det metrics (they cost O(N³) for dense systems).
+    #[arg(long)]
+    no_metrics: bool,
+    /// Start constant, scaled and condensed from the exact contact set (a lagrange solve
+    /// first), as every sweep row does: reproduces a sweep row's iteration counts.
+    #[arg(long)]
+    exact_start: bool,
+    /// Relative accuracy asked of the cond₂ values, in (0, 1) (default: the accuracy
+    /// contract, max(1e-12, 4·ε_mach·cond₂)); looser is faster, the bounds stay proven.
+    #[arg(long, allow_negative_numbers = true)]
+    cond_tol: Option<f64>,
 }
 
-/// The `solve` object as a readable table (NOT CONVERGED in capitals when it did not).
-pub fn table(v: &Value) -> String {
-    let mut t = String::new();
-    t += &format!("scene {}  (N = {}, m = {})\n", v["scene"], v["n"], v["m"]);
-    t += &format!("method {}  {}\n", v["method"], v["knob"]);
-    if v["converged"] == Value::Bool(false) {
-        t += "NOT CONVERGED (see the warnings below)\n";
+/// The study as the shared entry runs it: prints the table, or with `--json` the object.
+pub struct Solve;
+
+impl Study for Solve {
+    const NAME: &'static str = "solve";
+    const ABOUT: &'static str =
+        "Solve one contact scene with one penalty strategy and report exact conditioning";
+    const PROGRESS: &'static str = "solve";
+    const DEFAULT_OUT: &'static str = "";
+    const SAVES: bool = false;
+    type Flags = Flags;
+    type Config = Flags;
+    type Record = Value;
+
+    fn after_help() -> String {
+        "Methods: constant (--eps), scaled (--factor), spring|paper|condensed (--delta), \
+         lagrange, augmented (--eps, --tol; defaults: eps = max K[d,d] over the constrained \
+         DOFs, tol = 1e-9·max(1, max|û|); --adaptive for the per-constraint penalty \
+         update).\nExit status: 0 ok, 2 bad input or singular system."
+            .into()
     }
-    for key in ["penalties", "gaps", "forces", "u"] {
-        t += &format!("{key:>18}: {}\n", fmt_vec(&v[key]));
+
+    fn config(f: &Flags) -> Result<Flags> {
+        Ok(f.clone())
     }
-    for key in [
-        "max_penetration",
-        "cond2_K",
-        "cond2_system",
-        "cond_route_system",
-        "cond2_system_lo",
-        "cond2_system_hi",
-        "cond2_bounds_proven",
-        "cond2_within_contract",
-        "log10_det_K",
-        "log10_det_system",
-        "log10_det_ratio",
-        "linear_solves",
-        "factorizations",
-        "iterations",
-        "converged",
-        "optimality",
-        "starts_agreeing",
-        "cond2_lower_bound",
-        "seconds",
-    ] {
-        if v[key].is_null() && matches!(key, "optimality" | "starts_agreeing" | "cond2_lower_bound")
-        {
-            continue;
-        }
-        let s = match &v[key] {
-            Value::Number(n) if n.is_f64() => format!("{:.6e}", n.as_f64().unwrap_or(f64::NAN)),
-            other => other.to_string(),
+
+    fn run(f: &Flags, _: &RunContext) -> Result<Value> {
+        let knobs = Knobs {
+            eps: f.eps,
+            factor: f.factor,
+            delta: f.delta,
+            tol: f.tol,
+            adaptive: f.adaptive,
+            ..Knobs::NONE
         };
-        t += &format!("{key:>18}: {s}\n");
+        solve_scene(
+            &f.scene,
+            &f.method,
+            knobs,
+            f.no_metrics,
+            f.exact_start,
+            f.cond_tol,
+        )
     }
-    match v["warnings"].as_array() {
-        Some(w) if !w.is_empty() => {
-            for x in w {
-                t += &format!("warning: {}\n", x.as_str().unwrap_or_default());
-            }
-        }
-        _ => t += "warnings: none\n",
+
+    fn save(_: &Path, _: &Flags, _: &Value) -> Result<()> {
+        Ok(())
     }
-    t
+
+    fn load(_: &Path) -> Result<Value> {
+        Err(Error::input("solve keeps no record"))
+    }
+
+    fn figures(_: &Value) -> Result<Vec<Drawing>> {
+        Ok(Vec::new())
+    }
+
+    fn report(v: &Value) -> String {
+        table(v)
+    }
+
+    fn json(v: &Value) -> Result<String> {
+        crate::provenance::json_text("solve result", v)
+    }
 }

@@ -2,6 +2,7 @@
 
 use super::*;
 use crate::plot::{Figure, Mark, Scale, Series};
+use crate::study::shape::Drawing;
 
 /// Errors below this are drawn at this value on log axes (an exactly zero error has no
 /// logarithm); the CSV keeps the raw values.
@@ -220,4 +221,40 @@ fn forward_error_vs_scaled_cond(rows: &[EpsRow]) -> Option<Figure> {
         .color(6),
     );
     Some(fig)
+}
+
+/// [`figures`] laid out: the per-scene forward-error and error-against-Lagrange panels two a
+/// row (1500 × 520 pixels a row), the forward error against cond₂ and the paper beam's
+/// figures on their own.
+pub fn drawings(eps_rows: &[EpsRow]) -> Vec<Drawing> {
+    let figs = figures(eps_rows);
+    let mut out = Vec::new();
+    let panel = |prefix: &str| -> Vec<Figure> {
+        figs.iter()
+            .filter(|(name, _)| name.starts_with(prefix))
+            .map(|(_, f)| f.clone())
+            .collect()
+    };
+    for prefix in ["forward_error_vs_eps_", "error_vs_lagrange_"] {
+        let fs = panel(prefix);
+        if fs.is_empty() {
+            continue;
+        }
+        let cols = 2;
+        let rows = fs.len().div_ceil(cols) as u32;
+        out.push(Drawing {
+            name: prefix.trim_end_matches('_').into(),
+            panels: fs,
+            cols,
+            size: (1500, 520 * rows),
+        });
+    }
+    for (name, fig) in figs {
+        if name.starts_with("forward_error_vs_") && !name.starts_with("forward_error_vs_eps_")
+            || name.ends_with("_paper-beam")
+        {
+            out.push(Drawing::single(name, fig));
+        }
+    }
+    out
 }

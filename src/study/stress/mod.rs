@@ -41,17 +41,22 @@
 //! # Layout
 //! [`dd`]: the double-double LU (arithmetic in [`crate::dd`]); [`system`]: the exactly formed penalized system and
 //! its reference; [`refine`]: f64 solves with refinement and equilibration; [`study`]: the
-//! studies; [`report`]: CSV, summary and record of a run; [`figures`](mod@figures): its figures.
+//! studies; [`record`]: a whole run, its CSV, summary and record; [`figures`](mod@figures): its
+//! figures; [`report`]: the printed line; [`cli`]: the flags and [`Stress`], the study as the
+//! shared entry ([`crate::study::shape::main`]) runs it.
 
+pub mod cli;
 pub mod dd;
 pub mod figures;
+/// A whole run: studies with progress, outputs, record.
+pub mod record;
 pub mod refine;
-/// A whole run: studies with progress, outputs, record, figures.
 pub mod report;
 pub mod study;
 pub mod system;
 
 pub use crate::dd::{two_prod, two_sum, Dd};
+pub use cli::Stress;
 pub use figures::*;
 pub use refine::*;
 pub use study::*;

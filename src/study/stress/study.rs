@@ -365,7 +365,7 @@ pub fn eps_study(scene: &StressScene, cfg: &StressConfig) -> Result<Vec<EpsRow>>
 }
 
 /// One strategy run of [`strategy_study`].
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, serde::Deserialize)]
 pub struct StrategyRow {
     /// Scene name.
     pub scene: String,

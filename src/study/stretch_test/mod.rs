@@ -3,9 +3,10 @@
 //! clamped hemispherical-punch stretching test with published geometry (Ghosh–Hecker,
 //! forming.md), in inches: clamp radius 2.330 in, punch radius 2.0 in, die profile radius
 //! 0.25 in, the paper's sheet t = 0.035 in, μ = 0.2, 50 elements, 100 steps to 0.8 in. Runs,
-//! records and figures through [`forming_runs`](super::forming_runs).
+//! records, figures and report through [`forming_runs`](super::forming_runs) (its `record.rs`,
+//! `figures.rs`, `report.rs`).
 
-use super::forming_runs::{report::SavedRuns, Experiment};
+use super::forming_runs::{record::SavedRuns, Experiment, Forming, FormingExperiment};
 use crate::forming::FormingConfig;
 use serde_json::{json, Value};
 
@@ -16,7 +17,21 @@ pub const EXPERIMENT: Experiment = Experiment {
     cond_figure: "condition_per_step",
     about: "Clamped hemispherical-punch stretching (paper's first example): classical vs adaptive penalty",
     preset: FormingConfig::ghosh_hecker_stretching,
+    out: "results/stretch_test",
 };
+
+/// The stretching test as a forming experiment (`--json` prints [`json_summary`]).
+pub struct Stretching;
+
+impl FormingExperiment for Stretching {
+    const EXPERIMENT: Experiment = EXPERIMENT;
+    fn json(doc: &SavedRuns) -> Value {
+        json_summary(doc)
+    }
+}
+
+/// The `stretch_test` study.
+pub type StretchTest = Forming<Stretching>;
 
 /// The paper's two printed condition numbers of this example.
 pub const PAPER_COND2: (f64, f64) = (2.705008e5, 3.721074e2);
