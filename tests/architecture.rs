@@ -21,7 +21,12 @@ const LAYERS: &[&[&str]] = &[
     &["study"],
 ];
 /// Children of `src/study/` that are no binary's study but shared by studies.
-const STUDY_SUPPORT: &[&str] = &["study::text", "study::forming_runs", "study::shape"];
+const STUDY_SUPPORT: &[&str] = &[
+    "study::text",
+    "study::forming_runs",
+    "study::shape",
+    "study::grid",
+];
 
 fn layer(module: &str) -> Option<usize> {
     let key = if module.starts_with("study::") {

@@ -105,6 +105,8 @@ pub struct RunContext<'a> {
     pub out: &'a Path,
     /// `--resume` was given (only for [`Study::RESUMABLE`] studies).
     pub resume: bool,
+    /// `--quiet` was given (for a study that draws its own progress).
+    pub quiet: bool,
 }
 
 /// One study (module doc).
@@ -240,6 +242,7 @@ fn entry<S: Study>(cli: &Cli<S::Flags>) -> Result<()> {
             progress: &progress,
             out: &out,
             resume: cli.resume,
+            quiet: cli.quiet,
         };
         let record = S::run(&cfg, &ctx)?;
         progress.finish();

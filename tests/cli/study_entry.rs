@@ -1,6 +1,7 @@
-//! The shared study entry (`study::main`, issue 46): every binary built on it takes the same
-//! `--out`, `--render-only`, `--json` and `--quiet`, refuses `--resume` where it keeps no
-//! checkpoints, and `--render-only --json` prints the very record the run printed.
+//! The shared study entry (`study::main`, issue 46): every study binary takes the same
+//! `--out`, `--render-only`, `--json`, `--quiet` and `--no-figures`, refuses `--resume` where
+//! it keeps no checkpoints, and `--render-only --json` prints the very record the run printed;
+//! `solve`, which keeps no record, refuses `--out` and `--render-only` with one line.
 
 use std::path::Path;
 use std::process::{Command, Output};
@@ -45,7 +46,80 @@ fn binaries() -> Vec<Entry> {
             ],
             true,
         ),
+        (
+            "sweep",
+            env!("CARGO_BIN_EXE_sweep"),
+            vec![
+                "--families",
+                "beam",
+                "--count",
+                "1",
+                "--methods",
+                "constant",
+                "--eps",
+                "1e2:1e4:2",
+            ],
+            true,
+        ),
+        (
+            "paper_beam",
+            env!("CARGO_BIN_EXE_paper_beam"),
+            vec![],
+            false,
+        ),
+        (
+            "deep_drawing",
+            env!("CARGO_BIN_EXE_deep_drawing"),
+            vec!["--steps", "4", "--elements", "12", "--travel", "0.04"],
+            false,
+        ),
+        (
+            "stretch_test",
+            env!("CARGO_BIN_EXE_stretch_test"),
+            vec!["--steps", "4", "--elements", "12", "--travel", "0.04"],
+            false,
+        ),
+        (
+            "engine_scale",
+            env!("CARGO_BIN_EXE_engine_scale"),
+            vec!["--sizes", "100", "--methods", "lagrange", "--no-cond"],
+            false,
+        ),
+        (
+            "runtime_vs_error",
+            env!("CARGO_BIN_EXE_runtime_vs_error"),
+            vec![
+                "--smoke",
+                "--sizes",
+                "100",
+                "--families",
+                "beam",
+                "--methods",
+                "lagrange,constant",
+            ],
+            false,
+        ),
+        (
+            "stress",
+            env!("CARGO_BIN_EXE_stress"),
+            vec!["--families", "none", "--eps", "1:1e4:3"],
+            false,
+        ),
     ]
+}
+
+/// The image files under `dir`, at any depth.
+fn images(dir: &Path) -> Vec<std::path::PathBuf> {
+    let mut out = Vec::new();
+    for e in std::fs::read_dir(dir).unwrap().flatten() {
+        let p = e.path();
+        if p.is_dir() {
+            out.extend(images(&p));
+        } else if p.extension().is_some_and(|x| x == "png" || x == "svg") {
+            out.push(p);
+        }
+    }
+    out
 }
 
 fn run(bin: &str, args: &[&str], out: &Path) -> Output {
@@ -103,6 +177,23 @@ fn every_study_binary_shares_the_entry_flags() {
         );
         assert!(serde_json::from_slice::<serde_json::Value>(&report.stdout).is_err());
 
+        // The figures: drawn by the run, skipped with --no-figures, redrawn by --render-only.
+        let drawn = images(dir.path());
+        assert!(!drawn.is_empty(), "{name}: no figures");
+        for f in &drawn {
+            std::fs::remove_file(f).unwrap();
+        }
+        let none = run(
+            bin,
+            &["--render-only", "--no-figures", "--quiet"],
+            dir.path(),
+        );
+        assert!(none.status.success(), "{name}");
+        assert!(images(dir.path()).is_empty(), "{name}: --no-figures drew");
+        let redrawn = run(bin, &["--render-only", "--quiet"], dir.path());
+        assert!(redrawn.status.success(), "{name}");
+        assert_eq!(images(dir.path()).len(), drawn.len(), "{name}: redrawn");
+
         if resumable {
             continue;
         }
@@ -114,4 +205,34 @@ fn every_study_binary_shares_the_entry_flags() {
             "{name}: {err}"
         );
     }
+}
+
+/// `solve` runs through the same entry but keeps no record: `--json` and `--quiet` work,
+/// `--out`, `--render-only` and `--resume` are refused with one line and status 2.
+#[test]
+fn solve_shares_the_entry_and_refuses_a_record() {
+    let bin = env!("CARGO_BIN_EXE_solve");
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/paper_beam.scene.json");
+    let base = [scene, "--method", "lagrange", "--no-metrics"];
+    let o = Command::new(bin)
+        .args(base)
+        .args(["--json", "--quiet"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(o.stderr.is_empty());
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["method"], "lagrange");
+    for extra in [
+        vec!["--out", "/tmp/never-written"],
+        vec!["--render-only"],
+        vec!["--resume"],
+    ] {
+        let o = Command::new(bin).args(base).args(&extra).output().unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{extra:?}: {err}");
+        assert!(o.stdout.is_empty(), "{extra:?}");
+    }
+    assert!(!Path::new("/tmp/never-written").exists());
 }

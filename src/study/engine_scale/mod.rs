@@ -28,8 +28,8 @@ use crate::error::{Error, Result};
 use crate::metrics::{self, MetricSet};
 use crate::model::scalable::{self, PerfScene};
 use crate::progress::Progress;
-use crate::strategy::{self, Knob, Knobs, Method, Strategy};
 use crate::strategy::registry;
+use crate::strategy::{self, Knob, Knobs, Method, Strategy};
 use crate::study::shape::{Drawing, RunContext, Study};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -316,12 +316,10 @@ impl Study for EngineScale {
     fn config(f: &Flags) -> Result<ScaleConfig> {
         let cfg = ScaleConfig {
             sizes: f.sizes.clone(),
-            methods: f.methods.clone().unwrap_or_else(|| {
-                scale_method_names()
-                    .iter()
-                    .map(|s| s.to_string())
-                    .collect()
-            }),
+            methods: f
+                .methods
+                .clone()
+                .unwrap_or_else(|| scale_method_names().iter().map(|s| s.to_string()).collect()),
             cond: !f.no_cond,
             ..Default::default()
         };

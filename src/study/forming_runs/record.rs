@@ -192,4 +192,3 @@ pub fn save(dir: &Path, stem: &str, doc: &SavedRuns) -> Result<PathBuf> {
 pub fn load(json: &Path) -> Result<SavedRuns> {
     crate::provenance::read_json(json)
 }
-

@@ -148,4 +148,3 @@ pub fn comparisons(doc: &SavedRuns) -> Vec<Comparison> {
     }
     out
 }
-

@@ -8,8 +8,8 @@ use super::record::ConstraintInfo;
 use super::Study;
 use crate::plot::{method_color, Figure, Mark, Marker, Series};
 use crate::strategy::{condensed, lagrange, optimal, paper, spring};
-use crate::study::text::fmt_e;
 use crate::study::shape::Drawing;
+use crate::study::text::fmt_e;
 
 /// Palette index per solution: the strategy's colour (one per method in every figure); the
 /// solution without contact in black.

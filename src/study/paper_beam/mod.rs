@@ -30,8 +30,8 @@ pub mod figures;
 mod notes;
 pub mod printed;
 pub mod record;
-mod solves;
 pub mod report;
+mod solves;
 mod tables;
 
 pub use cond_vs_eps::CondRow;
@@ -39,9 +39,9 @@ pub use deflection::DeflectionRow;
 pub use record::{load, save, Optimum, Record};
 
 use crate::error::Result;
-use crate::study::shape::{self, Drawing, RunContext};
 use crate::model::beam::paper;
 use crate::strategy;
+use crate::study::shape::{self, Drawing, RunContext};
 use record::{BeamInfo, ConstraintInfo};
 
 /// δ of the paper's example (mm).

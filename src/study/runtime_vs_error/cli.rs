@@ -79,7 +79,12 @@ impl Study for RuntimeVsError {
     fn run((cfg, smoke): &(PerfConfig, bool), ctx: &RunContext) -> Result<Record> {
         let t0 = Instant::now();
         let rows = super::run(cfg, ctx.progress)?;
-        Ok(record::record(cfg, *smoke, rows, t0.elapsed().as_secs_f64()))
+        Ok(record::record(
+            cfg,
+            *smoke,
+            rows,
+            t0.elapsed().as_secs_f64(),
+        ))
     }
 
     fn save(out: &Path, _: &(PerfConfig, bool), rec: &Record) -> Result<()> {

@@ -81,7 +81,9 @@ pub fn save(out: &Path, rec: &Record) -> Result<()> {
     provenance::write_atomic(&out.join("rows.csv"), csv(&rec.rows).as_bytes())?;
     provenance::write_atomic(
         &out.join("rows.json"),
-        serde_json::to_string(&rec.rows).expect("JSON value").as_bytes(),
+        serde_json::to_string(&rec.rows)
+            .expect("JSON value")
+            .as_bytes(),
     )?;
     provenance::write_json(&out.join("manifest.json"), &rec.manifest)
 }

@@ -9,8 +9,8 @@ use crate::error::{Error, Result};
 use crate::metrics::{self, MetricSet};
 use crate::scene;
 use crate::strategy::{self, registry, Knob, Knobs, Method};
-use serde_json::{json, Value};
 use crate::study::shape::{Drawing, RunContext, Study};
+use serde_json::{json, Value};
 use std::path::Path;
 use std::time::Instant;
 

@@ -4,8 +4,8 @@
 use super::record::{self, Record, StressRun};
 use super::{figures, report, StressConfig};
 use crate::error::Result;
+use crate::study::grid::LogGrid;
 use crate::study::shape::{Drawing, RunContext, Study};
-use crate::study::sweep::LogGrid;
 use std::path::Path;
 
 /// The `stress` binary's flags.

@@ -1,9 +1,14 @@
-//! The sweep's configuration on the command line: flags that override a TOML file or the
-//! built-in default (`SweepConfig`), shared by every binary that runs a sweep.
+//! The sweep on the command line: flags that override a TOML file or the built-in default
+//! (`SweepConfig`, [`ConfigArgs`], shared by every binary that runs a sweep), the `sweep`
+//! binary's own flags and `merge` subcommand, and [`Sweep`], the study as the shared entry
+//! ([`crate::study::shape::main`]) runs it.
 
-use super::{LogGrid, SweepConfig};
-use crate::error::Result;
-use std::path::PathBuf;
+use super::rows::{self, Row};
+use super::{figures, merge, report, LogGrid, RunOptions, SweepConfig};
+use crate::error::{Error, Result};
+use crate::study::shape::{Drawing, RunContext, Study};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
 
 /// Command-line overrides of a [`SweepConfig`] (flattened into a binary's clap arguments).
 #[derive(clap::Args, Debug, Clone, Default)]
@@ -101,5 +106,167 @@ impl ConfigArgs {
         }
         c.validate()?;
         Ok(c)
+    }
+}
+
+/// The `sweep` binary's flags.
+#[derive(clap::Args, Debug)]
+pub struct Flags {
+    #[command(subcommand)]
+    merge: Option<Merge>,
+    #[command(flatten)]
+    config: ConfigArgs,
+    /// Worker threads (default: all cores). Results do not depend on it.
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Run shard K of N (contiguous blocks of scenes): K/N.
+    #[arg(long, value_name = "K/N")]
+    shard: Option<String>,
+    /// Also write every scene as a scene file (re-runnable with `solve`).
+    #[arg(long, value_name = "DIR")]
+    write_scenes: Option<PathBuf>,
+    /// With --write-scenes: store every K as dense rows, whatever its structure (benchmarks).
+    #[arg(long, requires = "write_scenes")]
+    dense_scenes: bool,
+}
+
+#[derive(clap::Subcommand, Debug)]
+enum Merge {
+    /// Merge the shard folders of one run into OUT (rows in scene order, one manifest); refuses
+    /// missing, duplicated, incomplete or foreign shards.
+    Merge {
+        /// Output folder (not one of the shards).
+        out: PathBuf,
+        /// The shard folders, in any order.
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+    },
+}
+
+/// What one `sweep` invocation does.
+#[derive(Debug)]
+pub enum SweepJob {
+    /// Run the sweep of this configuration (`--out` is [`RunOptions::out`]).
+    Run(Box<SweepConfig>, RunOptions),
+    /// Merge the shard folders `dirs` into `out`.
+    Merge {
+        /// The merged folder.
+        out: PathBuf,
+        /// The shard folders.
+        dirs: Vec<PathBuf>,
+    },
+}
+
+/// What a sweep folder holds: `manifest.json` (provenance, configuration, the run's counts and
+/// timing) and the rows of `rows.csv`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Record {
+    /// `manifest.json` (`null` where the folder has none).
+    pub manifest: serde_json::Value,
+    /// `rows.csv`.
+    pub rows: Vec<Row>,
+}
+
+/// Reads `out/rows.csv` and, where present, `out/manifest.json`.
+pub fn load(out: &Path) -> Result<Record> {
+    let (rows, _) = rows::read_rows(&out.join("rows.csv"), false)?;
+    let m = out.join("manifest.json");
+    let manifest = if m.exists() {
+        crate::provenance::read_json(&m)?
+    } else {
+        serde_json::Value::Null
+    };
+    Ok(Record { manifest, rows })
+}
+
+/// The study as the shared entry runs it. The rows and the manifest are written while the
+/// sweep runs (so that `--resume` can complete a killed run), not by [`Study::save`].
+pub struct Sweep;
+
+impl Study for Sweep {
+    const NAME: &'static str = "sweep";
+    const ABOUT: &'static str =
+        "Sweep penalty ε and allowed penetration δ over randomized contact scenes";
+    const PROGRESS: &'static str = "sweep";
+    const DEFAULT_OUT: &'static str = "results/sweep";
+    const RESUMABLE: bool = true;
+    type Flags = Flags;
+    type Config = SweepJob;
+    type Record = Record;
+
+    fn after_help() -> String {
+        "Without arguments: the built-in default (beam, membrane, spectrum, 8 scenes each, every \
+         method that handles bilateral ties) into results/sweep.\n`sweep merge OUT DIR...` \
+         merges the shard folders of one run (--shard K/N) into OUT.\n--json prints the \
+         manifest.\nExit status: 0 ok, 2 bad configuration or input."
+            .into()
+    }
+
+    fn config(a: &Flags) -> Result<SweepJob> {
+        if let Some(Merge::Merge { out, dirs }) = &a.merge {
+            return Ok(SweepJob::Merge {
+                out: out.clone(),
+                dirs: dirs.clone(),
+            });
+        }
+        let cfg = a.config.config()?;
+        let shard = a.shard.as_deref().map(super::parse_shard).transpose()?;
+        if a.threads == Some(0) {
+            return Err(Error::input("--threads must be ≥ 1"));
+        }
+        let opts = RunOptions {
+            threads: a.threads,
+            shard,
+            write_scenes: a.write_scenes.clone(),
+            dense_scenes: a.dense_scenes,
+            ..RunOptions::default()
+        };
+        Ok(SweepJob::Run(Box::new(cfg), opts))
+    }
+
+    fn out_override(job: &SweepJob) -> Option<PathBuf> {
+        match job {
+            SweepJob::Merge { out, .. } => Some(out.clone()),
+            SweepJob::Run(..) => None,
+        }
+    }
+
+    fn run(job: &SweepJob, ctx: &RunContext) -> Result<Record> {
+        match job {
+            SweepJob::Merge { out, dirs } => {
+                merge::merge(out, dirs)?;
+            }
+            SweepJob::Run(cfg, opts) => {
+                let opts = RunOptions {
+                    out: ctx.out.to_path_buf(),
+                    resume: ctx.resume,
+                    progress: !ctx.quiet,
+                    ..opts.clone()
+                };
+                super::run(cfg, &opts)?;
+            }
+        }
+        load(ctx.out)
+    }
+
+    /// Nothing: the run wrote its folder.
+    fn save(_: &Path, _: &SweepJob, _: &Record) -> Result<()> {
+        Ok(())
+    }
+
+    fn load(out: &Path) -> Result<Record> {
+        load(out)
+    }
+
+    fn figures(rec: &Record) -> Result<Vec<Drawing>> {
+        Ok(figures::drawings(&rec.rows))
+    }
+
+    fn report(rec: &Record) -> String {
+        report::text(rec)
+    }
+
+    fn json(rec: &Record) -> Result<String> {
+        crate::provenance::json_text("sweep manifest", &rec.manifest)
     }
 }

@@ -40,6 +40,7 @@ use std::path::{Path, PathBuf};
 use crate::plot::{method_color, method_label, render, Band, Figure, Mark, Marker, Scale, Series};
 use crate::stats::quantile;
 use crate::strategy::{augmented, constant, lagrange, optimal, registry, scaled};
+use crate::study::shape::Drawing;
 use crate::study::sweep::rows::Row;
 use crate::{Error, Result};
 
@@ -108,6 +109,14 @@ pub fn render_all(rows: &[Row], dir: &Path) -> Result<Vec<PathBuf>> {
         written.extend(render(&fig, &dir.join(stem))?);
     }
     Ok(written)
+}
+
+/// [`build_figures`], one drawing each (none without rows).
+pub fn drawings(rows: &[Row]) -> Vec<Drawing> {
+    build_figures(rows)
+        .into_iter()
+        .map(|(stem, fig)| Drawing::single(stem, fig))
+        .collect()
 }
 
 /// Renders the figures of the run in `out` from `out/rows.csv` into `out/figures`: the files

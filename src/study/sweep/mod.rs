@@ -21,8 +21,11 @@ pub mod figures;
 mod jobs;
 pub mod merge;
 mod plan;
+pub mod report;
 mod resume;
 pub mod rows;
+
+pub use cli::Sweep;
 
 pub use config::{LogGrid, SweepConfig, METRIC_NAMES};
 pub use jobs::{

@@ -1,0 +1,27 @@
+//! The printed report of a sweep folder: one line from its manifest.
+
+use super::cli::Record;
+
+/// `sweep: S scenes (R resumed), N rows in W s (X rows/s)`, or for a merged folder
+/// `sweep merge: K shards, S scenes, N rows`.
+pub fn text(rec: &Record) -> String {
+    let m = &rec.manifest;
+    if let Some(from) = m["merged_from"].as_array() {
+        return format!(
+            "sweep merge: {} shards, {} scenes, {} rows\n",
+            from.len(),
+            m["scenes"],
+            rec.rows.len()
+        );
+    }
+    let f = |k: &str| m[k].as_f64().unwrap_or(f64::NAN);
+    format!(
+        "sweep: {} scenes ({} resumed), {} rows written, {} in rows.csv, in {:.2} s ({:.3e} rows/s)\n",
+        m["scenes"],
+        m["resumed_scenes"],
+        m["rows_written"],
+        rec.rows.len(),
+        f("wall_seconds"),
+        f("rows_per_second")
+    )
+}
