@@ -223,7 +223,7 @@ fn forward_error_vs_scaled_cond(rows: &[EpsRow]) -> Option<Figure> {
     Some(fig)
 }
 
-/// [`figures`] laid out: the per-scene forward-error and error-against-Lagrange panels two a
+/// [`figures()`] laid out: the per-scene forward-error and error-against-Lagrange panels two a
 /// row (1500 × 520 pixels a row), the forward error against cond₂ and the paper beam's
 /// figures on their own.
 pub fn drawings(eps_rows: &[EpsRow]) -> Vec<Drawing> {

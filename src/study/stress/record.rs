@@ -105,7 +105,7 @@ pub fn record(r: &StressRun, o: &StressOutput) -> Value {
 /// what was run, the summary) and the rows of both studies.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Record {
-    /// [`record`] of the run.
+    /// [`record()`] of the run.
     pub manifest: Value,
     /// The ε study's rows.
     pub eps_study: Vec<EpsRow>,
@@ -131,7 +131,7 @@ pub fn write(out: &Path, rec: &Record) -> Result<()> {
     provenance::write_json(&out.join("stress.json"), &rec.manifest)
 }
 
-/// Reads what [`write`] wrote.
+/// Reads what [`write()`] wrote.
 pub fn load(out: &Path) -> Result<Record> {
     Ok(Record {
         manifest: provenance::read_json(&out.join("stress.json"))?,
