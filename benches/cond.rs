@@ -146,7 +146,7 @@ fn bench_simplicial_numeric(c: &mut Criterion) {
 /// beam of `one_vector_solve`; and what replaces both at λ_min where it can (`temple`: one LDLᵀ
 /// inertia test, Lemma 8's margin and Temple's bound with its compensated residual).
 fn bench_posterior_margin(c: &mut Criterion) {
-    use penalty_lab::conditioning::certify::posterior_margin;
+    use penalty_lab::conditioning::residual::posterior_margin;
     use penalty_lab::conditioning::temple;
     let mut g = kernel_group(c, "posterior_margin");
     for (name, a) in folder_sizes() {

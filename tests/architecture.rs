@@ -265,6 +265,24 @@ fn every_binary_has_its_study() {
             study.join(&name).join("mod.rs").is_file(),
             "experiments/{name}.rs has no study at src/study/{name}/"
         );
+        // Every binary is a few lines through the shared entry.
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(
+            text.lines().count() <= 60 && text.contains("study::main::<"),
+            "experiments/{name}.rs: over 60 lines or not through study::main"
+        );
+        // Every study has mod.rs, figures.rs and report.rs: `solve` draws nothing; the forming
+        // experiments' files are `forming_runs`'s.
+        let dir = match name.as_str() {
+            "deep_drawing" | "stretch_test" => study.join("forming_runs"),
+            _ => study.join(&name),
+        };
+        for file in ["figures.rs", "report.rs"] {
+            if name == "solve" && file == "figures.rs" {
+                continue;
+            }
+            assert!(dir.join(file).is_file(), "{} lacks {file}", dir.display());
+        }
     }
 }
 
@@ -284,4 +302,126 @@ fn no_source_file_over_800_lines() {
         })
         .collect();
     assert!(long.is_empty(), "{}", long.join("\n"));
+}
+
+/// The module path of every file under `src/` (`conditioning::sparse` for
+/// `src/conditioning/sparse/mod.rs`), with the file's code: comment lines and the
+/// `#[cfg(test)]` tail removed.
+fn file_modules() -> BTreeMap<String, String> {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let mut out = BTreeMap::new();
+    for f in files {
+        let rel = f.strip_prefix(&src).unwrap().with_extension("");
+        let mut parts: Vec<String> = rel
+            .components()
+            .map(|c| c.as_os_str().to_string_lossy().to_string())
+            .collect();
+        if matches!(
+            parts.last().map(String::as_str),
+            Some("mod" | "lib" | "main")
+        ) {
+            parts.pop();
+        }
+        let text = std::fs::read_to_string(&f).unwrap();
+        let code = text.split("#[cfg(test)]").next().unwrap_or("");
+        let code: String = code
+            .lines()
+            .filter(|l| !l.trim_start().starts_with("//"))
+            .collect::<Vec<_>>()
+            .join("\n");
+        out.insert(parts.join("::"), code);
+    }
+    out
+}
+
+/// File → the files it imports from: every `crate::a::b`, `super::a`, `self::a` path and
+/// `{…}` group in its code, resolved to the longest module with a file. An edge to the file's
+/// own ancestor module (a child naming its parent's items) is not counted: the parent
+/// declares the child, as every Rust module tree does.
+fn file_graph() -> BTreeMap<String, BTreeSet<String>> {
+    let files = file_modules();
+    let resolve = |segs: &[String]| -> Option<String> {
+        (1..=segs.len())
+            .rev()
+            .map(|k| segs[..k].join("::"))
+            .find(|m| files.contains_key(m))
+    };
+    let mut g = BTreeMap::new();
+    for (module, code) in &files {
+        let here: Vec<String> = if module.is_empty() {
+            Vec::new()
+        } else {
+            module.split("::").map(String::from).collect()
+        };
+        let mut deps = BTreeSet::new();
+        for base in ["crate::", "super::", "self::"] {
+            for (i, _) in code.match_indices(base) {
+                if i > 0 && code[..i].ends_with(|c: char| c.is_alphanumeric() || c == '_') {
+                    continue;
+                }
+                let root: Vec<String> = match base {
+                    "crate::" => Vec::new(),
+                    "super::" => here[..here.len().saturating_sub(1)].to_vec(),
+                    _ => here.clone(),
+                };
+                let rest = &code[i + base.len()..];
+                // The path's segments, then a `{…}` group's first segments.
+                let mut segs = root.clone();
+                let mut r = rest;
+                loop {
+                    let id = ident(r);
+                    if id.is_empty() || id == "super" {
+                        break;
+                    }
+                    segs.push(id.clone());
+                    r = &r[id.len()..];
+                    match r.strip_prefix("::") {
+                        Some(t) => r = t,
+                        None => break,
+                    }
+                }
+                let mut targets = vec![segs.clone()];
+                if let Some(group) = r.strip_prefix('{') {
+                    let group = group.split('}').next().unwrap_or("");
+                    for item in group.split(',') {
+                        let id = ident(item.trim());
+                        if !id.is_empty() && id != "self" {
+                            let mut s = segs.clone();
+                            s.push(id);
+                            targets.push(s);
+                        }
+                    }
+                }
+                for t in targets {
+                    if let Some(dep) = resolve(&t) {
+                        let ancestor = module.starts_with(&format!("{dep}::")) || dep.is_empty();
+                        if dep != *module && !ancestor {
+                            deps.insert(dep);
+                        }
+                    }
+                }
+            }
+        }
+        g.insert(module.clone(), deps);
+    }
+    g
+}
+
+/// No two files import from each other, directly or around a circle.
+#[test]
+fn no_import_circle_between_files() {
+    let g = file_graph();
+    assert!(
+        g["conditioning::sparse"].contains("conditioning::bracket"),
+        "the scanner sees no edges: {:?}",
+        g["conditioning::sparse"]
+    );
+    let circles: Vec<String> = g
+        .keys()
+        .filter_map(|f| circle(&g, f))
+        .map(|c| c.join(" -> "))
+        .collect();
+    assert!(circles.is_empty(), "{}", circles.join("\n"));
 }

@@ -3,7 +3,8 @@
 //! whether σ is an upper bound of the eigenvalue (a Cholesky test that proves it, or the
 //! search's inertia count); the searches only decide *where* to test.
 
-use super::sparse::BRACKET_TOL;
+/// Target relative width of each eigenvalue bracket (before the rounding floor).
+pub const BRACKET_TOL: f64 = 1e-11;
 
 /// Target relative width of the eigenvalue brackets of a matrix with `cond₂ ≈ cond_est`:
 /// [`BRACKET_TOL`], or the rounding floor `64·ε_mach·cond₂` of λ_min where that is wider (the

@@ -2,9 +2,9 @@
 //! symbolic analysis for every shift, the Cholesky tests and the margins that judge them
 //! ([`super::certify`], Lemmas 1, 5, 7 and 7a).
 
+use super::certify::POSTERIOR_MAX_PRODUCTS;
 use super::certify::{self, Margin};
 use super::lanczos::lanczos;
-use super::sparse::POSTERIOR_MAX_PRODUCTS;
 use crate::error::Result;
 use crate::linalg::{DiagonalPattern, SparseLlt};
 use faer::sparse::SparseColMat;
@@ -69,7 +69,7 @@ impl ShiftFamily {
                 sigma,
             )
         });
-        let m = certify::own_margin(f, &stored, apriori.m, need, posterior);
+        let m = super::residual::own_margin(f, &stored, apriori.m, need, posterior);
         Margin { m }
     }
 

@@ -22,7 +22,6 @@
 //! `coordinate real general` with values in shortest round-trip form, so
 //! [`read_matrix_market`] gives back identical bits.
 
-use super::write::fmt_f64;
 use super::{bare_message, clip};
 use crate::error::{Error, Result};
 use crate::provenance::write_atomic;
@@ -539,4 +538,15 @@ pub fn write_matrix_market(path: &Path, k: &Stiffness) -> Result<()> {
         ));
     }
     write_atomic(path, &matrix_market_bytes(k))
+}
+
+/// Formats an f64 so that Rust's `str::parse::<f64>` and `serde_json` (with `float_roundtrip`) give
+/// back the identical bits: integers below 10¹⁵ as integers, everything else in shortest
+/// round-trip form (`{:?}`, e.g. `0.1`, `-0.0`, `1e-300`). The value must be finite.
+pub(crate) fn fmt_f64(v: f64) -> String {
+    if v.fract() == 0.0 && v.abs() < 1e15 && !(v == 0.0 && v.is_sign_negative()) {
+        format!("{}", v as i64)
+    } else {
+        format!("{v:?}")
+    }
 }

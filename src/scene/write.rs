@@ -1,23 +1,12 @@
 //! Writing scene files: the JSON of [`write_scene`] (K inline or in a sibling Matrix Market
 //! file), numbers in shortest round-trip form, written atomically.
 
-use super::matrix_market;
+use super::matrix_market::{self, fmt_f64};
 use crate::error::{Error, Result};
 use crate::provenance::write_atomic;
 use crate::system::{ConstraintKind, Problem};
 use std::io::Write;
 use std::path::Path;
-
-/// Formats an f64 so that Rust's `str::parse::<f64>` and `serde_json` (with `float_roundtrip`) give
-/// back the identical bits: integers below 10¹⁵ as integers, everything else in shortest
-/// round-trip form (`{:?}`, e.g. `0.1`, `-0.0`, `1e-300`). The value must be finite.
-pub(super) fn fmt_f64(v: f64) -> String {
-    if v.fract() == 0.0 && v.abs() < 1e15 && !(v == 0.0 && v.is_sign_negative()) {
-        format!("{}", v as i64)
-    } else {
-        format!("{v:?}")
-    }
-}
 
 /// Checks what [`Problem::new`] checks, for a problem whose public fields may have been
 /// changed since: anything written must be readable again.

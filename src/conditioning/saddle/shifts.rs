@@ -137,7 +137,8 @@ impl Shifts<'_> {
                 0.0,
             )
         });
-        let m = certify::own_margin(f, &stored, margin.m, need / max_b, residual);
+        let m =
+            crate::conditioning::residual::own_margin(f, &stored, margin.m, need / max_b, residual);
         let c = (m * max_b + 6.0 * certify::U * max_e) * (1.0 + 16.0 * certify::U);
         c.is_finite().then_some(c)
     }

@@ -69,8 +69,10 @@ pub use ends::width_target;
 use faer::sparse::SparseColMat;
 use serde::Serialize;
 
+pub use super::bracket::BRACKET_TOL;
 pub(crate) use super::bracket::{bracket, bracket_tol, bracket_top};
 pub(crate) use super::certify::rayleigh_interval;
+pub use super::certify::POSTERIOR_MAX_PRODUCTS;
 use super::lanczos::stagnation_tolerances;
 pub use super::lanczos::RITZ_VECTOR_MAX_N;
 pub(crate) use super::lanczos::{gershgorin_max, lanczos};
@@ -86,9 +88,6 @@ const STRICT_STAGNATION: f64 = 1e-2;
 
 /// Plain Lanczos steps on A before switching to shift-invert for λ_max.
 pub const PLAIN_LANCZOS_STEPS: usize = 120;
-
-/// Target relative width of each eigenvalue bracket (before the rounding floor).
-pub const BRACKET_TOL: f64 = 1e-11;
 
 /// The certificate of a sparse exact cond₂: brackets of λ_max and λ_min proven by inertia.
 #[derive(Clone, Copy, Debug, Serialize, PartialEq)]
@@ -469,14 +468,6 @@ pub fn estimate_extremes(a: &SparseColMat<usize, f64>) -> Result<(f64, f64)> {
     )?;
     Ok((est.lmax, est.lmin))
 }
-
-/// Largest factor (products `Σ_k c_k²` of a factorization, [`certify::factor_products`](super::certify::factor_products)) for
-/// which the tests compute Lemma 7's residual (≈ 5× the factorization; measured 105 µs against
-/// 20 µs on the 400-DOF membrane, `cargo bench --bench cond -- posterior_margin`). Above it
-/// (the 10⁵–10⁶-DOF membranes: seconds per residual) the bounds rest on Lemmas 1 and 7a and the
-/// tests keep Lemma 1's placement (no extra factorization); their widths can exceed the
-/// target.
-pub const POSTERIOR_MAX_PRODUCTS: f64 = 2e7;
 
 /// Relative width of the normwise lower bound of λ_min (`m·max_i A_ii / λ_min`, certify,
 /// Corollary 3) above which the graded bound (Theorem 4) is computed.

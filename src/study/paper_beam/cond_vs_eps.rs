@@ -1,59 +1,13 @@
 //! cond₂(K + εDDᵀ) and the max penetration for a uniform ε on a log grid, and the δ-driven
-//! strategies at several δ (`cond_vs_eps.csv`); the bisection for the uniform ε that reaches a
-//! given max penetration.
+//! strategies at several δ (`cond_vs_eps.csv`, rows [`CondRow`]).
 
+use super::record::CondRow;
 use super::solves::solve_with_metrics;
 use super::{DELTAS, EPS_HI, EPS_LO, N_EPS};
 use crate::conditioning;
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::strategy::{self, condensed, optimal, paper, spring, Knobs, Method, Strategy};
 use crate::system::Problem;
-use serde::{Deserialize, Serialize};
-
-/// A row of `cond_vs_eps.csv`.
-#[derive(Serialize, Deserialize, Debug, Clone)]
-pub struct CondRow {
-    /// `K` (no penalty), `uniform`, `paper`, `condensed`, `spring`.
-    pub series: String,
-    /// δ for the δ-driven strategies (empty otherwise).
-    pub delta: Option<f64>,
-    /// Uniform ε, or max_c ε_c for the δ-driven strategies.
-    pub eps: f64,
-    /// ε of constraint 1.
-    pub eps_1: f64,
-    /// ε of constraint 2.
-    pub eps_2: f64,
-    /// ε of constraint 3.
-    pub eps_3: f64,
-    /// cond₂ of the system matrix.
-    pub cond2: f64,
-    /// Max penetration.
-    pub max_penetration: f64,
-    /// log10 det(K + ε)/det K.
-    pub log10_det_ratio: f64,
-}
-
-/// The uniform ε whose max penetration is `target` (bisection in log ε over the sweep range).
-pub fn uniform_eps_for(p: &Problem, target: f64) -> Result<f64> {
-    let pen = |log_e: f64| {
-        strategy::solve(p, Method::constant(10f64.powf(log_e))).map(|s| s.max_penetration)
-    };
-    let (mut lo, mut hi) = (EPS_LO.log10(), EPS_HI.log10());
-    if !(pen(lo)? > target && pen(hi)? < target) {
-        return Err(Error::Numerical(format!(
-            "no uniform ε in [{EPS_LO:e}, {EPS_HI:e}] gives max penetration {target}"
-        )));
-    }
-    for _ in 0..80 {
-        let mid = 0.5 * (lo + hi);
-        if pen(mid)? > target {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    Ok(10f64.powf(0.5 * (lo + hi)))
-}
 
 /// The rows of `cond_vs_eps.csv`: K alone, the uniform-ε grid, then `paper`, `condensed`,
 /// `spring` at every δ of [`DELTAS`].

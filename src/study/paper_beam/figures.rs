@@ -2,8 +2,8 @@
 //! them): `fig3_deflection_free`, `fig4_deflection_contact`, `cond_vs_eps` and
 //! `cond_vs_delta` (PNG + SVG).
 
-use super::cond_vs_eps::CondRow;
 use super::deflection::DeflectionRow;
+use super::record::CondRow;
 use super::record::ConstraintInfo;
 use super::Study;
 use crate::plot::{method_color, Figure, Mark, Marker, Series};

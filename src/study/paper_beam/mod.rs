@@ -34,8 +34,8 @@ pub mod report;
 mod solves;
 mod tables;
 
-pub use cond_vs_eps::CondRow;
 pub use deflection::DeflectionRow;
+pub use record::CondRow;
 pub use record::{load, save, Optimum, Record};
 
 use crate::error::Result;

@@ -2,7 +2,7 @@
 //! the numbers computed for it (see `checks`).
 
 use super::checks::Checks;
-use super::cond_vs_eps::CondRow;
+use super::record::CondRow;
 use super::record::Note;
 use super::solves::Solves;
 use super::DELTA;

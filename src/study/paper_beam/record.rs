@@ -1,7 +1,6 @@
 //! The record of the study (`paper_beam.json`) and its data files (`deflection.csv`,
 //! `cond_vs_eps.csv`): types, writing and reading back.
 
-use super::cond_vs_eps::CondRow;
 use super::deflection::DeflectionRow;
 use super::{Study, COND_DELTA_FILE, COND_FILE, DEFLECTION_FILE, JSON_FILE};
 use crate::error::{Error, Result};
@@ -225,4 +224,27 @@ pub fn load(out: &Path) -> Result<Study> {
         cond: read_csv::<CondRow>(&out.join(COND_FILE))?,
         cond_delta: read_csv::<CondRow>(&out.join(COND_DELTA_FILE))?,
     })
+}
+
+/// A row of `cond_vs_eps.csv`.
+#[derive(Serialize, Deserialize, Debug, Clone)]
+pub struct CondRow {
+    /// `K` (no penalty), `uniform`, `paper`, `condensed`, `spring`.
+    pub series: String,
+    /// δ for the δ-driven strategies (empty otherwise).
+    pub delta: Option<f64>,
+    /// Uniform ε, or max_c ε_c for the δ-driven strategies.
+    pub eps: f64,
+    /// ε of constraint 1.
+    pub eps_1: f64,
+    /// ε of constraint 2.
+    pub eps_2: f64,
+    /// ε of constraint 3.
+    pub eps_3: f64,
+    /// cond₂ of the system matrix.
+    pub cond2: f64,
+    /// Max penetration.
+    pub max_penetration: f64,
+    /// log10 det(K + ε)/det K.
+    pub log10_det_ratio: f64,
 }

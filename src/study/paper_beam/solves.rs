@@ -1,10 +1,9 @@
 //! The solves of the study: the strategies at the paper's δ, one line per strategy, and the
 //! equal-accuracy comparisons (a uniform ε tuned by bisection to a max penetration).
 
-use super::cond_vs_eps::uniform_eps_for;
 use super::record::StrategyLine;
-use super::DELTA;
-use crate::error::Result;
+use super::{DELTA, EPS_HI, EPS_LO};
+use crate::error::{Error, Result};
 use crate::metrics::{self, MetricSet};
 use crate::strategy::{self, Knob, Method, Solution};
 use crate::study::text::{fmt_e, fmt_g};
@@ -182,4 +181,26 @@ pub fn solve_all(p: &Problem) -> Result<Solves> {
         uni_at_pap,
         con_at_pap,
     })
+}
+
+/// The uniform ε whose max penetration is `target` (bisection in log ε over the sweep range).
+pub fn uniform_eps_for(p: &Problem, target: f64) -> Result<f64> {
+    let pen = |log_e: f64| {
+        strategy::solve(p, Method::constant(10f64.powf(log_e))).map(|s| s.max_penetration)
+    };
+    let (mut lo, mut hi) = (EPS_LO.log10(), EPS_HI.log10());
+    if !(pen(lo)? > target && pen(hi)? < target) {
+        return Err(Error::Numerical(format!(
+            "no uniform ε in [{EPS_LO:e}, {EPS_HI:e}] gives max penetration {target}"
+        )));
+    }
+    for _ in 0..80 {
+        let mid = 0.5 * (lo + hi);
+        if pen(mid)? > target {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Ok(10f64.powf(0.5 * (lo + hi)))
 }

@@ -263,7 +263,7 @@ impl Study for Sweep {
     }
 
     fn report(rec: &Record) -> String {
-        report::text(rec)
+        report::text(&rec.manifest, rec.rows.len())
     }
 
     fn json(rec: &Record) -> Result<String> {

@@ -1,17 +1,14 @@
 //! The printed report of a sweep folder: one line from its manifest.
 
-use super::cli::Record;
-
 /// `sweep: S scenes (R resumed), N rows in W s (X rows/s)`, or for a merged folder
-/// `sweep merge: K shards, S scenes, N rows`.
-pub fn text(rec: &Record) -> String {
-    let m = &rec.manifest;
+/// `sweep merge: K shards, S scenes, N rows`, from the folder's manifest and its row count.
+pub fn text(m: &serde_json::Value, rows: usize) -> String {
     if let Some(from) = m["merged_from"].as_array() {
         return format!(
             "sweep merge: {} shards, {} scenes, {} rows\n",
             from.len(),
             m["scenes"],
-            rec.rows.len()
+            rows
         );
     }
     let f = |k: &str| m[k].as_f64().unwrap_or(f64::NAN);
@@ -20,7 +17,7 @@ pub fn text(rec: &Record) -> String {
         m["scenes"],
         m["resumed_scenes"],
         m["rows_written"],
-        rec.rows.len(),
+        rows,
         f("wall_seconds"),
         f("rows_per_second")
     )
