@@ -20,7 +20,7 @@
 //! rows of each method of max penetration / δ and of cond₂(K + D E Dᵀ).
 
 use penalty_lab::strategy::{
-    fixed_point, per_active, registry, Context, Glyph, Knob, Method, Solution, Strategy,
+    fixed_point, per_active, registry, Context, Glyph, Knob, Look, Method, Solution, Strategy,
 };
 use penalty_lab::study::sweep::{self, figures, rows::Row, RunOptions, SweepConfig};
 use penalty_lab::{stats, Error, Result};
@@ -33,16 +33,17 @@ pub const F: f64 = 1.0;
 pub static GAP_SCALED: Strategy = Strategy {
     name: "gap-scaled",
     summary: "ε_c = f·K_dd·(1 + |g0_c|/δ) (examples/custom_rule.rs)",
-    label: "gap-scaled (f·K_dd·(1 + |g0|/δ))",
-    rule_label: "gap-scaled",
     knob: Knob::Delta,
-    colour: 8,
-    glyph: Glyph::Circle,
     needs_k_inverse: true,
-    targets_delta: false,
-    bilateral: true,
-    force_tol: penalty_lab::strategy::force_control::FORCE_TOL,
     solve: solve_gap_scaled,
+    look: Look {
+        label: "gap-scaled (f·K_dd·(1 + |g0|/δ))",
+        rule_label: "gap-scaled",
+        colour: 8,
+        glyph: Glyph::Circle,
+        ..Look::BASE
+    },
+    ..Strategy::BASE
 };
 
 /// `ε_c = F · K_dd · (1 + |g0_c|/δ)` on the active set, re-evaluated by [`fixed_point`] until

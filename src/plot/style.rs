@@ -142,7 +142,7 @@ pub fn method_color(name: &str) -> usize {
     }
     forming_alias(name)
         .or_else(|| strategy::registry::find(name))
-        .map_or(7, |s| s.colour)
+        .map_or(7, |s| s.look.colour)
 }
 
 /// The point marker of a method: its [`Strategy`]'s glyph; a forming run's name takes its
@@ -154,7 +154,7 @@ pub fn method_glyph(name: &str) -> Glyph {
         "K alone" => Glyph::Circle,
         n => forming_alias(n)
             .or_else(|| strategy::registry::find(n))
-            .map_or(Glyph::Circle, |s| s.glyph),
+            .map_or(Glyph::Circle, |s| s.look.glyph),
     }
 }
 
@@ -164,6 +164,6 @@ pub fn method_label(name: &str) -> &str {
     match name {
         "adaptive" | "paper-residual" => "adaptive (Eq. 28 on the residual)",
         "paper-literal" => "paper-literal (Eq. 28 as printed)",
-        n => strategy::registry::find(n).map_or(n, |s| s.label),
+        n => strategy::registry::find(n).map_or(n, |s| s.label()),
     }
 }

@@ -26,7 +26,7 @@
 //! the price of several solves.
 
 use super::active_set::{newton, Start};
-use super::{Context, Glyph, Knob, Knobs, Method, Solution, Strategy, SystemKind};
+use super::{Context, Glyph, Knob, Knobs, Look, Method, Solution, Strategy, SystemKind};
 use crate::error::Result;
 use crate::system::ConstraintKind;
 
@@ -34,16 +34,14 @@ use crate::system::ConstraintKind;
 pub static STRATEGY: Strategy = Strategy {
     name: "augmented",
     summary: "Augmented Lagrangian",
-    label: "augmented",
-    rule_label: "augmented",
     knob: Knob::EpsTol,
-    colour: 6,
-    glyph: Glyph::Pentagon,
-    needs_k_inverse: false,
-    targets_delta: false,
-    bilateral: true,
-    force_tol: super::force_control::FORCE_TOL,
     solve: run,
+    look: Look {
+        colour: 6,
+        glyph: Glyph::Pentagon,
+        ..Look::BASE
+    },
+    ..Strategy::BASE
 };
 
 impl Method {

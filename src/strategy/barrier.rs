@@ -54,7 +54,7 @@
 //! it). Unilateral constraints only: a bilateral tie has no barrier form (it is refused with
 //! an error; IPC enforces such conditions as Dirichlet data).
 
-use super::{Context, Glyph, Knob, Knobs, Method, Solution, Strategy, SystemKind};
+use super::{Context, Glyph, Knob, Knobs, Look, Method, Solution, Strategy, SystemKind};
 use crate::error::{Error, Result};
 use crate::system::{ConstraintKind, Problem};
 
@@ -62,16 +62,18 @@ use crate::system::{ConstraintKind, Problem};
 pub static STRATEGY: Strategy = Strategy {
     name: "barrier",
     summary: "IPC log-barrier with adaptive stiffness κ (activation distance δ = d̂)",
-    label: "barrier (IPC, d̂ = δ)",
-    rule_label: "barrier",
     knob: Knob::Delta,
-    colour: 10,
-    glyph: Glyph::Star,
-    needs_k_inverse: false,
     targets_delta: true,
     bilateral: false,
-    force_tol: super::force_control::FORCE_TOL,
     solve: run,
+    look: Look {
+        label: "barrier (IPC, d̂ = δ)",
+        rule_label: "barrier",
+        colour: 10,
+        glyph: Glyph::Star,
+        ..Look::BASE
+    },
+    ..Strategy::BASE
 };
 
 impl Method {

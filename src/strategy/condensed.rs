@@ -34,7 +34,7 @@
 //! same max penetration 0.1 with cond 221.1 against 222.3 (see `paper_beam`, note (i)).
 
 use super::box_qp::{box_qp, BoundState};
-use super::{Context, Glyph, Knob, Knobs, Method, Solution, Strategy, SystemKind};
+use super::{Context, Glyph, Knob, Knobs, Look, Method, Solution, Strategy, SystemKind};
 use crate::error::{Error, Result};
 use crate::system::ConstraintKind;
 use faer::Mat;
@@ -43,16 +43,18 @@ use faer::Mat;
 pub static STRATEGY: Strategy = Strategy {
     name: "condensed",
     summary: "Exact δ-targeting penalty",
-    label: "condensed (exact δ)",
-    rule_label: "condensed",
     knob: Knob::Delta,
-    colour: 4,
-    glyph: Glyph::Diamond,
     needs_k_inverse: true,
     targets_delta: true,
-    bilateral: true,
-    force_tol: super::force_control::FORCE_TOL,
     solve: run,
+    look: Look {
+        label: "condensed (exact δ)",
+        rule_label: "condensed",
+        colour: 4,
+        glyph: Glyph::Diamond,
+        ..Look::BASE
+    },
+    ..Strategy::BASE
 };
 
 impl Method {

@@ -12,23 +12,21 @@
 //! When to use: when a good ε is known. Too small and contact leaks (penetration ∝ 1/ε), too
 //! large and cond(K + εDDᵀ) grows ∝ ε.
 
-use super::{fixed_energy, Context, Glyph, Knob, Knobs, Method, Solution, Strategy};
+use super::{fixed_energy, Context, Glyph, Knob, Knobs, Look, Method, Solution, Strategy};
 use crate::error::Result;
 
 /// `constant`: everything the registry knows about this strategy ([`super::registry`]).
 pub static STRATEGY: Strategy = Strategy {
     name: "constant",
     summary: "Classical constant penalty ε",
-    label: "constant",
-    rule_label: "constant",
     knob: Knob::Eps,
-    colour: 0,
-    glyph: Glyph::Square,
-    needs_k_inverse: false,
-    targets_delta: false,
-    bilateral: true,
-    force_tol: super::force_control::FORCE_TOL,
     solve: run,
+    look: Look {
+        colour: 0,
+        glyph: Glyph::Square,
+        ..Look::BASE
+    },
+    ..Strategy::BASE
 };
 
 impl Method {

@@ -12,7 +12,7 @@
 //! saddle-point matrix's) whose size changes with the active set.
 
 use super::{
-    initial_active_set, max_iterations, Context, Glyph, Knob, Knobs, Method, Solution, Strategy,
+    initial_active_set, max_iterations, Context, Glyph, Knobs, Look, Method, Solution, Strategy,
     SystemKind,
 };
 use crate::error::{Error, Result};
@@ -24,16 +24,13 @@ use std::collections::HashSet;
 pub static STRATEGY: Strategy = Strategy {
     name: "lagrange",
     summary: "Lagrange multipliers",
-    label: "lagrange",
-    rule_label: "lagrange",
-    knob: Knob::None,
-    colour: 5,
-    glyph: Glyph::Plus,
-    needs_k_inverse: false,
-    targets_delta: false,
-    bilateral: true,
-    force_tol: super::force_control::FORCE_TOL,
     solve: run,
+    look: Look {
+        colour: 5,
+        glyph: Glyph::Plus,
+        ..Look::BASE
+    },
+    ..Strategy::BASE
 };
 
 impl Method {

@@ -46,7 +46,7 @@ use crate::system::{Problem, Stiffness};
 use serde::Serialize;
 use std::sync::Arc;
 
-pub use registry::{Glyph, Knob, Strategy};
+pub use registry::{Glyph, Knob, Look, Strategy};
 
 pub use active_set::{
     clip_negative, fixed_energy, fixed_point, initial_active_set, max_iterations, per_active,
@@ -239,7 +239,7 @@ impl Method {
     /// The method's penalty rule as named in messages: `spring (Eq. 17)`, `paper (Eq. 28)`,
     /// otherwise the method name.
     pub fn rule_label(&self) -> &'static str {
-        self.strategy.rule_label
+        self.strategy.rule_label()
     }
 
     /// The knob value `v` the strategy declared (`what` names it in the error a method built

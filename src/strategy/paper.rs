@@ -9,7 +9,9 @@
 //! an order of magnitude (Eq. 37); see [`super::condensed`] for the exact version. A negative
 //! ε̄ (e.g. a tool node with no load of its own) is warned and clipped to 0.
 
-use super::{fixed_point, per_active, Context, Glyph, Knob, Knobs, Method, Solution, Strategy};
+use super::{
+    fixed_point, per_active, Context, Glyph, Knob, Knobs, Look, Method, Solution, Strategy,
+};
 use crate::error::Result;
 use crate::system::Problem;
 
@@ -17,16 +19,16 @@ use crate::system::Problem;
 pub static STRATEGY: Strategy = Strategy {
     name: "paper",
     summary: "The paper's rule (Eq. 28–29)",
-    label: "paper (Eq. 26–29)",
-    rule_label: "paper (Eq. 28)",
     knob: Knob::Delta,
-    colour: 3,
-    glyph: Glyph::Triangle,
-    needs_k_inverse: false,
-    targets_delta: false,
-    bilateral: true,
-    force_tol: super::force_control::FORCE_TOL,
     solve: run,
+    look: Look {
+        label: "paper (Eq. 26–29)",
+        rule_label: "paper (Eq. 28)",
+        colour: 3,
+        glyph: Glyph::Triangle,
+        ..Look::BASE
+    },
+    ..Strategy::BASE
 };
 
 impl Method {

@@ -3,6 +3,10 @@
 //! and their help, [`Method::from_name`](super::Method::from_name), the sweep's job lists and
 //! rows, figure colours and legends, `engine_scale`'s methods — derives from the descriptors.
 //!
+//! A descriptor holds the rule's numerics (knob, K⁻¹, δ guarantee, ties, force tolerance,
+//! `solve`) and, apart, its presentation ([`Look`]: labels, colour, glyph); each declares only
+//! what differs from [`Strategy::BASE`] and [`Look::BASE`].
+//!
 //! A rule from outside the crate is a `static` [`Strategy`] whose `solve` uses the public
 //! drivers ([`fixed_point`](super::fixed_point), [`fixed_energy`](super::fixed_energy),
 //! [`per_active`](super::per_active)), made known once with [`register`]; from then on the
@@ -78,16 +82,8 @@ pub struct Strategy {
     pub name: &'static str,
     /// One line for `--help` and docs tables.
     pub summary: &'static str,
-    /// Legend text in every figure.
-    pub label: &'static str,
-    /// The rule as named in warnings (e.g. `paper (Eq. 28)`).
-    pub rule_label: &'static str,
     /// The knob.
     pub knob: Knob,
-    /// Palette index of its colour in every figure (`plot::PALETTE`, taken modulo its length).
-    pub colour: usize,
-    /// Its point marker in every figure.
-    pub glyph: Glyph,
     /// Whether its solves need K⁻¹ (a nonsingular K): those that start from u0 = K⁻¹q or use
     /// S = DᵀK⁻¹D.
     pub needs_k_inverse: bool,
@@ -102,12 +98,78 @@ pub struct Strategy {
     pub force_tol: f64,
     /// Runs it: `method` carries this descriptor and the knob values it declared.
     pub solve: fn(Context, &Method) -> Result<Solution>,
+    /// How figures and warnings show it (nothing here changes a number).
+    pub look: Look,
+}
+
+/// How figures and warnings show a strategy: its presentation, apart from its numerics.
+#[derive(Clone, Copy, Debug)]
+pub struct Look {
+    /// Legend text in every figure (`""`: the name).
+    pub label: &'static str,
+    /// The rule as named in warnings, e.g. `paper (Eq. 28)` (`""`: the label).
+    pub rule_label: &'static str,
+    /// Palette index of its colour in every figure (`plot::PALETTE`, taken modulo its length).
+    pub colour: usize,
+    /// Its point marker in every figure.
+    pub glyph: Glyph,
+}
+
+impl Look {
+    /// The defaults a strategy's look starts from (`..Look::BASE`): labels from the name, the
+    /// palette's grey, a circle.
+    pub const BASE: Look = Look {
+        label: "",
+        rule_label: "",
+        colour: 7,
+        glyph: Glyph::Circle,
+    };
+}
+
+/// [`Strategy::BASE`]'s solve: an error naming the strategy that declared none.
+fn undeclared(_: Context, m: &Method) -> Result<Solution> {
+    Err(Error::input(format!(
+        "strategy '{}' declares no solve",
+        m.strategy().name
+    )))
 }
 
 impl Strategy {
+    /// The defaults every strategy starts from (`..Strategy::BASE`): no knob, K⁻¹ not needed,
+    /// no δ guarantee, bilateral ties handled, force control at
+    /// [`super::force_control::FORCE_TOL`], the default [`Look`]; `name`, `summary` and
+    /// `solve` are each strategy's own.
+    pub const BASE: Strategy = Strategy {
+        name: "",
+        summary: "",
+        knob: Knob::None,
+        needs_k_inverse: false,
+        targets_delta: false,
+        bilateral: true,
+        force_tol: super::force_control::FORCE_TOL,
+        solve: undeclared,
+        look: Look::BASE,
+    };
+
     /// Whether this is the strategy named `name`.
     pub fn is(&self, name: &str) -> bool {
         self.name == name
+    }
+
+    /// Legend text in every figure: [`Look::label`], else the name.
+    pub fn label(&self) -> &'static str {
+        match self.look.label {
+            "" => self.name,
+            l => l,
+        }
+    }
+
+    /// The rule as named in warnings: [`Look::rule_label`], else [`Strategy::label`].
+    pub fn rule_label(&self) -> &'static str {
+        match self.look.rule_label {
+            "" => self.label(),
+            l => l,
+        }
     }
 }
 

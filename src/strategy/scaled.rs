@@ -4,23 +4,21 @@
 //! When to use: a dimensionless knob that adapts to the units and to the local stiffness; the
 //! penetration still depends on the load (it is not a δ).
 
-use super::{fixed_energy, Context, Glyph, Knob, Knobs, Method, Solution, Strategy};
+use super::{fixed_energy, Context, Glyph, Knob, Knobs, Look, Method, Solution, Strategy};
 use crate::error::Result;
 
 /// `scaled`: everything the registry knows about this strategy ([`super::registry`]).
 pub static STRATEGY: Strategy = Strategy {
     name: "scaled",
     summary: "ε = factor · K_dd per constraint",
-    label: "scaled",
-    rule_label: "scaled",
     knob: Knob::Factor,
-    colour: 1,
-    glyph: Glyph::TriangleDown,
-    needs_k_inverse: false,
-    targets_delta: false,
-    bilateral: true,
-    force_tol: super::force_control::FORCE_TOL,
     solve: run,
+    look: Look {
+        colour: 1,
+        glyph: Glyph::TriangleDown,
+        ..Look::BASE
+    },
+    ..Strategy::BASE
 };
 
 impl Method {

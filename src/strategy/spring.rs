@@ -11,7 +11,9 @@
 //! load, so the penetration is not δ; when `|q_d|` is small the formula goes negative (warned
 //! and clipped to 0).
 
-use super::{fixed_point, per_active, Context, Glyph, Knob, Knobs, Method, Solution, Strategy};
+use super::{
+    fixed_point, per_active, Context, Glyph, Knob, Knobs, Look, Method, Solution, Strategy,
+};
 use crate::error::Result;
 use crate::system::ConstraintKind;
 
@@ -19,16 +21,16 @@ use crate::system::ConstraintKind;
 pub static STRATEGY: Strategy = Strategy {
     name: "spring",
     summary: "The 1-DOF spring rule for δ (Eq. 17)",
-    label: "spring (Eq. 17)",
-    rule_label: "spring (Eq. 17)",
     knob: Knob::Delta,
-    colour: 2,
-    glyph: Glyph::Circle,
     needs_k_inverse: true,
-    targets_delta: false,
-    bilateral: true,
-    force_tol: super::force_control::FORCE_TOL,
     solve: run,
+    look: Look {
+        label: "spring (Eq. 17)",
+        colour: 2,
+        glyph: Glyph::Circle,
+        ..Look::BASE
+    },
+    ..Strategy::BASE
 };
 
 impl Method {

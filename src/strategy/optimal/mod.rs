@@ -115,7 +115,7 @@
 mod model;
 pub mod spectrum;
 
-use super::{fixed_energy, Context, Glyph, Knob, Knobs, Method, Solution, Strategy};
+use super::{fixed_energy, Context, Glyph, Knob, Knobs, Look, Method, Solution, Strategy};
 use crate::conditioning;
 use crate::error::{Error, Result};
 use crate::system::{ConstraintKind, Problem, Stiffness};
@@ -128,16 +128,19 @@ use spectrum::Spectrum;
 pub static STRATEGY: Strategy = Strategy {
     name: "optimal",
     summary: "The cond-optimal penalties for δ",
-    label: "optimal (min cond₂ at δ)",
-    rule_label: "optimal",
     knob: Knob::Delta,
-    colour: 9,
-    glyph: Glyph::Cross,
     needs_k_inverse: true,
     targets_delta: true,
-    bilateral: true,
     force_tol: LOAD_TOL,
     solve: run,
+    look: Look {
+        label: "optimal (min cond₂ at δ)",
+        rule_label: "optimal",
+        colour: 9,
+        glyph: Glyph::Cross,
+        ..Look::BASE
+    },
+    ..Strategy::BASE
 };
 
 impl Method {
