@@ -39,7 +39,6 @@ pub static STRATEGY: Strategy = Strategy {
     look: Look {
         colour: 6,
         glyph: Glyph::Pentagon,
-        ..Look::BASE
     },
     ..Strategy::BASE
 };

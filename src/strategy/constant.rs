@@ -24,7 +24,6 @@ pub static STRATEGY: Strategy = Strategy {
     look: Look {
         colour: 0,
         glyph: Glyph::Square,
-        ..Look::BASE
     },
     ..Strategy::BASE
 };

@@ -16,7 +16,6 @@ pub static STRATEGY: Strategy = Strategy {
     look: Look {
         colour: 1,
         glyph: Glyph::TriangleDown,
-        ..Look::BASE
     },
     ..Strategy::BASE
 };
