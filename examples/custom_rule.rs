@@ -41,7 +41,6 @@ pub static GAP_SCALED: Strategy = Strategy {
         rule_label: "gap-scaled",
         colour: 8,
         glyph: Glyph::Circle,
-        ..Look::BASE
     },
     ..Strategy::BASE
 };

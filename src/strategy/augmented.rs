@@ -39,6 +39,7 @@ pub static STRATEGY: Strategy = Strategy {
     look: Look {
         colour: 6,
         glyph: Glyph::Pentagon,
+        ..Look::BASE
     },
     ..Strategy::BASE
 };

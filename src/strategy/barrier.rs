@@ -71,7 +71,6 @@ pub static STRATEGY: Strategy = Strategy {
         rule_label: "barrier",
         colour: 10,
         glyph: Glyph::Star,
-        ..Look::BASE
     },
     ..Strategy::BASE
 };

@@ -52,7 +52,6 @@ pub static STRATEGY: Strategy = Strategy {
         rule_label: "condensed",
         colour: 4,
         glyph: Glyph::Diamond,
-        ..Look::BASE
     },
     ..Strategy::BASE
 };

@@ -24,6 +24,7 @@ pub static STRATEGY: Strategy = Strategy {
     look: Look {
         colour: 0,
         glyph: Glyph::Square,
+        ..Look::BASE
     },
     ..Strategy::BASE
 };

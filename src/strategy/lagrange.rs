@@ -28,6 +28,7 @@ pub static STRATEGY: Strategy = Strategy {
     look: Look {
         colour: 5,
         glyph: Glyph::Plus,
+        ..Look::BASE
     },
     ..Strategy::BASE
 };

@@ -26,7 +26,6 @@ pub static STRATEGY: Strategy = Strategy {
         rule_label: "paper (Eq. 28)",
         colour: 3,
         glyph: Glyph::Triangle,
-        ..Look::BASE
     },
     ..Strategy::BASE
 };

@@ -16,6 +16,7 @@ pub static STRATEGY: Strategy = Strategy {
     look: Look {
         colour: 1,
         glyph: Glyph::TriangleDown,
+        ..Look::BASE
     },
     ..Strategy::BASE
 };

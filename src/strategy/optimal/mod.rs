@@ -138,7 +138,6 @@ pub static STRATEGY: Strategy = Strategy {
         rule_label: "optimal",
         colour: 9,
         glyph: Glyph::Cross,
-        ..Look::BASE
     },
     ..Strategy::BASE
 };
