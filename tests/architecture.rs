@@ -425,3 +425,100 @@ fn no_import_circle_between_files() {
         .collect();
     assert!(circles.is_empty(), "{}", circles.join("\n"));
 }
+
+/// The functions of `text` longer than `limit` lines, from the `fn` line to its closing brace
+/// (braces in strings, chars and comments skipped): `(name, first line, lines)`.
+fn long_functions(text: &str, limit: usize) -> Vec<(String, usize, usize)> {
+    let lines: Vec<&str> = text.lines().collect();
+    let code = |l: &str| -> String {
+        // Drop string and char literals and a trailing comment (enough for brace counting).
+        let mut out = String::new();
+        let mut chars = l.chars().peekable();
+        while let Some(c) = chars.next() {
+            match c {
+                '"' => {
+                    while let Some(d) = chars.next() {
+                        if d == '\\' {
+                            chars.next();
+                        } else if d == '"' {
+                            break;
+                        }
+                    }
+                }
+                '\'' if matches!(chars.clone().nth(1), Some('\'')) => {
+                    chars.next();
+                    chars.next();
+                }
+                '/' if chars.peek() == Some(&'/') => break,
+                _ => out.push(c),
+            }
+        }
+        out
+    };
+    let mut found = Vec::new();
+    for (i, l) in lines.iter().enumerate() {
+        let t = l.trim_start();
+        if t.starts_with("//") {
+            continue;
+        }
+        let Some(at) = t.find("fn ") else { continue };
+        let head = &t[..at];
+        let is_item = head.split_whitespace().all(|w| {
+            matches!(w, "pub" | "const" | "unsafe" | "async" | "extern") || w.starts_with("pub(")
+        });
+        if !is_item {
+            continue;
+        }
+        let name = ident(&t[at + 3..]);
+        let (mut depth, mut started) = (0i64, false);
+        for (j, l2) in lines.iter().enumerate().skip(i) {
+            let c = code(l2);
+            if !started && c.contains(';') && !c.contains('{') {
+                break;
+            }
+            for ch in c.chars() {
+                match ch {
+                    '{' => {
+                        depth += 1;
+                        started = true;
+                    }
+                    '}' => depth -= 1,
+                    _ => {}
+                }
+            }
+            if started && depth == 0 {
+                let n = j - i + 1;
+                if n > limit {
+                    found.push((name.clone(), i + 1, n));
+                }
+                break;
+            }
+        }
+    }
+    found
+}
+
+/// No function under `src/` is over 120 lines (one that grows past it is split into named
+/// steps).
+#[test]
+fn no_function_over_120_lines() {
+    let sample = "fn short() {\n    let s = \"{\";\n}\n\npub fn long() {\n".to_string()
+        + &"    x();\n".repeat(130)
+        + "}\n";
+    assert_eq!(long_functions(&sample, 120), vec![("long".into(), 5, 132)]);
+    let mut files = Vec::new();
+    rust_files(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("src"),
+        &mut files,
+    );
+    let long: Vec<String> = files
+        .iter()
+        .flat_map(|f| {
+            let text = std::fs::read_to_string(f).unwrap();
+            long_functions(&text, 120)
+                .into_iter()
+                .map(move |(name, line, n)| format!("{}:{line} {name} ({n} lines)", f.display()))
+        })
+        .collect();
+    assert!(long.is_empty(), "{}", long.join("\n"));
+}

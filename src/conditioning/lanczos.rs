@@ -255,31 +255,8 @@ pub(crate) fn lanczos(
         // problems when done at every step), and wherever the recurrence may stop.
         let may_stop = beta <= 1e-300 || beta <= f64::EPSILON * upper.abs() * 1e-2;
         if steps % check_every == 0 || may_stop {
-            // Guess: the last change again, doubled (the changes shrink as θ converges).
-            let guess = match history[..] {
-                [.., pp, p] => Some(p + 2.0 * (p - pp).abs() + 8.0 * f64::EPSILON * p.abs()),
-                _ => None,
-            };
-            let theta = match history.last() {
-                Some(&prev) => tridiagonal_max_eigenvalue(&alphas, &betas, prev, upper, guess),
-                None if steps == 1 => alpha,
-                None => {
-                    let (lo, hi) = gershgorin(&alphas, &betas);
-                    tridiagonal_max_eigenvalue(&alphas, &betas, lo, hi, None)
-                }
-            };
-            // Stagnated: the last change is below the tolerance, or the changes shrink at
-            // least 4× per check and the geometric tail of what is left, d²/(d_prev − d), is
-            // (Lanczos converges superlinearly, so the tail overestimates what is left).
-            let tol = stagnation(theta) * theta.abs();
-            let stagnated = match history[..] {
-                [.., pp, p] => {
-                    let (d, d_prev) = ((theta - p).abs(), (p - pp).abs());
-                    d <= tol || (4.0 * d <= d_prev && d * d <= tol * (d_prev - d))
-                }
-                [p] => (theta - p).abs() <= tol,
-                [] => false,
-            };
+            let theta = top_ritz_value(&alphas, &betas, &history, upper, steps);
+            let stagnated = has_stagnated(&history, theta, stagnation(theta) * theta.abs());
             history.push(theta);
             upper = theta;
             if stagnated || beta <= 1e-300 || beta <= f64::EPSILON * theta.abs() * 1e-2 {
@@ -314,6 +291,39 @@ pub(crate) fn lanczos(
         alphas,
         betas,
     })
+}
+
+/// The top eigenvalue of the Lanczos tridiagonal (`alphas`, `betas`) after `steps` steps:
+/// searched above the previous check's value (`history`) and below Weyl's bound `upper`, with
+/// the last change again, doubled, as the first guess (the changes shrink as θ converges).
+fn top_ritz_value(alphas: &[f64], betas: &[f64], history: &[f64], upper: f64, steps: usize) -> f64 {
+    let guess = match history[..] {
+        [.., pp, p] => Some(p + 2.0 * (p - pp).abs() + 8.0 * f64::EPSILON * p.abs()),
+        _ => None,
+    };
+    match history.last() {
+        Some(&prev) => tridiagonal_max_eigenvalue(alphas, betas, prev, upper, guess),
+        None if steps == 1 => alphas[0],
+        None => {
+            let (lo, hi) = gershgorin(alphas, betas);
+            tridiagonal_max_eigenvalue(alphas, betas, lo, hi, None)
+        }
+    }
+}
+
+/// Whether θ has stagnated after the checks in `history`: the last change is below `tol`, or
+/// the changes shrink at least 4× per check and the geometric tail of what is left,
+/// d²/(d_prev − d), is (Lanczos converges superlinearly, so the tail overestimates what is
+/// left).
+fn has_stagnated(history: &[f64], theta: f64, tol: f64) -> bool {
+    match history[..] {
+        [.., pp, p] => {
+            let (d, d_prev) = ((theta - p).abs(), (p - pp).abs());
+            d <= tol || (4.0 * d <= d_prev && d * d <= tol * (d_prev - d))
+        }
+        [p] => (theta - p).abs() <= tol,
+        [] => false,
+    }
 }
 
 /// The second largest eigenvalue of the symmetric tridiagonal T (diagonal `a`, off-diagonal

@@ -190,25 +190,20 @@ crate::dd::fma_dispatch! {
     ) -> Option<f64> => posterior_kernel
 }
 
-/// The body of [`posterior_margin`], inlined into each target-feature build.
+/// B = αA + σI's lower triangle as the factorization read it (original i ≥ j), permuted by
+/// `fwd`, bucketed by the smaller permuted index (`b_ptr`, `b_ent`: (larger index, αa_ij)),
+/// and the weights d_i = √(αa_ii + σ) (a missing diagonal entry is σ); None unless every
+/// αa_ii + σ is positive and finite ([`posterior_kernel`]).
 #[inline(always)]
-fn posterior_kernel(
-    factor: &crate::linalg::LowerFactor,
+#[allow(clippy::type_complexity)]
+fn permuted_lower(
     pattern: SymbolicSparseColMatRef<'_, usize>,
     values: &[f64],
     alpha: f64,
     sigma: f64,
-) -> Option<f64> {
-    let n = factor.col_ptr.len() - 1;
-    let (lcp, lri, lv) = (&factor.col_ptr, &factor.row_idx, &factor.values);
-    let ident: Vec<usize>;
-    let fwd = match &factor.fwd {
-        Some(f) => f.as_slice(),
-        None => {
-            ident = (0..n).collect();
-            &ident
-        }
-    };
+    fwd: &[usize],
+) -> Option<(Vec<usize>, Vec<(usize, f64)>, Vec<f64>)> {
+    let n = fwd.len();
     let mut inv = vec![0usize; n];
     for (p, &i) in fwd.iter().enumerate() {
         inv[i] = p;
@@ -253,7 +248,13 @@ fn posterior_kernel(
         return None;
     }
     let d: Vec<f64> = diag.iter().map(|&b| b.sqrt()).collect();
-    // Row lists of L: (column k, position of the entry l_qk).
+    Some((b_ptr, b_ent, d))
+}
+
+/// Row lists of the factor L (`lcp`, `lri`, n columns): for each row q, (column k, position
+/// of the entry l_qk), in `rows[r_ptr[q]..r_ptr[q + 1]]` ([`posterior_kernel`]).
+#[inline(always)]
+fn row_lists(lcp: &[usize], lri: &[usize], n: usize) -> (Vec<usize>, Vec<(usize, usize)>) {
     let mut r_ptr = vec![0usize; n + 1];
     for &i in lri.iter() {
         r_ptr[i + 1] += 1;
@@ -269,6 +270,30 @@ fn posterior_kernel(
             next[i] += 1;
         }
     }
+    (r_ptr, rows)
+}
+
+/// The body of [`posterior_margin`], inlined into each target-feature build.
+#[inline(always)]
+fn posterior_kernel(
+    factor: &crate::linalg::LowerFactor,
+    pattern: SymbolicSparseColMatRef<'_, usize>,
+    values: &[f64],
+    alpha: f64,
+    sigma: f64,
+) -> Option<f64> {
+    let n = factor.col_ptr.len() - 1;
+    let (lcp, lri, lv) = (&factor.col_ptr, &factor.row_idx, &factor.values);
+    let ident: Vec<usize>;
+    let fwd = match &factor.fwd {
+        Some(f) => f.as_slice(),
+        None => {
+            ident = (0..n).collect();
+            &ident
+        }
+    };
+    let (b_ptr, b_ent, d) = permuted_lower(pattern, values, alpha, sigma, fwd)?;
+    let (r_ptr, rows) = row_lists(lcp, lri, n);
     let terms = (0..n).map(|q| r_ptr[q + 1] - r_ptr[q]).max().unwrap_or(0) + 2;
     let g2 = gamma(terms).powi(2);
     // ‖l_p‖ rounded up: Σ_k |l_pk l_qk| ≤ ‖l_p‖‖l_q‖ bounds the products' part of Dot2's

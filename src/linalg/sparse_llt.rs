@@ -714,4 +714,12 @@ impl DiagonalPattern {
             .map(|&p| self.values[p])
             .fold(0.0f64, f64::max)
     }
+
+    /// The smallest diagonal entry (∞ for an empty matrix).
+    pub fn min_diagonal(&self) -> f64 {
+        self.diag
+            .iter()
+            .map(|&p| self.values[p])
+            .fold(f64::INFINITY, f64::min)
+    }
 }

@@ -103,8 +103,9 @@ pub fn box_solve(
     let mut last: Option<(SparseLlt, Vec<bool>)> = None;
     let mut u_last: Option<Vec<f64>> = None;
     let cg_tol = super::active_set::backward_error_tol(n);
-    let mut vals = pat.values.clone(); // matrix values of each iteration (buffer reused)
-                                       // Changes, weighted in gap units (r / K_dd) for the single-change fallback.
+    // The matrix values of each iteration (buffer reused).
+    let mut vals = pat.values.clone();
+    // Changes, weighted in gap units (r / K_dd) for the single-change fallback.
     let w = |c: usize| {
         1.0 / kdiag[problem.constraints[c].dof]
             .abs()
@@ -118,18 +119,7 @@ pub fn box_solve(
         what: "elimination route",
     };
     let out = pdas(state, spec, w, |state| {
-        // Prescribed DOFs and values.
-        let mut fixed = vec![false; n];
-        let mut u_fix = vec![0.0; n];
-        for (c, con) in problem.constraints.iter().enumerate() {
-            let b = match state[c] {
-                BoundState::Free => continue,
-                BoundState::Hi => hi[c],
-                BoundState::Lo => lo[c],
-            };
-            fixed[con.dof] = true;
-            u_fix[con.dof] = prescribed(con.limit, b, lo[c], hi[c]);
-        }
+        let (fixed, u_fix) = prescribed_dofs(problem, state, lo, hi);
         // Matrix with prescribed rows/columns replaced by K_jj e_j; rhs q_F − K_FB u_B.
         let rhs = eliminate(&pat, &problem.q, &fixed, &u_fix, &kdiag, &mut vals);
         // Few DOFs changed status since the last factorization: PCG with that factor.
@@ -199,6 +189,28 @@ pub fn box_solve(
     ctx.stats.iterations += out.iterations;
     ctx.stats.active_set_sizes.extend_from_slice(&out.sizes);
     Ok(out)
+}
+
+/// The DOFs at a bound in `state` and their prescribed values ([`prescribed`]).
+fn prescribed_dofs(
+    problem: &Problem,
+    state: &[BoundState],
+    lo: &[f64],
+    hi: &[f64],
+) -> (Vec<bool>, Vec<f64>) {
+    let n = problem.n();
+    let mut fixed = vec![false; n];
+    let mut u_fix = vec![0.0; n];
+    for (c, con) in problem.constraints.iter().enumerate() {
+        let b = match state[c] {
+            BoundState::Free => continue,
+            BoundState::Hi => hi[c],
+            BoundState::Lo => lo[c],
+        };
+        fixed[con.dof] = true;
+        u_fix[con.dof] = prescribed(con.limit, b, lo[c], hi[c]);
+    }
+    (fixed, u_fix)
 }
 
 /// `v ≈ û + b` such that the gap recomputed from it, `fl(v − û)`, lies in `[lo, hi]` (one or

@@ -615,21 +615,10 @@ impl SaddleRun<'_> {
             .map(|(lo, _)| lo)
     }
 
-    /// The proven brackets (certify) of σ_max and σ_min, where they pin cond₂ within a factor
-    /// of 2: σ_max ≥ |ρ(y_top)| and σ_max < s once both −H(s) ≻ 0 and H(−s) ≻ 0 are
-    /// verified; σ_min ≤ ‖Ax̂‖/‖x̂‖ for x̂ = A⁻¹y (y a Ritz vector of A⁻¹), and σ_min ≥ s once
-    /// H(s) ≻ 0 is verified (λ⁺_min > s) and no eigenvalue lies in [−t, 0) for t ≥ s (t = s₀,
-    /// or an LDLᵀ inertia test of H(−s), [`Shifts::no_eigenvalue_above`]). Where neither
-    /// reaches s, or a margin m·cond₂ ≳ 1 makes them wide, None: the search's inertia brackets
-    /// are reported, not proven.
-    #[allow(clippy::type_complexity)]
-    fn proven(
-        &mut self,
-        pattern: &DiagonalPattern,
-        top: &End,
-        bottom: &End,
-    ) -> Option<((f64, f64), (f64, f64))> {
-        let margin = Margin::of(&pattern.symbolic);
+    /// σ_max's proven bracket `(lo, hi)` ([`Self::proven`]): Cholesky tests stepping out from
+    /// the estimate, refined by a shift-invert run where the bracket is wider than wanted; `hi`
+    /// is infinite where no test passed.
+    fn proven_top(&mut self, pattern: &DiagonalPattern, top: &End, margin: Margin) -> (f64, f64) {
         // The tests start from the estimate or, where the inertia search ran, from its upper
         // end (a Cholesky test passed there, unverified): in a cluster at the top (the
         // 10⁶-unknown membrane's λ_max, gaps ≈ 1e-5) the Lanczos estimate stops short and
@@ -684,6 +673,25 @@ impl SaddleRun<'_> {
                 }
             }
         }
+        (max_lo, max_hi)
+    }
+
+    /// The proven brackets (certify) of σ_max and σ_min, where they pin cond₂ within a factor
+    /// of 2: σ_max ≥ |ρ(y_top)| and σ_max < s once both −H(s) ≻ 0 and H(−s) ≻ 0 are
+    /// verified; σ_min ≤ ‖Ax̂‖/‖x̂‖ for x̂ = A⁻¹y (y a Ritz vector of A⁻¹), and σ_min ≥ s once
+    /// H(s) ≻ 0 is verified (λ⁺_min > s) and no eigenvalue lies in [−t, 0) for t ≥ s (t = s₀,
+    /// or an LDLᵀ inertia test of H(−s), [`Shifts::no_eigenvalue_above`]). Where neither
+    /// reaches s, or a margin m·cond₂ ≳ 1 makes them wide, None: the search's inertia brackets
+    /// are reported, not proven.
+    #[allow(clippy::type_complexity)]
+    fn proven(
+        &mut self,
+        pattern: &DiagonalPattern,
+        top: &End,
+        bottom: &End,
+    ) -> Option<((f64, f64), (f64, f64))> {
+        let margin = Margin::of(&pattern.symbolic);
+        let (max_lo, max_hi) = self.proven_top(pattern, top, margin);
         let mut min_hi = f64::INFINITY;
         let mut x_hats = Vec::new();
         for y in &self.bottom_vectors {

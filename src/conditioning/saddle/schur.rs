@@ -48,7 +48,7 @@
 
 use super::shifts::Shifts;
 use crate::conditioning::certify::{gamma, residual_dot2, up, U};
-use crate::linalg::SparseLlt;
+use crate::linalg::{DiagonalPattern, SparseLlt};
 use faer::{Mat, Side};
 
 /// Largest m for which the negative side is bracketed through S_B.
@@ -124,6 +124,76 @@ pub(super) fn negative_bracket(
     })
 }
 
+/// Y, the F part of K's B columns `dofs` (the right-hand sides), and X̂ solved from it with
+/// `factor` (of K_FF + sI), both column-major n × m with B rows 0 (any X̂ serves Lemma S2;
+/// these are the solves' own).
+fn solved_columns(
+    pattern: &DiagonalPattern,
+    in_b: &[bool],
+    dofs: &[usize],
+    factor: &SparseLlt,
+) -> (Vec<f64>, Vec<f64>) {
+    let (n, m) = (pattern.n(), dofs.len());
+    let (cp, ri, vals) = (
+        pattern.pattern.col_ptr(),
+        pattern.pattern.row_idx(),
+        pattern.values.as_slice(),
+    );
+    let mut y = vec![0.0; n * m];
+    for (j, &d) in dofs.iter().enumerate() {
+        for p in cp[d]..cp[d + 1] {
+            if !in_b[ri[p]] {
+                y[j * n + ri[p]] = vals[p];
+            }
+        }
+    }
+    let mut x = Mat::<f64>::zeros(n, m);
+    for j in 0..m {
+        for f in 0..n {
+            x[(f, j)] = y[j * n + f];
+        }
+    }
+    factor.solve_mat_in_place(x.as_mut());
+    let mut xs = vec![0.0; n * m];
+    for j in 0..m {
+        for f in 0..n {
+            if !in_b[f] {
+                xs[j * n + f] = x[(f, j)];
+            }
+        }
+    }
+    (y, xs)
+}
+
+/// R̂ = Y − (K_FF + sI)X̂ by compensated dot products (`certify::residual_dot2`: its bound is
+/// u|r̂| plus second-order terms), and ΔR ≥ |R̂ − R|, R with the exact K_FF + sI: the stored
+/// diagonal fl(k_ff + s) (in `kfs`) is off by ≤ u|fl(k_ff + s)|, times |x̂_f|. B rows: 0.
+fn residuals(
+    pattern: &DiagonalPattern,
+    in_b: &[bool],
+    kfs: &[f64],
+    xs: &[f64],
+    y: &[f64],
+    m: usize,
+) -> (Vec<f64>, Vec<f64>) {
+    let n = pattern.n();
+    let kfs_pattern = pattern.pattern.as_ref();
+    let mut r = vec![0.0; n * m];
+    let mut dr = vec![0.0; n * m];
+    for j in 0..m {
+        let (xj, yj) = (&xs[j * n..(j + 1) * n], &y[j * n..(j + 1) * n]);
+        let res = residual_dot2(kfs_pattern, kfs, xj, 1.0, yj);
+        for (f, (rf, ef)) in res.into_iter().enumerate() {
+            if in_b[f] {
+                continue;
+            }
+            r[j * n + f] = rf;
+            dr[j * n + f] = up(ef + U * (kfs[pattern.diag[f]] * xj[f]).abs());
+        }
+    }
+    (r, dr)
+}
+
 /// ν(s) = λ_max(S_B(s)) enclosed by Lemma S2.
 fn evaluate(
     shifts: &mut Shifts,
@@ -152,50 +222,9 @@ fn evaluate(
     } else {
         kff
     };
-    // Y: the F part of K's B columns (the right-hand sides); X̂ solved with K_FF + sI.
-    let mut y = vec![0.0; n * m];
-    for (j, &d) in dofs.iter().enumerate() {
-        for p in cp[d]..cp[d + 1] {
-            if !in_b[ri[p]] {
-                y[j * n + ri[p]] = vals[p];
-            }
-        }
-    }
-    let mut x = Mat::<f64>::zeros(n, m);
-    for j in 0..m {
-        for f in 0..n {
-            x[(f, j)] = y[j * n + f];
-        }
-    }
-    factor.solve_mat_in_place(x.as_mut());
-    // X̂ column-major, its B rows 0 (any X̂ serves Lemma S2; these are the solves' own).
-    let mut xs = vec![0.0; n * m];
-    for j in 0..m {
-        for f in 0..n {
-            if !in_b[f] {
-                xs[j * n + f] = x[(f, j)];
-            }
-        }
-    }
-    drop(x);
+    let (y, xs) = solved_columns(pattern, in_b, dofs, factor);
     let max_col = (0..n).map(|j| cp[j + 1] - cp[j]).max().unwrap_or(0);
-    // R̂ = Y − (K_FF + sI)X̂ by compensated dot products (`certify::residual_dot2`: its bound
-    // is u|r̂| plus second-order terms), and ΔR ≥ |R̂ − R|, R with the exact K_FF + sI: the
-    // stored diagonal fl(k_ff + s) is off by ≤ u|fl(k_ff + s)|, times |x̂_f|. B rows: 0.
-    let kfs_pattern = pattern.pattern.as_ref();
-    let mut r = vec![0.0; n * m];
-    let mut dr = vec![0.0; n * m];
-    for j in 0..m {
-        let (xj, yj) = (&xs[j * n..(j + 1) * n], &y[j * n..(j + 1) * n]);
-        let res = residual_dot2(kfs_pattern, &kfs, xj, 1.0, yj);
-        for (f, (rf, ef)) in res.into_iter().enumerate() {
-            if in_b[f] {
-                continue;
-            }
-            r[j * n + f] = rf;
-            dr[j * n + f] = up(ef + U * (kfs[pattern.diag[f]] * xj[f]).abs());
-        }
-    }
+    let (r, dr) = residuals(pattern, in_b, &kfs, &xs, &y, m);
     // Ŝ ≈ S' = K_BB + sI − K_BF X̂ − X̂ᵀR and E ≥ |Ŝ − S'| entrywise.
     let mut pos = vec![usize::MAX; n];
     for (c, &d) in dofs.iter().enumerate() {

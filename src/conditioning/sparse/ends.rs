@@ -165,22 +165,9 @@ fn certify_top(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opti
         .as_deref()
         .filter(|_| lmax_est / max_lo - 1.0 > 2.0 * top_need)
     {
-        let n = fam.pattern.n();
-        if let Ok(run) = lanczos(
-            n,
-            PLAIN_LANCZOS_STEPS,
-            |_| TOP_STAGNATION,
-            Some(y),
-            true,
-            |x, z| fam.pattern.matvec(x, z),
-        ) {
-            restart_steps = run.steps;
-            if let Some(v) = run.vector {
-                if let Some(plain) = rayleigh_interval(pat, vals, &v) {
-                    max_lo = max_lo.max(sharpen_top(pat, vals, &v, plain, 2.0 * top_need));
-                }
-            }
-        }
+        let (lo, k) = restart_top(fam, y, 2.0 * top_need);
+        max_lo = max_lo.max(lo);
+        restart_steps = k;
     }
     // A first test that fails means the plain Lanczos run stopped short of λ_max (a cluster
     // at the top creeps below the stagnation test): the factor of the test that succeeds,
@@ -256,6 +243,83 @@ fn certify_top(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opti
     }
 }
 
+/// A second, short Lanczos run on A started from the Ritz vector `y`: the sharpened Rayleigh
+/// quotient of its Ritz vector (a lower end of λ_max, [`sharpen_top`] to `need`; 0 where the
+/// run fails) and its steps.
+fn restart_top(fam: &ShiftFamily, y: &[f64], need: f64) -> (f64, usize) {
+    let (pat, vals) = (fam.pattern.pattern.as_ref(), fam.pattern.values.as_slice());
+    let Ok(run) = lanczos(
+        fam.pattern.n(),
+        PLAIN_LANCZOS_STEPS,
+        |_| TOP_STAGNATION,
+        Some(y),
+        true,
+        |x, z| fam.pattern.matvec(x, z),
+    ) else {
+        return (0.0, 0);
+    };
+    let lo = run
+        .vector
+        .and_then(|v| rayleigh_interval(pat, vals, &v).map(|p| sharpen_top(pat, vals, &v, p, need)))
+        .unwrap_or(0.0);
+    (lo, run.steps)
+}
+
+/// The graded estimate Temple deferred (`est.deferred`), from a new factor of A: Theorem 4's
+/// floor h and the solves it took; None where A does not factor or the estimate fails.
+fn deferred_graded_floor(
+    fam: &mut ShiftFamily,
+    est: &Estimates,
+    margin: Margin,
+) -> Option<(Option<f64>, usize)> {
+    let f = fam.factor(1.0, 0.0)?;
+    let z: Vec<f64> = est
+        .bottom
+        .iter()
+        .zip(&est.s_hat)
+        .map(|(y, s)| y * s)
+        .collect();
+    let (h_est, k) = graded_estimate(&est.s_hat, &z, |y| f.solve_vec_in_place(y)).ok()?;
+    drop(f);
+    Some((graded_floor(fam, &est.s_hat, h_est, margin), k))
+}
+
+/// The inverse-Rayleigh value of `v` (Lemma 6, from a new factor of A): an upper end of
+/// λ_min; None where A does not factor or the bound is not finite.
+fn inverse_rayleigh_upper(fam: &mut ShiftFamily, v: &[f64]) -> Option<f64> {
+    let f = fam.factor(1.0, 0.0)?;
+    let mut x = v.to_vec();
+    f.solve_vec_in_place(&mut x);
+    let (pat, vals) = (fam.pattern.pattern.as_ref(), fam.pattern.values.as_slice());
+    certify::inverse_rayleigh_upper(pat, vals, v, &x)
+}
+
+/// Temple's lower bound of λ_min from the inverse iterate x̂ (temple, Theorem 9: one LDLᵀ
+/// inertia test, second order in x̂'s residual; its tests counted as factorizations); None
+/// where it is not positive.
+fn temple_floor(fam: &mut ShiftFamily, est: &Estimates, base: f64, h: Option<f64>) -> Option<f64> {
+    let (lo, tests) =
+        temple::lambda_min_lower(&fam.pattern, &est.x_hat, base, est.lambda2, &est.s_hat, h);
+    fam.factorizations += tests;
+    lo.filter(|&lo| lo > 0.0)
+}
+
+/// The first relative offset of λ_min's Cholesky tests and their growth per step:
+/// a-posteriori tests aim at a fifth of the `share` (a test passes once the offset exceeds the
+/// residual's own loss, a few u·scale) and grow ×4, the margin getting the rest; a-priori
+/// ones start at Lemma 1's margin times `scale` and grow ×8. At least 4 ε.
+fn first_offset(posterior: bool, share: f64, scale: f64, margin: Margin) -> (f64, f64) {
+    let (w0, growth) = if posterior {
+        (
+            (0.2 * share).clamp(2.0 * certify::U * scale, margin.m * scale),
+            4.0,
+        )
+    } else {
+        (margin.m * scale, 8.0)
+    };
+    (w0.max(4.0 * f64::EPSILON), growth)
+}
+
 /// λ_min ∈ [Cor. 3, Thm 4 or Temple, Lemma 6]: the tests start just inside the estimate and
 /// step out until the floating-point Cholesky succeeds; a first test that fails refines the
 /// estimate by shift-invert (a near-double or clustered bottom).
@@ -272,12 +336,7 @@ fn certify_bottom(
     let mut steps = 0;
 
     // e_iᵀAe_i = A_ii bounds λ_min from above too.
-    let diag_min = fam
-        .pattern
-        .diag
-        .iter()
-        .map(|&p| fam.pattern.values[p])
-        .fold(f64::INFINITY, f64::min);
+    let diag_min = fam.pattern.min_diagonal();
     let mut min_hi = refined_min.map_or(diag_min, |b| b.min(diag_min));
     let mut refined_min = refined_min;
     let base = lmin_est.min(min_hi);
@@ -293,14 +352,9 @@ fn certify_bottom(
     // Where Lemma 1 misses, Temple's bound from the inverse iterate x̂ (temple, Theorem 9:
     // one LDLᵀ inertia test, second order in x̂'s residual) before a Cholesky test judged by
     // its residual (Lemma 7, ≈ 5 factorizations).
-    let temple = if short(h) && est.x_hat.len() == fam.pattern.n() {
-        let (lo, tests) =
-            temple::lambda_min_lower(&fam.pattern, &est.x_hat, base, est.lambda2, &est.s_hat, h);
-        fam.factorizations += tests;
-        lo.filter(|&lo| lo > 0.0)
-    } else {
-        None
-    };
+    let temple = (short(h) && est.x_hat.len() == fam.pattern.n())
+        .then(|| temple_floor(fam, est, base, h))
+        .flatten();
     // Temple's bound where it meets the share; else the Cholesky tests (its bound kept where
     // it is the better one).
     let min_lo = match temple.filter(|&lo| min_hi / lo - 1.0 <= 0.95 * share) {
@@ -308,34 +362,14 @@ fn certify_bottom(
         None => {
             if est.deferred && short(h) {
                 // Temple missed: the graded estimate it deferred, from a new factor of A.
-                if let Some(f) = fam.factor(1.0, 0.0) {
-                    let z: Vec<f64> = est
-                        .bottom
-                        .iter()
-                        .zip(&est.s_hat)
-                        .map(|(y, s)| y * s)
-                        .collect();
-                    if let Ok((h_est, k)) =
-                        graded_estimate(&est.s_hat, &z, |y| f.solve_vec_in_place(y))
-                    {
-                        steps += k;
-                        h = graded_floor(fam, &est.s_hat, h_est, margin);
-                    }
+                if let Some((h_new, k)) = deferred_graded_floor(fam, est, margin) {
+                    steps += k;
+                    h = h_new;
                 }
             }
             let scale = scale_of(h);
             let posterior = short(h) && fam.posterior_ok;
-            // A-posteriori tests aim at a fifth of the share (a test passes once the offset exceeds
-            // the residual's own loss, a few u·scale) and grow ×4; the margin gets the rest.
-            let (w0, growth) = if posterior {
-                (
-                    (0.2 * share).clamp(2.0 * certify::U * scale, margin.m * scale),
-                    4.0,
-                )
-            } else {
-                (margin.m * scale, 8.0)
-            };
-            let w0 = w0.max(4.0 * f64::EPSILON);
+            let (w0, growth) = first_offset(posterior, share, scale, margin);
             // The bound of a Cholesky test of A − sI that succeeded (its factor f), at offset w.
             let bound_of = |fam: &ShiftFamily, f: &SparseLlt, s: f64, max_b: f64, w: f64| {
                 let need = if posterior {
@@ -373,15 +407,10 @@ fn certify_bottom(
                 // The refined vector's inverse-Rayleigh value (Lemma 6, a new factor of A)
                 // lowers the upper end; tests stepping down from the refined value — above
                 // the test that succeeded — raise the lower end.
-                if let (Some(v), Some(f)) = (vector, fam.factor(1.0, 0.0)) {
-                    let mut x = v.clone();
-                    f.solve_vec_in_place(&mut x);
-                    let (pat, vals) = (fam.pattern.pattern.as_ref(), fam.pattern.values.as_slice());
-                    if let Some(hi) = certify::inverse_rayleigh_upper(pat, vals, &v, &x) {
-                        if hi < min_hi {
-                            min_hi = hi;
-                            refined_min = Some(hi);
-                        }
+                if let Some(hi) = vector.and_then(|v| inverse_rayleigh_upper(fam, &v)) {
+                    if hi < min_hi {
+                        min_hi = hi;
+                        refined_min = Some(hi);
                     }
                 }
                 // The refined value is accurate to the solves' rounding: the tests start closer

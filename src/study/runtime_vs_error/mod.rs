@@ -355,6 +355,40 @@ fn relative_error(u: &[f64], r: &[f64]) -> Option<f64> {
     e.is_finite().then_some(e)
 }
 
+/// Up to `cfg.repeats` timed solves of `method` (each recorded in `budget`): the times of
+/// those that succeeded and the last outcome; stops at the first error or once the repeats
+/// have used a third of the budget.
+fn timed_repeats(
+    scene: &PerfScene,
+    method: Method,
+    cfg: &PerfConfig,
+    budget: &mut Budget,
+) -> (Vec<f64>, Option<Result<strategy::Solution>>) {
+    let (fam, name, n) = (scene.family.as_str(), method.name(), scene.problem.n());
+    let mut times = Vec::new();
+    let mut last = None;
+    for _ in 0..cfg.repeats {
+        let t0 = Instant::now();
+        let r = strategy::solve(&scene.problem, method);
+        let t = t0.elapsed().as_secs_f64();
+        budget.record(fam, name, n, t, cfg.budget_seconds);
+        match r {
+            Ok(sol) => {
+                times.push(t);
+                last = Some(Ok(sol));
+                if times.iter().sum::<f64>() > cfg.budget_seconds / 3.0 {
+                    break;
+                }
+            }
+            Err(e) => {
+                last = Some(Err(e));
+                break;
+            }
+        }
+    }
+    (times, last)
+}
+
 /// Runs every job on one scene; one [`Progress::step`] per point.
 pub fn run_scene(
     scene: &PerfScene,
@@ -422,27 +456,7 @@ pub fn run_scene(
             rows.push(row);
             continue;
         }
-        let mut times = Vec::new();
-        let mut last = None;
-        for _ in 0..cfg.repeats {
-            let t0 = Instant::now();
-            let r = strategy::solve(p, method);
-            let t = t0.elapsed().as_secs_f64();
-            budget.record(fam, name, n, t, cfg.budget_seconds);
-            match r {
-                Ok(sol) => {
-                    times.push(t);
-                    last = Some(Ok(sol));
-                    if times.iter().sum::<f64>() > cfg.budget_seconds / 3.0 {
-                        break;
-                    }
-                }
-                Err(e) => {
-                    last = Some(Err(e));
-                    break;
-                }
-            }
-        }
+        let (times, last) = timed_repeats(scene, method, cfg, budget);
         match last {
             Some(Ok(sol)) => {
                 if method.is(&strategy::lagrange::STRATEGY) {
