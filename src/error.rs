@@ -1,5 +1,11 @@
 //! One error type for the library. Binaries map every variant to exit status 2 with the
 //! message on one line of stderr, except [`Error::OutsideModel`] (exit status 3).
+//!
+//! The variants that name a thing carry it as a field — which knob ([`Error::MissingKnob`],
+//! [`Error::NotPositive`]), which name and the valid ones ([`Error::Unknown`]), which DOF
+//! ([`Error::DofOutOfRange`]), which file and line ([`Error::Parse`]), which command-line
+//! flag ([`Error::Flag`], added by the command-line layer only) — so that callers can match
+//! on them; [`Error::Input`] holds the rest as text.
 
 use thiserror::Error as ThisError;
 
@@ -7,9 +13,64 @@ use thiserror::Error as ThisError;
 /// range or choices.
 #[derive(Debug, ThisError)]
 pub enum Error {
-    /// Malformed or inconsistent user input (sizes, NaN/Inf, DOF out of range, δ ≤ 0, …).
+    /// Malformed or inconsistent user input not covered by a typed variant below.
     #[error("invalid input: {0}")]
     Input(String),
+    /// A method built without a knob its strategy declares.
+    #[error("invalid input: method {method} needs {knob}")]
+    MissingKnob {
+        /// The method.
+        method: String,
+        /// The knob, by its symbol (`ε`, `δ`, …).
+        knob: &'static str,
+    },
+    /// A value that must be a finite number > 0.
+    #[error("invalid input: {name} must be a finite number > 0 (got {value})")]
+    NotPositive {
+        /// What it is (`δ`, `eps_rel`, …).
+        name: String,
+        /// The value given.
+        value: f64,
+    },
+    /// A name that is none of the valid ones.
+    #[error("invalid input: unknown {what} '{name}' (valid: {valid})")]
+    Unknown {
+        /// What kind of name (`method`, `family`, `case`, `metric`).
+        what: &'static str,
+        /// The name given.
+        name: String,
+        /// The valid names, comma-separated (and what else is accepted).
+        valid: String,
+    },
+    /// A constraint on a DOF the system does not have.
+    #[error("invalid input: {context}: DOF {dof} is out of range (N = {n}, DOFs are 0-based)")]
+    DofOutOfRange {
+        /// Which item names the DOF (`constraint 3`).
+        context: String,
+        /// The DOF.
+        dof: usize,
+        /// The number of DOFs.
+        n: usize,
+    },
+    /// A malformed line of a file.
+    #[error("{path}: line {line}: {msg}")]
+    Parse {
+        /// The file.
+        path: String,
+        /// The line (1-based).
+        line: usize,
+        /// What is wrong with it.
+        msg: String,
+    },
+    /// An error in the value of a command-line flag (the command-line layer names the flag;
+    /// the library below it names the quantity).
+    #[error("{flag}: {source}")]
+    Flag {
+        /// The flag (`--delta`).
+        flag: &'static str,
+        /// What is wrong.
+        source: Box<Error>,
+    },
     /// A matrix that must be factorized is singular (or not positive definite) to working
     /// precision.
     #[error("singular matrix: {0}")]
@@ -47,6 +108,47 @@ impl Error {
             msg: msg.to_string(),
         }
     }
+    /// Shorthand for [`Error::Parse`].
+    pub fn parse(path: impl std::fmt::Display, line: usize, msg: impl Into<String>) -> Self {
+        Error::Parse {
+            path: path.to_string(),
+            line,
+            msg: msg.into(),
+        }
+    }
+    /// Shorthand for [`Error::Unknown`]: `valid` joined with `, ` and followed by `extra`.
+    pub fn unknown(what: &'static str, name: &str, valid: &[&str], extra: &str) -> Self {
+        Error::Unknown {
+            what,
+            name: name.to_string(),
+            valid: valid.join(", ") + extra,
+        }
+    }
+    /// `value` if it is a finite number > 0, else [`Error::NotPositive`] naming it.
+    pub fn positive(name: impl std::fmt::Display, value: f64) -> Result<f64> {
+        if value.is_finite() && value > 0.0 {
+            Ok(value)
+        } else {
+            Err(Error::NotPositive {
+                name: name.to_string(),
+                value,
+            })
+        }
+    }
+    /// This error as the value of command-line flag `flag` ([`Error::Flag`]).
+    pub fn for_flag(self, flag: &'static str) -> Self {
+        Error::Flag {
+            flag,
+            source: Box::new(self),
+        }
+    }
+    /// The error under any [`Error::Flag`] wrappers.
+    pub fn root(&self) -> &Error {
+        match self {
+            Error::Flag { source, .. } => source.root(),
+            e => e,
+        }
+    }
 }
 
 /// Library result.
@@ -62,7 +164,7 @@ pub fn run_main(f: impl FnOnce() -> Result<()> + std::panic::UnwindSafe) -> std:
         Ok(Ok(())) => std::process::ExitCode::SUCCESS,
         Ok(Err(e)) => {
             eprintln!("error: {e}");
-            let status = if matches!(e, Error::OutsideModel(_)) {
+            let status = if matches!(e.root(), Error::OutsideModel(_)) {
                 3
             } else {
                 2

@@ -77,10 +77,7 @@ impl Family {
             "hertz" => Ok(Family::Hertz),
             // `patch`: the family's name before issue 44.
             "flat-punch" | "patch" => Ok(Family::FlatPunch),
-            _ => Err(Error::input(format!(
-                "unknown family '{s}' (valid: {})",
-                FAMILY_NAMES.join(", ")
-            ))),
+            _ => Err(Error::unknown("family", s, &FAMILY_NAMES, "")),
         }
     }
 

@@ -227,15 +227,7 @@ impl FormingConfig {
 
     /// Checks every field; the message names the field and the valid range.
     pub fn validate(&self) -> Result<()> {
-        let pos = |name: &str, v: f64| -> Result<()> {
-            if v.is_finite() && v > 0.0 {
-                Ok(())
-            } else {
-                Err(Error::input(format!(
-                    "{name} must be a finite number > 0 (got {v})"
-                )))
-            }
-        };
+        let pos = |name: &str, v: f64| Error::positive(name, v).map(|_| ());
         let nonneg = |name: &str, v: f64| -> Result<()> {
             if v.is_finite() && v >= 0.0 {
                 Ok(())
@@ -383,12 +375,6 @@ impl ContactRule {
             ContactRule::Classical { eps } => ("penalty ε", eps),
             _ => ("δ", self.delta().unwrap_or(f64::NAN)),
         };
-        if v.is_finite() && v > 0.0 {
-            Ok(())
-        } else {
-            Err(Error::input(format!(
-                "{what} must be a finite number > 0 (got {v})"
-            )))
-        }
+        Error::positive(what, v).map(|_| ())
     }
 }

@@ -103,12 +103,7 @@ impl Material {
 
     /// Checks the parameters (positive cut-off, γ and n).
     pub fn validate(&self) -> crate::Result<()> {
-        if !(self.rate_cutoff.is_finite() && self.rate_cutoff > 0.0) {
-            return Err(crate::Error::input(format!(
-                "material.rate_cutoff must be a finite number > 0 (got {})",
-                self.rate_cutoff
-            )));
-        }
+        crate::Error::positive("material.rate_cutoff", self.rate_cutoff)?;
         if let Some(g) = self.gamma {
             if !(g.is_finite() && g > 0.0 && self.n.is_finite() && self.n > 0.0) {
                 return Err(crate::Error::input(format!(

@@ -83,12 +83,7 @@ impl Material {
     }
 
     fn validate(&self) -> Result<()> {
-        if !(self.young.is_finite() && self.young > 0.0) {
-            return Err(Error::input(format!(
-                "Young's modulus must be finite and > 0 (got {})",
-                self.young
-            )));
-        }
+        Error::positive("Young's modulus", self.young)?;
         if !(self.poisson > -1.0 && self.poisson < 0.5) {
             return Err(Error::input(format!(
                 "Poisson's ratio must lie in (−1, 0.5) (got {})",

@@ -121,8 +121,6 @@ pub fn scene(family: &str, size: usize, max_constraints: usize) -> Result<PerfSc
     match family {
         "beam" => beam_scene(size, max_constraints),
         "membrane" => membrane_scene(size, max_constraints),
-        other => Err(Error::input(format!(
-            "unknown family '{other}' (valid: beam, membrane)"
-        ))),
+        other => Err(Error::unknown("family", other, &["beam", "membrane"], "")),
     }
 }

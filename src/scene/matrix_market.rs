@@ -105,7 +105,7 @@ struct Src<'a> {
 impl Src<'_> {
     /// An error at `line` of the source.
     fn at(self, line: usize, msg: String) -> Error {
-        Error::io(self.origin, format!("line {line}: {msg}"))
+        Error::parse(self.origin, line, msg)
     }
 }
 

@@ -62,8 +62,8 @@ impl Method {
 fn run(ctx: Context, m: &Method) -> Result<Solution> {
     solve(
         ctx,
-        m.value(m.knobs().eps, "--eps")?,
-        m.value(m.knobs().tol, "--tol")?,
+        m.value(m.knobs().eps, super::symbol::EPS)?,
+        m.value(m.knobs().tol, super::symbol::TOL)?,
         m.knobs().adaptive,
     )
 }

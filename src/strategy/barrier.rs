@@ -105,9 +105,7 @@ impl KappaRule {
     /// The rule if its value is valid (`Fixed` needs a finite κ > 0).
     pub fn validated(self) -> Result<KappaRule> {
         match self {
-            KappaRule::Fixed(k) if !(k.is_finite() && k > 0.0) => Err(Error::input(format!(
-                "barrier: fixed κ must be a finite number > 0 (got {k})"
-            ))),
+            KappaRule::Fixed(k) => Error::positive("barrier: fixed κ", k).map(KappaRule::Fixed),
             r => Ok(r),
         }
     }

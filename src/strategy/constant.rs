@@ -37,7 +37,7 @@ impl Method {
 }
 
 fn run(ctx: Context, m: &Method) -> Result<Solution> {
-    solve(ctx, m.value(m.knobs().eps, "--eps")?)
+    solve(ctx, m.value(m.knobs().eps, super::symbol::EPS)?)
 }
 
 /// Solves with the constant penalty ε (> 0, validated by [`Method::from_name`]): the unique

@@ -46,7 +46,7 @@ use crate::system::{Problem, Stiffness};
 use serde::Serialize;
 use std::sync::Arc;
 
-pub use registry::{Glyph, Knob, Look, Strategy};
+pub use registry::{symbol, Glyph, Knob, Look, Strategy};
 
 pub use active_set::{
     clip_negative, fixed_energy, fixed_point, initial_active_set, max_iterations, per_active,
@@ -167,14 +167,13 @@ impl Knobs {
     }
 }
 
-fn positive(name: &str, what: &str, v: Option<f64>) -> Result<f64> {
-    match v {
-        None => Err(Error::input(format!("method {name} needs {what}"))),
-        Some(x) if !(x.is_finite() && x > 0.0) => Err(Error::input(format!(
-            "{what} must be a finite number > 0 (got {x})"
-        ))),
-        Some(x) => Ok(x),
-    }
+/// The knob `what` of method `name`: set, finite and > 0.
+fn positive(name: &str, what: &'static str, v: Option<f64>) -> Result<f64> {
+    let v = v.ok_or_else(|| Error::MissingKnob {
+        method: name.into(),
+        knob: what,
+    })?;
+    Error::positive(what, v)
 }
 
 impl Method {
@@ -184,15 +183,15 @@ impl Method {
         let n = strategy.name;
         let k = match strategy.knob {
             Knob::None => Knobs::NONE,
-            Knob::Eps => Knobs::eps(positive(n, "--eps", knobs.eps)?),
-            Knob::Factor => Knobs::factor(positive(n, "--factor", knobs.factor)?),
+            Knob::Eps => Knobs::eps(positive(n, symbol::EPS, knobs.eps)?),
+            Knob::Factor => Knobs::factor(positive(n, symbol::FACTOR, knobs.factor)?),
             Knob::Delta => Knobs {
                 kappa: knobs.kappa.validated()?,
-                ..Knobs::delta(positive(n, "--delta", knobs.delta)?)
+                ..Knobs::delta(positive(n, symbol::DELTA, knobs.delta)?)
             },
             Knob::EpsTol => Knobs {
-                eps: Some(positive(n, "--eps", knobs.eps)?),
-                tol: Some(positive(n, "--tol", knobs.tol)?),
+                eps: Some(positive(n, symbol::EPS, knobs.eps)?),
+                tol: Some(positive(n, symbol::TOL, knobs.tol)?),
                 adaptive: knobs.adaptive,
                 ..Knobs::NONE
             },
@@ -242,15 +241,18 @@ impl Method {
         self.strategy.rule_label()
     }
 
-    /// The knob value `v` the strategy declared (`what` names it in the error a method built
-    /// without it would give).
-    pub fn value(&self, v: Option<f64>, what: &str) -> Result<f64> {
-        v.ok_or_else(|| Error::input(format!("method {} needs {what}", self.name())))
+    /// The knob value `v` the strategy declared; [`Error::MissingKnob`] naming the method and
+    /// the knob's symbol `what` ([`registry::symbol`]) for a method built without it.
+    pub fn value(&self, v: Option<f64>, what: &'static str) -> Result<f64> {
+        v.ok_or_else(|| Error::MissingKnob {
+            method: self.name().into(),
+            knob: what,
+        })
     }
 
-    /// Its δ (`--delta`); an error naming the method where it has none.
+    /// Its δ; an error naming the method where it has none.
     pub fn need_delta(&self) -> Result<f64> {
-        self.value(self.knobs.delta, "--delta")
+        self.value(self.knobs.delta, symbol::DELTA)
     }
 }
 

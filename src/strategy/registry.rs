@@ -37,17 +37,17 @@ pub enum Knob {
     EpsTol,
 }
 
-impl Knob {
-    /// The command-line options this knob needs, for messages.
-    pub fn options(self) -> &'static str {
-        match self {
-            Knob::None => "no knob",
-            Knob::Eps => "--eps",
-            Knob::Factor => "--factor",
-            Knob::Delta => "--delta",
-            Knob::EpsTol => "--eps and --tol",
-        }
-    }
+/// The symbol of each knob value in messages ([`crate::Error::MissingKnob`],
+/// [`crate::Error::NotPositive`]); command-line layers map them to their flags.
+pub mod symbol {
+    /// The penalty ε.
+    pub const EPS: &str = "ε";
+    /// The factor f of `scaled`.
+    pub const FACTOR: &str = "the factor f";
+    /// The allowed penetration δ.
+    pub const DELTA: &str = "δ";
+    /// The penetration tolerance of `augmented`.
+    pub const TOL: &str = "the tolerance";
 }
 
 /// The point marker of a strategy in every figure (a second cue beside its colour, so that
@@ -242,12 +242,7 @@ pub fn find(name: &str) -> Option<&'static Strategy> {
 
 /// The strategy named `name`, or an error listing the valid names.
 pub fn lookup(name: &str) -> Result<&'static Strategy> {
-    find(name).ok_or_else(|| {
-        Error::input(format!(
-            "unknown method '{name}' (valid: {})",
-            names().join(", ")
-        ))
-    })
+    find(name).ok_or_else(|| Error::unknown("method", name, &names(), ""))
 }
 
 /// The δ-driven rules drawn per δ in the sweep's figures: every strategy with a δ knob except

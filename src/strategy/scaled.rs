@@ -29,7 +29,7 @@ impl Method {
 }
 
 fn run(ctx: Context, m: &Method) -> Result<Solution> {
-    solve(ctx, m.value(m.knobs().factor, "--factor")?)
+    solve(ctx, m.value(m.knobs().factor, super::symbol::FACTOR)?)
 }
 
 /// Solves with `ε_c = factor · K[d_c, d_c]`: a fixed energy, minimized exactly (see

@@ -514,10 +514,11 @@ impl Problem {
         let mut seen = vec![false; n];
         for (c, con) in constraints.iter().enumerate() {
             if con.dof >= n {
-                return Err(Error::input(format!(
-                    "constraint {c}: DOF {} is out of range (N = {n}, DOFs are 0-based)",
-                    con.dof
-                )));
+                return Err(Error::DofOutOfRange {
+                    context: format!("constraint {c}"),
+                    dof: con.dof,
+                    n,
+                });
             }
             if !con.limit.is_finite() {
                 return Err(Error::input(format!("constraint {c}: limit is not finite")));

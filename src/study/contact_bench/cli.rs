@@ -50,9 +50,8 @@ impl Flags {
                 .iter()
                 .map(|c| {
                     Case::from_name(c).ok_or_else(|| {
-                        Error::input(format!(
-                            "--cases: unknown case {c} (hertz-plane, hertz-axi, flat-punch)"
-                        ))
+                        Error::unknown("case", c, &["hertz-plane", "hertz-axi", "flat-punch"], "")
+                            .for_flag("--cases")
                     })
                 })
                 .collect::<Result<_>>()?;

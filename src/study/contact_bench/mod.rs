@@ -197,7 +197,7 @@ impl BenchConfig {
                 strategy::optimal::MAX_N
             )));
         }
-        MetricSet::check_cond_tol(Some(self.cond_tol))?;
+        MetricSet::check_cond_tol(Some(self.cond_tol)).map_err(|e| e.for_flag("--cond-tol"))?;
         for m in &self.methods {
             registry::lookup(m)?;
         }

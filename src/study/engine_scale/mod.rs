@@ -89,21 +89,14 @@ impl ScaleConfig {
             .iter()
             .find(|m| !scale_method_names().contains(&m.as_str()))
         {
-            return Err(Error::input(format!(
-                "unknown method '{m}' (valid: {})",
-                scale_method_names().join(", ")
-            )));
+            return Err(Error::unknown("method", m, &scale_method_names(), ""));
         }
         for (name, v) in [
             ("eps_rel", self.eps_rel),
             ("factor", self.factor),
             ("delta_rel", self.delta_rel),
         ] {
-            if !(v.is_finite() && v > 0.0) {
-                return Err(Error::input(format!(
-                    "{name} = {v}: need a finite number > 0"
-                )));
-            }
+            Error::positive(name, v)?;
         }
         Ok(())
     }

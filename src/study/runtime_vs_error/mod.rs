@@ -118,9 +118,7 @@ impl PerfConfig {
         }
         for f in &self.families {
             if f != "beam" && f != "membrane" {
-                return Err(Error::input(format!(
-                    "unknown family '{f}' (valid: beam, membrane)"
-                )));
+                return Err(Error::unknown("family", f, &["beam", "membrane"], ""));
             }
         }
         if self.sizes.is_empty() || self.sizes.iter().any(|&s| !(9..=4_000_000).contains(&s)) {

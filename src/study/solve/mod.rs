@@ -14,6 +14,25 @@ use serde_json::{json, Value};
 use std::path::Path;
 use std::time::Instant;
 
+/// A knob error of [`Method::new`] as the value of the `solve` flag that sets the knob
+/// (the library names the knob by its symbol; flags live here, in the command line's layer).
+fn with_flag(e: Error) -> Error {
+    use strategy::symbol;
+    let knob = match &e {
+        Error::MissingKnob { knob, .. } => *knob,
+        Error::NotPositive { name, .. } => name.as_str(),
+        _ => return e,
+    };
+    let flag = match knob {
+        k if k == symbol::EPS => "--eps",
+        k if k == symbol::FACTOR => "--factor",
+        k if k == symbol::DELTA => "--delta",
+        k if k == symbol::TOL => "--tol",
+        _ => return e,
+    };
+    e.for_flag(flag)
+}
+
 fn finite_or_null(x: Option<f64>) -> Value {
     match x {
         Some(v) if v.is_finite() => json!(v),
@@ -38,7 +57,7 @@ pub fn solve_scene(
     exact_start: bool,
     cond_tol: Option<f64>,
 ) -> Result<Value> {
-    MetricSet::check_cond_tol(cond_tol)?;
+    MetricSet::check_cond_tol(cond_tol).map_err(|e| e.for_flag("--cond-tol"))?;
     // K in the storage its structure prefers, as `sweep` reads scenes: the same solve and
     // cond₂ routes (a dense-stored 400-DOF membrane takes the sparse ones, not a dense
     // eigensolver with Kahan-wide bounds).
@@ -64,7 +83,7 @@ pub fn solve_scene(
             knobs.tol = Some(1e-9 * s);
         }
     }
-    let method = Method::new(strategy, knobs)?;
+    let method = Method::new(strategy, knobs).map_err(with_flag)?;
     let prepared = if exact_start {
         // The sweep's order: K prepared once, lagrange on it, its contact set for the rest.
         strategy::Prepared::new(p).ok().and_then(|prep| {

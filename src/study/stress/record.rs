@@ -46,10 +46,7 @@ pub struct StressOutput {
 pub fn run(r: &StressRun, progress: &Progress) -> Result<StressOutput> {
     for f in &r.families {
         if !FAMILY_NAMES.contains(&f.as_str()) {
-            return Err(Error::input(format!(
-                "unknown family '{f}' (valid: {}, or none)",
-                FAMILY_NAMES.join(", ")
-            )));
+            return Err(Error::unknown("family", f, &FAMILY_NAMES, ", or none"));
         }
     }
     if r.count > MAX_COUNT {

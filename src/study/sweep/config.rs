@@ -91,7 +91,7 @@ impl SweepConfig {
                 .map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
             let msg = e.message().replace('\n', " ");
             match line {
-                Some(l) => Error::io(path.display(), format!("line {l}: {msg}")),
+                Some(l) => Error::parse(path.display(), l, msg),
                 None => Error::io(path.display(), msg),
             }
         })?;
@@ -100,7 +100,7 @@ impl SweepConfig {
 
     /// Validates names, ranges and knobs; errors name the problem and the valid choices.
     pub fn validate(&self) -> Result<()> {
-        MetricSet::check_cond_tol(self.cond_tol)?;
+        MetricSet::check_cond_tol(self.cond_tol).map_err(|e| e.for_flag("--cond-tol"))?;
         if self.scenes_dir.is_none() {
             if self.families.is_empty() {
                 return Err(Error::input(format!(
@@ -120,18 +120,20 @@ impl SweepConfig {
         }
         for f in &self.optimal_families {
             if f != "file" && Family::from_name(f).is_err() {
-                return Err(Error::input(format!(
-                    "optimal_families: unknown family '{f}' (valid: {}, file)",
-                    generate::FAMILY_NAMES.join(", ")
-                )));
+                return Err(
+                    Error::unknown("family", f, &generate::FAMILY_NAMES, ", file")
+                        .for_flag("optimal_families"),
+                );
             }
         }
         for m in &self.metrics {
             if !METRIC_NAMES.contains(&m.as_str()) {
-                return Err(Error::input(format!(
-                    "unknown metric '{m}' (valid: {}; penetration, error and time are always recorded)",
-                    METRIC_NAMES.join(", ")
-                )));
+                return Err(Error::unknown(
+                    "metric",
+                    m,
+                    &METRIC_NAMES,
+                    "; penetration, error and time are always recorded",
+                ));
             }
         }
         self.eps.validate()?;
@@ -140,10 +142,8 @@ impl SweepConfig {
             ("δ (--deltas)", &self.deltas),
             ("relative δ (--deltas-rel)", &self.deltas_rel),
         ] {
-            if let Some(x) = v.iter().find(|x| !(x.is_finite() && **x > 0.0)) {
-                return Err(Error::input(format!(
-                    "{what} must be finite and > 0 (got {x})"
-                )));
+            for &x in v {
+                Error::positive(what, x)?;
             }
         }
         let with_knob = |knobs: &[Knob]| -> Vec<&str> {

@@ -331,7 +331,7 @@ pub fn read_rows(path: &Path, lenient: bool) -> Result<(Vec<Row>, usize)> {
             Err(_) if lenient => break,
             Err(e) => {
                 let line = rec.position().map_or(0, |p| p.line());
-                return Err(Error::io(path.display(), format!("line {line}: {e}")));
+                return Err(Error::parse(path.display(), line as usize, e.to_string()));
             }
         }
     }
