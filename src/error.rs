@@ -142,6 +142,26 @@ impl Error {
             source: Box::new(self),
         }
     }
+    /// Whether this is bad input: [`Error::Input`] or one of the typed input variants.
+    pub fn is_input(&self) -> bool {
+        matches!(
+            self.root(),
+            Error::Input(_)
+                | Error::MissingKnob { .. }
+                | Error::NotPositive { .. }
+                | Error::Unknown { .. }
+                | Error::DofOutOfRange { .. }
+        )
+    }
+    /// The message without its `invalid input: ` prefix (for a caller that names the input
+    /// itself, e.g. the file it came from).
+    pub fn bare_message(&self) -> String {
+        let text = self.to_string();
+        match text.strip_prefix("invalid input: ") {
+            Some(rest) => rest.to_string(),
+            None => text,
+        }
+    }
     /// The error under any [`Error::Flag`] wrappers.
     pub fn root(&self) -> &Error {
         match self {

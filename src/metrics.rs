@@ -93,7 +93,7 @@ fn system_cond(
                 Ok(r) => return Ok(Some(r)),
                 // Not its structure (repeated DOFs, no active constraint) or K_FF not
                 // positive definite: the generic route decides below.
-                Err(Error::Input(_) | Error::Singular(_)) => {}
+                Err(e) if e.is_input() || matches!(e, Error::Singular(_)) => {}
                 Err(e) => return Err(e),
             }
         }
@@ -106,7 +106,8 @@ fn system_cond(
     };
     match conditioning::cond2_warm(sys, reuse) {
         Ok((r, _)) => Ok(Some(r)),
-        Err(Error::Input(msg)) => {
+        Err(e) if e.is_input() => {
+            let msg = e.bare_message();
             unavailable.push(format!("cond2 of the system matrix not computed: {msg}"));
             Ok(None)
         }

@@ -101,10 +101,7 @@ pub struct Scene {
 /// Turns a library error into a bare message (drops the `invalid input: ` prefix, whose
 /// information the wrapping file error already conveys).
 fn bare_message(e: Error) -> String {
-    match e {
-        Error::Input(m) => m,
-        other => other.to_string(),
-    }
+    e.bare_message()
 }
 
 // ---------------------------------------------------------------------------------------
