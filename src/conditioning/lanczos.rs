@@ -12,8 +12,29 @@ use faer::sparse::SparseColMat;
 
 /// Largest dimension for which [`extreme_eigenvalues`](super::sparse::extreme_eigenvalues)
 /// keeps Lanczos vectors to return [`RitzStarts`](super::sparse::RitzStarts) (memory:
-/// steps · n words, at most 400 · 20 000 · 8 B = 64 MB).
+/// steps · n words, at most 400 · 20 000 · 8 B = 64 MB); up to it a run always stores its
+/// basis.
 pub const RITZ_VECTOR_MAX_N: usize = 20_000;
+
+/// Most bytes one Lanczos run above [`RITZ_VECTOR_MAX_N`] unknowns keeps of its basis to form
+/// its Ritz vector without a second pass: a quarter of the memory the system reports available
+/// (`MemAvailable`, Linux), at most 512 MiB; 64 MiB where it says nothing. A run that would
+/// pass it drops its basis and makes the second pass instead. Either way the Ritz vector is
+/// the same bit for bit (the same vectors summed in the same order): the budget moves time
+/// and memory, never a result. Read once per process.
+pub fn ritz_basis_budget() -> usize {
+    static BUDGET: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
+    *BUDGET.get_or_init(|| {
+        const CAP: usize = 512 << 20;
+        let available = std::fs::read_to_string("/proc/meminfo").ok().and_then(|m| {
+            m.lines()
+                .find_map(|l| l.strip_prefix("MemAvailable:"))
+                .and_then(|v| v.split_whitespace().next()?.parse::<usize>().ok())
+                .map(|kb| kb * 1024)
+        });
+        available.map_or(64 << 20, |b| (b / 4).min(CAP))
+    })
+}
 
 /// Largest eigenvalue of the symmetric tridiagonal matrix (diagonal `a`, off-diagonal `b`),
 /// given an upper bound `upper ≥ λ_max` and a lower bound `lower ≤ λ_max`.
@@ -184,8 +205,9 @@ pub(crate) const WARM_MIX: f64 = 1e-2;
 /// eigenvector, e.g. the Ritz vector of a nearby matrix; the Ritz value is then checked every
 /// [`CHECK_EVERY_WARM`] steps, since few are needed) and, with `keep_vector`, the Ritz vector
 /// `y = Q_k s` of θ (`s` by inverse iteration on `T_k`): from the k stored Lanczos vectors up
-/// to [`RITZ_VECTOR_MAX_N`] unknowns (memory k·n), by a second pass of the recurrence above
-/// (k more applications, memory O(n)).
+/// to [`RITZ_VECTOR_MAX_N`] unknowns, and above it while they fit [`ritz_basis_budget`]
+/// (memory k·n), else by a second pass of the recurrence above (k more applications, memory
+/// O(n)).
 pub(crate) fn lanczos(
     n: usize,
     max_steps: usize,
@@ -202,9 +224,15 @@ pub(crate) fn lanczos(
     };
     let q0 = start_vector(n, warm);
     let mut q = q0.clone();
-    // Ritz vectors from the stored basis up to RITZ_VECTOR_MAX_N unknowns (memory k·n), by
-    // a second pass of the same recurrence above (k more operator applications, memory O(n)).
-    let store = keep_vector && n <= RITZ_VECTOR_MAX_N;
+    // Ritz vectors from the stored basis (memory k·n) up to RITZ_VECTOR_MAX_N unknowns and
+    // above it within the budget, else by a second pass of the same recurrence (k more
+    // operator applications, memory O(n)).
+    let mut store = keep_vector;
+    let budget_words = if n <= RITZ_VECTOR_MAX_N {
+        usize::MAX
+    } else {
+        ritz_basis_budget() / std::mem::size_of::<f64>()
+    };
     let mut basis: Vec<f64> = Vec::new();
     let mut q_prev = vec![0.0; n];
     let mut w = vec![0.0; n];
@@ -216,6 +244,7 @@ pub(crate) fn lanczos(
     let ritz = |alphas: &[f64],
                 betas: &[f64],
                 basis: &[f64],
+                store: bool,
                 theta: f64,
                 apply: &mut dyn FnMut(&[f64], &mut [f64])| {
         keep_vector.then(|| {
@@ -228,6 +257,11 @@ pub(crate) fn lanczos(
         })
     };
     for _ in 0..max_steps.min(n).max(1) {
+        if store && basis.len() + n > budget_words {
+            // Over the budget: the second pass will form the Ritz vector.
+            store = false;
+            basis = Vec::new();
+        }
         if store {
             basis.extend_from_slice(&q);
         }
@@ -260,7 +294,7 @@ pub(crate) fn lanczos(
             history.push(theta);
             upper = theta;
             if stagnated || beta <= 1e-300 || beta <= f64::EPSILON * theta.abs() * 1e-2 {
-                let vector = ritz(&alphas, &betas, &basis, theta, &mut apply);
+                let vector = ritz(&alphas, &betas, &basis, store, theta, &mut apply);
                 return Ok(LanczosRun {
                     theta,
                     steps,
@@ -282,7 +316,7 @@ pub(crate) fn lanczos(
     // Out of steps: the top Ritz value of the last tridiagonal.
     let (lo, hi) = gershgorin(&alphas, &betas);
     let theta = tridiagonal_max_eigenvalue(&alphas, &betas, lo, hi, None);
-    let vector = ritz(&alphas, &betas, &basis, theta, &mut apply);
+    let vector = ritz(&alphas, &betas, &basis, store, theta, &mut apply);
     Ok(LanczosRun {
         theta,
         steps,
