@@ -3,7 +3,8 @@
 
 use super::{admissible, BenchConfig, BenchRow};
 use crate::model::elasticity::Indentation;
-use crate::strategy::{self, registry, Knob, Knobs, Method};
+use crate::strategy::{self, registry, Method};
+use crate::study::grid::{Augmented, KnobGrid, Level};
 
 /// One method at one knob value.
 #[derive(Clone, Copy, Debug)]
@@ -16,61 +17,65 @@ pub struct BenchJob {
     pub rel: Option<f64>,
 }
 
-/// The jobs of one scene: every method over its knob grid (absolute values from the scene's
-/// a, E* and K).
+/// The jobs of one scene: every method over its knob grid ([`KnobGrid::points`]; absolute
+/// values from the scene's a, E* and K). `augmented` runs plain at ε = the constraints' mean
+/// K_dd and adaptive from [`ADAPTIVE_START`] times it: the adaptive rule starts soft (ε/100)
+/// and raises ε where Uzawa contracts slowly; at ε = mean K_dd plain Uzawa already contracts
+/// ≈ 10× per update and the rule has nothing to do.
 pub fn jobs(cfg: &BenchConfig, scene: &Indentation, a: f64) -> Vec<BenchJob> {
-    let mut out = Vec::new();
     let aug_eps = scene.problem.mean_constraint_stiffness();
-    for name in &cfg.methods {
-        let Ok(s) = registry::lookup(name) else {
-            continue;
-        };
-        let mut push = |knobs: Knobs, knob: &'static str, rel: Option<f64>| {
-            if let Ok(method) = Method::new(s, knobs) {
-                out.push(BenchJob { method, knob, rel });
-            }
-        };
-        match s.knob {
-            Knob::None => push(Knobs::NONE, "", None),
-            Knob::Eps => {
-                for &r in &cfg.eps_rel {
-                    push(Knobs::eps(r * cfg.e_star() / cfg.a_target), "eps", Some(r));
-                }
-            }
-            Knob::Factor => {
-                for &f in &cfg.factors {
-                    push(Knobs::factor(f), "factor", Some(f));
-                }
-            }
-            Knob::Delta => {
-                for &r in &cfg.deltas_rel {
-                    push(Knobs::delta(r * a), "delta", Some(r));
-                }
-            }
-            Knob::EpsTol => {
-                for adaptive in [false, true] {
-                    for &r in &cfg.deltas_rel {
-                        // The adaptive rule starts soft (ε/100) and raises ε where Uzawa
-                        // contracts slowly; at ε = mean K_dd plain Uzawa already contracts
-                        // ≈ 10× per update and the rule has nothing to do.
-                        let knobs = Knobs {
-                            eps: Some(if adaptive {
-                                ADAPTIVE_START * aug_eps
-                            } else {
-                                aug_eps
-                            }),
-                            tol: Some(r * a),
-                            adaptive,
-                            ..Knobs::NONE
-                        };
-                        let knob = if adaptive { "adaptive-tol" } else { "tol" };
-                        push(knobs, knob, Some(r));
-                    }
-                }
-            }
-        }
-    }
-    out
+    let rel = |rs: &[f64], scale: f64| -> Vec<Level> {
+        rs.iter().map(|&r| Level::relative(r, scale)).collect()
+    };
+    let grid = KnobGrid {
+        eps: cfg
+            .eps_rel
+            .iter()
+            .map(|&r| Level {
+                value: r * cfg.e_star() / cfg.a_target,
+                rel: Some(r),
+            })
+            .collect(),
+        factors: cfg
+            .factors
+            .iter()
+            .map(|&f| Level {
+                value: f,
+                rel: Some(f),
+            })
+            .collect(),
+        deltas: rel(&cfg.deltas_rel, a),
+        tols: rel(&cfg.deltas_rel, a),
+        augmented: vec![
+            Augmented {
+                eps: aug_eps,
+                adaptive: false,
+                name: "tol",
+            },
+            Augmented {
+                eps: ADAPTIVE_START * aug_eps,
+                adaptive: true,
+                name: "adaptive-tol",
+            },
+        ],
+        exact: Some(Level {
+            value: 0.0,
+            rel: None,
+        }),
+    };
+    let strategies: Vec<_> = cfg
+        .methods
+        .iter()
+        .filter_map(|name| registry::lookup(name).ok())
+        .collect();
+    grid.points(&strategies)
+        .into_iter()
+        .map(|p| BenchJob {
+            method: p.method,
+            knob: p.knob,
+            rel: p.level.rel,
+        })
+        .collect()
 }
 
 /// The adaptive augmented Lagrangian's starting penalty, relative to the plain one's ε (the

@@ -29,7 +29,8 @@ use crate::metrics::{self, MetricSet};
 use crate::model::scalable::{self, PerfScene};
 use crate::progress::Progress;
 use crate::strategy::registry;
-use crate::strategy::{self, Knob, Knobs, Method, Strategy};
+use crate::strategy::{self, Knobs, Method, Strategy};
+use crate::study::grid::{KnobGrid, Level};
 use crate::study::shape::{Drawing, RunContext, Study};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
@@ -170,20 +171,21 @@ fn peak_rss_mb() -> Option<f64> {
 }
 
 /// The method `name` ([`SCALE_METHODS`]) with its knob from `cfg` (ε and δ relative to the
-/// scene's scales), and the knob's value.
+/// scene's scales; [`KnobGrid::points`] at one level each), and the knob's value.
 fn method(name: &str, scene: &PerfScene, cfg: &ScaleConfig) -> Result<(Method, f64)> {
     let s = strategy::registry::lookup(name)?;
-    let value = match s.knob {
-        Knob::Eps => cfg.eps_rel * scene.k_scale,
-        Knob::Factor => cfg.factor,
-        Knob::Delta => cfg.delta_rel * scene.scale,
-        Knob::None | Knob::EpsTol => 0.0,
+    let grid = KnobGrid {
+        eps: vec![Level::relative(cfg.eps_rel, scene.k_scale)],
+        factors: vec![Level::absolute(cfg.factor)],
+        deltas: vec![Level::relative(cfg.delta_rel, scene.scale)],
+        exact: Some(Level::absolute(0.0)),
+        ..KnobGrid::default()
     };
-    let knobs = match s.knob {
-        Knob::EpsTol => Knobs::NONE,
-        k => Knobs::single(k, value),
-    };
-    Ok((Method::new(s, knobs)?, value))
+    match grid.points(&[s]).first() {
+        Some(p) => Ok((p.method, p.level.value)),
+        // No level for its knob: the error of the method built without it.
+        None => Method::new(s, Knobs::NONE).map(|m| (m, 0.0)),
+    }
 }
 
 /// Runs the study; one [`Progress::step`] per finished solve.

@@ -43,6 +43,7 @@ use crate::error::{Error, Result};
 use crate::model::scalable::{scene, PerfScene};
 use crate::progress::Progress;
 use crate::strategy::{self, registry, Knob, Method};
+use crate::study::grid::{Augmented, KnobGrid, Level};
 use serde::Serialize;
 use std::collections::HashMap;
 use std::time::Instant;
@@ -249,31 +250,34 @@ pub fn jobs_per_scene(cfg: &PerfConfig) -> usize {
         .sum()
 }
 
-/// The jobs `(method, knob name, absolute value, relative value)` of a scene.
+/// The jobs `(method, knob name, absolute value, relative value)` of a scene: each relative
+/// value times the scene's scale of its knob's quantity ([`KnobGrid::points`]; `augmented` at
+/// ε = max_c K_dd); the exact methods once, knob `-`.
 pub fn jobs(scene: &PerfScene, cfg: &PerfConfig) -> Vec<(Method, &'static str, f64, f64)> {
-    let mut out = Vec::new();
-    for s in cfg.strategies() {
-        for &r in knob_values(&cfg.knobs, s.name) {
-            // The relative value r times the scene's scale of the knob's quantity.
-            let (scale, knob) = match s.knob {
-                Knob::Eps => (scene.k_scale, "eps"),
-                Knob::Factor => (1.0, "factor"),
-                Knob::Delta => (scene.scale, "delta"),
-                Knob::EpsTol => (scene.scale, "tol"),
-                Knob::None => (0.0, "-"),
-            };
-            let value = r * scale;
-            let mut knobs = strategy::Knobs::single(s.knob, value);
-            if s.knob == Knob::EpsTol {
-                knobs.eps = Some(scene.k_scale);
-            }
-            // Knob values are validated with the config (finite, > 0).
-            if let Ok(m) = Method::new(s, knobs) {
-                out.push((m, knob, value, r));
-            }
-        }
-    }
-    out
+    let rel = |rs: &[f64], scale: f64| -> Vec<Level> {
+        rs.iter().map(|&r| Level::relative(r, scale)).collect()
+    };
+    let k = &cfg.knobs;
+    let grid = KnobGrid {
+        eps: rel(&k.eps_rel, scene.k_scale),
+        factors: rel(&k.factors, 1.0),
+        deltas: rel(&k.deltas_rel, scene.scale),
+        tols: rel(&k.tols_rel, scene.scale),
+        augmented: vec![Augmented {
+            eps: scene.k_scale,
+            adaptive: false,
+            name: "tol",
+        }],
+        exact: Some(Level::relative(0.0, 0.0)),
+    };
+    // Knob values are validated with the config (finite, > 0).
+    grid.points(&cfg.strategies())
+        .into_iter()
+        .map(|p| {
+            let knob = if p.knob.is_empty() { "-" } else { p.knob };
+            (p.method, knob, p.level.value, p.level.rel.unwrap_or(0.0))
+        })
+        .collect()
 }
 
 /// Budget bookkeeping across sizes: per method, the single-solve time at the two largest sizes

@@ -6,7 +6,8 @@ use super::{load, LoadedScene, SceneSpec, SweepConfig};
 use crate::conditioning::{self, sparse::RitzStarts, Reuse};
 use crate::error::Result;
 use crate::metrics::{self, MetricSet};
-use crate::strategy::{self, registry, Knob, Knobs, Method, Prepared};
+use crate::strategy::{self, registry, Knob, Method, Prepared};
+use crate::study::grid::{Augmented, KnobGrid, Level};
 use crate::system::{Problem, Structure};
 use serde::Serialize;
 use std::time::Instant;
@@ -20,46 +21,39 @@ pub struct Job {
     pub delta_rel: Option<f64>,
 }
 
-/// The jobs of a scene, in row order (lagrange first).
+/// The jobs of a scene, in row order (lagrange first): every strategy over its knob grid
+/// ([`KnobGrid::points`]): ε on the log grid, the factors, δ absolute then relative to the
+/// scene's displacement scale, `augmented` at each δ as its tolerance with ε the geometric
+/// mean of the constrained diagonal of K and the adaptive update.
 pub fn jobs(cfg: &SweepConfig, problem: &Problem, u0: Option<&[f64]>) -> Vec<Job> {
     let scale = u0.map(|u| problem.displacement_scale(u)).unwrap_or(1.0);
-    let deltas: Vec<(f64, Option<f64>)> = cfg
+    let deltas: Vec<Level> = cfg
         .deltas
         .iter()
-        .map(|&d| (d, None))
-        .chain(cfg.deltas_rel.iter().map(|&r| (r * scale, Some(r))))
+        .map(|&d| Level::absolute(d))
+        .chain(cfg.deltas_rel.iter().map(|&r| Level::relative(r, scale)))
         .collect();
-    // Augmented: a moderate ε, the geometric mean of the constrained diagonal of K.
-    let aug_eps = problem.mean_constraint_stiffness();
+    let grid = KnobGrid {
+        eps: cfg.eps.values().into_iter().map(Level::absolute).collect(),
+        factors: cfg.factors.iter().map(|&f| Level::absolute(f)).collect(),
+        tols: deltas.clone(),
+        deltas,
+        augmented: vec![Augmented {
+            eps: problem.mean_constraint_stiffness(),
+            adaptive: true,
+            name: "tol",
+        }],
+        // The exact methods: lagrange is the first job already.
+        exact: None,
+    };
     let mut out = vec![Job {
         method: Method::lagrange(),
         delta_rel: None,
     }];
-    // One job per value of each strategy's knob; a knob value the strategy refuses (an ε
-    // grid point ≤ 0 cannot pass `validate`) drops the job.
-    let mut push = |s, knobs, delta_rel| {
-        if let Ok(method) = Method::new(s, knobs) {
-            out.push(Job { method, delta_rel });
-        }
-    };
-    for s in cfg.strategies() {
-        let values: Vec<(f64, Option<f64>)> = match s.knob {
-            Knob::Eps => cfg.eps.values().into_iter().map(|e| (e, None)).collect(),
-            Knob::Factor => cfg.factors.iter().map(|&f| (f, None)).collect(),
-            // δ, or the tolerance of the ε-and-tolerance rules.
-            Knob::Delta | Knob::EpsTol => deltas.clone(),
-            // The exact methods: lagrange is the first job already.
-            Knob::None => Vec::new(),
-        };
-        for (v, delta_rel) in values {
-            let mut knobs = Knobs::single(s.knob, v);
-            if s.knob == Knob::EpsTol {
-                knobs.eps = Some(aug_eps);
-                knobs.adaptive = true;
-            }
-            push(s, knobs, delta_rel);
-        }
-    }
+    out.extend(grid.points(&cfg.strategies()).into_iter().map(|p| Job {
+        method: p.method,
+        delta_rel: p.level.rel,
+    }));
     out
 }
 
