@@ -47,6 +47,16 @@ fn rust_files(path: &Path, out: &mut Vec<PathBuf>) {
     }
 }
 
+/// Every `.rs` file under `src/`.
+fn src_files() -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    rust_files(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("src"),
+        &mut files,
+    );
+    files
+}
+
 fn ident(s: &str) -> String {
     s.chars()
         .take_while(|c| c.is_ascii_alphanumeric() || *c == '_')
@@ -289,12 +299,7 @@ fn every_binary_has_its_study() {
 /// No file under `src/` is over 800 lines (a module that grows past it is split by concern).
 #[test]
 fn no_source_file_over_800_lines() {
-    let mut files = Vec::new();
-    rust_files(
-        &Path::new(env!("CARGO_MANIFEST_DIR")).join("src"),
-        &mut files,
-    );
-    let long: Vec<String> = files
+    let long: Vec<String> = src_files()
         .iter()
         .filter_map(|f| {
             let n = std::fs::read_to_string(f).unwrap().lines().count();
@@ -309,10 +314,8 @@ fn no_source_file_over_800_lines() {
 /// `#[cfg(test)]` tail removed.
 fn file_modules() -> BTreeMap<String, String> {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-    let mut files = Vec::new();
-    rust_files(&src, &mut files);
     let mut out = BTreeMap::new();
-    for f in files {
+    for f in src_files() {
         let rel = f.strip_prefix(&src).unwrap().with_extension("");
         let mut parts: Vec<String> = rel
             .components()
@@ -506,12 +509,7 @@ fn no_function_over_120_lines() {
         + &"    x();\n".repeat(130)
         + "}\n";
     assert_eq!(long_functions(&sample, 120), vec![("long".into(), 5, 132)]);
-    let mut files = Vec::new();
-    rust_files(
-        &Path::new(env!("CARGO_MANIFEST_DIR")).join("src"),
-        &mut files,
-    );
-    let long: Vec<String> = files
+    let long: Vec<String> = src_files()
         .iter()
         .flat_map(|f| {
             let text = std::fs::read_to_string(f).unwrap();
