@@ -31,6 +31,10 @@
 //!
 //! Run with `--nocapture` to see the observed differences.
 
+#[path = "common/mod.rs"]
+mod common;
+
+use common::matrices::laplacian_1d;
 use faer::Mat;
 use penalty_lab::conditioning::{self, reference, CondReport, CondRoute};
 use penalty_lab::model::beam::paper;
@@ -411,15 +415,7 @@ fn sparse_input_takes_the_densified_route() {
 #[test]
 fn sparse_laplacian_matches_closed_form() {
     let n = 200;
-    let mut t = Vec::new();
-    for i in 0..n {
-        t.push((i, i, 2.0));
-        if i + 1 < n {
-            t.push((i, i + 1, -1.0));
-            t.push((i + 1, i, -1.0));
-        }
-    }
-    let a = Stiffness::from_triplets(n, &t).unwrap();
+    let a = laplacian_1d(n);
     let lam: Vec<f64> = (1..=n)
         .map(|k| 2.0 - 2.0 * (k as f64 * std::f64::consts::PI / (n + 1) as f64).cos())
         .collect();

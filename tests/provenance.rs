@@ -23,16 +23,15 @@ fn commit_is_captured_at_build_time() {
 #[test]
 fn atomic_writes_leave_only_the_file() {
     use penalty_lab::provenance::{write_atomic, write_json, Provenance};
-    let dir = std::env::temp_dir().join(format!("penalty_lab_prov_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = tempfile::tempdir().expect("create a temporary folder");
+    let dir = tmp.path();
     let path = dir.join("a.txt");
     write_atomic(&path, b"first").unwrap();
     write_atomic(&path, b"second").unwrap();
     assert_eq!(std::fs::read_to_string(&path).unwrap(), "second");
     let rec = Provenance::new("test").record(serde_json::json!({"seed": 7}));
     write_json(&dir.join("r.json"), &rec).unwrap();
-    let names: Vec<String> = std::fs::read_dir(&dir)
+    let names: Vec<String> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
@@ -46,5 +45,4 @@ fn atomic_writes_leave_only_the_file() {
     let missing = dir.join("missing").join("b.txt");
     let err = write_atomic(&missing, b"x").unwrap_err().to_string();
     assert!(err.contains("missing"), "{err}");
-    std::fs::remove_dir_all(&dir).unwrap();
 }

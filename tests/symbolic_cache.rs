@@ -1,19 +1,10 @@
 //! The process-wide symbolic-analysis cache of `SparseLlt::analyze` (its own test binary:
 //! tests running in parallel threads of one process would share and evict entries).
 
-use penalty_lab::model::membrane;
-use penalty_lab::system::Stiffness;
+#[path = "common/mod.rs"]
+mod common;
 
-fn laplacian_2d(side: usize, tension: f64) -> Stiffness {
-    membrane::stiffness(side, tension).unwrap()
-}
-
-fn sparse_of(a: &Stiffness) -> &faer::sparse::SparseColMat<usize, f64> {
-    match a {
-        Stiffness::Sparse(m) => m,
-        Stiffness::Dense(_) => panic!("expected sparse storage"),
-    }
-}
+use common::matrices::{laplacian_2d, sparse_of};
 
 /// One symbolic analysis per pattern: a second analysis of an identical pattern (other
 /// values) is the cached one; another pattern gets its own.

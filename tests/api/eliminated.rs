@@ -12,13 +12,7 @@ use penalty_lab::strategy::{self, condensed, eliminated, lagrange, Context, Meth
 use penalty_lab::system::{ConstraintKind, Problem, Stiffness};
 
 fn membranes() -> Vec<Problem> {
-    let cfg = GeneratorConfig {
-        membrane_side: (45, 60),
-        ..Default::default()
-    };
-    (0..3)
-        .map(|i| generate(Family::Membrane, i, 4242, &cfg).unwrap().problem)
-        .collect()
+    crate::common::matrices::membranes((45, 60), 3, 4242)
 }
 
 /// Rounding tolerance for u: c·n·ε·cond(K), with cond(K) ≤ 8/(2π²h²) for these membranes.

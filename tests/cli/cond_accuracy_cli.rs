@@ -2,6 +2,7 @@
 //! certified route within the accuracy contract against the double-double reference, the data
 //! and figure written, `--render-only` re-rendering, and bad input rejected with exit code 2.
 
+use crate::common;
 use std::process::Command;
 
 fn bin() -> Command {
@@ -10,17 +11,13 @@ fn bin() -> Command {
 
 #[test]
 fn small_run_measures_every_route_and_the_certified_one_meets_the_contract() {
-    let dir = std::env::temp_dir().join(format!("cond_accuracy_cli_{}", std::process::id()));
-    let out = bin()
-        .args(["--per-family", "1", "--factors", "0,1e9", "--scenes", ""])
-        .args(["--repeats", "1", "--quiet", "--out"])
-        .arg(&dir)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let tmp = common::tmp_dir("cond-accuracy");
+    let dir = tmp.path().join("out");
+    common::run_ok(
+        bin()
+            .args(["--per-family", "1", "--factors", "0,1e9", "--scenes", ""])
+            .args(["--repeats", "1", "--quiet", "--out"])
+            .arg(&dir),
     );
     let text = std::fs::read_to_string(dir.join("cond_accuracy.json")).unwrap();
     let doc: serde_json::Value = serde_json::from_str(&text).unwrap();
@@ -35,27 +32,24 @@ fn small_run_measures_every_route_and_the_certified_one_meets_the_contract() {
         assert!(err <= contract, "{r}");
         assert!(r["bounds_width"].as_f64().unwrap() >= 0.0, "{r}");
     }
-    for f in [
-        "cond_accuracy.json",
-        "cond_accuracy.csv",
-        "cond_accuracy.png",
-        "cond_accuracy.svg",
-    ] {
-        assert!(dir.join(f).is_file(), "{f} missing");
-    }
+    common::assert_files(
+        &dir,
+        &[
+            "cond_accuracy.json",
+            "cond_accuracy.csv",
+            "cond_accuracy.png",
+            "cond_accuracy.svg",
+        ],
+    );
     std::fs::remove_file(dir.join("cond_accuracy.png")).unwrap();
-    let st = bin()
-        .args(["--render-only", "--out"])
-        .arg(&dir)
-        .output()
-        .unwrap();
-    assert!(st.status.success());
+    common::run_ok(bin().args(["--render-only", "--out"]).arg(&dir));
     assert!(dir.join("cond_accuracy.png").is_file());
-    std::fs::remove_dir_all(&dir).ok();
 }
 
 #[test]
 fn bad_input_exits_2() {
+    let tmp = common::tmp_dir("cond-accuracy-bad");
+    let never = tmp.path().join("never");
     for args in [
         vec!["--repeats", "0", "--scenes", ""],
         vec!["--factors", "-1", "--scenes", ""],
@@ -63,7 +57,8 @@ fn bad_input_exits_2() {
     ] {
         let out = bin()
             .args(&args)
-            .args(["--quiet", "--out", "/tmp/cond_accuracy_never"])
+            .args(["--quiet", "--out"])
+            .arg(&never)
             .output()
             .unwrap();
         assert_eq!(out.status.code(), Some(2), "{args:?}");

@@ -1,6 +1,7 @@
 //! `cond_cost` end to end: rows for every requested matrix, the sparse route agreeing with the
 //! dense SVD, the figure written, and bad input rejected with exit code 2.
 
+use crate::common;
 use std::process::Command;
 
 fn bin() -> Command {
@@ -9,17 +10,13 @@ fn bin() -> Command {
 
 #[test]
 fn small_run_writes_rows_and_figure() {
-    let dir = std::env::temp_dir().join(format!("cond_cost_cli_{}", std::process::id()));
-    let out = bin()
-        .args(["--sides", "20,25", "--elements", "140", "--repeats", "1"])
-        .args(["--dense-max", "700", "--json", "--out"])
-        .arg(&dir)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let tmp = common::tmp_dir("cond-cost");
+    let dir = tmp.path().join("out");
+    let out = common::run_ok(
+        bin()
+            .args(["--sides", "20,25", "--elements", "140", "--repeats", "1"])
+            .args(["--dense-max", "700", "--json", "--out"])
+            .arg(&dir),
     );
     let rows: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let rows = rows.as_array().unwrap();
@@ -42,25 +39,19 @@ fn small_run_writes_rows_and_figure() {
             assert!(r[key].as_f64().unwrap() > 0.0, "{key} in {r}");
         }
     }
-    for f in [
-        "cond_cost.json",
-        "cond_cost.csv",
-        "cond_cost.png",
-        "cond_cost.svg",
-    ] {
-        assert!(dir.join(f).is_file(), "{f} missing");
-    }
+    common::assert_files(
+        &dir,
+        &[
+            "cond_cost.json",
+            "cond_cost.csv",
+            "cond_cost.png",
+            "cond_cost.svg",
+        ],
+    );
     // --render-only re-renders from the saved JSON.
     std::fs::remove_file(dir.join("cond_cost.png")).unwrap();
-    let st = bin()
-        .arg("--render-only")
-        .arg("--out")
-        .arg(&dir)
-        .output()
-        .unwrap();
-    assert!(st.status.success());
+    common::run_ok(bin().arg("--render-only").arg("--out").arg(&dir));
     assert!(dir.join("cond_cost.png").is_file());
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -86,8 +77,8 @@ fn bad_input_exits_2() {
 /// bracket set to `null`.
 #[test]
 fn render_only_reads_unbounded_brackets() {
-    let dir = std::env::temp_dir().join(format!("cond_cost_cli_null_{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let tmp = common::tmp_dir("cond-cost-null");
+    let dir = tmp.path();
     let committed = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("figures/cond_cost");
     let mut doc: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(committed.join("cond_cost.json")).unwrap())
@@ -100,16 +91,6 @@ fn render_only_reads_unbounded_brackets() {
         "no unbounded bracket to read"
     );
     std::fs::write(dir.join("cond_cost.json"), &text).unwrap();
-    let out = bin()
-        .args(["--render-only", "--json", "--out"])
-        .arg(&dir)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::run_ok(bin().args(["--render-only", "--json", "--out"]).arg(dir));
     assert!(dir.join("cond_cost.png").is_file());
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -1,7 +1,7 @@
 //! `contact_bench` end to end: a small suite writes rows, summary and figures; `--render-only`
 //! redraws them; bad options exit 2 with one line naming the problem.
 
-use crate::common::assert_render_only;
+use crate::common::{self, assert_render_only};
 use std::process::Command;
 
 fn bin() -> Command {
@@ -11,20 +11,19 @@ fn bin() -> Command {
 #[test]
 fn small_suite_writes_rows_summary_and_figures() {
     let dir = tempfile::tempdir().unwrap();
-    let o = bin()
-        .args([
-            "--cases",
-            "hertz-axi,flat-punch",
-            "--meshes",
-            "0.2",
-            "--quiet",
-            "--json",
-        ])
-        .args(["--methods", "lagrange,constant,condensed", "--out"])
-        .arg(dir.path())
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = common::run_ok(
+        bin()
+            .args([
+                "--cases",
+                "hertz-axi,flat-punch",
+                "--meshes",
+                "0.2",
+                "--quiet",
+                "--json",
+            ])
+            .args(["--methods", "lagrange,constant,condensed", "--out"])
+            .arg(dir.path()),
+    );
     let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     // lagrange, 7 ε values, 4 δ values per case, then two values between the grid values
     // where a rule crosses the leaderboard's margin (refinement).
@@ -78,22 +77,21 @@ fn small_suite_writes_rows_summary_and_figures() {
 #[test]
 fn knob_grids_and_the_optimal_limit_are_options() {
     let dir = tempfile::tempdir().unwrap();
-    let o = bin()
-        .args(["--cases", "patch", "--meshes", "0.2", "--quiet", "--json"])
-        .args(["--methods", "constant,scaled,condensed,optimal"])
-        .args([
-            "--eps-rel",
-            "1,10",
-            "--factors",
-            "3",
-            "--deltas-rel",
-            "1e-3",
-        ])
-        .args(["--optimal-max-n", "59", "--out"])
-        .arg(dir.path())
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = common::run_ok(
+        bin()
+            .args(["--cases", "patch", "--meshes", "0.2", "--quiet", "--json"])
+            .args(["--methods", "constant,scaled,condensed,optimal"])
+            .args([
+                "--eps-rel",
+                "1,10",
+                "--factors",
+                "3",
+                "--deltas-rel",
+                "1e-3",
+            ])
+            .args(["--optimal-max-n", "59", "--out"])
+            .arg(dir.path()),
+    );
     let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let rows = s["rows"].as_array().unwrap();
     let knobs = |m: &str| -> Vec<f64> {
@@ -143,19 +141,18 @@ fn bad_options_exit_2_with_one_line() {
 #[test]
 fn barrier_rows_name_their_kappa_rule_and_the_kappa_study_is_written() {
     let dir = tempfile::tempdir().unwrap();
-    let o = bin()
-        .args(["--cases", "hertz-plane", "--meshes", "0.2", "--quiet"])
-        .args([
-            "--methods",
-            "lagrange,barrier",
-            "--deltas-rel",
-            "1e-3",
-            "--out",
-        ])
-        .arg(dir.path())
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    common::run_ok(
+        bin()
+            .args(["--cases", "hertz-plane", "--meshes", "0.2", "--quiet"])
+            .args([
+                "--methods",
+                "lagrange,barrier",
+                "--deltas-rel",
+                "1e-3",
+                "--out",
+            ])
+            .arg(dir.path()),
+    );
     let read = |f: &str| -> Vec<std::collections::HashMap<String, String>> {
         csv::Reader::from_path(dir.path().join(f))
             .unwrap()

@@ -23,9 +23,8 @@ const TE_ALIAS: &str = env!("CARGO_BIN_EXE_test_example");
 
 #[test]
 fn bad_input_exits_with_status_2_and_one_line() {
-    let dir = std::env::temp_dir().join(format!("pl_forming_cli_{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let bad_toml = dir.join("bad.toml");
+    let tmp = common::tmp_dir("forming-bad");
+    let bad_toml = tmp.path().join("bad.toml");
     std::fs::write(&bad_toml, "penalty = 1e7\n[forming]\nelemnts = 3\n").unwrap();
     let bad_toml = bad_toml.to_str().unwrap().to_string();
     let cases: Vec<(&str, Vec<&str>, &str)> = vec![
@@ -49,8 +48,8 @@ fn bad_input_exits_with_status_2_and_one_line() {
 
 #[test]
 fn json_shapes_and_out_files() {
-    let dir = std::env::temp_dir().join(format!("pl_forming_out_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
+    let tmp = common::tmp_dir("forming-out");
+    let dir = tmp.path().join("out");
     let small = [
         "--steps",
         "12",
@@ -85,18 +84,19 @@ fn json_shapes_and_out_files() {
             assert!(steps[0].get(key).is_some(), "{run} step lacks {key}");
         }
     }
-    for f in [
-        "deep_drawing.json",
-        "steps_classical.csv",
-        "steps_adaptive.csv",
-        "fig7_condition_per_step.png",
-        "fig7_condition_per_step.svg",
-        "punch_force_vs_travel.png",
-        "thickness_strain.png",
-        "deformed_profiles.svg",
-    ] {
-        assert!(dir.join(f).is_file(), "missing {f}");
-    }
+    common::assert_files(
+        &dir,
+        &[
+            "deep_drawing.json",
+            "steps_classical.csv",
+            "steps_adaptive.csv",
+            "fig7_condition_per_step.png",
+            "fig7_condition_per_step.svg",
+            "punch_force_vs_travel.png",
+            "thickness_strain.png",
+            "deformed_profiles.svg",
+        ],
+    );
     let saved: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("deep_drawing.json")).unwrap())
             .unwrap();
@@ -203,9 +203,8 @@ fn the_default_run_is_valid_and_a_small_blank_is_drawn_off_the_holder() {
     assert_eq!(v["valid"], true, "{:?}", v["invalid_reasons"]);
     // A 1.4 in blank on a die whose flat starts at 1.313 in: the rim is drawn off the flat
     // (under the holder) around 0.6 in of travel.
-    let dir = std::env::temp_dir().join(format!("pl_forming_flange_{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let toml = dir.join("small_blank.toml");
+    let tmp = common::tmp_dir("forming-flange");
+    let toml = tmp.path().join("small_blank.toml");
     std::fs::write(&toml, "[forming]\nblank_radius = 1.4\n").unwrap();
     let toml = toml.to_str().unwrap();
     let o = run(DD, &["--config", toml, "--json"]);

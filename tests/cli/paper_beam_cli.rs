@@ -1,6 +1,7 @@
 //! End-to-end test of the `paper_beam` binary: JSON output, data files, figures, and
 //! `--render-only` regenerating the figures from the saved data.
 
+use crate::common;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -9,16 +10,6 @@ const FIGURES: [&str; 3] = [
     "fig4_deflection_contact",
     "cond_vs_eps",
 ];
-
-fn tmp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!(
-        "penalty_lab_paper_beam_cli_{}_{name}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
 
 fn run(args: &[&str]) -> std::process::Output {
     Command::new(env!("CARGO_BIN_EXE_paper_beam"))
@@ -36,7 +27,8 @@ fn figure_files(dir: &Path) -> Vec<PathBuf> {
 
 #[test]
 fn json_marks_exactly_the_misprints_and_render_only_regenerates_figures() {
-    let dir = tmp_dir("main");
+    let tmp = common::tmp_dir("paper-beam-main");
+    let dir = tmp.path();
     let out = dir.to_str().unwrap();
     let o = run(&["--out", out, "--json"]);
     assert!(
@@ -103,15 +95,7 @@ fn json_marks_exactly_the_misprints_and_render_only_regenerates_figures() {
         .iter()
         .map(|s| s["name"].as_str().unwrap())
         .collect();
-    for n in [
-        "paper",
-        "condensed",
-        "constant",
-        "scaled",
-        "spring",
-        "lagrange",
-        "augmented",
-    ] {
+    for n in common::METHODS {
         assert!(names.contains(&n), "no strategy line for {n}");
     }
     assert_eq!(v["experiment"], "paper_beam");
@@ -125,7 +109,7 @@ fn json_marks_exactly_the_misprints_and_render_only_regenerates_figures() {
     assert!(v["notes"].as_array().unwrap().len() >= 5);
 
     // Figures exist; --render-only regenerates them from the saved data.
-    let figs = figure_files(&dir);
+    let figs = figure_files(dir);
     for f in &figs {
         let len = std::fs::metadata(f)
             .unwrap_or_else(|_| panic!("{} missing", f.display()))
@@ -151,15 +135,13 @@ fn json_marks_exactly_the_misprints_and_render_only_regenerates_figures() {
     // The table mode prints the comparison.
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(stdout.contains("4.597e11") && stdout.contains("NO"));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn render_only_without_saved_data_fails_cleanly() {
-    let dir = tmp_dir("empty");
-    let o = run(&["--out", dir.to_str().unwrap(), "--render-only"]);
+    let tmp = common::tmp_dir("paper-beam-empty");
+    let o = run(&["--out", tmp.path().to_str().unwrap(), "--render-only"]);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
     assert!(err.contains("paper_beam.json"), "stderr: {err}");
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -1,14 +1,9 @@
 //! Smoke tests for `penalty_lab::plot`: both formats are written, bad data is an error.
 
+use crate::common;
 use std::path::PathBuf;
 
 use penalty_lab::plot::{render, render_panels, Band, Figure, Glyph, Mark, Marker, Scale, Series};
-
-fn tmp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("penalty_lab_plot_{}_{name}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
 
 fn loglog_figure() -> Figure {
     let eps: Vec<f64> = (0..=24).map(|k| 10f64.powf(k as f64 * 0.5)).collect();
@@ -36,7 +31,8 @@ fn loglog_figure() -> Figure {
 
 #[test]
 fn loglog_renders_png_and_svg() {
-    let dir = tmp_dir("loglog");
+    let tmp = common::tmp_dir("plot-loglog");
+    let dir = tmp.path();
     let paths = render(&loglog_figure(), &dir.join("loglog")).unwrap();
     assert_eq!(paths.len(), 2);
     let png = paths
@@ -61,7 +57,8 @@ fn loglog_renders_png_and_svg() {
 
 #[test]
 fn all_nan_is_an_error() {
-    let dir = tmp_dir("nan");
+    let tmp = common::tmp_dir("plot-nan");
+    let dir = tmp.path();
     let fig = Figure::new("nan", "x", "y").with_series(Series::new(
         "nan",
         vec![f64::NAN, f64::INFINITY],
@@ -77,7 +74,8 @@ fn all_nan_is_an_error() {
 
 #[test]
 fn length_mismatch_is_an_error() {
-    let dir = tmp_dir("len");
+    let tmp = common::tmp_dir("plot-len");
+    let dir = tmp.path();
     let fig = Figure::new("bad", "x", "y").line("s", vec![1.0, 2.0], vec![1.0]);
     assert!(matches!(
         render(&fig, &dir.join("bad")),
@@ -87,7 +85,8 @@ fn length_mismatch_is_an_error() {
 
 #[test]
 fn log_scale_skips_non_positive_values() {
-    let dir = tmp_dir("neg");
+    let tmp = common::tmp_dir("plot-neg");
+    let dir = tmp.path();
     let x = vec![-1.0, 0.0, 1.0, 2.0, 3.0, 4.0, f64::NAN, 6.0];
     let y = vec![1.0, 2.0, -3.0, 4.0, 0.0, 16.0, 25.0, 36.0];
     let fig = Figure::new("negatives", "x", "y")
@@ -113,7 +112,8 @@ fn log_scale_skips_non_positive_values() {
 
 #[test]
 fn panels_and_segments() {
-    let dir = tmp_dir("panels");
+    let tmp = common::tmp_dir("plot-panels");
+    let dir = tmp.path();
     let xs: Vec<f64> = (0..=40).map(|i| i as f64 / 40.0).collect();
     let figs: Vec<Figure> = [1.0, 1e3, 1e6]
         .iter()
@@ -139,12 +139,16 @@ fn panels_and_segments() {
 
 #[test]
 fn gallery_of_edge_cases() {
-    let dir = match std::env::var("PLOT_GALLERY") {
+    let (_tmp, dir) = match std::env::var("PLOT_GALLERY") {
         Ok(d) => {
             std::fs::create_dir_all(&d).unwrap();
-            PathBuf::from(d)
+            (None, PathBuf::from(d))
         }
-        Err(_) => tmp_dir("gallery"),
+        Err(_) => {
+            let tmp = common::tmp_dir("plot-gallery");
+            let dir = tmp.path().to_path_buf();
+            (Some(tmp), dir)
+        }
     };
     // Linear axes with large values (scientific tick labels), points and a vline.
     let x: Vec<f64> = (0..30).map(|i| i as f64 * 1e5).collect();

@@ -14,31 +14,15 @@
 use crate::common;
 
 use serde_json::Value;
-use std::path::PathBuf;
+use std::path::Path;
 use std::process::Command;
 
 fn bin() -> Command {
     Command::new(env!("CARGO_BIN_EXE_runtime_vs_error"))
 }
 
-fn tmp(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("penalty-lab-rve-{}-{tag}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
-
-fn smoke_json(out: &PathBuf) -> Value {
-    let o = bin()
-        .args(["--smoke", "--json", "--out"])
-        .arg(out)
-        .output()
-        .expect("runs");
-    assert!(
-        o.status.success(),
-        "exit {:?}: {}",
-        o.status,
-        String::from_utf8_lossy(&o.stderr)
-    );
+fn smoke_json(out: &Path) -> Value {
+    let o = common::run_ok(bin().args(["--smoke", "--json", "--out"]).arg(out));
     assert!(!o.stderr.is_empty(), "progress goes to stderr");
     serde_json::from_slice(&o.stdout).expect("stdout is one JSON object")
 }
@@ -52,15 +36,7 @@ const FAMILIES: [&str; 2] = ["beam", "membrane"];
 /// Every row has every field, a known family/method/status, a reason when not `ok`, and
 /// finite positive timings and finite non-negative errors when `ok`. Returns the sizes seen.
 fn assert_rows_well_formed(rows: &[Value]) -> std::collections::BTreeSet<u64> {
-    let methods = [
-        "constant",
-        "scaled",
-        "spring",
-        "paper",
-        "condensed",
-        "lagrange",
-        "augmented",
-    ];
+    let methods = common::METHODS;
     let mut sizes_seen = std::collections::BTreeSet::new();
     for r in rows {
         for key in [
@@ -200,7 +176,8 @@ fn assert_theory_orderings(rows: &[Value]) -> usize {
 
 #[test]
 fn smoke_json_structure_and_theory_orderings() {
-    let out = tmp("smoke");
+    let tmp = common::tmp_dir("rve-smoke");
+    let out = tmp.path().join("out");
     let v = smoke_json(&out);
 
     // Manifest.
@@ -251,12 +228,11 @@ fn smoke_json_structure_and_theory_orderings() {
         "rows.json",
         &[],
     );
-    let _ = std::fs::remove_dir_all(&out);
 }
 
 #[test]
 fn bad_input_exits_2_with_an_error_message() {
-    for args in [
+    let cases = [
         vec!["--sizes", "0"],
         vec!["--sizes", "abc"],
         vec!["--families", "plate"],
@@ -264,20 +240,16 @@ fn bad_input_exits_2_with_an_error_message() {
         vec!["--repeats", "0"],
         vec!["--budget", "-1"],
         vec!["--memory-gb", "nan"],
-    ] {
-        let out = tmp("bad");
-        let o = bin()
-            .args(&args)
-            .arg("--smoke")
-            .arg("--out")
-            .arg(&out)
-            .output()
-            .unwrap();
-        assert_eq!(o.status.code(), Some(2), "{args:?}");
-        let err = String::from_utf8_lossy(&o.stderr);
+    ];
+    let runs = common::assert_bad_input_writes_nothing(
+        env!("CARGO_BIN_EXE_runtime_vs_error"),
+        &cases,
+        &["--smoke"],
+    );
+    for (args, o) in cases.iter().zip(&runs) {
+        let err = common::stderr(o);
         assert!(err.contains("error"), "{args:?}: {err}");
         assert!(o.stdout.is_empty(), "{args:?}");
-        assert!(!out.exists(), "{args:?}: nothing written on bad input");
     }
 }
 
@@ -285,25 +257,25 @@ fn bad_input_exits_2_with_an_error_message() {
 fn skipped_rows_are_recorded_not_fatal() {
     // A tiny memory limit makes condensed impossible: rows are skipped with the reason and
     // the run still succeeds.
-    let out = tmp("skip");
-    let o = bin()
-        .args([
-            "--sizes",
-            "100",
-            "--families",
-            "membrane",
-            "--methods",
-            "condensed,constant",
-            "--memory-gb",
-            "1e-9",
-            "--json",
-            "--no-figures",
-            "--out",
-        ])
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let tmp = common::tmp_dir("rve-skip");
+    let out = tmp.path().join("out");
+    let o = common::run_ok(
+        bin()
+            .args([
+                "--sizes",
+                "100",
+                "--families",
+                "membrane",
+                "--methods",
+                "condensed,constant",
+                "--memory-gb",
+                "1e-9",
+                "--json",
+                "--no-figures",
+                "--out",
+            ])
+            .arg(&out),
+    );
     let v: Value = serde_json::from_slice(&o.stdout).unwrap();
     let rows = v["rows"].as_array().unwrap();
     let cond: Vec<&Value> = rows.iter().filter(|r| r["method"] == "condensed").collect();
@@ -315,7 +287,6 @@ fn skipped_rows_are_recorded_not_fatal() {
     assert!(rows
         .iter()
         .any(|r| r["method"] == "constant" && r["status"] == "ok"));
-    let _ = std::fs::remove_dir_all(&out);
 }
 
 /// The budget extrapolates with the slope measured between the two previous sizes (clamped to

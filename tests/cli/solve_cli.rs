@@ -3,7 +3,7 @@
 
 use penalty_lab::model::beam::paper;
 use penalty_lab::scene;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::Command;
 
 const SCENE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/paper_beam.scene.json");
@@ -18,12 +18,6 @@ fn solve(args: &[&str]) -> (i32, String, String) {
         String::from_utf8_lossy(&o.stdout).into(),
         String::from_utf8_lossy(&o.stderr).into(),
     )
-}
-
-fn tmpdir(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("pl-solve-{tag}-{}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
 }
 
 fn printed(a: f64, b: f64, decimals: i32) -> bool {
@@ -74,7 +68,8 @@ fn paper_method_reproduces_eq35_and_cond() {
 
 #[test]
 fn every_method_runs_on_the_scene_and_on_matrix_market() {
-    let d = tmpdir("mm");
+    let tmp = crate::common::tmp_dir("solve-mm");
+    let d = tmp.path();
     let p = paper::problem();
     // Force the Matrix Market route (threshold 0).
     let f = d.join("beam.scene.json");
@@ -118,7 +113,8 @@ fn assert_bad(args: &[&str], needle: &str) {
 
 #[test]
 fn bad_inputs_exit_2_with_a_clear_message() {
-    let d = tmpdir("bad");
+    let tmp = crate::common::tmp_dir("solve-bad");
+    let d = tmp.path();
     let w = |name: &str, text: &str| {
         let p = d.join(name);
         std::fs::write(&p, text).unwrap();
@@ -227,7 +223,8 @@ fn method_names_are_the_strategy_names() {
 /// The JSON carries `cond2_bounds_proven` and `cond2_within_contract` either way.
 #[test]
 fn unsymmetric_k_is_warned_and_the_json_says_what_is_proven() {
-    let dir = tmpdir("unsymmetric");
+    let tmp = crate::common::tmp_dir("solve-unsymmetric");
+    let dir = tmp.path();
     let cases = [
         ("far", "[[4, -1], [-2, 4]]", "(1, 0)", false),
         // -1 against -1 − 2ε: within 8 ε_mach·max|K|, not bit for bit.
@@ -286,7 +283,8 @@ fn unsymmetric_k_is_warned_and_the_json_says_what_is_proven() {
 /// such warning. The JSON carries the cond₂ bounds around the value.
 #[test]
 fn indefinite_k_is_flagged_once() {
-    let dir = tmpdir("indefinite");
+    let tmp = crate::common::tmp_dir("solve-indefinite");
+    let dir = tmp.path();
     let path = dir.join("indefinite.scene.json");
     std::fs::write(
         &path,
@@ -322,7 +320,6 @@ fn indefinite_k_is_flagged_once() {
         lo <= c && c <= hi && hi / lo - 1.0 < 1e-9,
         "[{lo}, {hi}] ∌ {c}"
     );
-    std::fs::remove_dir_all(dir).ok();
 }
 
 /// `--cond-tol`: a looser accuracy asked of cond₂ is honoured (the value within it of the

@@ -3,6 +3,7 @@
 //! it keeps no checkpoints, and `--render-only --json` prints the very record the run printed;
 //! `solve`, which keeps no record, refuses `--out` and `--render-only` with one line.
 
+use crate::common;
 use std::path::Path;
 use std::process::{Command, Output};
 
@@ -214,17 +215,15 @@ fn solve_shares_the_entry_and_refuses_a_record() {
     let bin = env!("CARGO_BIN_EXE_solve");
     let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/scenes/paper_beam.scene.json");
     let base = [scene, "--method", "lagrange", "--no-metrics"];
-    let o = Command::new(bin)
-        .args(base)
-        .args(["--json", "--quiet"])
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = common::run_ok(Command::new(bin).args(base).args(["--json", "--quiet"]));
     assert!(o.stderr.is_empty());
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     assert_eq!(v["method"], "lagrange");
+    let tmp = common::tmp_dir("solve-entry");
+    let never = tmp.path().join("never-written");
+    let never_arg = never.to_str().expect("utf-8 temp path");
     for extra in [
-        vec!["--out", "/tmp/never-written"],
+        vec!["--out", never_arg],
         vec!["--render-only"],
         vec!["--resume"],
     ] {
@@ -234,5 +233,5 @@ fn solve_shares_the_entry_and_refuses_a_record() {
         assert_eq!(err.trim().lines().count(), 1, "{extra:?}: {err}");
         assert!(o.stdout.is_empty(), "{extra:?}");
     }
-    assert!(!Path::new("/tmp/never-written").exists());
+    assert!(!never.exists());
 }

@@ -8,13 +8,11 @@ use penalty_lab::stats::{median, quantile};
 use penalty_lab::study::sweep::figures::{build_figures, render_all, FIGURE_KINDS};
 use penalty_lab::study::sweep::rows::Row;
 
-fn tmp_dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!(
-        "penalty_lab_sweep_figures_{}_{name}",
-        std::process::id()
-    ));
-    let _ = std::fs::remove_dir_all(&d);
-    d
+/// A folder path for `render_all` to create, inside a fresh temporary folder (the guard).
+fn out_dir(name: &str) -> (tempfile::TempDir, PathBuf) {
+    let tmp = crate::common::tmp_dir(&format!("sweep-figures-{name}"));
+    let dir = tmp.path().join("figures");
+    (tmp, dir)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -247,14 +245,13 @@ fn assert_written(dir: &Path, paths: &[PathBuf]) {
 #[test]
 fn writes_every_figure_for_every_family() {
     let rows = synthetic(&["beam", "spectrum"], 2, true, true);
-    let dir = tmp_dir("all");
+    let (_tmp, dir) = out_dir("all");
     let paths = render_all(&rows, &dir).unwrap();
     assert_eq!(
         names(&paths),
         expected(&FIGURE_KINDS, &["beam", "spectrum"])
     );
     assert_written(&dir, &paths);
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -264,7 +261,7 @@ fn missing_cond_skips_cond_figures() {
     for r in &mut rows {
         r.cond2_k = None;
     }
-    let dir = tmp_dir("nocond");
+    let (_tmp, dir) = out_dir("nocond");
     let paths = render_all(&rows, &dir).unwrap();
     assert_eq!(
         names(&paths),
@@ -277,14 +274,12 @@ fn missing_cond_skips_cond_figures() {
 
     // Penetration only (the cheapest sweep).
     let rows = synthetic(&["membrane"], 2, false, false);
-    let dir2 = tmp_dir("penonly");
+    let (_tmp2, dir2) = out_dir("penonly");
     let paths = render_all(&rows, &dir2).unwrap();
     assert_eq!(
         names(&paths),
         expected(&["penetration_vs_eps"], &["membrane"])
     );
-    let _ = std::fs::remove_dir_all(&dir);
-    let _ = std::fs::remove_dir_all(&dir2);
 }
 
 #[test]
@@ -307,10 +302,9 @@ fn partial_columns_and_odd_families() {
     last.log10_det_ratio = None;
     last.eps_max = None;
     last.warnings = "singular matrix".into();
-    let dir = tmp_dir("odd");
+    let (_tmp, dir) = out_dir("odd");
     let paths = render_all(&rows, &dir).unwrap();
     assert_eq!(names(&paths), expected(&FIGURE_KINDS, &["file_x_y"]));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -322,12 +316,11 @@ fn nothing_to_draw_is_not_an_error_but_no_rows_is() {
             ..r
         })
         .collect();
-    let dir = tmp_dir("nothing");
+    let (_tmp, dir) = out_dir("nothing");
     assert!(render_all(&rows, &dir).unwrap().is_empty());
 
     let err = render_all(&[], &dir).unwrap_err();
     assert!(err.to_string().contains("no rows"), "{err}");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -472,10 +465,9 @@ fn unpenalised_adaptive_method_is_named_not_dropped() {
         .unwrap();
     assert!(spring.x.is_empty(), "{:?}", spring.x);
     assert!(spring.label.contains("not drawn"), "{}", spring.label);
-    let dir = tmp_dir("unpenalised");
+    let (_tmp, dir) = out_dir("unpenalised");
     let paths = render_all(&rows, &dir).unwrap();
     assert_eq!(names(&paths), expected(&FIGURE_KINDS, &["membrane"]));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// Renders a realistic synthetic sweep (3 families × 8 scenes) for visual inspection into

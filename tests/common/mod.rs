@@ -1,11 +1,90 @@
-//! Helpers shared by the tests: the CLI contract of the experiment binaries, and independent
-//! dense helpers ([`dense`]). Each test crate uses part of them.
+//! Helpers shared by the tests: temporary folders, running the experiment binaries and their
+//! CLI contract, independent dense helpers ([`dense`]) and matrices with known structure
+//! ([`matrices`]). Each test crate uses part of them.
 #![allow(dead_code)]
 
 pub mod dense;
+pub mod matrices;
 
 use std::path::Path;
-use std::process::Command;
+use std::process::{Command, Output};
+
+/// A fresh, empty folder for one test, named after `tag` and unique to the call (parallel
+/// tests never share one). It and everything written in it are removed when the returned
+/// guard drops: keep it alive for the whole test and use `.path()`.
+pub fn tmp_dir(tag: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("penalty-lab-{tag}-"))
+        .tempdir()
+        .expect("create a temporary folder")
+}
+
+/// `o`'s stderr as text.
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// Requires each of `names` to be a file in `dir`.
+#[track_caller]
+pub fn assert_files(dir: &Path, names: &[&str]) {
+    for f in names {
+        assert!(dir.join(f).is_file(), "{f} missing in {}", dir.display());
+    }
+}
+
+/// Runs `cmd` to completion and requires exit status 0 (stderr in the failure message);
+/// returns its output.
+#[track_caller]
+pub fn run_ok(cmd: &mut Command) -> Output {
+    let o = cmd.output().expect("binary runs");
+    assert!(
+        o.status.success(),
+        "{cmd:?} failed ({:?}):\n{}",
+        o.status,
+        stderr(&o)
+    );
+    o
+}
+
+/// The bad-input contract of an experiment binary: `bin ARGS EXTRA --out OUT`, for each
+/// `ARGS` of `cases` and OUT a folder that does not exist, exits with status 2 and writes
+/// nothing (OUT stays absent). Returns each run's output, in the order of `cases`, for the
+/// binary's own checks of its message.
+#[track_caller]
+pub fn assert_bad_input_writes_nothing(
+    bin: &str,
+    cases: &[Vec<&str>],
+    extra: &[&str],
+) -> Vec<Output> {
+    let tmp = tmp_dir("bad-input");
+    let out = tmp.path().join("out");
+    cases
+        .iter()
+        .map(|args| {
+            let o = Command::new(bin)
+                .args(args)
+                .args(extra)
+                .arg("--out")
+                .arg(&out)
+                .output()
+                .expect("binary runs");
+            assert_eq!(o.status.code(), Some(2), "{args:?}");
+            assert!(!out.exists(), "{args:?}: nothing written on bad input");
+            o
+        })
+        .collect()
+}
+
+/// The seven contact methods of methods.md, by their strategy names.
+pub const METHODS: [&str; 7] = [
+    "constant",
+    "scaled",
+    "spring",
+    "paper",
+    "condensed",
+    "lagrange",
+    "augmented",
+];
 
 /// The `--render-only` contract of an experiment binary: with `out` holding a finished run,
 /// removing `figure` (a path below `out`) and running `bin --render-only --out OUT` redraws
@@ -20,14 +99,13 @@ pub fn assert_render_only(
 ) -> Vec<u8> {
     let fig = out.join(figure);
     std::fs::remove_file(&fig).unwrap_or_else(|e| panic!("{}: {e}", fig.display()));
-    let o = Command::new(bin)
-        .arg("--render-only")
-        .args(extra)
-        .arg("--out")
-        .arg(out)
-        .output()
-        .expect("binary runs");
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = run_ok(
+        Command::new(bin)
+            .arg("--render-only")
+            .args(extra)
+            .arg("--out")
+            .arg(out),
+    );
     assert!(fig.is_file(), "--render-only did not redraw {figure}");
     let empty = out.join("no-data-here");
     std::fs::create_dir_all(&empty).unwrap();

@@ -10,6 +10,8 @@
 //!
 //! Case counts are chosen so the whole file runs in a few seconds with `--release`.
 
+use crate::common;
+use crate::common::matrices::constraint_bits;
 use penalty_lab::scene::{
     parse_matrix_market_str, parse_scene_str, read_matrix_market, read_scene, write_matrix_market,
     write_scene, Scene,
@@ -17,38 +19,11 @@ use penalty_lab::scene::{
 use penalty_lab::system::{Constraint, ConstraintKind, Problem, Stiffness};
 use proptest::prelude::*;
 use std::fs;
-use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::path::Path;
 
 // ----------------------------------------------------------------------------------------
 // Helpers
 // ----------------------------------------------------------------------------------------
-
-/// A fresh directory under the system temp dir, removed on drop.
-struct TmpDir(PathBuf);
-
-impl TmpDir {
-    fn new(tag: &str) -> Self {
-        static N: AtomicUsize = AtomicUsize::new(0);
-        let d = std::env::temp_dir().join(format!(
-            "penalty-lab-fuzz-{}-{tag}-{}",
-            std::process::id(),
-            N.fetch_add(1, Ordering::Relaxed)
-        ));
-        let _ = fs::remove_dir_all(&d);
-        fs::create_dir_all(&d).unwrap();
-        TmpDir(d)
-    }
-    fn path(&self, name: &str) -> PathBuf {
-        self.0.join(name)
-    }
-}
-
-impl Drop for TmpDir {
-    fn drop(&mut self) {
-        let _ = fs::remove_dir_all(&self.0);
-    }
-}
 
 /// The invariants every successfully read scene must satisfy.
 fn check_scene(s: &Scene) -> Result<(), TestCaseError> {
@@ -126,13 +101,6 @@ fn entries(k: &Stiffness) -> Vec<(usize, usize, u64)> {
     });
     v.sort_unstable();
     v
-}
-
-fn constraint_bits(p: &Problem) -> Vec<(usize, u64, ConstraintKind)> {
-    p.constraints
-        .iter()
-        .map(|c| (c.dof, c.limit.to_bits(), c.kind))
-        .collect()
 }
 
 // ----------------------------------------------------------------------------------------
@@ -443,12 +411,12 @@ proptest! {
         check_mm_result(&parse_matrix_market_str(&text, "f.mtx"), "f.mtx")?;
         let hdr = format!("%%MatrixMarket matrix coordinate real general\n{text}");
         check_mm_result(&parse_matrix_market_str(&hdr, "f.mtx"), "f.mtx")?;
-        let dir = TmpDir::new("bytes");
-        let sp = dir.path("x.scene.json");
+        let dir = common::tmp_dir("fuzz-bytes");
+        let sp = dir.path().join("x.scene.json");
         fs::write(&sp, &bytes).unwrap();
         let origin = sp.display().to_string();
         check_scene_result(&read_scene(&sp), &origin)?;
-        let mp = dir.path("x.mtx");
+        let mp = dir.path().join("x.mtx");
         fs::write(&mp, &bytes).unwrap();
         check_mm_result(&read_matrix_market(&mp), &mp.display().to_string())?;
     }
@@ -491,8 +459,8 @@ proptest! {
             p.constraints.clone(),
         )
         .unwrap();
-        let dir = TmpDir::new("inline");
-        let path = dir.path("a.scene.json");
+        let dir = common::tmp_dir("fuzz-inline");
+        let path = dir.path().join("a.scene.json");
         write_scene(&path, "a", &dense_p, Some(&serde_json::json!({"seed": 1})), usize::MAX)
             .unwrap();
         let s = read_scene(&path).unwrap();
@@ -508,7 +476,7 @@ proptest! {
         fs::write(&path, &bytes).unwrap();
         check_scene_result(&read_scene(&path), &path.display().to_string())?;
         let text = String::from_utf8_lossy(&bytes);
-        check_scene_result(&parse_scene_str(&text, &dir.0, "a.scene.json"), "a.scene.json")?;
+        check_scene_result(&parse_scene_str(&text, dir.path(), "a.scene.json"), "a.scene.json")?;
     }
 
     /// A scene whose K lives in a sibling `.mtx`: mutate the matrix file, the scene file,
@@ -519,10 +487,10 @@ proptest! {
         mtx_edits in prop::collection::vec(edit(), 0..5),
         scene_edits in prop::collection::vec(edit(), 0..3),
     ) {
-        let dir = TmpDir::new("mtx");
-        let path = dir.path("b.scene.json");
+        let dir = common::tmp_dir("fuzz-mtx");
+        let path = dir.path().join("b.scene.json");
         write_scene(&path, "b", &p, None, 0).unwrap();
-        let mtx = dir.path("b.mtx");
+        let mtx = dir.path().join("b.mtx");
         prop_assert!(mtx.exists());
         let s = read_scene(&path).unwrap();
         prop_assert!(s.problem.k.is_sparse());
@@ -544,8 +512,8 @@ proptest! {
         p in valid_problem(),
         edits in prop::collection::vec(edit(), 1..6),
     ) {
-        let dir = TmpDir::new("mm");
-        let path = dir.path("k.mtx");
+        let dir = common::tmp_dir("fuzz-mm");
+        let path = dir.path().join("k.mtx");
         write_matrix_market(&path, &p.k).unwrap();
         let k = read_matrix_market(&path).unwrap();
         prop_assert_eq!(entries(&k), entries(&p.k));
@@ -598,11 +566,11 @@ proptest! {
             "{{\"name\": {}, \"stiffness\": {}, \"load\": {}, \"constraints\": {}, \"units\": {}, \"meta\": {}}}",
             fields[0], fields[1], fields[2], fields[3], fields[4], fields[5]
         );
-        let dir = TmpDir::new("hostile");
-        let path = dir.path("a.scene.json");
+        let dir = common::tmp_dir("fuzz-hostile");
+        let path = dir.path().join("a.scene.json");
         fs::write(&path, text.as_bytes()).unwrap();
         check_scene_result(&read_scene(&path), &path.display().to_string())?;
-        check_scene_result(&parse_scene_str(&text, &dir.0, "h.scene.json"), "h.scene.json")?;
+        check_scene_result(&parse_scene_str(&text, dir.path(), "h.scene.json"), "h.scene.json")?;
     }
 }
 
@@ -682,9 +650,9 @@ fn indices_and_values_at_the_edges() {
 
 #[test]
 fn scene_paths_that_are_not_matrix_files() {
-    let dir = TmpDir::new("paths");
-    fs::create_dir_all(dir.path("sub")).unwrap();
-    fs::write(dir.path("a.scene.json"), "{}").unwrap();
+    let dir = common::tmp_dir("fuzz-paths");
+    fs::create_dir_all(dir.path().join("sub")).unwrap();
+    fs::write(dir.path().join("a.scene.json"), "{}").unwrap();
     for rel in [
         "sub",
         ".",
@@ -697,7 +665,7 @@ fn scene_paths_that_are_not_matrix_files() {
             r#"{{"name": "a", "stiffness": {{"matrix_market": {}}}, "load": [1], "constraints": []}}"#,
             serde_json::to_string(rel).unwrap()
         );
-        let e = parse_scene_str(&text, &dir.0, "a.scene.json").unwrap_err();
+        let e = parse_scene_str(&text, dir.path(), "a.scene.json").unwrap_err();
         let m = e.to_string();
         assert!(
             m.starts_with("a.scene.json: ") && m.contains("matrix_market") && !m.contains('\n'),
@@ -708,8 +676,8 @@ fn scene_paths_that_are_not_matrix_files() {
 
 #[test]
 fn invalid_utf8_scene_file_names_the_offset() {
-    let dir = TmpDir::new("utf8");
-    let p = dir.path("bad.scene.json");
+    let dir = common::tmp_dir("fuzz-utf8");
+    let p = dir.path().join("bad.scene.json");
     fs::write(&p, b"{\"name\": \"\xff\"}").unwrap();
     let m = read_scene(&p).unwrap_err().to_string();
     assert!(m.contains("UTF-8") && m.contains("offset 10"), "{m}");

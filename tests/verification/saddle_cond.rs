@@ -32,13 +32,7 @@ fn elasticity() -> Vec<Problem> {
 }
 
 fn membranes() -> Vec<Problem> {
-    let cfg = GeneratorConfig {
-        membrane_side: (30, 45),
-        ..Default::default()
-    };
-    (0..2)
-        .map(|i| generate(Family::Membrane, i, 77, &cfg).unwrap().problem)
-        .collect()
+    crate::common::matrices::membranes((30, 45), 2, 77)
 }
 
 /// The lagrange active set and its DOFs.

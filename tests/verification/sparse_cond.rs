@@ -4,6 +4,7 @@
 //! Agreement target: 1e-9 relative (issue 3), loosened only by the rounding floor of any
 //! eigensolver, `c·n·ε_mach·cond₂`, which matters only for the ill-conditioned cases.
 
+use crate::common::matrices::{laplacian_1d, laplacian_2d, sparse_of};
 use penalty_lab::conditioning::{self, sparse, CondRoute};
 use penalty_lab::generate::{generate, Family, GeneratorConfig};
 use penalty_lab::model::beam::{Frame, Section};
@@ -18,17 +19,6 @@ fn rel(a: f64, b: f64) -> f64 {
 /// 1e-9, or the rounding floor of a dense eigensolver for this n and cond.
 fn tol(n: usize, cond: f64) -> f64 {
     1e-9f64.max(8.0 * n as f64 * f64::EPSILON * cond)
-}
-
-fn laplacian_2d(side: usize, tension: f64) -> Stiffness {
-    membrane::stiffness(side, tension).unwrap()
-}
-
-fn sparse_of(a: &Stiffness) -> &faer::sparse::SparseColMat<usize, f64> {
-    match a {
-        Stiffness::Sparse(m) => m,
-        Stiffness::Dense(_) => panic!("expected sparse storage"),
-    }
 }
 
 /// Certified brackets must contain the true values (within the rounding floor) and be narrow.
@@ -80,15 +70,7 @@ fn laplacian_2d_matches_closed_form() {
 fn laplacian_1d_ill_conditioned_matches_closed_form() {
     // cond ≈ 4(n+1)²/π² ≈ 1.6e6 at n = 2000: the λ_min bracket hits the rounding floor.
     let n = 2000;
-    let mut t = Vec::new();
-    for i in 0..n {
-        t.push((i, i, 2.0));
-        if i + 1 < n {
-            t.push((i, i + 1, -1.0));
-            t.push((i + 1, i, -1.0));
-        }
-    }
-    let a = Stiffness::from_triplets(n, &t).unwrap();
+    let a = laplacian_1d(n);
     let h = PI / (n as f64 + 1.0);
     let (lmin, lmax) = (2.0 - 2.0 * h.cos(), 2.0 - 2.0 * (n as f64 * h).cos());
     let r = conditioning::cond2(&a).unwrap();

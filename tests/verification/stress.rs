@@ -496,21 +496,20 @@ fn stress_bin() -> std::process::Command {
 /// and no non-finite output.
 #[test]
 fn stress_cli_writes_csv_json_and_figures() {
-    let out = std::env::temp_dir().join(format!("penalty-lab-stress-cli-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&out);
-    let o = stress_bin()
-        .args([
-            "--families",
-            "none",
-            "--eps",
-            "1e-3:1e20:8",
-            "--json",
-            "--out",
-        ])
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let tmp = common::tmp_dir("stress-cli");
+    let out = tmp.path().join("out");
+    let o = common::run_ok(
+        stress_bin()
+            .args([
+                "--families",
+                "none",
+                "--eps",
+                "1e-3:1e20:8",
+                "--json",
+                "--out",
+            ])
+            .arg(&out),
+    );
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).expect("one JSON object");
     let man = &v["manifest"];
     assert!(man["git_commit"].is_string());
@@ -562,29 +561,20 @@ fn stress_cli_writes_csv_json_and_figures() {
         "eps_study.json",
         &[],
     );
-    let _ = std::fs::remove_dir_all(&out);
 }
 
 #[test]
 fn stress_cli_bad_input_exits_2() {
-    for args in [
+    let cases = [
         vec!["--eps", "1:0:3"],
         vec!["--eps", "x"],
         vec!["--families", "plate"],
         vec!["--count", "1000"],
-    ] {
-        let out =
-            std::env::temp_dir().join(format!("penalty-lab-stress-bad-{}", std::process::id()));
-        let o = stress_bin()
-            .args(&args)
-            .arg("--out")
-            .arg(&out)
-            .output()
-            .unwrap();
-        assert_eq!(o.status.code(), Some(2), "{args:?}");
-        let err = String::from_utf8_lossy(&o.stderr);
+    ];
+    let runs = common::assert_bad_input_writes_nothing(env!("CARGO_BIN_EXE_stress"), &cases, &[]);
+    for (args, o) in cases.iter().zip(&runs) {
+        let err = common::stderr(o);
         assert!(err.starts_with("error"), "{args:?}: {err}");
         assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
-        assert!(!out.exists());
     }
 }

@@ -1,0 +1,124 @@
+//! Bad `sweep` configuration (flags and TOML): exit status 2, one line naming the problem,
+//! nothing written.
+
+use crate::common;
+use crate::sweep_support::{s, stderr, sweep_in, with, work_dir, write_toml};
+use std::path::Path;
+
+/// Runs a bad config; requires exit 2, one stderr line starting with "error:" that contains
+/// every `needle`, and no rows.csv written.
+fn assert_rejected(d: &Path, tag: &str, args: &[&str], needles: &[&str]) {
+    let out = d.join(format!("out_{tag}"));
+    let all = with(args, &["--out", s(&out)]);
+    let o = sweep_in(d, &all);
+    let e = stderr(&o);
+    assert_eq!(
+        o.status.code(),
+        Some(2),
+        "{all:?}: status {:?}, stderr {e}",
+        o.status
+    );
+    assert!(e.starts_with("error:"), "{all:?}: {e}");
+    assert_eq!(
+        e.trim_end().lines().count(),
+        1,
+        "{all:?}: stderr is not one line:\n{e}"
+    );
+    for n in needles {
+        assert!(e.contains(n), "{all:?}: message lacks '{n}': {e}");
+    }
+    assert!(
+        !out.join("rows.csv").exists(),
+        "{all:?}: rows.csv written before validation"
+    );
+    assert!(
+        !out.join("manifest.json").exists(),
+        "{all:?}: manifest written"
+    );
+}
+
+#[test]
+fn bad_configuration_exits_2_with_one_line_and_writes_nothing() {
+    let (_tmp, d) = work_dir("bad");
+    let methods = common::METHODS;
+    assert_rejected(
+        &d,
+        "method",
+        &["--methods", "constant,penalty"],
+        &[&["'penalty'"][..], &methods[..]].concat(),
+    );
+    assert_rejected(
+        &d,
+        "family",
+        &["--families", "beam,shell"],
+        &["'shell'", "beam", "membrane", "spectrum"],
+    );
+    assert_rejected(&d, "eps2", &["--eps", "1:2"], &["'1:2'", "LO:HI:N"]);
+    assert_rejected(&d, "eps0", &["--eps", "0:1:3"], &["'0:1:3'", "LO:HI:N"]);
+    assert_rejected(&d, "epsabc", &["--eps", "a:b:c"], &["'a:b:c'", "LO:HI:N"]);
+    assert_rejected(&d, "epsrev", &["--eps", "1e3:1e1:3"], &["LO:HI:N"]);
+    assert_rejected(&d, "eps1", &["--eps", "1:2:1"], &["LO:HI:N"]);
+    assert_rejected(&d, "deltaneg", &["--deltas", "-1"], &["--deltas", "> 0"]);
+    assert_rejected(&d, "delta0", &["--deltas", "0"], &["--deltas", "> 0"]);
+    assert_rejected(&d, "deltarel", &["--deltas-rel", "0"], &["--deltas-rel"]);
+    assert_rejected(&d, "factor", &["--factors", "-3"], &["factor"]);
+    assert_rejected(&d, "shard32", &["--shard", "3/2"], &["'3/2'", "K/N"]);
+    assert_rejected(&d, "shardx", &["--shard", "x"], &["'x'", "K/N"]);
+    assert_rejected(&d, "shard0", &["--shard", "0/2"], &["K/N"]);
+    assert_rejected(
+        &d,
+        "scenesdir",
+        &["--scenes-dir", s(&d.join("no_such_dir"))],
+        &["no_such_dir"],
+    );
+    let empty = d.join("empty_scenes");
+    std::fs::create_dir_all(&empty).unwrap();
+    assert_rejected(
+        &d,
+        "scenesempty",
+        &["--scenes-dir", s(&empty)],
+        &["empty_scenes", "scene.json"],
+    );
+    assert_rejected(
+        &d,
+        "metric",
+        &["--metrics", "cond,flops"],
+        &["'flops'", "cond", "det"],
+    );
+    assert_rejected(&d, "count0", &["--count", "0"], &["--count"]);
+    assert_rejected(&d, "threads0", &["--threads", "0"], &["--threads"]);
+    let nodelta = write_toml(&d, "nodelta", "deltas_rel = []\n");
+    assert_rejected(
+        &d,
+        "nodelta",
+        &["--methods", "condensed", "--config", s(&nodelta)],
+        &["δ", "--deltas"],
+    );
+    assert_rejected(
+        &d,
+        "generator",
+        &[
+            "--config",
+            s(&write_toml(
+                &d,
+                "gen",
+                "[generator]\nbeam_elements = [2, 10]\n",
+            )),
+        ],
+        &["beam_elements", "3 ≤ min"],
+    );
+    assert_rejected(
+        &d,
+        "noconfig",
+        &["--config", s(&d.join("missing.toml"))],
+        &["missing.toml"],
+    );
+}
+#[test]
+fn toml_config_with_unknown_field_is_a_one_line_error() {
+    let (_tmp, d) = work_dir("bad_toml");
+    let p = write_toml(&d, "typo", "famlies = [\"beam\"]\ncount = 2\n");
+    assert_rejected(&d, "typo", &["--config", s(&p)], &["famlies", "families"]);
+    let p = write_toml(&d, "gentypo", "[generator]\nbeam_elems = [3, 5]\n");
+    assert_rejected(&d, "gentypo", &["--config", s(&p)], &["beam_elems"]);
+}
