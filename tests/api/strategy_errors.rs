@@ -1,9 +1,11 @@
-//! Error paths of the strategies: bad knobs rejected with clear messages, and a singular K
-//! failing for the rules that need K⁻¹ but not for `lagrange` or the constant penalty.
+//! Error paths of the strategies: bad knobs rejected with typed errors that name the method,
+//! the knob (by its symbol: the library knows no command-line flag) and the value, and a
+//! singular K failing for the rules that need K⁻¹ but not for `lagrange` or the constant
+//! penalty.
 
 use crate::strategy_support::{cond_of, rounding_tol};
 use penalty_lab::metrics;
-use penalty_lab::strategy::{self, registry, Knobs, Method};
+use penalty_lab::strategy::{self, registry, symbol, Knobs, Method};
 use penalty_lab::system::{Constraint, ConstraintKind, Problem, Stiffness};
 use penalty_lab::Error;
 
@@ -20,12 +22,26 @@ fn bad_knobs_are_rejected_with_clear_messages() {
             )
             .unwrap_err();
             let msg = e.to_string();
-            assert!(matches!(e, Error::Input(_)), "{name} δ={bad}: {e:?}");
-            assert!(msg.contains("--delta") && msg.contains("> 0"), "{msg}");
+            assert!(e.is_input(), "{name} δ={bad}: {e:?}");
+            match &e {
+                Error::NotPositive { name: knob, value } => {
+                    assert_eq!(knob, symbol::DELTA);
+                    assert!(value.to_bits() == bad.to_bits() || value.is_nan() && bad.is_nan());
+                }
+                other => panic!("{name} δ={bad}: {other:?}"),
+            }
+            assert!(msg.contains("δ") && msg.contains("> 0"), "{msg}");
             assert!(msg.contains(&format!("{bad}")), "{msg} should quote {bad}");
         }
         let e = Method::from_name(name, Knobs::default()).unwrap_err();
-        assert!(e.to_string().contains("needs --delta"), "{e}");
+        assert!(
+            matches!(&e, Error::MissingKnob { method, knob } if method == name && *knob == symbol::DELTA),
+            "{e:?}"
+        );
+        assert!(
+            e.to_string().contains(&format!("method {name} needs δ")),
+            "{e}"
+        );
     }
     for (name, knobs) in [
         (
@@ -51,12 +67,19 @@ fn bad_knobs_are_rejected_with_clear_messages() {
             },
         ),
     ] {
-        assert!(matches!(
-            Method::from_name(name, knobs),
-            Err(Error::Input(_))
-        ));
+        assert!(
+            matches!(
+                Method::from_name(name, knobs),
+                Err(Error::NotPositive { .. })
+            ),
+            "{name}"
+        );
     }
     let e = Method::from_name("penalty", Knobs::default()).unwrap_err();
+    assert!(
+        matches!(&e, Error::Unknown { what: "method", name, .. } if name == "penalty"),
+        "{e:?}"
+    );
     let msg = e.to_string();
     assert!(
         msg.contains("unknown method") && msg.contains("'penalty'"),

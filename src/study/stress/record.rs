@@ -130,10 +130,12 @@ pub fn write(out: &Path, rec: &Record) -> Result<()> {
 
 /// Reads what [`write()`] wrote.
 pub fn load(out: &Path) -> Result<Record> {
+    // The ε study first: the data the figures are drawn from, named where it is missing.
+    let eps_study = provenance::read_json(&out.join("eps_study.json"))?;
     Ok(Record {
-        manifest: provenance::read_json(&out.join("stress.json"))?,
-        eps_study: provenance::read_json(&out.join("eps_study.json"))?,
+        eps_study,
         strategies: provenance::read_json(&out.join("strategies.json"))?,
+        manifest: provenance::read_json(&out.join("stress.json"))?,
     })
 }
 
