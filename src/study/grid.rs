@@ -95,6 +95,11 @@ impl Level {
             rel: Some(rel),
         }
     }
+
+    /// [`Level::relative`] of each of `rels`.
+    pub fn relatives(rels: &[f64], scale: f64) -> Vec<Level> {
+        rels.iter().map(|&r| Level::relative(r, scale)).collect()
+    }
 }
 
 /// How an ε-and-tolerance rule (`augmented`) runs at each tolerance of the grid: its ε, whether
@@ -149,6 +154,18 @@ impl KnobGrid {
             Knob::EpsTol => &self.tols,
             Knob::None => self.exact.as_slice(),
         }
+    }
+
+    /// The number of points of `strategies` before any refusal: what [`KnobGrid::points`]
+    /// gives where every level is valid (a study's row count per scene).
+    pub fn count(&self, strategies: &[&'static Strategy]) -> usize {
+        strategies
+            .iter()
+            .map(|s| match s.knob {
+                Knob::EpsTol => self.augmented.len() * self.tols.len(),
+                knob => self.levels(knob).len(),
+            })
+            .sum()
     }
 
     /// Every strategy of `strategies` in order at every level of its knob (the tolerances at
@@ -253,6 +270,7 @@ mod tests {
         let k = p[4].method.knobs();
         assert_eq!((k.eps, k.tol, k.adaptive), (Some(0.07), Some(1.0), true));
         assert_eq!(p[7].level.rel, Some(0.1));
+        assert_eq!(grid.count(&strategies), p.len() + 1); // + the refused ε
         assert!(KnobGrid::default().points(&strategies).is_empty());
     }
 }

@@ -24,9 +24,6 @@ pub struct BenchJob {
 /// ≈ 10× per update and the rule has nothing to do.
 pub fn jobs(cfg: &BenchConfig, scene: &Indentation, a: f64) -> Vec<BenchJob> {
     let aug_eps = scene.problem.mean_constraint_stiffness();
-    let rel = |rs: &[f64], scale: f64| -> Vec<Level> {
-        rs.iter().map(|&r| Level::relative(r, scale)).collect()
-    };
     let grid = KnobGrid {
         eps: cfg
             .eps_rel
@@ -44,8 +41,8 @@ pub fn jobs(cfg: &BenchConfig, scene: &Indentation, a: f64) -> Vec<BenchJob> {
                 rel: Some(f),
             })
             .collect(),
-        deltas: rel(&cfg.deltas_rel, a),
-        tols: rel(&cfg.deltas_rel, a),
+        deltas: Level::relatives(&cfg.deltas_rel, a),
+        tols: Level::relatives(&cfg.deltas_rel, a),
         augmented: vec![
             Augmented {
                 eps: aug_eps,

@@ -42,7 +42,7 @@ pub use cli::RuntimeVsError;
 use crate::error::{Error, Result};
 use crate::model::scalable::{scene, PerfScene};
 use crate::progress::Progress;
-use crate::strategy::{self, registry, Knob, Method};
+use crate::strategy::{self, registry, Method};
 use crate::study::grid::{Augmented, KnobGrid, Level};
 use serde::Serialize;
 use std::collections::HashMap;
@@ -230,46 +230,35 @@ pub struct PerfRow {
     pub warnings: Vec<String>,
 }
 
-/// The relative knob values a method runs at, by its knob (the exact methods: one run).
-fn knob_values<'a>(k: &'a Knobs, method: &str) -> &'a [f64] {
-    match registry::find(method).map(|s| s.knob) {
-        Some(Knob::Eps) => &k.eps_rel,
-        Some(Knob::Factor) => &k.factors,
-        Some(Knob::Delta) => &k.deltas_rel,
-        Some(Knob::EpsTol) => &k.tols_rel,
-        Some(Knob::None) => &[0.0],
-        None => &[],
+/// The knob grid of a scene with ε scale `k_scale` (max_c K_dd) and displacement scale
+/// `scale`: each relative value times its knob's scale, `augmented` at ε = `k_scale`, the
+/// exact methods once.
+fn knob_grid(cfg: &PerfConfig, k_scale: f64, scale: f64) -> KnobGrid {
+    let k = &cfg.knobs;
+    KnobGrid {
+        eps: Level::relatives(&k.eps_rel, k_scale),
+        factors: Level::relatives(&k.factors, 1.0),
+        deltas: Level::relatives(&k.deltas_rel, scale),
+        tols: Level::relatives(&k.tols_rel, scale),
+        augmented: vec![Augmented {
+            eps: k_scale,
+            adaptive: false,
+            name: "tol",
+        }],
+        exact: Some(Level::relative(0.0, 0.0)),
     }
 }
 
 /// Number of points [`jobs`] gives per scene.
 pub fn jobs_per_scene(cfg: &PerfConfig) -> usize {
-    cfg.methods
-        .iter()
-        .map(|m| knob_values(&cfg.knobs, m).len())
-        .sum()
+    knob_grid(cfg, 1.0, 1.0).count(&cfg.strategies())
 }
 
 /// The jobs `(method, knob name, absolute value, relative value)` of a scene: each relative
 /// value times the scene's scale of its knob's quantity ([`KnobGrid::points`]; `augmented` at
 /// ε = max_c K_dd); the exact methods once, knob `-`.
 pub fn jobs(scene: &PerfScene, cfg: &PerfConfig) -> Vec<(Method, &'static str, f64, f64)> {
-    let rel = |rs: &[f64], scale: f64| -> Vec<Level> {
-        rs.iter().map(|&r| Level::relative(r, scale)).collect()
-    };
-    let k = &cfg.knobs;
-    let grid = KnobGrid {
-        eps: rel(&k.eps_rel, scene.k_scale),
-        factors: rel(&k.factors, 1.0),
-        deltas: rel(&k.deltas_rel, scene.scale),
-        tols: rel(&k.tols_rel, scene.scale),
-        augmented: vec![Augmented {
-            eps: scene.k_scale,
-            adaptive: false,
-            name: "tol",
-        }],
-        exact: Some(Level::relative(0.0, 0.0)),
-    };
+    let grid = knob_grid(cfg, scene.k_scale, scene.scale);
     // Knob values are validated with the config (finite, > 0).
     grid.points(&cfg.strategies())
         .into_iter()

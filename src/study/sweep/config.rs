@@ -6,6 +6,7 @@ use crate::generate::{self, Family, GeneratorConfig};
 use crate::metrics::MetricSet;
 use crate::strategy::{self, registry, Knob};
 pub use crate::study::grid::LogGrid;
+use crate::study::grid::{Augmented, KnobGrid, Level};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -187,18 +188,33 @@ impl SweepConfig {
             .collect()
     }
 
-    /// Rows produced per scene.
-    pub fn rows_per_scene(&self) -> usize {
-        let nd = self.deltas.len() + self.deltas_rel.len();
-        let mut r = 1; // lagrange reference
-        for s in self.strategies() {
-            r += match s.knob {
-                Knob::Eps => self.eps.n,
-                Knob::Factor => self.factors.len(),
-                Knob::Delta | Knob::EpsTol => nd,
-                Knob::None => 0,
-            };
+    /// The knob grid of a scene whose displacement scale is `scale` (the relative δs multiply
+    /// it) and whose `augmented` runs at ε = `aug_eps`: ε on the log grid, the factors, δ
+    /// absolute then relative, `augmented` at each δ as its tolerance with the adaptive update;
+    /// no exact method (lagrange is every scene's first row).
+    pub fn knob_grid(&self, scale: f64, aug_eps: f64) -> KnobGrid {
+        let deltas: Vec<Level> = self
+            .deltas
+            .iter()
+            .map(|&d| Level::absolute(d))
+            .chain(Level::relatives(&self.deltas_rel, scale))
+            .collect();
+        KnobGrid {
+            eps: self.eps.values().into_iter().map(Level::absolute).collect(),
+            factors: self.factors.iter().map(|&f| Level::absolute(f)).collect(),
+            tols: deltas.clone(),
+            deltas,
+            augmented: vec![Augmented {
+                eps: aug_eps,
+                adaptive: true,
+                name: "tol",
+            }],
+            exact: None,
         }
-        r
+    }
+
+    /// Rows produced per scene: the lagrange reference and the grid's points.
+    pub fn rows_per_scene(&self) -> usize {
+        1 + self.knob_grid(1.0, 1.0).count(&self.strategies())
     }
 }

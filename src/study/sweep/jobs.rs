@@ -7,7 +7,6 @@ use crate::conditioning::{self, sparse::RitzStarts, Reuse};
 use crate::error::Result;
 use crate::metrics::{self, MetricSet};
 use crate::strategy::{self, registry, Knob, Method, Prepared};
-use crate::study::grid::{Augmented, KnobGrid, Level};
 use crate::system::{Problem, Structure};
 use serde::Serialize;
 use std::time::Instant;
@@ -27,25 +26,7 @@ pub struct Job {
 /// mean of the constrained diagonal of K and the adaptive update.
 pub fn jobs(cfg: &SweepConfig, problem: &Problem, u0: Option<&[f64]>) -> Vec<Job> {
     let scale = u0.map(|u| problem.displacement_scale(u)).unwrap_or(1.0);
-    let deltas: Vec<Level> = cfg
-        .deltas
-        .iter()
-        .map(|&d| Level::absolute(d))
-        .chain(cfg.deltas_rel.iter().map(|&r| Level::relative(r, scale)))
-        .collect();
-    let grid = KnobGrid {
-        eps: cfg.eps.values().into_iter().map(Level::absolute).collect(),
-        factors: cfg.factors.iter().map(|&f| Level::absolute(f)).collect(),
-        tols: deltas.clone(),
-        deltas,
-        augmented: vec![Augmented {
-            eps: problem.mean_constraint_stiffness(),
-            adaptive: true,
-            name: "tol",
-        }],
-        // The exact methods: lagrange is the first job already.
-        exact: None,
-    };
+    let grid = cfg.knob_grid(scale, problem.mean_constraint_stiffness());
     let mut out = vec![Job {
         method: Method::lagrange(),
         delta_rel: None,
