@@ -21,7 +21,7 @@ pub struct Job {
 }
 
 /// The jobs of a scene, in row order (lagrange first): every strategy over its knob grid
-/// ([`KnobGrid::points`]): ε on the log grid, the factors, δ absolute then relative to the
+/// ([`SweepConfig::knob_grid`], [`KnobGrid::points`](crate::study::grid::KnobGrid::points)): ε on the log grid, the factors, δ absolute then relative to the
 /// scene's displacement scale, `augmented` at each δ as its tolerance with ε the geometric
 /// mean of the constrained diagonal of K and the adaptive update.
 pub fn jobs(cfg: &SweepConfig, problem: &Problem, u0: Option<&[f64]>) -> Vec<Job> {
