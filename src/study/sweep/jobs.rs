@@ -21,9 +21,9 @@ pub struct Job {
 }
 
 /// The jobs of a scene, in row order (lagrange first): every strategy over its knob grid
-/// ([`SweepConfig::knob_grid`], [`KnobGrid::points`](crate::study::grid::KnobGrid::points)): ε on the log grid, the factors, δ absolute then relative to the
-/// scene's displacement scale, `augmented` at each δ as its tolerance with ε the geometric
-/// mean of the constrained diagonal of K and the adaptive update.
+/// ([`SweepConfig::knob_grid`] at the scene's displacement scale, `augmented` at ε the
+/// geometric mean of the constrained diagonal of K; expanded by
+/// [`KnobGrid::points`](crate::study::grid::KnobGrid::points)).
 pub fn jobs(cfg: &SweepConfig, problem: &Problem, u0: Option<&[f64]>) -> Vec<Job> {
     let scale = u0.map(|u| problem.displacement_scale(u)).unwrap_or(1.0);
     let grid = cfg.knob_grid(scale, problem.mean_constraint_stiffness());
