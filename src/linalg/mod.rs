@@ -18,8 +18,11 @@
 //! precision and `K⁻¹` does not exist numerically.
 
 mod factor_columns;
+pub mod krylov;
 mod ldlt;
 mod pcg;
+pub mod precond;
+pub mod refine;
 mod sparse_llt;
 
 pub use factor_columns::LowerFactor;

@@ -540,6 +540,24 @@ pub fn write_matrix_market(path: &Path, k: &Stiffness) -> Result<()> {
     write_atomic(path, &matrix_market_bytes(k))
 }
 
+/// Writes a vector as a one-column Matrix Market `array real general` file (values in shortest
+/// round-trip form, atomically): the right-hand side beside a matrix written by
+/// [`write_matrix_market`]. Non-finite entries are an error.
+pub fn write_matrix_market_vector(path: &Path, v: &[f64]) -> Result<()> {
+    if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+        return Err(Error::io(
+            path.display(),
+            format!("cannot write: entry {i} of the vector is {}", v[i]),
+        ));
+    }
+    let mut text = format!("%%MatrixMarket matrix array real general\n{} 1\n", v.len());
+    for &x in v {
+        text.push_str(&fmt_f64(x));
+        text.push('\n');
+    }
+    write_atomic(path, text.as_bytes())
+}
+
 /// Formats an f64 so that Rust's `str::parse::<f64>` and `serde_json` (with `float_roundtrip`) give
 /// back the identical bits: integers below 10¹⁵ as integers, everything else in shortest
 /// round-trip form (`{:?}`, e.g. `0.1`, `-0.0`, `1e-300`). The value must be finite.

@@ -81,7 +81,8 @@ mod write;
 pub use write::{write_scene, write_scene_as, Storage};
 
 pub use matrix_market::{
-    parse_matrix_market_str, read_matrix_market, write_matrix_market, MAX_DIM,
+    parse_matrix_market_str, read_matrix_market, write_matrix_market, write_matrix_market_vector,
+    MAX_DIM,
 };
 
 /// A scene read from disk: a named, validated contact problem.

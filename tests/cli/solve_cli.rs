@@ -169,6 +169,76 @@ fn bad_inputs_exit_2_with_a_clear_message() {
         r#"{"name":"x","stiffness":{"matrix_market":"K.mtx"},"load":[1,1],"constraints":[]}"#,
     );
     assert_bad(&[&mm, "--method", "lagrange"], "K.mtx");
+    assert_bad(
+        &[SCENE, "--method", "lagrange", "--krylov-tol", "0"],
+        "--krylov-tol",
+    );
+    assert_bad(
+        &[SCENE, "--method", "lagrange", "--krylov-tol", "NaN"],
+        "--krylov-tol",
+    );
+    assert_bad(
+        &[SCENE, "--method", "lagrange", "--krylov-max-iters", "0"],
+        "--krylov-max-iters",
+    );
+}
+
+/// `--write-system DIR` writes the final system exactly as solved: A and b read back give,
+/// by a dense solve here, the reported u (penalty and saddle point), and `x_hat.mtx` is the
+/// direct solve `forward_err_u` measured. The solver-cost fields are in the JSON.
+#[test]
+fn write_system_round_trips_the_final_system() {
+    use penalty_lab::scene::matrix_market::{parse_matrix_market_str, read_matrix_market};
+    let tmp = crate::common::tmp_dir("solve-write-system");
+    for (method, extra, n_sys) in [
+        ("paper", vec!["--delta", "0.1"], 9),
+        ("lagrange", vec![], 9 + 3),
+    ] {
+        let dir = tmp.path().join(method);
+        let mut args = vec![SCENE, "--method", method, "--json"];
+        args.extend(extra);
+        args.extend(["--write-system", dir.to_str().unwrap()]);
+        let (code, out, err) = solve(&args);
+        assert_eq!(code, 0, "{err}");
+        let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+        let a = read_matrix_market(&dir.join("A.mtx")).unwrap();
+        assert_eq!(a.n(), n_sys, "{method}");
+        // b.mtx is an `array` file: one value per line after the size line.
+        let b_text = std::fs::read_to_string(dir.join("b.mtx")).unwrap();
+        let b: Vec<f64> = b_text.lines().skip(2).map(|l| l.parse().unwrap()).collect();
+        let x_text = std::fs::read_to_string(dir.join("x_hat.mtx")).unwrap();
+        let x_hat: Vec<f64> = x_text.lines().skip(2).map(|l| l.parse().unwrap()).collect();
+        assert_eq!((b.len(), x_hat.len()), (n_sys, n_sys));
+        let lu = a.to_dense().partial_piv_lu();
+        let x = faer::linalg::solvers::Solve::solve(&lu, faer::Mat::from_fn(n_sys, 1, |i, _| b[i]));
+        let u: Vec<f64> = serde_json::from_value(v["u"].clone()).unwrap();
+        let scale = u.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let cond = v["cond2_system"].as_f64().unwrap();
+        for i in 0..9 {
+            let tol = 16.0 * f64::EPSILON * cond * scale;
+            assert!((x[(i, 0)] - u[i]).abs() <= tol, "{method} u[{i}]");
+            assert!((x_hat[i] - u[i]).abs() <= tol, "{method} x_hat[{i}]");
+        }
+        for key in [
+            "cond2_jacobi",
+            "forward_err_u",
+            "forward_err_force",
+            "backward_err",
+        ] {
+            assert!(v[key].as_f64().is_some(), "{method}: {key} = {}", v[key]);
+        }
+        let iters = if method == "lagrange" {
+            "minres_iters"
+        } else {
+            "pcg_iters_ic0"
+        };
+        assert!(v[iters].as_u64().is_some(), "{method}: {iters}");
+        // The file is Matrix Market the library itself reads back.
+        assert!(
+            parse_matrix_market_str(&std::fs::read_to_string(dir.join("A.mtx")).unwrap(), "A")
+                .is_ok()
+        );
+    }
 }
 
 /// `--version` names the crate version and the commit the binary was built from; an unknown

@@ -19,5 +19,6 @@ mod kernels;
 mod optimal;
 mod paper_beam;
 mod saddle_cond;
+mod solver_cost;
 mod sparse_cond;
 mod stress;

@@ -6,7 +6,7 @@ pub mod report;
 pub use report::table;
 
 use crate::error::{Error, Result};
-use crate::metrics::{self, MetricSet};
+use crate::metrics::{self, solver::SolverOptions, MetricSet};
 use crate::scene;
 use crate::strategy::{self, registry, Knob, Knobs, Method};
 use crate::study::shape::{Drawing, RunContext, Study};
@@ -40,24 +40,69 @@ fn finite_or_null(x: Option<f64>) -> Value {
     }
 }
 
+/// How [`solve_scene`] runs: which metrics, from which start, and what it writes.
+#[derive(Clone, Debug, Default)]
+pub struct SolveOptions {
+    /// Skip every metric (cond₂, determinants, the solver-cost metrics).
+    pub no_metrics: bool,
+    /// Start constant, scaled and condensed from the exact contact set (module doc of
+    /// [`solve_scene`]).
+    pub exact_start: bool,
+    /// Relative accuracy asked of the cond₂ values ([`MetricSet::cond_tol`]; `None`: the
+    /// contract).
+    pub cond_tol: Option<f64>,
+    /// τ and the iteration limit of the Krylov runs ([`metrics::solver`]).
+    pub krylov: SolverOptions,
+    /// Write the final linear system (`A.mtx`, `b.mtx`) into this folder.
+    pub write_system: Option<std::path::PathBuf>,
+}
+
+/// The options' checks, each error named by its flag.
+fn check_options(opts: &SolveOptions) -> Result<()> {
+    let k = opts.krylov;
+    let only_tol = SolverOptions {
+        max_iters: None,
+        ..k
+    };
+    only_tol.check().map_err(|e| e.for_flag("--krylov-tol"))?;
+    k.check().map_err(|e| e.for_flag("--krylov-max-iters"))?;
+    MetricSet::check_cond_tol(opts.cond_tol).map_err(|e| e.for_flag("--cond-tol"))
+}
+
+/// `augmented` without ε or tolerance: ε = max `K[d,d]` over the constrained DOFs (1 if none
+/// is positive), tol = 1e-9·max(1, max|û|).
+fn augmented_defaults(p: &crate::system::Problem, knobs: &mut Knobs) {
+    if knobs.eps.is_none() {
+        let e = p
+            .constraints
+            .iter()
+            .map(|c| p.k.diag(c.dof).abs())
+            .fold(0.0f64, f64::max);
+        knobs.eps = Some(if e > 0.0 { e } else { 1.0 });
+    }
+    if knobs.tol.is_none() {
+        let s = p
+            .constraints
+            .iter()
+            .map(|c| c.limit.abs())
+            .fold(1.0f64, f64::max);
+        knobs.tol = Some(1e-9 * s);
+    }
+}
+
 /// Reads `scene`, solves it with `method` (its knobs from `knobs`; `augmented` without ε or
 /// tolerance gets ε = max `K[d,d]` over the constrained DOFs and tol = 1e-9·max(1, max|û|)),
-/// computes the metrics unless `no_metrics`, and returns the `solve --json` object (contract in
-/// `shared/notes/methods.md`). With `exact_start`, the scene is first solved by `lagrange`
-/// and constant, scaled and condensed start from its contact set, as every `sweep` row does
-/// ([`strategy::Prepared::with_contact_set`]; the lagrange solve is not in the statistics or
-/// `seconds`). `cond_tol` is the relative accuracy asked of the cond₂ values ([`MetricSet::cond_tol`];
-/// `None`: the contract). Errors on unreadable scenes, bad knobs, a `cond_tol` outside (0, 1),
-/// singular systems and a non-finite solution.
-pub fn solve_scene(
-    scene: &Path,
-    name: &str,
-    knobs: Knobs,
-    no_metrics: bool,
-    exact_start: bool,
-    cond_tol: Option<f64>,
-) -> Result<Value> {
-    MetricSet::check_cond_tol(cond_tol).map_err(|e| e.for_flag("--cond-tol"))?;
+/// computes the metrics (cond₂ and determinants, and the solver-cost metrics of
+/// [`metrics::solver`]) unless `opts.no_metrics`, and returns the `solve --json` object
+/// (contract in `shared/notes/methods.md`). With `opts.exact_start`, the scene is first solved
+/// by `lagrange` and constant, scaled and condensed start from its contact set, as every
+/// `sweep` row does ([`strategy::Prepared::with_contact_set`]; the lagrange solve is not in
+/// the statistics or `seconds`). With `opts.write_system`, the final system `A x = b` is
+/// written there exactly as solved ([`write_system`]). Errors on unreadable scenes, bad knobs,
+/// a `cond_tol` outside (0, 1), singular systems and a non-finite solution.
+pub fn solve_scene(scene: &Path, name: &str, knobs: Knobs, opts: &SolveOptions) -> Result<Value> {
+    let (no_metrics, exact_start, cond_tol) = (opts.no_metrics, opts.exact_start, opts.cond_tol);
+    check_options(opts)?;
     // K in the storage its structure prefers, as `sweep` reads scenes: the same solve and
     // cond₂ routes (a dense-stored 400-DOF membrane takes the sparse ones, not a dense
     // eigensolver with Kahan-wide bounds).
@@ -66,22 +111,7 @@ pub fn solve_scene(
     let mut knobs = knobs;
     let strategy = registry::lookup(name)?;
     if strategy.knob == Knob::EpsTol {
-        if knobs.eps.is_none() {
-            let e = p
-                .constraints
-                .iter()
-                .map(|c| p.k.diag(c.dof).abs())
-                .fold(0.0f64, f64::max);
-            knobs.eps = Some(if e > 0.0 { e } else { 1.0 });
-        }
-        if knobs.tol.is_none() {
-            let s = p
-                .constraints
-                .iter()
-                .map(|c| c.limit.abs())
-                .fold(1.0f64, f64::max);
-            knobs.tol = Some(1e-9 * s);
-        }
+        augmented_defaults(p, &mut knobs);
     }
     let method = Method::new(strategy, knobs).map_err(with_flag)?;
     let prepared = if exact_start {
@@ -121,9 +151,28 @@ pub fn solve_scene(
             "the solution contains NaN/Inf (system singular to working precision)".into(),
         ));
     }
-    let flags =
-        crate::conditioning::CondReport::flags([m.cond2_k.as_ref(), m.cond2_system.as_ref()]);
-    Ok(json!({
+    let cost = if no_metrics {
+        None
+    } else {
+        let krylov = SolverOptions {
+            cond_tol,
+            ..opts.krylov
+        };
+        Some(metrics::solver::compute(p, &sol, krylov)?)
+    };
+    if let Some(c) = &cost {
+        warnings.extend(c.unavailable.iter().cloned());
+    }
+    if let Some(dir) = &opts.write_system {
+        let x = cost.as_ref().map(|c| c.x_direct.as_slice());
+        write_system(dir, &metrics::solver::final_system(p, &sol), x)?;
+    }
+    let flags = crate::conditioning::CondReport::flags([
+        m.cond2_k.as_ref(),
+        m.cond2_system.as_ref(),
+        cost.as_ref().and_then(|c| c.cond2_jacobi.as_ref()),
+    ]);
+    let mut out = json!({
         "scene": sc.name,
         "n": p.n(),
         "m": p.m(),
@@ -165,7 +214,30 @@ pub fn solve_scene(
         "cond2_lower_bound": sol.stats.optimal.as_ref().map(|o| finite_or_null(Some(o.cond2_lower_bound))),
         "seconds": seconds,
         "warnings": warnings,
-    }))
+    });
+    if let (Some(c), Value::Object(o)) = (&cost, &mut out) {
+        o.extend(c.json_fields(m.cond2_system.as_ref()));
+    }
+    Ok(out)
+}
+
+/// Writes the final linear system `A x = b` into `dir` (created if missing): `A.mtx` (Matrix
+/// Market, shortest round-trip values: the stored matrix bit for bit), `b.mtx` (one column,
+/// Matrix Market `array`) and, when given, `x_hat.mtx`: the plain direct solve whose forward
+/// error `forward_err_u` reports. For `lagrange` A is the saddle point `[K D_A; D_Aᵀ 0]` and
+/// x = [u; r_A] ([`metrics::solver`] defines b for every strategy).
+pub fn write_system(
+    dir: &Path,
+    fs: &metrics::solver::FinalSystem,
+    x_hat: Option<&[f64]>,
+) -> Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir.display(), e))?;
+    scene::write_matrix_market(&dir.join("A.mtx"), &fs.a)?;
+    scene::write_matrix_market_vector(&dir.join("b.mtx"), &fs.b)?;
+    match x_hat {
+        Some(x) if !x.is_empty() => scene::write_matrix_market_vector(&dir.join("x_hat.mtx"), x),
+        _ => Ok(()),
+    }
 }
 
 /// The `solve` binary's flags.
@@ -191,7 +263,8 @@ pub struct Flags {
     /// Adaptive per-constraint penalty update (augmented).
     #[arg(long)]
     adaptive: bool,
-    /// Skip cond₂ and log-det metrics (they cost O(N³) for dense systems).
+    /// Skip every metric: cond₂, log-det and the solver-cost metrics (cond₂ costs O(N³) for
+    /// dense systems).
     #[arg(long)]
     no_metrics: bool,
     /// Start constant, scaled and condensed from the exact contact set (a lagrange solve
@@ -202,6 +275,17 @@ pub struct Flags {
     /// contract, max(1e-12, 4·ε_mach·cond₂)); looser is faster, the bounds stay proven.
     #[arg(long, allow_negative_numbers = true)]
     cond_tol: Option<f64>,
+    /// τ of the solver-cost Krylov runs (PCG with Jacobi and IC(0); MINRES for lagrange):
+    /// stop at ‖r‖ ≤ τ‖b‖, from x₀ = 0.
+    #[arg(long, default_value_t = metrics::solver::DEFAULT_TOL, allow_negative_numbers = true)]
+    krylov_tol: f64,
+    /// Iteration limit of each Krylov run (default 10·N, SciPy's).
+    #[arg(long)]
+    krylov_max_iters: Option<usize>,
+    /// Write the final linear system as solved into this folder: A.mtx and b.mtx (Matrix
+    /// Market, values round-trip exact).
+    #[arg(long, value_name = "DIR")]
+    write_system: Option<std::path::PathBuf>,
 }
 
 /// The study as the shared entry runs it: prints the table, or with `--json` the object.
@@ -239,14 +323,18 @@ impl Study for Solve {
             adaptive: f.adaptive,
             ..Knobs::NONE
         };
-        solve_scene(
-            &f.scene,
-            &f.method,
-            knobs,
-            f.no_metrics,
-            f.exact_start,
-            f.cond_tol,
-        )
+        let opts = SolveOptions {
+            no_metrics: f.no_metrics,
+            exact_start: f.exact_start,
+            cond_tol: f.cond_tol,
+            krylov: SolverOptions {
+                tol: f.krylov_tol,
+                max_iters: f.krylov_max_iters,
+                cond_tol: None,
+            },
+            write_system: f.write_system.clone(),
+        };
+        solve_scene(&f.scene, &f.method, knobs, &opts)
     }
 
     fn save(_: &Path, _: &Flags, _: &Value) -> Result<()> {

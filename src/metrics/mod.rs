@@ -11,6 +11,8 @@ use crate::strategy::{lagrange, penalized_matrix, Solution, SystemKind};
 use crate::system::{Problem, Stiffness};
 use serde::Serialize;
 
+pub mod solver;
+
 /// Which metrics to compute.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct MetricSet {
@@ -77,9 +79,25 @@ fn system_cond(
     tol: Option<f64>,
     unavailable: &mut Vec<String>,
 ) -> Result<Option<CondReport>> {
+    let factor = sol.factor.as_deref();
+    cond_of_system(problem, &sol.system, sys, factor, starts, tol, unavailable)
+}
+
+/// cond₂ of `sys`, the system matrix of `kind` on `problem` (for a saddle point, `problem.k`
+/// is its K block), or `None` with a note when no exact route exists for it. `factor`: a
+/// factorization of `sys` itself, if one is at hand.
+pub(crate) fn cond_of_system(
+    problem: &Problem,
+    kind: &SystemKind,
+    sys: &Stiffness,
+    factor: Option<&crate::linalg::Factorization>,
+    starts: Option<&RitzStarts>,
+    tol: Option<f64>,
+    unavailable: &mut Vec<String>,
+) -> Result<Option<CondReport>> {
     // A saddle point with Boolean D and symmetric K: block-structure route, never densified
     // (a dense K in compressed columns).
-    if let SystemKind::SaddlePoint { active } = &sol.system {
+    if let SystemKind::SaddlePoint { active } = kind {
         if crate::route::saddle_route(problem.k.is_symmetric()) {
             let k = match &problem.k {
                 Stiffness::Sparse(k) => std::borrow::Cow::Borrowed(k),
@@ -100,7 +118,7 @@ fn system_cond(
     }
     let reuse = Reuse {
         starts,
-        factor: sol.factor.as_deref(),
+        factor,
         keep_ritz: false,
         tol,
     };

@@ -1,0 +1,208 @@
+#!/usr/bin/env python3
+"""Independent references for the solver-cost metrics of `solve` (issue 47), from the final
+linear system exactly as `solve --write-system DIR` writes it (A.mtx, b.mtx, x_hat.mtx).
+
+For each case (a scene and a method with its knobs) it runs `solve --json --write-system` and
+computes, without any of penalty-lab's code:
+
+- cond2_jacobi: NumPy's cond(S A S, 2) (LAPACK SVD), S = diag(A)^(-1/2); for a saddle point
+  [K D; D^T 0] the matrix [S K S, D; D^T, 0] (Jacobi on u; the multiplier scaling that keeps
+  the coupling entries 1), as `metrics::solver` defines it;
+- pcg_iters_jacobi: SciPy's `cg` with M^-1 = diag(A)^-1, x0 = 0, rtol = tau, atol = 0,
+  maxiter = 10 n, iterations counted by its callback (penalized systems only);
+- pcg_iters_ic0: SciPy's `cg` with an IC(0) preconditioner written here from its definition
+  (Meijerink & van der Vorst: Cholesky restricted to A's lower pattern; on breakdown
+  A + alpha diag(A), alpha = 1e-3 doubled), applied by two SciPy triangular solves;
+- forward_err_u, forward_err_force: the relative inf-norm error of x_hat (u block; contact
+  forces: penalties eps_c (x_d - u^_c) + lambda_c, multipliers for lagrange) against mpmath's
+  LU solve at 50 digits of the stored A and b.
+
+    pip install numpy scipy mpmath
+    python3 scripts/solver_cost_reference.py --solve target/release/solve \
+        --cases tests/data/solver_cost/cases.json --out tests/data/solver_cost/reference.json
+
+cases.json: a list of {"scene": file (relative to cases.json), "method": name, "args": [...]}.
+The output lists every case with the reference values only (penalty-lab's own values are
+printed beside them on stdout, never stored); `tests/verification/solver_cost.rs` compares.
+"""
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+import mpmath
+import numpy as np
+import scipy
+import scipy.io
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+
+def read(path):
+    m = scipy.io.mmread(path)
+    return sp.csc_matrix(m) if sp.issparse(m) else np.asarray(m).ravel()
+
+
+def jacobi_scaled(a, n_u):
+    """S A S with S = diag(A)^(-1/2) on the first n_u rows; multiplier rows keep D = 1."""
+    a = a.toarray()
+    n = a.shape[0]
+    d = np.diag(a)[:n_u]
+    s = 1.0 / np.sqrt(d)
+    out = a.copy()
+    out[:n_u, :n_u] = a[:n_u, :n_u] * s[:, None] * s[None, :]
+    # The coupling block of a saddle point: entries are 1 and stay 1.
+    assert n == n_u or np.all((a[:n_u, n_u:] == 0) | (a[:n_u, n_u:] == 1))
+    return out
+
+
+def cg_iterations(a, b, tau, m_inv):
+    count = [0]
+
+    def cb(_):
+        count[0] += 1
+
+    op = spla.LinearOperator(a.shape, matvec=m_inv)
+    _, info = spla.cg(a, b, x0=np.zeros_like(b), rtol=tau, atol=0.0,
+                      maxiter=10 * len(b), M=op, callback=cb)
+    return count[0], info == 0
+
+
+def ic0(a):
+    """IC(0) of the SPD sparse A: L on A's lower pattern, shift alpha on breakdown."""
+    low = sp.tril(a, format="csc")
+    low.sort_indices()
+    diag = a.diagonal()
+    n = a.shape[0]
+    pattern = [set(low.indices[low.indptr[j]:low.indptr[j + 1]]) for j in range(n)]
+    shift = 0.0
+    while True:
+        cols = [dict(zip(low.indices[low.indptr[j]:low.indptr[j + 1]],
+                         low.data[low.indptr[j]:low.indptr[j + 1]])) for j in range(n)]
+        for j in range(n):
+            cols[j][j] = diag[j] + shift * diag[j]
+        ok = True
+        for k in range(n):
+            col = cols[k]
+            if not (col[k] > np.finfo(float).eps * diag[k] and np.isfinite(col[k])):
+                ok = False
+                break
+            lkk = np.sqrt(col[k])
+            for i in col:
+                col[i] = lkk if i == k else col[i] / lkk
+            below = sorted(i for i in col if i > k)
+            for p, j in enumerate(below):
+                for i in below[p:]:
+                    if i in pattern[j]:
+                        cols[j][i] -= col[i] * col[j]
+        if ok:
+            trip = [(i, j, v) for j in range(n) for i, v in cols[j].items()]
+            rows, cs, vals = zip(*trip)
+            return sp.csr_matrix((vals, (rows, cs)), shape=(n, n)), shift
+        shift = 1e-3 if shift == 0.0 else 2.0 * shift
+        if shift > 1e3:
+            raise RuntimeError("IC(0) broke down for every shift")
+
+
+def mp_solve(a, b):
+    mpmath.mp.dps = 50
+    am = mpmath.matrix(a.toarray().tolist())
+    bm = mpmath.matrix([float(v) for v in b])
+    return mpmath.lu_solve(am, bm)
+
+
+def rel_inf(x_hat, x_ref):
+    num = max((abs(mpmath.mpf(float(h)) - r) for h, r in zip(x_hat, x_ref)), default=0)
+    den = max((abs(r) for r in x_ref), default=0)
+    return float(num / den) if den != 0 else float(num)
+
+
+def forces(x, scene, out, n):
+    """Contact forces of a solution x (a list of mpf or floats) of the final system."""
+    cons = scene["constraints"]
+    if out["system"] == "penalized":
+        f = []
+        for c, con in enumerate(cons):
+            e, r, g = out["penalties"][c], out["forces"][c], out["gaps"][c]
+            lam = r - e * g  # IEEE double, as the library forms it
+            f.append(mpmath.mpf(e) * (mpmath.mpf(x[con["dof"]]) - mpmath.mpf(con["limit"]))
+                     + mpmath.mpf(lam))
+        return f
+    active = out["system"]["saddle_point"]["active"]
+    f = [mpmath.mpf(0)] * len(cons)
+    for j, c in enumerate(active):
+        f[c] = mpmath.mpf(x[n + j])
+    return f
+
+
+def run_case(solve, base, case, tau):
+    scene_path = os.path.join(base, case["scene"])
+    with open(scene_path) as fh:
+        scene = json.load(fh)
+    with tempfile.TemporaryDirectory() as tmp:
+        cmd = [solve, scene_path, "--method", case["method"], *case.get("args", []),
+               "--json", "--quiet", "--krylov-tol", repr(tau), "--write-system", tmp]
+        out = json.loads(subprocess.run(cmd, check=True, capture_output=True, text=True).stdout)
+        a = read(os.path.join(tmp, "A.mtx"))
+        b = read(os.path.join(tmp, "b.mtx"))
+        x_hat = read(os.path.join(tmp, "x_hat.mtx"))
+    n = out["n"]
+    ref = {"scene": case["scene"], "method": case["method"], "args": case.get("args", []),
+           "n_system": a.shape[0]}
+    sas = jacobi_scaled(a, n)
+    ref["cond2_jacobi"] = float(np.linalg.cond(sas, 2))
+    if out["system"] == "penalized":
+        d = a.diagonal()
+        ref["pcg_iters_jacobi"], ref["pcg_converged_jacobi"] = cg_iterations(
+            a, b, tau, lambda r: r / d)
+        l, shift = ic0(a)
+        lt = l.T.tocsr()
+
+        def ic_apply(r):
+            y = spla.spsolve_triangular(l, r, lower=True)
+            return spla.spsolve_triangular(lt, y, lower=False)
+
+        ref["pcg_iters_ic0"], ref["pcg_converged_ic0"] = cg_iterations(a, b, tau, ic_apply)
+        ref["ic0_shift"] = shift
+    x_ref = mp_solve(a, b)
+    ref["forward_err_u"] = rel_inf(x_hat[:n], list(x_ref)[:n])
+    f_hat = [float(v) for v in forces([mpmath.mpf(float(v)) for v in x_hat], scene, out, n)]
+    ref["forward_err_force"] = rel_inf(f_hat, forces(list(x_ref), scene, out, n))
+    ours = {k: out.get(k) for k in ref if k not in ("scene", "method", "args", "n_system")}
+    print(f"{case['scene']} {case['method']} {' '.join(case.get('args', []))}")
+    for k in ours:
+        print(f"    {k:22} reference {ref[k]!s:24} penalty-lab {ours[k]}")
+    return ref
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--solve", default="target/release/solve")
+    ap.add_argument("--cases", required=True)
+    ap.add_argument("--out")
+    ap.add_argument("--tau", type=float, default=1e-8)
+    args = ap.parse_args()
+    with open(args.cases) as fh:
+        cases = json.load(fh)
+    base = os.path.dirname(os.path.abspath(args.cases))
+    refs = [run_case(args.solve, base, c, args.tau) for c in cases]
+    doc = {
+        "generator": "scripts/solver_cost_reference.py",
+        "versions": {"numpy": np.__version__, "scipy": scipy.__version__,
+                     "mpmath": mpmath.__version__, "python": sys.version.split()[0]},
+        "tau": args.tau,
+        "cases": refs,
+    }
+    text = json.dumps(doc, indent=1) + "\n"
+    if args.out:
+        with open(args.out, "w") as fh:
+            fh.write(text)
+    else:
+        sys.stdout.write(text)
+
+
+if __name__ == "__main__":
+    main()

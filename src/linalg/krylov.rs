@@ -1,0 +1,400 @@
+//! Krylov solvers as a user runs them on a final system `A x = b`, for the solver-cost
+//! metrics (`metrics::solver`): preconditioned conjugate gradients with the Lanczos
+//! coefficients of the run, and preconditioned MINRES for the symmetric indefinite saddle
+//! point. Both start from x₀ = 0.
+//!
+//! **CG** (Hestenes & Stiefel 1952) with the recurrences and the stopping test of SciPy's
+//! `scipy.sparse.linalg.cg` (1.12+): stop before an iteration when the recursively updated
+//! residual has `‖r_k‖₂ ≤ τ·‖b‖₂`; the iteration count is the number of updates of x done.
+//! Its step lengths `α_j` and `β_j` are the Lanczos tridiagonal of `M⁻¹A` (Saad, *Iterative
+//! Methods*, §6.7.3): `T_jj = 1/α_j + β_{j−1}/α_{j−1}`, `T_{j,j+1} = √β_j / α_j`, whose
+//! extreme eigenvalues (Sturm bisection) estimate the preconditioned spectrum's ends: the
+//! *effective* condition number `λ_max(T)/λ_min(T)`, an estimate (a lower bound on
+//! cond(M⁻¹A) in exact arithmetic, tight once the ends have converged).
+//!
+//! **MINRES** (Paige & Saunders 1975) with an SPD preconditioner M, the recurrences of SciPy's
+//! `minres`: stop when the preconditioned residual estimate `φ_k = ‖r_k‖_{M⁻¹}` has
+//! `φ_k ≤ τ·‖b‖_{M⁻¹}`.
+//!
+//! Inner products are compensated (Dot2, see `dot`): the counts of a run on a raw penalized
+//! system should not depend on the summation order.
+//!
+//! Why hand-written: faer 0.24's `conjugate_gradient` reports neither the step lengths nor
+//! stops on SciPy's test (its iteration counts are what `tests/data/solver_cost` compares
+//! against SciPy's), and faer has no MINRES. [`super::pcg`] stays faer's, for the active-set
+//! solves. The preconditioners ([`super::precond::Jacobi`], [`super::precond::Ic0`]) are in
+//! [`super::precond`].
+
+use crate::dd::{two_prod, two_sum};
+use faer::sparse::SparseColMatRef;
+
+/// `z = M⁻¹ r` for an SPD preconditioner M.
+pub trait Preconditioner {
+    /// Writes `M⁻¹ r` into `z`.
+    fn apply(&self, r: &[f64], z: &mut [f64]);
+}
+
+/// `y = A x` for a square sparse A stored with both triangles (a gather per column of Aᵀ =
+/// A for symmetric A).
+pub fn matvec(a: SparseColMatRef<'_, usize, f64>, x: &[f64], y: &mut [f64]) {
+    super::symmetric_matvec(a.symbolic(), a.val(), x, y);
+}
+
+/// Dot2 (Ogita, Rump & Oishi 2005): every product exact by `two_prod`, the sum compensated
+/// by `two_sum`: as accurate as a dot product in twice the working precision, then rounded.
+#[inline(always)]
+fn dot2_kernel(x: &[f64], y: &[f64]) -> f64 {
+    let (mut s, mut c) = (0.0, 0.0);
+    for (&a, &b) in x.iter().zip(y) {
+        let (p, e) = two_prod(a, b);
+        let (t, f) = two_sum(s, p);
+        s = t;
+        c += e + f;
+    }
+    s + c
+}
+
+crate::dd::fma_dispatch! {
+    /// `xᵀy` by Dot2 ([`dot2_kernel`]). The iteration counts of CG on a raw penalized system
+    /// depend on how its inner products round: on `flat-punch-0001` scaled by f = 1e8, plain
+    /// sequential sums give 65 iterations where exact sums (Python's `math.fsum`) and NumPy's
+    /// give 69. Accurate inner products make the count the algorithm's, not the summation
+    /// order's.
+    fn dot(x: &[f64], y: &[f64]) -> f64 => dot2_kernel
+}
+
+fn norm(x: &[f64]) -> f64 {
+    dot(x, x).sqrt()
+}
+
+/// A Krylov run's statistics.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct KrylovRun {
+    /// Iterations done (updates of x).
+    pub iterations: usize,
+    /// The stopping test was met within the iteration limit.
+    pub converged: bool,
+    /// The residual measure of the stopping test at the end, relative to its value at x₀ = 0
+    /// (CG: `‖r‖₂/‖b‖₂`, recursively updated; MINRES: `φ_k/φ_0`, the estimate).
+    pub relative_residual: f64,
+    /// CG: the estimated extreme eigenvalues `(λ_min, λ_max)` of `M⁻¹A` from the Lanczos
+    /// tridiagonal of the run (`None` for MINRES and for runs of no iteration).
+    pub spectrum: Option<(f64, f64)>,
+}
+
+impl KrylovRun {
+    /// The effective condition number `λ_max/λ_min` of the preconditioned operator as the run
+    /// saw it (an estimate; `None` without a spectrum).
+    pub fn effective_cond(&self) -> Option<f64> {
+        self.spectrum.map(|(lo, hi)| hi / lo)
+    }
+}
+
+/// Preconditioned CG from x₀ = 0 on the SPD `A x = b`: returns x and the run. Stops when
+/// `‖r_k‖₂ ≤ tol·‖b‖₂` or after `max_iters` iterations (SciPy's `cg` test and count, see the
+/// module doc). A breakdown (`pᵀAp ≤ 0` or `rᵀz ≤ 0`: A or M not positive definite) ends the
+/// run unconverged.
+pub fn cg(
+    a: SparseColMatRef<'_, usize, f64>,
+    pre: &dyn Preconditioner,
+    b: &[f64],
+    tol: f64,
+    max_iters: usize,
+) -> (Vec<f64>, KrylovRun) {
+    let n = b.len();
+    let mut x = vec![0.0; n];
+    let bnorm = norm(b);
+    let mut run = KrylovRun {
+        iterations: 0,
+        converged: true,
+        relative_residual: 0.0,
+        spectrum: None,
+    };
+    if bnorm == 0.0 {
+        return (x, run);
+    }
+    let atol = tol * bnorm;
+    let (mut r, mut z, mut p, mut q) = (b.to_vec(), vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let (mut alphas, mut betas) = (Vec::new(), Vec::new());
+    let mut rho_prev = 0.0;
+    let mut rnorm = bnorm;
+    run.converged = false;
+    for it in 0..max_iters {
+        if rnorm <= atol {
+            run.converged = true;
+            break;
+        }
+        pre.apply(&r, &mut z);
+        let rho = dot(&r, &z);
+        if !(rho > 0.0 && rho.is_finite()) {
+            break;
+        }
+        if it > 0 {
+            let beta = rho / rho_prev;
+            betas.push(beta);
+            p.iter_mut().zip(&z).for_each(|(p, z)| *p = z + beta * *p);
+        } else {
+            p.copy_from_slice(&z);
+        }
+        matvec(a, &p, &mut q);
+        let pq = dot(&p, &q);
+        if !(pq > 0.0 && pq.is_finite()) {
+            break;
+        }
+        let alpha = rho / pq;
+        alphas.push(alpha);
+        x.iter_mut().zip(&p).for_each(|(x, p)| *x += alpha * p);
+        r.iter_mut().zip(&q).for_each(|(r, q)| *r -= alpha * q);
+        rho_prev = rho;
+        rnorm = norm(&r);
+        run.iterations = it + 1;
+    }
+    if !run.converged && rnorm <= atol {
+        run.converged = true;
+    }
+    run.relative_residual = rnorm / bnorm;
+    run.spectrum = lanczos_ends(&alphas, &betas);
+    (x, run)
+}
+
+/// The extreme eigenvalues of CG's Lanczos tridiagonal (module doc) by Sturm bisection.
+fn lanczos_ends(alphas: &[f64], betas: &[f64]) -> Option<(f64, f64)> {
+    let k = alphas.len();
+    if k == 0 {
+        return None;
+    }
+    let diag: Vec<f64> = (0..k)
+        .map(|j| {
+            1.0 / alphas[j]
+                + if j > 0 {
+                    betas[j - 1] / alphas[j - 1]
+                } else {
+                    0.0
+                }
+        })
+        .collect();
+    let off: Vec<f64> = (0..k - 1).map(|j| betas[j].sqrt() / alphas[j]).collect();
+    Some(tridiagonal_ends(&diag, &off))
+}
+
+/// Smallest and largest eigenvalue of the symmetric tridiagonal matrix (`diag`, `off`) by
+/// bisection on the Sturm count (the number of negative pivots of `T − xI`), to a relative
+/// width of 4·ε_mach of the larger end.
+pub fn tridiagonal_ends(diag: &[f64], off: &[f64]) -> (f64, f64) {
+    let k = diag.len();
+    let below = |x: f64| -> usize {
+        let mut count = 0;
+        let mut d = 1.0;
+        for i in 0..k {
+            let o = if i > 0 { off[i - 1] * off[i - 1] } else { 0.0 };
+            d = diag[i] - x - if i > 0 { o / d } else { 0.0 };
+            if d == 0.0 {
+                d = -f64::MIN_POSITIVE;
+            }
+            if d < 0.0 {
+                count += 1;
+            }
+        }
+        count
+    };
+    // Gershgorin interval.
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for i in 0..k {
+        let r = if i > 0 { off[i - 1].abs() } else { 0.0 } + off.get(i).map_or(0.0, |o| o.abs());
+        lo = lo.min(diag[i] - r);
+        hi = hi.max(diag[i] + r);
+    }
+    let width = 4.0 * f64::EPSILON * lo.abs().max(hi.abs());
+    // The j-th smallest eigenvalue (0-based): the x where the count passes j.
+    let nth = |j: usize| {
+        let (mut a, mut b) = (lo, hi);
+        while b - a > width {
+            let m = 0.5 * (a + b);
+            if m <= a || m >= b {
+                break;
+            }
+            if below(m) > j {
+                b = m;
+            } else {
+                a = m;
+            }
+        }
+        0.5 * (a + b)
+    };
+    (nth(0), nth(k - 1))
+}
+
+/// Preconditioned MINRES from x₀ = 0 on the symmetric (indefinite) `A x = b` with an SPD
+/// preconditioner: returns x and the run. Stops when `φ_k ≤ tol·φ_0` (module doc) or after
+/// `max_iters`.
+pub fn minres(
+    a: SparseColMatRef<'_, usize, f64>,
+    pre: &dyn Preconditioner,
+    b: &[f64],
+    tol: f64,
+    max_iters: usize,
+) -> (Vec<f64>, KrylovRun) {
+    let n = b.len();
+    let mut x = vec![0.0; n];
+    let mut run = KrylovRun {
+        iterations: 0,
+        converged: true,
+        relative_residual: 0.0,
+        spectrum: None,
+    };
+    let mut y = vec![0.0; n];
+    pre.apply(b, &mut y);
+    let beta1 = dot(b, &y);
+    if beta1 == 0.0 {
+        return (x, run);
+    }
+    if !(beta1 > 0.0 && beta1.is_finite()) {
+        run.converged = false;
+        run.relative_residual = f64::NAN;
+        return (x, run);
+    }
+    let beta1 = beta1.sqrt();
+    let (mut r1, mut r2) = (b.to_vec(), b.to_vec());
+    let (mut w, mut w1, mut w2) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let mut v = vec![0.0; n];
+    let (mut oldb, mut beta, mut dbar, mut epsln, mut phibar) = (0.0, beta1, 0.0, 0.0, beta1);
+    let (mut cs, mut sn) = (-1.0f64, 0.0f64);
+    run.converged = false;
+    for it in 0..max_iters {
+        if phibar <= tol * beta1 {
+            run.converged = true;
+            break;
+        }
+        let s = 1.0 / beta;
+        v.iter_mut().zip(&y).for_each(|(v, y)| *v = s * y);
+        matvec(a, &v, &mut y);
+        if it >= 1 {
+            let c = beta / oldb;
+            y.iter_mut().zip(&r1).for_each(|(y, r)| *y -= c * r);
+        }
+        let alfa = dot(&v, &y);
+        let c = alfa / beta;
+        y.iter_mut().zip(&r2).for_each(|(y, r)| *y -= c * r);
+        std::mem::swap(&mut r1, &mut r2);
+        r2.copy_from_slice(&y);
+        pre.apply(&r2, &mut y);
+        oldb = beta;
+        let bb = dot(&r2, &y);
+        if !(bb >= 0.0 && bb.is_finite()) {
+            break;
+        }
+        beta = bb.sqrt();
+        // The previous rotation on the new column, then the next rotation.
+        let oldeps = epsln;
+        let delta = cs * dbar + sn * alfa;
+        let gbar = sn * dbar - cs * alfa;
+        epsln = sn * beta;
+        dbar = -cs * beta;
+        let gamma = gbar.hypot(beta).max(f64::EPSILON);
+        cs = gbar / gamma;
+        sn = beta / gamma;
+        let phi = cs * phibar;
+        phibar *= sn;
+        let denom = 1.0 / gamma;
+        std::mem::swap(&mut w1, &mut w2);
+        std::mem::swap(&mut w2, &mut w);
+        for i in 0..n {
+            w[i] = (v[i] - oldeps * w1[i] - delta * w2[i]) * denom;
+            x[i] += phi * w[i];
+        }
+        run.iterations = it + 1;
+        if beta == 0.0 {
+            // An invariant subspace: x is exact.
+            phibar = 0.0;
+        }
+    }
+    if !run.converged && phibar <= tol * beta1 {
+        run.converged = true;
+    }
+    run.relative_residual = phibar / beta1;
+    (x, run)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::linalg::precond::Jacobi;
+    use crate::system::Stiffness;
+
+    fn laplacian(n: usize, extra: f64) -> Stiffness {
+        let mut t = Vec::new();
+        for i in 0..n {
+            t.push((i, i, 2.0 + if i == n / 2 { extra } else { 0.0 }));
+            if i + 1 < n {
+                t.push((i, i + 1, -1.0));
+                t.push((i + 1, i, -1.0));
+            }
+        }
+        Stiffness::from_triplets(n, &t).unwrap()
+    }
+
+    fn residual(a: &Stiffness, x: &[f64], b: &[f64]) -> f64 {
+        let ax = a.matvec(x);
+        norm(&ax.iter().zip(b).map(|(p, q)| p - q).collect::<Vec<_>>()) / norm(b)
+    }
+
+    #[test]
+    fn cg_meets_its_test_and_sees_the_laplacian_spectrum() {
+        // Eigenvalues of the 1-D Dirichlet Laplacian: 2 − 2cos(kπ/(n+1)), k = 1..n.
+        let n = 50;
+        let a = laplacian(n, 0.0);
+        let s = a.to_sparse();
+        let b: Vec<f64> = (0..n).map(|i| ((i * 7) % 5) as f64 - 2.0).collect();
+        let pre = Jacobi::new(s.as_ref()).unwrap();
+        let (x, run) = cg(s.as_ref(), &pre, &b, 1e-10, 1000);
+        assert!(run.converged);
+        assert!(residual(&a, &x, &b) <= 1e-9, "{}", residual(&a, &x, &b));
+        // In exact arithmetic CG ends by n steps; Jacobi is I/2 here.
+        assert!(run.iterations <= n + 5, "{}", run.iterations);
+        let h = std::f64::consts::PI / (n + 1) as f64;
+        let (lo, hi) = ((2.0 - 2.0 * h.cos()) / 2.0, (2.0 + 2.0 * h.cos()) / 2.0);
+        let (elo, ehi) = run.spectrum.unwrap();
+        assert!((elo - lo).abs() <= 1e-6 * lo, "{elo} vs {lo}");
+        assert!((ehi - hi).abs() <= 1e-9 * hi, "{ehi} vs {hi}");
+    }
+
+    #[test]
+    fn cg_stops_at_the_limit_unconverged_and_at_zero_rhs_at_once() {
+        let a = laplacian(40, 1e8).to_sparse();
+        let pre = Jacobi::new(a.as_ref()).unwrap();
+        let b = vec![1.0; 40];
+        let (_, run) = cg(a.as_ref(), &pre, &b, 1e-14, 3);
+        assert!(!run.converged);
+        assert_eq!(run.iterations, 3);
+        let (x, run) = cg(a.as_ref(), &pre, &[0.0; 40], 1e-8, 10);
+        assert!(run.converged && run.iterations == 0 && x.iter().all(|&v| v == 0.0));
+    }
+
+    #[test]
+    fn minres_solves_a_saddle_point() {
+        // [K d; dᵀ 0] with K the Laplacian, d = e_3.
+        let n = 20;
+        let mut t = Vec::new();
+        laplacian(n, 0.0).for_each_entry(|i, j, v| t.push((i, j, v)));
+        t.push((3, n, 1.0));
+        t.push((n, 3, 1.0));
+        let a = Stiffness::from_triplets(n + 1, &t).unwrap();
+        let s = a.to_sparse();
+        let mut inv = vec![0.5; n + 1];
+        inv[n] = 2.0; // (dᵀ diag(K)⁻¹ d)⁻¹
+        let pre = Jacobi::from_inverse_diagonal(inv).unwrap();
+        let b: Vec<f64> = (0..=n).map(|i| (i % 3) as f64 - 0.7).collect();
+        let (x, run) = minres(s.as_ref(), &pre, &b, 1e-12, 500);
+        assert!(run.converged, "{run:?}");
+        assert!(residual(&a, &x, &b) <= 1e-10, "{}", residual(&a, &x, &b));
+    }
+
+    #[test]
+    fn tridiagonal_ends_of_a_known_matrix() {
+        // tridiag(−1, 2, −1) of size 7: 2 − 2cos(kπ/8).
+        let (lo, hi) = tridiagonal_ends(&[2.0; 7], &[-1.0; 6]);
+        let h = std::f64::consts::PI / 8.0;
+        assert!((lo - (2.0 - 2.0 * h.cos())).abs() <= 1e-14);
+        assert!((hi - (2.0 + 2.0 * h.cos())).abs() <= 1e-14);
+    }
+}

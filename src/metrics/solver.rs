@@ -1,0 +1,418 @@
+//! What the final linear system costs a solver: the digits a direct solve loses and the
+//! iterations a preconditioned Krylov solver needs (issue 47).
+//!
+//! **The final system** `A x = b` is the one whose solution the strategy reports:
+//! - penalties: `A = K + D E Dᵀ`, `b = q + D(E û − λ)` with `λ_c = r_c − ε_c g_c` the part of
+//!   the contact force that is not `ε_c g_c` (zero for the pure penalties; the multiplier
+//!   estimate of `augmented`; the barrier's force offset at its last Newton point), so that
+//!   `K u + D r = q` is its solution;
+//! - `lagrange`: `A = [K D_A; D_Aᵀ 0]`, `b = [q; û_A]`, `x = [u; r_A]`.
+//!
+//! **Metrics** (all on that stored A and b):
+//! - `cond2_jacobi`: cond₂(S A S), `S = diag(A)^{−1/2}`, by the cond₂ routes of the
+//!   accuracy contract (proven brackets). For the saddle point diag(A) vanishes on the
+//!   multiplier block; there `S_λc = diag(K)_{d_c}^{1/2}` (Jacobi on u, and on λ the scaling
+//!   that keeps each coupling entry exactly 1), i.e. the matrix `[S K S, D_A; D_Aᵀ, 0]`;
+//! - `pcg_iters_jacobi`, `pcg_iters_ic0`: CG from x₀ = 0 to `‖r‖₂ ≤ τ‖b‖₂`
+//!   ([`crate::linalg::krylov::cg`], SciPy's test), preconditioned by Jacobi and by IC(0) on
+//!   A's pattern ([`crate::linalg::precond::Ic0`], with its Manteuffel shift recorded), each
+//!   with the effective condition number of the preconditioned operator estimated from the
+//!   run's Lanczos coefficients (an estimate); penalties only (A is SPD);
+//! - `minres_iters` (`lagrange`): MINRES from x₀ = 0 to `‖r‖_{M⁻¹} ≤ τ‖b‖_{M⁻¹}` with the
+//!   block-diagonal SPD preconditioner `M = diag(diag(K), D_Aᵀ diag(K)⁻¹ D_A)` (Jacobi on K,
+//!   the diagonal approximation of the Schur complement on the multipliers);
+//! - `forward_err_u`, `forward_err_force`: `‖x̂ − x*‖∞/‖x*‖∞` of the plain f64 direct solve x̂
+//!   (Cholesky, or LU for the saddle point; not refined) against the reference x* of
+//!   [`crate::linalg::refine`] (double-double residuals; its estimated accuracy is
+//!   `reference_accuracy`), for u and for the contact forces r (multipliers for `lagrange`);
+//! - `backward_err`: the normwise backward error of x̂ (Rigal & Gaches 1967),
+//!   `‖b − A x̂‖∞ / (‖A‖∞‖x̂‖∞ + ‖b‖∞)`, residual in double-double;
+//! - `eps_cond2`, `eps_cond2_jacobi`: `ε_mach·cond₂` of A and of S A S, the first-order bounds
+//!   the forward error is set beside.
+//!
+//! When to use: to compare penalty rules by what a user pays rather than by raw cond₂ (a
+//! diagonal preconditioner removes most of a penalty's effect on cond₂; van der Sluis).
+
+use super::{cond_of_system, system_matrix};
+use crate::conditioning::CondReport;
+use crate::dd::Dd;
+use crate::error::{Error, Result};
+use crate::linalg::krylov::{self, KrylovRun};
+use crate::linalg::precond::{Ic0, Jacobi};
+use crate::linalg::{refine, Factorization};
+use crate::strategy::{Solution, SystemKind};
+use crate::system::{Problem, Stiffness};
+use serde::Serialize;
+use std::time::Instant;
+
+/// The default relative residual τ of the Krylov runs.
+pub const DEFAULT_TOL: f64 = 1e-8;
+
+/// Options of [`compute`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SolverOptions {
+    /// τ: the Krylov runs stop at `‖r‖ ≤ τ‖b‖` (module doc).
+    pub tol: f64,
+    /// Iteration limit of each Krylov run (`None`: 10·N, SciPy's default).
+    pub max_iters: Option<usize>,
+    /// Relative accuracy asked of `cond2_jacobi` (`None`: the accuracy contract).
+    pub cond_tol: Option<f64>,
+}
+
+impl Default for SolverOptions {
+    fn default() -> Self {
+        SolverOptions {
+            tol: DEFAULT_TOL,
+            max_iters: None,
+            cond_tol: None,
+        }
+    }
+}
+
+impl SolverOptions {
+    /// Checks τ ∈ (0, 1) and a positive iteration limit.
+    pub fn check(&self) -> Result<()> {
+        if !(self.tol.is_finite() && self.tol > 0.0 && self.tol < 1.0) {
+            return Err(Error::input(format!(
+                "Krylov tolerance {} is not in (0, 1)",
+                self.tol
+            )));
+        }
+        if self.max_iters == Some(0) {
+            return Err(Error::input("the Krylov iteration limit must be positive"));
+        }
+        super::MetricSet::check_cond_tol(self.cond_tol)
+    }
+}
+
+/// One Krylov run as reported.
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct IterativeSolve {
+    /// Statistics of the run.
+    pub run: KrylovRun,
+    /// Wall time (s).
+    pub seconds: f64,
+}
+
+/// The solver-cost metrics of one final system (module doc); `None` where a metric does not
+/// apply or could not be computed (the reason in `unavailable`).
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct SolverMetrics {
+    /// τ of the Krylov runs.
+    pub tol: f64,
+    /// cond₂(S A S).
+    pub cond2_jacobi: Option<CondReport>,
+    /// CG with Jacobi (penalties).
+    pub pcg_jacobi: Option<IterativeSolve>,
+    /// CG with IC(0) (penalties).
+    pub pcg_ic0: Option<IterativeSolve>,
+    /// IC(0)'s diagonal shift α (`A + α·diag(A)` factored; 0: none needed).
+    pub ic0_shift: Option<f64>,
+    /// MINRES with the block-diagonal preconditioner (`lagrange`).
+    pub minres: Option<IterativeSolve>,
+    /// Relative ∞-norm error of the direct solve's u.
+    pub forward_err_u: Option<f64>,
+    /// Relative ∞-norm error of the direct solve's contact forces.
+    pub forward_err_force: Option<f64>,
+    /// Normwise backward error of the direct solve.
+    pub backward_err: Option<f64>,
+    /// Estimated relative accuracy of the reference solution.
+    pub reference_accuracy: Option<f64>,
+    /// Refinement steps of the reference.
+    pub refinement_steps: Option<usize>,
+    /// Wall time of the direct solve (factorization and one solve; s).
+    pub seconds_direct: Option<f64>,
+    /// Metrics not computed, with the reason.
+    pub unavailable: Vec<String>,
+    /// x̂: the plain direct solve the forward and backward errors measure (empty when it
+    /// failed; not serialized).
+    #[serde(skip)]
+    pub x_direct: Vec<f64>,
+}
+
+/// The final linear system of a solution (module doc).
+#[derive(Clone, Debug)]
+pub struct FinalSystem {
+    /// A.
+    pub a: Stiffness,
+    /// b.
+    pub b: Vec<f64>,
+    /// λ_c of the module doc per constraint (penalties; empty for `lagrange`).
+    pub offsets: Vec<f64>,
+}
+
+/// The final system `A x = b` of `sol` (module doc).
+pub fn final_system(problem: &Problem, sol: &Solution) -> FinalSystem {
+    let a = system_matrix(problem, sol);
+    match &sol.system {
+        SystemKind::Penalized => {
+            let mut b = problem.q.clone();
+            let mut offsets = vec![0.0; problem.m()];
+            for (c, con) in problem.constraints.iter().enumerate() {
+                let (e, r, g) = (sol.penalties[c], sol.forces[c], sol.gaps[c]);
+                offsets[c] = r - e * g;
+                if e != 0.0 || offsets[c] != 0.0 {
+                    b[con.dof] += e * con.limit - offsets[c];
+                }
+            }
+            FinalSystem { a, b, offsets }
+        }
+        SystemKind::SaddlePoint { active } => {
+            let mut b = problem.q.clone();
+            b.extend(active.iter().map(|&c| problem.constraints[c].limit));
+            FinalSystem {
+                a,
+                b,
+                offsets: Vec::new(),
+            }
+        }
+    }
+}
+
+/// Contact forces of a solution x of the final system, in double-double: penalties
+/// `ε_c (x_{d_c} − û_c) + λ_c`, multipliers `x_{N+j}` for `lagrange` (0 where inactive).
+fn forces_of(problem: &Problem, sol: &Solution, fs: &FinalSystem, x: &[Dd]) -> Vec<Dd> {
+    let n = problem.n();
+    match &sol.system {
+        SystemKind::Penalized => problem
+            .constraints
+            .iter()
+            .enumerate()
+            .map(|(c, con)| {
+                let g = x[con.dof] - Dd::from_f64(con.limit);
+                Dd::from_f64(sol.penalties[c]) * g + Dd::from_f64(fs.offsets[c])
+            })
+            .collect(),
+        SystemKind::SaddlePoint { active } => {
+            let mut f = vec![Dd::ZERO; problem.m()];
+            for (j, &c) in active.iter().enumerate() {
+                f[c] = x[n + j];
+            }
+            f
+        }
+    }
+}
+
+/// `ε_mach·cond₂` of a report, when finite.
+pub fn eps_cond(c: Option<&CondReport>) -> Option<f64> {
+    c.map(|c| c.cond2 * f64::EPSILON).filter(|v| v.is_finite())
+}
+
+/// Computes the solver-cost metrics of `sol`'s final system (module doc).
+pub fn compute(problem: &Problem, sol: &Solution, opts: SolverOptions) -> Result<SolverMetrics> {
+    opts.check()?;
+    let fs = final_system(problem, sol);
+    let mut out = SolverMetrics {
+        tol: opts.tol,
+        ..SolverMetrics::default()
+    };
+    out.cond2_jacobi = cond_jacobi(problem, sol, &fs.a, opts.cond_tol, &mut out.unavailable)?;
+    let sparse = fs.a.to_sparse();
+    let max_iters = opts.max_iters.unwrap_or(10 * fs.b.len().max(1));
+    let timed = |f: &dyn Fn() -> KrylovRun| {
+        let t = Instant::now();
+        let run = f();
+        IterativeSolve {
+            run,
+            seconds: t.elapsed().as_secs_f64(),
+        }
+    };
+    match &sol.system {
+        SystemKind::Penalized => {
+            match Jacobi::new(sparse.as_ref()) {
+                Ok(m) => {
+                    out.pcg_jacobi = Some(timed(&|| {
+                        krylov::cg(sparse.as_ref(), &m, &fs.b, opts.tol, max_iters).1
+                    }))
+                }
+                Err(e) => out
+                    .unavailable
+                    .push(format!("pcg (Jacobi): {}", e.bare_message())),
+            }
+            match Ic0::new(sparse.as_ref()) {
+                Ok(m) => {
+                    out.ic0_shift = Some(m.shift);
+                    out.pcg_ic0 = Some(timed(&|| {
+                        krylov::cg(sparse.as_ref(), &m, &fs.b, opts.tol, max_iters).1
+                    }))
+                }
+                Err(e) => out
+                    .unavailable
+                    .push(format!("pcg (IC(0)): {}", e.bare_message())),
+            }
+        }
+        SystemKind::SaddlePoint { active } => match saddle_preconditioner(problem, active) {
+            Ok(m) => {
+                out.minres = Some(timed(&|| {
+                    krylov::minres(sparse.as_ref(), &m, &fs.b, opts.tol, max_iters).1
+                }))
+            }
+            Err(e) => out
+                .unavailable
+                .push(format!("minres: {}", e.bare_message())),
+        },
+    }
+    direct_errors(problem, sol, &fs, &mut out)?;
+    Ok(out)
+}
+
+/// `M⁻¹` of the MINRES preconditioner (module doc): `1/K_ii` on u, `K_{d_c d_c}` on λ_c.
+fn saddle_preconditioner(problem: &Problem, active: &[usize]) -> Result<Jacobi> {
+    let n = problem.n();
+    let mut inv: Vec<f64> = (0..n).map(|i| 1.0 / problem.k.diag(i)).collect();
+    inv.extend(
+        active
+            .iter()
+            .map(|&c| problem.k.diag(problem.constraints[c].dof)),
+    );
+    Jacobi::from_inverse_diagonal(inv)
+}
+
+/// cond₂ of the Jacobi-scaled system (module doc).
+fn cond_jacobi(
+    problem: &Problem,
+    sol: &Solution,
+    a: &Stiffness,
+    tol: Option<f64>,
+    unavailable: &mut Vec<String>,
+) -> Result<Option<CondReport>> {
+    let n = problem.n();
+    let diag: Vec<f64> = (0..a.n()).map(|i| a.diag(i)).collect();
+    if let Some(i) = diag[..n].iter().position(|&d| !(d > 0.0 && d.is_finite())) {
+        unavailable.push(format!(
+            "cond2_jacobi not computed: diagonal entry {i} of the system matrix is {}",
+            diag[i]
+        ));
+        return Ok(None);
+    }
+    let s: Vec<f64> = diag[..n].iter().map(|d| 1.0 / d.sqrt()).collect();
+    let scaled_k = problem.k.scaled(&s);
+    match &sol.system {
+        SystemKind::Penalized => {
+            let scaled = a.scaled(&s);
+            cond_of_system(problem, &sol.system, &scaled, None, None, tol, unavailable)
+        }
+        SystemKind::SaddlePoint { active } => {
+            let p = Problem::new(scaled_k, problem.q.clone(), problem.constraints.clone())?;
+            let sys = crate::strategy::lagrange::saddle_matrix(&p, active);
+            cond_of_system(&p, &sol.system, &sys, None, None, tol, unavailable)
+        }
+    }
+}
+
+/// The direct solve's forward and backward errors against the refined reference.
+fn direct_errors(
+    problem: &Problem,
+    sol: &Solution,
+    fs: &FinalSystem,
+    out: &mut SolverMetrics,
+) -> Result<()> {
+    let t = Instant::now();
+    let fresh;
+    let factor = match (&sol.system, sol.factor.as_deref()) {
+        (SystemKind::Penalized, Some(f)) => f,
+        _ => match Factorization::new(&fs.a, fs.a.is_symmetric()) {
+            Ok(f) => {
+                fresh = f;
+                &fresh
+            }
+            Err(e) => {
+                out.unavailable.push(format!(
+                    "forward/backward errors not computed: {}",
+                    e.bare_message()
+                ));
+                return Ok(());
+            }
+        },
+    };
+    let x = factor.solve(&fs.b);
+    out.seconds_direct = Some(t.elapsed().as_secs_f64());
+    let r = refine::residual_dd(
+        &fs.a,
+        &x.iter().map(|&v| Dd::from_f64(v)).collect::<Vec<_>>(),
+        &fs.b,
+    );
+    let inf = |v: &mut dyn Iterator<Item = f64>| v.fold(0.0f64, |m, x| m.max(x.abs()));
+    let rn = inf(&mut r.iter().map(|v| v.to_f64()));
+    let den = fs.a.inf_norm() * inf(&mut x.iter().copied()) + inf(&mut fs.b.iter().copied());
+    out.backward_err = Some(if den > 0.0 { rn / den } else { rn });
+    let reference = refine::refine(&fs.a, &fs.b, factor, &x);
+    out.x_direct = x.clone();
+    out.refinement_steps = Some(reference.steps);
+    out.reference_accuracy = Some(reference.accuracy);
+    if !reference.converged {
+        out.unavailable.push(format!(
+            "forward errors not computed: the reference did not converge (estimated accuracy {:.1e} after {} refinement steps; cond₂ too large for f64 corrections)",
+            reference.accuracy, reference.steps
+        ));
+        return Ok(());
+    }
+    let n = problem.n();
+    out.forward_err_u = Some(refine::relative_error_dd(&x[..n], &reference.x[..n]));
+    let xd: Vec<Dd> = x.iter().map(|&v| Dd::from_f64(v)).collect();
+    let f_hat: Vec<f64> = forces_of(problem, sol, fs, &xd)
+        .iter()
+        .map(|v| v.to_f64())
+        .collect();
+    let f_ref = forces_of(problem, sol, fs, &reference.x);
+    out.forward_err_force = Some(refine::relative_error_dd(&f_hat, &f_ref));
+    Ok(())
+}
+
+fn finite(x: Option<f64>) -> serde_json::Value {
+    match x {
+        Some(v) if v.is_finite() => serde_json::json!(v),
+        _ => serde_json::Value::Null,
+    }
+}
+
+impl SolverMetrics {
+    /// The flat fields under which `solve --json` (and every study that records these
+    /// metrics) reports them; `null` where not computed. `eps_cond2` needs the system's
+    /// cond₂, computed elsewhere (`cond2_system`).
+    pub fn json_fields(
+        &self,
+        cond2_system: Option<&CondReport>,
+    ) -> serde_json::Map<String, serde_json::Value> {
+        use serde_json::json;
+        let j = self.cond2_jacobi.as_ref();
+        let run = |s: &Option<IterativeSolve>| s.as_ref().map(|s| s.run);
+        let (pj, pi, mr) = (run(&self.pcg_jacobi), run(&self.pcg_ic0), run(&self.minres));
+        let both = match (pj, pi) {
+            (Some(a), Some(b)) => Some(a.converged && b.converged),
+            _ => None,
+        };
+        let fields = json!({
+            "cond2_jacobi": finite(j.map(|c| c.cond2)),
+            "cond2_jacobi_lo": finite(j.map(|c| c.cond2_lo)),
+            "cond2_jacobi_hi": finite(j.map(|c| c.cond2_hi)),
+            "cond_route_jacobi": j.map(|c| c.route.name()),
+            "eps_cond2": finite(eps_cond(cond2_system)),
+            "eps_cond2_jacobi": finite(eps_cond(j)),
+            "krylov_tol": self.tol,
+            "pcg_iters_jacobi": pj.map(|r| r.iterations),
+            "pcg_converged_jacobi": pj.map(|r| r.converged),
+            "pcg_cond_eff_jacobi": finite(pj.and_then(|r| r.effective_cond())),
+            "pcg_seconds_jacobi": self.pcg_jacobi.map(|s| s.seconds),
+            "pcg_iters_ic0": pi.map(|r| r.iterations),
+            "pcg_converged_ic0": pi.map(|r| r.converged),
+            "pcg_cond_eff_ic0": finite(pi.and_then(|r| r.effective_cond())),
+            "pcg_seconds_ic0": self.pcg_ic0.map(|s| s.seconds),
+            "ic0_shift": self.ic0_shift,
+            "pcg_converged": both,
+            "minres_iters": mr.map(|r| r.iterations),
+            "minres_converged": mr.map(|r| r.converged),
+            "minres_seconds": self.minres.map(|s| s.seconds),
+            "forward_err_u": finite(self.forward_err_u),
+            "forward_err_force": finite(self.forward_err_force),
+            "backward_err": finite(self.backward_err),
+            "reference_accuracy": finite(self.reference_accuracy),
+            "refinement_steps": self.refinement_steps,
+            "seconds_direct": self.seconds_direct,
+        });
+        match fields {
+            serde_json::Value::Object(m) => m,
+            _ => unreachable!("a JSON object literal"),
+        }
+    }
+}

@@ -1,0 +1,148 @@
+//! The solver-cost metrics of `solve` (issue 47) against references from outside this
+//! project's code: `tests/data/solver_cost/reference.json`, made by
+//! `scripts/solver_cost_reference.py` from the final systems `solve --write-system` wrote for
+//! the cases of `cases.json` (five scenes of the sweep families beam, flat-punch, membrane and
+//! spectrum, seed 2011 of `sweep --write-scenes`; scaled at f = 100 and 1e8, condensed,
+//! augmented, lagrange):
+//!
+//! - `cond2_jacobi` against NumPy's `cond(S A S, 2)` (LAPACK SVD): within the accuracy
+//!   contract, the sum of ours and NumPy's allowance `max(1e-12, 4·ε_mach·cond₂)` each;
+//! - `pcg_iters_jacobi` against SciPy's `cg` (same preconditioner, x₀ = 0, rtol = τ): within
+//!   ±2 iterations or 5 %, and the same verdict on convergence;
+//! - `pcg_iters_ic0` against SciPy's `cg` with the script's own IC(0): the same tolerance, and
+//!   the same Manteuffel shift;
+//! - `forward_err_u`, `forward_err_force` against the error of the same x̂ measured by
+//!   mpmath's LU solve at 50 digits: within a factor 2 where it exceeds 1e-15.
+
+use penalty_lab::metrics::solver::SolverOptions;
+use penalty_lab::strategy::Knobs;
+use penalty_lab::study::solve::{solve_scene, SolveOptions};
+use serde::Deserialize;
+use serde_json::Value;
+
+#[derive(Deserialize)]
+struct Reference {
+    tau: f64,
+    cases: Vec<Case>,
+}
+
+#[derive(Deserialize)]
+struct Case {
+    scene: String,
+    method: String,
+    args: Vec<String>,
+    cond2_jacobi: f64,
+    pcg_iters_jacobi: Option<usize>,
+    pcg_converged_jacobi: Option<bool>,
+    pcg_iters_ic0: Option<usize>,
+    pcg_converged_ic0: Option<bool>,
+    ic0_shift: Option<f64>,
+    forward_err_u: f64,
+    forward_err_force: f64,
+}
+
+fn knobs(args: &[String]) -> Knobs {
+    let mut k = Knobs::NONE;
+    for pair in args.chunks(2) {
+        let v: f64 = pair[1].parse().unwrap();
+        match pair[0].as_str() {
+            "--factor" => k.factor = Some(v),
+            "--delta" => k.delta = Some(v),
+            "--eps" => k.eps = Some(v),
+            other => panic!("unexpected flag {other}"),
+        }
+    }
+    k
+}
+
+fn iterations_agree(ours: &Value, reference: Option<usize>) -> bool {
+    match (ours.as_u64(), reference) {
+        (Some(a), Some(b)) => {
+            let (a, b) = (a as f64, b as f64);
+            (a - b).abs() <= 2.0_f64.max(0.05 * b)
+        }
+        (None, None) => true,
+        _ => false,
+    }
+}
+
+fn error_agrees(ours: &Value, reference: f64) -> bool {
+    if reference <= 1e-15 {
+        return true;
+    }
+    let r = ours.as_f64().unwrap_or(f64::NAN) / reference;
+    (0.5..=2.0).contains(&r)
+}
+
+#[test]
+fn solver_cost_metrics_agree_with_numpy_scipy_and_mpmath() {
+    let dir = super::cond_reference::data_dir("solver_cost");
+    let text = std::fs::read_to_string(dir.join("reference.json")).unwrap();
+    let reference: Reference = serde_json::from_str(&text).unwrap();
+    assert_eq!(reference.cases.len(), 25);
+    let mut failures = Vec::new();
+    for c in &reference.cases {
+        let opts = SolveOptions {
+            krylov: SolverOptions {
+                tol: reference.tau,
+                ..SolverOptions::default()
+            },
+            ..SolveOptions::default()
+        };
+        let out = solve_scene(&dir.join(&c.scene), &c.method, knobs(&c.args), &opts).unwrap();
+        let what = format!("{} {} {:?}", c.scene, c.method, c.args);
+        let cond = out["cond2_jacobi"].as_f64().unwrap();
+        let allowance = 2.0 * 1e-12f64.max(4.0 * f64::EPSILON * c.cond2_jacobi);
+        if (cond - c.cond2_jacobi).abs() > allowance * c.cond2_jacobi {
+            failures.push(format!(
+                "{what}: cond2_jacobi {cond} vs NumPy {}",
+                c.cond2_jacobi
+            ));
+        }
+        for (key, r, conv_key, conv) in [
+            (
+                "pcg_iters_jacobi",
+                c.pcg_iters_jacobi,
+                "pcg_converged_jacobi",
+                c.pcg_converged_jacobi,
+            ),
+            (
+                "pcg_iters_ic0",
+                c.pcg_iters_ic0,
+                "pcg_converged_ic0",
+                c.pcg_converged_ic0,
+            ),
+        ] {
+            if !iterations_agree(&out[key], r) || out[conv_key].as_bool() != conv {
+                failures.push(format!(
+                    "{what}: {key} {} ({}) vs SciPy {r:?} ({conv:?})",
+                    out[key], out[conv_key]
+                ));
+            }
+        }
+        if out["ic0_shift"].as_f64() != c.ic0_shift {
+            failures.push(format!(
+                "{what}: ic0_shift {} vs {:?}",
+                out["ic0_shift"], c.ic0_shift
+            ));
+        }
+        for (key, r) in [
+            ("forward_err_u", c.forward_err_u),
+            ("forward_err_force", c.forward_err_force),
+        ] {
+            if !error_agrees(&out[key], r) {
+                failures.push(format!("{what}: {key} {} vs mpmath {r:e}", out[key]));
+            }
+        }
+        // Lagrange runs MINRES instead of CG; it converges within 10·N iterations except on
+        // the graded spectrum scene (cond₂ ≈ 6.5e7 after scaling, where Jacobi-CG on the
+        // penalized systems does not converge within 10·N either, in SciPy as here).
+        if c.method == "lagrange" {
+            let expected = !c.scene.contains("spectrum");
+            assert_eq!(out["minres_converged"], Value::Bool(expected), "{what}");
+            assert!(out["minres_iters"].as_u64().unwrap() > 0, "{what}");
+            assert!(out["pcg_iters_jacobi"].is_null(), "{what}");
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
