@@ -13,5 +13,6 @@ cargo run --release --bin stress -- --out figures/stress
 cargo run --release --bin runtime_vs_error -- --out figures/runtime_vs_error
 cargo run --release --bin cond_cost -- --out figures/cond_cost
 cargo run --release --bin cond_accuracy -- --out figures/cond_accuracy
+cargo run --release --bin solver_cost -- --out figures/solver_cost   # ≈ 2 min on 2 cores
 cargo run --release --bin contact_bench -- --out figures/contact_bench --optimal-max-n 6000   # ≈ 1.6 h on 2 cores
 cargo run --release --bin engine_scale -- --sizes 10000,100000,1000000 --out figures/engine_scale

@@ -5,7 +5,9 @@ linear system exactly as `solve --write-system DIR` writes it (A.mtx, b.mtx, x_h
 For each case (a scene and a method with its knobs) it runs `solve --json --write-system` and
 computes, without any of penalty-lab's code:
 
-- cond2_jacobi: NumPy's cond(S A S, 2) (LAPACK SVD), S = diag(A)^(-1/2); for a saddle point
+- cond2_jacobi: NumPy's cond(S A S, 2) (LAPACK SVD), S = diag(A)^(-1/2), each entry rounded
+  as (s_k a_ij) s_l with k = max(i, j), l = min(i, j) (an exactly symmetric matrix); for a
+  saddle point
   [K D; D^T 0] the matrix [S K S, D; D^T, 0] (Jacobi on u; the multiplier scaling that keeps
   the coupling entries 1), as `metrics::solver` defines it;
 - pcg_iters_jacobi: SciPy's `cg` with M^-1 = diag(A)^-1, x0 = 0, rtol = tau, atol = 0,
@@ -53,7 +55,10 @@ def jacobi_scaled(a, n_u):
     d = np.diag(a)[:n_u]
     s = 1.0 / np.sqrt(d)
     out = a.copy()
-    out[:n_u, :n_u] = a[:n_u, :n_u] * s[:, None] * s[None, :]
+    # (s_k a_ij) s_l with k = max(i, j), l = min(i, j): the lower triangle's (s_i a_ij) s_j,
+    # mirrored, as the library rounds it (an exactly symmetric S A S).
+    lower = np.tril(a[:n_u, :n_u] * s[:, None] * s[None, :])
+    out[:n_u, :n_u] = lower + np.tril(lower, -1).T
     # The coupling block of a saddle point: entries are 1 and stay 1.
     assert n == n_u or np.all((a[:n_u, n_u:] == 0) | (a[:n_u, n_u:] == 1))
     return out

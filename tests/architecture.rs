@@ -26,6 +26,7 @@ const STUDY_SUPPORT: &[&str] = &[
     "study::forming_runs",
     "study::shape",
     "study::grid",
+    "study::hertz",
 ];
 
 fn layer(module: &str) -> Option<usize> {

@@ -12,8 +12,8 @@
 //! reference's relative error (an overestimate once the steps contract), and
 //! [`Refined::converged`] says it is ≤ 10⁻²⁰.
 //!
-//! Tested against exact solutions of integer systems (`tests`) and against an independent
-//! double-double LU (`tests/verification/solver_cost.rs`).
+//! Tested against exact solutions of integer systems (`tests`) and, through the forward errors
+//! it measures, against mpmath's LU solve at 50 digits (`tests/verification/solver_cost.rs`).
 
 use super::Factorization;
 use crate::dd::Dd;

@@ -228,16 +228,23 @@ impl Stiffness {
             .collect()
     }
 
-    /// `S A S` with `S = diag(s)`, in the same storage.
+    /// `S A S` with `S = diag(s)`, in the same storage. Each entry is rounded as
+    /// `(s_k · a_ij) · s_l` with k = max(i, j), l = min(i, j) — the lower triangle's
+    /// `(s_i·a_ij)·s_j`, mirrored — so that a symmetric A gives an exactly symmetric result
+    /// (`(s_i·a_ij)·s_j` everywhere rounds a_ij and a_ji differently); exact for powers of two.
     pub fn scaled(&self, s: &[f64]) -> Stiffness {
+        let entry = |i: usize, j: usize, v: f64| {
+            let (k, l) = if i >= j { (i, j) } else { (j, i) };
+            s[k] * v * s[l]
+        };
         match self {
             Stiffness::Dense(m) => {
                 let n = m.nrows();
-                Stiffness::Dense(Mat::from_fn(n, n, |i, j| s[i] * m[(i, j)] * s[j]))
+                Stiffness::Dense(Mat::from_fn(n, n, |i, j| entry(i, j, m[(i, j)])))
             }
             Stiffness::Sparse(_) => {
                 let mut t = Vec::with_capacity(self.nnz());
-                self.for_each_entry(|i, j, v| t.push((i, j, s[i] * v * s[j])));
+                self.for_each_entry(|i, j, v| t.push((i, j, entry(i, j, v))));
                 Stiffness::from_triplets(self.n(), &t).expect("same pattern")
             }
         }

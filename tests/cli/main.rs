@@ -14,6 +14,7 @@ mod paper_beam_cli;
 mod plot_smoke;
 mod runtime_vs_error_cli;
 mod solve_cli;
+mod solver_cost_cli;
 mod study_entry;
 mod sweep_config_errors;
 mod sweep_figures;

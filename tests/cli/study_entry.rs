@@ -101,6 +101,19 @@ fn binaries() -> Vec<Entry> {
             false,
         ),
         (
+            "solver_cost",
+            env!("CARGO_BIN_EXE_solver_cost"),
+            vec![
+                "--families",
+                "beam",
+                "--levels",
+                "2",
+                "--methods",
+                "constant",
+            ],
+            false,
+        ),
+        (
             "stress",
             env!("CARGO_BIN_EXE_stress"),
             vec!["--families", "none", "--eps", "1:1e4:3"],

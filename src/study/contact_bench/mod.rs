@@ -36,7 +36,7 @@
 //! per decade where a rule crosses it ([`refinement_jobs`]), with each winner's grid
 //! resolution and ties; each mesh's [`Floor`] says how far below that any penalties could go.
 
-pub mod analytic;
+pub use crate::study::hertz as analytic;
 mod cli;
 pub mod domain;
 pub mod figures;
@@ -58,7 +58,7 @@ pub use record::{
 
 use crate::error::{Error, Result};
 use crate::metrics::{self, MetricSet};
-use crate::model::elasticity::{self, Base, Grid, Indentation, Material};
+use crate::model::elasticity::{Grid, Indentation};
 use crate::progress::Progress;
 use crate::strategy::force_control::{solve_at_load, Loaded, FORCE_TOL};
 use crate::strategy::{self, registry, Method};
@@ -140,10 +140,7 @@ fn default_block() -> f64 {
 
 /// Default Hertz block size over a: the model of the half-space ([`domain`]).
 pub const BLOCK_OVER_A: f64 = 16.0;
-/// Geometric growth of the elements away from the contact zone.
-pub const GROWTH: f64 = 1.2;
-/// Uniform-size zone of the mesh, over a: the contact zone and a margin.
-pub const FINE_OVER_A: f64 = 1.5;
+pub use analytic::{FINE_OVER_A, GROWTH};
 
 impl BenchConfig {
     /// The length δ, d̂ and the augmented tolerance are relative to on `case`: the Hertz
@@ -204,36 +201,23 @@ impl BenchConfig {
         Ok(())
     }
 
+    /// The cases' material and geometry.
+    pub fn setup(&self) -> analytic::Setup {
+        analytic::Setup {
+            young: self.young,
+            poisson: self.poisson,
+            radius: self.radius,
+            a_target: self.a_target,
+        }
+    }
+
     fn e_star(&self) -> f64 {
-        self.young / (1.0 - self.poisson * self.poisson)
+        self.setup().e_star()
     }
 
     /// The case's load P and analytic solution.
     pub fn exact(&self, case: Case) -> (f64, Exact) {
-        let (a, r, es) = (self.a_target, self.radius, self.e_star());
-        match case {
-            Case::HertzPlane | Case::HertzAxi => {
-                let p = case.geometry().hertz_load(a, r, es);
-                (p, Exact::hertz(case.geometry(), p, r, es))
-            }
-            Case::FlatPunch => {
-                // Uniform pressure 1e-3·E* on the top of an a × a block (half model).
-                let half = self.punch_half_width();
-                let p0 = 1e-3 * es;
-                (
-                    2.0 * half * p0,
-                    Exact {
-                        a: half,
-                        p0,
-                        hertzian: false,
-                    },
-                )
-            }
-        }
-    }
-
-    fn punch_half_width(&self) -> f64 {
-        self.a_target
+        self.setup().exact(case)
     }
 
     /// The mesh of `case` at relative size `h_rel`.
@@ -244,33 +228,13 @@ impl BenchConfig {
     /// The mesh of `case` at relative size `h_rel` on a Hertz block of `block`·a (the flat
     /// punch's block is a × a whatever `block`).
     pub fn grid_sized(&self, case: Case, h_rel: f64, block: f64) -> Result<Grid> {
-        let a = self.a_target;
-        match case {
-            Case::FlatPunch => {
-                let w = self.punch_half_width();
-                Grid::graded(w, w, h_rel * self.a_target, w, 1.0)
-            }
-            _ => Grid::graded(block * a, block * a, h_rel * a, FINE_OVER_A * a, GROWTH),
-        }
+        self.setup().grid(case, h_rel, block)
     }
 
     /// The contact scene of `case` on `grid` with base lift `lift`, with its contact surface
     /// ([`Indentation::with_surface`]).
     pub fn scene(&self, case: Case, grid: &Grid, lift: f64) -> Result<Indentation> {
-        let mat = Material {
-            young: self.young,
-            poisson: self.poisson,
-        };
-        let r = self.radius;
-        let scene = match case {
-            Case::FlatPunch => {
-                elasticity::indentation(grid, case.geometry(), &mat, Base::Sliding, lift, |_| 0.0)
-            }
-            _ => elasticity::indentation(grid, case.geometry(), &mat, Base::Clamped, lift, |x| {
-                x * x / (2.0 * r)
-            }),
-        }?;
-        scene.with_surface(grid)
+        self.setup().scene(case, grid, lift)
     }
 }
 
@@ -499,11 +463,7 @@ impl Prepared {
     ) -> Result<Prepared> {
         let (load, exact) = cfg.exact(case);
         let grid = cfg.grid_sized(case, h_rel, block)?;
-        // Half-space indentation a²/R as the first guess (the flat punch: p̄H/E*).
-        let guess = match case {
-            Case::FlatPunch => exact.p0 * grid.height() / cfg.e_star(),
-            _ => cfg.a_target * cfg.a_target / cfg.radius,
-        };
+        let guess = cfg.setup().lift_guess(case, &grid);
         let lagrange = solve_at_load(
             case.name(),
             |w| cfg.scene(case, &grid, w),

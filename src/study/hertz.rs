@@ -1,5 +1,6 @@
-//! The analytic references of the contact benchmarks and the pressure measures compared with
-//! them.
+//! The contact benchmarks' cases (Hertz plane and axisymmetric, the flat punch), their meshes
+//! and scenes ([`Setup`]), their analytic references and the pressure measures compared with
+//! them: shared by `contact_bench` and `solver_cost`.
 //!
 //! **Hertz** (rigid indenter of radius R on an elastic half-space, frictionless, load P;
 //! E* = E/(1 − ν²); Johnson, *Contact Mechanics*, 1985, §4.2 and §5.8):
@@ -9,7 +10,7 @@
 //!
 //! The half-space is modelled by a block much larger than a (`block_over_a` times, 16 by
 //! default), clamped at its base, whose bias the domain study measures
-//! ([`super::domain`]); the indenter's surface is the parabola x²/(2R) of Hertz theory.
+//! (`contact_bench`'s domain study); the indenter's surface is the parabola x²/(2R) of Hertz theory.
 //!
 //! **Flat punch** (`flat-punch`): a flat rigid punch covering the whole top of a block on a
 //! frictionless base; the exact pressure is uniform, `p̄ = P / A` (A the contact length of the
@@ -27,7 +28,99 @@
 //!   ([`contact_width`]; always between the outermost loaded node and the next, so within h);
 //! - `p0_num`: the pressure at the node on the axis (x = 0).
 
-use crate::model::elasticity::{ContactNode, Geometry};
+use crate::error::Result;
+use crate::model::elasticity::{self, Base, ContactNode, Geometry, Grid, Indentation, Material};
+
+/// Geometric growth of the elements away from the contact zone.
+pub const GROWTH: f64 = 1.2;
+/// Uniform-size zone of the mesh, over a: the contact zone and a margin.
+pub const FINE_OVER_A: f64 = 1.5;
+
+/// The material and geometry of the cases: an elastic block (E, ν) under a rigid indenter of
+/// radius R, loaded so that the Hertz half-width is `a_target`; the Hertz block is
+/// `block_over_a`·a square, clamped at its base; the flat punch's block is a × a on a
+/// frictionless base.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Setup {
+    /// Young's modulus E.
+    pub young: f64,
+    /// Poisson's ratio ν.
+    pub poisson: f64,
+    /// Indenter radius R.
+    pub radius: f64,
+    /// Hertz contact half-width (radius) a the load is chosen for.
+    pub a_target: f64,
+}
+
+impl Setup {
+    /// E* = E/(1 − ν²).
+    pub fn e_star(&self) -> f64 {
+        self.young / (1.0 - self.poisson * self.poisson)
+    }
+
+    /// The case's load P and analytic solution (the flat punch: uniform pressure 1e-3·E* on
+    /// the top of an a × a block, half model).
+    pub fn exact(&self, case: Case) -> (f64, Exact) {
+        let (a, r, es) = (self.a_target, self.radius, self.e_star());
+        match case {
+            Case::HertzPlane | Case::HertzAxi => {
+                let p = case.geometry().hertz_load(a, r, es);
+                (p, Exact::hertz(case.geometry(), p, r, es))
+            }
+            Case::FlatPunch => {
+                let half = self.a_target;
+                let p0 = 1e-3 * es;
+                (
+                    2.0 * half * p0,
+                    Exact {
+                        a: half,
+                        p0,
+                        hertzian: false,
+                    },
+                )
+            }
+        }
+    }
+
+    /// The mesh of `case` at relative size `h_rel` (element size h_rel·a at the contact) on a
+    /// Hertz block of `block`·a (graded by [`GROWTH`] outside [`FINE_OVER_A`]·a; the flat
+    /// punch's block is a × a, uniform, whatever `block`).
+    pub fn grid(&self, case: Case, h_rel: f64, block: f64) -> Result<Grid> {
+        let a = self.a_target;
+        match case {
+            Case::FlatPunch => Grid::graded(a, a, h_rel * a, a, 1.0),
+            _ => Grid::graded(block * a, block * a, h_rel * a, FINE_OVER_A * a, GROWTH),
+        }
+    }
+
+    /// The contact scene of `case` on `grid` with base lift `lift`, with its contact surface
+    /// ([`Indentation::with_surface`]).
+    pub fn scene(&self, case: Case, grid: &Grid, lift: f64) -> Result<Indentation> {
+        let mat = Material {
+            young: self.young,
+            poisson: self.poisson,
+        };
+        let r = self.radius;
+        let scene = match case {
+            Case::FlatPunch => {
+                elasticity::indentation(grid, case.geometry(), &mat, Base::Sliding, lift, |_| 0.0)
+            }
+            _ => elasticity::indentation(grid, case.geometry(), &mat, Base::Clamped, lift, |x| {
+                x * x / (2.0 * r)
+            }),
+        }?;
+        scene.with_surface(grid)
+    }
+
+    /// The first guess of the base lift that carries the load on `grid`: the half-space
+    /// indentation a²/R (the flat punch: p̄H/E*).
+    pub fn lift_guess(&self, case: Case, grid: &Grid) -> f64 {
+        match case {
+            Case::FlatPunch => self.exact(case).1.p0 * grid.height() / self.e_star(),
+            _ => self.a_target * self.a_target / self.radius,
+        }
+    }
+}
 
 /// Which benchmark.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]

@@ -1,0 +1,363 @@
+//! The families of `solver_cost` and their mesh levels (h halving from level to level), each
+//! with its Lagrange reference and its discretization error.
+//!
+//! - `hertz-plane`, `hertz-axi`: the contact benchmarks' Hertz cases ([`crate::study::hertz`]:
+//!   rigid cylinder / sphere of R = 10 on a 16a block, E = 210e3, ν = 0.3, loaded for a = 1),
+//!   element size h/a at the contact = `hertz_h0`/2^l; every solve force-controlled
+//!   ([`solve_at_load`]) so that rules are compared at equal load. Discretization error:
+//!   Lagrange's pressure against Hertz's on this block ([`hertz::pressure_error`], which also
+//!   holds the finite block's bias); a rule's penalty error: its pressure's distance from
+//!   Lagrange's ([`hertz::pressure_distance`]). Length scale (δ): a; ε relative to E*/a.
+//! - `membrane`: the 5-point membrane (`−Δu = f`, f = −10, unit square, clamped edges,
+//!   [`membrane::stiffness`]) with side = (side₀ + 1)·2^l − 1 interior nodes (h = 1/(side+1)),
+//!   on the obstacle `u ≥ ψ = −0.35 − 0.7·((x−½)² + (y−½)²)` at every node. Length scale: 0.35
+//!   (the obstacle's depth at the centre); ε relative to max K_dd.
+//! - `beam`: the cantilever on a wavy bed ([`crate::model::beam::bed`], length 100,
+//!   E = 2.1e5, 1×1 section) with `beam_el0`·2^l elements, a uniform load 2e-3 per unit length
+//!   (nodal −0.2/n_el), the bed `w ≥ −0.5·(1 + sin(3πx/L))·x/L` at every node. Length scale:
+//!   0.5; ε relative to max K_dd.
+//!
+//! For `membrane` and `beam` the errors are on u: a rule's penalty error is
+//! `‖u − u_L‖∞/‖u_L‖∞` against Lagrange on the same mesh; the discretization error of level l
+//! is estimated by the next level, `‖u_l − R u_{l+1}‖∞/‖R u_{l+1}‖∞` at the coarse nodes (R:
+//! restriction to them); the finest level's is extrapolated at the last observed ratio
+//! (`err_discretization_extrapolated`).
+
+use crate::error::{Error, Result};
+use crate::model::beam::bed::{self, Bed};
+use crate::model::elasticity::Grid;
+use crate::model::membrane;
+use crate::strategy::force_control::{solve_at_load, FORCE_TOL};
+use crate::strategy::{self, Method, Solution};
+use crate::study::hertz::{self, Case, Exact, Setup};
+use crate::system::{Constraint, ConstraintKind, Problem};
+use serde::{Deserialize, Serialize};
+
+/// A family of `solver_cost`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, clap::ValueEnum)]
+#[serde(rename_all = "kebab-case")]
+#[value(rename_all = "kebab-case")]
+pub enum Family {
+    /// Hertz, plane strain.
+    HertzPlane,
+    /// Hertz, axisymmetric.
+    HertzAxi,
+    /// The 5-point membrane on a paraboloid obstacle.
+    Membrane,
+    /// The cantilever on a wavy bed.
+    Beam,
+}
+
+impl Family {
+    /// Every family, in table order.
+    pub const ALL: [Family; 4] = [
+        Family::HertzPlane,
+        Family::HertzAxi,
+        Family::Membrane,
+        Family::Beam,
+    ];
+
+    /// Its name in rows.
+    pub fn name(self) -> &'static str {
+        match self {
+            Family::HertzPlane => "hertz-plane",
+            Family::HertzAxi => "hertz-axi",
+            Family::Membrane => "membrane",
+            Family::Beam => "beam",
+        }
+    }
+}
+
+/// The Hertz material and geometry of `solver_cost` (those of `contact_bench`).
+pub const HERTZ: Setup = Setup {
+    young: 210e3,
+    poisson: 0.3,
+    radius: 10.0,
+    a_target: 1.0,
+};
+/// The Hertz block over a.
+pub const HERTZ_BLOCK: f64 = 16.0;
+
+/// One mesh level of one family, with its Lagrange reference.
+pub struct Level {
+    /// The family.
+    pub family: Family,
+    /// Level index (0: coarsest).
+    pub index: usize,
+    /// Element size (Hertz: h/a at the contact; membrane: 1/(side+1); beam: L/n_el over L).
+    pub h: f64,
+    /// Free DOFs.
+    pub n_dofs: usize,
+    /// The length δ is relative to.
+    pub scale: f64,
+    /// The stiffness ε is relative to.
+    pub k_scale: f64,
+    /// `augmented`'s ε: the constraints' mean K_dd (as in `contact_bench`).
+    pub aug_eps: f64,
+    /// Lagrange's discretization error (module doc).
+    pub err_discretization: f64,
+    /// Whether it was extrapolated (the finest membrane and beam levels).
+    pub err_discretization_extrapolated: bool,
+    kind: Kind,
+}
+
+enum Kind {
+    Hertz {
+        case: Case,
+        grid: Grid,
+        load: f64,
+        exact: Exact,
+        lift: f64,
+        p_lagrange: Vec<f64>,
+    },
+    Fixed {
+        problem: Problem,
+        u_lagrange: Vec<f64>,
+        /// The restriction: for each DOF of the next coarser level, its DOF here.
+        from_coarse: Vec<usize>,
+    },
+}
+
+/// A rule's solve on a level.
+pub struct Solved {
+    /// The problem it solved (Hertz: at the lift that carries the load).
+    pub problem: Problem,
+    /// Its solution.
+    pub sol: Solution,
+    /// Its penalty error (module doc).
+    pub err_penalty: f64,
+    /// Linear solves (Hertz: force-control solves; else 1 per solve call).
+    pub solves: usize,
+}
+
+fn inf_norm(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+}
+
+fn rel_inf(u: &[f64], r: &[f64]) -> f64 {
+    let d: Vec<f64> = u.iter().zip(r).map(|(a, b)| a - b).collect();
+    inf_norm(&d) / inf_norm(r)
+}
+
+impl Level {
+    /// Solves `method` on this level.
+    pub fn solve(&self, method: Method) -> Result<Solved> {
+        match &self.kind {
+            Kind::Hertz {
+                case,
+                grid,
+                load,
+                exact,
+                lift,
+                p_lagrange,
+            } => {
+                let l = solve_at_load(
+                    case.name(),
+                    |w| HERTZ.scene(*case, grid, w),
+                    method,
+                    *load,
+                    *lift,
+                    method.strategy().force_tol,
+                )?;
+                let p = l.scene.pressures(&l.sol.u);
+                let err = hertz::pressure_distance(&l.scene.contact, &p, p_lagrange, exact);
+                Ok(Solved {
+                    problem: l.scene.problem,
+                    sol: l.sol,
+                    err_penalty: err,
+                    solves: l.solves,
+                })
+            }
+            Kind::Fixed {
+                problem,
+                u_lagrange,
+                ..
+            } => {
+                let sol = strategy::solve(problem, method)?;
+                Ok(Solved {
+                    problem: problem.clone(),
+                    err_penalty: rel_inf(&sol.u, u_lagrange),
+                    sol,
+                    solves: 1,
+                })
+            }
+        }
+    }
+}
+
+/// The membrane problem with `side` interior nodes per direction (module doc).
+pub fn membrane_problem(side: usize) -> Result<Problem> {
+    let h = 1.0 / (side as f64 + 1.0);
+    let k = membrane::stiffness(side, 1.0)?;
+    let q = vec![-10.0 * h * h; side * side];
+    let mut constraints = Vec::with_capacity(side * side);
+    for i in 0..side {
+        for j in 0..side {
+            let (x, y) = ((i + 1) as f64 * h, (j + 1) as f64 * h);
+            constraints.push(Constraint {
+                dof: membrane::dof(side, i, j),
+                limit: -0.35 - 0.7 * ((x - 0.5).powi(2) + (y - 0.5).powi(2)),
+                kind: ConstraintKind::Lower,
+            });
+        }
+    }
+    Problem::new(k, q, constraints)
+}
+
+/// The beam problem with `n_el` elements (module doc).
+pub fn beam_problem(n_el: usize) -> Result<Problem> {
+    bed::problem(Bed {
+        n_el,
+        load: -0.2 / n_el as f64,
+        amp: 0.5,
+        waves: 3.0,
+    })
+    .map(Problem::in_preferred_storage)
+}
+
+fn max_constrained_diag(p: &Problem) -> f64 {
+    p.constraints
+        .iter()
+        .map(|c| p.k.diag(c.dof).abs())
+        .fold(0.0f64, f64::max)
+}
+
+/// The Hertz level `h_rel` of `case`: its mesh, load and Lagrange at the load.
+fn hertz_level(family: Family, case: Case, index: usize, h_rel: f64) -> Result<Level> {
+    let (load, exact) = HERTZ.exact(case);
+    let grid = HERTZ.grid(case, h_rel, HERTZ_BLOCK)?;
+    let guess = HERTZ.lift_guess(case, &grid);
+    let lag = solve_at_load(
+        case.name(),
+        |w| HERTZ.scene(case, &grid, w),
+        Method::lagrange(),
+        load,
+        guess,
+        FORCE_TOL,
+    )?;
+    let p_lagrange = lag.scene.pressures(&lag.sol.u);
+    let err = hertz::pressure_error(&lag.scene.contact, &p_lagrange, &exact);
+    Ok(Level {
+        family,
+        index,
+        h: h_rel,
+        n_dofs: lag.scene.n_free,
+        scale: HERTZ.a_target,
+        k_scale: HERTZ.e_star() / HERTZ.a_target,
+        aug_eps: lag.scene.problem.mean_constraint_stiffness(),
+        err_discretization: err,
+        err_discretization_extrapolated: false,
+        kind: Kind::Hertz {
+            case,
+            grid,
+            load,
+            exact,
+            lift: lag.scene.lift,
+            p_lagrange,
+        },
+    })
+}
+
+/// A membrane or beam level: the problem, Lagrange on it, and the map from the coarser
+/// level's DOFs to its own.
+fn fixed_level(family: Family, index: usize, size: usize) -> Result<Level> {
+    let (problem, h, scale, from_coarse) = match family {
+        Family::Membrane => {
+            let side = size;
+            let coarse = side.div_ceil(2) - 1;
+            let map = (0..coarse * coarse)
+                .map(|d| membrane::dof(side, 2 * (d / coarse) + 1, 2 * (d % coarse) + 1))
+                .collect();
+            (
+                membrane_problem(side)?,
+                1.0 / (side as f64 + 1.0),
+                0.35,
+                map,
+            )
+        }
+        _ => {
+            let n_el = size;
+            // Node i ≥ 1 has DOFs 3(i−1) + c; coarse node i is fine node 2i.
+            let map = (0..3 * (n_el / 2))
+                .map(|d| 3 * (2 * (d / 3 + 1) - 1) + d % 3)
+                .collect();
+            (beam_problem(n_el)?, 1.0 / n_el as f64, 0.5, map)
+        }
+    };
+    let lag = strategy::solve(&problem, Method::lagrange())?;
+    if !lag.stats.converged {
+        return Err(Error::Numerical(format!(
+            "{} level {index}: Lagrange did not converge",
+            family.name()
+        )));
+    }
+    Ok(Level {
+        family,
+        index,
+        h,
+        n_dofs: problem.n(),
+        scale,
+        k_scale: max_constrained_diag(&problem),
+        aug_eps: problem.mean_constraint_stiffness(),
+        err_discretization: f64::NAN,
+        err_discretization_extrapolated: false,
+        kind: Kind::Fixed {
+            problem,
+            u_lagrange: lag.u,
+            from_coarse,
+        },
+    })
+}
+
+/// Every level of `family` (coarse to fine), with Lagrange and the discretization errors.
+pub fn levels(
+    family: Family,
+    count: usize,
+    hertz_h0: f64,
+    membrane_side0: usize,
+    beam_el0: usize,
+) -> Result<Vec<Level>> {
+    let mut out = Vec::with_capacity(count);
+    for l in 0..count {
+        let level = match family {
+            Family::HertzPlane => {
+                hertz_level(family, Case::HertzPlane, l, hertz_h0 / (1 << l) as f64)?
+            }
+            Family::HertzAxi => hertz_level(family, Case::HertzAxi, l, hertz_h0 / (1 << l) as f64)?,
+            Family::Membrane => fixed_level(family, l, (membrane_side0 + 1) * (1 << l) - 1)?,
+            Family::Beam => fixed_level(family, l, beam_el0 * (1 << l))?,
+        };
+        out.push(level);
+    }
+    if matches!(family, Family::Membrane | Family::Beam) {
+        for l in 0..count.saturating_sub(1) {
+            let (coarse, fine) = out.split_at_mut(l + 1);
+            let (c, f) = (&mut coarse[l], &fine[0]);
+            if let (
+                Kind::Fixed { u_lagrange: uc, .. },
+                Kind::Fixed {
+                    u_lagrange: uf,
+                    from_coarse,
+                    ..
+                },
+            ) = (&c.kind, &f.kind)
+            {
+                let r: Vec<f64> = from_coarse.iter().map(|&d| uf[d]).collect();
+                c.err_discretization = rel_inf(uc, &r);
+            }
+        }
+        if count >= 3 {
+            let (e1, e2) = (
+                out[count - 3].err_discretization,
+                out[count - 2].err_discretization,
+            );
+            out[count - 1].err_discretization = e2 * (e2 / e1);
+        } else if count == 2 {
+            out[1].err_discretization = out[0].err_discretization / 4.0;
+        }
+        if count >= 2 {
+            out[count - 1].err_discretization_extrapolated = true;
+        }
+    }
+    Ok(out)
+}

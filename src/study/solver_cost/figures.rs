@@ -1,0 +1,228 @@
+//! The figures of `solver_cost`:
+//! - `iterations_ic0`, `iterations_jacobi`: Krylov iterations against h per rule (CG with
+//!   IC(0) / Jacobi for the penalties, MINRES for Lagrange in both), one panel per family, at
+//!   the `discretization` accuracy;
+//! - `digits_lost`: the direct solve's forward error of u and of the contact forces against
+//!   cond₂ of the system, every row, with the first-order bound ε_mach·cond₂;
+//! - `raw_vs_jacobi`: cond₂ of the Jacobi-scaled system against the raw one, every row, with
+//!   the diagonal;
+//! - `leaderboard_pcg`: IC(0)-CG iterations (MINRES for Lagrange) of every rule on each
+//!   family's finest level, at both accuracies.
+
+use super::Row;
+use crate::plot::{method_label, share_legend, Figure, Mark, Series};
+use crate::study::shape::Drawing;
+
+/// Reads one value off a row.
+type Value = fn(&Row) -> Option<f64>;
+
+/// Smallest error drawn (an exact value has error 0, which a log axis cannot show).
+const FLOOR: f64 = 1e-18;
+
+fn families(rows: &[Row]) -> Vec<String> {
+    let mut f: Vec<String> = Vec::new();
+    for r in rows {
+        if !f.contains(&r.family) {
+            f.push(r.family.clone());
+        }
+    }
+    f
+}
+
+fn methods(rows: &[Row]) -> Vec<String> {
+    let mut m: Vec<String> = Vec::new();
+    for r in rows {
+        if !m.contains(&r.method) {
+            m.push(r.method.clone());
+        }
+    }
+    m
+}
+
+/// Panels of iterations against h, one per family.
+fn iteration_panels(rows: &[Row], ic0: bool) -> Vec<Figure> {
+    let pre = if ic0 { "IC(0)" } else { "Jacobi" };
+    families(rows)
+        .iter()
+        .map(|fam| {
+            let mut f = Figure::new(
+                format!("{fam}: CG iterations ({pre}; Lagrange: MINRES), error = discretization"),
+                "h",
+                "iterations to τ",
+            )
+            .log_log();
+            for m in methods(rows) {
+                let (x, y): (Vec<f64>, Vec<f64>) = rows
+                    .iter()
+                    .filter(|r| &r.family == fam && r.method == m && r.accuracy != "penetration")
+                    .filter_map(|r| {
+                        let it = if ic0 {
+                            r.pcg_iters_ic0
+                        } else {
+                            r.pcg_iters_jacobi
+                        };
+                        it.or(r.minres_iters).map(|i| (r.h, i as f64))
+                    })
+                    .unzip();
+                if !x.is_empty() {
+                    f = f.with_series(
+                        Series::new(method_label(&m), x, y, Mark::LinePoints).method(&m),
+                    );
+                }
+            }
+            f
+        })
+        .collect()
+}
+
+/// Forward errors against cond₂ with the ε_mach·cond₂ line.
+fn digits_panels(rows: &[Row]) -> Vec<Figure> {
+    let pick: [(&str, Value); 2] = [
+        ("u", |r| r.forward_err_u),
+        ("contact forces", |r| r.forward_err_force),
+    ];
+    pick.iter()
+        .map(|(what, get)| {
+            let mut f = Figure::new(
+                format!("Direct solve: relative error of {what} vs cond₂ (every row)"),
+                "cond₂ of the final system",
+                format!("relative error of {what} (∞-norm)"),
+            )
+            .log_log();
+            let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+            for m in methods(rows) {
+                let (x, y): (Vec<f64>, Vec<f64>) = rows
+                    .iter()
+                    .filter(|r| r.method == m)
+                    .filter_map(|r| Some((r.cond2_system?, get(r)?.max(FLOOR))))
+                    .unzip();
+                for &c in &x {
+                    (lo, hi) = (lo.min(c), hi.max(c));
+                }
+                if !x.is_empty() {
+                    f = f.with_series(Series::new(method_label(&m), x, y, Mark::Points).method(&m));
+                }
+            }
+            if hi > 0.0 {
+                let e = f64::EPSILON;
+                f = f.with_series(Series::new(
+                    "ε_mach · cond₂",
+                    vec![lo, hi],
+                    vec![e * lo, e * hi],
+                    Mark::Dashed,
+                ));
+            }
+            f
+        })
+        .collect()
+}
+
+/// Jacobi-scaled against raw cond₂.
+fn raw_vs_jacobi(rows: &[Row]) -> Figure {
+    let mut f = Figure::new(
+        "cond₂ after Jacobi scaling vs raw cond₂ (every row)",
+        "cond₂ of the final system",
+        "cond₂ of S·A·S, S = diag(A)^−½",
+    )
+    .log_log()
+    .with_size(1000, 700);
+    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+    for m in methods(rows) {
+        let (x, y): (Vec<f64>, Vec<f64>) = rows
+            .iter()
+            .filter(|r| r.method == m)
+            .filter_map(|r| Some((r.cond2_system?, r.cond2_jacobi?)))
+            .unzip();
+        for &c in &x {
+            (lo, hi) = (lo.min(c), hi.max(c));
+        }
+        if !x.is_empty() {
+            f = f.with_series(Series::new(method_label(&m), x, y, Mark::Points).method(&m));
+        }
+    }
+    if hi > 0.0 {
+        f = f.with_series(Series::new(
+            "no change",
+            vec![lo, hi],
+            vec![lo, hi],
+            Mark::Dashed,
+        ));
+    }
+    f
+}
+
+/// IC(0) iterations of every rule on each family's finest level: x = the rule's place.
+fn leaderboard_panels(rows: &[Row]) -> Vec<Figure> {
+    let ms = methods(rows);
+    families(rows)
+        .iter()
+        .map(|fam| {
+            let finest = rows
+                .iter()
+                .filter(|r| &r.family == fam)
+                .map(|r| r.level)
+                .max()
+                .unwrap_or(0);
+            let mut f = Figure::new(
+                format!("{fam}, finest level: Krylov iterations by rule"),
+                "rule (legend order); filled: error = discretization, line: penetration = δ",
+                "IC(0)-CG iterations (Lagrange: MINRES)",
+            )
+            .scales(crate::plot::Scale::Linear, crate::plot::Scale::Log10);
+            for (k, m) in ms.iter().enumerate() {
+                for (acc, mark) in [
+                    ("discretization", Mark::Points),
+                    ("penetration", Mark::LinePoints),
+                ] {
+                    let y: Vec<f64> = rows
+                        .iter()
+                        .filter(|r| &r.family == fam && &r.method == m && r.level == finest)
+                        .filter(|r| {
+                            r.accuracy == acc || (r.accuracy == "exact" && acc == "discretization")
+                        })
+                        .filter_map(|r| r.krylov_iters().map(|i| i as f64))
+                        .collect();
+                    if !y.is_empty() {
+                        let x = vec![(k + 1) as f64; y.len()];
+                        let label = if acc == "discretization" {
+                            method_label(m)
+                        } else {
+                            ""
+                        };
+                        f = f.with_series(Series::new(label, x, y, mark).method(m));
+                    }
+                }
+            }
+            f
+        })
+        .collect()
+}
+
+/// Every drawing (module doc).
+pub fn drawings(rows: &[Row]) -> crate::error::Result<Vec<Drawing>> {
+    let mut out = Vec::new();
+    if rows.iter().all(|r| r.cond2_system.is_none()) {
+        return Ok(out);
+    }
+    let grid = |n: usize| (2usize.min(n), (1500u32, 560 * n.div_ceil(2) as u32));
+    let mut push = |name: &str, mut panels: Vec<Figure>| -> crate::error::Result<()> {
+        if panels.is_empty() {
+            return Ok(());
+        }
+        let (cols, size) = grid(panels.len());
+        share_legend(&mut panels, cols, size)?;
+        out.push(Drawing {
+            name: name.into(),
+            panels,
+            cols,
+            size,
+        });
+        Ok(())
+    };
+    push("iterations_ic0", iteration_panels(rows, true))?;
+    push("iterations_jacobi", iteration_panels(rows, false))?;
+    push("digits_lost", digits_panels(rows))?;
+    push("leaderboard_pcg", leaderboard_panels(rows))?;
+    out.push(Drawing::single("raw_vs_jacobi", raw_vs_jacobi(rows)));
+    Ok(out)
+}

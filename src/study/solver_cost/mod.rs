@@ -1,0 +1,456 @@
+//! `solver_cost`: what each penalty rule costs a solver at equal accuracy — the digits a
+//! direct solve loses and the iterations a preconditioned Krylov solver needs — over mesh
+//! levels with h halving (issue 47).
+//!
+//! Families ([`cases`]): Hertz plane and axisymmetric (force-controlled), the membrane on an
+//! obstacle and the cantilever on a wavy bed. On every level, Lagrange once (`exact`), and
+//! every other rule twice, its knob searched ([`search`]) so that
+//! - `discretization`: its penalty error equals the level's discretization error, or
+//! - `penetration`: its largest penetration equals δ = `penetration_rel` · the family's
+//!   length scale (`barrier` never penetrates: it runs at d̂ = δ, unmatched).
+//!
+//! Each row then holds the solver-cost metrics of its final system
+//! ([`crate::metrics::solver`]: cond₂ raw and Jacobi-scaled, CG iterations with Jacobi and
+//! IC(0) and their effective condition estimates, MINRES for Lagrange, forward errors of u and
+//! of the contact forces, the backward error, seconds of each solve) and the slopes against h
+//! ([`record::slopes`]: cond ∝ h^−p, iterations ∝ h^−q) are fitted over the levels.
+
+pub mod cases;
+mod figures;
+pub mod record;
+mod report;
+pub mod search;
+
+pub use cases::Family;
+pub use record::{slopes, Row, Slope};
+pub use search::Accuracy;
+
+use crate::error::{Error, Result};
+use crate::metrics::{self, solver::SolverOptions, MetricSet};
+use crate::progress::Progress;
+use crate::strategy::{self, registry, Knob, Strategy};
+use crate::study::shape::{Drawing, RunContext, Study};
+use cases::Level;
+use rayon::prelude::*;
+use serde::Serialize;
+use std::path::Path;
+
+/// What to run.
+#[derive(Clone, Debug, Serialize)]
+pub struct SolverCostConfig {
+    /// Families.
+    pub families: Vec<Family>,
+    /// Mesh levels per family (h halving), 2–8.
+    pub levels: usize,
+    /// Coarsest Hertz element size h/a at the contact.
+    pub hertz_h0: f64,
+    /// Coarsest membrane side (interior nodes per direction); level l has (side₀+1)·2^l − 1.
+    pub membrane_side0: usize,
+    /// Coarsest beam element count; level l has `beam_el0`·2^l.
+    pub beam_el0: usize,
+    /// Rules (registry names; lagrange always runs).
+    pub methods: Vec<String>,
+    /// δ of the `penetration` rows over the family's length scale.
+    pub penetration_rel: f64,
+    /// Relative tolerance of the knob match.
+    pub match_tol: f64,
+    /// τ of the Krylov runs.
+    pub krylov_tol: f64,
+    /// Relative accuracy asked of each cond₂.
+    pub cond_tol: f64,
+}
+
+impl Default for SolverCostConfig {
+    fn default() -> Self {
+        SolverCostConfig {
+            families: Family::ALL.to_vec(),
+            levels: 5,
+            hertz_h0: 0.4,
+            membrane_side0: 7,
+            beam_el0: 8,
+            methods: default_methods(),
+            penetration_rel: 1e-3,
+            match_tol: 0.05,
+            krylov_tol: metrics::solver::DEFAULT_TOL,
+            cond_tol: 1e-6,
+        }
+    }
+}
+
+/// Every rule but `optimal` (minutes per solve above a few hundred DOFs; `--methods` adds it).
+pub fn default_methods() -> Vec<String> {
+    registry::names()
+        .into_iter()
+        .filter(|n| *n != strategy::optimal::STRATEGY.name)
+        .map(str::to_string)
+        .collect()
+}
+
+impl SolverCostConfig {
+    /// Checks the ranges (each error names its flag).
+    pub fn validate(&self) -> Result<()> {
+        if !(2..=8).contains(&self.levels) {
+            return Err(Error::input(format!(
+                "--levels: {} is outside 2..=8",
+                self.levels
+            )));
+        }
+        let finest = self.hertz_h0 / (1u64 << (self.levels - 1)) as f64;
+        if !(self.hertz_h0 <= 0.5 && finest >= 1e-3) {
+            return Err(Error::input(format!(
+                "--hertz-h0: {} (finest {finest:e}) is outside h/a ∈ [1e-3, 0.5]",
+                self.hertz_h0
+            )));
+        }
+        let side = (self.membrane_side0 + 1) << (self.levels - 1);
+        if self.membrane_side0 < 1 || side > 2001 {
+            return Err(Error::input(format!(
+                "--membrane-side0: {} gives a finest side {} outside 1..=2000",
+                self.membrane_side0,
+                side - 1
+            )));
+        }
+        if self.beam_el0 < 2 || self.beam_el0 << (self.levels - 1) > 20_000 {
+            return Err(Error::input(format!(
+                "--beam-el0: {} gives a finest beam outside 2..=20000 elements",
+                self.beam_el0
+            )));
+        }
+        for (flag, v) in [
+            ("--penetration-rel", self.penetration_rel),
+            ("--match-tol", self.match_tol),
+            ("--krylov-tol", self.krylov_tol),
+            ("--cond-tol", self.cond_tol),
+        ] {
+            if !(v.is_finite() && v > 0.0 && v < 1.0) {
+                return Err(Error::input(format!("{flag}: {v} is not in (0, 1)")));
+            }
+        }
+        for m in &self.methods {
+            registry::lookup(m).map_err(|e| e.for_flag("--methods"))?;
+        }
+        Ok(())
+    }
+
+    fn strategies(&self) -> Vec<&'static Strategy> {
+        let mut s = vec![&strategy::lagrange::STRATEGY];
+        s.extend(
+            self.methods
+                .iter()
+                .filter_map(|n| registry::find(n))
+                .filter(|s| s.knob != Knob::None),
+        );
+        s
+    }
+}
+
+/// The jobs of a level: lagrange once, every other rule at both accuracies.
+fn jobs(cfg: &SolverCostConfig) -> Vec<(&'static Strategy, Accuracy)> {
+    let mut out = Vec::new();
+    for s in cfg.strategies() {
+        if s.knob == Knob::None {
+            out.push((s, Accuracy::Exact));
+        } else {
+            out.push((s, Accuracy::Discretization));
+            out.push((s, Accuracy::Penetration));
+        }
+    }
+    out
+}
+
+/// Runs every family's levels (one progress step per level; jobs of a level in parallel,
+/// rows in job order: the same rows for any number of threads, but for the timing columns).
+pub fn run(cfg: &SolverCostConfig, progress: &Progress) -> Result<Vec<Row>> {
+    cfg.validate()?;
+    let jobs = jobs(cfg);
+    progress.set_total(cfg.families.len() * cfg.levels);
+    let mut rows = Vec::new();
+    for &family in &cfg.families {
+        progress.message(format!(
+            "{}: Lagrange on {} levels",
+            family.name(),
+            cfg.levels
+        ));
+        let levels = cases::levels(
+            family,
+            cfg.levels,
+            cfg.hertz_h0,
+            cfg.membrane_side0,
+            cfg.beam_el0,
+        )?;
+        for level in &levels {
+            let done = std::sync::atomic::AtomicUsize::new(0);
+            let level_rows: Vec<Row> = jobs
+                .par_iter()
+                .map(|&(s, acc)| {
+                    let row = row_of(cfg, level, s, acc);
+                    let k = 1 + done.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                    progress.message(format!(
+                        "{} level {} ({} DOFs): {k}/{} rules",
+                        family.name(),
+                        level.index,
+                        level.n_dofs,
+                        jobs.len()
+                    ));
+                    row
+                })
+                .collect();
+            rows.extend(level_rows);
+            progress.step(&format!(
+                "{} level {}: h = {:.4}, {} DOFs",
+                family.name(),
+                level.index,
+                level.h,
+                level.n_dofs
+            ));
+        }
+    }
+    progress.finish();
+    Ok(rows)
+}
+
+/// One rule on one level at one accuracy: the knob search, then the metrics of its final
+/// system. Failures are recorded in `note`.
+fn row_of(cfg: &SolverCostConfig, level: &Level, s: &'static Strategy, acc: Accuracy) -> Row {
+    let mut row = Row {
+        family: level.family.name().into(),
+        level: level.index,
+        h: level.h,
+        n_dofs: level.n_dofs,
+        method: s.name.into(),
+        accuracy: acc.name().into(),
+        err_discretization: level.err_discretization,
+        err_discretization_extrapolated: level.err_discretization_extrapolated,
+        ..Row::default()
+    };
+    let t0 = std::time::Instant::now();
+    let solved = match solve_row(cfg, level, s, acc, &mut row) {
+        Ok(x) => x,
+        Err(e) => {
+            row.note = e.to_string();
+            row.seconds_search = t0.elapsed().as_secs_f64();
+            return row;
+        }
+    };
+    let (problem, sol) = (&solved.problem, &solved.sol);
+    row.err_penalty = Some(solved.err_penalty);
+    row.max_penetration = Some(sol.max_penetration);
+    row.iterations = Some(sol.stats.iterations);
+    let set = MetricSet {
+        cond: true,
+        det: false,
+        cond_tol: Some(cfg.cond_tol),
+    };
+    let t1 = std::time::Instant::now();
+    match metrics::compute(problem, sol, set) {
+        Ok(m) => row.cond2_system = m.cond2_system.map(|c| c.cond2),
+        Err(e) => row.note = format!("cond₂: {e}"),
+    }
+    let opts = SolverOptions {
+        tol: cfg.krylov_tol,
+        max_iters: None,
+        cond_tol: Some(cfg.cond_tol),
+    };
+    match metrics::solver::compute(problem, sol, opts) {
+        Ok(c) => fill_solver_metrics(&mut row, &c),
+        Err(e) => row.note = format!("solver metrics: {e}"),
+    }
+    let t2 = std::time::Instant::now();
+    row.seconds_search = t1.duration_since(t0).as_secs_f64();
+    row.seconds_metrics = t2.duration_since(t1).as_secs_f64();
+    row
+}
+
+/// The knob search of one row (lagrange: its one solve), recording the knob and the match.
+fn solve_row(
+    cfg: &SolverCostConfig,
+    level: &Level,
+    s: &'static Strategy,
+    acc: Accuracy,
+    row: &mut Row,
+) -> Result<cases::Solved> {
+    if acc == Accuracy::Exact {
+        row.matched = true;
+        row.evaluations = 1;
+        return level.solve(strategy::Method::lagrange());
+    }
+    let delta = cfg.penetration_rel * level.scale;
+    let aug_eps = level.aug_eps;
+    if acc == Accuracy::Penetration && std::ptr::eq(s, &strategy::barrier::STRATEGY) {
+        // The barrier keeps every gap open: no penetration to match; d̂ = δ.
+        let (m, knob, value) = search::method_at(s, level, aug_eps, cfg.penetration_rel)?;
+        (row.knob, row.knob_rel, row.knob_value) =
+            (knob.into(), Some(cfg.penetration_rel), Some(value));
+        row.target = Some(delta);
+        row.evaluations = 1;
+        row.note = "barrier: no penetration to match (run at d̂ = δ)".into();
+        let solved = level.solve(m)?;
+        row.achieved = Some(solved.sol.max_penetration);
+        return Ok(solved);
+    }
+    let target = match acc {
+        Accuracy::Penetration => delta,
+        _ => level.err_discretization,
+    };
+    let start = match s.knob {
+        Knob::Eps => 1e3,
+        Knob::Factor => 10.0,
+        _ => match acc {
+            Accuracy::Penetration => cfg.penetration_rel,
+            _ => 1e-3,
+        },
+    };
+    let found = search::find(s, level, aug_eps, acc, target, start, cfg.match_tol)?;
+    row.knob = found.knob.into();
+    row.knob_rel = Some(found.rel);
+    row.knob_value = Some(found.value);
+    row.target = Some(target);
+    row.achieved = Some(found.achieved);
+    row.matched = found.matched;
+    row.evaluations = found.evaluations;
+    if !found.matched {
+        // The rule's own warnings say why, where it has any (e.g. spring's clipped penalties).
+        let why = match (&found.failure, found.solved.sol.warnings.first()) {
+            _ if found.range_end => format!(
+                " (at the end of the {} range: the measure does not reach the target there)",
+                found.knob
+            ),
+            (Some(e), _) => format!(" (then a solve failed: {e})"),
+            (None, Some(w)) => format!(" ({w})"),
+            (None, None) => String::new(),
+        };
+        row.note = format!(
+            "not matched in {} solves: {:.3e} against {target:.3e}{why}",
+            found.evaluations, found.achieved
+        );
+    }
+    Ok(found.solved)
+}
+
+fn fill_solver_metrics(row: &mut Row, c: &metrics::solver::SolverMetrics) {
+    row.cond2_jacobi = c.cond2_jacobi.map(|r| r.cond2);
+    if let Some(p) = c.pcg_jacobi {
+        row.pcg_iters_jacobi = Some(p.run.iterations);
+        row.pcg_converged_jacobi = Some(p.run.converged);
+        row.pcg_cond_eff_jacobi = p.run.effective_cond();
+        row.seconds_pcg_jacobi = Some(p.seconds);
+    }
+    if let Some(p) = c.pcg_ic0 {
+        row.pcg_iters_ic0 = Some(p.run.iterations);
+        row.pcg_converged_ic0 = Some(p.run.converged);
+        row.pcg_cond_eff_ic0 = p.run.effective_cond();
+        row.seconds_pcg_ic0 = Some(p.seconds);
+    }
+    row.ic0_shift = c.ic0_shift;
+    if let Some(p) = c.minres {
+        row.minres_iters = Some(p.run.iterations);
+        row.minres_converged = Some(p.run.converged);
+        row.seconds_minres = Some(p.seconds);
+    }
+    row.forward_err_u = c.forward_err_u;
+    row.forward_err_force = c.forward_err_force;
+    row.backward_err = c.backward_err;
+    row.seconds_direct = c.seconds_direct;
+    if !c.unavailable.is_empty() && row.note.is_empty() {
+        row.note = c.unavailable.join("; ");
+    }
+}
+
+/// The `solver_cost` binary's flags.
+#[derive(clap::Args, Debug)]
+pub struct Flags {
+    /// Families, comma-separated.
+    #[arg(long, value_delimiter = ',', value_enum)]
+    families: Option<Vec<Family>>,
+    /// Mesh levels per family (h halving), 2–8.
+    #[arg(long, default_value_t = 5)]
+    levels: usize,
+    /// Coarsest Hertz element size at the contact, over a.
+    #[arg(long, default_value_t = 0.4)]
+    hertz_h0: f64,
+    /// Coarsest membrane side (level l: (side0+1)·2^l − 1 interior nodes per direction).
+    #[arg(long, default_value_t = 7)]
+    membrane_side0: usize,
+    /// Coarsest beam element count (level l: el0·2^l).
+    #[arg(long, default_value_t = 8)]
+    beam_el0: usize,
+    /// Rules, comma-separated (default: every rule but optimal; lagrange always runs).
+    #[arg(long, value_delimiter = ',')]
+    methods: Option<Vec<String>>,
+    /// δ of the penetration rows over the family's length scale.
+    #[arg(long, default_value_t = 1e-3)]
+    penetration_rel: f64,
+    /// τ of the Krylov runs (‖r‖ ≤ τ‖b‖ from x₀ = 0).
+    #[arg(long, default_value_t = metrics::solver::DEFAULT_TOL)]
+    krylov_tol: f64,
+    /// Relative accuracy asked of each cond₂.
+    #[arg(long, default_value_t = 1e-6)]
+    cond_tol: f64,
+}
+
+/// The study as the shared entry runs it ([`crate::study::shape::main`]).
+pub struct SolverCost;
+
+impl Study for SolverCost {
+    const NAME: &'static str = "solver_cost";
+    const ABOUT: &'static str =
+        "What each penalty rule costs a direct and an iterative solver at equal accuracy, over mesh levels";
+    const PROGRESS: &'static str = "solver_cost (levels)";
+    const DEFAULT_OUT: &'static str = "figures/solver_cost";
+    type Flags = Flags;
+    type Config = SolverCostConfig;
+    type Record = Vec<Row>;
+
+    fn after_help() -> String {
+        "Writes solver_cost.csv, solver_cost.json (rows with provenance), summary.json (slopes) \
+         and the figures.\nExit status: 0 ok, 2 bad input."
+            .into()
+    }
+
+    fn config(f: &Flags) -> Result<SolverCostConfig> {
+        let d = SolverCostConfig::default();
+        let cfg = SolverCostConfig {
+            families: f.families.clone().unwrap_or(d.families),
+            levels: f.levels,
+            hertz_h0: f.hertz_h0,
+            membrane_side0: f.membrane_side0,
+            beam_el0: f.beam_el0,
+            methods: f.methods.clone().unwrap_or(d.methods),
+            penetration_rel: f.penetration_rel,
+            match_tol: d.match_tol,
+            krylov_tol: f.krylov_tol,
+            cond_tol: f.cond_tol,
+        };
+        cfg.validate()?;
+        Ok(cfg)
+    }
+
+    fn run(cfg: &SolverCostConfig, ctx: &RunContext) -> Result<Vec<Row>> {
+        run(cfg, ctx.progress)
+    }
+
+    fn save(out: &Path, cfg: &SolverCostConfig, rows: &Vec<Row>) -> Result<()> {
+        crate::study::shape::save_rows(
+            out,
+            Self::NAME,
+            serde_json::json!({ "config": cfg }),
+            rows,
+        )?;
+        crate::provenance::write_json(
+            &out.join("summary.json"),
+            &serde_json::json!({ "slopes": slopes(rows) }),
+        )
+    }
+
+    fn load(out: &Path) -> Result<Vec<Row>> {
+        crate::study::shape::load_rows(out, Self::NAME)
+    }
+
+    fn figures(rows: &Vec<Row>) -> Result<Vec<Drawing>> {
+        figures::drawings(rows)
+    }
+
+    fn report(rows: &Vec<Row>) -> String {
+        report::text(rows)
+    }
+}

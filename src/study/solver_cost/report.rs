@@ -1,0 +1,88 @@
+//! The printed report of `solver_cost`: each family's finest level, rule by rule, and the
+//! slopes against h.
+
+use super::{slopes, Row};
+use std::fmt::Write;
+
+fn opt(v: Option<f64>, prec: usize) -> String {
+    v.filter(|x| x.is_finite())
+        .map_or("—".into(), |x| format!("{x:.prec$e}"))
+}
+
+fn count(v: Option<usize>, conv: Option<bool>) -> String {
+    match (v, conv) {
+        (Some(i), Some(false)) => format!("{i}*"),
+        (Some(i), _) => i.to_string(),
+        _ => "—".into(),
+    }
+}
+
+/// The report (module doc). `*`: the Krylov run did not reach τ within 10·N iterations.
+pub fn text(rows: &[Row]) -> String {
+    let mut t = String::new();
+    let mut fams: Vec<&str> = Vec::new();
+    for r in rows {
+        if !fams.contains(&r.family.as_str()) {
+            fams.push(&r.family);
+        }
+    }
+    for fam in fams {
+        let finest = rows
+            .iter()
+            .filter(|r| r.family == fam)
+            .map(|r| r.level)
+            .max()
+            .unwrap_or(0);
+        let first = rows.iter().find(|r| r.family == fam && r.level == finest);
+        let (n, h, e) = first.map_or((0, f64::NAN, f64::NAN), |r| {
+            (r.n_dofs, r.h, r.err_discretization)
+        });
+        let _ = writeln!(
+            t,
+            "\n{fam}, finest level ({n} DOFs, h = {h:.4}, discretization error {e:.2e})\n"
+        );
+        t.push_str("| rule | accuracy | knob (rel) | matched | cond₂ | cond₂ Jacobi | CG Jacobi | CG IC(0) / MINRES | digits lost (u) | err forces | direct (s) | CG IC(0) (s) |\n");
+        t.push_str("|---|---|---:|:-:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+        for r in rows.iter().filter(|r| r.family == fam && r.level == finest) {
+            let krylov = match r.minres_iters {
+                Some(_) => count(r.minres_iters, r.minres_converged),
+                None => count(r.pcg_iters_ic0, r.pcg_converged_ic0),
+            };
+            let _ = writeln!(
+                t,
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                r.method,
+                r.accuracy,
+                opt(r.knob_rel, 2),
+                if r.matched { "yes" } else { "no" },
+                opt(r.cond2_system, 3),
+                opt(r.cond2_jacobi, 3),
+                count(r.pcg_iters_jacobi, r.pcg_converged_jacobi),
+                krylov,
+                r.digits_lost().map_or("—".into(), |d| format!("{d:.1}")),
+                opt(r.forward_err_force, 1),
+                opt(r.seconds_direct, 1),
+                opt(r.seconds_pcg_ic0.or(r.seconds_minres), 1),
+            );
+        }
+    }
+    t.push_str("\nSlopes against h (cond₂ ∝ h^−p, iterations ∝ h^−q; least squares over the matched levels)\n\n");
+    t.push_str("| family | rule | accuracy | levels | p cond₂ | p cond₂ Jacobi | q CG Jacobi | q CG IC(0) / MINRES |\n");
+    t.push_str("|---|---|---|---:|---:|---:|---:|---:|\n");
+    let f = |v: Option<f64>| v.map_or("—".into(), |x| format!("{x:.2}"));
+    for s in slopes(rows) {
+        let _ = writeln!(
+            t,
+            "| {} | {} | {} | {} | {} | {} | {} | {} |",
+            s.family,
+            s.method,
+            s.accuracy,
+            s.levels_matched,
+            f(s.p_cond2),
+            f(s.p_cond2_jacobi),
+            f(s.q_pcg_jacobi),
+            f(s.q_pcg_ic0.or(s.q_minres)),
+        );
+    }
+    t
+}

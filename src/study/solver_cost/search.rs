@@ -1,0 +1,229 @@
+//! A rule's knob matched to an accuracy: the knob value at which the rule's penalty error
+//! equals the mesh's discretization error, or its largest penetration equals δ.
+//!
+//! The search runs on t = log₁₀(knob relative to its scale): the measure falls as ε or f grows
+//! and rises with δ or the augmented tolerance. From a start it steps a decade at a time until
+//! the measure crosses the target, then closes in by regula falsi (Illinois variant) on
+//! `ln(measure/target)`, bisecting where a measure is 0 (no penetration). ε and f stay within
+//! 10⁻⁶…10¹² of their scales, δ and tolerances within 10⁻¹²…10⁻¹ of the length scale. It
+//! stops when the measure is within `tol` (relative) of the target, or after
+//! [`MAX_EVALUATIONS`] solves (or at the end of the range) and reports the closest solve as
+//! unmatched.
+
+use super::cases::{Level, Solved};
+use crate::error::Result;
+use crate::strategy::{Knob, Knobs, Method, Strategy};
+use serde::{Deserialize, Serialize};
+
+/// Largest number of solves of one search.
+pub const MAX_EVALUATIONS: usize = 30;
+
+/// Which accuracy a row is matched at.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Accuracy {
+    /// Lagrange: exact contact, no knob.
+    Exact,
+    /// Penalty error = the mesh's discretization error.
+    Discretization,
+    /// Largest penetration = δ.
+    Penetration,
+}
+
+impl Accuracy {
+    /// Its name in rows.
+    pub fn name(self) -> &'static str {
+        match self {
+            Accuracy::Exact => "exact",
+            Accuracy::Discretization => "discretization",
+            Accuracy::Penetration => "penetration",
+        }
+    }
+}
+
+/// The method of `strategy` at knob `rel` (relative to the level's scales) and the knob's
+/// name and absolute value: ε = rel·k_scale, f = rel, δ = rel·scale; `augmented` at the
+/// constraints' mean K_dd (`aug_eps`) with tol = rel·scale.
+pub fn method_at(
+    strategy: &'static Strategy,
+    level: &Level,
+    aug_eps: f64,
+    rel: f64,
+) -> Result<(Method, &'static str, f64)> {
+    let mut k = Knobs::NONE;
+    let (name, value) = match strategy.knob {
+        Knob::Eps => {
+            k.eps = Some(rel * level.k_scale);
+            ("eps", rel * level.k_scale)
+        }
+        Knob::Factor => {
+            k.factor = Some(rel);
+            ("factor", rel)
+        }
+        Knob::Delta => {
+            k.delta = Some(rel * level.scale);
+            ("delta", rel * level.scale)
+        }
+        Knob::EpsTol => {
+            k.eps = Some(aug_eps);
+            k.tol = Some(rel * level.scale);
+            ("tol", rel * level.scale)
+        }
+        Knob::None => ("", f64::NAN),
+    };
+    Ok((Method::new(strategy, k)?, name, value))
+}
+
+/// The outcome of a search.
+pub struct Found {
+    /// The method at the closest knob.
+    pub method: Method,
+    /// Knob name.
+    pub knob: &'static str,
+    /// Knob value relative to its scale.
+    pub rel: f64,
+    /// Absolute knob value.
+    pub value: f64,
+    /// The measure there.
+    pub achieved: f64,
+    /// Within `tol` of the target.
+    pub matched: bool,
+    /// Solves of the search.
+    pub evaluations: usize,
+    /// The closest solve.
+    pub solved: Solved,
+    /// The error of the last solve that failed, if one did (the search stops there).
+    pub failure: Option<String>,
+    /// The search reached the end of the knob's range without crossing the target.
+    pub range_end: bool,
+}
+
+/// The measure of `accuracy` on a solve.
+pub fn measure(accuracy: Accuracy, s: &Solved) -> f64 {
+    match accuracy {
+        Accuracy::Penetration => s.sol.max_penetration,
+        _ => s.err_penalty,
+    }
+}
+
+/// Searches the knob of `strategy` on `level` for `measure = target` from `start` (module
+/// doc). Errors only where no solve at all succeeded.
+pub fn find(
+    strategy: &'static Strategy,
+    level: &Level,
+    aug_eps: f64,
+    accuracy: Accuracy,
+    target: f64,
+    start: f64,
+    tol: f64,
+) -> Result<Found> {
+    // dir: +1 where the measure grows with the knob (δ, tolerances), −1 where it falls.
+    let dir = match strategy.knob {
+        Knob::Eps | Knob::Factor => -1.0,
+        _ => 1.0,
+    };
+    let ok = (1.0 + tol).ln();
+    let mut best: Option<Found> = None;
+    let evaluations = std::cell::Cell::new(0usize);
+    let mut last_err = None;
+    // f(t) = ln(measure/target): −∞ where the measure is 0, NaN where the solve failed.
+    let mut eval = |t: f64, best: &mut Option<Found>| -> f64 {
+        evaluations.set(evaluations.get() + 1);
+        let rel = 10f64.powf(t);
+        let solved = method_at(strategy, level, aug_eps, rel)
+            .and_then(|(m, knob, value)| level.solve(m).map(|s| (m, knob, value, s)));
+        match solved {
+            Ok((method, knob, value, s)) => {
+                let m = measure(accuracy, &s);
+                let f = if m > 0.0 {
+                    (m / target).ln()
+                } else {
+                    f64::NEG_INFINITY
+                };
+                let closer = best.as_ref().is_none_or(|b| {
+                    let fb = (b.achieved / target).ln();
+                    // Closer, or the best so far is not comparable (NaN).
+                    use std::cmp::Ordering::{Equal, Less};
+                    !matches!(fb.abs().partial_cmp(&f.abs()), Some(Less | Equal))
+                });
+                if closer {
+                    *best = Some(Found {
+                        method,
+                        knob,
+                        rel,
+                        value,
+                        achieved: m,
+                        matched: f.abs() <= ok,
+                        evaluations: 0,
+                        solved: s,
+                        failure: None,
+                        range_end: false,
+                    });
+                }
+                f
+            }
+            Err(e) => {
+                last_err = Some(e);
+                f64::NAN
+            }
+        }
+    };
+    // The knob's range: ε and f within 10^±(6…12) of their scales; δ and the tolerance at
+    // most a tenth of the length scale (a larger δ is no longer a small penetration).
+    let (lo, hi) = match strategy.knob {
+        Knob::Eps | Knob::Factor => (-6.0, 12.0),
+        _ => (-12.0, -1.0),
+    };
+    let mut a = start.log10().clamp(lo, hi);
+    let mut fa = eval(a, &mut best);
+    let mut bracket = None;
+    let mut range_end = false;
+    while fa.is_finite() && fa.abs() > ok || fa == f64::NEG_INFINITY {
+        if evaluations.get() >= MAX_EVALUATIONS / 2 {
+            break;
+        }
+        let step = if fa > 0.0 { -dir } else { dir };
+        let t = (a + step).clamp(lo, hi);
+        if t == a {
+            range_end = true;
+            break;
+        }
+        let f = eval(t, &mut best);
+        if f.is_nan() {
+            break;
+        }
+        if (f > 0.0) != (fa > 0.0) {
+            bracket = Some((t, f));
+            break;
+        }
+        (a, fa) = (t, f);
+    }
+    if let Some((mut b, mut fb)) = bracket {
+        while evaluations.get() < MAX_EVALUATIONS && best.as_ref().is_some_and(|x| !x.matched) {
+            let c = if fa.is_finite() && fb.is_finite() {
+                (a * fb - b * fa) / (fb - fa)
+            } else {
+                0.5 * (a + b)
+            };
+            let fc = eval(c, &mut best);
+            if fc.is_nan() {
+                break;
+            }
+            if (fc > 0.0) != (fb > 0.0) {
+                (a, fa) = (b, fb);
+            } else {
+                fa *= 0.5;
+            }
+            (b, fb) = (c, fc);
+        }
+    }
+    match best {
+        Some(mut f) => {
+            f.evaluations = evaluations.get();
+            f.failure = last_err.map(|e| e.to_string());
+            f.range_end = range_end;
+            Ok(f)
+        }
+        None => Err(last_err.unwrap_or_else(|| crate::Error::Numerical("no solve".into()))),
+    }
+}
