@@ -217,7 +217,16 @@ pub fn compute(problem: &Problem, sol: &Solution, opts: SolverOptions) -> Result
             seconds: t.elapsed().as_secs_f64(),
         }
     };
+    let symmetric = fs.a.is_symmetric();
+    if !symmetric {
+        out.unavailable.push(
+            "Krylov iterations not computed: the system matrix is not symmetric bit for bit \
+             (CG and MINRES need a symmetric A)"
+                .into(),
+        );
+    }
     match &sol.system {
+        _ if !symmetric => {}
         SystemKind::Penalized => {
             match Jacobi::new(sparse.as_ref()) {
                 Ok(m) => {

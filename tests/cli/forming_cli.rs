@@ -122,7 +122,35 @@ fn json_shapes_and_out_files() {
     assert_eq!(v["cond2_adaptive"], last("adaptive"));
     assert!(v["cond2_classical"].as_f64().unwrap() > 0.0);
     assert_eq!(v["cond2_classical_matched"], last("classical-matched"));
-    assert_eq!(v["comparisons"].as_array().unwrap().len(), 4);
+    // Two δ-rules against two classical runs, in each of the five metrics (issue 47).
+    let comparisons = v["comparisons"].as_array().unwrap();
+    assert_eq!(comparisons.len(), 4 * 5);
+    for metric in [
+        "cond2",
+        "cond2_jacobi",
+        "pcg_iters_jacobi",
+        "pcg_iters_ic0",
+        "forward_err_u",
+    ] {
+        assert_eq!(
+            comparisons.iter().filter(|c| c["metric"] == metric).count(),
+            4,
+            "{metric}"
+        );
+    }
+    // Every step carries the solver-cost metrics of its last system.
+    for (name, run) in v["runs"].as_object().unwrap() {
+        for s in run["steps"].as_array().unwrap() {
+            assert!(s["cond2_jacobi"].as_f64().unwrap() >= 1.0, "{name}: {s}");
+            assert!(s["pcg_iters_ic0"].as_u64().is_some(), "{name}: {s}");
+            let fe = s["forward_err_u"].as_f64().unwrap();
+            let bound = 1e3 * f64::EPSILON * s["cond2"].as_f64().unwrap();
+            assert!(
+                fe <= bound,
+                "{name}: forward error {fe:e} above 1e3·ε·cond₂ = {bound:e}"
+            );
+        }
+    }
 }
 
 /// Both experiments carry `classical-matched`: a constant ε whose largest penetration over

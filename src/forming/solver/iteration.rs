@@ -245,6 +245,11 @@ impl Simulation {
             mu_max = mu_max.max(*m);
         }
         let drag = p.coeffs.drag;
+        let cost = metrics::solver::compute(
+            &p.solve.problem,
+            sol,
+            metrics::solver::SolverOptions::default(),
+        )?;
         Ok(SolveTelemetry {
             cond2,
             log10_det,
@@ -265,6 +270,7 @@ impl Simulation {
             },
             mu_ratio: mu_max / mu_min,
             drag_force: (0..s.nodes).map(|i| drag * v[3 * i + 1]).sum(),
+            cost,
         })
     }
 

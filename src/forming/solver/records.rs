@@ -52,6 +52,27 @@ pub struct StepRecord {
     /// `max(1e-12, 4·ε_mach·cond₂)` ([`crate::conditioning::CondReport::within_contract`]).
     #[serde(default)]
     pub cond2_within_contract: bool,
+    /// cond₂ of the Jacobi-scaled system `S (K + D E Dᵀ) S`, `S = diag(A)^{-1/2}` exactly
+    /// (`cond2_jacobi` of [`crate::metrics::solver`]; NaN in records written before).
+    #[serde(default = "nan", deserialize_with = "null_as_nan")]
+    pub cond2_jacobi: f64,
+    /// CG iterations with Jacobi to ‖r‖ ≤ 1e-8‖b‖ from 0 on the step's last system (`None`
+    /// where CG does not apply or in records written before).
+    #[serde(default)]
+    pub pcg_iters_jacobi: Option<usize>,
+    /// Whether that run reached τ within 10·N iterations.
+    #[serde(default)]
+    pub pcg_converged_jacobi: Option<bool>,
+    /// CG iterations with IC(0), the same test.
+    #[serde(default)]
+    pub pcg_iters_ic0: Option<usize>,
+    /// Whether that run reached τ.
+    #[serde(default)]
+    pub pcg_converged_ic0: Option<bool>,
+    /// Relative error of the plain direct solve of the step's last system against its
+    /// double-double refinement (`forward_err_u` of [`crate::metrics::solver`]).
+    #[serde(default = "nan", deserialize_with = "null_as_nan")]
+    pub forward_err_u: f64,
     /// Max penetration of the last solve, in length: `max_c p_c · Δt` (in) — the quantity δ
     /// bounds.
     pub max_penetration: f64,

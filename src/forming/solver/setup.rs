@@ -115,6 +115,8 @@ pub(super) struct SolveTelemetry {
     pub(super) min_penalty: f64,
     pub(super) mu_ratio: f64,
     pub(super) drag_force: f64,
+    /// The solver-cost metrics of the last solve's system ([`crate::metrics::solver`]).
+    pub(super) cost: crate::metrics::solver::SolverMetrics,
 }
 
 /// Aitken's dynamic relaxation (Irons–Tuck) of the Picard fixed-point map.

@@ -1,7 +1,9 @@
 //! The figures of forming runs, drawn from the saved JSON ([`SavedRuns`]): the paper's Fig. 7
 //! (four panels: cond₂ of the system matrix and of K alone per step, the ratio to classical,
-//! the determinant ratio, the equilibrated cond₂), punch force vs travel, thickness strain
-//! ln(t/t₀) vs initial radius at several depths, deformed profiles with the tools.
+//! the determinant ratio, the equilibrated cond₂), what each step's system costs a solver
+//! (Jacobi-scaled cond₂, CG iterations with Jacobi and IC(0), the direct solve's forward
+//! error), punch force vs travel, thickness strain ln(t/t₀) vs initial radius at several
+//! depths, deformed profiles with the tools.
 
 use super::record::{SavedRun, SavedRuns};
 use crate::forming::config::{ContactRule, FormingConfig};
@@ -56,6 +58,15 @@ pub fn drawings(doc: &SavedRuns, title: &str, cond_stem: &str) -> Vec<Drawing> {
         cols: 2,
         size: (1400, 1040),
     });
+    let cost = solver_cost_panels(doc, title);
+    if !cost.is_empty() {
+        files.push(Drawing {
+            name: "solver_cost_per_step".into(),
+            panels: cost,
+            cols: 2,
+            size: (1400, 1040),
+        });
+    }
     // Punch force vs travel.
     let mut ff = Figure::new(
         format!("{title}: punch force"),
@@ -232,6 +243,61 @@ fn condition_panels(doc: &SavedRuns, title: &str, fig7: &str) -> Vec<Figure> {
             .with_series(Series::new(format!("K alone ({name} run)"), x, y, Mark::Dashed).color(k));
     }
     vec![a, b, c, d]
+}
+
+/// What each step's last system costs a solver, per run (issue 47): (a) cond₂ after Jacobi
+/// scaling, (b) CG iterations with Jacobi, (c) with IC(0), (d) the direct solve's forward
+/// error of the velocities. Empty for records written before these metrics.
+fn solver_cost_panels(doc: &SavedRuns, title: &str) -> Vec<Figure> {
+    if !doc
+        .runs
+        .values()
+        .any(|r| r.steps.iter().any(|s| s.cond2_jacobi.is_finite()))
+    {
+        return Vec::new();
+    }
+    let panel = |t: &str, y: &str| {
+        Figure::new(format!("{title}: {t}"), "time step", y).scales(Scale::Linear, Scale::Log10)
+    };
+    let getters: [fn(&StepRecord) -> f64; 4] = [
+        |s| s.cond2_jacobi,
+        |s| s.pcg_iters_jacobi.map_or(f64::NAN, |i| i as f64),
+        |s| s.pcg_iters_ic0.map_or(f64::NAN, |i| i as f64),
+        |s| s.forward_err_u.max(1e-18),
+    ];
+    let titles = [
+        (
+            "(a) cond₂ of S A S, S = diag(A)^(−1/2)",
+            "cond₂ (Jacobi-scaled)",
+        ),
+        ("(b) CG iterations, Jacobi, ‖r‖ ≤ 1e-8‖b‖", "iterations"),
+        ("(c) CG iterations, IC(0), ‖r‖ ≤ 1e-8‖b‖", "iterations"),
+        (
+            "(d) direct solve: relative error of the velocities",
+            "forward error (∞-norm)",
+        ),
+    ];
+    titles
+        .iter()
+        .zip(getters)
+        .map(|((t, y), get)| {
+            let mut f = panel(t, y);
+            for (name, run) in &doc.runs {
+                let mark = if name == super::CLASSICAL_MATCHED
+                    || matches!(run.rule, ContactRule::Condensed { .. })
+                {
+                    Mark::Dashed
+                } else {
+                    Mark::Line
+                };
+                let (x, y) = per_step(run, get);
+                f = f.with_series(
+                    Series::new(label(name, run), x, y, mark).color(method_color(name)),
+                );
+            }
+            f
+        })
+        .collect()
 }
 
 /// The figure title prefix: `title`, or for a run outside the model's domain

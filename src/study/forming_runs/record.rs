@@ -116,6 +116,12 @@ pub fn write_steps_csv(path: &Path, steps: &[StepRecord], invalid: &[String]) ->
         "cond2_k_equilibrated",
         "cond2_bounds_proven",
         "cond2_within_contract",
+        "cond2_jacobi",
+        "pcg_iters_jacobi",
+        "pcg_converged_jacobi",
+        "pcg_iters_ic0",
+        "pcg_converged_ic0",
+        "forward_err_u",
         "max_penetration",
         "geometric_penetration",
         "volume",
@@ -146,6 +152,12 @@ pub fn write_steps_csv(path: &Path, steps: &[StepRecord], invalid: &[String]) ->
             s.cond2_k_equilibrated.to_string(),
             s.cond2_bounds_proven.to_string(),
             s.cond2_within_contract.to_string(),
+            s.cond2_jacobi.to_string(),
+            opt(s.pcg_iters_jacobi),
+            opt(s.pcg_converged_jacobi),
+            opt(s.pcg_iters_ic0),
+            opt(s.pcg_converged_ic0),
+            s.forward_err_u.to_string(),
             s.max_penetration.to_string(),
             s.geometric_penetration.to_string(),
             s.volume.to_string(),
@@ -165,6 +177,11 @@ pub fn write_steps_csv(path: &Path, steps: &[StepRecord], invalid: &[String]) ->
         .map_err(|e| Error::io(path.display(), e))?;
     }
     w.flush().map_err(|e| Error::io(path.display(), e))
+}
+
+/// An optional value as a CSV cell (empty for `None`).
+fn opt<T: ToString>(v: Option<T>) -> String {
+    v.map_or(String::new(), |x| x.to_string())
 }
 
 /// Writes `DIR/<stem>.json` and `DIR/steps_<run>.csv` for every run; returns the JSON path.

@@ -165,15 +165,12 @@ fn leaderboard_panels(rows: &[Row]) -> Vec<Figure> {
                 .unwrap_or(0);
             let mut f = Figure::new(
                 format!("{fam}, finest level: Krylov iterations by rule"),
-                "rule (legend order); filled: error = discretization, line: penetration = δ",
+                "rule (legend order); left of each: error = discretization, right: penetration = δ",
                 "IC(0)-CG iterations (Lagrange: MINRES)",
             )
             .scales(crate::plot::Scale::Linear, crate::plot::Scale::Log10);
             for (k, m) in ms.iter().enumerate() {
-                for (acc, mark) in [
-                    ("discretization", Mark::Points),
-                    ("penetration", Mark::LinePoints),
-                ] {
+                for (acc, dx) in [("discretization", -0.15), ("penetration", 0.15)] {
                     let y: Vec<f64> = rows
                         .iter()
                         .filter(|r| &r.family == fam && &r.method == m && r.level == finest)
@@ -183,13 +180,13 @@ fn leaderboard_panels(rows: &[Row]) -> Vec<Figure> {
                         .filter_map(|r| r.krylov_iters().map(|i| i as f64))
                         .collect();
                     if !y.is_empty() {
-                        let x = vec![(k + 1) as f64; y.len()];
+                        let x = vec![(k + 1) as f64 + dx; y.len()];
                         let label = if acc == "discretization" {
                             method_label(m)
                         } else {
                             ""
                         };
-                        f = f.with_series(Series::new(label, x, y, mark).method(m));
+                        f = f.with_series(Series::new(label, x, y, Mark::Points).method(m));
                     }
                 }
             }
