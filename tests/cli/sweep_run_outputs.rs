@@ -223,3 +223,74 @@ fn elastic_families_run_every_rule_and_the_barrier_never_penetrates() {
         );
     }
 }
+
+/// `--metrics solver` (opt-in) fills the solver-cost columns; the default leaves them empty
+/// and every other column of every row unchanged.
+#[test]
+fn solver_metrics_are_opt_in_and_change_no_other_column() {
+    let (_g, d) = work_dir("solver-metrics");
+    let plain = d.join("plain");
+    let with = d.join("with");
+    sweep_ok(
+        &d,
+        &[&SMALL[..], &["--quiet", "--no-figures", "--out", s(&plain)]].concat(),
+    );
+    let args = [
+        "--metrics",
+        "cond,det,solver",
+        "--quiet",
+        "--no-figures",
+        "--out",
+        s(&with),
+    ];
+    sweep_ok(&d, &[&SMALL[..], &args[..]].concat());
+    let (a, b) = (rows_of(&plain), rows_of(&with));
+    assert_eq!(a.len(), b.len());
+    for (x, y) in a.iter().zip(&b) {
+        assert!(x.cond2_jacobi.is_none() && x.pcg_iters_ic0.is_none() && x.forward_err_u.is_none());
+        let stripped = Row {
+            cond2_jacobi: None,
+            pcg_iters_jacobi: None,
+            pcg_iters_ic0: None,
+            pcg_converged: None,
+            minres_iters: None,
+            forward_err_u: None,
+            forward_err_force: None,
+            warnings: x.warnings.clone(),
+            ..y.clone()
+        };
+        assert_eq!(x, &stripped, "{} {}", x.scene, x.method);
+        // Rows without a solve (an error, `optimal` outside its families) have no metrics.
+        if y.warnings.contains("error") || y.cond2_system.is_none() {
+            continue;
+        }
+        assert!(
+            y.cond2_jacobi.is_some_and(|c| c >= 1.0),
+            "{} {}",
+            y.scene,
+            y.method
+        );
+        if y.method == "lagrange" {
+            assert!(
+                y.minres_iters.is_some() && y.pcg_iters_ic0.is_none(),
+                "{}",
+                y.scene
+            );
+        } else {
+            assert!(
+                y.pcg_iters_jacobi.is_some() && y.pcg_iters_ic0.is_some(),
+                "{} {}",
+                y.scene,
+                y.method
+            );
+        }
+        let (fe, cond) = (y.forward_err_u.unwrap(), y.cond2_system.unwrap());
+        let n = y.n as f64 + y.m as f64;
+        assert!(
+            fe <= 10.0 * n * f64::EPSILON * cond,
+            "{} {}: {fe:e} vs cond {cond:e}",
+            y.scene,
+            y.method
+        );
+    }
+}

@@ -17,6 +17,9 @@
 //! - `cond2_system` of its final system matrix ([`crate::metrics`], to `cond_tol`), with
 //!   `cond2_bounds_proven` and `cond2_within_contract` (false at the default `cond_tol`, which
 //!   is looser than the contract),
+//! - what that system costs a solver ([`crate::metrics::solver`]): `cond2_jacobi`,
+//!   `pcg_iters_jacobi`, `pcg_iters_ic0`, `pcg_converged`, `minres_iters`, `forward_err_u`,
+//!   `forward_err_force`,
 //! - `iterations` (the rule's own outer iterations), `force_solves`, `force_mismatch`, and for
 //!   `barrier` its stiffness `kappa_initial`, `kappa_final`, `kappa_increases` and the rule
 //!   that chose it, `kappa_rule` (`ipc`: ipc-toolkit's, from the block's bounding box; the
@@ -314,6 +317,13 @@ pub(crate) fn run_job(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> (BenchR
         cond_tol: cfg.cond_tol,
         cond2_bounds_proven: None,
         cond2_within_contract: None,
+        cond2_jacobi: None,
+        pcg_iters_jacobi: None,
+        pcg_iters_ic0: None,
+        pcg_converged: None,
+        minres_iters: None,
+        forward_err_u: None,
+        forward_err_force: None,
         converged: false,
         force_solves: 0,
         iterations: 0,
@@ -395,6 +405,24 @@ pub(crate) fn run_job(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> (BenchR
                 crate::conditioning::CondReport::flags([m.cond2_system.as_ref()]);
         }
         Err(e) => row.error = format!("cond₂: {e}"),
+    }
+    let opts = metrics::solver::SolverOptions {
+        cond_tol: Some(cfg.cond_tol),
+        ..Default::default()
+    };
+    match metrics::solver::compute(problem, &sol, opts) {
+        Ok(c) => {
+            let run = |s: Option<metrics::solver::IterativeSolve>| s.map(|s| s.run);
+            let (j, i) = (run(c.pcg_jacobi), run(c.pcg_ic0));
+            row.cond2_jacobi = c.cond2_jacobi.map(|r| r.cond2);
+            row.pcg_iters_jacobi = j.map(|r| r.iterations);
+            row.pcg_iters_ic0 = i.map(|r| r.iterations);
+            row.pcg_converged = j.zip(i).map(|(a, b)| a.converged && b.converged);
+            row.minres_iters = run(c.minres).map(|r| r.iterations);
+            row.forward_err_u = c.forward_err_u;
+            row.forward_err_force = c.forward_err_force;
+        }
+        Err(e) => row.error = format!("solver metrics: {e}"),
     }
     (row, p)
 }

@@ -85,6 +85,28 @@ pub struct BenchRow {
     /// only as narrow as `cond_tol` asked (1e-6 by default), which is wider.
     #[serde(default)]
     pub cond2_within_contract: Option<bool>,
+    /// cond₂ of the Jacobi-scaled final system, to `cond_tol` ([`crate::metrics::solver`];
+    /// empty in rows written before issue 47).
+    #[serde(default)]
+    pub cond2_jacobi: Option<f64>,
+    /// CG iterations with Jacobi from 0 to ‖r‖ ≤ 1e-8‖b‖ (penalties).
+    #[serde(default)]
+    pub pcg_iters_jacobi: Option<usize>,
+    /// CG iterations with IC(0), the same test (penalties).
+    #[serde(default)]
+    pub pcg_iters_ic0: Option<usize>,
+    /// Both CG runs reached τ within 10·N iterations.
+    #[serde(default)]
+    pub pcg_converged: Option<bool>,
+    /// MINRES iterations (lagrange).
+    #[serde(default)]
+    pub minres_iters: Option<usize>,
+    /// Relative error of the plain direct solve's u against its double-double refinement.
+    #[serde(default)]
+    pub forward_err_u: Option<f64>,
+    /// The same for the contact forces.
+    #[serde(default)]
+    pub forward_err_force: Option<f64>,
     /// The solver's own convergence flag (of the last solve of the force control).
     pub converged: bool,
     /// Solves the force control took.

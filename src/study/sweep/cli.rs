@@ -43,7 +43,9 @@ pub struct ConfigArgs {
     /// Methods, comma-separated (lagrange always runs as the reference).
     #[arg(long, value_delimiter = ',')]
     methods: Option<Vec<String>>,
-    /// Metrics, comma-separated: cond, det ("none" for neither).
+    /// Metrics, comma-separated: cond, det, solver ("none" for none). `solver` (not in the
+    /// default) adds cond2_jacobi, CG iterations with Jacobi and IC(0), MINRES for lagrange
+    /// and the direct solve's forward errors (metrics::solver).
     #[arg(long, value_delimiter = ',')]
     metrics: Option<Vec<String>>,
     /// Relative accuracy asked of every cond₂, in (0, 1) (default: the accuracy contract,

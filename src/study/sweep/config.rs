@@ -80,7 +80,7 @@ impl Default for SweepConfig {
 }
 
 /// Metric names accepted in `metrics`.
-pub const METRIC_NAMES: [&str; 2] = ["cond", "det"];
+pub const METRIC_NAMES: [&str; 3] = ["cond", "det", "solver"];
 
 impl SweepConfig {
     /// Reads a TOML config (fields as in [`SweepConfig`]; missing fields take defaults).
@@ -177,6 +177,19 @@ impl SweepConfig {
             det: self.metrics.iter().any(|m| m == "det"),
             cond_tol: self.cond_tol,
         }
+    }
+
+    /// The solver-cost metrics' options where `metrics` has `solver` ([`crate::metrics::solver`]:
+    /// τ = 1e-8, cond₂ of the Jacobi-scaled system to `cond_tol`); `None` otherwise (the
+    /// default: they cost nothing unless asked for).
+    pub(super) fn solver_options(&self) -> Option<crate::metrics::solver::SolverOptions> {
+        self.metrics
+            .iter()
+            .any(|m| m == "solver")
+            .then(|| crate::metrics::solver::SolverOptions {
+                cond_tol: self.cond_tol,
+                ..Default::default()
+            })
     }
 
     /// The strategies of `methods` (unknown names, which [`SweepConfig::validate`] refuses,

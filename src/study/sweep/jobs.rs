@@ -5,7 +5,7 @@ use super::rows::Row;
 use super::{load, LoadedScene, SceneSpec, SweepConfig};
 use crate::conditioning::{self, sparse::RitzStarts, Reuse};
 use crate::error::Result;
-use crate::metrics::{self, MetricSet};
+use crate::metrics::{self, solver::SolverOptions, MetricSet};
 use crate::strategy::{self, registry, Knob, Method, Prepared};
 use crate::system::{Problem, Structure};
 use serde::Serialize;
@@ -195,6 +195,7 @@ pub fn run_job(
     work: &SceneWork,
     job: Job,
     set: MetricSet,
+    solver: Option<SolverOptions>,
     reference: Option<&Reference>,
 ) -> (Row, Option<Reference>) {
     let t0 = Instant::now();
@@ -241,6 +242,9 @@ pub fn run_job(
             row.seconds_cond = set.cond.then_some(m.seconds_cond);
             row.seconds_det = set.det.then_some(m.seconds_det);
             row.warnings = metrics::warnings(&sol, &m).join("; ");
+            if let Some(opts) = solver {
+                solver_columns(&mut row, p, &sol, opts);
+            }
             if job.method.is(&strategy::lagrange::STRATEGY) {
                 row.error_vs_exact = Some(metrics::relative_error(&sol.u, &sol.u));
                 let prepared = work
@@ -258,6 +262,43 @@ pub fn run_job(
     (row, u_out)
 }
 
+/// The `--metrics solver` columns of a row ([`crate::metrics::solver`]); a failure is
+/// appended to `warnings`.
+fn solver_columns(
+    row: &mut Row,
+    p: &crate::system::Problem,
+    sol: &strategy::Solution,
+    opts: SolverOptions,
+) {
+    let (c, seconds) = timed(|| metrics::solver::compute(p, sol, opts));
+    row.seconds_solver = Some(seconds);
+    match c {
+        Ok(c) => {
+            let run = |s: Option<metrics::solver::IterativeSolve>| s.map(|s| s.run);
+            let (j, i) = (run(c.pcg_jacobi), run(c.pcg_ic0));
+            row.cond2_jacobi = c.cond2_jacobi.map(|r| r.cond2);
+            row.pcg_iters_jacobi = j.map(|r| r.iterations);
+            row.pcg_iters_ic0 = i.map(|r| r.iterations);
+            row.pcg_converged = j.zip(i).map(|(a, b)| a.converged && b.converged);
+            row.minres_iters = run(c.minres).map(|r| r.iterations);
+            row.forward_err_u = c.forward_err_u;
+            row.forward_err_force = c.forward_err_force;
+            for note in c.unavailable {
+                if !row.warnings.is_empty() {
+                    row.warnings.push_str("; ");
+                }
+                row.warnings.push_str(&note);
+            }
+        }
+        Err(e) => {
+            if !row.warnings.is_empty() {
+                row.warnings.push_str("; ");
+            }
+            row.warnings.push_str(&format!("solver metrics: {e}"));
+        }
+    }
+}
+
 /// Runs every job of one scene: the shared work, the lagrange reference, then the other jobs
 /// as separate work units on the current rayon pool, one task each (rows in job order
 /// whatever the thread count). Errors of single jobs become rows with the error in
@@ -267,7 +308,8 @@ pub fn run_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<(Vec<Row>, Scene
     let work = prepare_scene(spec, cfg)?;
     let set = cfg.metric_set();
     let (first, rest) = work.jobs.split_first().expect("lagrange is always a job");
-    let (lag_row, reference) = run_job(&work, *first, set, None);
+    let solver = cfg.solver_options();
+    let (lag_row, reference) = run_job(&work, *first, set, solver, None);
     let mut rows = Vec::with_capacity(work.jobs.len());
     rows.push(lag_row);
     let others: Vec<Row> = rest
@@ -279,7 +321,7 @@ pub fn run_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<(Vec<Row>, Scene
             if skip {
                 skipped_row(&work, job, cfg)
             } else {
-                run_job(&work, job, set, reference.as_ref()).0
+                run_job(&work, job, set, solver, reference.as_ref()).0
             }
         })
         .collect();

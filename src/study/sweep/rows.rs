@@ -97,12 +97,29 @@ pub struct Row {
     /// `optimal` at the same scene and δ, where the optimum was computed (≥ 1 up to rounding
     /// for feasible rows; a rule whose penetration exceeds δ may go below 1).
     pub cond_ratio_to_optimal: Option<f64>,
+    /// `--metrics solver` ([`crate::metrics::solver`]; empty otherwise): cond₂ of the
+    /// Jacobi-scaled system.
+    pub cond2_jacobi: Option<f64>,
+    /// CG iterations with Jacobi from 0 to ‖r‖ ≤ 1e-8‖b‖ (penalties).
+    pub pcg_iters_jacobi: Option<usize>,
+    /// CG iterations with IC(0), the same test (penalties).
+    pub pcg_iters_ic0: Option<usize>,
+    /// Both CG runs reached τ.
+    pub pcg_converged: Option<bool>,
+    /// MINRES iterations (lagrange).
+    pub minres_iters: Option<usize>,
+    /// Relative error of the plain direct solve's u against its double-double refinement.
+    pub forward_err_u: Option<f64>,
+    /// The same for the contact forces.
+    pub forward_err_force: Option<f64>,
+    /// Wall time of the solver-cost metrics (s).
+    pub seconds_solver: Option<f64>,
     /// Warnings and errors, `; `-separated (empty when all is well).
     pub warnings: String,
 }
 
 /// Column names, in file order.
-pub const COLUMNS: [&str; 40] = [
+pub const COLUMNS: [&str; 48] = [
     "scene",
     "family",
     "n",
@@ -142,11 +159,25 @@ pub const COLUMNS: [&str; 40] = [
     "seconds_cond",
     "seconds_det",
     "cond_ratio_to_optimal",
+    "cond2_jacobi",
+    "pcg_iters_jacobi",
+    "pcg_iters_ic0",
+    "pcg_converged",
+    "minres_iters",
+    "forward_err_u",
+    "forward_err_force",
+    "seconds_solver",
     "warnings",
 ];
 
 /// The timing columns: the only ones that may differ between runs of the same configuration.
-pub const TIMING_COLUMNS: [&str; 4] = ["seconds", "seconds_solve", "seconds_cond", "seconds_det"];
+pub const TIMING_COLUMNS: [&str; 5] = [
+    "seconds",
+    "seconds_solve",
+    "seconds_cond",
+    "seconds_det",
+    "seconds_solver",
+];
 
 /// One cell per column, written straight into the CSV writer: numbers are formatted into a
 /// reused buffer (`{:e}` for floats, so they read back bit for bit), never one `String` per
@@ -233,6 +264,14 @@ impl Row {
         c.float(self.seconds_cond)?;
         c.float(self.seconds_det)?;
         c.float(self.cond_ratio_to_optimal)?;
+        c.float(self.cond2_jacobi)?;
+        c.whole(self.pcg_iters_jacobi)?;
+        c.whole(self.pcg_iters_ic0)?;
+        c.text(flag(self.pcg_converged))?;
+        c.whole(self.minres_iters)?;
+        c.float(self.forward_err_u)?;
+        c.float(self.forward_err_force)?;
+        c.float(self.seconds_solver)?;
         c.text(&self.warnings)?;
         c.w.write_record(None::<&[u8]>)
     }
@@ -244,6 +283,7 @@ impl Row {
             seconds_solve: None,
             seconds_cond: None,
             seconds_det: None,
+            seconds_solver: None,
             ..self.clone()
         }
     }
@@ -405,6 +445,17 @@ fn parse_record(rec: &csv::StringRecord) -> std::result::Result<Row, String> {
         seconds_cond: fl(next())?,
         seconds_det: fl(next())?,
         cond_ratio_to_optimal: fl(next())?,
+        cond2_jacobi: fl(next())?,
+        pcg_iters_jacobi: parse_opt(next())?,
+        pcg_iters_ic0: parse_opt(next())?,
+        pcg_converged: {
+            let c = next();
+            parse_opt(c).map_err(|_| format!("bad pcg_converged '{c}'"))?
+        },
+        minres_iters: parse_opt(next())?,
+        forward_err_u: fl(next())?,
+        forward_err_force: fl(next())?,
+        seconds_solver: fl(next())?,
         warnings: next().into(),
     })
 }
@@ -471,6 +522,14 @@ mod tests {
                 fl(r.seconds_cond),
                 fl(r.seconds_det),
                 fl(r.cond_ratio_to_optimal),
+                fl(r.cond2_jacobi),
+                wh(r.pcg_iters_jacobi),
+                wh(r.pcg_iters_ic0),
+                r.pcg_converged.map(|c| c.to_string()).unwrap_or_default(),
+                wh(r.minres_iters),
+                fl(r.forward_err_u),
+                fl(r.forward_err_force),
+                fl(r.seconds_solver),
                 r.warnings.clone(),
             ])
             .unwrap();
@@ -557,6 +616,14 @@ mod tests {
                     seconds_cond: x(13),
                     seconds_det: x(14),
                     cond_ratio_to_optimal: x(15),
+                    cond2_jacobi: x(16),
+                    pcg_iters_jacobi: w(4),
+                    pcg_iters_ic0: w(5),
+                    pcg_converged: [Some(true), Some(false), None][i % 3],
+                    minres_iters: w(6),
+                    forward_err_u: x(17),
+                    forward_err_force: x(18),
+                    seconds_solver: x(19),
                     warnings: texts[(i + 4) % texts.len()].into(),
                 }
             })
