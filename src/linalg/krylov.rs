@@ -83,6 +83,14 @@ pub struct KrylovRun {
 }
 
 impl KrylovRun {
+    /// A run of no iteration that has met its test (b = 0).
+    const DONE: KrylovRun = KrylovRun {
+        iterations: 0,
+        converged: true,
+        relative_residual: 0.0,
+        spectrum: None,
+    };
+
     /// The effective condition number `λ_max/λ_min` of the preconditioned operator as the run
     /// saw it (an estimate; `None` without a spectrum).
     pub fn effective_cond(&self) -> Option<f64> {
@@ -104,12 +112,7 @@ pub fn cg(
     let n = b.len();
     let mut x = vec![0.0; n];
     let bnorm = norm(b);
-    let mut run = KrylovRun {
-        iterations: 0,
-        converged: true,
-        relative_residual: 0.0,
-        spectrum: None,
-    };
+    let mut run = KrylovRun::DONE;
     if bnorm == 0.0 {
         return (x, run);
     }
@@ -236,12 +239,7 @@ pub fn minres(
 ) -> (Vec<f64>, KrylovRun) {
     let n = b.len();
     let mut x = vec![0.0; n];
-    let mut run = KrylovRun {
-        iterations: 0,
-        converged: true,
-        relative_residual: 0.0,
-        spectrum: None,
-    };
+    let mut run = KrylovRun::DONE;
     let mut y = vec![0.0; n];
     pre.apply(b, &mut y);
     let beta1 = dot(b, &y);

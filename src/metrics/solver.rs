@@ -48,12 +48,18 @@ use std::time::Instant;
 /// The default relative residual τ of the Krylov runs.
 pub const DEFAULT_TOL: f64 = 1e-8;
 
+/// The default iteration limit of a Krylov run on N unknowns: SciPy's 10·N, at most 10⁵ (a
+/// run that has not converged by then would take hours at 10⁶ unknowns).
+pub fn default_max_iters(n: usize) -> usize {
+    (10 * n.max(1)).min(100_000)
+}
+
 /// Options of [`compute`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SolverOptions {
     /// τ: the Krylov runs stop at `‖r‖ ≤ τ‖b‖` (module doc).
     pub tol: f64,
-    /// Iteration limit of each Krylov run (`None`: 10·N, SciPy's default).
+    /// Iteration limit of each Krylov run (`None`: [`default_max_iters`]).
     pub max_iters: Option<usize>,
     /// Relative accuracy asked of `cond2_jacobi` (`None`: the accuracy contract).
     pub cond_tol: Option<f64>,
@@ -120,7 +126,7 @@ pub struct SolverMetrics {
     pub reference_accuracy: Option<f64>,
     /// Refinement steps of the reference.
     pub refinement_steps: Option<usize>,
-    /// Wall time of the direct solve (factorization and one solve; s).
+    /// Wall time of the direct solve: a fresh factorization and one solve (s).
     pub seconds_direct: Option<f64>,
     /// Metrics not computed, with the reason.
     pub unavailable: Vec<String>,
@@ -128,6 +134,43 @@ pub struct SolverMetrics {
     /// failed; not serialized).
     #[serde(skip)]
     pub x_direct: Vec<f64>,
+}
+
+/// The columns a table of rows keeps of [`SolverMetrics`] (`contact_bench`, `sweep
+/// --metrics solver`).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Summary {
+    /// cond₂ of S A S.
+    pub cond2_jacobi: Option<f64>,
+    /// Jacobi-CG iterations.
+    pub pcg_iters_jacobi: Option<usize>,
+    /// IC(0)-CG iterations.
+    pub pcg_iters_ic0: Option<usize>,
+    /// Both CG runs reached τ.
+    pub pcg_converged: Option<bool>,
+    /// MINRES iterations.
+    pub minres_iters: Option<usize>,
+    /// Forward error of u.
+    pub forward_err_u: Option<f64>,
+    /// Forward error of the contact forces.
+    pub forward_err_force: Option<f64>,
+}
+
+impl SolverMetrics {
+    /// The [`Summary`] columns.
+    pub fn summary(&self) -> Summary {
+        let run = |s: &Option<IterativeSolve>| s.as_ref().map(|s| s.run);
+        let (j, i) = (run(&self.pcg_jacobi), run(&self.pcg_ic0));
+        Summary {
+            cond2_jacobi: self.cond2_jacobi.map(|r| r.cond2),
+            pcg_iters_jacobi: j.map(|r| r.iterations),
+            pcg_iters_ic0: i.map(|r| r.iterations),
+            pcg_converged: j.zip(i).map(|(a, b)| a.converged && b.converged),
+            minres_iters: run(&self.minres).map(|r| r.iterations),
+            forward_err_u: self.forward_err_u,
+            forward_err_force: self.forward_err_force,
+        }
+    }
 }
 
 /// The final linear system of a solution (module doc).
@@ -208,7 +251,7 @@ pub fn compute(problem: &Problem, sol: &Solution, opts: SolverOptions) -> Result
     };
     out.cond2_jacobi = cond_jacobi(problem, sol, &fs.a, opts.cond_tol, &mut out.unavailable)?;
     let sparse = fs.a.to_sparse();
-    let max_iters = opts.max_iters.unwrap_or(10 * fs.b.len().max(1));
+    let max_iters = opts.max_iters.unwrap_or(default_max_iters(fs.b.len()));
     let timed = |f: &dyn Fn() -> KrylovRun| {
         let t = Instant::now();
         let run = f();
@@ -302,7 +345,13 @@ fn cond_jacobi(
             cond_of_system(problem, &sol.system, &scaled, None, None, tol, unavailable)
         }
         SystemKind::SaddlePoint { active } => {
-            let p = Problem::new(scaled_k, problem.q.clone(), problem.constraints.clone())?;
+            let p = match Problem::new(scaled_k, problem.q.clone(), problem.constraints.clone()) {
+                Ok(p) => p,
+                Err(e) => {
+                    unavailable.push(format!("cond2_jacobi not computed: {}", e.bare_message()));
+                    return Ok(None);
+                }
+            };
             let sys = crate::strategy::lagrange::saddle_matrix(&p, active);
             cond_of_system(&p, &sol.system, &sys, None, None, tol, unavailable)
         }
@@ -316,23 +365,18 @@ fn direct_errors(
     fs: &FinalSystem,
     out: &mut SolverMetrics,
 ) -> Result<()> {
+    // A fresh factorization even where the solve kept its own (`Solution::factor`), so that
+    // `seconds_direct` is a whole direct solve (factorization and one solve) for every rule.
     let t = Instant::now();
-    let fresh;
-    let factor = match (&sol.system, sol.factor.as_deref()) {
-        (SystemKind::Penalized, Some(f)) => f,
-        _ => match Factorization::new(&fs.a, fs.a.is_symmetric()) {
-            Ok(f) => {
-                fresh = f;
-                &fresh
-            }
-            Err(e) => {
-                out.unavailable.push(format!(
-                    "forward/backward errors not computed: {}",
-                    e.bare_message()
-                ));
-                return Ok(());
-            }
-        },
+    let factor = match Factorization::new(&fs.a, fs.a.is_symmetric()) {
+        Ok(f) => f,
+        Err(e) => {
+            out.unavailable.push(format!(
+                "forward/backward errors not computed: {}",
+                e.bare_message()
+            ));
+            return Ok(());
+        }
     };
     let x = factor.solve(&fs.b);
     out.seconds_direct = Some(t.elapsed().as_secs_f64());
@@ -345,7 +389,7 @@ fn direct_errors(
     let rn = inf(&mut r.iter().map(|v| v.to_f64()));
     let den = fs.a.inf_norm() * inf(&mut x.iter().copied()) + inf(&mut fs.b.iter().copied());
     out.backward_err = Some(if den > 0.0 { rn / den } else { rn });
-    let reference = refine::refine(&fs.a, &fs.b, factor, &x);
+    let reference = refine::refine(&fs.a, &fs.b, &factor, &x);
     out.x_direct = x.clone();
     out.refinement_steps = Some(reference.steps);
     out.reference_accuracy = Some(reference.accuracy);

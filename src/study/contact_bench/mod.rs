@@ -283,10 +283,11 @@ pub(crate) struct Mesh<'a> {
     err_domain: f64,
 }
 
-/// One job on one mesh: its row and its nodal pressures (empty if it failed).
-pub(crate) fn run_job(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> (BenchRow, Vec<f64>) {
+/// The row of `job` on `mesh` before its solve: the case, the knob, the mesh's errors and
+/// analytic values; everything the solve measures NaN or empty.
+fn base_row(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> BenchRow {
     let exact = &mesh.exact;
-    let mut row = BenchRow {
+    BenchRow {
         case: mesh.case.name().into(),
         method: job.method.name().into(),
         knob: job.knob.into(),
@@ -334,7 +335,13 @@ pub(crate) fn run_job(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> (BenchR
         force_mismatch: f64::NAN,
         seconds: f64::NAN,
         error: String::new(),
-    };
+    }
+}
+
+/// One job on one mesh: its row and its nodal pressures (empty if it failed).
+pub(crate) fn run_job(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> (BenchRow, Vec<f64>) {
+    let exact = &mesh.exact;
+    let mut row = base_row(cfg, mesh, job);
     if job.method.is(&strategy::optimal::STRATEGY) && mesh.n_free > cfg.optimal_max_n {
         row.error = format!(
             "skipped: {} DOFs > optimal_max_n = {}",
@@ -411,17 +418,7 @@ pub(crate) fn run_job(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> (BenchR
         ..Default::default()
     };
     match metrics::solver::compute(problem, &sol, opts) {
-        Ok(c) => {
-            let run = |s: Option<metrics::solver::IterativeSolve>| s.map(|s| s.run);
-            let (j, i) = (run(c.pcg_jacobi), run(c.pcg_ic0));
-            row.cond2_jacobi = c.cond2_jacobi.map(|r| r.cond2);
-            row.pcg_iters_jacobi = j.map(|r| r.iterations);
-            row.pcg_iters_ic0 = i.map(|r| r.iterations);
-            row.pcg_converged = j.zip(i).map(|(a, b)| a.converged && b.converged);
-            row.minres_iters = run(c.minres).map(|r| r.iterations);
-            row.forward_err_u = c.forward_err_u;
-            row.forward_err_force = c.forward_err_force;
-        }
+        Ok(c) => row.set_solver_columns(c.summary()),
         Err(e) => row.error = format!("solver metrics: {e}"),
     }
     (row, p)

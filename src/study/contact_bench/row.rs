@@ -174,3 +174,16 @@ pub struct Floor {
     /// The certified lower bound of cond₂(K + DEDᵀ) over every E ≥ 0.
     pub cond2_floor: f64,
 }
+
+impl BenchRow {
+    /// The solver-cost columns ([`crate::metrics::solver::Summary`]).
+    pub fn set_solver_columns(&mut self, c: crate::metrics::solver::Summary) {
+        self.cond2_jacobi = c.cond2_jacobi;
+        self.pcg_iters_jacobi = c.pcg_iters_jacobi;
+        self.pcg_iters_ic0 = c.pcg_iters_ic0;
+        self.pcg_converged = c.pcg_converged;
+        self.minres_iters = c.minres_iters;
+        self.forward_err_u = c.forward_err_u;
+        self.forward_err_force = c.forward_err_force;
+    }
+}

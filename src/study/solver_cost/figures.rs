@@ -75,6 +75,30 @@ fn iteration_panels(rows: &[Row], ic0: bool) -> Vec<Figure> {
         .collect()
 }
 
+/// Every row as a point `(x, y)`, one series per rule; with the range of x drawn.
+fn scatter(
+    mut f: Figure,
+    rows: &[Row],
+    x: Value,
+    y: impl Fn(&Row) -> Option<f64>,
+) -> (Figure, f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+    for m in methods(rows) {
+        let (xs, ys): (Vec<f64>, Vec<f64>) = rows
+            .iter()
+            .filter(|r| r.method == m)
+            .filter_map(|r| Some((x(r)?, y(r)?)))
+            .unzip();
+        for &c in &xs {
+            (lo, hi) = (lo.min(c), hi.max(c));
+        }
+        if !xs.is_empty() {
+            f = f.with_series(Series::new(method_label(&m), xs, ys, Mark::Points).method(&m));
+        }
+    }
+    (f, lo, hi)
+}
+
 /// Forward errors against cond₂ with the ε_mach·cond₂ line.
 fn digits_panels(rows: &[Row]) -> Vec<Figure> {
     let pick: [(&str, Value); 2] = [
@@ -89,20 +113,13 @@ fn digits_panels(rows: &[Row]) -> Vec<Figure> {
                 format!("relative error of {what} (∞-norm)"),
             )
             .log_log();
-            let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
-            for m in methods(rows) {
-                let (x, y): (Vec<f64>, Vec<f64>) = rows
-                    .iter()
-                    .filter(|r| r.method == m)
-                    .filter_map(|r| Some((r.cond2_system?, get(r)?.max(FLOOR))))
-                    .unzip();
-                for &c in &x {
-                    (lo, hi) = (lo.min(c), hi.max(c));
-                }
-                if !x.is_empty() {
-                    f = f.with_series(Series::new(method_label(&m), x, y, Mark::Points).method(&m));
-                }
-            }
+            let (g, lo, hi) = scatter(
+                f,
+                rows,
+                |r| r.cond2_system,
+                |r| get(r).map(|v| v.max(FLOOR)),
+            );
+            f = g;
             if hi > 0.0 {
                 let e = f64::EPSILON;
                 f = f.with_series(Series::new(
@@ -119,27 +136,14 @@ fn digits_panels(rows: &[Row]) -> Vec<Figure> {
 
 /// Jacobi-scaled against raw cond₂.
 fn raw_vs_jacobi(rows: &[Row]) -> Figure {
-    let mut f = Figure::new(
+    let f = Figure::new(
         "cond₂ after Jacobi scaling vs raw cond₂ (every row)",
         "cond₂ of the final system",
         "cond₂ of S·A·S, S = diag(A)^−½",
     )
     .log_log()
     .with_size(1000, 700);
-    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
-    for m in methods(rows) {
-        let (x, y): (Vec<f64>, Vec<f64>) = rows
-            .iter()
-            .filter(|r| r.method == m)
-            .filter_map(|r| Some((r.cond2_system?, r.cond2_jacobi?)))
-            .unzip();
-        for &c in &x {
-            (lo, hi) = (lo.min(c), hi.max(c));
-        }
-        if !x.is_empty() {
-            f = f.with_series(Series::new(method_label(&m), x, y, Mark::Points).method(&m));
-        }
-    }
+    let (mut f, lo, hi) = scatter(f, rows, |r| r.cond2_system, |r| r.cond2_jacobi);
     if hi > 0.0 {
         f = f.with_series(Series::new(
             "no change",

@@ -274,15 +274,14 @@ fn solver_columns(
     row.seconds_solver = Some(seconds);
     match c {
         Ok(c) => {
-            let run = |s: Option<metrics::solver::IterativeSolve>| s.map(|s| s.run);
-            let (j, i) = (run(c.pcg_jacobi), run(c.pcg_ic0));
-            row.cond2_jacobi = c.cond2_jacobi.map(|r| r.cond2);
-            row.pcg_iters_jacobi = j.map(|r| r.iterations);
-            row.pcg_iters_ic0 = i.map(|r| r.iterations);
-            row.pcg_converged = j.zip(i).map(|(a, b)| a.converged && b.converged);
-            row.minres_iters = run(c.minres).map(|r| r.iterations);
-            row.forward_err_u = c.forward_err_u;
-            row.forward_err_force = c.forward_err_force;
+            let m = c.summary();
+            row.cond2_jacobi = m.cond2_jacobi;
+            row.pcg_iters_jacobi = m.pcg_iters_jacobi;
+            row.pcg_iters_ic0 = m.pcg_iters_ic0;
+            row.pcg_converged = m.pcg_converged;
+            row.minres_iters = m.minres_iters;
+            row.forward_err_u = m.forward_err_u;
+            row.forward_err_force = m.forward_err_force;
             for note in c.unavailable {
                 if !row.warnings.is_empty() {
                     row.warnings.push_str("; ");
