@@ -47,7 +47,8 @@ pub fn residual_dd(a: &Stiffness, x: &[Dd], b: &[f64]) -> Vec<Dd> {
     r
 }
 
-fn inf_norm(x: impl Iterator<Item = f64>) -> f64 {
+/// `max |x_i|` (0 for no entries).
+pub fn inf_norm(x: impl Iterator<Item = f64>) -> f64 {
     x.fold(0.0, |m, v| m.max(v.abs()))
 }
 

@@ -160,6 +160,14 @@ pub const SIDE_BY_SIDE_MAX_N: usize = 2_000_000;
 /// Threshold on `cond₂ · ε_mach` above which fewer than ~10 digits are reliable.
 pub const DIGITS_LOST_THRESHOLD: f64 = 1e-6;
 
+/// A JSON number where `x` is finite, else `null` (what a reader can parse for ±∞ or NaN).
+pub fn finite_or_null(x: Option<f64>) -> serde_json::Value {
+    match x {
+        Some(v) if v.is_finite() => serde_json::json!(v),
+        _ => serde_json::Value::Null,
+    }
+}
+
 /// The final system matrix of a solution.
 pub fn system_matrix(problem: &Problem, sol: &Solution) -> Stiffness {
     match &sol.system {

@@ -33,7 +33,7 @@
 //! When to use: to compare penalty rules by what a user pays rather than by raw cond₂ (a
 //! diagonal preconditioner removes most of a penalty's effect on cond₂; van der Sluis).
 
-use super::{cond_of_system, system_matrix};
+use super::{cond_of_system, finite_or_null, system_matrix};
 use crate::conditioning::CondReport;
 use crate::dd::Dd;
 use crate::error::{Error, Result};
@@ -243,8 +243,18 @@ pub fn eps_cond(c: Option<&CondReport>) -> Option<f64> {
 
 /// Computes the solver-cost metrics of `sol`'s final system (module doc).
 pub fn compute(problem: &Problem, sol: &Solution, opts: SolverOptions) -> Result<SolverMetrics> {
+    compute_for(problem, sol, &final_system(problem, sol), opts)
+}
+
+/// [`compute`] on the final system `fs` already formed ([`final_system`] of `problem` and
+/// `sol`; `solve --write-system` writes the same one).
+pub fn compute_for(
+    problem: &Problem,
+    sol: &Solution,
+    fs: &FinalSystem,
+    opts: SolverOptions,
+) -> Result<SolverMetrics> {
     opts.check()?;
-    let fs = final_system(problem, sol);
     let mut out = SolverMetrics {
         tol: opts.tol,
         ..SolverMetrics::default()
@@ -304,7 +314,7 @@ pub fn compute(problem: &Problem, sol: &Solution, opts: SolverOptions) -> Result
                 .push(format!("minres: {}", e.bare_message())),
         },
     }
-    direct_errors(problem, sol, &fs, &mut out)?;
+    direct_errors(problem, sol, fs, symmetric, &mut out)?;
     Ok(out)
 }
 
@@ -338,13 +348,13 @@ fn cond_jacobi(
         return Ok(None);
     }
     let s: Vec<f64> = diag[..n].iter().map(|d| 1.0 / d.sqrt()).collect();
-    let scaled_k = problem.k.scaled(&s);
     match &sol.system {
         SystemKind::Penalized => {
             let scaled = a.scaled(&s);
             cond_of_system(problem, &sol.system, &scaled, None, None, tol, unavailable)
         }
         SystemKind::SaddlePoint { active } => {
+            let scaled_k = problem.k.scaled(&s);
             let p = match Problem::new(scaled_k, problem.q.clone(), problem.constraints.clone()) {
                 Ok(p) => p,
                 Err(e) => {
@@ -363,12 +373,13 @@ fn direct_errors(
     problem: &Problem,
     sol: &Solution,
     fs: &FinalSystem,
+    symmetric: bool,
     out: &mut SolverMetrics,
 ) -> Result<()> {
     // A fresh factorization even where the solve kept its own (`Solution::factor`), so that
     // `seconds_direct` is a whole direct solve (factorization and one solve) for every rule.
     let t = Instant::now();
-    let factor = match Factorization::new(&fs.a, fs.a.is_symmetric()) {
+    let factor = match Factorization::new(&fs.a, symmetric) {
         Ok(f) => f,
         Err(e) => {
             out.unavailable.push(format!(
@@ -380,17 +391,14 @@ fn direct_errors(
     };
     let x = factor.solve(&fs.b);
     out.seconds_direct = Some(t.elapsed().as_secs_f64());
-    let r = refine::residual_dd(
-        &fs.a,
-        &x.iter().map(|&v| Dd::from_f64(v)).collect::<Vec<_>>(),
-        &fs.b,
-    );
-    let inf = |v: &mut dyn Iterator<Item = f64>| v.fold(0.0f64, |m, x| m.max(x.abs()));
-    let rn = inf(&mut r.iter().map(|v| v.to_f64()));
-    let den = fs.a.inf_norm() * inf(&mut x.iter().copied()) + inf(&mut fs.b.iter().copied());
+    let xd: Vec<Dd> = x.iter().map(|&v| Dd::from_f64(v)).collect();
+    let r = refine::residual_dd(&fs.a, &xd, &fs.b);
+    let rn = refine::inf_norm(r.iter().map(|v| v.to_f64()));
+    let den = fs.a.inf_norm() * refine::inf_norm(x.iter().copied())
+        + refine::inf_norm(fs.b.iter().copied());
     out.backward_err = Some(if den > 0.0 { rn / den } else { rn });
     let reference = refine::refine(&fs.a, &fs.b, &factor, &x);
-    out.x_direct = x.clone();
+    out.x_direct = x;
     out.refinement_steps = Some(reference.steps);
     out.reference_accuracy = Some(reference.accuracy);
     if !reference.converged {
@@ -401,8 +409,10 @@ fn direct_errors(
         return Ok(());
     }
     let n = problem.n();
-    out.forward_err_u = Some(refine::relative_error_dd(&x[..n], &reference.x[..n]));
-    let xd: Vec<Dd> = x.iter().map(|&v| Dd::from_f64(v)).collect();
+    out.forward_err_u = Some(refine::relative_error_dd(
+        &out.x_direct[..n],
+        &reference.x[..n],
+    ));
     let f_hat: Vec<f64> = forces_of(problem, sol, fs, &xd)
         .iter()
         .map(|v| v.to_f64())
@@ -410,13 +420,6 @@ fn direct_errors(
     let f_ref = forces_of(problem, sol, fs, &reference.x);
     out.forward_err_force = Some(refine::relative_error_dd(&f_hat, &f_ref));
     Ok(())
-}
-
-fn finite(x: Option<f64>) -> serde_json::Value {
-    match x {
-        Some(v) if v.is_finite() => serde_json::json!(v),
-        _ => serde_json::Value::Null,
-    }
 }
 
 impl SolverMetrics {
@@ -436,30 +439,30 @@ impl SolverMetrics {
             _ => None,
         };
         let fields = json!({
-            "cond2_jacobi": finite(j.map(|c| c.cond2)),
-            "cond2_jacobi_lo": finite(j.map(|c| c.cond2_lo)),
-            "cond2_jacobi_hi": finite(j.map(|c| c.cond2_hi)),
+            "cond2_jacobi": finite_or_null(j.map(|c| c.cond2)),
+            "cond2_jacobi_lo": finite_or_null(j.map(|c| c.cond2_lo)),
+            "cond2_jacobi_hi": finite_or_null(j.map(|c| c.cond2_hi)),
             "cond_route_jacobi": j.map(|c| c.route.name()),
-            "eps_cond2": finite(eps_cond(cond2_system)),
-            "eps_cond2_jacobi": finite(eps_cond(j)),
+            "eps_cond2": finite_or_null(eps_cond(cond2_system)),
+            "eps_cond2_jacobi": finite_or_null(eps_cond(j)),
             "krylov_tol": self.tol,
             "pcg_iters_jacobi": pj.map(|r| r.iterations),
             "pcg_converged_jacobi": pj.map(|r| r.converged),
-            "pcg_cond_eff_jacobi": finite(pj.and_then(|r| r.effective_cond())),
+            "pcg_cond_eff_jacobi": finite_or_null(pj.and_then(|r| r.effective_cond())),
             "pcg_seconds_jacobi": self.pcg_jacobi.map(|s| s.seconds),
             "pcg_iters_ic0": pi.map(|r| r.iterations),
             "pcg_converged_ic0": pi.map(|r| r.converged),
-            "pcg_cond_eff_ic0": finite(pi.and_then(|r| r.effective_cond())),
+            "pcg_cond_eff_ic0": finite_or_null(pi.and_then(|r| r.effective_cond())),
             "pcg_seconds_ic0": self.pcg_ic0.map(|s| s.seconds),
             "ic0_shift": self.ic0_shift,
             "pcg_converged": both,
             "minres_iters": mr.map(|r| r.iterations),
             "minres_converged": mr.map(|r| r.converged),
             "minres_seconds": self.minres.map(|s| s.seconds),
-            "forward_err_u": finite(self.forward_err_u),
-            "forward_err_force": finite(self.forward_err_force),
-            "backward_err": finite(self.backward_err),
-            "reference_accuracy": finite(self.reference_accuracy),
+            "forward_err_u": finite_or_null(self.forward_err_u),
+            "forward_err_force": finite_or_null(self.forward_err_force),
+            "backward_err": finite_or_null(self.backward_err),
+            "reference_accuracy": finite_or_null(self.reference_accuracy),
             "refinement_steps": self.refinement_steps,
             "seconds_direct": self.seconds_direct,
         });

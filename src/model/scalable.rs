@@ -24,11 +24,7 @@ pub struct PerfScene {
 
 fn scales(p: &Problem, u0: &[f64]) -> (f64, f64) {
     let scale = p.displacement_scale(u0);
-    let k_scale = p
-        .constraints
-        .iter()
-        .map(|c| p.k.diag(c.dof).abs())
-        .fold(0.0f64, f64::max);
+    let k_scale = p.max_constraint_stiffness();
     (scale, if k_scale > 0.0 { k_scale } else { 1.0 })
 }
 

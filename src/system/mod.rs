@@ -482,6 +482,15 @@ impl Problem {
         }
     }
 
+    /// The largest |K\[d_c, d_c\]| over the constraints (0 without any): the stiffness scale
+    /// penalties are relative to.
+    pub fn max_constraint_stiffness(&self) -> f64 {
+        self.constraints
+            .iter()
+            .map(|c| self.k.diag(c.dof).abs())
+            .fold(0.0f64, f64::max)
+    }
+
     /// The geometric mean of |K\[d_c, d_c\]| over the constraints (1 without any nonzero):
     /// a moderate penalty in the problem's own stiffness units (the augmented Lagrangian's ε
     /// in the sweep and the contact benchmarks).

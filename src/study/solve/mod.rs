@@ -6,7 +6,7 @@ pub mod report;
 pub use report::table;
 
 use crate::error::{Error, Result};
-use crate::metrics::{self, solver::SolverOptions, MetricSet};
+use crate::metrics::{self, finite_or_null, solver::SolverOptions, MetricSet};
 use crate::scene;
 use crate::strategy::{self, registry, Knob, Knobs, Method};
 use crate::study::shape::{Drawing, RunContext, Study};
@@ -31,13 +31,6 @@ fn with_flag(e: Error) -> Error {
         _ => return e,
     };
     e.for_flag(flag)
-}
-
-fn finite_or_null(x: Option<f64>) -> Value {
-    match x {
-        Some(v) if v.is_finite() => json!(v),
-        _ => Value::Null,
-    }
 }
 
 /// How [`solve_scene`] runs: which metrics, from which start, and what it writes.
@@ -75,11 +68,7 @@ fn check_options(opts: &SolveOptions) -> Result<()> {
 /// is positive), tol = 1e-9·max(1, max|û|).
 fn augmented_defaults(p: &crate::system::Problem, knobs: &mut Knobs) {
     if knobs.eps.is_none() {
-        let e = p
-            .constraints
-            .iter()
-            .map(|c| p.k.diag(c.dof).abs())
-            .fold(0.0f64, f64::max);
+        let e = p.max_constraint_stiffness();
         knobs.eps = Some(if e > 0.0 { e } else { 1.0 });
     }
     if knobs.tol.is_none() {
@@ -153,21 +142,9 @@ pub fn solve_scene(scene: &Path, name: &str, knobs: Knobs, opts: &SolveOptions) 
             "the solution contains NaN/Inf (system singular to working precision)".into(),
         ));
     }
-    let cost = if no_metrics || opts.no_solver_metrics {
-        None
-    } else {
-        let krylov = SolverOptions {
-            cond_tol,
-            ..opts.krylov
-        };
-        Some(metrics::solver::compute(p, &sol, krylov)?)
-    };
+    let cost = solver_cost(p, &sol, opts)?;
     if let Some(c) = &cost {
         warnings.extend(c.unavailable.iter().cloned());
-    }
-    if let Some(dir) = &opts.write_system {
-        let x = cost.as_ref().map(|c| c.x_direct.as_slice());
-        write_system(dir, &metrics::solver::final_system(p, &sol), x)?;
     }
     let flags = crate::conditioning::CondReport::flags([
         m.cond2_k.as_ref(),
@@ -221,6 +198,34 @@ pub fn solve_scene(scene: &Path, name: &str, knobs: Knobs, opts: &SolveOptions) 
         o.extend(c.json_fields(m.cond2_system.as_ref()));
     }
     Ok(out)
+}
+
+/// The solver-cost metrics of `sol` unless `opts` skips them, and its final system written
+/// to `opts.write_system` (with the direct solve x̂ where the metrics ran); the system is
+/// formed once for both.
+fn solver_cost(
+    p: &crate::system::Problem,
+    sol: &strategy::Solution,
+    opts: &SolveOptions,
+) -> Result<Option<metrics::solver::SolverMetrics>> {
+    let with_cost = !(opts.no_metrics || opts.no_solver_metrics);
+    let system =
+        (with_cost || opts.write_system.is_some()).then(|| metrics::solver::final_system(p, sol));
+    let cost = match &system {
+        Some(fs) if with_cost => {
+            let krylov = SolverOptions {
+                cond_tol: opts.cond_tol,
+                ..opts.krylov
+            };
+            Some(metrics::solver::compute_for(p, sol, fs, krylov)?)
+        }
+        _ => None,
+    };
+    if let (Some(dir), Some(fs)) = (&opts.write_system, &system) {
+        let x = cost.as_ref().map(|c| c.x_direct.as_slice());
+        write_system(dir, fs, x)?;
+    }
+    Ok(cost)
 }
 
 /// Writes the final linear system `A x = b` into `dir` (created if missing): `A.mtx` (Matrix

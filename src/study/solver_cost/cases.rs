@@ -215,13 +215,6 @@ pub fn beam_problem(n_el: usize) -> Result<Problem> {
     .map(Problem::in_preferred_storage)
 }
 
-fn max_constrained_diag(p: &Problem) -> f64 {
-    p.constraints
-        .iter()
-        .map(|c| p.k.diag(c.dof).abs())
-        .fold(0.0f64, f64::max)
-}
-
 /// The Hertz level `h_rel` of `case`: its mesh, load and Lagrange at the load.
 fn hertz_level(family: Family, case: Case, index: usize, h_rel: f64) -> Result<Level> {
     let (load, exact) = HERTZ.exact(case);
@@ -297,7 +290,7 @@ fn fixed_level(family: Family, index: usize, size: usize) -> Result<Level> {
         h,
         n_dofs: problem.n(),
         scale,
-        k_scale: max_constrained_diag(&problem),
+        k_scale: problem.max_constraint_stiffness(),
         aug_eps: problem.mean_constraint_stiffness(),
         err_discretization: f64::NAN,
         err_discretization_extrapolated: false,

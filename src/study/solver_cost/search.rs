@@ -76,8 +76,6 @@ pub fn method_at(
 
 /// The outcome of a search.
 pub struct Found {
-    /// The method at the closest knob.
-    pub method: Method,
     /// Knob name.
     pub knob: &'static str,
     /// Knob value relative to its scale.
@@ -131,9 +129,9 @@ pub fn find(
         evaluations.set(evaluations.get() + 1);
         let rel = 10f64.powf(t);
         let solved = method_at(strategy, level, aug_eps, rel)
-            .and_then(|(m, knob, value)| level.solve(m).map(|s| (m, knob, value, s)));
+            .and_then(|(m, knob, value)| level.solve(m).map(|s| (knob, value, s)));
         match solved {
-            Ok((method, knob, value, s)) => {
+            Ok((knob, value, s)) => {
                 let m = measure(accuracy, &s);
                 let f = if m > 0.0 {
                     (m / target).ln()
@@ -148,7 +146,6 @@ pub fn find(
                 });
                 if closer {
                     *best = Some(Found {
-                        method,
                         knob,
                         rel,
                         value,
