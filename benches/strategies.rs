@@ -48,7 +48,7 @@ fn bench_strategies(c: &mut Criterion) {
         let kdiag = p
             .constraints
             .iter()
-            .map(|c| p.k.diag(c.dof))
+            .map(|c| p.k.diag(c.single_dof().unwrap()))
             .fold(0.0, f64::max);
         let mut g = quick(c, &format!("solve_{}", family.name()));
         for m in methods(scale, kdiag) {
@@ -93,7 +93,7 @@ fn bench_condensed_vs_m(c: &mut Criterion) {
             .step_by(stride)
             .map(|c| Constraint {
                 kind: ConstraintKind::Lower,
-                ..*c
+                ..c.clone()
             })
             .collect();
         let p = Problem::new(base.k.clone(), base.q.clone(), cons).expect("valid");

@@ -53,7 +53,7 @@ fn solve_gap_scaled(ctx: Context, method: &Method) -> Result<Solution> {
         let g0 = ctx.g0()?;
         let p = ctx.problem;
         Ok(per_active(p, active, |c, con| {
-            F * p.k.diag(con.dof).abs() * (1.0 + g0[c].abs() / delta)
+            F * p.k.diag(con.single_dof().unwrap()).abs() * (1.0 + g0[c].abs() / delta)
         }))
     })
 }
@@ -158,11 +158,7 @@ mod tests {
         use penalty_lab::system::{Constraint, ConstraintKind, Problem, Stiffness};
         registry::register(&GAP_SCALED).unwrap();
         let (k, q, delta) = (4.0, 2.0, 0.1);
-        let con = Constraint {
-            dof: 0,
-            limit: 0.0,
-            kind: ConstraintKind::Upper,
-        };
+        let con = Constraint::on_dof(0, 0.0, ConstraintKind::Upper);
         let p = Problem::new(
             Stiffness::from_rows(&[vec![k]]).unwrap(),
             vec![q],

@@ -22,10 +22,12 @@ fn problem(n_el: usize, m: usize) -> Problem {
         q[frame.dof(node, 1).unwrap()] = -1.0;
     }
     let constraints = (1..=m)
-        .map(|i| Constraint {
-            dof: frame.dof(i * n_el / m, 1).unwrap(),
-            limit: 0.0,
-            kind: ConstraintKind::Bilateral,
+        .map(|i| {
+            Constraint::on_dof(
+                frame.dof(i * n_el / m, 1).unwrap(),
+                0.0,
+                ConstraintKind::Bilateral,
+            )
         })
         .collect();
     Problem::new(k, q, constraints).unwrap()

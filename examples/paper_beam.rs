@@ -25,7 +25,7 @@ pub fn run() -> Result<(f64, Vec<Outcome>)> {
     let q = vec![0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -50.0, 1.0, 0.0]; // Eq. 32
     let kind = ConstraintKind::Bilateral; // Eq. 34: D, û
     let constraints = [(4, 3.0), (6, -1.0), (7, 30.0)]
-        .map(|(dof, limit)| Constraint { dof, limit, kind })
+        .map(|(dof, limit)| Constraint::on_dof(dof, limit, kind))
         .to_vec();
     let beam = Problem::new(k, q, constraints)?;
     let mut rows = Vec::new();

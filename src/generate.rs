@@ -228,11 +228,11 @@ pub fn generate(
 fn constraint_from(rng: &mut ChaCha8Rng, dof: usize, u0d: f64) -> Constraint {
     let roll: f64 = rng.random();
     if roll < 0.3 {
-        Constraint {
+        Constraint::on_dof(
             dof,
-            limit: u0d * rng.random_range(-0.5..0.9),
-            kind: ConstraintKind::Bilateral,
-        }
+            u0d * rng.random_range(-0.5..0.9),
+            ConstraintKind::Bilateral,
+        )
     } else {
         // Obstacle on the side the structure moves to.
         let kind = if u0d >= 0.0 {
@@ -245,11 +245,7 @@ fn constraint_from(rng: &mut ChaCha8Rng, dof: usize, u0d: f64) -> Constraint {
         } else {
             rng.random_range(1.05..1.5)
         };
-        Constraint {
-            dof,
-            limit: u0d * factor,
-            kind,
-        }
+        Constraint::on_dof(dof, u0d * factor, kind)
     }
 }
 
@@ -305,7 +301,7 @@ fn beam(rng: &mut ChaCha8Rng, cfg: &GeneratorConfig) -> Result<(Problem, serde_j
             constraint_from(rng, d, u0[d])
         })
         .collect();
-    cons.sort_by_key(|c| c.dof);
+    cons.sort_by_key(|c| c.lead_dof());
     let meta = serde_json::json!({
         "elements": n_el, "length": length, "E": section.e, "A": section.a, "J": section.j,
         "supports": if clamped_both { "clamped-clamped" } else { "cantilever" },
@@ -341,11 +337,7 @@ fn membrane(rng: &mut ChaCha8Rng, cfg: &GeneratorConfig) -> Result<(Problem, ser
                 - curv * ((x - x0).powi(2) + (y - y0).powi(2))
                 - tilt.0 * (x - 0.5)
                 - tilt.1 * (y - 0.5);
-            Constraint {
-                dof: idx(i, j),
-                limit: psi,
-                kind: ConstraintKind::Lower,
-            }
+            Constraint::on_dof(idx(i, j), psi, ConstraintKind::Lower)
         })
         .collect();
     let meta = serde_json::json!({
@@ -387,7 +379,7 @@ fn spectrum(rng: &mut ChaCha8Rng, cfg: &GeneratorConfig) -> Result<(Problem, ser
         .iter()
         .map(|&d| constraint_from(rng, d, u0[d]))
         .collect();
-    cons.sort_by_key(|c| c.dof);
+    cons.sort_by_key(|c| c.lead_dof());
     let meta = serde_json::json!({"n": n, "log10_spread": spread});
     Ok((Problem::new(k, q, cons)?, meta))
 }

@@ -59,7 +59,7 @@
 //! let q = vec![0.0, 0.0, 0.0, 0.0, 0.0, 0.0, -50.0, 1.0, 0.0];
 //! let kind = ConstraintKind::Bilateral;
 //! let constraints = [(4, 3.0), (6, -1.0), (7, 30.0)]
-//!     .map(|(dof, limit)| Constraint { dof, limit, kind })
+//!     .map(|(dof, limit)| Constraint::on_dof(dof, limit, kind))
 //!     .to_vec();
 //! let beam = Problem::new(k, q, constraints)?;
 //!

@@ -248,9 +248,19 @@ impl Factorization {
     /// Solves `A X = E_D` where the columns of `E_D` are unit vectors at `dofs`:
     /// returns `X = A⁻¹ D` (N×m), one block solve.
     pub fn solve_unit_columns(&self, dofs: &[usize]) -> Mat<f64> {
-        let mut x = Mat::zeros(self.n, dofs.len());
-        for (c, &d) in dofs.iter().enumerate() {
-            x[(d, c)] = 1.0;
+        let cols: Vec<[(usize, f64); 1]> = dofs.iter().map(|&d| [(d, 1.0)]).collect();
+        let cols: Vec<&[(usize, f64)]> = cols.iter().map(|c| c.as_slice()).collect();
+        self.solve_sparse_columns(&cols)
+    }
+
+    /// `A⁻¹ B` for B (n × cols.len()) given column by column as `(row, value)` entries (each
+    /// row at most once per column): W = K⁻¹D from the constraint rows.
+    pub fn solve_sparse_columns(&self, cols: &[&[(usize, f64)]]) -> Mat<f64> {
+        let mut x = Mat::zeros(self.n, cols.len());
+        for (c, col) in cols.iter().enumerate() {
+            for &(d, v) in col.iter() {
+                x[(d, c)] = v;
+            }
         }
         self.solve_mat_in_place(x.as_mut());
         x

@@ -96,16 +96,24 @@ pub(crate) fn cond_of_system(
     unavailable: &mut Vec<String>,
 ) -> Result<Option<CondReport>> {
     // A saddle point with Boolean D and symmetric K: block-structure route, never densified
-    // (a dense K in compressed columns).
+    // (a dense K in compressed columns). A general D takes the generic route.
+    let boolean_dofs = |active: &[usize]| -> Option<Vec<usize>> {
+        active
+            .iter()
+            .map(|&c| problem.constraints[c].single_dof())
+            .collect()
+    };
     if let SystemKind::SaddlePoint { active } = kind {
-        if crate::route::saddle_route(problem.k.is_symmetric()) {
+        if let (true, Some(dofs)) = (
+            crate::route::saddle_route(problem.k.is_symmetric()),
+            boolean_dofs(active),
+        ) {
             let k = match &problem.k {
                 Stiffness::Sparse(k) => std::borrow::Cow::Borrowed(k),
                 Stiffness::Dense(k) => {
                     std::borrow::Cow::Owned(crate::system::sparse_of_dense(k.as_ref()))
                 }
             };
-            let dofs: Vec<usize> = active.iter().map(|&c| problem.constraints[c].dof).collect();
             let schur = conditioning::saddle::SCHUR_TEST_MAX;
             match conditioning::saddle::cond2_saddle_warm(&k, &dofs, schur, starts) {
                 Ok(r) => return Ok(Some(r)),
@@ -142,12 +150,16 @@ fn log10_det(
     cond: Option<&CondReport>,
     a: &Stiffness,
 ) -> Result<f64> {
-    match &sol.system {
-        SystemKind::SaddlePoint { active } if cond.and_then(|c| c.log10_det).is_none() => {
-            let dofs: Vec<usize> = active.iter().map(|&c| problem.constraints[c].dof).collect();
-            conditioning::log10_abs_det_saddle(&problem.k, &dofs)
-        }
-        _ => conditioning::log10_abs_det_after(a, cond),
+    let dofs = match &sol.system {
+        SystemKind::SaddlePoint { active } if cond.and_then(|c| c.log10_det).is_none() => active
+            .iter()
+            .map(|&c| problem.constraints[c].single_dof())
+            .collect::<Option<Vec<usize>>>(),
+        _ => None,
+    };
+    match dofs {
+        Some(dofs) => conditioning::log10_abs_det_saddle(&problem.k, &dofs),
+        None => conditioning::log10_abs_det_after(a, cond),
     }
 }
 

@@ -12,7 +12,8 @@
 //! - `cond2_jacobi`: cond₂(S A S), `S = diag(A)^{−1/2}`, by the cond₂ routes of the
 //!   accuracy contract (proven brackets). For the saddle point diag(A) vanishes on the
 //!   multiplier block; there `S_λc = diag(K)_{d_c}^{1/2}` (Jacobi on u, and on λ the scaling
-//!   that keeps each coupling entry exactly 1), i.e. the matrix `[S K S, D_A; D_Aᵀ, 0]`;
+//!   that keeps each coupling entry exactly 1), i.e. the matrix `[S K S, D_A; D_Aᵀ, 0]`; for a
+//!   row with several terms `S_λc = 1/‖S d_c‖_∞` (its largest coupling entry 1);
 //! - `pcg_iters_jacobi`, `pcg_iters_ic0`: CG from x₀ = 0 to `‖r‖₂ ≤ τ‖b‖₂`
 //!   ([`crate::linalg::krylov::cg`], SciPy's test), preconditioned by Jacobi and by IC(0) on
 //!   A's pattern ([`crate::linalg::precond::Ic0`], with its Manteuffel shift recorded), each
@@ -195,7 +196,7 @@ pub fn final_system(problem: &Problem, sol: &Solution) -> FinalSystem {
                 let (e, r, g) = (sol.penalties[c], sol.forces[c], sol.gaps[c]);
                 offsets[c] = r - e * g;
                 if e != 0.0 || offsets[c] != 0.0 {
-                    b[con.dof] += e * con.limit - offsets[c];
+                    con.scatter(&mut b, e * con.limit - offsets[c]);
                 }
             }
             FinalSystem { a, b, offsets }
@@ -222,7 +223,14 @@ fn forces_of(problem: &Problem, sol: &Solution, fs: &FinalSystem, x: &[Dd]) -> V
             .iter()
             .enumerate()
             .map(|(c, con)| {
-                let g = x[con.dof] - Dd::from_f64(con.limit);
+                let v = match con.single_dof() {
+                    Some(d) => x[d],
+                    None => con
+                        .terms
+                        .iter()
+                        .fold(Dd::ZERO, |s, &(d, a)| s + Dd::from_f64(a) * x[d]),
+                };
+                let g = v - Dd::from_f64(con.limit);
                 Dd::from_f64(sol.penalties[c]) * g + Dd::from_f64(fs.offsets[c])
             })
             .collect(),
@@ -325,7 +333,7 @@ fn saddle_preconditioner(problem: &Problem, active: &[usize]) -> Result<Jacobi> 
     inv.extend(
         active
             .iter()
-            .map(|&c| problem.k.diag(problem.constraints[c].dof)),
+            .map(|&c| problem.constraints[c].stiffness(&problem.k)),
     );
     Jacobi::from_inverse_diagonal(inv)
 }
@@ -355,7 +363,19 @@ fn cond_jacobi(
         }
         SystemKind::SaddlePoint { active } => {
             let scaled_k = problem.k.scaled(&s);
-            let p = match Problem::new(scaled_k, problem.q.clone(), problem.constraints.clone()) {
+            // Single-DOF rows keep their entry 1; a coupled row becomes S d_c / ‖S d_c‖_∞.
+            let rows = problem.constraints.iter().map(|c| {
+                if c.single_dof().is_some() {
+                    return c.clone();
+                }
+                let top = c
+                    .terms
+                    .iter()
+                    .fold(0.0f64, |t, &(d, a)| t.max((a * s[d]).abs()));
+                let terms = c.terms.iter().map(|&(d, a)| (d, a * s[d] / top)).collect();
+                crate::system::Constraint::row(terms, c.limit, c.kind)
+            });
+            let p = match Problem::new(scaled_k, problem.q.clone(), rows.collect()) {
                 Ok(p) => p,
                 Err(e) => {
                     unavailable.push(format!("cond2_jacobi not computed: {}", e.bare_message()));

@@ -251,7 +251,7 @@ pub mod paper {
         let constraints = DOFS
             .iter()
             .zip(LIMITS)
-            .map(|(&dof, limit)| Constraint { dof, limit, kind })
+            .map(|(&dof, limit)| Constraint::on_dof(dof, limit, kind))
             .collect();
         Problem::new(k, LOAD.to_vec(), constraints).expect("valid problem")
     }
@@ -292,11 +292,7 @@ pub mod bed {
             q[d] = b.load;
             let x = frame.nodes[i].0 / length;
             let limit = -b.amp * (1.0 + (b.waves * std::f64::consts::PI * x).sin()) * x;
-            cons.push(Constraint {
-                dof: d,
-                limit,
-                kind: ConstraintKind::Lower,
-            });
+            cons.push(Constraint::on_dof(d, limit, ConstraintKind::Lower));
         }
         Problem::new(k, q, cons)
     }

@@ -366,7 +366,7 @@ impl Indentation {
             .constraints
             .iter()
             .zip(&self.contact)
-            .map(|(con, node)| -(r[con.dof] - self.problem.q[con.dof]) / node.weight)
+            .map(|(con, node)| -(con.value(&r) - con.value(&self.problem.q)) / node.weight)
             .collect()
     }
 
@@ -461,11 +461,7 @@ pub fn indentation(
                 "indenter profile is not finite at x = {x} (got {limit})"
             )));
         }
-        constraints.push(Constraint {
-            dof: d,
-            limit,
-            kind: ConstraintKind::Upper,
-        });
+        constraints.push(Constraint::on_dof(d, limit, ConstraintKind::Upper));
         contact.push(ContactNode { x, weight: w });
     }
     let problem = Problem::new(k, q, constraints)?.in_preferred_storage();
@@ -540,7 +536,12 @@ mod tests {
             assert_eq!(k, ind.n_free);
             // Equilibrium away from the top: K u = q at every free DOF but the contact ones.
             let r = ind.problem.k.matvec(&u);
-            let contact: Vec<usize> = ind.problem.constraints.iter().map(|c| c.dof).collect();
+            let contact: Vec<usize> = ind
+                .problem
+                .constraints
+                .iter()
+                .map(|c| c.lead_dof())
+                .collect();
             let scale = ind.problem.k.max_abs() * 1e-3;
             for (d, (rd, qd)) in r.iter().zip(&ind.problem.q).enumerate() {
                 if !contact.contains(&d) {

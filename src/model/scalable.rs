@@ -57,11 +57,7 @@ pub fn beam_scene(size: usize, max_constraints: usize) -> Result<PerfScene> {
     let stride = n_el.div_ceil(max_constraints.max(1)).max(1);
     let constraints: Vec<Constraint> = (1..=n_el)
         .filter(|i| (i - 1) % stride == stride / 2)
-        .map(|i| Constraint {
-            dof: dof(i, 1),
-            limit: 0.6 * lowest,
-            kind: ConstraintKind::Lower,
-        })
+        .map(|i| Constraint::on_dof(dof(i, 1), 0.6 * lowest, ConstraintKind::Lower))
         .collect();
     let problem = Problem::new(k, q, constraints)?;
     let (scale, k_scale) = scales(&problem, &u0);
@@ -94,11 +90,7 @@ pub fn membrane_scene(size: usize, max_constraints: usize) -> Result<PerfScene> 
         for j in (stride / 2..side).step_by(stride) {
             let (x, y) = ((i + 1) as f64 * h, (j + 1) as f64 * h);
             let psi = 0.5 * sag - sag.abs() * ((x - 0.5).powi(2) + (y - 0.5).powi(2));
-            constraints.push(Constraint {
-                dof: idx(i, j),
-                limit: psi,
-                kind: ConstraintKind::Lower,
-            });
+            constraints.push(Constraint::on_dof(idx(i, j), psi, ConstraintKind::Lower));
         }
     }
     let problem = Problem::new(k, q, constraints)?;

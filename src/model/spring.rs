@@ -23,10 +23,6 @@ pub fn problem(k: f64, q: f64, u_hat: f64, kind: ConstraintKind) -> Result<Probl
     Problem::new(
         Stiffness::from_rows(&[vec![k]])?,
         vec![q],
-        vec![Constraint {
-            dof: 0,
-            limit: u_hat,
-            kind,
-        }],
+        vec![Constraint::on_dof(0, u_hat, kind)],
     )
 }

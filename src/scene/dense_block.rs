@@ -315,7 +315,14 @@ mod tests {
         let cons: Vec<String> = raw
             .constraints
             .iter()
-            .map(|c| format!("{} {} {:?}", c.0.dof.0, bits(c.0.limit.0), c.0.kind.0))
+            .map(|c| {
+                format!(
+                    "{} {} {:?}",
+                    c.0.dof.as_ref().map_or(usize::MAX, |d| d.0),
+                    bits(c.0.limit.0),
+                    c.0.kind.0
+                )
+            })
             .collect();
         format!(
             "{:?} | {:?} | {:?} | {:?} | {:?} | {:?} | {:?}",

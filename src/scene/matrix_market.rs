@@ -22,7 +22,8 @@
 //! `coordinate real general` with values in shortest round-trip form, so
 //! [`read_matrix_market`] gives back identical bits.
 
-use super::{bare_message, clip};
+use super::bare_message;
+use super::json_error::clip;
 use crate::error::{Error, Result};
 use crate::provenance::write_atomic;
 use crate::system::Stiffness;

@@ -27,24 +27,7 @@ fn check_writable(p: &Problem) -> std::result::Result<(), String> {
     if let Some(i) = p.q.iter().position(|v| !v.is_finite()) {
         return Err(format!("load entry {i} is not finite"));
     }
-    let mut seen = vec![false; n];
-    for (c, con) in p.constraints.iter().enumerate() {
-        if con.dof >= n {
-            return Err(format!(
-                "constraint {c}: DOF {} is out of range (N = {n})",
-                con.dof
-            ));
-        }
-        if !con.limit.is_finite() {
-            return Err(format!("constraint {c}: limit is not finite"));
-        }
-        if std::mem::replace(&mut seen[con.dof], true) {
-            return Err(format!(
-                "constraint {c}: DOF {} is constrained twice",
-                con.dof
-            ));
-        }
-    }
+    crate::system::check_constraints(&p.constraints, n).map_err(|e| e.bare_message())?;
     Ok(())
 }
 
@@ -166,10 +149,20 @@ pub fn write_scene_as(
                     ConstraintKind::Upper => "upper",
                     ConstraintKind::Lower => "lower",
                 };
+                match con.single_dof() {
+                    Some(d) => write!(w, "    {{\"dof\": {d}")?,
+                    None => {
+                        w.write_all(b"    {\"terms\": [")?;
+                        for (t, &(d, a)) in con.terms.iter().enumerate() {
+                            let sep = if t > 0 { ", " } else { "" };
+                            write!(w, "{sep}[{d}, {}]", fmt_f64(a))?;
+                        }
+                        w.write_all(b"]")?;
+                    }
+                }
                 writeln!(
                     w,
-                    "    {{\"dof\": {}, \"limit\": {}, \"kind\": \"{kind}\"}}{}",
-                    con.dof,
+                    ", \"limit\": {}, \"kind\": \"{kind}\"}}{}",
                     fmt_f64(con.limit),
                     if c + 1 < m { "," } else { "" }
                 )?;

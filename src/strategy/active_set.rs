@@ -57,8 +57,8 @@ fn penalized_at(kind: ConstraintKind, g: f64) -> bool {
 /// Is constraint `c` to be penalized at the trial solution `u`? Bilateral: always;
 /// unilateral: while violated (penetration > 0).
 pub fn violated(problem: &Problem, c: usize, u: &[f64]) -> bool {
-    let con = problem.constraints[c];
-    penalized_at(con.kind, u[con.dof] - con.limit)
+    let con = &problem.constraints[c];
+    penalized_at(con.kind, con.gap(u))
 }
 
 /// The starting active set: every constraint violated by u0 = K⁻¹q. u0 is not computed when
@@ -106,7 +106,7 @@ pub fn energy_gradient(problem: &Problem, eps: &[f64], limits: &[f64], u: &[f64]
         *gi -= qi;
     }
     for ((con, &e), &l) in problem.constraints.iter().zip(eps).zip(limits) {
-        grad[con.dof] += e * pi(con.kind, u[con.dof] - l);
+        con.scatter(&mut grad, e * pi(con.kind, con.value(u) - l));
     }
     grad
 }
@@ -126,8 +126,8 @@ pub fn backward_error(
     let mut b = problem.q.clone();
     let mut e_max = 0.0f64;
     for ((con, &e), &l) in problem.constraints.iter().zip(eps).zip(limits) {
-        if penalized_at(con.kind, u[con.dof] - l) {
-            b[con.dof] += e * l;
+        if penalized_at(con.kind, con.value(u) - l) {
+            con.scatter(&mut b, e * l);
             e_max = e_max.max(e);
         }
     }
@@ -204,7 +204,7 @@ pub fn newton_settled(
             .constraints
             .iter()
             .zip(limits)
-            .map(|(con, &l)| penalized_at(con.kind, u[con.dof] - l))
+            .map(|(con, &l)| penalized_at(con.kind, con.value(u) - l))
             .collect()
     };
     let on_set = |a: &[bool]| -> Vec<f64> {
@@ -321,8 +321,8 @@ pub fn line_search(
         if e == 0.0 {
             continue;
         }
-        let g = u[con.dof] - l;
-        let h = d[con.dof];
+        let g = con.value(u) - l;
+        let h = con.value(d);
         let (da, db) = (e * h * g, e * h * h);
         let on_at_0 = match con.kind {
             ConstraintKind::Bilateral => true,
@@ -413,7 +413,7 @@ pub fn path_following(
         .iter()
         .zip(limits)
         .filter(|(c, &l)| {
-            c.kind != ConstraintKind::Bilateral && penalized_at(c.kind, u0[c.dof] - l)
+            c.kind != ConstraintKind::Bilateral && penalized_at(c.kind, c.value(&u0) - l)
         })
         .count();
     if violated < PATH_FOLLOWING_MIN_VIOLATED {
@@ -422,7 +422,7 @@ pub fn path_following(
     let kdd: Vec<f64> = problem
         .constraints
         .iter()
-        .map(|c| problem.k.diag(c.dof).abs())
+        .map(|c| c.stiffness(&problem.k).abs())
         .collect();
     let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
     let rho = dot(&problem.q, &u0) / dot(&u0, &u0);
@@ -494,7 +494,7 @@ pub fn fixed_energy(mut ctx: Context, method: Method, eps: Vec<f64>) -> Result<S
         .constraints
         .iter()
         .zip(&eps)
-        .map(|(c, &e)| e / problem.k.diag(c.dof).abs())
+        .map(|(c, &e)| e / c.stiffness(&problem.k).abs())
         .fold(0.0f64, f64::max);
     let contact_set = ctx.contact_set().filter(|_| !all_bilateral);
     let path = if all_bilateral || contact_set.is_some() {
@@ -551,7 +551,7 @@ fn set_violation(problem: &Problem, active: &[bool], u: &[f64]) -> f64 {
         .iter()
         .zip(active)
         .map(|(con, &a)| {
-            let g = u[con.dof] - con.limit;
+            let g = con.gap(u);
             match (a, con.kind) {
                 (_, ConstraintKind::Bilateral) => 0.0,
                 (false, k) => k.penetration(g),
@@ -666,8 +666,8 @@ pub fn clip_negative(problem: &Problem, eps: &mut [f64], rule: &str) -> (Option<
     }
     let describe = |&(c, e): &(usize, f64)| {
         format!(
-            "constraint {c} (DOF {}): ε = {e:.6e}",
-            problem.constraints[c].dof
+            "constraint {c} ({}): ε = {e:.6e}",
+            problem.constraints[c].label()
         )
     };
     let warning = match negative.len() {

@@ -135,7 +135,7 @@ pub fn solve(mut ctx: Context, eps: f64, tol: f64, adaptive: bool) -> Result<Sol
         // Multiplier update λ ← r.
         for c in 0..m {
             lambda[c] = if e[c] != 0.0 {
-                e[c] * (u[problem.constraints[c].dof] - limits[c])
+                e[c] * (problem.constraints[c].value(&u) - limits[c])
             } else {
                 0.0
             };
@@ -155,7 +155,7 @@ pub fn solve(mut ctx: Context, eps: f64, tol: f64, adaptive: bool) -> Result<Sol
         }
         if adaptive {
             for c in 0..m {
-                let cap = problem.k.diag(problem.constraints[c].dof).abs() / f64::EPSILON;
+                let cap = problem.constraints[c].stiffness(&problem.k).abs() / f64::EPSILON;
                 pen_eps[c] = adapted_penalty(pen_eps[c], pen[c], prev_pen[c], tol).min(cap);
             }
         }

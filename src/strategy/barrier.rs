@@ -209,7 +209,7 @@ fn side(kind: ConstraintKind) -> f64 {
 fn distances(p: &Problem, u: &[f64]) -> Vec<f64> {
     p.constraints
         .iter()
-        .map(|c| side(c.kind) * (u[c.dof] - c.limit))
+        .map(|c| side(c.kind) * (c.gap(u)))
         .collect()
 }
 
@@ -281,7 +281,7 @@ fn newton(ctx: &mut Context, mut u: Vec<f64>, k: &mut Kappa, dhat: f64) -> Resul
             grad_b[c] = side(con.kind) * kappa * b1;
             if b2 > 0.0 {
                 h[c] = kappa * b2;
-                lim[c] = u[con.dof] - grad_b[c] / h[c];
+                lim[c] = con.value(&u) - grad_b[c] / h[c];
             }
         }
         let u_new = ctx.solve_penalized_with(&h, &lim)?;
@@ -289,7 +289,7 @@ fn newton(ctx: &mut Context, mut u: Vec<f64>, k: &mut Kappa, dhat: f64) -> Resul
         // ∇Π = K u − q + D ∇B.
         let mut g: Vec<f64> = ku.iter().zip(&p.q).map(|(a, b)| a - b).collect();
         for (c, con) in p.constraints.iter().enumerate() {
-            g[con.dof] += grad_b[c];
+            con.scatter(&mut g, grad_b[c]);
         }
         let slope: f64 = g.iter().zip(&step).map(|(a, b)| a * b).sum();
         let (e0, rounding) = energy(p, &u, &ku, kappa, dhat);
@@ -300,7 +300,7 @@ fn newton(ctx: &mut Context, mut u: Vec<f64>, k: &mut Kappa, dhat: f64) -> Resul
         // Largest feasible step, times 0.9.
         let mut alpha = 1.0f64;
         for (c, con) in p.constraints.iter().enumerate() {
-            let dd = side(con.kind) * step[con.dof];
+            let dd = side(con.kind) * con.value(&step);
             if dd < 0.0 {
                 alpha = alpha.min(0.9 * d[c] / -dd);
             }
@@ -357,9 +357,9 @@ pub fn solve_with(mut ctx: Context, dhat: f64, rule: KappaRule) -> Result<Soluti
     // Feasible start: u0, with every constraint closer than d̂/2 (or violated) moved to d̂/2.
     let mut u = ctx.u0()?.to_vec();
     for con in &p.constraints {
-        let d = side(con.kind) * (u[con.dof] - con.limit);
+        let d = side(con.kind) * (con.gap(&u));
         if d < 0.5 * dhat {
-            u[con.dof] = con.limit + side(con.kind) * 0.5 * dhat;
+            con.set_value(&mut u, con.limit + side(con.kind) * 0.5 * dhat);
         }
     }
     let (kappa_min, kappa_max, below) = kappa_bounds(p, dhat, rule)?;
@@ -369,7 +369,7 @@ pub fn solve_with(mut ctx: Context, dhat: f64, rule: KappaRule) -> Result<Soluti
     let ge: Vec<f64> = ku.iter().zip(&p.q).map(|(a, b)| a - b).collect();
     let mut gb = vec![0.0; p.n()];
     for (c, con) in p.constraints.iter().enumerate() {
-        gb[con.dof] += side(con.kind) * barrier(d[c], dhat).1;
+        con.scatter(&mut gb, side(con.kind) * barrier(d[c], dhat).1);
     }
     let nb: f64 = gb.iter().map(|v| v * v).sum();
     let balanced = if nb > 0.0 {
@@ -448,11 +448,7 @@ mod tests {
         let p = Problem::new(
             k,
             vec![0.0, q],
-            vec![Constraint {
-                dof: 1,
-                limit: 0.0,
-                kind: ConstraintKind::Upper,
-            }],
+            vec![Constraint::on_dof(1, 0.0, ConstraintKind::Upper)],
         )
         .unwrap();
         match bbox {

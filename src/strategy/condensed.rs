@@ -156,7 +156,7 @@ fn guarded(
         let pen: Vec<f64> = problem
             .constraints
             .iter()
-            .map(|con| con.kind.penetration(a.u[con.dof] - con.limit))
+            .map(|con| con.kind.penetration(con.gap(&a.u)))
             .collect();
         let over = pen.iter().fold(0.0f64, |m, &p| m.max(p - delta));
         if over <= 0.0 {
@@ -173,10 +173,10 @@ fn guarded(
         // within its margin of δ inward by that margin, which doubles per round.
         let grow = 2f64.powi(refinements as i32 + 1);
         for (c, con) in problem.constraints.iter().enumerate() {
-            let unit = f64::EPSILON * a.u[con.dof].abs().max(con.limit.abs()).max(delta);
+            let unit = f64::EPSILON * con.value(&a.u).abs().max(con.limit.abs()).max(delta);
             let margin = grow * over.max(2.0 * unit);
             if pen[c] > delta - margin {
-                if a.u[con.dof] - con.limit > 0.0 {
+                if con.gap(&a.u) > 0.0 {
                     hi[c] = hi[c].min(delta - margin);
                 } else {
                     lo[c] = lo[c].max(-(delta - margin));
@@ -203,8 +203,8 @@ fn finish_guarded(mut ctx: Context, delta: f64, g: Guarded) -> Solution {
         .enumerate()
         .filter(|(_, st)| **st != BoundState::Free)
         .map(|(c, _)| {
-            let con = problem.constraints[c];
-            (delta - con.kind.penetration(g.attempt.u[con.dof] - con.limit)) / delta
+            let con = &problem.constraints[c];
+            (delta - con.kind.penetration(con.gap(&g.attempt.u))) / delta
         })
         .fold(0.0f64, f64::max);
     let mut warnings = Vec::new();
@@ -281,10 +281,9 @@ pub fn solve_dense(mut ctx: Context, delta: f64) -> Result<Solution> {
     let u0 = ctx.u0()?.to_vec();
     let m = problem.m();
     let n = problem.n();
-    let dofs: Vec<usize> = problem.constraints.iter().map(|c| c.dof).collect();
     // W = K⁻¹ D (N×m, shared by the solves of one `Prepared`), S = Dᵀ W.
     let w = ctx.constraint_columns()?;
-    let s = Mat::from_fn(m, m, |i, j| w[(dofs[i], j)]);
+    let s = Mat::from_fn(m, m, |i, j| problem.constraints[i].apply(|d| w[(d, j)]));
     let (lo, hi) = bounds(problem, delta);
     let g = guarded(problem, delta, lo, hi, |lo, hi, start| {
         let qp = box_qp(s.as_ref(), &g0, lo, hi, start)?;
@@ -326,7 +325,7 @@ mod tests {
             let scale = p
                 .constraints
                 .iter()
-                .map(|c| prep.u0()[c.dof].abs())
+                .map(|c| c.value(prep.u0()).abs())
                 .fold(0.0, f64::max);
             assert!(prep.constraint_columns.get().is_none());
             let mut first = None;

@@ -63,10 +63,10 @@ pub fn applies(problem: &Problem) -> bool {
         return false;
     }
     let mut seen = vec![false; problem.n()];
-    problem
-        .constraints
-        .iter()
-        .all(|c| !std::mem::replace(&mut seen[c.dof], true))
+    problem.constraints.iter().all(|c| {
+        c.single_dof()
+            .is_some_and(|d| !std::mem::replace(&mut seen[d], true))
+    })
 }
 
 /// Solves `min ½uᵀKu − qᵀu` s.t. `lo_c ≤ u[d_c] − û_c ≤ hi_c` by a primal–dual active-set
@@ -88,6 +88,7 @@ pub fn box_solve(
         return Err(Error::input("elimination route needs a sparse K"));
     };
     let (n, m) = (problem.n(), problem.m());
+    let dofs = problem.single_dofs("the elimination route")?;
     // Start like box_qp: the bounds violated by the unconstrained solution.
     let g0 = ctx.g0()?;
     let tol = super::box_qp::violation_tol(&g0, lo, hi);
@@ -106,11 +107,7 @@ pub fn box_solve(
     // The matrix values of each iteration (buffer reused).
     let mut vals = pat.values.clone();
     // Changes, weighted in gap units (r / K_dd) for the single-change fallback.
-    let w = |c: usize| {
-        1.0 / kdiag[problem.constraints[c].dof]
-            .abs()
-            .max(f64::MIN_POSITIVE)
-    };
+    let w = |c: usize| 1.0 / kdiag[dofs[c]].abs().max(f64::MIN_POSITIVE);
     let spec = PdasSpec {
         bounds: (lo, hi),
         tol,
@@ -179,9 +176,9 @@ pub fn box_solve(
             .constraints
             .iter()
             .enumerate()
-            .map(|(c, con)| match state[c] {
+            .map(|(c, _)| match state[c] {
                 BoundState::Free => 0.0,
-                _ => problem.q[con.dof] - ku[con.dof],
+                _ => problem.q[dofs[c]] - ku[dofs[c]],
             })
             .collect();
         Ok((g, r, u))
@@ -207,8 +204,9 @@ fn prescribed_dofs(
             BoundState::Hi => hi[c],
             BoundState::Lo => lo[c],
         };
-        fixed[con.dof] = true;
-        u_fix[con.dof] = prescribed(con.limit, b, lo[c], hi[c]);
+        let d = con.lead_dof(); // single-DOF: checked by `box_solve`
+        fixed[d] = true;
+        u_fix[d] = prescribed(con.limit, b, lo[c], hi[c]);
     }
     (fixed, u_fix)
 }

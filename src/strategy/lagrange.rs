@@ -53,9 +53,10 @@ pub fn saddle_matrix(problem: &Problem, active: &[usize]) -> Stiffness {
             let mut a = faer::Mat::zeros(n + na, n + na);
             a.as_mut().submatrix_mut(0, 0, n, n).copy_from(k);
             for (j, &c) in active.iter().enumerate() {
-                let d = problem.constraints[c].dof;
-                a[(d, n + j)] = 1.0;
-                a[(n + j, d)] = 1.0;
+                for &(d, v) in &problem.constraints[c].terms {
+                    a[(d, n + j)] = v;
+                    a[(n + j, d)] = v;
+                }
             }
             Stiffness::Dense(a)
         }
@@ -63,9 +64,10 @@ pub fn saddle_matrix(problem: &Problem, active: &[usize]) -> Stiffness {
             let mut t = Vec::with_capacity(problem.k.nnz() + 2 * na);
             problem.k.for_each_entry(|i, j, v| t.push((i, j, v)));
             for (j, &c) in active.iter().enumerate() {
-                let d = problem.constraints[c].dof;
-                t.push((d, n + j, 1.0));
-                t.push((n + j, d, 1.0));
+                for &(d, v) in &problem.constraints[c].terms {
+                    t.push((d, n + j, v));
+                    t.push((n + j, d, v));
+                }
             }
             Stiffness::from_triplets(n + na, &t).expect("indices in range")
         }
@@ -158,8 +160,8 @@ pub fn solve_saddle(mut ctx: Context) -> Result<Solution> {
         let tol = 64.0 * f64::EPSILON * (n as f64) * unorm;
         let mut changes: Vec<(f64, usize)> = Vec::new();
         for c in 0..m {
-            let con = problem.constraints[c];
-            let g = u[con.dof] - con.limit;
+            let con = &problem.constraints[c];
+            let g = con.gap(&u);
             match (active[c], con.kind) {
                 (_, ConstraintKind::Bilateral) => {}
                 (true, ConstraintKind::Upper) if lambda[c] < 0.0 => changes.push((-lambda[c], c)),

@@ -536,16 +536,21 @@ impl<'a> Context<'a> {
         }
     }
 
-    /// W = K⁻¹D (N×m: column c is K⁻¹e_{d_c}), computed once per [`Prepared`] and shared by
+    /// W = K⁻¹D (N×m: column c is K⁻¹d_c), computed once per [`Prepared`] and shared by
     /// every solve from it (the δ values of a sweep scene); its m solves are counted in every
     /// call's statistics all the same, so they do not depend on the sharing. Errors if K is
     /// singular.
     pub fn constraint_columns(&mut self) -> Result<Arc<faer::Mat<f64>>> {
         let cell = self.constraint_columns.clone();
-        let dofs: Vec<usize> = self.problem.constraints.iter().map(|c| c.dof).collect();
+        let rows: Vec<&[(usize, f64)]> = self
+            .problem
+            .constraints
+            .iter()
+            .map(|c| c.terms.as_slice())
+            .collect();
         let factor = self.k_factor()?;
-        let w = cell.get_or_init(|| Arc::new(factor.solve_unit_columns(&dofs)));
-        self.stats.linear_solves += dofs.len();
+        let w = cell.get_or_init(|| Arc::new(factor.solve_sparse_columns(&rows)));
+        self.stats.linear_solves += rows.len();
         Ok(w.clone())
     }
 
@@ -614,7 +619,13 @@ impl<'a> Context<'a> {
         if !reuse {
             self.last = None; // one penalized factor in memory at a time
             let a = penalized_matrix(p, eps);
-            let sym = self.k_factor.as_ref().and_then(|f| f.symbolic());
+            // K's symbolic analysis serves where K + D E Dᵀ kept K's pattern (a Boolean D, or
+            // coupled rows inside it); the coupled rows' fill needs an analysis of its own.
+            let sym = self
+                .k_factor
+                .as_ref()
+                .and_then(|f| f.symbolic())
+                .filter(|_| a.same_pattern(&p.k));
             let f = Factorization::with_symbolic(&a, self.symmetric, sym).map_err(|e| match e {
                 Error::Singular(m) => Error::singular(format!("K + D E Dᵀ is singular ({m})")),
                 e => e,
@@ -625,7 +636,7 @@ impl<'a> Context<'a> {
         let f = &self.last.as_ref().expect("just set").1;
         let mut rhs = p.q.clone();
         for ((c, &e), &l) in p.constraints.iter().zip(eps).zip(limits) {
-            rhs[c.dof] += e * l;
+            c.scatter(&mut rhs, e * l);
         }
         self.stats.linear_solves += 1;
         Ok(f.solve(&rhs))
@@ -692,14 +703,7 @@ impl Solution {
     }
 }
 
-/// Dense convenience: the penalized matrix `K + D E Dᵀ` of a solution.
+/// The penalized matrix `K + D E Dᵀ` of a solution ([`Problem::penalized_k`]).
 pub fn penalized_matrix(problem: &Problem, penalties: &[f64]) -> Stiffness {
-    let adds: Vec<(usize, f64)> = problem
-        .constraints
-        .iter()
-        .zip(penalties)
-        .filter(|(_, &e)| e != 0.0)
-        .map(|(c, &e)| (c.dof, e))
-        .collect();
-    problem.k.with_diagonal_added(&adds)
+    problem.penalized_k(penalties)
 }

@@ -1,5 +1,9 @@
 //! Stiffness-scaled penalty: `ε_c = f · K[d_c, d_c]` — the "penalty ∝ element stiffness"
-//! default of commercial and open codes.
+//! default of commercial and open codes. For a row `d_c` with several terms
+//! `ε_c = f · d_cᵀKd_c/‖d_c‖⁴` ([`Constraint::stiffness`]): the penalty's stiffness along the
+//! row is f times K's, whatever the row's scaling (`f · d_cᵀKd_c` for a unit normal).
+//!
+//! [`Constraint::stiffness`]: crate::system::Constraint::stiffness
 //!
 //! When to use: a dimensionless knob that adapts to the units and to the local stiffness; the
 //! penetration still depends on the load (it is not a δ).
@@ -40,7 +44,7 @@ pub fn solve(ctx: Context, factor: f64) -> Result<Solution> {
         .problem
         .constraints
         .iter()
-        .map(|c| factor * k.diag(c.dof).abs())
+        .map(|c| factor * c.stiffness(k).abs())
         .collect();
     fixed_energy(ctx, Method::scaled(factor), eps)
 }

@@ -3,19 +3,20 @@
 //! * [`Stiffness`] — the assembled matrix **K** (N×N), dense or sparse. A sparse input is never
 //!   densified unless a metric really needs it; where it is stored and which solve and cond₂
 //!   routes it takes is decided by [`crate::route`] from its [`Structure`].
-//! * [`Constraint`] — one contact restriction: DOF index `d_c`, limit `û_c`, and a
+//! * [`Constraint`] — one contact restriction: a row `d_cᵀ` of Dᵀ (terms `(DOF, coefficient)`;
+//!   one term with coefficient 1 for a single-DOF constraint), limit `û_c`, and a
 //!   [`ConstraintKind`] (`bilateral` / `upper` / `lower`).
 //! * [`Problem`] — K, the load **q** and the constraints, validated on construction.
 //!
 //! Sign conventions (binding, see `shared/notes/methods.md`): the gap is
-//! `g_c = u[d_c] − û_c`; the penetration is `|g_c|` (bilateral), `max(0, g_c)` (upper:
-//! `u[d_c] ≤ û_c`) or `max(0, −g_c)` (lower: `u[d_c] ≥ û_c`).
+//! `g_c = d_cᵀu − û_c` (`u[d_c] − û_c` for a single-DOF constraint); the penetration is
+//! `|g_c|` (bilateral), `max(0, g_c)` (upper: `d_cᵀu ≤ û_c`) or `max(0, −g_c)` (lower:
+//! `d_cᵀu ≥ û_c`).
 
 use crate::error::{Error, Result};
 pub use crate::route::{Structure, DENSIFY_LIMIT};
 use faer::sparse::{SparseColMat, Triplet};
 use faer::Mat;
-use serde::{Deserialize, Serialize};
 
 /// The stiffness matrix **K**: dense (faer `Mat`) or sparse (faer CSC).
 #[derive(Clone, Debug)]
@@ -335,6 +336,22 @@ impl Stiffness {
         self.symmetry() == Symmetry::Exact
     }
 
+    /// Do both matrices store the same entries (sparse: the same column pointers and row
+    /// indices; dense: the same size)?
+    pub fn same_pattern(&self, other: &Stiffness) -> bool {
+        match (self, other) {
+            (Stiffness::Sparse(a), Stiffness::Sparse(b)) => {
+                let (a, b) = (a.symbolic(), b.symbolic());
+                a.nrows() == b.nrows()
+                    && a.col_ptr() == b.col_ptr()
+                    && a.col_nnz() == b.col_nnz()
+                    && a.row_idx() == b.row_idx()
+            }
+            (Stiffness::Dense(a), Stiffness::Dense(b)) => a.nrows() == b.nrows(),
+            _ => false,
+        }
+    }
+
     /// `y = K x`.
     pub fn matvec(&self, x: &[f64]) -> Vec<f64> {
         let mut y = vec![0.0; self.n()];
@@ -360,32 +377,41 @@ impl Stiffness {
     }
 
     /// `K + Σ_c add_c e_{d_c} e_{d_c}ᵀ` — the penalized matrix `K + D E Dᵀ` (Eq. 19) for a
-    /// Boolean D. Sparse stays sparse: values added in place where every touched diagonal entry
-    /// is stored, otherwise reassembled with the missing ones inserted.
+    /// Boolean D: [`Stiffness::with_entries_added`] on the diagonal.
     pub fn with_diagonal_added(&self, adds: &[(usize, f64)]) -> Stiffness {
+        let adds: Vec<(usize, usize, f64)> = adds.iter().map(|&(d, v)| (d, d, v)).collect();
+        self.with_entries_added(&adds)
+    }
+
+    /// `K + Σ v e_i e_jᵀ` over `adds` `(i, j, v)` (indices already validated; repeated
+    /// positions add up) — `K + D E Dᵀ` for a general D. Sparse stays sparse: values added in
+    /// place where every touched entry is stored, otherwise reassembled with the missing ones
+    /// inserted (the coupled rows' fill).
+    pub fn with_entries_added(&self, adds: &[(usize, usize, f64)]) -> Stiffness {
         match self {
             Stiffness::Dense(m) => {
                 let mut m = m.clone();
-                for &(d, v) in adds {
-                    m[(d, d)] += v;
+                for &(i, j, v) in adds {
+                    m[(i, j)] += v;
                 }
                 Stiffness::Dense(m)
             }
             Stiffness::Sparse(m) => {
-                // Every diagonal entry present (stiffness matrices): add in place, O(nnz).
+                // Every touched entry present (the diagonal of a stiffness matrix): add in
+                // place, O(nnz).
                 let (cp, ri) = (m.symbolic().col_ptr(), m.symbolic().row_idx());
                 if m.symbolic().col_nnz().is_none() {
                     let pos: Option<Vec<usize>> = adds
                         .iter()
-                        .map(|&(d, _)| {
-                            let rows = &ri[cp[d]..cp[d + 1]];
-                            rows.binary_search(&d).ok().map(|k| cp[d] + k)
+                        .map(|&(i, j, _)| {
+                            let rows = &ri[cp[j]..cp[j + 1]];
+                            rows.binary_search(&i).ok().map(|k| cp[j] + k)
                         })
                         .collect();
                     if let Some(pos) = pos {
                         let mut out = m.clone();
                         let vals = out.val_mut();
-                        for (&p, &(_, v)) in pos.iter().zip(adds) {
+                        for (&p, &(_, _, v)) in pos.iter().zip(adds) {
                             vals[p] += v;
                         }
                         return Stiffness::Sparse(out);
@@ -393,46 +419,12 @@ impl Stiffness {
                 }
                 let mut t = Vec::with_capacity(self.nnz() + adds.len());
                 self.for_each_entry(|i, j, v| t.push((i, j, v)));
-                t.extend(adds.iter().map(|&(d, v)| (d, d, v)));
+                t.extend_from_slice(adds);
                 // Unchecked values: an overflowing penalty is reported by the factorization.
                 Stiffness::assemble(self.n(), &t).expect("indices already validated")
             }
         }
     }
-}
-
-/// Kind of a contact constraint (binding names: `bilateral`, `upper`, `lower`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum ConstraintKind {
-    /// `u[d] = û` — always penalized (the paper's beam example).
-    Bilateral,
-    /// `u[d] ≤ û` — obstacle on the + side; penalized only while violated.
-    Upper,
-    /// `u[d] ≥ û` — obstacle on the − side; penalized only while violated.
-    Lower,
-}
-
-impl ConstraintKind {
-    /// Penetration for the signed gap `g = u[d] − û`.
-    pub fn penetration(self, g: f64) -> f64 {
-        match self {
-            ConstraintKind::Bilateral => g.abs(),
-            ConstraintKind::Upper => g.max(0.0),
-            ConstraintKind::Lower => (-g).max(0.0),
-        }
-    }
-}
-
-/// One contact restriction (a row of Dᵀ and an entry of û).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Constraint {
-    /// 0-based DOF index `d_c`.
-    pub dof: usize,
-    /// Limit `û_c` (same units as u).
-    pub limit: f64,
-    /// Bilateral, upper or lower.
-    pub kind: ConstraintKind,
 }
 
 /// A contact problem: `K`, `q` and the constraints, validated.
@@ -464,12 +456,12 @@ pub struct Surface {
 }
 
 impl Problem {
-    /// The displacement scale max_c |u0\[d_c\]| used by relative δ (falls back to max |u0|, then 1).
+    /// The displacement scale max_c |d_cᵀu0| used by relative δ (falls back to max |u0|, then 1).
     pub fn displacement_scale(&self, u0: &[f64]) -> f64 {
         let s = self
             .constraints
             .iter()
-            .map(|c| u0[c.dof].abs())
+            .map(|c| c.value(u0).abs())
             .fold(0.0f64, f64::max);
         if s > 0.0 {
             return s;
@@ -482,23 +474,23 @@ impl Problem {
         }
     }
 
-    /// The largest |K\[d_c, d_c\]| over the constraints (0 without any): the stiffness scale
+    /// The largest |d_cᵀKd_c| (|K\[d_c, d_c\]| for single-DOF constraints) over the constraints (0 without any): the stiffness scale
     /// penalties are relative to.
     pub fn max_constraint_stiffness(&self) -> f64 {
         self.constraints
             .iter()
-            .map(|c| self.k.diag(c.dof).abs())
+            .map(|c| c.stiffness(&self.k).abs())
             .fold(0.0f64, f64::max)
     }
 
-    /// The geometric mean of |K\[d_c, d_c\]| over the constraints (1 without any nonzero):
+    /// The geometric mean of |d_cᵀKd_c| over the constraints (1 without any nonzero):
     /// a moderate penalty in the problem's own stiffness units (the augmented Lagrangian's ε
     /// in the sweep and the contact benchmarks).
     pub fn mean_constraint_stiffness(&self) -> f64 {
         let logs: Vec<f64> = self
             .constraints
             .iter()
-            .map(|c| self.k.diag(c.dof).abs())
+            .map(|c| c.stiffness(&self.k).abs())
             .filter(|v| *v > 0.0)
             .map(f64::ln)
             .collect();
@@ -511,8 +503,9 @@ impl Problem {
 
     /// Validates sizes, finiteness and DOF indices, then builds the problem.
     ///
-    /// Errors: non-finite entries in K, q or û; `q.len() != N`; a DOF out of range; two
-    /// constraints on the same DOF (D would not have full column rank).
+    /// Errors: non-finite entries in K, q or û; `q.len() != N`; a constraint without terms, a
+    /// DOF out of range, a DOF twice in one row, a non-finite coefficient or a row of zeros; two
+    /// single-term constraints on the same DOF (D would not have full column rank).
     pub fn new(k: Stiffness, q: Vec<f64>, constraints: Vec<Constraint>) -> Result<Self> {
         let n = k.n();
         if q.len() != n {
@@ -527,26 +520,7 @@ impl Problem {
         if let Some(i) = q.iter().position(|v| !v.is_finite()) {
             return Err(Error::input(format!("load entry {i} is not finite")));
         }
-        let mut seen = vec![false; n];
-        for (c, con) in constraints.iter().enumerate() {
-            if con.dof >= n {
-                return Err(Error::DofOutOfRange {
-                    context: format!("constraint {c}"),
-                    dof: con.dof,
-                    n,
-                });
-            }
-            if !con.limit.is_finite() {
-                return Err(Error::input(format!("constraint {c}: limit is not finite")));
-            }
-            if seen[con.dof] {
-                return Err(Error::input(format!(
-                    "constraint {c}: DOF {} is constrained twice",
-                    con.dof
-                )));
-            }
-            seen[con.dof] = true;
-        }
+        check_constraints(&constraints, n)?;
         Ok(Problem {
             k,
             q,
@@ -611,19 +585,51 @@ impl Problem {
         self.constraints.len()
     }
 
-    /// Signed gaps `g_c = u[d_c] − û_c`.
-    pub fn gaps(&self, u: &[f64]) -> Vec<f64> {
+    /// Is D Boolean (every constraint a single DOF with coefficient 1)?
+    pub fn is_selection(&self) -> bool {
+        self.constraints.iter().all(|c| c.single_dof().is_some())
+    }
+
+    /// The DOF of every constraint, for a method that needs a Boolean D; else an error naming
+    /// the method and the first coupled row.
+    pub fn single_dofs(&self, method: &str) -> Result<Vec<usize>> {
         self.constraints
             .iter()
-            .map(|c| u[c.dof] - c.limit)
+            .enumerate()
+            .map(|(c, con)| {
+                con.single_dof().ok_or_else(|| {
+                    Error::input(format!(
+                        "{method} needs single-DOF constraints (coefficient 1), but constraint \
+                         {c} has {} term(s)",
+                        con.terms.len()
+                    ))
+                })
+            })
             .collect()
+    }
+
+    /// `K + D E Dᵀ` for the penalties `eps` (zeros skipped).
+    pub fn penalized_k(&self, eps: &[f64]) -> Stiffness {
+        let adds: Vec<(usize, usize, f64)> = self
+            .constraints
+            .iter()
+            .zip(eps)
+            .filter(|(_, &e)| e != 0.0)
+            .flat_map(|(c, &e)| c.outer(e))
+            .collect();
+        self.k.with_entries_added(&adds)
+    }
+
+    /// Signed gaps `g_c = d_cᵀu − û_c`.
+    pub fn gaps(&self, u: &[f64]) -> Vec<f64> {
+        self.constraints.iter().map(|c| c.gap(u)).collect()
     }
 
     /// Penetrations `p_c` (see module docs).
     pub fn penetrations(&self, u: &[f64]) -> Vec<f64> {
         self.constraints
             .iter()
-            .map(|c| c.kind.penetration(u[c.dof] - c.limit))
+            .map(|c| c.kind.penetration(c.gap(u)))
             .collect()
     }
 
@@ -633,5 +639,8 @@ impl Problem {
     }
 }
 
+mod constraint;
 mod symmetry;
+pub(crate) use constraint::check_constraints;
+pub use constraint::{Constraint, ConstraintKind};
 pub use symmetry::{Asymmetry, Symmetry};

@@ -26,7 +26,7 @@ fn condensed_penetration_never_exceeds_delta_on_the_sweep_families() {
             let scale = p
                 .constraints
                 .iter()
-                .map(|c| u0[c.dof].abs())
+                .map(|c| u0[c.single_dof().unwrap()].abs())
                 .fold(0.0, f64::max);
             for rel in [1e-1, 1e-4, 1e-6] {
                 let delta = rel * scale;

@@ -30,7 +30,7 @@ fn plain_loop(p: &Problem, eps: &[f64]) -> Option<Vec<f64>> {
     let violated = |u: &DVector<f64>| -> Vec<bool> {
         p.constraints
             .iter()
-            .map(|c| c.kind.penetration(u[c.dof] - c.limit) > 0.0)
+            .map(|c| c.kind.penetration(u[c.single_dof().unwrap()] - c.limit) > 0.0)
             .collect()
     };
     let mut act = violated(&u0);
@@ -39,8 +39,8 @@ fn plain_loop(p: &Problem, eps: &[f64]) -> Option<Vec<f64>> {
         let (mut a, mut b) = (k.clone(), q.clone());
         for (c, con) in p.constraints.iter().enumerate() {
             if act[c] {
-                a[(con.dof, con.dof)] += eps[c];
-                b[con.dof] += eps[c] * con.limit;
+                a[(con.single_dof().unwrap(), con.single_dof().unwrap())] += eps[c];
+                b[con.single_dof().unwrap()] += eps[c] * con.limit;
             }
         }
         let u = a.cholesky().expect("SPD").solve(&b);
@@ -61,7 +61,7 @@ fn plain_loop(p: &Problem, eps: &[f64]) -> Option<Vec<f64>> {
 fn cond_h(p: &Problem, penalties: &[f64]) -> f64 {
     let mut h = dense(&p.k);
     for (con, &e) in p.constraints.iter().zip(penalties) {
-        h[(con.dof, con.dof)] += e;
+        h[(con.single_dof().unwrap(), con.single_dof().unwrap())] += e;
     }
     let ev = h.symmetric_eigenvalues();
     ev.max() / ev.min()
@@ -75,15 +75,15 @@ fn gradient_and_tol(p: &Problem, eps: &[f64], u: &[f64]) -> (f64, f64) {
     let mut b = p.q.clone();
     let mut e_max = 0.0f64;
     for (c, con) in p.constraints.iter().enumerate() {
-        let g = u[con.dof] - con.limit;
+        let g = u[con.single_dof().unwrap()] - con.limit;
         let on = match con.kind {
             ConstraintKind::Bilateral => true,
             ConstraintKind::Upper => g > 0.0,
             ConstraintKind::Lower => g < 0.0,
         };
         if on {
-            grad[con.dof] += eps[c] * g;
-            b[con.dof] += eps[c] * con.limit;
+            grad[con.single_dof().unwrap()] += eps[c] * g;
+            b[con.single_dof().unwrap()] += eps[c] * con.limit;
             e_max = e_max.max(eps[c]);
         }
     }
@@ -126,7 +126,7 @@ fn bed_scenes() -> Vec<(String, Problem)> {
 fn constant_penalty_reaches_the_minimizer_where_the_plain_loop_cycles() {
     let (mut cycled, mut total) = (0, 0);
     for (name, p) in bed_scenes() {
-        let kdd = p.k.diag(p.constraints[p.m() / 2].dof);
+        let kdd = p.k.diag(p.constraints[p.m() / 2].single_dof().unwrap());
         for f in [0.1, 0.3, 0.5, 1.0, 2.0, 3.0, 10.0] {
             let eps = f * kdd;
             let e = vec![eps; p.m()];
@@ -163,7 +163,7 @@ fn scaled_penalty_reaches_the_minimizer_where_the_plain_loop_cycles() {
             let e: Vec<f64> = p
                 .constraints
                 .iter()
-                .map(|c| factor * p.k.diag(c.dof))
+                .map(|c| factor * p.k.diag(c.single_dof().unwrap()))
                 .collect();
             cycled += usize::from(plain_loop(&p, &e).is_none());
             let s = strategy::solve(&p, Method::scaled(factor)).unwrap();
@@ -176,7 +176,7 @@ fn scaled_penalty_reaches_the_minimizer_where_the_plain_loop_cycles() {
 /// K_dd at the middle constraint and the largest |limit|: a bed scene's penalty and length
 /// scales.
 fn stiffness_and_scale(p: &Problem) -> (f64, f64) {
-    let kdd = p.k.diag(p.constraints[p.m() / 2].dof);
+    let kdd = p.k.diag(p.constraints[p.m() / 2].single_dof().unwrap());
     let scale = p
         .constraints
         .iter()
@@ -300,7 +300,7 @@ proptest! {
     #[test]
     fn constant_penalty_always_reaches_the_minimizer((b, f) in bed_strategy()) {
         let p = bed::problem(b).unwrap();
-        let eps = f * p.k.diag(p.constraints[p.m() / 2].dof);
+        let eps = f * p.k.diag(p.constraints[p.m() / 2].single_dof().unwrap());
         let e = vec![eps; p.m()];
         let s = strategy::solve(&p, Method::constant(eps)).unwrap();
         prop_assert!(s.stats.converged, "{:?}", s.warnings);

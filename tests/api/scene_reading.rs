@@ -24,16 +24,8 @@ fn reads_fixture_scene_with_optional_fields() {
     assert_eq!(
         p.constraints,
         vec![
-            Constraint {
-                dof: 1,
-                limit: -3.0,
-                kind: ConstraintKind::Lower
-            },
-            Constraint {
-                dof: 2,
-                limit: 0.5,
-                kind: ConstraintKind::Bilateral
-            },
+            Constraint::on_dof(1, -3.0, ConstraintKind::Lower),
+            Constraint::on_dof(2, 0.5, ConstraintKind::Bilateral),
         ]
     );
     let meta = s.meta.unwrap();

@@ -171,11 +171,13 @@ proptest! {
             .iter()
             .enumerate()
             .filter(|(_, &c)| c > 0)
-            .map(|(d, &c)| Constraint {
-                dof: d,
-                limit: limits[d],
-                kind: [ConstraintKind::Bilateral, ConstraintKind::Upper, ConstraintKind::Lower]
-                    [usize::from(c - 1)],
+            .map(|(d, &c)| {
+                Constraint::on_dof(
+                    d,
+                    limits[d],
+                    [ConstraintKind::Bilateral, ConstraintKind::Upper, ConstraintKind::Lower]
+                        [usize::from(c - 1)],
+                )
             })
             .collect();
         let p = Problem::new(k, q, cons).unwrap();

@@ -111,21 +111,9 @@ pub(crate) fn awkward_problem(n: usize) -> (Vec<Vec<f64>>, Vec<f64>, Vec<Constra
         .collect();
     let q: Vec<f64> = (0..n).map(|i| AWKWARD[(i * 7) % AWKWARD.len()]).collect();
     let cons = vec![
-        Constraint {
-            dof: n - 1,
-            limit: 0.1 + 0.2,
-            kind: ConstraintKind::Bilateral,
-        },
-        Constraint {
-            dof: 0,
-            limit: -0.0,
-            kind: ConstraintKind::Upper,
-        },
-        Constraint {
-            dof: 1,
-            limit: -1e-300,
-            kind: ConstraintKind::Lower,
-        },
+        Constraint::on_dof(n - 1, 0.1 + 0.2, ConstraintKind::Bilateral),
+        Constraint::on_dof(0, -0.0, ConstraintKind::Upper),
+        Constraint::on_dof(1, -1e-300, ConstraintKind::Lower),
     ];
     (rows, q, cons)
 }

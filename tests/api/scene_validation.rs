@@ -76,7 +76,7 @@ fn dof_out_of_range() {
         "t",
     )
     .unwrap();
-    assert_eq!(s.problem.constraints[0].dof, 2);
+    assert_eq!(s.problem.constraints[0].single_dof().unwrap(), 2);
 }
 
 #[test]

@@ -24,7 +24,11 @@ fn every_solution_is_consistent_with_its_system_and_reports() {
             // gaps and penetrations as defined in methods.md.
             assert_eq!(sol.gaps.len(), p.m());
             for (c, con) in p.constraints.iter().enumerate() {
-                assert_eq!(sol.gaps[c], sol.u[con.dof] - con.limit, "{tag}");
+                assert_eq!(
+                    sol.gaps[c],
+                    sol.u[con.single_dof().unwrap()] - con.limit,
+                    "{tag}"
+                );
             }
             let maxp = p
                 .constraints
@@ -58,7 +62,7 @@ fn every_solution_is_consistent_with_its_system_and_reports() {
             let k = dense(&p.k);
             let mut r = matvec(&k, &sol.u);
             for (con, f) in p.constraints.iter().zip(&sol.forces) {
-                r[con.dof] += f;
+                r[con.single_dof().unwrap()] += f;
             }
             let res = inf(&r.iter().zip(&p.q).map(|(a, b)| a - b).collect::<Vec<_>>());
             // condensed builds u = u0 − K⁻¹D r (no solve with the final matrix), so its

@@ -106,11 +106,7 @@ fn floating_chain(k: f64, q: [f64; 2], uh: f64) -> Problem {
     Problem::new(
         Stiffness::from_rows(&[vec![k, -k], vec![-k, k]]).unwrap(),
         q.to_vec(),
-        vec![Constraint {
-            dof: 0,
-            limit: uh,
-            kind: ConstraintKind::Bilateral,
-        }],
+        vec![Constraint::on_dof(0, uh, ConstraintKind::Bilateral)],
     )
     .unwrap()
 }

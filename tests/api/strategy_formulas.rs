@@ -21,7 +21,13 @@ fn scaled_penalty_is_factor_times_diagonal() {
                 let e = sol.penalties[c];
                 if e != 0.0 {
                     any = true;
-                    assert_eq!(e, factor * p.k.get(con.dof, con.dof), "{name} c={c}");
+                    assert_eq!(
+                        e,
+                        factor
+                            * p.k
+                                .get(con.single_dof().unwrap(), con.single_dof().unwrap()),
+                        "{name} c={c}"
+                    );
                 } else {
                     // Unpenalized only if not violated at the returned u.
                     assert_ne!(con.kind, ConstraintKind::Bilateral, "{name}");
@@ -63,7 +69,9 @@ fn augmented_reaches_tol_and_approaches_lagrange() {
                 }
                 let kinv = dense(&p.k).try_inverse().unwrap();
                 let d = DMatrix::from_fn(p.n(), lag_active.len(), |i, j| {
-                    f64::from(u8::from(i == p.constraints[lag_active[j]].dof))
+                    f64::from(u8::from(
+                        i == p.constraints[lag_active[j]].single_dof().unwrap(),
+                    ))
                 });
                 let w = &kinv * &d;
                 let s = d.transpose() * &w;
@@ -101,7 +109,7 @@ fn spring_expected(p: &Problem, delta: f64, active: &[bool]) -> Vec<Option<f64>>
         .iter()
         .enumerate()
         .map(|(c, con)| {
-            let g0 = u0[con.dof] - con.limit;
+            let g0 = u0[con.single_dof().unwrap()] - con.limit;
             if !active[c] {
                 return Some(0.0);
             }
@@ -113,8 +121,12 @@ fn spring_expected(p: &Problem, delta: f64, active: &[bool]) -> Vec<Option<f64>>
                 ConstraintKind::Lower => -1.0,
                 ConstraintKind::Bilateral => g0.signum(),
             };
-            let k = p.k.get(con.dof, con.dof);
-            Some(((p.q[con.dof] - k * (con.limit + s * delta)) / (s * delta)).max(0.0))
+            let k =
+                p.k.get(con.single_dof().unwrap(), con.single_dof().unwrap());
+            Some(
+                ((p.q[con.single_dof().unwrap()] - k * (con.limit + s * delta)) / (s * delta))
+                    .max(0.0),
+            )
         })
         .collect()
 }
@@ -124,10 +136,17 @@ fn eq28_expected(p: &Problem, delta: f64, active: &[bool]) -> Vec<f64> {
     let k = dense(&p.k);
     let idx: Vec<usize> = (0..p.m()).filter(|&c| active[c]).collect();
     let kbar = DMatrix::from_fn(idx.len(), idx.len(), |i, j| {
-        k[(p.constraints[idx[i]].dof, p.constraints[idx[j]].dof)]
+        k[(
+            p.constraints[idx[i]].single_dof().unwrap(),
+            p.constraints[idx[j]].single_dof().unwrap(),
+        )]
     });
     let uh = DVector::from_iterator(idx.len(), idx.iter().map(|&c| p.constraints[c].limit));
-    let qbar = DVector::from_iterator(idx.len(), idx.iter().map(|&c| p.q[p.constraints[c].dof]));
+    let qbar = DVector::from_iterator(
+        idx.len(),
+        idx.iter()
+            .map(|&c| p.q[p.constraints[c].single_dof().unwrap()]),
+    );
     let lhs = &kbar * uh - qbar;
     let kd = &kbar * DVector::from_element(idx.len(), delta);
     let mut eps = vec![0.0; p.m()];
@@ -196,16 +215,8 @@ fn three_spring_chain() -> Problem {
         .unwrap(),
         vec![0.0, 0.0, 1.0],
         vec![
-            Constraint {
-                dof: 2,
-                limit: 0.6,
-                kind: ConstraintKind::Upper,
-            },
-            Constraint {
-                dof: 1,
-                limit: 1.0,
-                kind: ConstraintKind::Lower,
-            },
+            Constraint::on_dof(2, 0.6, ConstraintKind::Upper),
+            Constraint::on_dof(1, 1.0, ConstraintKind::Lower),
         ],
     )
     .unwrap()
@@ -265,11 +276,7 @@ fn clipped_penalties_are_warned() {
     let p = Problem::new(
         k,
         paper::LOAD.to_vec(),
-        vec![Constraint {
-            dof: 7,
-            limit: 0.45,
-            kind: ConstraintKind::Upper,
-        }],
+        vec![Constraint::on_dof(7, 0.45, ConstraintKind::Upper)],
     )
     .unwrap();
     let sol = strategy::solve(&p, Method::paper(0.1)).unwrap();

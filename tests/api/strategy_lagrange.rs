@@ -48,7 +48,7 @@ fn check_lagrange(name: &str, p: &Problem) -> Solution {
     let k = dense(&p.k);
     let mut r = matvec(&k, &sol.u);
     for (con, lam) in p.constraints.iter().zip(&sol.forces) {
-        r[con.dof] += lam;
+        r[con.single_dof().unwrap()] += lam;
     }
     let res: Vec<f64> = r.iter().zip(&p.q).map(|(a, b)| a - b).collect();
     let rtol = C_ROUND

@@ -72,7 +72,10 @@ pub(crate) fn u0_of(p: &Problem) -> Vec<f64> {
 pub(crate) fn flexibility(p: &Problem, idx: &[usize]) -> DMatrix<f64> {
     let kinv = dense(&p.k).try_inverse().expect("K nonsingular");
     DMatrix::from_fn(idx.len(), idx.len(), |i, j| {
-        kinv[(p.constraints[idx[i]].dof, p.constraints[idx[j]].dof)]
+        kinv[(
+            p.constraints[idx[i]].single_dof().unwrap(),
+            p.constraints[idx[j]].single_dof().unwrap(),
+        )]
     })
 }
 
@@ -85,8 +88,8 @@ pub(crate) fn penalized_system(
     let mut a = dense(&p.k);
     let mut b = p.q.clone();
     for ((c, &e), &l) in p.constraints.iter().zip(eps).zip(limits) {
-        a[(c.dof, c.dof)] += e;
-        b[c.dof] += e * l;
+        a[(c.single_dof().unwrap(), c.single_dof().unwrap())] += e;
+        b[c.single_dof().unwrap()] += e * l;
     }
     (a, b)
 }
@@ -109,7 +112,7 @@ pub(crate) fn beam_with_kinds(kinds: [ConstraintKind; 3], sparse: bool) -> Probl
         .iter()
         .zip(paper::LIMITS)
         .zip(kinds)
-        .map(|((&dof, limit), kind)| Constraint { dof, limit, kind })
+        .map(|((&dof, limit), kind)| Constraint::on_dof(dof, limit, kind))
         .collect();
     Problem::new(k, paper::LOAD.to_vec(), cons).unwrap()
 }
@@ -131,21 +134,9 @@ pub(crate) fn cantilever6(sparse: bool) -> Problem {
     q[f.dof(3, 2).unwrap()] = -5.0;
     q[f.dof(6, 0).unwrap()] = 10.0;
     let cons = vec![
-        Constraint {
-            dof: f.dof(2, 1).unwrap(),
-            limit: 1.0,
-            kind: ConstraintKind::Upper,
-        },
-        Constraint {
-            dof: f.dof(4, 1).unwrap(),
-            limit: -3.0,
-            kind: ConstraintKind::Lower,
-        },
-        Constraint {
-            dof: f.dof(6, 1).unwrap(),
-            limit: 20.0,
-            kind: ConstraintKind::Bilateral,
-        },
+        Constraint::on_dof(f.dof(2, 1).unwrap(), 1.0, ConstraintKind::Upper),
+        Constraint::on_dof(f.dof(4, 1).unwrap(), -3.0, ConstraintKind::Lower),
+        Constraint::on_dof(f.dof(6, 1).unwrap(), 20.0, ConstraintKind::Bilateral),
     ];
     Problem::new(k, q, cons).unwrap()
 }
@@ -155,11 +146,7 @@ pub(crate) fn chain(k1: f64, k2: f64, p: f64, limit: f64, kind: ConstraintKind) 
     Problem::new(
         Stiffness::from_rows(&[vec![k1 + k2, -k2], vec![-k2, k2]]).unwrap(),
         vec![0.0, p],
-        vec![Constraint {
-            dof: 1,
-            limit,
-            kind,
-        }],
+        vec![Constraint::on_dof(1, limit, kind)],
     )
     .unwrap()
 }

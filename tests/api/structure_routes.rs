@@ -106,13 +106,13 @@ fn every_route_agrees_with_the_dense_svd_within_its_bracket() {
         let active: Vec<usize> = (0..p.m()).collect();
         let mut eps = vec![0.0; p.m()];
         for (c, e) in eps.iter_mut().enumerate() {
-            *e = 1e3 * p.k.diag(p.constraints[c].dof).abs() * (1.0 + c as f64);
+            *e = 1e3 * p.k.diag(p.constraints[c].single_dof().unwrap()).abs() * (1.0 + c as f64);
         }
         let adds: Vec<(usize, f64)> = p
             .constraints
             .iter()
             .zip(&eps)
-            .map(|(c, &e)| (c.dof, e))
+            .map(|(c, &e)| (c.single_dof().unwrap(), e))
             .collect();
         let mats = [
             ("K", p.k.clone()),
@@ -155,7 +155,11 @@ fn saddle_determinant_is_det_k_ff() {
             p.clone().in_preferred_storage(),
         ] {
             let active: Vec<usize> = (0..p.m()).collect();
-            let dofs: Vec<usize> = p.constraints.iter().map(|c| c.dof).collect();
+            let dofs: Vec<usize> = p
+                .constraints
+                .iter()
+                .map(|c| c.single_dof().unwrap())
+                .collect();
             let a = saddle_matrix(&p, &active);
             let lu = reference::log10_abs_det_nalgebra(&a);
             let ours = conditioning::log10_abs_det_saddle(&p.k, &dofs).unwrap();
@@ -182,7 +186,7 @@ fn saddle_determinant_is_det_k_ff() {
     }
     // Repeated DOFs are refused, not silently wrong.
     let (_, p) = &scenes()[0];
-    let d = p.constraints[0].dof;
+    let d = p.constraints[0].single_dof().unwrap();
     assert!(conditioning::log10_abs_det_saddle(&p.k, &[d, d]).is_err());
 }
 
@@ -218,9 +222,13 @@ fn warm_starts_from_k_keep_the_certified_value_in_fewer_steps() {
                 "{name}: ρ {rho} ∉ [{lo}, {hi}]"
             );
         }
-        let d = p.k.diag(p.constraints[0].dof).abs();
+        let d = p.k.diag(p.constraints[0].single_dof().unwrap()).abs();
         for eps in [1e-3 * d, d, 1e4 * d] {
-            let adds: Vec<(usize, f64)> = p.constraints.iter().map(|c| (c.dof, eps)).collect();
+            let adds: Vec<(usize, f64)> = p
+                .constraints
+                .iter()
+                .map(|c| (c.single_dof().unwrap(), eps))
+                .collect();
             let a = p.k.with_diagonal_added(&adds);
             let cold = conditioning::cond2(&a).unwrap();
             let warm_start = Reuse {

@@ -48,6 +48,6 @@ pub fn sparse_of(a: &Stiffness) -> &faer::sparse::SparseColMat<usize, f64> {
 pub fn constraint_bits(p: &Problem) -> Vec<(usize, u64, ConstraintKind)> {
     p.constraints
         .iter()
-        .map(|c| (c.dof, c.limit.to_bits(), c.kind))
+        .map(|c| (c.single_dof().unwrap(), c.limit.to_bits(), c.kind))
         .collect()
 }

@@ -38,9 +38,9 @@ fn check_problem(p: &Problem) -> Result<(), TestCaseError> {
     prop_assert!(p.q.iter().all(|v| v.is_finite()));
     let mut seen = vec![false; n];
     for c in &p.constraints {
-        prop_assert!(c.dof < n);
+        prop_assert!(c.single_dof().unwrap() < n);
         prop_assert!(c.limit.is_finite());
-        prop_assert!(!std::mem::replace(&mut seen[c.dof], true));
+        prop_assert!(!std::mem::replace(&mut seen[c.single_dof().unwrap()], true));
     }
     Ok(())
 }
@@ -164,14 +164,16 @@ fn valid_problem() -> impl Strategy<Value = Problem> {
                     .iter()
                     .enumerate()
                     .filter(|(_, &c)| c > 0)
-                    .map(|(d, &c)| Constraint {
-                        dof: d,
-                        limit: limits[d],
-                        kind: [
-                            ConstraintKind::Bilateral,
-                            ConstraintKind::Upper,
-                            ConstraintKind::Lower,
-                        ][usize::from(c - 1)],
+                    .map(|(d, &c)| {
+                        Constraint::on_dof(
+                            d,
+                            limits[d],
+                            [
+                                ConstraintKind::Bilateral,
+                                ConstraintKind::Upper,
+                                ConstraintKind::Lower,
+                            ][usize::from(c - 1)],
+                        )
                     })
                     .collect();
                 Problem::new(k, q, cons).unwrap()

@@ -117,11 +117,7 @@ fn build(spec: &Spec, sparse: bool) -> Option<Scene> {
             ConstraintKind::Bilateral if below => u0[d] - f * a,
             ConstraintKind::Bilateral => u0[d] + f * a,
         };
-        cons.push(Constraint {
-            dof: d,
-            limit,
-            kind,
-        });
+        cons.push(Constraint::on_dof(d, limit, kind));
     }
     if amax == 0.0 {
         return None;
@@ -232,8 +228,8 @@ proptest! {
         let mut a = dense(&p.k);
         let mut rhs = p.q.clone();
         for (con, &e) in p.constraints.iter().zip(&sol.penalties) {
-            a[(con.dof, con.dof)] += e;
-            rhs[con.dof] += e * con.limit;
+            a[(con.single_dof().unwrap(), con.single_dof().unwrap())] += e;
+            rhs[con.single_dof().unwrap()] += e * con.limit;
         }
         let au = &a * DVector::from_column_slice(&sol.u);
         let res = (0..p.n()).map(|i| (au[i] - rhs[i]).abs()).fold(0.0, f64::max);
@@ -280,7 +276,7 @@ proptest! {
         let ku = &k * DVector::from_column_slice(&sol.u);
         let mut res: Vec<f64> = (0..p.n()).map(|i| ku[i] - p.q[i]).collect();
         for (con, lam) in p.constraints.iter().zip(&sol.forces) {
-            res[con.dof] += lam;
+            res[con.single_dof().unwrap()] += lam;
         }
         let knorm = k.abs().row_sum().max();
         let rtol = C_ROUND * sys.n() as f64 * f64::EPSILON
@@ -300,8 +296,8 @@ proptest! {
         let Some(sc) = build(&spec, false) else { return Ok(()) };
         let p = &sc.problem;
         let delta = sc.delta;
-        let con = p.constraints[0];
-        let d = con.dof;
+        let con = p.constraints[0].clone();
+        let d = con.single_dof().unwrap();
         let sol = strategy::solve(p, Method::paper(delta)).unwrap();
         let g0 = sc.u0[d] - con.limit;
         if con.kind.penetration(g0) == 0.0 {
@@ -391,12 +387,14 @@ fn eq28(p: &Problem, delta: f64) -> Vec<f64> {
     let m = p.m();
     (0..m)
         .map(|i| {
-            let di = p.constraints[i].dof;
+            let di = p.constraints[i].single_dof().unwrap();
             let kbar_u: f64 = (0..m)
-                .map(|k| p.k.get(di, p.constraints[k].dof) * p.constraints[k].limit)
+                .map(|k| {
+                    p.k.get(di, p.constraints[k].single_dof().unwrap()) * p.constraints[k].limit
+                })
                 .sum();
             let kbar_d: f64 = (0..m)
-                .map(|k| p.k.get(di, p.constraints[k].dof))
+                .map(|k| p.k.get(di, p.constraints[k].single_dof().unwrap()))
                 .sum::<f64>()
                 * delta;
             (((kbar_u - p.q[di]).abs() - kbar_d) / delta).max(0.0)
@@ -409,7 +407,10 @@ fn predicted_gaps(p: &Problem, u0: &[f64], eps: &[f64]) -> Vec<f64> {
     let m = p.m();
     let kinv = dense(&p.k).try_inverse().unwrap();
     let s = DMatrix::from_fn(m, m, |i, j| {
-        kinv[(p.constraints[i].dof, p.constraints[j].dof)]
+        kinv[(
+            p.constraints[i].single_dof().unwrap(),
+            p.constraints[j].single_dof().unwrap(),
+        )]
     });
     let a = DMatrix::identity(m, m) + s * DMatrix::from_diagonal(&DVector::from_column_slice(eps));
     let g0 = DVector::from_iterator(m, p.gaps(u0));
@@ -447,16 +448,8 @@ fn paper_eq28_counterexample() {
     let (w1, w2) = (w(5.0), w(10.0));
     let (d1, d2) = (frame.dof(1, 1).unwrap(), frame.dof(2, 1).unwrap());
     let cons = vec![
-        Constraint {
-            dof: d1,
-            limit: w1 + f_lower * w1,
-            kind: ConstraintKind::Lower,
-        },
-        Constraint {
-            dof: d2,
-            limit: w2 - f_tie * w2,
-            kind: ConstraintKind::Bilateral,
-        },
+        Constraint::on_dof(d1, w1 + f_lower * w1, ConstraintKind::Lower),
+        Constraint::on_dof(d2, w2 - f_tie * w2, ConstraintKind::Bilateral),
     ];
     let delta = 10f64.powf(log10_r) * w1.max(w2);
     let p = Problem::new(k, q, cons).unwrap();
@@ -466,7 +459,7 @@ fn paper_eq28_counterexample() {
     assert!((u0[d2] - w2).abs() <= rounding_tol(cond_k, p.n(), w2));
     // Not extreme: u0 and û of the same order.
     for c in &p.constraints {
-        let ratio = u0[c.dof].abs() / c.limit.abs();
+        let ratio = u0[c.single_dof().unwrap()].abs() / c.limit.abs();
         assert!((0.5..2.0).contains(&ratio), "|u0|/|û| = {ratio}");
     }
 
@@ -527,16 +520,7 @@ fn paper_eq28_fails_one_order_of_magnitude() {
         let d = frame.dof(1, 1).unwrap();
         let uh = 0.1 * u0d;
         let delta = u0d / rho;
-        let p = Problem::new(
-            k,
-            q,
-            vec![Constraint {
-                dof: d,
-                limit: uh,
-                kind: ConstraintKind::Upper,
-            }],
-        )
-        .unwrap();
+        let p = Problem::new(k, q, vec![Constraint::on_dof(d, uh, ConstraintKind::Upper)]).unwrap();
         // κ = K_dd · S = 8 from the element formulas.
         let kdd = 24.0 * ej / l_el.powi(3);
         let cond_k = cond_of(&p.k);
@@ -627,7 +611,12 @@ fn condensed_cycling_scene_still_meets_the_contract() {
     let g0 = p.gaps(u0);
     for i in 0..p.m() {
         let sr: f64 = (0..p.m())
-            .map(|j| kinv[(p.constraints[i].dof, p.constraints[j].dof)] * sol.forces[j])
+            .map(|j| {
+                kinv[(
+                    p.constraints[i].single_dof().unwrap(),
+                    p.constraints[j].single_dof().unwrap(),
+                )] * sol.forces[j]
+            })
             .sum();
         assert!(
             (sol.gaps[i] - (g0[i] - sr)).abs() <= tol,

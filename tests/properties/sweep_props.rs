@@ -178,10 +178,10 @@ proptest! {
         let ku = p.k.matvec(&sol.u);
         let (mut force, mut magnitude) = (0.0, 0.0);
         for c in &p.constraints {
-            force += p.q[c.dof] - ku[c.dof];
+            force += p.q[c.single_dof().unwrap()] - ku[c.single_dof().unwrap()];
             // |q| + |K||u| on the row bounds what rounding of the residual can reach.
-            let row: f64 = (0..p.n()).map(|j| (p.k.get(c.dof, j) * sol.u[j]).abs()).sum();
-            magnitude += p.q[c.dof].abs() + row;
+            let row: f64 = (0..p.n()).map(|j| (p.k.get(c.single_dof().unwrap(), j) * sol.u[j]).abs()).sum();
+            magnitude += p.q[c.single_dof().unwrap()].abs() + row;
         }
         let factor = match g.meta["geometry"].as_str() {
             Some("plane-strain") => 2.0,

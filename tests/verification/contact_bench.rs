@@ -123,7 +123,7 @@ fn every_penalized_system_is_above_its_floor() {
     let k = p.k.to_nalgebra();
     let n = p.n();
     let free: Vec<usize> = (0..n)
-        .filter(|i| !p.constraints.iter().any(|c| c.dof == *i))
+        .filter(|i| !p.constraints.iter().any(|c| c.single_dof().unwrap() == *i))
         .collect();
     let kff = nalgebra::DMatrix::from_fn(free.len(), free.len(), |i, j| k[(free[i], free[j])]);
     let lmax = k.symmetric_eigenvalues().max();

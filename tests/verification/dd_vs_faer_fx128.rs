@@ -25,7 +25,7 @@ fn fx128_solution(sys: &PenalizedSystem) -> Vec<f64> {
         .collect();
     let mut b: Vec<fx128> = p.q.iter().map(|&v| fx128::from(v)).collect();
     for (c, con) in p.constraints.iter().enumerate() {
-        let (e, d) = (sys.penalties[c], con.dof);
+        let (e, d) = (sys.penalties[c], con.single_dof().unwrap());
         a[d][d] += fx128::from(e);
         b[d] += fx128::from(e) * fx128::from(sys.limits[c]);
     }

@@ -126,11 +126,7 @@ fn chain() -> Problem {
         vec![0.0, -1.0, 2.0],
     ])
     .unwrap();
-    let c = |dof, limit| Constraint {
-        dof,
-        limit,
-        kind: ConstraintKind::Bilateral,
-    };
+    let c = |dof, limit| Constraint::on_dof(dof, limit, ConstraintKind::Bilateral);
     Problem::new(k, vec![1.0, -2.0, 5.0], vec![c(0, 0.5), c(2, -1.0)]).unwrap()
 }
 

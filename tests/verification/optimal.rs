@@ -43,11 +43,7 @@ fn refuses_too_many_constraints() {
     let t: Vec<_> = (0..n).map(|i| (i, i, 1.0)).collect();
     let k = Stiffness::from_triplets(n, &t).unwrap();
     let constraints = (0..n)
-        .map(|dof| Constraint {
-            dof,
-            limit: 0.0,
-            kind: ConstraintKind::Bilateral,
-        })
+        .map(|dof| Constraint::on_dof(dof, 0.0, ConstraintKind::Bilateral))
         .collect();
     let p = Problem::new(k, vec![1.0; n], constraints).unwrap();
     let e = strategy::solve(&p, Method::optimal(1e-3)).unwrap_err();

@@ -41,7 +41,10 @@ fn active(p: &Problem) -> (Vec<usize>, Vec<usize>) {
     let SystemKind::SaddlePoint { active } = s.system else {
         panic!("lagrange returns a saddle point")
     };
-    let dofs = active.iter().map(|&c| p.constraints[c].dof).collect();
+    let dofs = active
+        .iter()
+        .map(|&c| p.constraints[c].single_dof().unwrap())
+        .collect();
     (active, dofs)
 }
 

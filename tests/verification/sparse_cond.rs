@@ -98,7 +98,7 @@ fn sparse_route_agrees_with_dense_svd() {
             .constraints
             .iter()
             .step_by(3)
-            .map(|c| (c.dof, 1e3 * kk))
+            .map(|c| (c.single_dof().unwrap(), 1e3 * kk))
             .collect();
         cases.push((format!("membrane-{i} K"), k.clone()));
         cases.push((format!("membrane-{i} K+DεDᵀ"), k.with_diagonal_added(&adds)));
@@ -162,11 +162,7 @@ fn saddle_point_log_det_by_sparse_lu_matches_schur_complement() {
     let dofs: Vec<usize> = (0..n).step_by(97).collect();
     let cons: Vec<Constraint> = dofs
         .iter()
-        .map(|&d| Constraint {
-            dof: d,
-            limit: 0.0,
-            kind: ConstraintKind::Bilateral,
-        })
+        .map(|&d| Constraint::on_dof(d, 0.0, ConstraintKind::Bilateral))
         .collect();
     let p = Problem::new(k.clone(), vec![0.0; n], cons).unwrap();
     let all: Vec<usize> = (0..dofs.len()).collect();

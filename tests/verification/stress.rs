@@ -66,8 +66,8 @@ fn exact_penalized(p: &Problem, eps: &[f64]) -> Vec<f64> {
     p.k.for_each_entry(|i, j, v| a[i][j] += rat(v));
     let mut b: Vec<BigRational> = p.q.iter().map(|&v| rat(v)).collect();
     for (c, &e) in p.constraints.iter().zip(eps) {
-        a[c.dof][c.dof] += rat(e);
-        b[c.dof] += rat(e) * rat(c.limit);
+        a[c.single_dof().unwrap()][c.single_dof().unwrap()] += rat(e);
+        b[c.single_dof().unwrap()] += rat(e) * rat(c.limit);
     }
     exact_solve(a, b)
         .iter()
@@ -458,7 +458,7 @@ proptest! {
         let scale = strategy::Prepared::new(p)
             .map(|pr| p.displacement_scale(pr.u0()))
             .unwrap_or(1.0);
-        let kmax = p.constraints.iter().map(|c| p.k.diag(c.dof).abs()).fold(1e-300, f64::max);
+        let kmax = p.constraints.iter().map(|c| p.k.diag(c.single_dof().unwrap()).abs()).fold(1e-300, f64::max);
         let x = 10f64.powf(k1);
         let m = match method {
             0 => Method::constant(x),

@@ -162,10 +162,12 @@ impl Simulation {
         let active: Vec<usize> = (0..s.cands.len()).filter(|&c| in_contact[c]).collect();
         let constraints: Vec<Constraint> = active
             .iter()
-            .map(|&ci| Constraint {
-                dof: s.cands[ci].dof,
-                limit: s.cands[ci].sign * s.uhat[ci],
-                kind: ConstraintKind::Bilateral,
+            .map(|&ci| {
+                Constraint::on_dof(
+                    s.cands[ci].dof,
+                    s.cands[ci].sign * s.uhat[ci],
+                    ConstraintKind::Bilateral,
+                )
             })
             .collect();
         let problem = Problem::new(kmat, qr, constraints)?;

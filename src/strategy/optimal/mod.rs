@@ -230,6 +230,8 @@ pub fn check_affordable(problem: &Problem) -> Result<()> {
             "optimal: K must be symmetric (cond₂ through symmetric eigenvalues)",
         ));
     }
+    // The spectral model perturbs K's diagonal only (a Boolean D).
+    problem.single_dofs("optimal")?;
     Ok(())
 }
 
@@ -238,12 +240,12 @@ pub fn check_affordable(problem: &Problem) -> Result<()> {
 /// on K and on K_FF, any size, sparse or dense): the lower end of λ_max(K)'s bracket over
 /// the upper end of λ_min(K_FF)'s, rounded down. 1 when every DOF is constrained; +∞ when
 /// K_FF is not positive definite (every K + DEDᵀ is then singular). K symmetric positive
-/// definite (errors otherwise).
+/// definite and D Boolean (errors otherwise).
 pub fn cond2_lower_bound(problem: &Problem) -> Result<f64> {
     let n = problem.n();
     let mut index = vec![usize::MAX; n];
-    for c in &problem.constraints {
-        index[c.dof] = 0;
+    for d in problem.single_dofs("the cond₂ lower bound over all E")? {
+        index[d] = 0;
     }
     let mut free = 0usize;
     for i in index.iter_mut() {
@@ -345,7 +347,10 @@ fn optimise_from(
         .set
         .iter()
         .map(|&c| {
-            let kdd = p.k.diag(p.constraints[c].dof).abs().max(f64::MIN_POSITIVE);
+            let kdd = p.constraints[c]
+                .stiffness(&p.k)
+                .abs()
+                .max(f64::MIN_POSITIVE);
             start[c].max(floor * kdd).ln()
         })
         .collect();
@@ -389,7 +394,7 @@ fn scaled_start(p: &Problem, delta: f64, f0: f64) -> Result<Option<Vec<f64>>> {
         let eps: Vec<f64> = p
             .constraints
             .iter()
-            .map(|c| f * p.k.diag(c.dof).abs())
+            .map(|c| f * c.stiffness(&p.k).abs())
             .collect();
         let s = fixed_energy(Context::new(p), Method::scaled(f), eps)?;
         if s.max_penetration < delta {
@@ -440,7 +445,7 @@ pub fn solve_by(ctx: Context, delta: f64, route: Route) -> Result<Solution> {
         .constraints
         .iter()
         .zip(&inner.penalties)
-        .map(|(c, e)| e / p.k.diag(c.dof).abs().max(f64::MIN_POSITIVE))
+        .map(|(c, e)| e / c.stiffness(&p.k).abs().max(f64::MIN_POSITIVE))
         .fold(0.0f64, f64::max);
     starts.insert(0, (super::condensed::STRATEGY.name.into(), inner.penalties));
     if let Some(e) = scaled_start(p, delta, f0)? {

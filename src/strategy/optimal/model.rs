@@ -61,21 +61,22 @@ impl Model<'_> {
     pub fn eval(&self, x: &[f64], t: f64, mu: f64) -> Result<Option<Eval>> {
         let p = self.p;
         let eps: Vec<f64> = x.iter().map(|v| v.exp()).collect();
-        let dofs: Vec<usize> = self.set.iter().map(|&c| p.constraints[c].dof).collect();
+        // Single-DOF constraints (`check_affordable`).
+        let dofs: Vec<usize> = self
+            .set
+            .iter()
+            .map(|&c| p.constraints[c].lead_dof())
+            .collect();
         let Some(lin) = self.spectrum.linearize(&dofs, &eps)? else {
             return Ok(None);
         };
         let mut rhs = p.q.clone();
         for (&c, &e) in self.set.iter().zip(&eps) {
-            let con = p.constraints[c];
-            rhs[con.dof] += e * con.limit;
+            let con = &p.constraints[c];
+            con.scatter(&mut rhs, e * con.limit);
         }
         let u = lin.solve(rhs);
-        let gaps: Vec<f64> = p
-            .constraints
-            .iter()
-            .map(|con| u[con.dof] - con.limit)
-            .collect();
+        let gaps: Vec<f64> = p.constraints.iter().map(|con| con.gap(&u)).collect();
         // Barrier terms h(g_i) > 0 with dh/dg_i.
         let mut terms: Vec<(usize, f64, f64)> = Vec::new();
         for (i, con) in p.constraints.iter().enumerate() {
@@ -108,7 +109,7 @@ impl Model<'_> {
         // ∂g_i/∂ε_j = −(A⁻¹)_{d_i d_j} g_j, so the barrier's ∂/∂ε_j is −g_j z[d_j].
         let mut w = vec![0.0; p.n()];
         for &(i, h, dh) in &terms {
-            w[p.constraints[i].dof] += -mu * dh / h;
+            p.constraints[i].scatter(&mut w, -mu * dh / h);
         }
         let z = lin.solve(w);
         let grad = self
@@ -116,7 +117,7 @@ impl Model<'_> {
             .iter()
             .zip(&eps)
             .zip(&df)
-            .map(|((&j, &e), &dfj)| e * (dfj - gaps[j] * z[p.constraints[j].dof]))
+            .map(|((&j, &e), &dfj)| e * (dfj - gaps[j] * p.constraints[j].value(&z)))
             .collect();
         Ok(Some(Eval { phi, grad }))
     }

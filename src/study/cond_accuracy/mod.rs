@@ -184,17 +184,18 @@ fn measure(
     Ok(out)
 }
 
-/// `K + Σ_c f·K_dd e_d e_dᵀ` over the constraint DOFs of `p`.
+/// `K + Σ_c f·(d_cᵀKd_c) d_c d_cᵀ` over the constraints of `p` (`f·K_dd e_d e_dᵀ` for
+/// single-DOF ones).
 fn penalized(p: &Problem, factor: f64) -> Stiffness {
     if factor == 0.0 {
         return p.k.clone();
     }
-    let adds: Vec<(usize, f64)> = p
+    let adds: Vec<(usize, usize, f64)> = p
         .constraints
         .iter()
-        .map(|c| (c.dof, factor * p.k.diag(c.dof)))
+        .flat_map(|c| c.outer(factor * c.stiffness(&p.k)))
         .collect();
-    p.k.with_diagonal_added(&adds)
+    p.k.with_entries_added(&adds)
 }
 
 /// Measures every matrix of `cfg`, calling `step` after each (progress).

@@ -137,7 +137,7 @@ fn units(p: &Problem, s: &Solves) -> Result<Units> {
 }
 
 fn overstiffening(p: &Problem, s: &Solves) -> Result<Overstiffening> {
-    let dofs: Vec<usize> = p.constraints.iter().map(|c| c.dof).collect();
+    let dofs: Vec<usize> = p.constraints.iter().map(|c| c.lead_dof()).collect(); // the beam: single-DOF constraints
     let m = dofs.len();
     let kn = p.k.to_nalgebra();
     let kinv = kn

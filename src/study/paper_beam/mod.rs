@@ -88,11 +88,11 @@ fn beam_info(frame: &crate::model::beam::Frame, p: &crate::system::Problem) -> B
         .map(|(c, con)| {
             let (node, k) = (0..frame.nodes.len())
                 .flat_map(|nd| (0..3).map(move |k| (nd, k)))
-                .find(|&(nd, k)| frame.dof(nd, k) == Some(con.dof))
+                .find(|&(nd, k)| frame.dof(nd, k) == Some(con.lead_dof()))
                 .expect("constrained DOF exists");
             ConstraintInfo {
                 c: c + 1,
-                dof: con.dof,
+                dof: con.lead_dof(),
                 node: node + 1,
                 component: ["axial", "transverse", "rotation"][k].into(),
                 x: frame.nodes[node].0,

@@ -110,7 +110,7 @@ fn other_methods(p: &Problem) -> Vec<Method> {
     let max_diag = p
         .constraints
         .iter()
-        .map(|c| p.k.diag(c.dof))
+        .map(|c| c.stiffness(&p.k))
         .fold(0.0f64, f64::max);
     let max_limit = p
         .constraints

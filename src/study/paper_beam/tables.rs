@@ -169,7 +169,7 @@ fn eq31_eq33(frame: &beam::Frame, s: &Solves, ch: &Checks) -> Vec<Row> {
 /// Every number the paper prints for the beam (Eq. 31–37) against ours.
 pub fn paper_comparison(p: &Problem, frame: &beam::Frame, s: &Solves, ch: &Checks) -> Vec<Row> {
     let (pap, con) = (&s.pap, &s.con);
-    let dofs: Vec<usize> = p.constraints.iter().map(|c| c.dof).collect();
+    let dofs: Vec<usize> = p.constraints.iter().map(|c| c.lead_dof()).collect(); // the beam: single-DOF constraints
     let mut rows = eq31_eq33(frame, s, ch);
     let names = dof_names(frame, dofs.iter().copied());
     rows.extend(entries(
@@ -289,7 +289,7 @@ fn condensed_penalties_and_gaps(
 /// (ours) for contrast.
 pub fn condensed_comparison(p: &Problem, frame: &beam::Frame, s: &Solves, ch: &Checks) -> Vec<Row> {
     let (pap, con) = (&s.pap, &s.con);
-    let dofs: Vec<usize> = p.constraints.iter().map(|c| c.dof).collect();
+    let dofs: Vec<usize> = p.constraints.iter().map(|c| c.lead_dof()).collect(); // the beam: single-DOF constraints
     let mut rows = condensed_penalties_and_gaps(frame, &dofs, s, &ch.stiff.g0);
     rows.push(row(
         "condensed.cond",

@@ -194,11 +194,11 @@ pub fn membrane_problem(side: usize) -> Result<Problem> {
     for i in 0..side {
         for j in 0..side {
             let (x, y) = ((i + 1) as f64 * h, (j + 1) as f64 * h);
-            constraints.push(Constraint {
-                dof: membrane::dof(side, i, j),
-                limit: -0.35 - 0.7 * ((x - 0.5).powi(2) + (y - 0.5).powi(2)),
-                kind: ConstraintKind::Lower,
-            });
+            constraints.push(Constraint::on_dof(
+                membrane::dof(side, i, j),
+                -0.35 - 0.7 * ((x - 0.5).powi(2) + (y - 0.5).powi(2)),
+                ConstraintKind::Lower,
+            ));
         }
     }
     Problem::new(k, q, constraints)

@@ -416,7 +416,7 @@ pub fn strategy_study(scene: &StressScene, cfg: &StressConfig) -> Result<Vec<Str
     let kmax = p
         .constraints
         .iter()
-        .map(|c| p.k.diag(c.dof).abs())
+        .map(|c| c.stiffness(&p.k).abs())
         .fold(0.0f64, f64::max);
     let kmax = if kmax > 0.0 { kmax } else { 1.0 };
     let mut jobs: Vec<(Method, &'static str, f64, Option<f64>)> = Vec::new();

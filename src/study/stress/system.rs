@@ -93,7 +93,7 @@ impl<'a> PenalizedSystem<'a> {
             .zip(&self.penalties)
             .zip(&self.limits)
         {
-            b[c.dof] += e * l;
+            c.scatter(&mut b, e * l);
         }
         b
     }
@@ -111,9 +111,20 @@ impl<'a> PenalizedSystem<'a> {
                 let mut r: Vec<Dd> = p.q.iter().map(|&v| Dd::from_f64(v)).collect();
                 p.k.for_each_entry(|i, j, v| r[i] = r[i] - Dd::prod(v, x[j]));
                 for ((c, &e), &l) in p.constraints.iter().zip(&self.penalties).zip(&self.limits) {
-                    if e != 0.0 {
-                        let d = c.dof;
-                        r[d] = r[d] + Dd::prod(e, l) - Dd::prod(e, x[d]);
+                    match (e != 0.0, c.single_dof()) {
+                        (false, _) => {}
+                        (true, Some(d)) => r[d] = r[d] + Dd::prod(e, l) - Dd::prod(e, x[d]),
+                        (true, None) => {
+                            // r += e·d_c·(ℓ − d_cᵀx), every product in double-double.
+                            let gx = c
+                                .terms
+                                .iter()
+                                .fold(Dd::ZERO, |s, &(j, a)| s + Dd::prod(a, x[j]));
+                            let t = Dd::prod(e, l) - Dd::from_f64(e) * gx;
+                            for &(i, a) in &c.terms {
+                                r[i] = r[i] + Dd::from_f64(a) * t;
+                            }
+                        }
                     }
                 }
                 r.into_iter().map(Dd::to_f64).collect()
@@ -134,10 +145,20 @@ impl<'a> PenalizedSystem<'a> {
         p.k.for_each_entry(|i, j, v| a[i * n + j] = a[i * n + j] + Dd::from_f64(v));
         let mut b: Vec<Dd> = p.q.iter().map(|&v| Dd::from_f64(v)).collect();
         for ((c, &e), &l) in p.constraints.iter().zip(&self.penalties).zip(&self.limits) {
-            if e != 0.0 {
-                let d = c.dof;
-                a[d * n + d] = a[d * n + d] + Dd::from_f64(e);
-                b[d] = b[d] + Dd::prod(e, l);
+            match (e != 0.0, c.single_dof()) {
+                (false, _) => {}
+                (true, Some(d)) => {
+                    a[d * n + d] = a[d * n + d] + Dd::from_f64(e);
+                    b[d] = b[d] + Dd::prod(e, l);
+                }
+                (true, None) => {
+                    for &(i, ai) in &c.terms {
+                        for &(j, aj) in &c.terms {
+                            a[i * n + j] = a[i * n + j] + Dd::prod(e, ai) * Dd::from_f64(aj);
+                        }
+                        b[i] = b[i] + Dd::prod(e, l) * Dd::from_f64(ai);
+                    }
+                }
             }
         }
         Ok((a, b))
