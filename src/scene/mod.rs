@@ -380,7 +380,7 @@ impl<'de> Deserialize<'de> for DenseRows {
 #[derive(Deserialize)]
 struct RawConstraint {
     dof: Option<Dof>,
-    terms: Option<Vec<(Dof, Num)>>,
+    terms: Option<Vec<Term>>,
     limit: Num,
     kind: Kind,
 }
@@ -393,13 +393,47 @@ impl RawConstraint {
         match (self.dof, self.terms) {
             (Some(Dof(d)), None) => Ok(Constraint::on_dof(d, limit, kind)),
             (None, Some(terms)) => Ok(Constraint::row(
-                terms.into_iter().map(|(Dof(d), Num(a))| (d, a)).collect(),
+                terms.into_iter().map(|Term(d, a)| (d, a)).collect(),
                 limit,
                 kind,
             )),
             (Some(_), Some(_)) => Err(format!("both \"dof\" and \"terms\" are present; {ONE_OF}")),
             (None, None) => Err(format!("neither \"dof\" nor \"terms\" is given; {ONE_OF}")),
         }
+    }
+}
+
+/// One term `[dof, coefficient]` of a constraint row: exactly two entries.
+struct Term(usize, f64);
+
+impl<'de> Deserialize<'de> for Term {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = Term;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str("a pair [dof, coefficient]")
+            }
+            fn visit_seq<A: de::SeqAccess<'de>>(
+                self,
+                mut seq: A,
+            ) -> std::result::Result<Term, A::Error> {
+                const PAIR: &str = "a term is a pair [dof, coefficient]";
+                let Some(Dof(d)) = seq.next_element()? else {
+                    return Err(de::Error::custom(format_args!("{PAIR}; found []")));
+                };
+                let Some(Num(a)) = seq.next_element()? else {
+                    return Err(de::Error::custom(format_args!("{PAIR}; found [{d}]")));
+                };
+                if seq.next_element::<de::IgnoredAny>()?.is_some() {
+                    return Err(de::Error::custom(format_args!(
+                        "{PAIR}; found more than two entries"
+                    )));
+                }
+                Ok(Term(d, a))
+            }
+        }
+        d.deserialize_seq(V)
     }
 }
 

@@ -7,6 +7,7 @@
 mod common;
 
 mod condensed_delta;
+mod constraint_rows;
 mod eliminated;
 mod engine;
 mod scene_fuzz;

@@ -9,6 +9,7 @@ mod common;
 mod cond_adversarial;
 mod cond_reference;
 mod contact_bench;
+mod coupled;
 mod dd_vs_faer_fx128;
 mod elasticity;
 mod example_paper_beam;

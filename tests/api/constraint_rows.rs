@@ -1,0 +1,176 @@
+//! Constraint rows (issue 45, item 1): `{"terms": [[d, a], ...]}` beside `{"dof": d}` in scene
+//! files, their checks and messages, the bit-for-bit round trip, and a row's algebra
+//! (`d_cᵀu`, `x += v d_c`, `d_cᵀKd_c/‖d_c‖⁴`, `e d_c d_cᵀ`) on a hand-computed example.
+
+use crate::common;
+use crate::scene_support::{assert_has, scene, scene_err, K3};
+use penalty_lab::scene::{parse_scene_str, read_scene, write_scene};
+use penalty_lab::strategy::{self, Method};
+use penalty_lab::system::{Constraint, ConstraintKind, Problem, Stiffness};
+use std::path::Path;
+
+fn k3() -> Stiffness {
+    Stiffness::from_rows(&[
+        vec![2.0, -1.0, 0.0],
+        vec![-1.0, 2.0, -1.0],
+        vec![0.0, -1.0, 2.0],
+    ])
+    .unwrap()
+}
+
+#[test]
+fn terms_read_as_rows_and_one_unit_term_is_the_dof_form() {
+    let s = parse_scene_str(
+        &scene(
+            K3,
+            "[0, 1, 0]",
+            r#"[{"terms": [[0, 0.6], [2, -0.8]], "limit": 0.1, "kind": "upper"},
+                {"terms": [[1, 1]], "limit": 0.5, "kind": "lower"}]"#,
+        ),
+        Path::new("."),
+        "t",
+    )
+    .unwrap();
+    let c = &s.problem.constraints;
+    assert_eq!(c[0].terms, vec![(0, 0.6), (2, -0.8)]);
+    assert_eq!(c[0].single_dof(), None);
+    assert_eq!(c[1], Constraint::on_dof(1, 0.5, ConstraintKind::Lower));
+}
+
+#[test]
+fn bad_rows_are_one_line_errors_naming_the_constraint() {
+    let cases: [(&str, &[&str]); 7] = [
+        (
+            r#"[{"dof": 0, "terms": [[1, 1]], "limit": 0, "kind": "upper"}]"#,
+            &["constraints[0]", "both \"dof\" and \"terms\""],
+        ),
+        (
+            r#"[{"limit": 0, "kind": "upper"}]"#,
+            &["constraints[0]", "neither \"dof\" nor \"terms\""],
+        ),
+        (
+            r#"[{"terms": [], "limit": 0, "kind": "upper"}]"#,
+            &["constraint 0", "no terms"],
+        ),
+        (
+            r#"[{"terms": [[0, 1], [0, 2]], "limit": 0, "kind": "upper"}]"#,
+            &["constraint 0", "DOF 0 appears twice"],
+        ),
+        (
+            r#"[{"terms": [[0, 0], [1, 0.0]], "limit": 0, "kind": "upper"}]"#,
+            &["constraint 0", "every coefficient is zero"],
+        ),
+        (
+            r#"[{"terms": [[0, 1], [3, 1]], "limit": 0, "kind": "upper"}]"#,
+            &["constraint 0", "DOF 3 is out of range"],
+        ),
+        (
+            r#"[{"terms": [[0, 1, 2]], "limit": 0, "kind": "upper"}]"#,
+            &[
+                "constraints[0].terms[0]",
+                "pair [dof, coefficient]",
+                "more than two",
+            ],
+        ),
+    ];
+    for (cons, words) in cases {
+        let e = scene_err(&scene(K3, "[0, 0, 0]", cons));
+        assert_has(&e, words);
+        assert!(!e.contains('\n'), "one line: {e}");
+    }
+    let e = scene_err(&scene(
+        K3,
+        "[0, 0, 0]",
+        r#"[{"terms": [[0, 1e999]], "limit": 0, "kind": "upper"}]"#,
+    ));
+    assert_has(&e, &["line 1", "1e999 is not finite"]);
+}
+
+#[test]
+fn rows_round_trip_bit_for_bit() {
+    let dir = common::tmp_dir("constraint-rows");
+    let cons = vec![
+        Constraint::row(
+            vec![(0, 0.1 + 0.2), (2, -1.0 / 3.0)],
+            -0.0,
+            ConstraintKind::Upper,
+        ),
+        Constraint::on_dof(1, 0.3, ConstraintKind::Bilateral),
+        Constraint::row(vec![(2, 2.5)], 1e-300, ConstraintKind::Lower),
+    ];
+    let p = Problem::new(k3(), vec![0.0, 1.0, -2.0], cons.clone()).unwrap();
+    let path = dir.path().join("rows.scene.json");
+    write_scene(&path, "rows", &p, None, 100).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    assert!(
+        text.contains("\"terms\"") && text.contains("\"dof\": 1"),
+        "{text}"
+    );
+    let back = read_scene(&path).unwrap().problem.constraints;
+    assert_eq!(back.len(), cons.len());
+    for (a, b) in back.iter().zip(&cons) {
+        assert_eq!(a.kind, b.kind);
+        assert_eq!(a.limit.to_bits(), b.limit.to_bits());
+        let bits = |c: &Constraint| -> Vec<(usize, u64)> {
+            c.terms.iter().map(|&(d, v)| (d, v.to_bits())).collect()
+        };
+        assert_eq!(bits(a), bits(b));
+    }
+}
+
+#[test]
+fn a_rows_algebra_by_hand() {
+    // d = (0.6, 0, −0.8): ‖d‖ = 1; dᵀKd = 0.36·2 + 0.64·2 − 2·0.6·0.8·K_02 (= 0) = 2.
+    let c = Constraint::row(vec![(0, 0.6), (2, -0.8)], 0.1, ConstraintKind::Upper);
+    let k = k3();
+    let u = [1.0, 5.0, 2.0];
+    assert!((c.value(&u) - (0.6 - 1.6)).abs() <= 4.0 * f64::EPSILON);
+    assert!((c.gap(&u) - (0.6 - 1.6 - 0.1)).abs() <= 4.0 * f64::EPSILON);
+    assert!((c.stiffness(&k) - 2.0).abs() <= 8.0 * f64::EPSILON);
+    let mut x = [0.0; 3];
+    c.scatter(&mut x, 2.0);
+    assert_eq!(x, [1.2, 0.0, -1.6]);
+    // Scaling the row by 2 scales its stiffness by 2²/2⁴: the penalty's units follow the row.
+    let c2 = Constraint::row(vec![(0, 1.2), (2, -1.6)], 0.2, ConstraintKind::Upper);
+    assert!((c2.stiffness(&k) - 0.5).abs() <= 8.0 * f64::EPSILON);
+    let outer: Vec<(usize, usize, f64)> = c.outer(10.0).collect();
+    assert_eq!(outer.len(), 4);
+    for &(i, j, v) in &outer {
+        let (a, b) = (
+            if i == 0 { 0.6 } else { -0.8 },
+            if j == 0 { 0.6 } else { -0.8 },
+        );
+        assert_eq!(v, 10.0 * (a * b), "({i}, {j})");
+    }
+    // The penalized matrix gains the coupled entry K_02 += ε·0.6·(−0.8), symmetric bit for bit.
+    let p = Problem::new(k, vec![0.0, 0.0, 1.0], vec![c]).unwrap();
+    let a = p.penalized_k(&[10.0]);
+    assert_eq!(a.get(0, 2), 10.0 * (0.6 * -0.8));
+    assert_eq!(a.get(0, 2).to_bits(), a.get(2, 0).to_bits());
+    assert!(a.is_symmetric());
+}
+
+#[test]
+fn methods_that_need_a_boolean_d_say_so() {
+    let c = Constraint::row(vec![(0, 0.6), (2, -0.8)], 0.1, ConstraintKind::Upper);
+    let p = Problem::new(k3(), vec![0.0, 0.0, 1.0], vec![c]).unwrap();
+    let e = strategy::solve(&p, Method::optimal(0.01))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("optimal needs single-DOF constraints") && e.contains("2 term"),
+        "{e}"
+    );
+    // Every other rule solves it.
+    for m in [
+        Method::constant(10.0),
+        Method::scaled(1.0),
+        Method::spring(0.01),
+        Method::paper(0.01),
+        Method::condensed(0.01),
+        Method::lagrange(),
+    ] {
+        let sol = strategy::solve(&p, m).unwrap();
+        assert!(sol.u.iter().all(|v| v.is_finite()));
+    }
+}
