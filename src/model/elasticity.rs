@@ -404,6 +404,30 @@ fn top_weights(xs: &[f64], geometry: Geometry) -> Vec<f64> {
     w
 }
 
+/// The prescribed value of every DOF of `grid` (None: free): the bottom face lifted by
+/// `lift` (and held in x where `base` is clamped), the symmetry line held in x.
+fn prescribed(grid: &Grid, base: Base, lift: f64) -> Vec<Option<f64>> {
+    let mut fixed: Vec<Option<f64>> = vec![None; 2 * grid.nodes()];
+    for i in 0..grid.xs.len() {
+        let n = grid.node(i, 0);
+        fixed[2 * n + 1] = Some(lift);
+        if base == Base::Clamped {
+            fixed[2 * n] = Some(0.0);
+        }
+    }
+    for j in 0..grid.ny() {
+        fixed[2 * grid.node(0, j)] = Some(0.0);
+    }
+    fixed
+}
+
+/// The global DOF (`2·node + component`) of each unknown of [`indentation`]'s problem on
+/// `grid` with `base`, in order.
+pub fn free_dofs(grid: &Grid, base: Base) -> Vec<usize> {
+    let fixed = prescribed(grid, base, 0.0);
+    (0..fixed.len()).filter(|&d| fixed[d].is_none()).collect()
+}
+
 /// The block of `grid` lifted by `lift` onto the indenter whose surface lies `profile(x)`
 /// above the top node at x (the module doc gives the boundary conditions).
 pub fn indentation(
@@ -420,18 +444,7 @@ pub fn indentation(
     let triplets = assemble(grid, geometry, material)?;
     let (nx, ny) = (grid.xs.len(), grid.ys.len());
     let ndof = 2 * grid.nodes();
-    // Prescribed values: None = free.
-    let mut fixed: Vec<Option<f64>> = vec![None; ndof];
-    for i in 0..nx {
-        let n = grid.node(i, 0);
-        fixed[2 * n + 1] = Some(lift);
-        if base == Base::Clamped {
-            fixed[2 * n] = Some(0.0);
-        }
-    }
-    for j in 0..ny {
-        fixed[2 * grid.node(0, j)] = Some(0.0);
-    }
+    let fixed = prescribed(grid, base, lift);
     let mut map = vec![usize::MAX; ndof];
     let mut n_free = 0;
     for (d, f) in fixed.iter().enumerate() {

@@ -275,3 +275,45 @@ fn rules_without_a_closed_form_solve_the_system_they_report() {
         assert!(e.contains("single-DOF constraints"), "{}: {e}", s.scene);
     }
 }
+
+/// The flat punch turned onto a plane inclined by θ (`model::inclined`): rows n·u ≤ û with
+/// n = (−sin θ, cos θ). The exact pressure is the flat punch's, uniform `E*·w/H` (frictionless
+/// base, plane strain, reproduced exactly by bilinear elements); Lagrange gives it and
+/// `condensed` gives the uniform `E*·(w − δ)/H` with every penetration ≤ δ, to 1e-8 relative.
+#[test]
+fn inclined_plane_pressure_is_uniform_for_lagrange_and_condensed() {
+    use penalty_lab::model::elasticity::{Grid, Material};
+    use penalty_lab::model::inclined::inclined_punch;
+    use penalty_lab::strategy::{self, Method};
+    let grid = Grid::uniform(1.0, 0.5, 7, 5);
+    let mat = Material {
+        young: 210e3,
+        poisson: 0.3,
+    };
+    let e_star = mat.young / (1.0 - mat.poisson * mat.poisson);
+    let (lift, height) = (1e-3, 0.5);
+    for theta_deg in [15.0f64, 30.0, 45.0] {
+        let ind = inclined_punch(&grid, &mat, lift, theta_deg.to_radians()).unwrap();
+        let p = &ind.problem;
+        // Two terms per row, but on the symmetry line (one free DOF, in the block's frame).
+        let coupled = p.constraints.iter().filter(|c| c.terms.len() == 2).count();
+        assert_eq!(coupled, p.m() - 1, "two-term rows");
+        assert!(p.k.is_symmetric(), "T K Tᵀ symmetric bit for bit");
+        let delta = 1e-2 * lift;
+        for (method, expected) in [
+            (Method::lagrange(), e_star * lift / height),
+            (Method::condensed(delta), e_star * (lift - delta) / height),
+        ] {
+            let what = format!("θ = {theta_deg}°, {}", method.name());
+            let sol = strategy::solve(p, method).unwrap();
+            let worst = ind
+                .pressures(&sol.u)
+                .iter()
+                .map(|pc| (pc - expected).abs() / expected)
+                .fold(0.0f64, f64::max);
+            assert!(worst <= 1e-8, "{what}: pressure off uniform by {worst:e}");
+            let pen = p.max_penetration(&sol.u);
+            assert!(pen <= delta, "{what}: penetration {pen} > δ = {delta}");
+        }
+    }
+}
