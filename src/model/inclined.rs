@@ -57,8 +57,8 @@ pub fn rotated(flat: &Indentation, free: &[usize], theta: f64) -> Result<Indenta
     let column = |i: usize| -> Vec<(usize, f64)> {
         match partner(i) {
             None => vec![(i, 1.0)],
-            Some(j) if free[i] % 2 == 0 => vec![(i, c), (j, s)], // ξ ↦ (c, s)
-            Some(j) => vec![(j, -s), (i, c)],                    // η ↦ (−s, c)
+            Some(j) if free[i].is_multiple_of(2) => vec![(i, c), (j, s)], // ξ ↦ (c, s)
+            Some(j) => vec![(j, -s), (i, c)],                             // η ↦ (−s, c)
         }
     };
     let cols: Vec<Vec<(usize, f64)>> = (0..p.n()).map(column).collect();
