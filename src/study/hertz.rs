@@ -17,8 +17,12 @@
 //! half model times 2, or the disc area πW²), and it is reproduced exactly by bilinear
 //! elements, so any deviation is the contact rule's. One body in uniform compression: this is
 //! *not* the two-body, non-matching contact patch test of El-Abbasi & Bathe (2001), which needs
-//! constraints that couple DOFs (issue 45). It was called `patch` before issue 44; that name
+//! two bodies and segment rows (issue 45). It was called `patch` before issue 44; that name
 //! still reads.
+//!
+//! **Inclined plane** (`inclined-15`, `inclined-30`, `inclined-45`): the flat punch turned by θ
+//! ([`crate::model::inclined`]); the pressure is the flat punch's, but every contact row
+//! `n·u ≤ û` has two terms, so D is not Boolean.
 //!
 //! **Measures** (nodal, over the top nodes with weights ω_c of [`crate::model::elasticity`]):
 //! - `p_err_rel`: `√(Σ ω_c (p_c − p(x_c))²) / √(Σ ω_c p(x_c)²)` over every top node (p = 0
@@ -67,7 +71,7 @@ impl Setup {
                 let p = case.geometry().hertz_load(a, r, es);
                 (p, Exact::hertz(case.geometry(), p, r, es))
             }
-            Case::FlatPunch => {
+            _ => {
                 let half = self.a_target;
                 let p0 = 1e-3 * es;
                 (
@@ -88,7 +92,7 @@ impl Setup {
     pub fn grid(&self, case: Case, h_rel: f64, block: f64) -> Result<Grid> {
         let a = self.a_target;
         match case {
-            Case::FlatPunch => Grid::graded(a, a, h_rel * a, a, 1.0),
+            c if c.is_punch() => Grid::graded(a, a, h_rel * a, a, 1.0),
             _ => Grid::graded(block * a, block * a, h_rel * a, FINE_OVER_A * a, GROWTH),
         }
     }
@@ -105,6 +109,14 @@ impl Setup {
             Case::FlatPunch => {
                 elasticity::indentation(grid, case.geometry(), &mat, Base::Sliding, lift, |_| 0.0)
             }
+            c if c.is_punch() => {
+                return crate::model::inclined::inclined_punch(
+                    grid,
+                    &mat,
+                    lift,
+                    c.theta_deg().to_radians(),
+                )
+            }
             _ => elasticity::indentation(grid, case.geometry(), &mat, Base::Clamped, lift, |x| {
                 x * x / (2.0 * r)
             }),
@@ -116,7 +128,7 @@ impl Setup {
     /// indentation a²/R (the flat punch: p̄H/E*).
     pub fn lift_guess(&self, case: Case, grid: &Grid) -> f64 {
         match case {
-            Case::FlatPunch => self.exact(case).1.p0 * grid.height() / self.e_star(),
+            c if c.is_punch() => self.exact(c).1.p0 * grid.height() / self.e_star(),
             _ => self.a_target * self.a_target / self.radius,
         }
     }
@@ -135,19 +147,60 @@ pub enum Case {
     /// (its name before issue 44) still reads.
     #[serde(alias = "patch")]
     FlatPunch,
+    /// The flat punch turned by 15° onto an inclined rigid plane
+    /// ([`crate::model::inclined`]): contact rows with two terms, the same uniform pressure.
+    #[serde(rename = "inclined-15")]
+    Inclined15,
+    /// The flat punch turned by 30°.
+    #[serde(rename = "inclined-30")]
+    Inclined30,
+    /// The flat punch turned by 45°.
+    #[serde(rename = "inclined-45")]
+    Inclined45,
 }
 
 impl Case {
     /// Every case, in table order.
-    pub const ALL: [Case; 3] = [Case::HertzPlane, Case::HertzAxi, Case::FlatPunch];
+    pub const ALL: [Case; 6] = [
+        Case::HertzPlane,
+        Case::HertzAxi,
+        Case::FlatPunch,
+        Case::Inclined15,
+        Case::Inclined30,
+        Case::Inclined45,
+    ];
 
-    /// Its name in rows and options (`hertz-plane`, `hertz-axi`, `flat-punch`).
+    /// Its name in rows and options (`hertz-plane`, `hertz-axi`, `flat-punch`,
+    /// `inclined-15`, `inclined-30`, `inclined-45`).
     pub fn name(self) -> &'static str {
         match self {
             Case::HertzPlane => "hertz-plane",
             Case::HertzAxi => "hertz-axi",
             Case::FlatPunch => "flat-punch",
+            Case::Inclined15 => "inclined-15",
+            Case::Inclined30 => "inclined-30",
+            Case::Inclined45 => "inclined-45",
         }
+    }
+
+    /// The inclination θ of the rigid plane in degrees (0 for the flat punch and Hertz).
+    pub fn theta_deg(self) -> f64 {
+        match self {
+            Case::Inclined15 => 15.0,
+            Case::Inclined30 => 30.0,
+            Case::Inclined45 => 45.0,
+            _ => 0.0,
+        }
+    }
+
+    /// A flat punch (on a level or an inclined plane): uniform pressure on an a × a block.
+    pub fn is_punch(self) -> bool {
+        !matches!(self, Case::HertzPlane | Case::HertzAxi)
+    }
+
+    /// How the contact rows are discretized (`nodal`: one row per contact node).
+    pub fn discretization(self) -> &'static str {
+        "nodal"
     }
 
     /// The case named `s` (`patch` is read as `flat-punch`, its name before issue 44).

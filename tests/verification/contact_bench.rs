@@ -416,3 +416,38 @@ fn domain_error_is_measured_and_removed_from_the_discretization_error() {
         .unwrap();
     assert!((plane - 1.0).abs() <= 0.05, "plane-strain rate {plane}");
 }
+
+/// The inclined-plane cases (rows with two terms): Lagrange and `condensed` carry the load with
+/// the flat punch's uniform pressure (spread ≤ 1e-8 over the loaded nodes), `condensed` within
+/// δ; the rows say `theta` and `discretization`, and the floor over all E (written for a
+/// Boolean D) is NaN, not an error.
+#[test]
+fn inclined_cases_give_the_uniform_pressure_with_two_term_rows() {
+    let cfg = BenchConfig {
+        cases: vec![Case::Inclined15, Case::Inclined30, Case::Inclined45],
+        meshes: vec![0.2, 0.1],
+        methods: vec!["lagrange".into(), "condensed".into()],
+        deltas_rel: vec![1e-2, 1e-4],
+        ..config()
+    };
+    let run = contact_bench::run(&cfg, &Progress::quiet(), None).unwrap();
+    assert_eq!(run.rows.len(), 3 * 2 * 3);
+    for r in &run.rows {
+        let what = format!("{} {} {:?} h = {}", r.case, r.method, r.knob_rel, r.h);
+        assert!(r.error.is_empty(), "{what}: {}", r.error);
+        assert_eq!(r.discretization, "nodal");
+        assert_eq!(r.theta, Case::from_name(&r.case).unwrap().theta_deg());
+        assert!(r.theta > 0.0);
+        assert!(r.p_spread <= 1e-8, "{what}: spread {}", r.p_spread);
+        assert!(
+            r.force_mismatch <= 1e-8,
+            "{what}: load {}",
+            r.force_mismatch
+        );
+        if let Some(rel) = r.knob_rel {
+            let delta = rel * r.lift;
+            assert!(r.max_penetration <= delta, "{what}: {}", r.max_penetration);
+        }
+    }
+    assert!(run.floors.iter().all(|f| f.cond2_floor.is_nan()));
+}

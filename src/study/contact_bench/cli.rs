@@ -10,7 +10,8 @@ use std::path::Path;
 /// The `contact_bench` binary's flags (each replaces the default of [`BenchConfig`]).
 #[derive(clap::Args, Debug)]
 pub struct Flags {
-    /// Cases: hertz-plane, hertz-axi, flat-punch (default: all; `patch` reads as flat-punch).
+    /// Cases: hertz-plane, hertz-axi, flat-punch, inclined-15, inclined-30, inclined-45
+    /// (default: all; `patch` reads as flat-punch).
     #[arg(long, value_delimiter = ',')]
     cases: Option<Vec<String>>,
     /// Element sizes at the contact over a (Hertz) or over the block half-width (flat punch).
@@ -50,8 +51,8 @@ impl Flags {
                 .iter()
                 .map(|c| {
                     Case::from_name(c).ok_or_else(|| {
-                        Error::unknown("case", c, &["hertz-plane", "hertz-axi", "flat-punch"], "")
-                            .for_flag("--cases")
+                        let names: Vec<&str> = Case::ALL.iter().map(|c| c.name()).collect();
+                        Error::unknown("case", c, &names, "").for_flag("--cases")
                     })
                 })
                 .collect::<Result<_>>()?;

@@ -1,5 +1,7 @@
 //! `contact_bench`: every contact rule judged against physics — Hertz contact (plane strain
-//! and axisymmetric) and a rigid flat punch (`flat-punch`) — on graded Q4 meshes
+//! and axisymmetric), a rigid flat punch (`flat-punch`) and the same punch turned onto a plane
+//! inclined by 15°, 30° and 45° (`inclined-15`, …: contact rows with two terms,
+//! [`crate::model::inclined`]; rows record `theta` and `discretization`) — on graded Q4 meshes
 //! ([`crate::model::elasticity`]), with the analytic references of [`analytic`].
 //!
 //! Every solve is **force-controlled**: the lift w of the block's base is found (regula falsi
@@ -73,7 +75,8 @@ use std::time::Instant;
 /// The benchmark suite: cases, meshes and the knob grids.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct BenchConfig {
-    /// Cases (`hertz-plane`, `hertz-axi`, `flat-punch`).
+    /// Cases (`hertz-plane`, `hertz-axi`, `flat-punch`, `inclined-15`, `inclined-30`,
+    /// `inclined-45`).
     pub cases: Vec<Case>,
     /// Element sizes at the contact over a (the Hertz contact half-width; the flat-punch block is
     /// a × a), coarse to fine.
@@ -152,7 +155,7 @@ impl BenchConfig {
     /// rows with no lift and NaN).
     pub fn length_scale(&self, case: Case, lift: f64) -> f64 {
         match case {
-            Case::FlatPunch => lift,
+            c if c.is_punch() => lift,
             _ => self.a_target,
         }
     }
@@ -289,6 +292,8 @@ fn base_row(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> BenchRow {
     let exact = &mesh.exact;
     BenchRow {
         case: mesh.case.name().into(),
+        discretization: mesh.case.discretization().into(),
+        theta: mesh.case.theta_deg(),
         method: job.method.name().into(),
         knob: job.knob.into(),
         knob_value: knob_value(&job.method),
@@ -297,7 +302,7 @@ fn base_row(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> BenchRow {
         n_dofs: 0,
         load: mesh.load,
         lift: f64::NAN,
-        radius: if mesh.case == Case::FlatPunch {
+        radius: if mesh.case.is_punch() {
             0.0
         } else {
             cfg.radius
@@ -515,7 +520,7 @@ impl Prepared {
     /// The rows' errors: Hertz from the domain study ([`domain`]); the flat punch is exact
     /// on its block (its own error, no domain error).
     pub(crate) fn errors(&self, cfg: &BenchConfig) -> Result<MeshErrors> {
-        if self.case == Case::FlatPunch {
+        if self.case.is_punch() {
             return Ok(MeshErrors {
                 discretization: self.err_own,
                 domain: 0.0,
@@ -559,7 +564,12 @@ pub fn run_mesh(cfg: &BenchConfig, case: Case, h_rel: f64, progress: &Progress) 
         case: case.name().into(),
         h: h_rel * cfg.a_target,
         n_dofs: lag.scene.n_free,
-        cond2_floor: strategy::optimal::cond2_lower_bound(&lag.scene.problem)?,
+        // The bound over all E needs a Boolean D (the inclined rows have two terms).
+        cond2_floor: if lag.scene.problem.is_selection() {
+            strategy::optimal::cond2_lower_bound(&lag.scene.problem)?
+        } else {
+            f64::NAN
+        },
     };
     let mesh = prep.mesh(&errors);
     // The jobs of a mesh are independent: solved in parallel, kept in job order; then the

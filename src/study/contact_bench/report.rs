@@ -23,13 +23,15 @@ pub fn tables(s: &Summary) -> String {
                 fmt_e(r.err_discretization, 2),
                 fmt_e(r.p_err_rel, 2),
                 fmt_e(r.err_domain, 2),
-                if r.case == Case::FlatPunch.name() {
+                if Case::from_name(&r.case).is_some_and(Case::is_punch) {
                     fmt_e(r.p_spread, 1)
                 } else {
                     "—".into()
                 },
                 r.cond2_system.map_or("—".into(), |c| fmt_e(c, 3)),
-                floor_of(s, &r.case, r.h).map_or("—".into(), |c| fmt_e(c, 3)),
+                floor_of(s, &r.case, r.h)
+                    .filter(|c| c.is_finite())
+                    .map_or("—".into(), |c| fmt_e(c, 3)),
             ]
         })
         .collect();

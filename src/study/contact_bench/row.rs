@@ -6,8 +6,16 @@ use serde::{Deserialize, Serialize};
 /// One (case, method, knob, mesh).
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct BenchRow {
-    /// `hertz-plane`, `hertz-axi` or `flat-punch`.
+    /// `hertz-plane`, `hertz-axi`, `flat-punch`, `inclined-15`, `inclined-30` or
+    /// `inclined-45`.
     pub case: String,
+    /// How the contact rows are discretized: `nodal` (one row per contact node; issue 45
+    /// adds `nts-1`, `nts-2` and `mortar` for two bodies).
+    #[serde(default = "nodal")]
+    pub discretization: String,
+    /// Inclination θ of the rigid plane, degrees (0: level).
+    #[serde(default)]
+    pub theta: f64,
     /// Method name.
     pub method: String,
     /// Knob name (`eps`, `factor`, `delta`, `tol`, `adaptive-tol`, or empty).
@@ -171,7 +179,9 @@ pub struct Floor {
     pub h: f64,
     /// Free DOFs.
     pub n_dofs: usize,
-    /// The certified lower bound of cond₂(K + DEDᵀ) over every E ≥ 0.
+    /// The certified lower bound of cond₂(K + DEDᵀ) over every E ≥ 0 (NaN where D is not
+    /// Boolean: the bound is written for single-DOF constraints).
+    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
     pub cond2_floor: f64,
 }
 
@@ -186,4 +196,9 @@ impl BenchRow {
         self.forward_err_u = c.forward_err_u;
         self.forward_err_force = c.forward_err_force;
     }
+}
+
+/// The `discretization` of rows written before the column existed.
+fn nodal() -> String {
+    "nodal".into()
 }
