@@ -10,3 +10,4 @@ pub mod inclined;
 pub mod membrane;
 pub mod scalable;
 pub mod spring;
+pub mod two_body;

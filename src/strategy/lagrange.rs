@@ -148,6 +148,15 @@ pub fn solve_saddle(mut ctx: Context) -> Result<Solution> {
         rhs.extend(idx.iter().map(|&c| problem.constraints[c].limit));
         let x = f.solve(&rhs);
         ctx.stats.linear_solves += 1;
+        if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+            // A pivot too small for the test of the factorization, yet zero in effect.
+            return Err(Error::singular(format!(
+                "saddle-point matrix is singular to working precision (unknown {i} of the \
+                 solution is {}): K is singular on the unconstrained DOFs, or constraints are \
+                 dependent",
+                x[i]
+            )));
+        }
         ctx.stats.iterations += 1;
         ctx.stats.active_set_sizes.push(idx.len());
         let u = x[..n].to_vec();

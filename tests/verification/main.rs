@@ -23,3 +23,4 @@ mod saddle_cond;
 mod solver_cost;
 mod sparse_cond;
 mod stress;
+mod two_body;

@@ -1,0 +1,350 @@
+//! Two elastic blocks stacked with non-matching interface meshes: the two-body contact patch
+//! test (El-Abbasi & Bathe 2001; Crisfield 2000; Taylor & Papadopoulos 1991), with node-to-segment
+//! and mortar constraint rows (issue 45).
+//!
+//! **Bodies.** Plane strain, Q4 ([`elasticity::assemble`]): the lower block `W × H₁` on
+//! `nx₁ × ny₁` elements, the upper block `W × H₂` on `nx₂ × ny₂` elements, stacked at y = H₁
+//! (undeformed, touching). Boundary conditions: the lower block's base on rollers (v = 0),
+//! the symmetry line x = 0 of both bodies held in x (u = 0), and the upper block's top
+//! pressed down by `w` (v = −w): displacement control, so that each body's K is nonsingular
+//! on its own (the methods that need K⁻¹ apply). Prescribed DOFs are eliminated
+//! (`K_ff u_f = −K_fp u_p`). DOFs: the lower block's nodes first, then the upper block's,
+//! node (i, j) of a block with DOFs `2·node` (x) and `2·node + 1` (y).
+//!
+//! **Interface, small deformation, frictionless.** The normal is y; the gap of an upper
+//! (slave) point over the lower (master) surface is `g = v_upper − v_lower` (initially 0),
+//! kept `g ≥ 0` (`lower` rows, limit 0). The slave side is the upper block's bottom face.
+//! - `nts-1` (one-pass node-to-segment): one row per slave node s over the master segment
+//!   [m₁, m₂] that contains it at ξ: `g_s = v_s − (1 − ξ) v_m₁ − ξ v_m₂` (≤ 3 terms);
+//! - `nts-2` (two-pass): those rows and the same with the bodies' roles swapped (every
+//!   master node against the slave segments); the rows are linearly dependent where nodes
+//!   line up, and the pass count doubles the stiffness of a penalty;
+//! - `mortar` (segment-to-segment, the standard multiplier space on the slave side): one row
+//!   per slave node i, `g̃_i = (Σ_j D_ij v_j − Σ_k M_ik v_k) / ω_i` with
+//!   `D_ij = ∫ N_i N_j ds`, `M_ik = ∫ N_i N̂_k ds` over the slave face (N slave, N̂ master
+//!   shape functions; products of linear functions on each overlap of a slave and a master
+//!   segment, integrated exactly by 2-point Gauss) and `ω_i = ∫ N_i ds`: the weighted gap
+//!   normalized to length units (Popp's normalized gap), so δ is a penetration and a
+//!   multiplier `ω_i·p_i` is a nodal force.
+//!
+//! **Pressure.** Every row's force f_c (a penalty's `ε_c g_c`, a multiplier) acts on the
+//! slave side as `f_c d_c`; the contact pressure read at row c is `p_c = −f_c / ω_c` (ω_c the
+//! tributary length of the row's slave node; compressive positive). For `mortar` this is
+//! exact: with uniform p, `f_c = −ω_c p` makes both bodies' nodal forces the consistent ones
+//! (`Σ_i D_ij p = p ∫N_j`, `Σ_i M_ik p = p ∫N̂_k` since `Σ_i N_i = 1`), which is why mortar
+//! passes the patch test; one-pass node-to-segment hands the master nodes `(1 − ξ, ξ)` of
+//! each slave force instead, which is not `p ∫N̂_k`, and fails it.
+//!
+//! **Exact solution** of the patch test: uniform compression, `p = w / (H₁/E₁* + H₂/E₂*)`,
+//! `E* = E/(1 − ν²)` (plane strain, free lateral expansion on frictionless faces), reproduced
+//! exactly by bilinear elements.
+
+use super::elasticity::{self, Geometry, Grid, Material};
+use crate::error::{Error, Result};
+use crate::system::{Constraint, ConstraintKind, Problem, Stiffness};
+
+/// How the interface rows are formed (module doc).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Discretization {
+    /// One-pass node-to-segment.
+    Nts1,
+    /// Two-pass node-to-segment.
+    Nts2,
+    /// Mortar (segment-to-segment, standard multipliers, normalized gap).
+    Mortar,
+}
+
+impl Discretization {
+    /// Every discretization, in table order.
+    pub const ALL: [Discretization; 3] = [
+        Discretization::Nts1,
+        Discretization::Nts2,
+        Discretization::Mortar,
+    ];
+
+    /// Its name in rows (`nts-1`, `nts-2`, `mortar`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Discretization::Nts1 => "nts-1",
+            Discretization::Nts2 => "nts-2",
+            Discretization::Mortar => "mortar",
+        }
+    }
+}
+
+/// The two blocks (module doc).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TwoBlocks {
+    /// Width W of both blocks.
+    pub width: f64,
+    /// Lower block height H₁.
+    pub h_lower: f64,
+    /// Upper block height H₂.
+    pub h_upper: f64,
+    /// Lower block elements (nx₁, ny₁).
+    pub mesh_lower: (usize, usize),
+    /// Upper block elements (nx₂, ny₂).
+    pub mesh_upper: (usize, usize),
+    /// Lower block material.
+    pub lower: Material,
+    /// Upper block material.
+    pub upper: Material,
+}
+
+/// The patch-test scene: the problem and what reads pressures from its solutions.
+#[derive(Clone, Debug)]
+pub struct TwoBody {
+    /// `K_ff`, `q_f` and the interface rows.
+    pub problem: Problem,
+    /// Tributary length ω_c of each row's slave node.
+    pub weights: Vec<f64>,
+    /// Abscissa of each row's slave node.
+    pub xs: Vec<f64>,
+    /// The exact uniform pressure of the patch test.
+    pub exact_pressure: f64,
+}
+
+impl TwoBody {
+    /// Contact pressures `p_c = −f_c/ω_c` from a solution's row forces (compressive positive).
+    pub fn pressures(&self, forces: &[f64]) -> Vec<f64> {
+        forces
+            .iter()
+            .zip(&self.weights)
+            .map(|(f, w)| -f / w)
+            .collect()
+    }
+}
+
+/// ∫ of the product of two linear functions on [a, b] given by their end values, exactly (2-point
+/// Gauss): `(fa, fb)` and `(ga, gb)`.
+fn product_integral(a: f64, b: f64, f: (f64, f64), g: (f64, f64)) -> f64 {
+    let half = 0.5 * (b - a);
+    let r = 0.5 / 3f64.sqrt();
+    [0.5 - r, 0.5 + r]
+        .iter()
+        .map(|&t| {
+            let ft = f.0 + t * (f.1 - f.0);
+            let gt = g.0 + t * (g.1 - g.0);
+            half * ft * gt
+        })
+        .sum()
+}
+
+/// The value at x of node k's hat function on the 1-D mesh `xs`.
+fn hat(xs: &[f64], k: usize, x: f64) -> f64 {
+    let left = k.checked_sub(1).map(|l| xs[l]);
+    let right = xs.get(k + 1).copied();
+    match (left, right) {
+        (Some(l), _) if x >= l && x <= xs[k] => (x - l) / (xs[k] - l),
+        (_, Some(r)) if x >= xs[k] && x <= r => (r - x) / (r - xs[k]),
+        _ => 0.0,
+    }
+}
+
+/// Node-to-segment terms of the node at `x` (DOF `own`) over the face `xs` with DOFs `other`:
+/// `v_own − (1 − ξ) v_a − ξ v_b`, zero coefficients dropped.
+fn nts_terms(x: f64, own: usize, xs: &[f64], other: &[usize]) -> Vec<(usize, f64)> {
+    let seg = xs
+        .windows(2)
+        .position(|w| x <= w[1])
+        .unwrap_or(xs.len() - 2);
+    let xi = ((x - xs[seg]) / (xs[seg + 1] - xs[seg])).clamp(0.0, 1.0);
+    let mut t = vec![(own, 1.0), (other[seg], -(1.0 - xi)), (other[seg + 1], -xi)];
+    t.retain(|&(_, a)| a != 0.0);
+    t
+}
+
+/// Tributary lengths ∫ N_i ds on the 1-D mesh `xs`.
+fn tributary(xs: &[f64]) -> Vec<f64> {
+    let mut w = vec![0.0; xs.len()];
+    for k in 0..xs.len() - 1 {
+        let l = xs[k + 1] - xs[k];
+        w[k] += 0.5 * l;
+        w[k + 1] += 0.5 * l;
+    }
+    w
+}
+
+/// Mortar rows of the slave face `sx` (DOFs `sd`) over the master face `mx` (DOFs `md`):
+/// `(Σ_j D_ij v_j − Σ_k M_ik v_k)/ω_i` per slave node i (module doc).
+fn mortar_rows(sx: &[f64], sd: &[usize], mx: &[f64], md: &[usize]) -> Vec<Vec<(usize, f64)>> {
+    let w = tributary(sx);
+    let mut rows: Vec<std::collections::BTreeMap<usize, f64>> = vec![Default::default(); sx.len()];
+    for s in 0..sx.len() - 1 {
+        // Breakpoints of the slave segment: its ends and the master nodes inside it.
+        let mut cuts: Vec<f64> = vec![sx[s], sx[s + 1]];
+        cuts.extend(mx.iter().copied().filter(|&x| x > sx[s] && x < sx[s + 1]));
+        cuts.sort_by(f64::total_cmp);
+        for piece in cuts.windows(2) {
+            let (a, b) = (piece[0], piece[1]);
+            for i in [s, s + 1] {
+                let ni = (hat(sx, i, a), hat(sx, i, b));
+                for j in [s, s + 1] {
+                    let nj = (hat(sx, j, a), hat(sx, j, b));
+                    *rows[i].entry(sd[j]).or_insert(0.0) += product_integral(a, b, ni, nj);
+                }
+                let mid = 0.5 * (a + b);
+                let k = mx
+                    .windows(2)
+                    .position(|m| mid <= m[1])
+                    .unwrap_or(mx.len() - 2);
+                for kk in [k, k + 1] {
+                    let nk = (hat(mx, kk, a), hat(mx, kk, b));
+                    *rows[i].entry(md[kk]).or_insert(0.0) -= product_integral(a, b, ni, nk);
+                }
+            }
+        }
+    }
+    rows.into_iter()
+        .zip(w)
+        .map(|(r, wi)| {
+            r.into_iter()
+                .filter(|&(_, v)| v != 0.0)
+                .map(|(d, v)| (d, v / wi))
+                .collect()
+        })
+        .collect()
+}
+
+/// The patch test of `blocks` pressed by `squeeze` (module doc), with rows of `disc`.
+pub fn patch(blocks: &TwoBlocks, squeeze: f64, disc: Discretization) -> Result<TwoBody> {
+    let b = blocks;
+    let ok = |v: f64| v.is_finite() && v > 0.0;
+    if !(ok(b.width) && ok(b.h_lower) && ok(b.h_upper) && squeeze.is_finite()) {
+        return Err(Error::input(
+            "two blocks: width and heights must be finite and > 0, the squeeze finite",
+        ));
+    }
+    let (n1, n2) = (b.mesh_lower, b.mesh_upper);
+    if n1.0 == 0 || n1.1 == 0 || n2.0 == 0 || n2.1 == 0 {
+        return Err(Error::input(
+            "two blocks: every mesh needs at least one element",
+        ));
+    }
+    let lower = Grid::uniform(b.width, b.h_lower, n1.0, n1.1);
+    let upper = Grid::uniform(b.width, b.h_upper, n2.0, n2.1);
+    let off = 2 * lower.nodes();
+    let mut t = elasticity::assemble(&lower, Geometry::PlaneStrain, &b.lower)?;
+    let tu = elasticity::assemble(&upper, Geometry::PlaneStrain, &b.upper)?;
+    t.extend(tu.into_iter().map(|(i, j, v)| (i + off, j + off, v)));
+    let ndof = off + 2 * upper.nodes();
+    let mut fixed: Vec<Option<f64>> = vec![None; ndof];
+    for i in 0..lower.xs.len() {
+        fixed[2 * lower.node(i, 0) + 1] = Some(0.0);
+    }
+    for i in 0..upper.xs.len() {
+        fixed[off + 2 * upper.node(i, upper.ny() - 1) + 1] = Some(-squeeze);
+    }
+    for j in 0..lower.ny() {
+        fixed[2 * lower.node(0, j)] = Some(0.0);
+    }
+    for j in 0..upper.ny() {
+        fixed[off + 2 * upper.node(0, j)] = Some(0.0);
+    }
+    let mut map = vec![usize::MAX; ndof];
+    let mut n_free = 0;
+    for (d, f) in fixed.iter().enumerate() {
+        if f.is_none() {
+            map[d] = n_free;
+            n_free += 1;
+        }
+    }
+    let mut kff = Vec::with_capacity(t.len());
+    let mut q = vec![0.0; n_free];
+    for &(r, c, v) in &t {
+        match (map[r], fixed[c]) {
+            (usize::MAX, _) => {}
+            (fr, None) => kff.push((fr, map[c], v)),
+            (fr, Some(uc)) => q[fr] -= v * uc,
+        }
+    }
+    let k = Stiffness::from_triplets(n_free, &kff)?;
+    // The interface faces: the upper block's bottom (slave), the lower block's top (master).
+    let sd: Vec<usize> = (0..upper.xs.len())
+        .map(|i| map[off + 2 * upper.node(i, 0) + 1])
+        .collect();
+    let md: Vec<usize> = (0..lower.xs.len())
+        .map(|i| map[2 * lower.node(i, lower.ny() - 1) + 1])
+        .collect();
+    let (sx, mx) = (&upper.xs, &lower.xs);
+    let (ws, wm) = (tributary(sx), tributary(mx));
+    let mut rows: Vec<(Vec<(usize, f64)>, f64, f64)> = Vec::new(); // (terms, ω, x)
+    match disc {
+        Discretization::Nts1 | Discretization::Nts2 => {
+            for (i, &x) in sx.iter().enumerate() {
+                rows.push((nts_terms(x, sd[i], mx, &md), ws[i], x));
+            }
+            if disc == Discretization::Nts2 {
+                for (k, &x) in mx.iter().enumerate() {
+                    // The master node over the slave face: g = v_s(x) − v_m ≥ 0, i.e. the
+                    // node-to-segment row of the lower body with the sign turned.
+                    let terms = nts_terms(x, md[k], sx, &sd)
+                        .into_iter()
+                        .map(|(d, a)| (d, -a))
+                        .collect();
+                    rows.push((terms, wm[k], x));
+                }
+            }
+        }
+        Discretization::Mortar => {
+            for ((terms, &w), &x) in mortar_rows(sx, &sd, mx, &md).into_iter().zip(&ws).zip(sx) {
+                rows.push((terms, w, x));
+            }
+        }
+    }
+    let mut constraints = Vec::with_capacity(rows.len());
+    let (mut weights, mut xs) = (Vec::new(), Vec::new());
+    for (terms, w, x) in rows {
+        constraints.push(Constraint::row(terms, 0.0, ConstraintKind::Lower));
+        weights.push(w);
+        xs.push(x);
+    }
+    let problem = Problem::new(k, q, constraints)?.in_preferred_storage();
+    let compliance = b.h_lower / b.lower.contact_modulus() + b.h_upper / b.upper.contact_modulus();
+    Ok(TwoBody {
+        problem,
+        weights,
+        xs,
+        exact_pressure: squeeze / compliance,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A normalized mortar row's slave coefficients sum to 1 and its master ones to −1
+    /// (`Σ_j D_ij = Σ_k M_ik = ω_i`, both faces spanning the same interval), whatever the
+    /// meshes; on matching meshes D = M, so a rigid common motion leaves every gap 0.
+    #[test]
+    fn mortar_rows_are_partitions_of_unity() {
+        let sx: Vec<f64> = (0..=5).map(|i| 0.2 * i as f64).collect();
+        let mx: Vec<f64> = [0.0, 0.15, 0.5, 0.55, 0.9, 1.0].to_vec();
+        let sd: Vec<usize> = (0..sx.len()).collect();
+        let md: Vec<usize> = (100..100 + mx.len()).collect();
+        for (mx, md) in [(&mx, &md), (&sx, &md[..sx.len()].to_vec())] {
+            for row in mortar_rows(&sx, &sd, mx, md) {
+                let slave: f64 = row.iter().filter(|t| t.0 < 100).map(|t| t.1).sum();
+                let master: f64 = row.iter().filter(|t| t.0 >= 100).map(|t| t.1).sum();
+                assert!((slave - 1.0).abs() <= 8.0 * f64::EPSILON, "{row:?}");
+                assert!((master + 1.0).abs() <= 8.0 * f64::EPSILON, "{row:?}");
+            }
+        }
+        // Matching meshes: the master coefficient of node k equals the slave one of node k.
+        for row in mortar_rows(&sx, &sd, &sx, &md[..sx.len()]) {
+            for &(d, a) in row.iter().filter(|t| t.0 < 100) {
+                let b = row.iter().find(|t| t.0 == 100 + d).map_or(0.0, |t| t.1);
+                assert!((a + b).abs() <= 8.0 * f64::EPSILON, "{row:?}");
+            }
+        }
+    }
+
+    /// One-pass node-to-segment on a node at ξ = 0.25 of its segment.
+    #[test]
+    fn nts_row_interpolates_the_master_segment() {
+        let t = nts_terms(0.25, 7, &[0.0, 1.0, 2.0], &[10, 11, 12]);
+        assert_eq!(t, vec![(7, 1.0), (10, -0.75), (11, -0.25)]);
+        let t = nts_terms(1.0, 7, &[0.0, 1.0, 2.0], &[10, 11, 12]);
+        assert_eq!(t, vec![(7, 1.0), (11, -1.0)]);
+    }
+}

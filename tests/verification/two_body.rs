@@ -1,0 +1,94 @@
+//! The two-body contact patch test (issue 45, `model::two_body`): two stacked blocks with
+//! non-matching interface meshes (2:3, 3:5, 4:7 elements across), squeezed; the exact
+//! contact pressure is uniform, `w / (H₁/E₁* + H₂/E₂*)`.
+//!
+//! - `mortar`: Lagrange and `condensed` reproduce the uniform pressure to 1e-8 relative (the
+//!   patch test passes; `condensed`'s pressure is that of the squeeze less its penetration δ);
+//! - `nts-1`: its error is measured and reported (it fails the patch test: Taylor &
+//!   Papadopoulos 1991); here it must be above rounding, so that the test shows the failure
+//!   rather than assuming it;
+//! - `nts-2`: printed, not asserted: Lagrange refuses it as singular on every ratio (the two
+//!   passes' rows are dependent: the end nodes line up, and 2·(m₁ + m₂) rows over-constrain
+//!   the interface), as the literature says of two-pass node-to-segment with multipliers; a
+//!   penalty's row pressures are each pass's share of the load.
+
+use penalty_lab::model::elasticity::Material;
+use penalty_lab::model::two_body::{patch, Discretization, TwoBlocks, TwoBody};
+use penalty_lab::strategy::{self, Method};
+
+fn blocks(nx_lower: usize, nx_upper: usize) -> TwoBlocks {
+    TwoBlocks {
+        width: 1.0,
+        h_lower: 0.6,
+        h_upper: 0.4,
+        mesh_lower: (nx_lower, 3),
+        mesh_upper: (nx_upper, 2),
+        lower: Material {
+            young: 210e3,
+            poisson: 0.3,
+        },
+        upper: Material {
+            young: 70e3,
+            poisson: 0.33,
+        },
+    }
+}
+
+/// max_c |p_c − p| / p (NaN if any pressure is NaN).
+fn spread(tb: &TwoBody, forces: &[f64], p: f64) -> f64 {
+    tb.pressures(forces)
+        .iter()
+        .map(|pc| (pc - p).abs() / p)
+        .fold(0.0, |a, e| {
+            if e.is_nan() || a.is_nan() {
+                f64::NAN
+            } else {
+                a.max(e)
+            }
+        })
+}
+
+#[test]
+fn mortar_passes_the_two_body_patch_test_and_one_pass_nts_does_not() {
+    let squeeze = 1e-3;
+    for (a, b) in [(2, 3), (3, 5), (4, 7), (3, 2), (7, 4)] {
+        let mortar = patch(&blocks(a, b), squeeze, Discretization::Mortar).unwrap();
+        let p = mortar.exact_pressure;
+        let lag = strategy::solve(&mortar.problem, Method::lagrange()).unwrap();
+        let e = spread(&mortar, &lag.forces, p);
+        assert!(e <= 1e-8, "{a}:{b} mortar lagrange: {e:e}"); // NaN fails too
+        let delta = 1e-3 * squeeze;
+        let cond = strategy::solve(&mortar.problem, Method::condensed(delta)).unwrap();
+        let p_delta = p * (1.0 - delta / squeeze);
+        let e = spread(&mortar, &cond.forces, p_delta);
+        assert!(e <= 1e-8, "{a}:{b} mortar condensed: {e:e}");
+        assert!(
+            cond.max_penetration <= delta,
+            "{a}:{b}: {}",
+            cond.max_penetration
+        );
+        let nts = patch(&blocks(a, b), squeeze, Discretization::Nts1).unwrap();
+        let lag = strategy::solve(&nts.problem, Method::lagrange()).unwrap();
+        let e_nts = spread(&nts, &lag.forces, p);
+        println!("{a}:{b} nts-1 lagrange: max |p − p_exact|/p = {e_nts:.3e}");
+        assert!(
+            e_nts > 1e-6,
+            "{a}:{b}: one-pass NTS is expected to fail the patch test"
+        );
+        let two = patch(&blocks(a, b), squeeze, Discretization::Nts2).unwrap();
+        for m in [
+            Method::lagrange(),
+            Method::condensed(delta),
+            Method::scaled(10.0),
+        ] {
+            match strategy::solve(&two.problem, m) {
+                Ok(s) => println!(
+                    "{a}:{b} nts-2 {}: spread {:.3e}",
+                    m.name(),
+                    spread(&two, &s.forces, p)
+                ),
+                Err(e) => println!("{a}:{b} nts-2 {}: {e}", m.name()),
+            }
+        }
+    }
+}
