@@ -43,6 +43,9 @@ use super::elasticity::{self, Geometry, Grid, Material};
 use crate::error::{Error, Result};
 use crate::system::{Constraint, ConstraintKind, Problem, Stiffness};
 
+/// A constraint row's terms `(DOF, coefficient)`.
+type Terms = Vec<(usize, f64)>;
+
 /// How the interface rows are formed (module doc).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Discretization {
@@ -143,7 +146,7 @@ fn hat(xs: &[f64], k: usize, x: f64) -> f64 {
 
 /// Node-to-segment terms of the node at `x` (DOF `own`) over the face `xs` with DOFs `other`:
 /// `v_own − (1 − ξ) v_a − ξ v_b`, zero coefficients dropped.
-fn nts_terms(x: f64, own: usize, xs: &[f64], other: &[usize]) -> Vec<(usize, f64)> {
+fn nts_terms(x: f64, own: usize, xs: &[f64], other: &[usize]) -> Terms {
     let seg = xs
         .windows(2)
         .position(|w| x <= w[1])
@@ -167,7 +170,7 @@ fn tributary(xs: &[f64]) -> Vec<f64> {
 
 /// Mortar rows of the slave face `sx` (DOFs `sd`) over the master face `mx` (DOFs `md`):
 /// `(Σ_j D_ij v_j − Σ_k M_ik v_k)/ω_i` per slave node i (module doc).
-fn mortar_rows(sx: &[f64], sd: &[usize], mx: &[f64], md: &[usize]) -> Vec<Vec<(usize, f64)>> {
+fn mortar_rows(sx: &[f64], sd: &[usize], mx: &[f64], md: &[usize]) -> Vec<Terms> {
     let w = tributary(sx);
     let mut rows: Vec<std::collections::BTreeMap<usize, f64>> = vec![Default::default(); sx.len()];
     for s in 0..sx.len() - 1 {
@@ -268,7 +271,7 @@ pub fn patch(blocks: &TwoBlocks, squeeze: f64, disc: Discretization) -> Result<T
         .collect();
     let (sx, mx) = (&upper.xs, &lower.xs);
     let (ws, wm) = (tributary(sx), tributary(mx));
-    let mut rows: Vec<(Vec<(usize, f64)>, f64, f64)> = Vec::new(); // (terms, ω, x)
+    let mut rows: Vec<(Terms, f64, f64)> = Vec::new(); // (terms, ω, x)
     match disc {
         Discretization::Nts1 | Discretization::Nts2 => {
             for (i, &x) in sx.iter().enumerate() {
