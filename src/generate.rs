@@ -27,7 +27,13 @@
 //!   Lagrange solution carries a uniform pressure p̄ ∈ [1e-4, 1e-2]·E* (log-uniform). One body
 //!   in uniform compression, not the two-body contact patch test.
 //!
-//! The metadata of both records the draws (`geometry`, `young`, `poisson`, `h_over_a`,
+//! * `two-body` — two stacked plane-strain blocks (`W = 1`, heights in [0.3, 1], random E
+//!   and ν each) with non-matching interface meshes (2…8 elements across each, never equal),
+//!   squeezed by a strain in [1e-4, 1e-2] (log-uniform), with `nts-1` or `mortar` interface
+//!   rows drawn at random ([`crate::model::two_body`]): rows of up to ~7 terms, D not Boolean.
+//!   `optimal` refuses it (its spectral model needs a Boolean D); every other rule runs.
+//!
+//! The metadata of `hertz` and `flat-punch` records the draws (`geometry`, `young`, `poisson`, `h_over_a`,
 //! `radius`, `load`: the total force on the whole body, per unit thickness in plane strain,
 //! `a_hertz`: Hertz's half-width for it) and the lift found (`lift`, `force_solves`).
 //!
@@ -59,10 +65,20 @@ pub enum Family {
     Hertz,
     /// Elastic block under a flat rigid punch (`flat-punch`; `patch` before issue 44).
     FlatPunch,
+    /// Two stacked elastic blocks with non-matching interface meshes, node-to-segment or mortar
+    /// rows (`two-body`: constraint rows that couple DOFs).
+    TwoBody,
 }
 
 /// Family names accepted on the command line.
-pub const FAMILY_NAMES: [&str; 5] = ["beam", "membrane", "spectrum", "hertz", "flat-punch"];
+pub const FAMILY_NAMES: [&str; 6] = [
+    "beam",
+    "membrane",
+    "spectrum",
+    "hertz",
+    "flat-punch",
+    "two-body",
+];
 
 /// The families a sweep runs when none are named.
 pub const DEFAULT_FAMILIES: [&str; 3] = ["beam", "membrane", "spectrum"];
@@ -77,6 +93,7 @@ impl Family {
             "hertz" => Ok(Family::Hertz),
             // `patch`: the family's name before issue 44.
             "flat-punch" | "patch" => Ok(Family::FlatPunch),
+            "two-body" => Ok(Family::TwoBody),
             _ => Err(Error::unknown("family", s, &FAMILY_NAMES, "")),
         }
     }
@@ -89,6 +106,7 @@ impl Family {
             Family::Spectrum => "spectrum",
             Family::Hertz => "hertz",
             Family::FlatPunch => "flat-punch",
+            Family::TwoBody => "two-body",
         }
     }
 }
@@ -209,6 +227,7 @@ pub fn generate(
         Family::Spectrum => spectrum(&mut rng, cfg)?,
         Family::Hertz => elastic(&mut rng, cfg, false, &name)?,
         Family::FlatPunch => elastic(&mut rng, cfg, true, &name)?,
+        Family::TwoBody => two_body(&mut rng)?,
     };
     meta["generator"] = serde_json::json!(family.name());
     meta["seed"] = serde_json::json!(seed);
@@ -456,3 +475,49 @@ fn elastic(
 /// `hertz`: the load is drawn log-uniformly between the Hertz loads of these contact
 /// half-widths (radii), in units of a; the mesh is fine (size h) up to 1.5.
 const A_HERTZ: (f64, f64) = (0.75, 1.25);
+
+/// A `two-body` scene (module doc): the draws in the metadata.
+fn two_body(rng: &mut ChaCha8Rng) -> Result<(Problem, serde_json::Value)> {
+    use crate::model::two_body::{patch, Discretization, TwoBlocks};
+    let mut material = || Material {
+        young: log_uniform(rng, 1e3, 1e6),
+        poisson: rng.random_range(0.0..0.45),
+    };
+    let (lower, upper) = (material(), material());
+    let nx_lower = rng.random_range(2..=8usize);
+    let mut nx_upper = rng.random_range(2..=7usize);
+    if nx_upper >= nx_lower {
+        nx_upper += 1; // 2..=8 without nx_lower: the interface meshes never match
+    }
+    let blocks = TwoBlocks {
+        width: 1.0,
+        h_lower: rng.random_range(0.3..1.0),
+        h_upper: rng.random_range(0.3..1.0),
+        mesh_lower: (nx_lower, rng.random_range(1..=4usize)),
+        mesh_upper: (nx_upper, rng.random_range(1..=4usize)),
+        lower,
+        upper,
+    };
+    let strain = log_uniform(rng, 1e-4, 1e-2);
+    let squeeze = strain * (blocks.h_lower + blocks.h_upper);
+    let disc = if rng.random_bool(0.5) {
+        Discretization::Nts1
+    } else {
+        Discretization::Mortar
+    };
+    let scene = patch(&blocks, squeeze, disc)?;
+    let meta = serde_json::json!({
+        "discretization": disc.name(),
+        "mesh_lower": blocks.mesh_lower,
+        "mesh_upper": blocks.mesh_upper,
+        "h_lower": blocks.h_lower,
+        "h_upper": blocks.h_upper,
+        "young": lower.young,
+        "poisson": lower.poisson,
+        "young2": upper.young,
+        "poisson2": upper.poisson,
+        "squeeze": squeeze,
+        "exact_pressure": scene.exact_pressure,
+    });
+    Ok((scene.problem, meta))
+}

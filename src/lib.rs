@@ -96,7 +96,7 @@
 //! | **K** | [`system::Problem::k`] | stiffness (flow: viscosity) matrix after essential BCs | force/length |
 //! | **q** | [`system::Problem::q`] | load vector | force |
 //! | **u** | [`strategy::Solution::u`] | displacements (flow: velocities) | length |
-//! | **D** | [`system::Constraint::dof`] | Boolean N×m matrix; column c selects DOF `d_c` | — |
+//! | **D** | [`system::Constraint::terms`] | N×m matrix; column c is the row `d_c` of constraint c, its terms (DOF, coefficient); Boolean (column c selects DOF `d_c`) for single-DOF constraints | — |
 //! | **û** | [`system::Constraint::limit`] | contact limits | length |
 //! | ε, **ε** = D ε̄ Dᵀ | [`strategy::Solution::penalties`] | penalty factor per constraint | force/length |
 //! | δ | `delta` in [`strategy::Method`] | allowed penetration | length |

@@ -2,19 +2,19 @@
 //!
 //! `ε_c = (q_d − k (û_c + s δ)) / (s δ)`, `k = K[d,d]`, `q_d = q[d]`, `s = sign(g0_c)`,
 //!
-//! which puts a lone spring exactly at `u = û + sδ`. For a row `d_c` with several terms the
-//! spring is the motion along the row, `u = α d_c`: stationarity of the penalized energy in α
-//! with gap `sδ` gives the same formula with `k = d_cᵀKd_c/‖d_c‖⁴` ([`Constraint::stiffness`])
-//! and `q_d = d_cᵀq/‖d_c‖²` (for a unit row, a normal: `d_cᵀKd_c` and `d_cᵀq`).
-//!
-//! [`Constraint::stiffness`]: crate::system::Constraint::stiffness For `s = −1` this is the paper's Eq. 17,
-//! `ε = (k(û − δ) − q) / δ`. Unilateral constraints use the side of their obstacle
+//! which puts a lone spring exactly at `u = û + sδ`. For `s = −1` this is the paper's Eq. 17,
+//! `ε = (k(û − δ) − q) / δ`. For a row `d_c` with several terms the spring is the motion along
+//! the row, `u = α d_c`: stationarity of the penalized energy in α with gap `sδ` gives the
+//! same formula with `k = d_cᵀKd_c/‖d_c‖⁴` ([`Constraint::stiffness`]) and
+//! `q_d = d_cᵀq/‖d_c‖²` (for a unit row, a normal: `d_cᵀKd_c` and `d_cᵀq`). Unilateral constraints use the side of their obstacle
 //! (`upper`: s = +1, `lower`: s = −1) whenever they are active; bilateral ones the side of the
 //! unconstrained solution (and no penalty when `|g0_c| ≤ δ`).
 //!
 //! When to use: a sanity baseline. In a coupled system the rest of the structure also carries
 //! load, so the penetration is not δ; when `|q_d|` is small the formula goes negative (warned
 //! and clipped to 0).
+//!
+//! [`Constraint::stiffness`]: crate::system::Constraint::stiffness
 
 use super::{
     fixed_point, per_active, Context, Glyph, Knob, Knobs, Look, Method, Solution, Strategy,

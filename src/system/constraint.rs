@@ -54,7 +54,7 @@ impl Constraint {
         }
     }
 
-    /// The constraint `Σ a·u[j] ⋚ limit` over `terms` `(j, a)` (checked by [`Problem::new`]).
+    /// The constraint `Σ a·u[j] ⋚ limit` over `terms` `(j, a)` (checked by [`Problem::new`](super::Problem::new)).
     pub fn row(terms: Vec<(usize, f64)>, limit: f64, kind: ConstraintKind) -> Self {
         Constraint { terms, limit, kind }
     }
