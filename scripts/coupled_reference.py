@@ -16,6 +16,8 @@ without any of penalty-lab's code:
   cond(K + D_P eps D_P^T, 2);
 - scaled f: the same with eps_c = f d_c^T K d_c / |d_c|^4 (the penalty's stiffness along the
   row f times K's);
+The node-to-segment scene stores K and D as Matrix Market files (D: one row per constraint).
+
 - condensed delta: the exact delta-targeting solution, the QP with every row in the box
   g_c <= delta (upper), g_c >= -delta (lower), |g_c| <= delta (bilateral), by enumerating the
   states (free, at -delta, at +delta); its u.
@@ -289,6 +291,24 @@ def write_scene(out, name, k, q, rows, mtx):
     else:
         scene["stiffness"] = {"dense": [[shortest(v) for v in row] for row in k]}
     scene["load"] = [shortest(v) for v in q]
+    if mtx:
+        # D as Matrix Market too: row c = constraint c, its terms in order.
+        path = os.path.join(out, f"{name}.D.mtx")
+        with open(path, "w") as f:
+            entries = [(c, j, a) for c, (terms, _, _) in enumerate(rows) for j, a in terms]
+            f.write("%%MatrixMarket matrix coordinate real general\n")
+            f.write(f"{len(rows)} {n} {len(entries)}\n")
+            for c, j, a in entries:
+                f.write(f"{c + 1} {j + 1} {repr(float(a))}\n")
+        scene["constraints"] = {
+            "matrix_market": f"{name}.D.mtx",
+            "limits": [shortest(r[1]) for r in rows],
+            "kinds": [r[2] for r in rows],
+        }
+        with open(os.path.join(out, f"{name}.scene.json"), "w") as f:
+            json.dump(scene, f, indent=1)
+            f.write("\n")
+        return
     scene["constraints"] = []
     for terms, limit, kind in rows:
         if len(terms) == 1 and terms[0][1] == 1.0:

@@ -150,10 +150,12 @@ fn data(msg: &str, path: &str) -> String {
         return format!("duplicate key {}", quote_short(field));
     }
     if let Some(field) = backticked(msg, "unknown field `") {
-        return format!(
-            "unknown key {}; give exactly one of \"dense\" (rows of numbers) or \"matrix_market\" (a file path)",
-            quote_short(field)
-        );
+        let hint = if path == "constraints" {
+            r#"the rows of D are {"matrix_market": "D.mtx", "limits": [...], "kind": k} (or "kinds": [...])"#
+        } else {
+            r#"give exactly one of "dense" (rows of numbers) or "matrix_market" (a file path)"#
+        };
+        return format!("unknown key {}; {hint}", quote_short(field));
     }
     msg.to_owned()
 }

@@ -65,13 +65,40 @@ enum MmField {
 /// Parses Matrix Market text (see [`read_matrix_market`]); `origin` names the source in
 /// error messages. Never panics.
 pub fn parse_matrix_market_str(text: &str, origin: &str) -> Result<Stiffness> {
+    let (n, _, triplets) = parse_entries(text, origin, true)?;
+    Stiffness::from_triplets(n, &triplets).map_err(|e| Error::io(origin, bare_message(e)))
+}
+
+/// Reads a Matrix Market file of any shape (`rows × cols`, e.g. the constraint matrix of a
+/// scene: one row per constraint) as its entries `(row, column, value)`, 0-based, in file
+/// order (symmetric storage expanded; an `array` file's exact `+0.0` skipped; duplicates
+/// kept for the caller to judge). The same header, size and entry checks as
+/// [`read_matrix_market`], errors naming the file and the line.
+pub fn read_matrix_market_entries(path: &Path) -> Result<MatrixEntries> {
+    let origin = path.display().to_string();
+    let bytes = fs::read(path).map_err(|e| Error::io(&origin, format!("cannot read file: {e}")))?;
+    let text = String::from_utf8_lossy(&bytes);
+    parse_entries(&text, &origin, false)
+}
+
+/// A matrix as `(rows, columns, entries (row, column, value))`.
+pub type MatrixEntries = (usize, usize, Vec<(usize, usize, f64)>);
+
+/// The entries of Matrix Market text, square where `square`.
+fn parse_entries(text: &str, origin: &str, square: bool) -> Result<MatrixEntries> {
     let src = Src { origin };
     let text = text.strip_prefix('\u{feff}').unwrap_or(text);
     let number: fn((usize, &str)) -> (usize, &str) = |(i, l)| (i + 1, l);
     let mut lines: Lines = text.lines().enumerate().map(number);
     let h = parse_header(src, &mut lines)?;
-    let (sl, n, declared) = parse_size(src, &mut lines, h)?;
-    let body = Body { h, n, declared, sl };
+    let (sl, nr, nc, declared) = parse_size(src, &mut lines, h, square)?;
+    let body = Body {
+        h,
+        nr,
+        nc,
+        declared,
+        sl,
+    };
     let mut triplets: Vec<(usize, usize, f64)> =
         Vec::with_capacity(declared.min(1 << 16) * if h.symmetric { 2 } else { 1 });
     let count = match h.format {
@@ -86,7 +113,7 @@ pub fn parse_matrix_market_str(text: &str, origin: &str) -> Result<Stiffness> {
             ),
         ));
     }
-    Stiffness::from_triplets(n, &triplets).map_err(|e| Error::io(origin, bare_message(e)))
+    Ok((nr, nc, triplets))
 }
 
 /// The header line's format, field and symmetry.
@@ -206,9 +233,15 @@ fn parse_header(src: Src, lines: &mut Lines) -> Result<Header> {
     })
 }
 
-/// Parses the size line (after comments and blank lines): returns its line number, N and the
-/// number of entries the file declares (all stored ones for `array`).
-fn parse_size(src: Src, lines: &mut Lines, h: Header) -> Result<(usize, usize, usize)> {
+/// Parses the size line (after comments and blank lines): returns its line number, the rows
+/// and columns (equal where `square`, and for symmetric storage) and the number of entries
+/// the file declares (all stored ones for `array`).
+fn parse_size(
+    src: Src,
+    lines: &mut Lines,
+    h: Header,
+    square: bool,
+) -> Result<(usize, usize, usize, usize)> {
     let (origin, format, symmetric) = (src.origin, h.format, h.symmetric);
     let at = |line: usize, msg: String| src.at(line, msg);
     let mut size = None;
@@ -255,27 +288,32 @@ fn parse_size(src: Src, lines: &mut Lines, h: Header) -> Result<(usize, usize, u
         })?;
     }
     let (nr, nc) = (dims[0], dims[1]);
-    if nr != nc {
+    if square && nr != nc {
         return Err(at(
             sl,
             format!("matrix is not square: {nr} rows × {nc} columns (K must be N×N)"),
         ));
     }
-    let n = nr;
-    if n == 0 {
-        return Err(at(sl, "matrix is empty (0×0)".into()));
-    }
-    if n > MAX_DIM {
+    if symmetric && nr != nc {
         return Err(at(
             sl,
-            format!("matrix dimension N = {n} exceeds the supported maximum {MAX_DIM}"),
+            format!("a symmetric matrix must be square, not {nr} rows × {nc} columns"),
         ));
     }
-    let n128 = n as u128;
+    if nr == 0 || nc == 0 {
+        return Err(at(sl, format!("matrix is empty ({nr}×{nc})")));
+    }
+    if let Some(big) = [nr, nc].into_iter().find(|&d| d > MAX_DIM) {
+        return Err(at(
+            sl,
+            format!("matrix dimension N = {big} exceeds the supported maximum {MAX_DIM}"),
+        ));
+    }
+    let (r128, c128) = (nr as u128, nc as u128);
     let capacity = if symmetric {
-        n128 * (n128 + 1) / 2
+        r128 * (r128 + 1) / 2
     } else {
-        n128 * n128
+        r128 * c128
     };
     let declared: u128 = match format {
         MmFormat::Coordinate => dims[2] as u128,
@@ -286,13 +324,13 @@ fn parse_size(src: Src, lines: &mut Lines, h: Header) -> Result<(usize, usize, u
         return Err(at(
             sl,
             format!(
-                "size line declares {declared} entries but a {n}×{n} {storage} matrix stores at most {capacity}"
+                "size line declares {declared} entries but a {nr}×{nc} {storage} matrix stores at most {capacity}"
             ),
         ));
     }
 
     // ≤ capacity ≤ MAX_DIM², fits in 64-bit usize
-    Ok((sl, n, declared as usize))
+    Ok((sl, nr, nc, declared as usize))
 }
 
 /// One value token as f64 (integer or real field, Fortran `D` exponents accepted); errors on
@@ -341,7 +379,8 @@ fn parse_value(src: Src, field: MmField, ln: usize, tok: &str) -> Result<f64> {
 #[derive(Clone, Copy)]
 struct Body {
     h: Header,
-    n: usize,
+    nr: usize,
+    nc: usize,
     declared: usize,
     sl: usize,
 }
@@ -354,7 +393,13 @@ fn read_coordinate(
     body: Body,
     triplets: &mut Vec<(usize, usize, f64)>,
 ) -> Result<usize> {
-    let Body { h, n, declared, sl } = body;
+    let Body {
+        h,
+        nr,
+        nc,
+        declared,
+        sl,
+    } = body;
     let symmetric = h.symmetric;
     let at = |line: usize, msg: String| src.at(line, msg);
     let mut count = 0usize;
@@ -384,8 +429,8 @@ fn read_coordinate(
                 format!("more entries than the {declared} declared on the size line (line {sl})"),
             ));
         }
-        let r = parse_index(f[0], n, "row").map_err(|m| at(ln, m))?;
-        let c = parse_index(f[1], n, "column").map_err(|m| at(ln, m))?;
+        let r = parse_index(f[0], nr, "row").map_err(|m| at(ln, m))?;
+        let c = parse_index(f[1], nc, "column").map_err(|m| at(ln, m))?;
         let v = parse_value(src, h.field, ln, f[2])?;
         count += 1;
         triplets.push((r, c, v));
@@ -423,7 +468,13 @@ fn read_array(
     body: Body,
     triplets: &mut Vec<(usize, usize, f64)>,
 ) -> Result<usize> {
-    let Body { h, n, declared, .. } = body;
+    let Body {
+        h,
+        nr,
+        nc,
+        declared,
+        ..
+    } = body;
     let symmetric = h.symmetric;
     let storage = if symmetric { "symmetric" } else { "general" };
     let at = |line: usize, msg: String| src.at(line, msg);
@@ -439,7 +490,7 @@ fn read_array(
                 return Err(at(
                     ln,
                     format!(
-                        "more values than the {declared} expected for a {n}×{n} {storage} array"
+                        "more values than the {declared} expected for a {nr}×{nc} {storage} array"
                     ),
                 ));
             }
@@ -452,7 +503,7 @@ fn read_array(
             }
             count += 1;
             i += 1;
-            if i == n {
+            if i == nr {
                 j += 1;
                 i = if symmetric { j } else { 0 };
             }

@@ -18,6 +18,11 @@
 //!   row-major) or `"matrix_market"` (a path, relative to the scene file's directory, to a
 //!   `coordinate real|integer general|symmetric` or `array real|integer general|symmetric`
 //!   Matrix Market file). Any other key, both keys or neither is an error.
+//! * `constraints` may instead be `{"matrix_market": "D.mtx", "limits": [û, ...], "kind": k}`
+//!   (or `"kinds": [k, ...]`, one per row): the m×N matrix whose row c holds constraint c's
+//!   coefficients (coordinate or array, real, general; path relative to the scene file), for
+//!   scenes with many coupled rows. A row's entries in file order are its terms, checked as
+//!   below (a DOF given twice in a row is an error, not a sum).
 //! * Each constraint is `{"dof": d, "limit": û, "kind": k}` with a **0-based** DOF index `d`
 //!   and `k` one of `bilateral`, `upper`, `lower` (see [`crate::system`]): `u[d] ⋚ û`; or,
 //!   for a row that couples DOFs, `{"terms": [[d, a], ...], "limit": û, "kind": k}`:
@@ -250,14 +255,17 @@ fn parse_scene(json: &str, base_dir: &Path, origin: &str, preferred: bool) -> Re
         }
     };
     let q = load.into_iter().map(|Num(x)| x).collect();
-    let constraints = constraints
-        .into_iter()
-        .enumerate()
-        .map(|(c, Obj(raw))| {
-            raw.into_constraint()
-                .map_err(|m| at(&format!("constraints[{c}]"), m))
-        })
-        .collect::<Result<Vec<_>>>()?;
+    let constraints = match constraints {
+        RawConstraints::List(list) => list
+            .into_iter()
+            .enumerate()
+            .map(|(c, Obj(raw))| {
+                raw.into_constraint()
+                    .map_err(|m| at(&format!("constraints[{c}]"), m))
+            })
+            .collect::<Result<Vec<_>>>()?,
+        RawConstraints::Matrix(Obj(rows)) => rows.into_constraints(base_dir, k.n(), &at)?,
+    };
     let problem =
         Problem::new(k, q, constraints).map_err(|e| Error::io(origin, bare_message(e)))?;
     Ok(Scene {
@@ -284,7 +292,108 @@ struct RawScene {
     meta: Option<Meta>,
     stiffness: Obj<RawStiffness>,
     load: Vec<Num>,
-    constraints: Vec<Obj<RawConstraint>>,
+    constraints: RawConstraints,
+}
+
+/// `constraints`: an array of constraint objects, or the rows of D in a Matrix Market file.
+enum RawConstraints {
+    List(Vec<Obj<RawConstraint>>),
+    Matrix(Obj<RawRows>),
+}
+
+impl<'de> Deserialize<'de> for RawConstraints {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        struct V;
+        impl<'de> Visitor<'de> for V {
+            type Value = RawConstraints;
+            fn expecting(&self, f: &mut fmt::Formatter) -> fmt::Result {
+                f.write_str(
+                    r#"an array of constraints ([] for none) or {"matrix_market": "D.mtx", "limits": [...], "kind": k}"#,
+                )
+            }
+            fn visit_seq<A: de::SeqAccess<'de>>(
+                self,
+                seq: A,
+            ) -> std::result::Result<RawConstraints, A::Error> {
+                Vec::deserialize(de::value::SeqAccessDeserializer::new(seq))
+                    .map(RawConstraints::List)
+            }
+            fn visit_map<A: MapAccess<'de>>(
+                self,
+                map: A,
+            ) -> std::result::Result<RawConstraints, A::Error> {
+                RawRows::deserialize(MapAccessDeserializer::new(map))
+                    .map(|r| RawConstraints::Matrix(Obj(r)))
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// `{"matrix_market": "D.mtx", "limits": [...], "kind": k}` or `..., "kinds": [k, ...]`: the
+/// m×N matrix of the rows (row c = constraint c), the m limits, one kind for all or one each.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRows {
+    matrix_market: String,
+    limits: Vec<Num>,
+    kind: Option<Kind>,
+    kinds: Option<Vec<Kind>>,
+}
+
+impl RawRows {
+    /// The constraints, row by row, with errors at `constraints.*` (through `at`).
+    fn into_constraints(
+        self,
+        base_dir: &Path,
+        n: usize,
+        at: &dyn Fn(&str, String) -> Error,
+    ) -> Result<Vec<Constraint>> {
+        if self.matrix_market.trim().is_empty() {
+            return Err(at("constraints.matrix_market", "empty file path".into()));
+        }
+        let (m, cols, entries) =
+            matrix_market::read_matrix_market_entries(&base_dir.join(&self.matrix_market))
+                .map_err(|e| at("constraints.matrix_market", e.to_string()))?;
+        if cols != n {
+            return Err(at(
+                "constraints.matrix_market",
+                format!("D has {cols} columns but K is {n}×{n} (one row per constraint)"),
+            ));
+        }
+        if self.limits.len() != m {
+            return Err(at(
+                "constraints.limits",
+                format!("{} limits for the {m} rows of D", self.limits.len()),
+            ));
+        }
+        let kinds: Vec<ConstraintKind> =
+            match (self.kind, self.kinds) {
+                (Some(Kind(k)), None) => vec![k; m],
+                (None, Some(ks)) if ks.len() == m => ks.into_iter().map(|Kind(k)| k).collect(),
+                (None, Some(ks)) => {
+                    return Err(at(
+                        "constraints.kinds",
+                        format!("{} kinds for the {m} rows of D", ks.len()),
+                    ))
+                }
+                _ => return Err(at(
+                    "constraints",
+                    r#"give exactly one of "kind" (one for every row) or "kinds" (one per row)"#
+                        .into(),
+                )),
+            };
+        let mut terms: Vec<Vec<(usize, f64)>> = vec![Vec::new(); m];
+        for (r, c, v) in entries {
+            terms[r].push((c, v));
+        }
+        Ok(terms
+            .into_iter()
+            .zip(self.limits)
+            .zip(kinds)
+            .map(|((t, Num(l)), k)| Constraint::row(t, l, k))
+            .collect())
+    }
 }
 
 /// `{"dense": [[...], ...]}` or `{"matrix_market": "K.mtx"}`: any other key is an error;

@@ -174,3 +174,77 @@ fn methods_that_need_a_boolean_d_say_so() {
         assert!(sol.u.iter().all(|v| v.is_finite()));
     }
 }
+
+/// D as a Matrix Market file (row c = constraint c) reads as the same rows as `terms`, and its
+/// mistakes are one-line errors naming the place.
+#[test]
+fn rows_from_a_matrix_market_d() {
+    let dir = common::tmp_dir("constraint-rows-mtx");
+    let d = "%%MatrixMarket matrix coordinate real general\n% two rows\n2 3 3\n1 1 0.6\n1 3 -0.8\n2 2 1\n";
+    std::fs::write(dir.path().join("D.mtx"), d).unwrap();
+    let write = |cons: &str| {
+        let path = dir.path().join("t.scene.json");
+        std::fs::write(&path, scene(K3, "[0, 1, 0]", cons)).unwrap();
+        read_scene(&path)
+    };
+    let s =
+        write(r#"{"matrix_market": "D.mtx", "limits": [0.1, 0.5], "kinds": ["upper", "lower"]}"#)
+            .unwrap();
+    let c = &s.problem.constraints;
+    assert_eq!(
+        c[0],
+        Constraint::row(vec![(0, 0.6), (2, -0.8)], 0.1, ConstraintKind::Upper)
+    );
+    assert_eq!(c[1], Constraint::on_dof(1, 0.5, ConstraintKind::Lower));
+    let s = write(r#"{"matrix_market": "D.mtx", "limits": [0.1, 0.5], "kind": "upper"}"#).unwrap();
+    assert!(s
+        .problem
+        .constraints
+        .iter()
+        .all(|c| c.kind == ConstraintKind::Upper));
+    for (cons, words) in [
+        (
+            r#"{"matrix_market": "D.mtx", "limits": [0.1], "kind": "upper"}"#,
+            &["constraints.limits", "1 limits for the 2 rows"][..],
+        ),
+        (
+            r#"{"matrix_market": "D.mtx", "limits": [0.1, 0.5]}"#,
+            &["exactly one of \"kind\"", "\"kinds\""][..],
+        ),
+        (
+            r#"{"matrix_market": "D.mtx", "limits": [0.1, 0.5], "kinds": ["upper"]}"#,
+            &["constraints.kinds", "1 kinds for the 2 rows"][..],
+        ),
+        (
+            r#"{"matrix_market": "missing.mtx", "limits": [0.1, 0.5], "kind": "upper"}"#,
+            &["constraints.matrix_market", "missing.mtx"][..],
+        ),
+        (
+            r#"{"matrix_market": "D.mtx", "limits": [0.1, 0.5], "kind": "upper", "x": 1}"#,
+            &["constraints: unknown key \"x\"", "the rows of D"][..],
+        ),
+    ] {
+        let e = write(cons).unwrap_err().to_string();
+        assert_has(&e, words);
+        assert!(!e.contains('\n'), "one line: {e}");
+    }
+    // A D whose width is not N, and a row given one DOF twice.
+    std::fs::write(
+        dir.path().join("D.mtx"),
+        "%%MatrixMarket matrix coordinate real general\n1 4 1\n1 4 1\n",
+    )
+    .unwrap();
+    let e = write(r#"{"matrix_market": "D.mtx", "limits": [0], "kind": "upper"}"#)
+        .unwrap_err()
+        .to_string();
+    assert_has(&e, &["D has 4 columns but K is 3×3"]);
+    std::fs::write(
+        dir.path().join("D.mtx"),
+        "%%MatrixMarket matrix coordinate real general\n1 3 2\n1 2 1\n1 2 1\n",
+    )
+    .unwrap();
+    let e = write(r#"{"matrix_market": "D.mtx", "limits": [0], "kind": "upper"}"#)
+        .unwrap_err()
+        .to_string();
+    assert_has(&e, &["constraint 0", "DOF 1 appears twice"]);
+}

@@ -241,8 +241,11 @@ fn missing_fields_and_wrong_types() {
         r#"{"name": "t", "description": [], "stiffness": {"dense": [[1]]}, "load": [0], "constraints": []}"#,
     );
     assert_has(&e, &["description", "expected a string"]);
+    // An object is the Matrix Market form of D (`{"matrix_market": ..., "limits": ...}`).
     let e = scene_err(&scene(K3, "[0, 0, 0]", "{}"));
-    assert_has(&e, &["constraints", "expected an array"]);
+    assert_has(&e, &["constraints", "missing required field \"matrix_market\""]);
+    let e = scene_err(&scene(K3, "[0, 0, 0]", "\"none\""));
+    assert_has(&e, &["constraints", "expected an array of constraints"]);
 }
 
 #[test]
