@@ -312,8 +312,11 @@ mod tests {
             format!("{:?} {}", d.row_lens, e.join(" "))
         });
         let load: Vec<String> = raw.load.iter().map(|x| bits(x.0)).collect();
-        let cons: Vec<String> = raw
-            .constraints
+        let list = match &raw.constraints {
+            super::RawConstraints::List(l) => l.as_slice(),
+            super::RawConstraints::Matrix(_) => &[],
+        };
+        let cons: Vec<String> = list
             .iter()
             .map(|c| {
                 format!(
