@@ -313,8 +313,8 @@ mod tests {
         });
         let load: Vec<String> = raw.load.iter().map(|x| bits(x.0)).collect();
         let list = match &raw.constraints {
-            super::RawConstraints::List(l) => l.as_slice(),
-            super::RawConstraints::Matrix(_) => &[],
+            crate::scene::RawConstraints::List(l) => l.as_slice(),
+            crate::scene::RawConstraints::Matrix(_) => &[],
         };
         let cons: Vec<String> = list
             .iter()
