@@ -360,13 +360,34 @@ impl Indentation {
 
     /// Contact pressures p_c = −(K u − q)_c / ω_c at the contact nodes for the solution `u`
     /// (compressive positive).
+    ///
+    /// Rows that couple DOFs: the row forces f are read from equilibrium, `K u − q = −D f`,
+    /// as `DᵀD f = −Dᵀ(K u − q)` (D of full column rank; for single-DOF rows this is the
+    /// formula above), and `p_c = s_c f_c / ω_c` with `s_c = +1` for an `upper` row and −1
+    /// for a `lower` one (the compressive sign of each).
     pub fn pressures(&self, u: &[f64]) -> Vec<f64> {
-        let r = self.problem.k.matvec(u);
-        self.problem
-            .constraints
+        let p = &self.problem;
+        let mut r = p.k.matvec(u);
+        for (ri, qi) in r.iter_mut().zip(&p.q) {
+            *ri -= qi;
+        }
+        if p.is_selection() {
+            return p
+                .constraints
+                .iter()
+                .zip(&self.contact)
+                .map(|(con, node)| -con.value(&r) / node.weight)
+                .collect();
+        }
+        let forces = row_forces(p, &r);
+        p.constraints
             .iter()
             .zip(&self.contact)
-            .map(|(con, node)| -(con.value(&r) - con.value(&self.problem.q)) / node.weight)
+            .zip(forces)
+            .map(|((con, node), f)| {
+                let s = if con.kind == ConstraintKind::Lower { -1.0 } else { 1.0 };
+                s * f / node.weight
+            })
             .collect()
     }
 
@@ -379,6 +400,32 @@ impl Indentation {
             Geometry::PlaneStrain => 2.0 * half,
             Geometry::Axisymmetric => 2.0 * std::f64::consts::PI * half,
         }
+    }
+}
+
+/// The row forces f with `r = −D f` (least squares, `DᵀD f = −Dᵀr`, dense m×m Cholesky; NaN
+/// where DᵀD is singular: dependent rows carry no defined share of the force).
+fn row_forces(p: &Problem, r: &[f64]) -> Vec<f64> {
+    let m = p.m();
+    let mut dtd = faer::Mat::<f64>::zeros(m, m);
+    let n = p.n();
+    let mut col = vec![0.0; n];
+    for (j, cj) in p.constraints.iter().enumerate() {
+        cj.scatter(&mut col, 1.0);
+        for (i, ci) in p.constraints.iter().enumerate() {
+            dtd[(i, j)] = ci.value(&col);
+        }
+        for &(d, _) in &cj.terms {
+            col[d] = 0.0;
+        }
+    }
+    let mut rhs = faer::Mat::<f64>::from_fn(m, 1, |c, _| -p.constraints[c].value(r));
+    match dtd.llt(faer::Side::Lower) {
+        Ok(llt) => {
+            faer::linalg::solvers::Solve::solve_in_place(&llt, rhs.as_mut());
+            (0..m).map(|c| rhs[(c, 0)]).collect()
+        }
+        Err(_) => vec![f64::NAN; m],
     }
 }
 

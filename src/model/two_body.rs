@@ -29,7 +29,8 @@
 //!
 //! **Pressure.** Every row's force f_c (a penalty's `ε_c g_c`, a multiplier) acts on the
 //! slave side as `f_c d_c`; the contact pressure read at row c is `p_c = −f_c / ω_c` (ω_c the
-//! tributary length of the row's slave node; compressive positive). For `mortar` this is
+//! tributary length of the row's slave node; compressive positive), the forces read from
+//! equilibrium ([`Indentation::pressures`]). For `mortar` this is
 //! exact: with uniform p, `f_c = −ω_c p` makes both bodies' nodal forces the consistent ones
 //! (`Σ_i D_ij p = p ∫N_j`, `Σ_i M_ik p = p ∫N̂_k` since `Σ_i N_i = 1`), which is why mortar
 //! passes the patch test; one-pass node-to-segment hands the master nodes `(1 − ξ, ξ)` of
@@ -39,7 +40,7 @@
 //! `E* = E/(1 − ν²)` (plane strain, free lateral expansion on frictionless faces), reproduced
 //! exactly by bilinear elements.
 
-use super::elasticity::{self, Geometry, Grid, Material};
+use super::elasticity::{self, ContactNode, Geometry, Grid, Indentation, Material};
 use crate::error::{Error, Result};
 use crate::system::{Constraint, ConstraintKind, Problem, Stiffness};
 
@@ -94,27 +95,12 @@ pub struct TwoBlocks {
     pub upper: Material,
 }
 
-/// The patch-test scene: the problem and what reads pressures from its solutions.
-#[derive(Clone, Debug)]
-pub struct TwoBody {
-    /// `K_ff`, `q_f` and the interface rows.
-    pub problem: Problem,
-    /// Tributary length ω_c of each row's slave node.
-    pub weights: Vec<f64>,
-    /// Abscissa of each row's slave node.
-    pub xs: Vec<f64>,
-    /// The exact uniform pressure of the patch test.
-    pub exact_pressure: f64,
-}
-
-impl TwoBody {
-    /// Contact pressures `p_c = −f_c/ω_c` from a solution's row forces (compressive positive).
-    pub fn pressures(&self, forces: &[f64]) -> Vec<f64> {
-        forces
-            .iter()
-            .zip(&self.weights)
-            .map(|(f, w)| -f / w)
-            .collect()
+impl TwoBlocks {
+    /// The exact uniform pressure of the patch test at `squeeze`: `w / (H₁/E₁* + H₂/E₂*)`.
+    pub fn exact_pressure(&self, squeeze: f64) -> f64 {
+        squeeze
+            / (self.h_lower / self.lower.contact_modulus()
+                + self.h_upper / self.upper.contact_modulus())
     }
 }
 
@@ -209,8 +195,11 @@ fn mortar_rows(sx: &[f64], sd: &[usize], mx: &[f64], md: &[usize]) -> Vec<Terms>
         .collect()
 }
 
-/// The patch test of `blocks` pressed by `squeeze` (module doc), with rows of `disc`.
-pub fn patch(blocks: &TwoBlocks, squeeze: f64, disc: Discretization) -> Result<TwoBody> {
+/// The patch test of `blocks` pressed by `squeeze` (module doc), with rows of `disc`, as an
+/// [`Indentation`]: one contact node per row (its slave node's abscissa and tributary length
+/// ω), `lift` = the squeeze, so that [`Indentation::pressures`] reads `p_c = −f_c/ω_c` and
+/// force control ([`crate::strategy::force_control`]) finds the squeeze that carries a load.
+pub fn patch(blocks: &TwoBlocks, squeeze: f64, disc: Discretization) -> Result<Indentation> {
     let b = blocks;
     let ok = |v: f64| v.is_finite() && v > 0.0;
     if !(ok(b.width) && ok(b.h_lower) && ok(b.h_upper) && squeeze.is_finite()) {
@@ -296,19 +285,17 @@ pub fn patch(blocks: &TwoBlocks, squeeze: f64, disc: Discretization) -> Result<T
         }
     }
     let mut constraints = Vec::with_capacity(rows.len());
-    let (mut weights, mut xs) = (Vec::new(), Vec::new());
-    for (terms, w, x) in rows {
+    let mut contact = Vec::with_capacity(rows.len());
+    for (terms, weight, x) in rows {
         constraints.push(Constraint::row(terms, 0.0, ConstraintKind::Lower));
-        weights.push(w);
-        xs.push(x);
+        contact.push(ContactNode { x, weight });
     }
-    let problem = Problem::new(k, q, constraints)?.in_preferred_storage();
-    let compliance = b.h_lower / b.lower.contact_modulus() + b.h_upper / b.upper.contact_modulus();
-    Ok(TwoBody {
-        problem,
-        weights,
-        xs,
-        exact_pressure: squeeze / compliance,
+    Ok(Indentation {
+        problem: Problem::new(k, q, constraints)?.in_preferred_storage(),
+        contact,
+        n_free,
+        lift: squeeze,
+        geometry: Geometry::PlaneStrain,
     })
 }
 
