@@ -385,7 +385,11 @@ impl Indentation {
             .zip(&self.contact)
             .zip(forces)
             .map(|((con, node), f)| {
-                let s = if con.kind == ConstraintKind::Lower { -1.0 } else { 1.0 };
+                let s = if con.kind == ConstraintKind::Lower {
+                    -1.0
+                } else {
+                    1.0
+                };
                 s * f / node.weight
             })
             .collect()

@@ -34,6 +34,7 @@
 
 use crate::error::Result;
 use crate::model::elasticity::{self, Base, ContactNode, Geometry, Grid, Indentation, Material};
+use crate::model::two_body::{Discretization, TwoBlocks};
 
 /// Geometric growth of the elements away from the contact zone.
 pub const GROWTH: f64 = 1.2;
@@ -92,7 +93,7 @@ impl Setup {
     pub fn grid(&self, case: Case, h_rel: f64, block: f64) -> Result<Grid> {
         let a = self.a_target;
         match case {
-            c if c.is_punch() => Grid::graded(a, a, h_rel * a, a, 1.0),
+            c if c.is_uniform() => Grid::graded(a, a, h_rel * a, a, 1.0),
             _ => Grid::graded(block * a, block * a, h_rel * a, FINE_OVER_A * a, GROWTH),
         }
     }
@@ -109,7 +110,11 @@ impl Setup {
             Case::FlatPunch => {
                 elasticity::indentation(grid, case.geometry(), &mat, Base::Sliding, lift, |_| 0.0)
             }
-            c if c.is_punch() => {
+            c if c.two_body().is_some() => {
+                let disc = c.two_body().expect("a two-body case");
+                crate::model::two_body::patch(&self.two_blocks(grid), lift, disc)
+            }
+            c if c.is_uniform() => {
                 return crate::model::inclined::inclined_punch(
                     grid,
                     &mat,
@@ -124,11 +129,40 @@ impl Setup {
         scene.with_surface(grid)
     }
 
+    /// The two blocks of the two-body cases on the lower block's `grid` ([`UPPER_BLOCK`]).
+    pub fn two_blocks(&self, grid: &Grid) -> TwoBlocks {
+        let (h_rel, e_rel, nu, (num, den)) = UPPER_BLOCK;
+        let (nx, ny) = (grid.xs.len() - 1, grid.ys.len() - 1);
+        let a = self.a_target;
+        TwoBlocks {
+            width: *grid.xs.last().unwrap_or(&a),
+            h_lower: grid.height(),
+            h_upper: h_rel * a,
+            mesh_lower: (nx, ny),
+            mesh_upper: (
+                ((nx * num) as f64 / den as f64).round() as usize,
+                (ny / 2).max(1),
+            ),
+            lower: Material {
+                young: self.young,
+                poisson: self.poisson,
+            },
+            upper: Material {
+                young: e_rel * self.young,
+                poisson: nu,
+            },
+        }
+    }
+
     /// The first guess of the base lift that carries the load on `grid`: the half-space
     /// indentation a²/R (the flat punch: p̄H/E*).
     pub fn lift_guess(&self, case: Case, grid: &Grid) -> f64 {
         match case {
-            c if c.is_punch() => self.exact(c).1.p0 * grid.height() / self.e_star(),
+            c if c.two_body().is_some() => {
+                let p0 = self.exact(c).1.p0;
+                p0 * self.a_target / self.two_blocks(grid).exact_pressure(self.a_target)
+            }
+            c if c.is_uniform() => self.exact(c).1.p0 * grid.height() / self.e_star(),
             _ => self.a_target * self.a_target / self.radius,
         }
     }
@@ -157,17 +191,31 @@ pub enum Case {
     /// The flat punch turned by 45°.
     #[serde(rename = "inclined-45")]
     Inclined45,
+    /// The two-body contact patch test ([`crate::model::two_body`]): an upper block on the
+    /// a × a block, non-matching interface meshes, mortar rows.
+    #[serde(rename = "patch-two-body-mortar")]
+    PatchMortar,
+    /// The two-body patch test with one-pass node-to-segment rows (which fail it).
+    #[serde(rename = "patch-two-body-nts-1")]
+    PatchNts1,
 }
+
+/// The upper block of the two-body cases: its height over a, its modulus over the lower
+/// block's E, its ν, and its elements across per lower element (`7:4`, so the interface
+/// meshes never match: 5:9, 10:18, 20:35 on the default meshes).
+pub const UPPER_BLOCK: (f64, f64, f64, (usize, usize)) = (0.5, 1.0 / 3.0, 0.33, (7, 4));
 
 impl Case {
     /// Every case, in table order.
-    pub const ALL: [Case; 6] = [
+    pub const ALL: [Case; 8] = [
         Case::HertzPlane,
         Case::HertzAxi,
         Case::FlatPunch,
         Case::Inclined15,
         Case::Inclined30,
         Case::Inclined45,
+        Case::PatchMortar,
+        Case::PatchNts1,
     ];
 
     /// Its name in rows and options (`hertz-plane`, `hertz-axi`, `flat-punch`,
@@ -180,6 +228,17 @@ impl Case {
             Case::Inclined15 => "inclined-15",
             Case::Inclined30 => "inclined-30",
             Case::Inclined45 => "inclined-45",
+            Case::PatchMortar => "patch-two-body-mortar",
+            Case::PatchNts1 => "patch-two-body-nts-1",
+        }
+    }
+
+    /// The interface discretization of a two-body case.
+    pub fn two_body(self) -> Option<Discretization> {
+        match self {
+            Case::PatchMortar => Some(Discretization::Mortar),
+            Case::PatchNts1 => Some(Discretization::Nts1),
+            _ => None,
         }
     }
 
@@ -193,14 +252,16 @@ impl Case {
         }
     }
 
-    /// A flat punch (on a level or an inclined plane): uniform pressure on an a × a block.
-    pub fn is_punch(self) -> bool {
+    /// A uniform-pressure case on an a × a block: the flat punch (level or inclined) and the
+    /// two-body patch test.
+    pub fn is_uniform(self) -> bool {
         !matches!(self, Case::HertzPlane | Case::HertzAxi)
     }
 
-    /// How the contact rows are discretized (`nodal`: one row per contact node).
+    /// How the contact rows are discretized (`nodal`: one row per contact node; two bodies:
+    /// `mortar`, `nts-1`).
     pub fn discretization(self) -> &'static str {
-        "nodal"
+        self.two_body().map_or("nodal", Discretization::name)
     }
 
     /// The case named `s` (`patch` is read as `flat-punch`, its name before issue 44).

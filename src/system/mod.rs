@@ -399,32 +399,51 @@ impl Stiffness {
             Stiffness::Sparse(m) => {
                 // Every touched entry present (the diagonal of a stiffness matrix): add in
                 // place, O(nnz).
-                let (cp, ri) = (m.symbolic().col_ptr(), m.symbolic().row_idx());
-                if m.symbolic().col_nnz().is_none() {
-                    let pos: Option<Vec<usize>> = adds
-                        .iter()
-                        .map(|&(i, j, _)| {
-                            let rows = &ri[cp[j]..cp[j + 1]];
-                            rows.binary_search(&i).ok().map(|k| cp[j] + k)
-                        })
-                        .collect();
-                    if let Some(pos) = pos {
-                        let mut out = m.clone();
-                        let vals = out.val_mut();
-                        for (&p, &(_, _, v)) in pos.iter().zip(adds) {
-                            vals[p] += v;
-                        }
-                        return Stiffness::Sparse(out);
-                    }
+                if let Some(out) = add_in_place(m, adds) {
+                    return Stiffness::Sparse(out);
                 }
+                // Widen the pattern by the missing entries (stored as 0), then add in place
+                // in the order of `adds`: (i, j) and (j, i) get the same sums in the same
+                // order, so a symmetric K stays symmetric bit for bit.
                 let mut t = Vec::with_capacity(self.nnz() + adds.len());
                 self.for_each_entry(|i, j, v| t.push((i, j, v)));
-                t.extend_from_slice(adds);
+                t.extend(adds.iter().map(|&(i, j, _)| (i, j, 0.0)));
                 // Unchecked values: an overflowing penalty is reported by the factorization.
-                Stiffness::assemble(self.n(), &t).expect("indices already validated")
+                let Stiffness::Sparse(wide) =
+                    Stiffness::assemble(self.n(), &t).expect("indices already validated")
+                else {
+                    unreachable!("assemble builds a sparse matrix")
+                };
+                Stiffness::Sparse(add_in_place(&wide, adds).expect("every entry is stored"))
             }
         }
     }
+}
+
+/// `m` with `adds` added in place, in order, or None where an entry is not stored (or `m` is
+/// not compressed).
+fn add_in_place(
+    m: &SparseColMat<usize, f64>,
+    adds: &[(usize, usize, f64)],
+) -> Option<SparseColMat<usize, f64>> {
+    let (cp, ri) = (m.symbolic().col_ptr(), m.symbolic().row_idx());
+    if m.symbolic().col_nnz().is_some() {
+        return None;
+    }
+    let pos: Option<Vec<usize>> = adds
+        .iter()
+        .map(|&(i, j, _)| {
+            let rows = &ri[cp[j]..cp[j + 1]];
+            rows.binary_search(&i).ok().map(|k| cp[j] + k)
+        })
+        .collect();
+    let pos = pos?;
+    let mut out = m.clone();
+    let vals = out.val_mut();
+    for (&p, &(_, _, v)) in pos.iter().zip(adds) {
+        vals[p] += v;
+    }
+    Some(out)
 }
 
 /// A contact problem: `K`, `q` and the constraints, validated.

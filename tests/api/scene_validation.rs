@@ -243,7 +243,10 @@ fn missing_fields_and_wrong_types() {
     assert_has(&e, &["description", "expected a string"]);
     // An object is the Matrix Market form of D (`{"matrix_market": ..., "limits": ...}`).
     let e = scene_err(&scene(K3, "[0, 0, 0]", "{}"));
-    assert_has(&e, &["constraints", "missing required field \"matrix_market\""]);
+    assert_has(
+        &e,
+        &["constraints", "missing required field \"matrix_market\""],
+    );
     let e = scene_err(&scene(K3, "[0, 0, 0]", "\"none\""));
     assert_has(&e, &["constraints", "expected an array of constraints"]);
 }

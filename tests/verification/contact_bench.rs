@@ -451,3 +451,45 @@ fn inclined_cases_give_the_uniform_pressure_with_two_term_rows() {
     }
     assert!(run.floors.iter().all(|f| f.cond2_floor.is_nan()));
 }
+
+/// The two-body patch test in the benchmark: mortar's Lagrange and `condensed` rows carry the
+/// load with the uniform pressure (spread ≤ 1e-8), one-pass node-to-segment's Lagrange is off by
+/// percents (reported as its discretization error), and the rows say the discretization, the
+/// mesh ratio and the upper block's material.
+#[test]
+fn two_body_patch_cases_report_mortar_exact_and_nts_off() {
+    let cfg = BenchConfig {
+        cases: vec![Case::PatchMortar, Case::PatchNts1],
+        meshes: vec![0.2, 0.1],
+        methods: vec!["lagrange".into(), "condensed".into()],
+        deltas_rel: vec![1e-2, 1e-4],
+        ..config()
+    };
+    let run = contact_bench::run(&cfg, &Progress::quiet(), None).unwrap();
+    assert_eq!(run.rows.len(), 2 * 2 * 3);
+    for r in &run.rows {
+        let what = format!("{} {} {:?} h = {}", r.case, r.method, r.knob_rel, r.h);
+        assert!(r.error.is_empty(), "{what}: {}", r.error);
+        let ratio = r.mesh_ratio.unwrap();
+        assert!(
+            ratio > 1.0 && ratio.fract() != 0.0,
+            "{what}: non-matching, {ratio}"
+        );
+        assert_eq!(r.young2, Some(cfg.young / 3.0));
+        if r.case == "patch-two-body-mortar" {
+            assert_eq!(r.discretization, "mortar");
+            assert!(r.p_spread <= 1e-8, "{what}: spread {}", r.p_spread);
+            assert!(r.err_discretization <= 1e-8, "{what}");
+        } else {
+            assert_eq!(r.discretization, "nts-1");
+            assert!(
+                r.err_discretization > 1e-3,
+                "{what}: {}",
+                r.err_discretization
+            );
+        }
+        if let Some(rel) = r.knob_rel {
+            assert!(r.max_penetration <= rel * r.lift, "{what}");
+        }
+    }
+}

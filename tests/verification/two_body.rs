@@ -12,8 +12,8 @@
 //!   the interface), as the literature says of two-pass node-to-segment with multipliers; a
 //!   penalty's row pressures are each pass's share of the load.
 
-use penalty_lab::model::elasticity::Material;
 use penalty_lab::model::elasticity::Indentation;
+use penalty_lab::model::elasticity::Material;
 use penalty_lab::model::two_body::{patch, Discretization, TwoBlocks};
 use penalty_lab::strategy::{self, Method};
 

@@ -10,8 +10,9 @@ use std::path::Path;
 /// The `contact_bench` binary's flags (each replaces the default of [`BenchConfig`]).
 #[derive(clap::Args, Debug)]
 pub struct Flags {
-    /// Cases: hertz-plane, hertz-axi, flat-punch, inclined-15, inclined-30, inclined-45
-    /// (default: all; `patch` reads as flat-punch).
+    /// Cases: hertz-plane, hertz-axi, flat-punch, inclined-15, inclined-30, inclined-45,
+    /// patch-two-body-mortar, patch-two-body-nts-1 (default: all; `patch` reads as
+    /// flat-punch).
     #[arg(long, value_delimiter = ',')]
     cases: Option<Vec<String>>,
     /// Element sizes at the contact over a (Hertz) or over the block half-width (flat punch).

@@ -57,15 +57,15 @@ fn pressure_panels(s: &Summary, case: Case) -> Vec<Figure> {
         return Vec::new();
     };
     let (a, p0) = (exact.a_exact, exact.p0_exact);
-    let x_max = if case.is_punch() { a } else { 1.6 * a };
+    let x_max = if case.is_uniform() { a } else { 1.6 * a };
     let xs: Vec<f64> = (0..=200).map(|k| x_max * k as f64 / 200.0).collect();
     let ex = super::analytic::Exact {
         a,
         p0,
-        hertzian: !case.is_punch(),
+        hertzian: !case.is_uniform(),
     };
     let reference = Series::new(
-        if case.is_punch() {
+        if case.is_uniform() {
             "exact (uniform)"
         } else {
             "Hertz"
@@ -136,7 +136,7 @@ fn convergence(s: &Summary) -> Figure {
             .and_then(|(_, r)| *r)
             .map_or(String::new(), |r| format!(", rate {r:.2}"));
         let h: Vec<f64> = lag.iter().map(|r| r.h).collect();
-        let hertz = !case.is_punch();
+        let hertz = !case.is_uniform();
         let disc = if hertz {
             "discretization error (reference block)"
         } else {

@@ -1,7 +1,11 @@
 //! `contact_bench`: every contact rule judged against physics — Hertz contact (plane strain
-//! and axisymmetric), a rigid flat punch (`flat-punch`) and the same punch turned onto a plane
+//! and axisymmetric), a rigid flat punch (`flat-punch`), the same punch turned onto a plane
 //! inclined by 15°, 30° and 45° (`inclined-15`, …: contact rows with two terms,
-//! [`crate::model::inclined`]; rows record `theta` and `discretization`) — on graded Q4 meshes
+//! [`crate::model::inclined`]; rows record `theta` and `discretization`) and the two-body
+//! patch test with mortar or one-pass node-to-segment rows (`patch-two-body-mortar`,
+//! `patch-two-body-nts-1`, [`crate::model::two_body`]: an upper block with a finer,
+//! non-matching mesh pressed on the a × a block; rows record `mesh_ratio`, `young2`,
+//! `poisson2`) — on graded Q4 meshes
 //! ([`crate::model::elasticity`]), with the analytic references of [`analytic`].
 //!
 //! Every solve is **force-controlled**: the lift w of the block's base is found (regula falsi
@@ -76,7 +80,7 @@ use std::time::Instant;
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct BenchConfig {
     /// Cases (`hertz-plane`, `hertz-axi`, `flat-punch`, `inclined-15`, `inclined-30`,
-    /// `inclined-45`).
+    /// `inclined-45`, `patch-two-body-mortar`, `patch-two-body-nts-1`).
     pub cases: Vec<Case>,
     /// Element sizes at the contact over a (the Hertz contact half-width; the flat-punch block is
     /// a × a), coarse to fine.
@@ -155,7 +159,7 @@ impl BenchConfig {
     /// rows with no lift and NaN).
     pub fn length_scale(&self, case: Case, lift: f64) -> f64 {
         match case {
-            c if c.is_punch() => lift,
+            c if c.is_uniform() => lift,
             _ => self.a_target,
         }
     }
@@ -290,10 +294,17 @@ pub(crate) struct Mesh<'a> {
 /// analytic values; everything the solve measures NaN or empty.
 fn base_row(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> BenchRow {
     let exact = &mesh.exact;
+    let two = mesh
+        .case
+        .two_body()
+        .map(|_| cfg.setup().two_blocks(mesh.grid));
     BenchRow {
         case: mesh.case.name().into(),
         discretization: mesh.case.discretization().into(),
         theta: mesh.case.theta_deg(),
+        mesh_ratio: two.map(|b| b.mesh_upper.0 as f64 / b.mesh_lower.0 as f64),
+        young2: two.map(|b| b.upper.young),
+        poisson2: two.map(|b| b.upper.poisson),
         method: job.method.name().into(),
         knob: job.knob.into(),
         knob_value: knob_value(&job.method),
@@ -302,7 +313,7 @@ fn base_row(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> BenchRow {
         n_dofs: 0,
         load: mesh.load,
         lift: f64::NAN,
-        radius: if mesh.case.is_punch() {
+        radius: if mesh.case.is_uniform() {
             0.0
         } else {
             cfg.radius
@@ -520,7 +531,7 @@ impl Prepared {
     /// The rows' errors: Hertz from the domain study ([`domain`]); the flat punch is exact
     /// on its block (its own error, no domain error).
     pub(crate) fn errors(&self, cfg: &BenchConfig) -> Result<MeshErrors> {
-        if self.case.is_punch() {
+        if self.case.is_uniform() {
             return Ok(MeshErrors {
                 discretization: self.err_own,
                 domain: 0.0,

@@ -23,7 +23,7 @@ pub fn tables(s: &Summary) -> String {
                 fmt_e(r.err_discretization, 2),
                 fmt_e(r.p_err_rel, 2),
                 fmt_e(r.err_domain, 2),
-                if Case::from_name(&r.case).is_some_and(Case::is_punch) {
+                if Case::from_name(&r.case).is_some_and(Case::is_uniform) {
                     fmt_e(r.p_spread, 1)
                 } else {
                     "—".into()

@@ -16,6 +16,15 @@ pub struct BenchRow {
     /// Inclination θ of the rigid plane, degrees (0: level).
     #[serde(default)]
     pub theta: f64,
+    /// Two bodies: elements across the upper (slave) face over the lower (master) face's.
+    #[serde(default)]
+    pub mesh_ratio: Option<f64>,
+    /// Two bodies: the upper block's Young's modulus.
+    #[serde(default)]
+    pub young2: Option<f64>,
+    /// Two bodies: the upper block's Poisson's ratio.
+    #[serde(default)]
+    pub poisson2: Option<f64>,
     /// Method name.
     pub method: String,
     /// Knob name (`eps`, `factor`, `delta`, `tol`, `adaptive-tol`, or empty).
