@@ -198,7 +198,7 @@ fn mortar_rows(sx: &[f64], sd: &[usize], mx: &[f64], md: &[usize]) -> Vec<Terms>
 /// The patch test of `blocks` pressed by `squeeze` (module doc), with rows of `disc`, as an
 /// [`Indentation`]: one contact node per row (its slave node's abscissa and tributary length
 /// ω), `lift` = the squeeze, so that [`Indentation::pressures`] reads `p_c = −f_c/ω_c` and
-/// force control ([`crate::strategy::force_control`]) finds the squeeze that carries a load.
+/// force control (`strategy::force_control`) finds the squeeze that carries a load.
 pub fn patch(blocks: &TwoBlocks, squeeze: f64, disc: Discretization) -> Result<Indentation> {
     let b = blocks;
     let ok = |v: f64| v.is_finite() && v > 0.0;
