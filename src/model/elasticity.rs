@@ -455,6 +455,32 @@ fn top_weights(xs: &[f64], geometry: Geometry) -> Vec<f64> {
     w
 }
 
+/// Eliminates the prescribed DOFs (`fixed[d] = Some(value)`) from the system of `triplets`:
+/// `K_ff`, `q_f = −K_fp u_p` and the free index of every DOF (`usize::MAX` where prescribed).
+pub fn eliminate(
+    triplets: &[(usize, usize, f64)],
+    fixed: &[Option<f64>],
+) -> Result<(Stiffness, Vec<f64>, Vec<usize>)> {
+    let mut map = vec![usize::MAX; fixed.len()];
+    let mut n_free = 0;
+    for (d, f) in fixed.iter().enumerate() {
+        if f.is_none() {
+            map[d] = n_free;
+            n_free += 1;
+        }
+    }
+    let mut kff = Vec::with_capacity(triplets.len());
+    let mut q = vec![0.0; n_free];
+    for &(r, c, v) in triplets {
+        match (map[r], fixed[c]) {
+            (usize::MAX, _) => {}
+            (fr, None) => kff.push((fr, map[c], v)),
+            (fr, Some(uc)) => q[fr] -= v * uc,
+        }
+    }
+    Ok((Stiffness::from_triplets(n_free, &kff)?, q, map))
+}
+
 /// The prescribed value of every DOF of `grid` (None: free): the bottom face lifted by
 /// `lift` (and held in x where `base` is clamped), the symmetry line held in x.
 fn prescribed(grid: &Grid, base: Base, lift: f64) -> Vec<Option<f64>> {
@@ -494,26 +520,9 @@ pub fn indentation(
     }
     let triplets = assemble(grid, geometry, material)?;
     let (nx, ny) = (grid.xs.len(), grid.ys.len());
-    let ndof = 2 * grid.nodes();
     let fixed = prescribed(grid, base, lift);
-    let mut map = vec![usize::MAX; ndof];
-    let mut n_free = 0;
-    for (d, f) in fixed.iter().enumerate() {
-        if f.is_none() {
-            map[d] = n_free;
-            n_free += 1;
-        }
-    }
-    let mut kff = Vec::with_capacity(triplets.len());
-    let mut q = vec![0.0; n_free];
-    for &(r, c, v) in &triplets {
-        match (map[r], fixed[c]) {
-            (usize::MAX, _) => {}
-            (fr, None) => kff.push((fr, map[c], v)),
-            (fr, Some(uc)) => q[fr] -= v * uc,
-        }
-    }
-    let k = Stiffness::from_triplets(n_free, &kff)?;
+    let (k, q, map) = eliminate(&triplets, &fixed)?;
+    let n_free = q.len();
     let weights = top_weights(&grid.xs, geometry);
     let mut constraints = Vec::with_capacity(nx);
     let mut contact = Vec::with_capacity(nx);

@@ -42,7 +42,7 @@
 
 use super::elasticity::{self, ContactNode, Geometry, Grid, Indentation, Material};
 use crate::error::{Error, Result};
-use crate::system::{Constraint, ConstraintKind, Problem, Stiffness};
+use crate::system::{Constraint, ConstraintKind, Problem};
 
 /// A constraint row's terms `(DOF, coefficient)`.
 type Terms = Vec<(usize, f64)>;
@@ -233,24 +233,8 @@ pub fn patch(blocks: &TwoBlocks, squeeze: f64, disc: Discretization) -> Result<I
     for j in 0..upper.ny() {
         fixed[off + 2 * upper.node(0, j)] = Some(0.0);
     }
-    let mut map = vec![usize::MAX; ndof];
-    let mut n_free = 0;
-    for (d, f) in fixed.iter().enumerate() {
-        if f.is_none() {
-            map[d] = n_free;
-            n_free += 1;
-        }
-    }
-    let mut kff = Vec::with_capacity(t.len());
-    let mut q = vec![0.0; n_free];
-    for &(r, c, v) in &t {
-        match (map[r], fixed[c]) {
-            (usize::MAX, _) => {}
-            (fr, None) => kff.push((fr, map[c], v)),
-            (fr, Some(uc)) => q[fr] -= v * uc,
-        }
-    }
-    let k = Stiffness::from_triplets(n_free, &kff)?;
+    let (k, q, map) = elasticity::eliminate(&t, &fixed)?;
+    let n_free = q.len();
     // The interface faces: the upper block's bottom (slave), the lower block's top (master).
     let sd: Vec<usize> = (0..upper.xs.len())
         .map(|i| map[off + 2 * upper.node(i, 0) + 1])
