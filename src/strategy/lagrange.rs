@@ -129,7 +129,7 @@ fn needs_refinement(problem: &Problem) -> bool {
 }
 
 /// The saddle-point route: one LU of `[K D_A; D_Aᵀ 0]` per active-set iteration (where the
-/// rows couple DOFs, each solve refined by [`REFINEMENT_STEPS`] steps with f64 residuals).
+/// rows couple DOFs, each solve refined by two steps with f64 residuals).
 pub fn solve_saddle(mut ctx: Context) -> Result<Solution> {
     let problem = ctx.problem;
     let m = problem.m();
