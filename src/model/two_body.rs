@@ -195,32 +195,21 @@ fn mortar_rows(sx: &[f64], sd: &[usize], mx: &[f64], md: &[usize]) -> Vec<Terms>
         .collect()
 }
 
-/// The patch test of `blocks` pressed by `squeeze` (module doc), with rows of `disc`, as an
-/// [`Indentation`]: one contact node per row (its slave node's abscissa and tributary length
-/// ω), `lift` = the squeeze, so that [`Indentation::pressures`] reads `p_c = −f_c/ω_c` and
-/// force control (`strategy::force_control`) finds the squeeze that carries a load.
-pub fn patch(blocks: &TwoBlocks, squeeze: f64, disc: Discretization) -> Result<Indentation> {
-    let b = blocks;
-    let ok = |v: f64| v.is_finite() && v > 0.0;
-    if !(ok(b.width) && ok(b.h_lower) && ok(b.h_upper) && squeeze.is_finite()) {
-        return Err(Error::input(
-            "two blocks: width and heights must be finite and > 0, the squeeze finite",
-        ));
-    }
+/// The lower and the upper block's meshes (the upper one stacked at y = H₁ in the module
+/// doc's description; its own coordinates start at 0).
+fn grids(b: &TwoBlocks) -> (Grid, Grid) {
     let (n1, n2) = (b.mesh_lower, b.mesh_upper);
-    if n1.0 == 0 || n1.1 == 0 || n2.0 == 0 || n2.1 == 0 {
-        return Err(Error::input(
-            "two blocks: every mesh needs at least one element",
-        ));
-    }
-    let lower = Grid::uniform(b.width, b.h_lower, n1.0, n1.1);
-    let upper = Grid::uniform(b.width, b.h_upper, n2.0, n2.1);
+    (
+        Grid::uniform(b.width, b.h_lower, n1.0, n1.1),
+        Grid::uniform(b.width, b.h_upper, n2.0, n2.1),
+    )
+}
+
+/// The prescribed value of every DOF of both blocks (None: free; module doc): the lower
+/// base on rollers, the symmetry line held in x, the upper top pushed down by `squeeze`.
+fn prescribed(lower: &Grid, upper: &Grid, squeeze: f64) -> Vec<Option<f64>> {
     let off = 2 * lower.nodes();
-    let mut t = elasticity::assemble(&lower, Geometry::PlaneStrain, &b.lower)?;
-    let tu = elasticity::assemble(&upper, Geometry::PlaneStrain, &b.upper)?;
-    t.extend(tu.into_iter().map(|(i, j, v)| (i + off, j + off, v)));
-    let ndof = off + 2 * upper.nodes();
-    let mut fixed: Vec<Option<f64>> = vec![None; ndof];
+    let mut fixed: Vec<Option<f64>> = vec![None; off + 2 * upper.nodes()];
     for i in 0..lower.xs.len() {
         fixed[2 * lower.node(i, 0) + 1] = Some(0.0);
     }
@@ -233,6 +222,79 @@ pub fn patch(blocks: &TwoBlocks, squeeze: f64, disc: Discretization) -> Result<I
     for j in 0..upper.ny() {
         fixed[off + 2 * upper.node(0, j)] = Some(0.0);
     }
+    fixed
+}
+
+/// The exact displacements of the patch test at `squeeze` on the unknowns of [`patch`]'s
+/// problem, in its order (any discretization: the same unknowns): uniform compression by
+/// p = [`TwoBlocks::exact_pressure`], `σ_yy = −p`, `σ_xx = 0` (frictionless faces),
+/// plane strain, so in each body `u = p ν(1 + ν)/E · x` and `v` falls linearly by `p/E*` per
+/// unit height, `v = −p y/E₁*` in the lower block and `v = −p H₁/E₁* − p (y − H₁)/E₂*` in
+/// the upper one (reaching −squeeze at its top). Bilinear elements hold this field exactly,
+/// so a discretization that passes the patch test reproduces it to rounding.
+pub fn exact_displacements(blocks: &TwoBlocks, squeeze: f64) -> Result<Vec<f64>> {
+    let b = blocks;
+    validate(b, squeeze)?;
+    let (lower, upper) = grids(b);
+    let fixed = prescribed(&lower, &upper, squeeze);
+    let p = b.exact_pressure(squeeze);
+    let lateral = |m: &Material| p * m.poisson * (1.0 + m.poisson) / m.young;
+    let dv1 = p / b.lower.contact_modulus();
+    let dv2 = p / b.upper.contact_modulus();
+    let mut full = vec![0.0; fixed.len()];
+    for (j, &y) in lower.ys.iter().enumerate() {
+        for (i, &x) in lower.xs.iter().enumerate() {
+            let n = lower.node(i, j);
+            full[2 * n] = lateral(&b.lower) * x;
+            full[2 * n + 1] = -dv1 * y;
+        }
+    }
+    let off = 2 * lower.nodes();
+    for (j, &y) in upper.ys.iter().enumerate() {
+        for (i, &x) in upper.xs.iter().enumerate() {
+            let n = upper.node(i, j);
+            full[off + 2 * n] = lateral(&b.upper) * x;
+            full[off + 2 * n + 1] = -dv1 * b.h_lower - dv2 * y;
+        }
+    }
+    Ok(full
+        .into_iter()
+        .zip(&fixed)
+        .filter(|(_, f)| f.is_none())
+        .map(|(u, _)| u)
+        .collect())
+}
+
+/// Checks the blocks and the squeeze (one-line errors).
+fn validate(b: &TwoBlocks, squeeze: f64) -> Result<()> {
+    let ok = |v: f64| v.is_finite() && v > 0.0;
+    if !(ok(b.width) && ok(b.h_lower) && ok(b.h_upper) && squeeze.is_finite()) {
+        return Err(Error::input(
+            "two blocks: width and heights must be finite and > 0, the squeeze finite",
+        ));
+    }
+    let (n1, n2) = (b.mesh_lower, b.mesh_upper);
+    if n1.0 == 0 || n1.1 == 0 || n2.0 == 0 || n2.1 == 0 {
+        return Err(Error::input(
+            "two blocks: every mesh needs at least one element",
+        ));
+    }
+    Ok(())
+}
+
+/// The patch test of `blocks` pressed by `squeeze` (module doc), with rows of `disc`, as an
+/// [`Indentation`]: one contact node per row (its slave node's abscissa and tributary length
+/// ω), `lift` = the squeeze, so that [`Indentation::pressures`] reads `p_c = −f_c/ω_c` and
+/// force control (`strategy::force_control`) finds the squeeze that carries a load.
+pub fn patch(blocks: &TwoBlocks, squeeze: f64, disc: Discretization) -> Result<Indentation> {
+    let b = blocks;
+    validate(b, squeeze)?;
+    let (lower, upper) = grids(b);
+    let off = 2 * lower.nodes();
+    let mut t = elasticity::assemble(&lower, Geometry::PlaneStrain, &b.lower)?;
+    let tu = elasticity::assemble(&upper, Geometry::PlaneStrain, &b.upper)?;
+    t.extend(tu.into_iter().map(|(i, j, v)| (i + off, j + off, v)));
+    let fixed = prescribed(&lower, &upper, squeeze);
     let (k, q, map) = elasticity::eliminate(&t, &fixed)?;
     let n_free = q.len();
     // The interface faces: the upper block's bottom (slave), the lower block's top (master).
