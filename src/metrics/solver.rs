@@ -326,15 +326,25 @@ pub fn compute_for(
     Ok(out)
 }
 
-/// `M⁻¹` of the MINRES preconditioner (module doc): `1/K_ii` on u, `K_{d_c d_c}` on λ_c.
+/// `M⁻¹` of the MINRES preconditioner (module doc): `1/K_ii` on u, and on λ_c the inverse of
+/// `d_cᵀ diag(K)⁻¹ d_c = Σ_j a_j²/K_jj` (for a single-DOF row exactly `K_dd`).
 fn saddle_preconditioner(problem: &Problem, active: &[usize]) -> Result<Jacobi> {
     let n = problem.n();
-    let mut inv: Vec<f64> = (0..n).map(|i| 1.0 / problem.k.diag(i)).collect();
-    inv.extend(
-        active
-            .iter()
-            .map(|&c| problem.constraints[c].stiffness(&problem.k)),
-    );
+    let k = &problem.k;
+    let mut inv: Vec<f64> = (0..n).map(|i| 1.0 / k.diag(i)).collect();
+    inv.extend(active.iter().map(|&c| {
+        let con = &problem.constraints[c];
+        match con.single_dof() {
+            Some(d) => k.diag(d),
+            None => {
+                1.0 / con
+                    .terms
+                    .iter()
+                    .map(|&(j, a)| a * a / k.diag(j))
+                    .sum::<f64>()
+            }
+        }
+    }));
     Jacobi::from_inverse_diagonal(inv)
 }
 

@@ -323,7 +323,8 @@ pub struct ContactNode {
 /// needed to read pressures from its solutions.
 #[derive(Clone, Debug)]
 pub struct Indentation {
-    /// `K_ff`, `q_f` and one `upper` constraint per top node, in the order of [`Self::contact`].
+    /// `K_ff`, `q_f` and one constraint per contact node or row (`upper` rows under a rigid
+    /// indenter, `lower` rows between two bodies), in the order of [`Self::contact`].
     pub problem: Problem,
     /// The contact nodes, from the symmetry line outwards.
     pub contact: Vec<ContactNode>,
@@ -342,8 +343,15 @@ impl Indentation {
     /// radius W), so that `constant`'s ε is per unit contact length (plane strain) or area
     /// per radian (axisymmetric) and the barrier's κ rule has its length scale.
     pub fn with_surface(self, grid: &Grid) -> Result<Indentation> {
-        let across = 2.0 * *grid.xs.last().unwrap_or(&0.0);
-        let h = grid.height();
+        let width = *grid.xs.last().unwrap_or(&0.0);
+        self.with_surface_of(width, grid.height())
+    }
+
+    /// [`Self::with_surface`] for a body (or bodies) of half-width `width` and height
+    /// `height` (two stacked blocks: the sum of their heights).
+    pub fn with_surface_of(self, width: f64, height: f64) -> Result<Indentation> {
+        let across = 2.0 * width;
+        let h = height;
         let bbox_diagonal = match self.geometry {
             Geometry::PlaneStrain => across.hypot(h),
             Geometry::Axisymmetric => (2.0 * across * across + h * h).sqrt(),
@@ -359,24 +367,33 @@ impl Indentation {
     }
 
     /// Contact pressures p_c = −(K u − q)_c / ω_c at the contact nodes for the solution `u`
-    /// (compressive positive).
+    /// for an `upper` row (compressive positive; a `lower` row's with the sign turned).
     ///
-    /// Rows that couple DOFs: the row forces f are read from equilibrium, `K u − q = −D f`,
-    /// as `DᵀD f = −Dᵀ(K u − q)` (D of full column rank; for single-DOF rows this is the
-    /// formula above), and `p_c = s_c f_c / ω_c` with `s_c = +1` for an `upper` row and −1
-    /// for a `lower` one (the compressive sign of each).
+    /// The row forces f are read from equilibrium, `K u − q = −D f`: `f_c = −(K u − q)_d` for
+    /// single-DOF rows, `DᵀD f = −Dᵀ(K u − q)` for rows that couple DOFs (D of full column
+    /// rank; NaN where DᵀD is singular, e.g. the dependent rows of two-pass node-to-segment),
+    /// and `p_c = s_c f_c / ω_c` with `s_c = +1` for an `upper` row and −1 for a `lower` one
+    /// (the compressive sign of each).
     pub fn pressures(&self, u: &[f64]) -> Vec<f64> {
         let p = &self.problem;
         let mut r = p.k.matvec(u);
         for (ri, qi) in r.iter_mut().zip(&p.q) {
             *ri -= qi;
         }
+        let sign = |con: &crate::system::Constraint| {
+            if con.kind == ConstraintKind::Lower {
+                -1.0
+            } else {
+                1.0
+            }
+        };
         if p.is_selection() {
+            // r = −D f with D Boolean: f_c = −r_d.
             return p
                 .constraints
                 .iter()
                 .zip(&self.contact)
-                .map(|(con, node)| -con.value(&r) / node.weight)
+                .map(|(con, node)| sign(con) * -con.value(&r) / node.weight)
                 .collect();
         }
         let forces = row_forces(p, &r);
@@ -384,14 +401,7 @@ impl Indentation {
             .iter()
             .zip(&self.contact)
             .zip(forces)
-            .map(|((con, node), f)| {
-                let s = if con.kind == ConstraintKind::Lower {
-                    -1.0
-                } else {
-                    1.0
-                };
-                s * f / node.weight
-            })
+            .map(|((con, node), f)| sign(con) * f / node.weight)
             .collect()
     }
 

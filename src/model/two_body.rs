@@ -48,13 +48,16 @@ use crate::system::{Constraint, ConstraintKind, Problem};
 type Terms = Vec<(usize, f64)>;
 
 /// How the interface rows are formed (module doc).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum Discretization {
     /// One-pass node-to-segment.
+    #[serde(rename = "nts-1")]
     Nts1,
     /// Two-pass node-to-segment.
+    #[serde(rename = "nts-2")]
     Nts2,
     /// Mortar (segment-to-segment, standard multipliers, normalized gap).
+    #[serde(rename = "mortar")]
     Mortar,
 }
 
@@ -73,6 +76,18 @@ impl Discretization {
             Discretization::Nts2 => "nts-2",
             Discretization::Mortar => "mortar",
         }
+    }
+
+    /// The discretization named `s` ([`Self::name`]).
+    pub fn from_name(s: &str) -> Result<Discretization> {
+        Discretization::ALL
+            .into_iter()
+            .find(|d| d.name() == s)
+            .ok_or_else(|| {
+                Error::input(format!(
+                    "unknown discretization '{s}' (known: nts-1, nts-2, mortar)"
+                ))
+            })
     }
 }
 

@@ -91,6 +91,13 @@ fn parse_entries(text: &str, origin: &str, square: bool) -> Result<MatrixEntries
     let number: fn((usize, &str)) -> (usize, &str) = |(i, l)| (i + 1, l);
     let mut lines: Lines = text.lines().enumerate().map(number);
     let h = parse_header(src, &mut lines)?;
+    if !square && h.symmetric {
+        return Err(Error::io(
+            origin,
+            "line 1: a constraint matrix D must be `general` (a `symmetric` header would mirror \
+             entries into other constraints' rows)",
+        ));
+    }
     let (sl, nr, nc, declared) = parse_size(src, &mut lines, h, square)?;
     let body = Body {
         h,

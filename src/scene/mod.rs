@@ -20,15 +20,16 @@
 //!   Matrix Market file). Any other key, both keys or neither is an error.
 //! * `constraints` may instead be `{"matrix_market": "D.mtx", "limits": [û, ...], "kind": k}`
 //!   (or `"kinds": [k, ...]`, one per row): the m×N matrix whose row c holds constraint c's
-//!   coefficients (coordinate or array, real, general; path relative to the scene file), for
-//!   scenes with many coupled rows. A row's entries in file order are its terms, checked as
-//!   below (a DOF given twice in a row is an error, not a sum).
+//!   coefficients (coordinate or array, real or integer, `general` — a `symmetric` header is
+//!   refused; path relative to the scene file), for scenes with many coupled rows. A row's
+//!   entries in file order are its terms, checked as below (a DOF given twice in a row is an
+//!   error, not a sum; explicit zeros are dropped).
 //! * Each constraint is `{"dof": d, "limit": û, "kind": k}` with a **0-based** DOF index `d`
 //!   and `k` one of `bilateral`, `upper`, `lower` (see [`crate::system`]): `u[d] ⋚ û`; or,
 //!   for a row that couples DOFs, `{"terms": [[d, a], ...], "limit": û, "kind": k}`:
 //!   `Σ a·u[d] ⋚ û` (exactly one of `dof` and `terms`; each DOF at most once in a row, the
-//!   coefficients finite and not all zero). `{"dof": d}` and `{"terms": [[d, 1]]}` are the
-//!   same constraint.
+//!   coefficients finite and not all zero; a zero coefficient is dropped). `{"dof": d}`,
+//!   `{"terms": [[d, 1]]}` and `{"terms": [[d, 1], [e, 0]]}` are the same constraint.
 //! * Optional: `"description"` (string), `"units"` (string; documentation only, not kept)
 //!   and `"meta"` (any JSON, kept as [`serde_json::Value`], for provenance such as the
 //!   generator and its seed). Other top-level keys are ignored; extra keys inside a

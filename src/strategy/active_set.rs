@@ -6,7 +6,7 @@
 //! solves of `augmented`) and a symmetric K, the penalized solution is the unique minimizer of
 //! the strictly convex, piecewise quadratic, C¹ energy
 //!
-//! `J(u) = ½ uᵀK u − qᵀu + ½ Σ_c ε_c p_c(u)²`,  `p_c` = penetration of `u[d_c] − ℓ_c`
+//! `J(u) = ½ uᵀK u − qᵀu + ½ Σ_c ε_c p_c(u)²`,  `p_c` = penetration of `d_cᵀu − ℓ_c`
 //!
 //! (ℓ = û, or the shifted limits of the augmented Lagrangian). Its gradient is
 //! `∇J(u) = K u − q + Σ_c ε_c π_c(g_c) e_{d_c}` with `π` = identity (bilateral), `max(0, ·)`
@@ -98,7 +98,7 @@ fn pi(kind: ConstraintKind, g: f64) -> f64 {
     }
 }
 
-/// The gradient `∇J(u) = K u − q + Σ_c ε_c π_c(u[d_c] − ℓ_c) e_{d_c}` of the penalized energy
+/// The gradient `∇J(u) = K u − q + Σ_c ε_c π_c(d_cᵀu − ℓ_c) d_c` of the penalized energy
 /// (see the module docs). `eps[c]` is the penalty constraint c gets while penalized.
 pub fn energy_gradient(problem: &Problem, eps: &[f64], limits: &[f64], u: &[f64]) -> Vec<f64> {
     let mut grad = problem.k.matvec(u);

@@ -3,7 +3,7 @@
 //! With multipliers λ (contact forces, `K u = q − D λ`) and penalties ε_c, each iteration solves
 //! the penalty problem with **shifted limits** `û'_c = û_c − λ_c/ε_c`:
 //!
-//! `(K + D_A E D_Aᵀ) u = q + D_A E û'_A`, force `r_c = ε_c (u[d_c] − û'_c) = λ_c + ε_c g_c`,
+//! `(K + D_A E D_Aᵀ) u = q + D_A E û'_A`, force `r_c = ε_c (d_cᵀu − û'_c) = λ_c + ε_c g_c`,
 //!
 //! (unilateral constraints active while their force has the obstacle's sign), then updates
 //! `λ ← r` until `max penetration ≤ tol`.

@@ -2,7 +2,7 @@
 //! adaptive stiffness of ipc-toolkit's `src/ipc/barrier/adaptive_stiffness.cpp`):
 //!
 //! `min Π(u) = ½uᵀKu − qᵀu + κ Σ_c b(d_c(u))`, `b(d) = −(d − d̂)² ln(d / d̂)` for 0 < d < d̂,
-//! 0 for d ≥ d̂, with the distance `d_c = û_c − u[d_c]` (upper) or `u[d_c] − û_c` (lower) and
+//! 0 for d ≥ d̂, with the distance `d_c = û_c − d_cᵀu` (upper) or `d_cᵀu − û_c` (lower) and
 //! the knob d̂ (`--delta`: the barrier's activation distance).
 //!
 //! **Solver.** Newton on Π from a feasible start, each step `H p = −∇Π` with the Hessian
@@ -354,14 +354,7 @@ pub fn solve_with(mut ctx: Context, dhat: f64, rule: KappaRule) -> Result<Soluti
         )));
     }
     let rule = rule.validated()?.resolved(p);
-    // Feasible start: u0, with every constraint closer than d̂/2 (or violated) moved to d̂/2.
-    let mut u = ctx.u0()?.to_vec();
-    for con in &p.constraints {
-        let d = side(con.kind) * (con.gap(&u));
-        if d < 0.5 * dhat {
-            con.set_value(&mut u, con.limit + side(con.kind) * 0.5 * dhat);
-        }
-    }
+    let u = feasible_start(p, ctx.u0()?.to_vec(), dhat)?;
     let (kappa_min, kappa_max, below) = kappa_bounds(p, dhat, rule)?;
     // Gradient balance at the start.
     let d = distances(p, &u);
@@ -432,6 +425,37 @@ pub fn solve_with(mut ctx: Context, dhat: f64, rule: KappaRule) -> Result<Soluti
         SystemKind::Penalized,
         warnings,
     ))
+}
+
+/// Most sweeps of [`feasible_start`]'s cyclic projections.
+const START_SWEEPS: usize = 1000;
+
+/// A strictly feasible start: `u0` with every constraint closer than d̂/2 (or violated) moved
+/// to d̂/2 along its row (`set_value`). Rows that share DOFs can undo each other's move, so the
+/// sweep repeats (cyclic projections onto the half-spaces, which converge where their
+/// intersection has an interior) until every row lies above d̂/4, at most [`START_SWEEPS`]
+/// times; single-DOF rows on distinct DOFs are done in the first sweep, as before.
+fn feasible_start(p: &Problem, mut u: Vec<f64>, dhat: f64) -> Result<Vec<f64>> {
+    for _ in 0..START_SWEEPS {
+        for con in &p.constraints {
+            if side(con.kind) * con.gap(&u) < 0.5 * dhat {
+                con.set_value(&mut u, con.limit + side(con.kind) * 0.5 * dhat);
+            }
+        }
+        let worst = p
+            .constraints
+            .iter()
+            .map(|con| side(con.kind) * con.gap(&u))
+            .fold(f64::INFINITY, f64::min);
+        if worst > 0.25 * dhat {
+            return Ok(u);
+        }
+    }
+    Err(Error::Numerical(format!(
+        "barrier: no strictly feasible start found in {START_SWEEPS} sweeps of projections \
+         onto the constraint rows (the rows may admit no point with every gap ≥ d̂/4 = {:e})",
+        0.25 * dhat
+    )))
 }
 
 #[cfg(test)]

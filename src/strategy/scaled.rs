@@ -14,7 +14,7 @@ use crate::error::Result;
 /// `scaled`: everything the registry knows about this strategy ([`super::registry`]).
 pub static STRATEGY: Strategy = Strategy {
     name: "scaled",
-    summary: "ε = factor · K_dd per constraint",
+    summary: "ε = factor · d_cᵀKd_c/‖d_c‖⁴ (K_dd for one DOF) per constraint",
     knob: Knob::Factor,
     solve: run,
     look: Look {

@@ -111,8 +111,11 @@ impl Setup {
                 elasticity::indentation(grid, case.geometry(), &mat, Base::Sliding, lift, |_| 0.0)
             }
             c if c.two_body().is_some() => {
+                // The surface's box spans both blocks.
                 let disc = c.two_body().expect("a two-body case");
-                crate::model::two_body::patch(&self.two_blocks(grid), lift, disc)
+                let b = self.two_blocks(grid);
+                return crate::model::two_body::patch(&b, lift, disc)?
+                    .with_surface_of(b.width, b.h_lower + b.h_upper);
             }
             c if c.is_uniform() => {
                 return crate::model::inclined::inclined_punch(

@@ -7,7 +7,7 @@
 //! One module per binary in `experiments/`, named like it (`tests/architecture.rs` checks
 //! it): [`sweep`], [`solve`], [`paper_beam`], [`deep_drawing`], [`stretch_test`],
 //! [`runtime_vs_error`], [`stress`], [`cond_cost`], [`cond_accuracy`], [`engine_scale`],
-//! [`contact_bench`]. Each has `mod.rs` (configuration, record and run), `figures.rs` and
+//! [`contact_bench`], [`solver_cost`], [`penalty_scaling`]. Each has `mod.rs` (configuration, record and run), `figures.rs` and
 //! `report.rs` (`solve` draws nothing and has no `figures.rs`; [`deep_drawing`] and
 //! [`stretch_test`] declare an experiment whose files are [`forming_runs`]'s). No study
 //! imports another; what several share is a support module: [`text`] (number formats,
@@ -24,6 +24,7 @@ pub mod forming_runs;
 pub mod grid;
 pub mod hertz;
 pub mod paper_beam;
+pub mod penalty_scaling;
 pub mod runtime_vs_error;
 pub mod shape;
 pub mod solve;

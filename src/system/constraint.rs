@@ -55,7 +55,10 @@ impl Constraint {
     }
 
     /// The constraint `Σ a·u[j] ⋚ limit` over `terms` `(j, a)` (checked by [`Problem::new`](super::Problem::new)).
-    pub fn row(terms: Vec<(usize, f64)>, limit: f64, kind: ConstraintKind) -> Self {
+    /// Terms whose coefficient is exactly zero (either sign) are dropped: they are not part of
+    /// the row, so `[[d, 1], [e, 0]]` is the single-DOF row on d, with its routes.
+    pub fn row(mut terms: Vec<(usize, f64)>, limit: f64, kind: ConstraintKind) -> Self {
+        terms.retain(|t| t.1 != 0.0);
         Constraint { terms, limit, kind }
     }
 
@@ -135,7 +138,8 @@ impl Constraint {
             }
         }
         let n2 = self.norm2();
-        s / (n2 * n2)
+        // (s/‖d‖²)/‖d‖², not s/‖d‖⁴: ‖d‖⁴ overflows for ‖d‖ above ~1e77.
+        (s / n2) / n2
     }
 
     /// `‖d_c‖²` (exactly 1 for a single-DOF constraint).
@@ -163,7 +167,7 @@ pub(crate) fn check_constraints(constraints: &[Constraint], n: usize) -> Result<
     for (c, con) in constraints.iter().enumerate() {
         if con.terms.is_empty() {
             return Err(Error::input(format!(
-                "constraint {c}: the row has no terms"
+                "constraint {c}: the row has no terms, or every coefficient is zero"
             )));
         }
         for &(dof, a) in &con.terms {

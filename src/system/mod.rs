@@ -493,8 +493,8 @@ impl Problem {
         }
     }
 
-    /// The largest |d_cᵀKd_c| (|K\[d_c, d_c\]| for single-DOF constraints) over the constraints (0 without any): the stiffness scale
-    /// penalties are relative to.
+    /// The largest |d_cᵀKd_c|/‖d_c‖⁴ (|K\[d, d\]| for a single-DOF constraint on d) over the
+    /// constraints (0 without any): the stiffness scale penalties are relative to.
     pub fn max_constraint_stiffness(&self) -> f64 {
         self.constraints
             .iter()

@@ -248,3 +248,70 @@ fn rows_from_a_matrix_market_d() {
         .to_string();
     assert_has(&e, &["constraint 0", "DOF 1 appears twice"]);
 }
+
+/// Review findings of issue 45: a zero coefficient is no term (the row keeps its Boolean
+/// routes); a `symmetric` D.mtx is refused rather than mirrored; d_cᵀKd_c/‖d_c‖⁴ does not
+/// overflow for a row scaled by 1e90 (it scales by 1e-180, exactly as the formula says).
+#[test]
+fn zeros_symmetric_d_and_huge_rows() {
+    let row = Constraint::row(
+        vec![(1, 1.0), (2, -0.0), (0, 0.0)],
+        0.5,
+        ConstraintKind::Upper,
+    );
+    assert_eq!(row, Constraint::on_dof(1, 0.5, ConstraintKind::Upper));
+    let dir = common::tmp_dir("constraint-rows-sym");
+    std::fs::write(
+        dir.path().join("D.mtx"),
+        "%%MatrixMarket matrix coordinate real symmetric\n3 3 2\n1 1 1\n3 1 -1\n",
+    )
+    .unwrap();
+    let path = dir.path().join("t.scene.json");
+    std::fs::write(
+        &path,
+        scene(
+            K3,
+            "[0, 1, 0]",
+            r#"{"matrix_market": "D.mtx", "limits": [0, 0, 0], "kind": "upper"}"#,
+        ),
+    )
+    .unwrap();
+    let e = read_scene(&path).unwrap_err().to_string();
+    assert_has(&e, &["D.mtx", "line 1", "general", "symmetric"]);
+    let k = k3();
+    let unit = Constraint::row(vec![(0, 1.0), (2, -1.0)], 0.0, ConstraintKind::Upper);
+    let huge = Constraint::row(vec![(0, 1e90), (2, -1e90)], 0.0, ConstraintKind::Upper);
+    let (a, b) = (unit.stiffness(&k), huge.stiffness(&k));
+    assert!(b > 0.0 && b.is_finite(), "{b:e}");
+    assert!((b / (a * 1e-180) - 1.0).abs() <= 1e-14, "{a:e} {b:e}");
+}
+
+/// The barrier's start on rows that share a DOF (`u0 + u1 ≥ 1`, `−u1 + u2 ≥ 1`, K = 2I,
+/// q = 0): one pass of projections leaves the first row violated; the repeated sweep finds a
+/// strictly feasible start, and the barrier's solution keeps both gaps open.
+#[test]
+fn barrier_starts_feasible_on_rows_that_share_a_dof() {
+    let k = Stiffness::from_rows(&[
+        vec![2.0, 0.0, 0.0],
+        vec![0.0, 2.0, 0.0],
+        vec![0.0, 0.0, 2.0],
+    ])
+    .unwrap();
+    let rows = vec![
+        Constraint::row(vec![(0, 1.0), (1, 1.0)], 1.0, ConstraintKind::Lower),
+        Constraint::row(vec![(1, -1.0), (2, 1.0)], 1.0, ConstraintKind::Lower),
+    ];
+    let p = Problem::new(k, vec![0.0; 3], rows).unwrap();
+    let s = strategy::solve(&p, Method::barrier(0.1)).unwrap();
+    for c in &p.constraints {
+        assert!(c.gap(&s.u) > 0.0, "{:?}: gap {}", c.terms, c.gap(&s.u));
+    }
+    let l = strategy::solve(&p, Method::lagrange()).unwrap();
+    // Lagrange's KKT point is u = (1, 0, 1) (hand-solved); the barrier lies within d̂ of it.
+    for (a, b) in l.u.iter().zip([1.0, 0.0, 1.0]) {
+        assert!((a - b).abs() <= 1e-12, "{:?}", l.u);
+    }
+    for (a, b) in s.u.iter().zip(&l.u) {
+        assert!((a - b).abs() <= 0.1, "{:?} vs {:?}", s.u, l.u);
+    }
+}

@@ -11,6 +11,7 @@ mod cond_cost_cli;
 mod contact_bench_cli;
 mod forming_cli;
 mod paper_beam_cli;
+mod penalty_scaling_cli;
 mod plot_smoke;
 mod runtime_vs_error_cli;
 mod solve_cli;

@@ -48,6 +48,21 @@ fn binaries() -> Vec<Entry> {
             true,
         ),
         (
+            "penalty_scaling",
+            env!("CARGO_BIN_EXE_penalty_scaling"),
+            vec![
+                "--discretizations",
+                "mortar",
+                "--levels",
+                "2",
+                "--eps-rel",
+                "1",
+                "--delta-methods",
+                "condensed",
+            ],
+            false,
+        ),
+        (
             "sweep",
             env!("CARGO_BIN_EXE_sweep"),
             vec![

@@ -261,7 +261,7 @@ pub struct Flags {
     /// Penalty ε for constant and augmented.
     #[arg(long, allow_negative_numbers = true)]
     eps: Option<f64>,
-    /// Factor f for scaled (ε_c = f times the diagonal entry of K at the DOF).
+    /// Factor f for scaled (ε_c = f·d_cᵀKd_c/‖d_c‖⁴: f times K's diagonal entry at the DOF for a single-DOF row).
     #[arg(long, allow_negative_numbers = true)]
     factor: Option<f64>,
     /// Penetration tolerance for augmented.

@@ -19,7 +19,7 @@ pub struct ConfigArgs {
     /// Run over every *.scene.json in DIR instead of generating scenes.
     #[arg(long, value_name = "DIR")]
     scenes_dir: Option<PathBuf>,
-    /// Families, comma-separated: beam, membrane, spectrum (the default), hertz, flat-punch (or patch, its old name).
+    /// Families, comma-separated: beam, membrane, spectrum (the default), hertz, flat-punch (or patch, its old name), two-body (rows that couple DOFs).
     #[arg(long, value_delimiter = ',')]
     families: Option<Vec<String>>,
     /// Scenes per family.
@@ -37,7 +37,7 @@ pub struct ConfigArgs {
     /// Absolute δ values, comma-separated.
     #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
     deltas: Option<Vec<f64>>,
-    /// Relative δ values R, comma-separated: δ = R times the largest unconstrained displacement at a constrained DOF.
+    /// Relative δ values R, comma-separated: δ = R times the largest unconstrained gap |d_cᵀu₀ − û_c| over the constraints.
     #[arg(long, value_delimiter = ',', allow_negative_numbers = true)]
     deltas_rel: Option<Vec<f64>>,
     /// Methods, comma-separated (lagrange always runs as the reference).

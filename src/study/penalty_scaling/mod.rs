@@ -1,0 +1,493 @@
+//! `penalty_scaling`: how a penalty's error and the conditioning it causes scale with the
+//! mesh size h when the contact rows couple DOFs (issue 45, item 5) — the figure a user needs
+//! to choose ε on a refined mesh.
+//!
+//! **Case.** The two-body contact patch test ([`crate::model::two_body`]): a lower block
+//! W × H₁ = 1 × 1 (E₁ = 210e3, ν₁ = 0.3) under an upper block 1 × 0.5 (E₂ = 70e3,
+//! ν₂ = 0.33), squeezed by w = 1e-3; level l meshes the lower block with `r₁·2^l` elements
+//! each way and the upper one with `r₂·2^l` across and `⌈r₂·2^l/2⌉` up (`--ratio r₁:r₂`,
+//! default 4:7: the interface meshes never match). h = W/(r₂·2^l), the slave (upper)
+//! element size, halves from level to level. The exact solution is uniform compression
+//! ([`two_body::exact_displacements`]).
+//!
+//! **Rules**, per discretization (`mortar`, `nts-1`, `nts-2`) and level:
+//! - `lagrange` (schedule `exact`): the reference of the penalty error (it refuses `nts-2`,
+//!   whose two passes' rows are dependent: that discretization has no reference);
+//! - `constant` with ε per unit contact length (pressure per penetration, as FEBio, Abaqus
+//!   and MOOSE define it; [`crate::strategy::constant`]) on two schedules, for each
+//!   `ε_rel` of `--eps-rel`, with E* = 1/(1/E₁* + 1/E₂*) the pair's contact modulus:
+//!   - `eps-fixed`: ε = ε_rel·E*/h₀ on every level (a penalty chosen on the coarsest mesh
+//!     and kept as the mesh is refined);
+//!   - `eps-e-over-h`: ε = ε_rel·E*/h (FEBio's automatic penalty ε·E·A/V with A/V = 1/h on
+//!     square elements; MOOSE's penalty normalized by the nodal area is the same scaling);
+//!   both equal on level 0;
+//! - the δ-rules of `--delta-methods` (default `spring`, `paper`, `condensed`) at
+//!   δ = `δ_rel`·w on every level (schedule `delta`).
+//!
+//! **Measures** per row: `err_u = ‖u − u_exact‖∞ / w` (against the analytic field: the patch
+//! test's error and the penalty's together); `err_penalty = ‖u − u_L‖∞ / w` against Lagrange
+//! on the same discretization and mesh (the penalty's own error); `err_pressure =
+//! max_c |p_c − p|/p` where the rows' pressures are defined (not `nts-2`); the largest
+//! penetration; cond₂ of the final system and of its Jacobi-scaled form (certified, to
+//! `--cond-tol`), CG iterations with Jacobi and IC(0) (MINRES for Lagrange) and the forward
+//! error of the direct solve ([`crate::metrics::solver`]); Lagrange's only up to
+//! [`SADDLE_METRICS_MAX_N`] unknowns (its cond₂ with coupled rows is densified). Slopes against h are fitted over
+//! the levels ([`record::slopes`]): cond ∝ h^−p, error ∝ h^s.
+//!
+//! What to expect (derivation): the penalty adds a compliance g/p = 1/ε to the contact, so
+//! the penalty's relative error is ≈ (1/ε)/(H₁/E₁* + H₂/E₂*): constant in h for `eps-fixed`,
+//! ∝ h for `eps-e-over-h`, ≈ δ/w for the δ-rules; the largest eigenvalue of the penalized
+//! system grows like ε·h (the nodal stiffness ε ω_c), the smallest like E h² (K's own), so
+//! cond₂ ∝ h^−1 for `eps-fixed`, ∝ h^−2 (K's own slope) for `eps-e-over-h` and wherever
+//! the penalty term stays below K's largest eigenvalue.
+
+mod figures;
+pub mod record;
+mod report;
+
+pub use record::{slopes, Row, Slope};
+
+use crate::error::{Error, Result};
+use crate::metrics::{self, solver::SolverOptions, MetricSet};
+use crate::model::elasticity::{Indentation, Material};
+use crate::model::two_body::{self, Discretization, TwoBlocks};
+use crate::progress::Progress;
+use crate::strategy::{self, registry, Knob, Knobs, Method, Strategy};
+use crate::study::shape::{Drawing, RunContext, Study};
+use rayon::prelude::*;
+use serde::Serialize;
+use std::path::Path;
+
+/// The squeeze w of the top face.
+pub const SQUEEZE: f64 = 1e-3;
+
+/// Largest N at which Lagrange's metrics run: the certified sparse saddle-point route takes
+/// Boolean rows only, so cond₂ of a saddle point with coupled rows is densified (n² memory,
+/// a minute at N ≈ 5000); above this the Lagrange rows carry their errors only.
+pub const SADDLE_METRICS_MAX_N: usize = 2000;
+
+/// What to run.
+#[derive(Clone, Debug, Serialize)]
+pub struct PenaltyScalingConfig {
+    /// Interface discretizations.
+    pub discretizations: Vec<Discretization>,
+    /// Mesh levels (h halving), 2–7.
+    pub levels: usize,
+    /// Elements across the lower and the upper block on level 0 (r₁, r₂).
+    pub ratio: (usize, usize),
+    /// ε of `constant` over E*/h₀ (`eps-fixed`) and over E*/h (`eps-e-over-h`).
+    pub eps_rel: Vec<f64>,
+    /// The δ-rules (rules whose knob is δ; saved by name).
+    #[serde(serialize_with = "names")]
+    pub delta_methods: Vec<&'static Strategy>,
+    /// δ over the squeeze w.
+    pub delta_rel: f64,
+    /// τ of the Krylov runs.
+    pub krylov_tol: f64,
+    /// Relative accuracy asked of each cond₂.
+    pub cond_tol: f64,
+}
+
+impl Default for PenaltyScalingConfig {
+    fn default() -> Self {
+        PenaltyScalingConfig {
+            discretizations: vec![
+                Discretization::Mortar,
+                Discretization::Nts1,
+                Discretization::Nts2,
+            ],
+            levels: 5,
+            ratio: (4, 7),
+            eps_rel: vec![1.0, 100.0],
+            delta_methods: vec![
+                &strategy::spring::STRATEGY,
+                &strategy::paper::STRATEGY,
+                &strategy::condensed::STRATEGY,
+            ],
+            delta_rel: 1e-2,
+            krylov_tol: metrics::solver::DEFAULT_TOL,
+            cond_tol: 1e-6,
+        }
+    }
+}
+
+impl PenaltyScalingConfig {
+    /// Checks the ranges (each error names its flag).
+    pub fn validate(&self) -> Result<()> {
+        if self.discretizations.is_empty() {
+            return Err(Error::input("--discretizations: none given"));
+        }
+        if !(2..=7).contains(&self.levels) {
+            return Err(Error::input(format!(
+                "--levels: {} is outside 2..=7",
+                self.levels
+            )));
+        }
+        let (r1, r2) = self.ratio;
+        let finest = r1.max(r2) << (self.levels - 1);
+        if r1 == 0 || r2 == 0 || finest > 256 {
+            return Err(Error::input(format!(
+                "--ratio: {r1}:{r2} needs both ≥ 1 and at most 256 elements across on the \
+                 finest level (got {finest})"
+            )));
+        }
+        for &e in &self.eps_rel {
+            if !(e.is_finite() && e > 0.0) {
+                return Err(Error::input(format!(
+                    "--eps-rel: {e} is not finite and > 0"
+                )));
+            }
+        }
+        for (flag, v) in [
+            ("--delta-rel", self.delta_rel),
+            ("--krylov-tol", self.krylov_tol),
+            ("--cond-tol", self.cond_tol),
+        ] {
+            if !(v.is_finite() && v > 0.0 && v < 1.0) {
+                return Err(Error::input(format!("{flag}: {v} is not in (0, 1)")));
+            }
+        }
+        Ok(())
+    }
+
+    /// The two blocks of level `l` (module doc).
+    pub fn blocks(&self, l: usize) -> TwoBlocks {
+        let (r1, r2) = (self.ratio.0 << l, self.ratio.1 << l);
+        TwoBlocks {
+            width: 1.0,
+            h_lower: 1.0,
+            h_upper: 0.5,
+            mesh_lower: (r1, r1),
+            mesh_upper: (r2, r2.div_ceil(2)),
+            lower: Material {
+                young: 210e3,
+                poisson: 0.3,
+            },
+            upper: Material {
+                young: 70e3,
+                poisson: 0.33,
+            },
+        }
+    }
+
+    /// The contact modulus E* = 1/(1/E₁* + 1/E₂*) of the pair.
+    pub fn e_star(&self) -> f64 {
+        let b = self.blocks(0);
+        1.0 / (1.0 / b.lower.contact_modulus() + 1.0 / b.upper.contact_modulus())
+    }
+
+    /// The slave element size h of level `l`.
+    pub fn h(&self, l: usize) -> f64 {
+        1.0 / (self.ratio.1 << l) as f64
+    }
+
+    /// The penalty jobs of a level: `(method, schedule, ε_rel)` (Lagrange runs apart).
+    fn jobs(&self, l: usize) -> Vec<(Method, &'static str, Option<f64>)> {
+        let e = self.e_star();
+        let mut out = Vec::new();
+        for &r in &self.eps_rel {
+            out.push((Method::constant(r * e / self.h(0)), "eps-fixed", Some(r)));
+            out.push((Method::constant(r * e / self.h(l)), "eps-e-over-h", Some(r)));
+        }
+        let delta = self.delta_rel * SQUEEZE;
+        for s in &self.delta_methods {
+            // validated in `config`: every δ-method takes δ.
+            if let Ok(m) = Method::new(s, Knobs::delta(delta)) {
+                out.push((m, "delta", None));
+            }
+        }
+        out
+    }
+}
+
+/// Writes strategies by name.
+fn names<S: serde::Serializer>(
+    v: &[&'static Strategy],
+    s: S,
+) -> std::result::Result<S::Ok, S::Error> {
+    s.collect_seq(v.iter().map(|x| x.name))
+}
+
+/// One (discretization, level): the scene, the exact field and Lagrange's solution.
+struct Level {
+    disc: Discretization,
+    index: usize,
+    h: f64,
+    scene: Indentation,
+    exact: Vec<f64>,
+    exact_p: f64,
+    u_lagrange: Option<Vec<f64>>,
+}
+
+/// Runs every discretization's levels (one progress step per level; the penalty jobs of a
+/// level in parallel, rows in job order: the same rows for any number of threads, but for
+/// the timing columns).
+pub fn run(cfg: &PenaltyScalingConfig, progress: &Progress) -> Result<Vec<Row>> {
+    cfg.validate()?;
+    progress.set_total(cfg.discretizations.len() * cfg.levels);
+    let mut rows = Vec::new();
+    for &disc in &cfg.discretizations {
+        for l in 0..cfg.levels {
+            let blocks = cfg.blocks(l);
+            let scene = two_body::patch(&blocks, SQUEEZE, disc)?
+                .with_surface_of(blocks.width, blocks.h_lower + blocks.h_upper)?;
+            let mut level = Level {
+                disc,
+                index: l,
+                h: cfg.h(l),
+                exact: two_body::exact_displacements(&blocks, SQUEEZE)?,
+                exact_p: blocks.exact_pressure(SQUEEZE),
+                scene,
+                u_lagrange: None,
+            };
+            let lagrange = row_of(cfg, &level, Method::lagrange(), "exact", None);
+            level.u_lagrange = lagrange.1;
+            let jobs = cfg.jobs(l);
+            let mut level_rows = vec![lagrange.0];
+            level_rows.extend(
+                jobs.par_iter()
+                    .map(|&(m, schedule, eps_rel)| row_of(cfg, &level, m, schedule, eps_rel).0)
+                    .collect::<Vec<_>>(),
+            );
+            rows.extend(level_rows);
+            progress.step(&format!(
+                "{} level {l}: h = {:.4}, {} DOFs, {} rows",
+                disc.name(),
+                level.h,
+                level.scene.problem.n(),
+                level.scene.problem.m()
+            ));
+        }
+    }
+    progress.finish();
+    Ok(rows)
+}
+
+/// ‖a − b‖∞ / w.
+fn distance(a: &[f64], b: &[f64]) -> f64 {
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max)
+        / SQUEEZE
+}
+
+/// One rule on one level: its row and its u (None where the solve failed).
+fn row_of(
+    cfg: &PenaltyScalingConfig,
+    level: &Level,
+    m: Method,
+    schedule: &str,
+    eps_rel: Option<f64>,
+) -> (Row, Option<Vec<f64>>) {
+    let problem = &level.scene.problem;
+    let mut row = Row {
+        discretization: level.disc.name().into(),
+        level: level.index,
+        h: level.h,
+        n_dofs: problem.n(),
+        n_rows: problem.m(),
+        method: m.name().into(),
+        schedule: schedule.into(),
+        eps_rel,
+        knob_value: m.knobs().eps.or(m.knobs().delta),
+        ..Row::default()
+    };
+    let t0 = std::time::Instant::now();
+    let sol = match strategy::solve(problem, m) {
+        Ok(s) => s,
+        Err(e) => {
+            row.note = e.to_string();
+            return (row, None);
+        }
+    };
+    row.seconds_solve = t0.elapsed().as_secs_f64();
+    // The rule's own warnings (e.g. spring's penalties clipped to 0) say what it did.
+    row.note = sol.warnings.join("; ");
+    row.iterations = Some(sol.stats.iterations);
+    row.max_penetration = Some(sol.max_penetration);
+    row.err_u = Some(distance(&sol.u, &level.exact));
+    row.err_penalty = level.u_lagrange.as_ref().map(|ul| distance(&sol.u, ul));
+    let p = level.scene.pressures(&sol.u);
+    if p.iter().all(|v| v.is_finite()) {
+        row.err_pressure = Some(
+            p.iter()
+                .map(|v| (v - level.exact_p).abs() / level.exact_p)
+                .fold(0.0, f64::max),
+        );
+    }
+    if matches!(sol.system, crate::strategy::SystemKind::SaddlePoint { .. })
+        && !problem.is_selection()
+        && problem.n() > SADDLE_METRICS_MAX_N
+    {
+        let sep = if row.note.is_empty() { "" } else { "; " };
+        row.note = format!(
+            "{}{sep}metrics not run: cond₂ of a saddle point with coupled rows is dense above              N = {SADDLE_METRICS_MAX_N} here (minutes)",
+            row.note
+        );
+        return (row, Some(sol.u));
+    }
+    let t1 = std::time::Instant::now();
+    let set = MetricSet {
+        cond: true,
+        det: false,
+        cond_tol: Some(cfg.cond_tol),
+    };
+    match metrics::compute(problem, &sol, set) {
+        Ok(c) => row.cond2_system = c.cond2_system.map(|c| c.cond2),
+        Err(e) => row.note = format!("cond₂: {e}"),
+    }
+    let opts = SolverOptions {
+        tol: cfg.krylov_tol,
+        max_iters: None,
+        cond_tol: Some(cfg.cond_tol),
+    };
+    match metrics::solver::compute(problem, &sol, opts) {
+        Ok(c) => {
+            row.cond2_jacobi = c.cond2_jacobi.map(|r| r.cond2);
+            row.pcg_iters_jacobi = c.pcg_jacobi.map(|p| p.run.iterations);
+            row.pcg_iters_ic0 = c.pcg_ic0.map(|p| p.run.iterations);
+            row.minres_iters = c.minres.map(|p| p.run.iterations);
+            row.forward_err_u = c.forward_err_u;
+            if !c.unavailable.is_empty() {
+                let sep = if row.note.is_empty() { "" } else { "; " };
+                row.note = format!("{}{sep}{}", row.note, c.unavailable.join("; "));
+            }
+        }
+        Err(e) => row.note = format!("solver metrics: {e}"),
+    }
+    row.seconds_metrics = t1.elapsed().as_secs_f64();
+    (row, Some(sol.u))
+}
+
+/// `r₁:r₂` → (r₁, r₂).
+fn parse_ratio(s: &str) -> std::result::Result<(usize, usize), String> {
+    let (a, b) = s
+        .split_once(':')
+        .ok_or_else(|| format!("'{s}' is not r1:r2"))?;
+    let n = |t: &str| {
+        t.trim()
+            .parse::<usize>()
+            .map_err(|_| format!("'{t}' is not a whole number"))
+    };
+    Ok((n(a)?, n(b)?))
+}
+
+/// The `penalty_scaling` binary's flags.
+#[derive(clap::Args, Debug)]
+pub struct Flags {
+    /// Interface discretizations, comma-separated (mortar, nts-1, nts-2).
+    #[arg(long, value_delimiter = ',')]
+    discretizations: Option<Vec<String>>,
+    /// Mesh levels (h halving), 2–7.
+    #[arg(long, default_value_t = 5)]
+    levels: usize,
+    /// Elements across the lower and the upper block on level 0.
+    #[arg(long, default_value = "4:7", value_parser = parse_ratio)]
+    ratio: (usize, usize),
+    /// ε of `constant` over E*/h₀ (eps-fixed) and over E*/h (eps-e-over-h), comma-separated.
+    #[arg(long, value_delimiter = ',')]
+    eps_rel: Option<Vec<f64>>,
+    /// The δ-rules, comma-separated (rules whose knob is δ).
+    #[arg(long, value_delimiter = ',')]
+    delta_methods: Option<Vec<String>>,
+    /// δ over the squeeze w.
+    #[arg(long, default_value_t = 1e-2)]
+    delta_rel: f64,
+    /// τ of the Krylov runs (‖r‖ ≤ τ‖b‖ from x₀ = 0).
+    #[arg(long, default_value_t = metrics::solver::DEFAULT_TOL)]
+    krylov_tol: f64,
+    /// Relative accuracy asked of each cond₂.
+    #[arg(long, default_value_t = 1e-6)]
+    cond_tol: f64,
+}
+
+/// The study as the shared entry runs it ([`crate::study::shape::main`]).
+pub struct PenaltyScaling;
+
+/// What `penalty_scaling` saves: its configuration is in the provenance.
+pub type Record = Vec<Row>;
+
+impl Study for PenaltyScaling {
+    const NAME: &'static str = "penalty_scaling";
+    const ABOUT: &'static str =
+        "How penalty error and cond₂ scale with h on coupled contact rows (two-body patch test)";
+    const PROGRESS: &'static str = "penalty_scaling (levels)";
+    const DEFAULT_OUT: &'static str = "figures/penalty_scaling";
+    type Flags = Flags;
+    type Config = PenaltyScalingConfig;
+    type Record = Record;
+
+    fn after_help() -> String {
+        "Writes penalty_scaling.csv, penalty_scaling.json (rows with provenance), summary.json \
+         (slopes) and the figures.\nExit status: 0 ok, 2 bad input."
+            .into()
+    }
+
+    fn config(f: &Flags) -> Result<PenaltyScalingConfig> {
+        let d = PenaltyScalingConfig::default();
+        let discretizations = match &f.discretizations {
+            None => d.discretizations,
+            Some(names) => names
+                .iter()
+                .map(|n| Discretization::from_name(n).map_err(|e| e.for_flag("--discretizations")))
+                .collect::<Result<_>>()?,
+        };
+        let delta_methods = match &f.delta_methods {
+            None => d.delta_methods,
+            Some(names) => names
+                .iter()
+                .map(|n| {
+                    let s = registry::lookup(n).map_err(|e| e.for_flag("--delta-methods"))?;
+                    if s.knob != Knob::Delta {
+                        return Err(Error::input(format!(
+                            "--delta-methods: '{n}' does not take δ"
+                        )));
+                    }
+                    Ok(s)
+                })
+                .collect::<Result<_>>()?,
+        };
+        let cfg = PenaltyScalingConfig {
+            discretizations,
+            levels: f.levels,
+            ratio: f.ratio,
+            eps_rel: f.eps_rel.clone().unwrap_or(d.eps_rel),
+            delta_methods,
+            delta_rel: f.delta_rel,
+            krylov_tol: f.krylov_tol,
+            cond_tol: f.cond_tol,
+        };
+        cfg.validate()?;
+        Ok(cfg)
+    }
+
+    fn run(cfg: &PenaltyScalingConfig, ctx: &RunContext) -> Result<Record> {
+        run(cfg, ctx.progress)
+    }
+
+    fn save(out: &Path, cfg: &PenaltyScalingConfig, rows: &Record) -> Result<()> {
+        let fields = serde_json::json!({
+            "config": cfg,
+            "e_star": cfg.e_star(),
+            "squeeze": SQUEEZE,
+        });
+        crate::study::shape::save_rows(out, Self::NAME, fields, rows)?;
+        crate::provenance::write_json(
+            &out.join("summary.json"),
+            &serde_json::json!({ "slopes": slopes(rows) }),
+        )
+    }
+
+    fn load(out: &Path) -> Result<Record> {
+        crate::study::shape::load_rows(out, Self::NAME)
+    }
+
+    fn figures(rows: &Record) -> Result<Vec<Drawing>> {
+        figures::drawings(rows)
+    }
+
+    fn report(rows: &Record) -> String {
+        report::text(rows)
+    }
+}
