@@ -95,7 +95,7 @@ impl Material {
 
     /// The constitutive matrix for `geometry` (3×3 plane strain, 4×4 axisymmetric, stored 4×4
     /// with the hoop row/column unused in plane strain).
-    fn c_matrix(&self, geometry: Geometry) -> [[f64; 4]; 4] {
+    pub fn c_matrix(&self, geometry: Geometry) -> [[f64; 4]; 4] {
         let (e, nu) = (self.young, self.poisson);
         let f = e / ((1.0 + nu) * (1.0 - 2.0 * nu));
         let (a, b, g) = (f * (1.0 - nu), f * nu, f * (1.0 - 2.0 * nu) / 2.0);
@@ -129,7 +129,7 @@ pub struct Grid {
 
 /// Coordinates from 0 to `length`: steps of `h` up to `fine`, then steps growing by `growth`
 /// (the last one stretched or shrunk to end at `length`).
-fn graded_axis(length: f64, h: f64, fine: f64, growth: f64) -> Vec<f64> {
+pub(super) fn graded_axis(length: f64, h: f64, fine: f64, growth: f64) -> Vec<f64> {
     let mut v = vec![0.0];
     let mut step = h;
     let mut x = 0.0;
@@ -261,6 +261,112 @@ pub fn element_stiffness(
         ke[p][q] = ke[q][p];
     }
     ke
+}
+
+/// The 8×8 stiffness of the bilinear (isoparametric) quadrilateral with corners `xy` in
+/// counter-clockwise order, DOFs (u, v) per corner, by 2×2 Gauss quadrature:
+/// `Kₑ = Σ_g w_g det J_g B_gᵀ C B_g` (times r in axisymmetry), `[∂N/∂x; ∂N/∂y] = J⁻¹[∂N/∂ξ;
+/// ∂N/∂η]`. For a rectangle it is [`element_stiffness`] (to rounding). Errors where det J ≤ 0
+/// at a Gauss point (a folded or clockwise element).
+pub fn quad_stiffness(
+    geometry: Geometry,
+    c: &[[f64; 4]; 4],
+    xy: [(f64, f64); 4],
+) -> Result<[[f64; 8]; 8]> {
+    let g = 1.0 / 3f64.sqrt();
+    let corners = [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+    let mut ke = [[0.0; 8]; 8];
+    for &(xi, eta) in &[(-g, -g), (g, -g), (g, g), (-g, g)] {
+        let mut n = [0.0; 4];
+        let mut dxi = [0.0; 4];
+        let mut deta = [0.0; 4];
+        for (a, &(xa, ya)) in corners.iter().enumerate() {
+            n[a] = 0.25 * (1.0 + xa * xi) * (1.0 + ya * eta);
+            dxi[a] = 0.25 * xa * (1.0 + ya * eta);
+            deta[a] = 0.25 * ya * (1.0 + xa * xi);
+        }
+        let sum = |w: &[f64; 4], f: fn((f64, f64)) -> f64| -> f64 {
+            (0..4).map(|a| w[a] * f(xy[a])).sum()
+        };
+        let (j00, j01) = (sum(&dxi, |p| p.0), sum(&dxi, |p| p.1));
+        let (j10, j11) = (sum(&deta, |p| p.0), sum(&deta, |p| p.1));
+        let det = j00 * j11 - j01 * j10;
+        if !(det > 0.0 && det.is_finite()) {
+            return Err(Error::input(format!(
+                "quadrilateral {xy:?} is folded or not counter-clockwise (det J = {det:e})"
+            )));
+        }
+        let x = sum(&n, |p| p.0);
+        let w = det
+            * match geometry {
+                Geometry::PlaneStrain => 1.0,
+                Geometry::Axisymmetric => x,
+            };
+        let mut b = [[0.0; 8]; 4];
+        for a in 0..4 {
+            let dndx = (j11 * dxi[a] - j01 * deta[a]) / det;
+            let dndy = (-j10 * dxi[a] + j00 * deta[a]) / det;
+            b[0][2 * a] = dndx;
+            b[1][2 * a + 1] = dndy;
+            b[2][2 * a] = dndy;
+            b[2][2 * a + 1] = dndx;
+            if geometry == Geometry::Axisymmetric {
+                b[3][2 * a] = n[a] / x;
+            }
+        }
+        for p in 0..8 {
+            let mut cb = [0.0; 4];
+            for (r, cbr) in cb.iter_mut().enumerate() {
+                *cbr = (0..4).map(|s| c[r][s] * b[s][p]).sum();
+            }
+            // Lower triangle, mirrored below: Kₑ symmetric bit for bit (as element_stiffness).
+            for q in p..8 {
+                ke[q][p] += w * (0..4).map(|r| b[r][q] * cb[r]).sum::<f64>();
+            }
+        }
+    }
+    for (p, q) in (0..8).flat_map(|p| (p + 1..8).map(move |q| (p, q))) {
+        ke[p][q] = ke[q][p];
+    }
+    Ok(ke)
+}
+
+/// The global stiffness of a structured mesh of `nx × ny` nodes whose node (i, j) (index
+/// `i·ny + j`, as [`Grid::node`]) lies at `coords[i·ny + j]`, x growing with i and y with j,
+/// as (row, column, value) triplets over all `2·nodes` DOFs ([`quad_stiffness`] per element).
+pub fn assemble_mapped(
+    coords: &[(f64, f64)],
+    (nx, ny): (usize, usize),
+    geometry: Geometry,
+    material: &Material,
+) -> Result<Vec<(usize, usize, f64)>> {
+    material.validate()?;
+    if nx < 2 || ny < 2 || coords.len() != nx * ny {
+        return Err(Error::input(format!(
+            "mapped mesh: {} coordinates for {nx} × {ny} nodes (at least 2 × 2)",
+            coords.len()
+        )));
+    }
+    let c = material.c_matrix(geometry);
+    let mut t = Vec::with_capacity((nx - 1) * (ny - 1) * 64);
+    for i in 0..nx - 1 {
+        for j in 0..ny - 1 {
+            let nodes = [
+                i * ny + j,
+                (i + 1) * ny + j,
+                (i + 1) * ny + j + 1,
+                i * ny + j + 1,
+            ];
+            let ke = quad_stiffness(geometry, &c, nodes.map(|k| coords[k]))?;
+            let dof = |k: usize| 2 * nodes[k / 2] + k % 2;
+            for (p, row) in ke.iter().enumerate() {
+                for (q, &v) in row.iter().enumerate() {
+                    t.push((dof(p), dof(q), v));
+                }
+            }
+        }
+    }
+    Ok(t)
 }
 
 /// The global stiffness of the grid as (row, column, value) triplets over all `2·nodes` DOFs.
@@ -493,7 +599,7 @@ pub fn eliminate(
 
 /// The prescribed value of every DOF of `grid` (None: free): the bottom face lifted by
 /// `lift` (and held in x where `base` is clamped), the symmetry line held in x.
-fn prescribed(grid: &Grid, base: Base, lift: f64) -> Vec<Option<f64>> {
+pub(super) fn prescribed(grid: &Grid, base: Base, lift: f64) -> Vec<Option<f64>> {
     let mut fixed: Vec<Option<f64>> = vec![None; 2 * grid.nodes()];
     for i in 0..grid.xs.len() {
         let n = grid.node(i, 0);

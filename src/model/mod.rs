@@ -5,6 +5,7 @@
 //! ([`scalable`], the run-time studies' input). Seeded random scenes of these models are
 //! the `generate` module's (above the strategies: some families are calibrated by a solve).
 pub mod beam;
+pub mod cylinder;
 pub mod elasticity;
 pub mod inclined;
 pub mod membrane;

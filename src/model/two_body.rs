@@ -45,7 +45,7 @@ use crate::error::{Error, Result};
 use crate::system::{Constraint, ConstraintKind, Problem};
 
 /// A constraint row's terms `(DOF, coefficient)`.
-type Terms = Vec<(usize, f64)>;
+pub(super) type Terms = Vec<(usize, f64)>;
 
 /// How the interface rows are formed (module doc).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -121,7 +121,7 @@ impl TwoBlocks {
 
 /// ∫ of the product of two linear functions on [a, b] given by their end values, exactly (2-point
 /// Gauss): `(fa, fb)` and `(ga, gb)`.
-fn product_integral(a: f64, b: f64, f: (f64, f64), g: (f64, f64)) -> f64 {
+pub(super) fn product_integral(a: f64, b: f64, f: (f64, f64), g: (f64, f64)) -> f64 {
     let half = 0.5 * (b - a);
     let r = 0.5 / 3f64.sqrt();
     [0.5 - r, 0.5 + r]
@@ -135,7 +135,7 @@ fn product_integral(a: f64, b: f64, f: (f64, f64), g: (f64, f64)) -> f64 {
 }
 
 /// The value at x of node k's hat function on the 1-D mesh `xs`.
-fn hat(xs: &[f64], k: usize, x: f64) -> f64 {
+pub(super) fn hat(xs: &[f64], k: usize, x: f64) -> f64 {
     let left = k.checked_sub(1).map(|l| xs[l]);
     let right = xs.get(k + 1).copied();
     match (left, right) {
@@ -147,7 +147,7 @@ fn hat(xs: &[f64], k: usize, x: f64) -> f64 {
 
 /// Node-to-segment terms of the node at `x` (DOF `own`) over the face `xs` with DOFs `other`:
 /// `v_own − (1 − ξ) v_a − ξ v_b`, zero coefficients dropped.
-fn nts_terms(x: f64, own: usize, xs: &[f64], other: &[usize]) -> Terms {
+pub(super) fn nts_terms(x: f64, own: usize, xs: &[f64], other: &[usize]) -> Terms {
     let seg = xs
         .windows(2)
         .position(|w| x <= w[1])
@@ -159,7 +159,7 @@ fn nts_terms(x: f64, own: usize, xs: &[f64], other: &[usize]) -> Terms {
 }
 
 /// Tributary lengths ∫ N_i ds on the 1-D mesh `xs`.
-fn tributary(xs: &[f64]) -> Vec<f64> {
+pub(super) fn tributary(xs: &[f64]) -> Vec<f64> {
     let mut w = vec![0.0; xs.len()];
     for k in 0..xs.len() - 1 {
         let l = xs[k + 1] - xs[k];
@@ -171,7 +171,7 @@ fn tributary(xs: &[f64]) -> Vec<f64> {
 
 /// Mortar rows of the slave face `sx` (DOFs `sd`) over the master face `mx` (DOFs `md`):
 /// `(Σ_j D_ij v_j − Σ_k M_ik v_k)/ω_i` per slave node i (module doc).
-fn mortar_rows(sx: &[f64], sd: &[usize], mx: &[f64], md: &[usize]) -> Vec<Terms> {
+pub(super) fn mortar_rows(sx: &[f64], sd: &[usize], mx: &[f64], md: &[usize]) -> Vec<Terms> {
     let w = tributary(sx);
     let mut rows: Vec<std::collections::BTreeMap<usize, f64>> = vec![Default::default(); sx.len()];
     for s in 0..sx.len() - 1 {

@@ -51,3 +51,82 @@ fn plane_strain_q4_matches_scikit_fem() {
         "largest entry difference {worst:e} (max |K| = {scale:e})"
     );
 }
+
+/// The isoparametric quadrilateral (`quad_stiffness`): on a rectangle it is the rectangle
+/// element (to rounding); on a distorted quad, rigid motions carry no force and a linear field
+/// u = (a x + b y, c x + d y) stores the energy ½·A·εᵀCε exactly (bilinear elements hold
+/// linear fields; the area A by the shoelace formula): the patch test of one element.
+#[test]
+fn isoparametric_quad_passes_its_checks() {
+    use penalty_lab::model::elasticity::{element_stiffness, quad_stiffness};
+    let m = Material {
+        young: 70e3,
+        poisson: 0.33,
+    };
+    let c = m.c_matrix(Geometry::PlaneStrain);
+    let rect = quad_stiffness(
+        Geometry::PlaneStrain,
+        &c,
+        [(0.5, 1.0), (2.0, 1.0), (2.0, 1.75), (0.5, 1.75)],
+    )
+    .unwrap();
+    let want = element_stiffness(Geometry::PlaneStrain, &c, (0.5, 2.0), (1.0, 1.75));
+    let scale = want.iter().flatten().fold(0.0f64, |a, v| a.max(v.abs()));
+    for (r, w) in rect.iter().flatten().zip(want.iter().flatten()) {
+        assert!((r - w).abs() <= 16.0 * f64::EPSILON * scale, "{r} vs {w}");
+    }
+    let xy = [(0.0, 0.0), (2.0, 0.3), (2.4, 1.9), (-0.2, 1.4)];
+    let ke = quad_stiffness(Geometry::PlaneStrain, &c, xy).unwrap();
+    let scale = ke.iter().flatten().fold(0.0f64, |a, v| a.max(v.abs()));
+    let apply = |u: &[f64; 8]| -> [f64; 8] {
+        let mut f = [0.0; 8];
+        for (fi, row) in f.iter_mut().zip(&ke) {
+            *fi = row.iter().zip(u).map(|(k, x)| k * x).sum();
+        }
+        f
+    };
+    let field = |f: &dyn Fn(f64, f64) -> (f64, f64)| -> [f64; 8] {
+        let mut u = [0.0; 8];
+        for (k, &(x, y)) in xy.iter().enumerate() {
+            (u[2 * k], u[2 * k + 1]) = f(x, y);
+        }
+        u
+    };
+    for rigid in [
+        field(&|_, _| (1.0, 0.0)),
+        field(&|_, _| (0.0, 1.0)),
+        field(&|x, y| (-y, x)),
+    ] {
+        for f in apply(&rigid) {
+            assert!(
+                f.abs() <= 64.0 * f64::EPSILON * scale,
+                "rigid motion force {f:e}"
+            );
+        }
+    }
+    let (a, b, cc, d) = (1e-3, -4e-4, 2.5e-4, -7e-4);
+    let u = field(&|x, y| (a * x + b * y, cc * x + d * y));
+    let energy: f64 = 0.5 * u.iter().zip(apply(&u)).map(|(x, f)| x * f).sum::<f64>();
+    let area = 0.5
+        * (0..4)
+            .map(|k| {
+                let (p, q) = (xy[k], xy[(k + 1) % 4]);
+                p.0 * q.1 - q.0 * p.1
+            })
+            .sum::<f64>();
+    let eps = [a, d, b + cc];
+    let mut want = 0.0;
+    for r in 0..3 {
+        for s in 0..3 {
+            want += 0.5 * area * eps[r] * c[r][s] * eps[s];
+        }
+    }
+    assert!(
+        (energy / want - 1.0).abs() <= 1e-12,
+        "{energy:e} vs {want:e}"
+    );
+    // A clockwise element is refused.
+    let mut cw = xy;
+    cw.reverse();
+    assert!(quad_stiffness(Geometry::PlaneStrain, &c, cw).is_err());
+}

@@ -166,3 +166,62 @@ fn the_two_body_sweep_family_is_seeded_and_coupled() {
     }
     assert_eq!(discs.len(), 2, "both discretizations drawn: {discs:?}");
 }
+
+/// `hertz-two-body` (`model::cylinder`): an elastic cylinder (R = 10, E₂ = 70e3, ν₂ = 0.33,
+/// a 5 × 5 cap) on an elastic 16 × 16 block (E₁ = 210e3, ν₁ = 0.3, clamped base), mortar rows,
+/// the cylinder meshed 7:4 finer than the block (h = a/20 on the block), loaded under force
+/// control for the Hertz half-width a = 1 with the pair's E*: Lagrange and `condensed`
+/// (δ = 1e-4·a) reproduce Hertz's p0 within 3 % and a within 5 % (issue 45's bar); one-pass
+/// node-to-segment is printed beside them.
+#[test]
+fn elastic_cylinder_on_elastic_block_meets_hertz() {
+    use penalty_lab::model::cylinder::{hertz_two_body, CylinderOnBlock};
+    use penalty_lab::model::elasticity::{Base, Geometry, Grid};
+    use penalty_lab::strategy::force_control::{solve_at_load, FORCE_TOL};
+    use penalty_lab::study::hertz::{contact_width, Exact};
+    let (a, r, h) = (1.0, 10.0, 0.05);
+    let body = CylinderOnBlock {
+        block: Grid::graded(16.0, 16.0, h, 1.5, 1.2).unwrap(),
+        base: Base::Clamped,
+        lower: Material {
+            young: 210e3,
+            poisson: 0.3,
+        },
+        radius: r,
+        cap_width: 5.0,
+        cap_height: 5.0,
+        h: h * 4.0 / 7.0,
+        fine: 1.5,
+        growth: 1.2,
+        upper: Material {
+            young: 70e3,
+            poisson: 0.33,
+        },
+    };
+    let es = body.e_star();
+    let load = Geometry::PlaneStrain.hertz_load(a, r, es);
+    let exact = Exact::hertz(Geometry::PlaneStrain, load, r, es);
+    let guess = a * a / r;
+    for (disc, m) in [
+        (Discretization::Mortar, Method::lagrange()),
+        (Discretization::Mortar, Method::condensed(1e-4 * a)),
+        (Discretization::Nts1, Method::lagrange()),
+    ] {
+        let scene = |w: f64| hertz_two_body(&body, w, disc);
+        let done = solve_at_load("hertz-two-body", scene, m, load, guess, FORCE_TOL).unwrap();
+        let p = done.scene.pressures(&done.sol.u);
+        let p0 = p[0];
+        let a_num = contact_width(&done.scene.contact, &p, 1e-9 * exact.p0);
+        let (ep, ea) = (p0 / exact.p0 - 1.0, a_num / exact.a - 1.0);
+        println!(
+            "{} {}: p0 {p0:.5e} ({ep:+.3e}), a {a_num:.4} ({ea:+.3e}), {} DOFs",
+            disc.name(),
+            m.name(),
+            done.scene.problem.n()
+        );
+        if disc == Discretization::Mortar {
+            assert!(ep.abs() <= 0.03, "{} p0 off by {ep:e}", m.name());
+            assert!(ea.abs() <= 0.05, "{} a off by {ea:e}", m.name());
+        }
+    }
+}
