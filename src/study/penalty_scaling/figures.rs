@@ -9,6 +9,9 @@ use super::Row;
 use crate::plot::{method_color, share_legend, Figure, Glyph, Mark, Series};
 use crate::study::shape::Drawing;
 
+/// Reads one value off a row.
+type Value = fn(&Row) -> Option<f64>;
+
 /// The palette index of the `eps-e-over-h` curves (no rule has it).
 const E_OVER_H_COLOUR: usize = 9;
 
@@ -48,7 +51,7 @@ fn curve(rows: &[&Row], value: impl Fn(&Row) -> Option<f64>, eps_index: usize) -
 }
 
 /// The panel of `what` against h for `disc`.
-fn panel(rows: &[Row], disc: &str, what: &str, value: fn(&Row) -> Option<f64>) -> Figure {
+fn panel(rows: &[Row], disc: &str, what: &str, value: Value) -> Figure {
     let mut f = Figure::new(format!("{disc}: {what}"), "h (slave element size)", what).log_log();
     let eps = unique(rows.iter().filter_map(|r| r.eps_rel.map(f64::to_bits)));
     let of: Vec<&Row> = rows.iter().filter(|r| r.discretization == disc).collect();
@@ -72,7 +75,7 @@ pub fn drawings(rows: &[Row]) -> crate::error::Result<Vec<Drawing>> {
         return Ok(Vec::new());
     }
     let mut panels = Vec::new();
-    let metrics: [(&str, fn(&Row) -> Option<f64>); 3] = [
+    let metrics: [(&str, Value); 3] = [
         ("cond₂ of the final system", |r| r.cond2_system),
         ("cond₂ after Jacobi scaling", |r| r.cond2_jacobi),
         (

@@ -20,6 +20,7 @@
 //!     and kept as the mesh is refined);
 //!   - `eps-e-over-h`: ε = ε_rel·E*/h (FEBio's automatic penalty ε·E·A/V with A/V = 1/h on
 //!     square elements; MOOSE's penalty normalized by the nodal area is the same scaling);
+//!
 //!   both equal on level 0;
 //! - the δ-rules of `--delta-methods` (default `spring`, `paper`, `condensed`) at
 //!   δ = `δ_rel`·w on every level (schedule `delta`).
