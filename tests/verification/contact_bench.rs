@@ -493,3 +493,35 @@ fn two_body_patch_cases_report_mortar_exact_and_nts_off() {
         }
     }
 }
+
+/// `hertz-two-body` in the benchmark (coarsest default mesh, h = a/5): Lagrange and
+/// `condensed` meet Hertz with the pair's E* within the bar (p0 3 %, a 5 %; the
+/// finest mesh is checked in `two_body::elastic_cylinder_on_elastic_block_meets_hertz`), the
+/// rows say mortar, the mesh ratio, the cylinder's material and radius, and `condensed` keeps
+/// every gap row within δ.
+#[test]
+fn hertz_two_body_case_meets_hertz_and_records_the_second_body() {
+    let cfg = BenchConfig {
+        cases: vec![Case::HertzTwoBody],
+        meshes: vec![0.2],
+        methods: vec!["lagrange".into(), "condensed".into()],
+        deltas_rel: vec![1e-3],
+        ..config()
+    };
+    let run = contact_bench::run(&cfg, &Progress::quiet(), None).unwrap();
+    assert_eq!(run.rows.len(), 2);
+    for r in &run.rows {
+        let what = format!("{} {:?}", r.method, r.knob_rel);
+        assert!(r.error.is_empty(), "{what}: {}", r.error);
+        assert_eq!(r.discretization, "mortar");
+        assert_eq!(r.mesh_ratio, Some(7.0 / 4.0));
+        assert_eq!(r.young2, Some(cfg.young / 3.0));
+        assert_eq!(r.poisson2, Some(0.33));
+        assert_eq!(r.radius2, Some(cfg.radius));
+        assert!((r.p0_num / r.p0_exact - 1.0).abs() <= 0.03, "{what}: p0");
+        assert!((r.a_num / r.a_exact - 1.0).abs() <= 0.05, "{what}: a");
+        if let Some(rel) = r.knob_rel {
+            assert!(r.max_penetration <= rel * cfg.a_target, "{what}");
+        }
+    }
+}

@@ -29,7 +29,7 @@ pub fn kappa_sensitivity(cfg: &BenchConfig, progress: &Progress) -> Result<Vec<B
         return Ok(Vec::new());
     };
     let mut out = Vec::new();
-    for &case in cfg.cases.iter().filter(|c| !c.is_uniform()) {
+    for &case in cfg.cases.iter().filter(|c| c.is_rigid_hertz()) {
         let prep = Prepared::new(cfg, case, h_rel)?;
         // The rows' `err_discretization` and `err_domain` mean what they mean in rows.csv.
         let errors = prep.errors(cfg)?;

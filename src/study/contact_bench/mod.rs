@@ -80,7 +80,8 @@ use std::time::Instant;
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct BenchConfig {
     /// Cases (`hertz-plane`, `hertz-axi`, `flat-punch`, `inclined-15`, `inclined-30`,
-    /// `inclined-45`, `patch-two-body-mortar`, `patch-two-body-nts-1`).
+    /// `inclined-45`, `patch-two-body-mortar`, `patch-two-body-nts-1`: [`Case::DEFAULT`];
+    /// `hertz-two-body` on request).
     pub cases: Vec<Case>,
     /// Element sizes at the contact over a (the Hertz contact half-width; the flat-punch block is
     /// a × a), coarse to fine.
@@ -123,7 +124,7 @@ pub struct BenchConfig {
 impl Default for BenchConfig {
     fn default() -> Self {
         BenchConfig {
-            cases: Case::ALL.to_vec(),
+            cases: Case::DEFAULT.to_vec(),
             meshes: vec![0.2, 0.1, 0.05],
             methods: registry::names().into_iter().map(str::to_string).collect(),
             // Per unit area (nodal ε·ω_c with ω ≈ h inside the contact): the nodal penalties
@@ -298,13 +299,18 @@ fn base_row(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> BenchRow {
         .case
         .two_body()
         .map(|_| cfg.setup().two_blocks(mesh.grid));
+    let cylinder = (mesh.case == Case::HertzTwoBody).then(|| cfg.setup().cylinder_material());
+    let ratio = analytic::UPPER_BLOCK.3;
     BenchRow {
         case: mesh.case.name().into(),
         discretization: mesh.case.discretization().into(),
         theta: mesh.case.theta_deg(),
-        mesh_ratio: two.map(|b| b.mesh_upper.0 as f64 / b.mesh_lower.0 as f64),
-        young2: two.map(|b| b.upper.young),
-        poisson2: two.map(|b| b.upper.poisson),
+        mesh_ratio: two
+            .map(|b| b.mesh_upper.0 as f64 / b.mesh_lower.0 as f64)
+            .or(cylinder.map(|_| ratio.0 as f64 / ratio.1 as f64)),
+        young2: two.map(|b| b.upper.young).or(cylinder.map(|m| m.young)),
+        poisson2: two.map(|b| b.upper.poisson).or(cylinder.map(|m| m.poisson)),
+        radius2: cylinder.map(|_| cfg.radius),
         method: job.method.name().into(),
         knob: job.knob.into(),
         knob_value: knob_value(&job.method),
@@ -528,10 +534,11 @@ impl Prepared {
         })
     }
 
-    /// The rows' errors: Hertz from the domain study ([`domain`]); the flat punch is exact
-    /// on its block (its own error, no domain error).
+    /// The rows' errors: rigid Hertz from the domain study ([`domain`]); the flat punch is
+    /// exact on its block (its own error, no domain error); `hertz-two-body` its own error
+    /// against Hertz on its block and cap (which holds their finite size: no domain study).
     pub(crate) fn errors(&self, cfg: &BenchConfig) -> Result<MeshErrors> {
-        if self.case.is_uniform() {
+        if !self.case.is_rigid_hertz() {
             return Ok(MeshErrors {
                 discretization: self.err_own,
                 domain: 0.0,

@@ -25,6 +25,9 @@ pub struct BenchRow {
     /// Two bodies: the upper block's Poisson's ratio.
     #[serde(default)]
     pub poisson2: Option<f64>,
+    /// `hertz-two-body`: the second body's (the cylinder's) radius.
+    #[serde(default)]
+    pub radius2: Option<f64>,
     /// Method name.
     pub method: String,
     /// Knob name (`eps`, `factor`, `delta`, `tol`, `adaptive-tol`, or empty).
