@@ -132,3 +132,55 @@ pub fn inclined_punch(
     let free = elasticity::free_dofs(grid, elasticity::Base::Sliding);
     rotated(&flat, &free, theta)
 }
+
+/// The indentation `scene` (one `upper` row `v_i ≤ f(x_i)` per top node, as
+/// [`elasticity::indentation`] builds it) with each row taken along the rigid obstacle's
+/// normal at the node instead of along y: a curved obstacle with nodal normals (issue 45).
+///
+/// The obstacle's surface above the node at x is `y = H + f(x)`; its unit normal into the
+/// obstacle is `m = (−f'(x), 1)/s`, `s = √(1 + f'(x)²)`, and the distance from the node to the
+/// surface's tangent line along m is `f(x)/s`, so the row becomes `m·u ≤ f(x)/s` — two terms
+/// where the node's x-DOF is free (one, `v ≤ f`, on the symmetry line, where f' = 0).
+/// `free` is the global DOF (`2·node + component`) of each of `scene`'s unknowns, in order
+/// ([`elasticity::free_dofs`]); `slope` is f'. Small deformation: the normal is the
+/// undeformed one. The rows share no DOF and are unit, so [`Indentation::pressures`] reads
+/// the normal pressure.
+pub fn with_nodal_normals(
+    scene: Indentation,
+    free: &[usize],
+    slope: impl Fn(f64) -> f64,
+) -> Result<Indentation> {
+    if free.len() != scene.problem.n() {
+        return Err(Error::input(format!(
+            "nodal normals: {} free DOFs listed for {} unknowns",
+            free.len(),
+            scene.problem.n()
+        )));
+    }
+    let mut rows = Vec::with_capacity(scene.problem.m());
+    for (con, node) in scene.problem.constraints.iter().zip(&scene.contact) {
+        let Some(d) = con.single_dof() else {
+            return Err(Error::input(
+                "nodal normals: the scene's rows must be single-DOF (v ≤ f)",
+            ));
+        };
+        let fp = slope(node.x);
+        if !fp.is_finite() {
+            return Err(Error::input(format!(
+                "nodal normals: the obstacle's slope is not finite at x = {}",
+                node.x
+            )));
+        }
+        let s = fp.hypot(1.0);
+        // The node's x-DOF: the global DOF one below its y-DOF, if it is free.
+        let ux = free.binary_search(&(free[d] - 1)).ok();
+        rows.push(match ux {
+            Some(x) if fp != 0.0 => {
+                Constraint::row(vec![(x, -fp / s), (d, 1.0 / s)], con.limit / s, con.kind)
+            }
+            _ => con.clone(),
+        });
+    }
+    let problem = Problem::new(scene.problem.k.clone(), scene.problem.q.clone(), rows)?;
+    Ok(Indentation { problem, ..scene })
+}

@@ -69,7 +69,7 @@ impl Setup {
     pub fn exact(&self, case: Case) -> (f64, Exact) {
         let (a, r, es) = (self.a_target, self.radius, self.e_star());
         match case {
-            Case::HertzPlane | Case::HertzAxi => {
+            Case::HertzPlane | Case::HertzAxi | Case::HertzNormals => {
                 let p = case.geometry().hertz_load(a, r, es);
                 (p, Exact::hertz(case.geometry(), p, r, es))
             }
@@ -113,6 +113,18 @@ impl Setup {
         };
         let r = self.radius;
         let scene = match case {
+            Case::HertzNormals => {
+                let flat = elasticity::indentation(
+                    grid,
+                    Geometry::PlaneStrain,
+                    &mat,
+                    Base::Clamped,
+                    lift,
+                    |x| x * x / (2.0 * r),
+                )?;
+                let free = elasticity::free_dofs(grid, Base::Clamped);
+                crate::model::inclined::with_nodal_normals(flat, &free, |x| x / r)
+            }
             Case::HertzTwoBody => {
                 return crate::model::cylinder::hertz_two_body(
                     &self.cylinder_on(grid),
@@ -252,6 +264,11 @@ pub enum Case {
     /// Hertz with the pair's E*.
     #[serde(rename = "hertz-two-body")]
     HertzTwoBody,
+    /// The rigid cylinder of `hertz-plane` with every contact row along the obstacle's normal
+    /// at its node ([`crate::model::inclined::with_nodal_normals`]): a curved rigid obstacle
+    /// with nodal normals, two terms per row.
+    #[serde(rename = "hertz-normals")]
+    HertzNormals,
 }
 
 /// The upper block of the two-body cases: its height over a, its modulus over the lower
@@ -261,7 +278,7 @@ pub const UPPER_BLOCK: (f64, f64, f64, (usize, usize)) = (0.5, 1.0 / 3.0, 0.33, 
 
 impl Case {
     /// The cases `contact_bench` runs by default: all but `hertz-two-body` (≈ 3.5 min of its
-    /// own on 2 cores, which would take the default run past 2 min).
+    /// own on 2 cores, which would take the default run past 2 min) and `hertz-normals`.
     pub const DEFAULT: [Case; 8] = [
         Case::HertzPlane,
         Case::HertzAxi,
@@ -274,7 +291,7 @@ impl Case {
     ];
 
     /// Every case, in table order.
-    pub const ALL: [Case; 9] = [
+    pub const ALL: [Case; 10] = [
         Case::HertzPlane,
         Case::HertzAxi,
         Case::FlatPunch,
@@ -284,6 +301,7 @@ impl Case {
         Case::PatchMortar,
         Case::PatchNts1,
         Case::HertzTwoBody,
+        Case::HertzNormals,
     ];
 
     /// Its name in rows and options (`hertz-plane`, `hertz-axi`, `flat-punch`,
@@ -299,6 +317,7 @@ impl Case {
             Case::PatchMortar => "patch-two-body-mortar",
             Case::PatchNts1 => "patch-two-body-nts-1",
             Case::HertzTwoBody => "hertz-two-body",
+            Case::HertzNormals => "hertz-normals",
         }
     }
 
@@ -324,7 +343,10 @@ impl Case {
     /// A uniform-pressure case on an a × a block: the flat punch (level or inclined) and the
     /// two-body patch test.
     pub fn is_uniform(self) -> bool {
-        !matches!(self, Case::HertzPlane | Case::HertzAxi | Case::HertzTwoBody)
+        !matches!(
+            self,
+            Case::HertzPlane | Case::HertzAxi | Case::HertzTwoBody | Case::HertzNormals
+        )
     }
 
     /// A Hertz case against a rigid indenter (the domain study's cases: its block is the

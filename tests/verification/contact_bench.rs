@@ -525,3 +525,53 @@ fn hertz_two_body_case_meets_hertz_and_records_the_second_body() {
         }
     }
 }
+
+/// `hertz-normals`: the rigid cylinder with every row along its nodal normal (two terms off
+/// the axis, unit rows). On the coarsest default mesh Lagrange and `condensed` meet Hertz as
+/// the vertical rows do (p0 within 3 %, a within 5 %), and the two row forms differ by less
+/// than the mesh's discretization error (the normals turn by at most x/R = 0.16 rad inside
+/// the contact zone of 1.5a).
+#[test]
+fn hertz_with_nodal_normals_meets_hertz() {
+    let cfg = BenchConfig {
+        cases: vec![Case::HertzNormals, Case::HertzPlane],
+        meshes: vec![0.2],
+        methods: vec!["lagrange".into(), "condensed".into()],
+        deltas_rel: vec![1e-3],
+        ..config()
+    };
+    let setup = cfg.setup();
+    let grid = cfg.grid(Case::HertzNormals, 0.2).unwrap();
+    let scene = setup.scene(Case::HertzNormals, &grid, 0.05).unwrap();
+    let mut coupled = 0;
+    for c in &scene.problem.constraints {
+        let n2: f64 = c.terms.iter().map(|t| t.1 * t.1).sum();
+        assert!((n2 - 1.0).abs() <= 4.0 * f64::EPSILON, "{:?}", c.terms);
+        coupled += usize::from(c.terms.len() == 2);
+    }
+    assert_eq!(
+        coupled,
+        scene.problem.m() - 1,
+        "all rows but the axis node's couple"
+    );
+    let run = contact_bench::run(&cfg, &Progress::quiet(), None).unwrap();
+    let lag = |case: &str| {
+        run.rows
+            .iter()
+            .find(|r| r.case == case && r.method == "lagrange")
+            .unwrap()
+    };
+    for r in run.rows.iter().filter(|r| r.case == "hertz-normals") {
+        let what = format!("{} {:?}", r.method, r.knob_rel);
+        assert!(r.error.is_empty(), "{what}: {}", r.error);
+        assert!((r.p0_num / r.p0_exact - 1.0).abs() <= 0.03, "{what}: p0");
+        assert!((r.a_num / r.a_exact - 1.0).abs() <= 0.05, "{what}: a");
+    }
+    let (n, v) = (lag("hertz-normals"), lag("hertz-plane"));
+    assert!(
+        (n.p0_num / v.p0_num - 1.0).abs() <= v.err_discretization,
+        "{} vs {}",
+        n.p0_num,
+        v.p0_num
+    );
+}
