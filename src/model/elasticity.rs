@@ -242,25 +242,34 @@ pub fn element_stiffness(
                 b[3][2 * a] = n / x;
             }
         }
-        for p in 0..8 {
-            // (C B)[:, p]
-            let mut cb = [0.0; 4];
-            for (r, cbr) in cb.iter_mut().enumerate() {
-                *cbr = (0..4).map(|s| c[r][s] * b[s][p]).sum();
-            }
-            // The lower triangle (q ≥ p); the upper is its mirror, so that Kₑ — and K, summed
-            // in the same element order for (i, j) and (j, i) — is symmetric bit for bit, as the
-            // certified cond₂ routes and Cholesky need (Bᵀ(CB) in the other order would differ
-            // in the last bits).
-            for q in p..8 {
-                ke[q][p] += w * (0..4).map(|r| b[r][q] * cb[r]).sum::<f64>();
-            }
+        add_btcb(&mut ke, &b, c, w);
+    }
+    mirror(&mut ke);
+    ke
+}
+
+/// `Kₑ += w·BᵀCB`, the lower triangle (q ≥ p) only: [`mirror`] makes the upper its mirror,
+/// so that Kₑ — and K, summed in the same element order for (i, j) and (j, i) — is symmetric
+/// bit for bit, as the certified cond₂ routes and Cholesky need (Bᵀ(CB) in the other order
+/// would differ in the last bits).
+fn add_btcb(ke: &mut [[f64; 8]; 8], b: &[[f64; 8]; 4], c: &[[f64; 4]; 4], w: f64) {
+    for p in 0..8 {
+        // (C B)[:, p]
+        let mut cb = [0.0; 4];
+        for (r, cbr) in cb.iter_mut().enumerate() {
+            *cbr = (0..4).map(|s| c[r][s] * b[s][p]).sum();
+        }
+        for q in p..8 {
+            ke[q][p] += w * (0..4).map(|r| b[r][q] * cb[r]).sum::<f64>();
         }
     }
+}
+
+/// Copies the lower triangle of `ke` onto the upper.
+fn mirror(ke: &mut [[f64; 8]; 8]) {
     for (p, q) in (0..8).flat_map(|p| (p + 1..8).map(move |q| (p, q))) {
         ke[p][q] = ke[q][p];
     }
-    ke
 }
 
 /// The 8×8 stiffness of the bilinear (isoparametric) quadrilateral with corners `xy` in
@@ -314,20 +323,9 @@ pub fn quad_stiffness(
                 b[3][2 * a] = n[a] / x;
             }
         }
-        for p in 0..8 {
-            let mut cb = [0.0; 4];
-            for (r, cbr) in cb.iter_mut().enumerate() {
-                *cbr = (0..4).map(|s| c[r][s] * b[s][p]).sum();
-            }
-            // Lower triangle, mirrored below: Kₑ symmetric bit for bit (as element_stiffness).
-            for q in p..8 {
-                ke[q][p] += w * (0..4).map(|r| b[r][q] * cb[r]).sum::<f64>();
-            }
-        }
+        add_btcb(&mut ke, &b, c, w);
     }
-    for (p, q) in (0..8).flat_map(|p| (p + 1..8).map(move |q| (p, q))) {
-        ke[p][q] = ke[q][p];
-    }
+    mirror(&mut ke);
     Ok(ke)
 }
 

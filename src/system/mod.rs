@@ -617,10 +617,13 @@ impl Problem {
             .enumerate()
             .map(|(c, con)| {
                 con.single_dof().ok_or_else(|| {
+                    let what = match con.terms.as_slice() {
+                        [(d, a)] => format!("is {a}·u[{d}] (one term, coefficient ≠ 1)"),
+                        t => format!("has {} terms", t.len()),
+                    };
                     Error::input(format!(
                         "{method} needs single-DOF constraints (coefficient 1), but constraint \
-                         {c} has {} term(s)",
-                        con.terms.len()
+                         {c} {what}"
                     ))
                 })
             })
