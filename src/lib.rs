@@ -17,8 +17,10 @@
 //!   recorded; what the bounds prove: [`conditioning::certify`]), log10|det|, ratios.
 //! * [`linalg`] — factorize once, solve many; log-det from the factor.
 //! * [`model`] — the 1-DOF spring (Eq. 10–17), Euler–Bernoulli beams (Eq. 30–34), the 5-point
-//!   membrane; seeded random scenes of those families ([`generate`]) and scenes that
-//!   scale to 10⁶ DOFs ([`model::scalable`]).
+//!   membrane, Q4 elasticity with rows that couple DOFs (inclined planes, two bodies with
+//!   node-to-segment and mortar rows: [`model::two_body`], [`model::cylinder`]); seeded random
+//!   scenes of those families ([`generate`]) and scenes that scale to 10⁶ DOFs
+//!   ([`model::scalable`]).
 //! * [`scene`] — scene files (JSON, Matrix Market) in and out.
 //! * [`forming`] — the axisymmetric flow-approach sheet-forming solver (paper sections 2, 5;
 //!   Fig. 7).
@@ -103,6 +105,8 @@
 //! | g = Dᵀu − û | [`strategy::Solution::gaps`] | signed gap | length |
 //! | K̄ = DᵀKD, q̄ = Dᵀq | [`strategy::paper::eq28`] | reduced system of Eq. 26–27 | — |
 //! | S = DᵀK⁻¹D | [`strategy::condensed`] | condensed flexibility (ours) | length/force |
+//! | D_ij = ∫N_iN_j, M_ik = ∫N_iN̂_k, ω_i = ∫N_i | [`model::two_body`] | mortar row of slave node i, `(Σ_j D_ij v_j − Σ_k M_ik v_k)/ω_i` (a normalized gap) | length |
+//! | E* = E/(1 − ν²); 1/E* = 1/E₁* + 1/E₂* | [`model::elasticity::Material::contact_modulus`], [`model::cylinder::CylinderOnBlock::e_star`] | contact modulus (one body; a pair) | force/length² |
 //! | uw(·) | [`conditioning::cond2`] | 2-norm condition number σ_max/σ_min | — |
 //! | \|·\| (det) | [`conditioning::log10_abs_det`] | log10 of \|det\| | — |
 //! | μ* | [`forming::Material::mu_star`] | viscosity function of Eq. 4, μ* = σ̄/(3ε̄̇) | ton-force·s/in² |

@@ -170,7 +170,7 @@ pub fn hertz_two_body(
         .map(|i| map[2 * block.node(i, block.ny() - 1) + 1])
         .collect();
     let (sx, mx) = (&xs, &block.xs);
-    let ws = two_body::tributary(sx);
+    let ws = two_body::tributary(sx, Geometry::PlaneStrain);
     let mut rows: Vec<(Terms, f64, f64, f64)> = Vec::new(); // (terms, limit, ω, x)
     match disc {
         Discretization::Nts1 | Discretization::Nts2 => {
@@ -178,7 +178,7 @@ pub fn hertz_two_body(
                 rows.push((two_body::nts_terms(x, sd[i], mx, &md), -c.gap0(x), ws[i], x));
             }
             if disc == Discretization::Nts2 {
-                let wm = two_body::tributary(mx);
+                let wm = two_body::tributary(mx, Geometry::PlaneStrain);
                 let w2 = c.cap_width;
                 for (k, &x) in mx.iter().enumerate().filter(|(_, &x)| x <= w2) {
                     let terms: Terms = two_body::nts_terms(x, md[k], sx, &sd)
@@ -195,7 +195,7 @@ pub fn hertz_two_body(
         }
         Discretization::Mortar => {
             let wg = weighted_gap(sx, |x| c.gap0(x));
-            let m_rows = two_body::mortar_rows(sx, &sd, mx, &md);
+            let m_rows = two_body::mortar_rows(sx, &sd, mx, &md, Geometry::PlaneStrain);
             for (i, terms) in m_rows.into_iter().enumerate() {
                 rows.push((terms, -wg[i] / ws[i], ws[i], sx[i]));
             }

@@ -549,7 +549,7 @@ fn row_forces(p: &Problem, r: &[f64]) -> Vec<f64> {
 
 /// Tributary weights of the top nodes: ∫ N_i ds (plane strain) or ∫ N_i r dr (axisymmetric)
 /// of the linear edge functions, exact.
-fn top_weights(xs: &[f64], geometry: Geometry) -> Vec<f64> {
+pub(super) fn top_weights(xs: &[f64], geometry: Geometry) -> Vec<f64> {
     let mut w = vec![0.0; xs.len()];
     for k in 0..xs.len().saturating_sub(1) {
         let (a, b) = (xs[k], xs[k + 1]);

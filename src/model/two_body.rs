@@ -39,6 +39,10 @@
 //! **Exact solution** of the patch test: uniform compression, `p = w / (H₁/E₁* + H₂/E₂*)`,
 //! `E* = E/(1 − ν²)` (plane strain, free lateral expansion on frictionless faces), reproduced
 //! exactly by bilinear elements.
+//!
+//! **Axisymmetric** ([`patch_in`]): the same blocks as two stacked discs of radius W about the
+//! symmetry line; every integral of the rows and every tributary weight takes the weight r (per
+//! radian), and the exact pressure is `w / (H₁/E₁ + H₂/E₂)` (no plane-strain constraint).
 
 use super::elasticity::{self, ContactNode, Geometry, Grid, Indentation, Material};
 use crate::error::{Error, Result};
@@ -117,11 +121,28 @@ impl TwoBlocks {
             / (self.h_lower / self.lower.contact_modulus()
                 + self.h_upper / self.upper.contact_modulus())
     }
+
+    /// [`Self::exact_pressure`] in `geometry`: axisymmetric (two stacked discs, free lateral
+    /// surfaces) with the plain moduli, `w / (H₁/E₁ + H₂/E₂)`.
+    pub fn exact_pressure_in(&self, geometry: Geometry, squeeze: f64) -> f64 {
+        match geometry {
+            Geometry::PlaneStrain => self.exact_pressure(squeeze),
+            Geometry::Axisymmetric => {
+                squeeze / (self.h_lower / self.lower.young + self.h_upper / self.upper.young)
+            }
+        }
+    }
 }
 
 /// ∫ of the product of two linear functions on [a, b] given by their end values, exactly (2-point
-/// Gauss): `(fa, fb)` and `(ga, gb)`.
-pub(super) fn product_integral(a: f64, b: f64, f: (f64, f64), g: (f64, f64)) -> f64 {
+/// Gauss): `(fa, fb)` and `(ga, gb)`; in axisymmetry with the weight r (a cubic: still exact).
+pub(super) fn product_integral(
+    a: f64,
+    b: f64,
+    f: (f64, f64),
+    g: (f64, f64),
+    geometry: Geometry,
+) -> f64 {
     let half = 0.5 * (b - a);
     let r = 0.5 / 3f64.sqrt();
     [0.5 - r, 0.5 + r]
@@ -129,7 +150,11 @@ pub(super) fn product_integral(a: f64, b: f64, f: (f64, f64), g: (f64, f64)) -> 
         .map(|&t| {
             let ft = f.0 + t * (f.1 - f.0);
             let gt = g.0 + t * (g.1 - g.0);
-            half * ft * gt
+            let w = match geometry {
+                Geometry::PlaneStrain => 1.0,
+                Geometry::Axisymmetric => a + t * (b - a),
+            };
+            half * ft * gt * w
         })
         .sum()
 }
@@ -158,21 +183,21 @@ pub(super) fn nts_terms(x: f64, own: usize, xs: &[f64], other: &[usize]) -> Term
     t
 }
 
-/// Tributary lengths ∫ N_i ds on the 1-D mesh `xs`.
-pub(super) fn tributary(xs: &[f64]) -> Vec<f64> {
-    let mut w = vec![0.0; xs.len()];
-    for k in 0..xs.len() - 1 {
-        let l = xs[k + 1] - xs[k];
-        w[k] += 0.5 * l;
-        w[k + 1] += 0.5 * l;
-    }
-    w
+/// Tributary lengths ∫ N_i ds on the 1-D mesh `xs` (axisymmetric: ∫ N_i r dr, per radian).
+pub(super) fn tributary(xs: &[f64], geometry: Geometry) -> Vec<f64> {
+    elasticity::top_weights(xs, geometry)
 }
 
 /// Mortar rows of the slave face `sx` (DOFs `sd`) over the master face `mx` (DOFs `md`):
 /// `(Σ_j D_ij v_j − Σ_k M_ik v_k)/ω_i` per slave node i (module doc).
-pub(super) fn mortar_rows(sx: &[f64], sd: &[usize], mx: &[f64], md: &[usize]) -> Vec<Terms> {
-    let w = tributary(sx);
+pub(super) fn mortar_rows(
+    sx: &[f64],
+    sd: &[usize],
+    mx: &[f64],
+    md: &[usize],
+    geometry: Geometry,
+) -> Vec<Terms> {
+    let w = tributary(sx, geometry);
     let mut rows: Vec<std::collections::BTreeMap<usize, f64>> = vec![Default::default(); sx.len()];
     for s in 0..sx.len() - 1 {
         // Breakpoints of the slave segment: its ends and the master nodes inside it.
@@ -185,7 +210,8 @@ pub(super) fn mortar_rows(sx: &[f64], sd: &[usize], mx: &[f64], md: &[usize]) ->
                 let ni = (hat(sx, i, a), hat(sx, i, b));
                 for j in [s, s + 1] {
                     let nj = (hat(sx, j, a), hat(sx, j, b));
-                    *rows[i].entry(sd[j]).or_insert(0.0) += product_integral(a, b, ni, nj);
+                    *rows[i].entry(sd[j]).or_insert(0.0) +=
+                        product_integral(a, b, ni, nj, geometry);
                 }
                 let mid = 0.5 * (a + b);
                 let k = mx
@@ -194,7 +220,8 @@ pub(super) fn mortar_rows(sx: &[f64], sd: &[usize], mx: &[f64], md: &[usize]) ->
                     .unwrap_or(mx.len() - 2);
                 for kk in [k, k + 1] {
                     let nk = (hat(mx, kk, a), hat(mx, kk, b));
-                    *rows[i].entry(md[kk]).or_insert(0.0) -= product_integral(a, b, ni, nk);
+                    *rows[i].entry(md[kk]).or_insert(0.0) -=
+                        product_integral(a, b, ni, nk, geometry);
                 }
             }
         }
@@ -248,14 +275,31 @@ fn prescribed(lower: &Grid, upper: &Grid, squeeze: f64) -> Vec<Option<f64>> {
 /// the upper one (reaching −squeeze at its top). Bilinear elements hold this field exactly,
 /// so a discretization that passes the patch test reproduces it to rounding.
 pub fn exact_displacements(blocks: &TwoBlocks, squeeze: f64) -> Result<Vec<f64>> {
+    exact_displacements_in(Geometry::PlaneStrain, blocks, squeeze)
+}
+
+/// [`exact_displacements`] in `geometry`; axisymmetric (σ_zz = −p, σ_rr = σ_θθ = 0):
+/// `u_r = p ν r/E` and `v` falls by `p/E` per unit height, p = [`TwoBlocks::exact_pressure_in`].
+pub fn exact_displacements_in(
+    geometry: Geometry,
+    blocks: &TwoBlocks,
+    squeeze: f64,
+) -> Result<Vec<f64>> {
     let b = blocks;
     validate(b, squeeze)?;
     let (lower, upper) = grids(b);
     let fixed = prescribed(&lower, &upper, squeeze);
-    let p = b.exact_pressure(squeeze);
-    let lateral = |m: &Material| p * m.poisson * (1.0 + m.poisson) / m.young;
-    let dv1 = p / b.lower.contact_modulus();
-    let dv2 = p / b.upper.contact_modulus();
+    let p = b.exact_pressure_in(geometry, squeeze);
+    let (lateral, vertical): (fn(&Material) -> f64, fn(&Material) -> f64) = match geometry {
+        Geometry::PlaneStrain => (
+            |m| m.poisson * (1.0 + m.poisson) / m.young,
+            |m| 1.0 / m.contact_modulus(),
+        ),
+        Geometry::Axisymmetric => (|m| m.poisson / m.young, |m| 1.0 / m.young),
+    };
+    let lateral = |m: &Material| p * lateral(m);
+    let dv1 = p * vertical(&b.lower);
+    let dv2 = p * vertical(&b.upper);
     let mut full = vec![0.0; fixed.len()];
     for (j, &y) in lower.ys.iter().enumerate() {
         for (i, &x) in lower.xs.iter().enumerate() {
@@ -302,12 +346,24 @@ fn validate(b: &TwoBlocks, squeeze: f64) -> Result<()> {
 /// ω), `lift` = the squeeze, so that [`Indentation::pressures`] reads `p_c = −f_c/ω_c` and
 /// force control (`strategy::force_control`) finds the squeeze that carries a load.
 pub fn patch(blocks: &TwoBlocks, squeeze: f64, disc: Discretization) -> Result<Indentation> {
+    patch_in(Geometry::PlaneStrain, blocks, squeeze, disc)
+}
+
+/// [`patch`] in `geometry`: axisymmetric, two stacked discs of radius W (x = r, the symmetry
+/// line the axis), the mortar integrals and the tributary weights ω taken with the weight r
+/// (per radian), so that forces and [`Indentation::total_force`] are per radian and 2π times.
+pub fn patch_in(
+    geometry: Geometry,
+    blocks: &TwoBlocks,
+    squeeze: f64,
+    disc: Discretization,
+) -> Result<Indentation> {
     let b = blocks;
     validate(b, squeeze)?;
     let (lower, upper) = grids(b);
     let off = 2 * lower.nodes();
-    let mut t = elasticity::assemble(&lower, Geometry::PlaneStrain, &b.lower)?;
-    let tu = elasticity::assemble(&upper, Geometry::PlaneStrain, &b.upper)?;
+    let mut t = elasticity::assemble(&lower, geometry, &b.lower)?;
+    let tu = elasticity::assemble(&upper, geometry, &b.upper)?;
     t.extend(tu.into_iter().map(|(i, j, v)| (i + off, j + off, v)));
     let fixed = prescribed(&lower, &upper, squeeze);
     let (k, q, map) = elasticity::eliminate(&t, &fixed)?;
@@ -320,7 +376,7 @@ pub fn patch(blocks: &TwoBlocks, squeeze: f64, disc: Discretization) -> Result<I
         .map(|i| map[2 * lower.node(i, lower.ny() - 1) + 1])
         .collect();
     let (sx, mx) = (&upper.xs, &lower.xs);
-    let (ws, wm) = (tributary(sx), tributary(mx));
+    let (ws, wm) = (tributary(sx, geometry), tributary(mx, geometry));
     let mut rows: Vec<(Terms, f64, f64)> = Vec::new(); // (terms, ω, x)
     match disc {
         Discretization::Nts1 | Discretization::Nts2 => {
@@ -340,7 +396,11 @@ pub fn patch(blocks: &TwoBlocks, squeeze: f64, disc: Discretization) -> Result<I
             }
         }
         Discretization::Mortar => {
-            for ((terms, &w), &x) in mortar_rows(sx, &sd, mx, &md).into_iter().zip(&ws).zip(sx) {
+            for ((terms, &w), &x) in mortar_rows(sx, &sd, mx, &md, geometry)
+                .into_iter()
+                .zip(&ws)
+                .zip(sx)
+            {
                 rows.push((terms, w, x));
             }
         }
@@ -356,7 +416,7 @@ pub fn patch(blocks: &TwoBlocks, squeeze: f64, disc: Discretization) -> Result<I
         contact,
         n_free,
         lift: squeeze,
-        geometry: Geometry::PlaneStrain,
+        geometry,
     })
 }
 
@@ -374,7 +434,7 @@ mod tests {
         let sd: Vec<usize> = (0..sx.len()).collect();
         let md: Vec<usize> = (100..100 + mx.len()).collect();
         for (mx, md) in [(&mx, &md), (&sx, &md[..sx.len()].to_vec())] {
-            for row in mortar_rows(&sx, &sd, mx, md) {
+            for row in mortar_rows(&sx, &sd, mx, md, Geometry::PlaneStrain) {
                 let slave: f64 = row.iter().filter(|t| t.0 < 100).map(|t| t.1).sum();
                 let master: f64 = row.iter().filter(|t| t.0 >= 100).map(|t| t.1).sum();
                 assert!((slave - 1.0).abs() <= 8.0 * f64::EPSILON, "{row:?}");
@@ -382,7 +442,7 @@ mod tests {
             }
         }
         // Matching meshes: the master coefficient of node k equals the slave one of node k.
-        for row in mortar_rows(&sx, &sd, &sx, &md[..sx.len()]) {
+        for row in mortar_rows(&sx, &sd, &sx, &md[..sx.len()], Geometry::PlaneStrain) {
             for &(d, a) in row.iter().filter(|t| t.0 < 100) {
                 let b = row.iter().find(|t| t.0 == 100 + d).map_or(0.0, |t| t.1);
                 assert!((a + b).abs() <= 8.0 * f64::EPSILON, "{row:?}");

@@ -128,7 +128,11 @@ pub fn box_qp(
         max_it: 10 * m + 50,
         what: "condensed",
     };
-    pdas(
+    // Whether some S_AA was not positive definite to working precision (its Cholesky failed
+    // and LU solved it): with dependent rows S is singular, and a loop that then fails to
+    // converge says so rather than only that it did not converge.
+    let not_pd = std::cell::Cell::new(false);
+    let out = pdas(
         state,
         spec,
         |c| s[(c, c)],
@@ -146,7 +150,10 @@ pub fn box_qp(
                 let mut rhs = Mat::from_fn(act.len(), 1, |i, _| g0[act[i]] - target(act[i]));
                 match saa.llt(Side::Lower) {
                     Ok(l) => l.solve_in_place(rhs.as_mut()),
-                    Err(_) => saa.partial_piv_lu().solve_in_place(rhs.as_mut()),
+                    Err(_) => {
+                        not_pd.set(true);
+                        saa.partial_piv_lu().solve_in_place(rhs.as_mut())
+                    }
                 }
                 for (i, &c) in act.iter().enumerate() {
                     r[c] = rhs[(i, 0)];
@@ -163,7 +170,14 @@ pub fn box_qp(
                 .collect();
             Ok((g, r, ()))
         },
-    )
+    );
+    match out {
+        Err(Error::Numerical(msg)) if not_pd.get() => Err(Error::Numerical(format!(
+            "{msg}; S_AA was not positive definite to working precision on the way (constraint \
+             rows linearly dependent?)"
+        ))),
+        other => other,
+    }
 }
 
 /// The primal–dual violations of a state, as `(weight, constraint, new state)`: a constraint

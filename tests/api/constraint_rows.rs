@@ -315,3 +315,33 @@ fn barrier_starts_feasible_on_rows_that_share_a_dof() {
         assert!((a - b).abs() <= 0.1, "{:?} vs {:?}", s.u, l.u);
     }
 }
+
+/// Three bilateral rows of which the third is 0.1·(first) + ⅔·(second) to rounding (a
+/// reviewer's scene): `S = DᵀK⁻¹D` is singular, Lagrange refuses the saddle point, and
+/// `condensed` errors naming dependent rows (not only that its active set did not converge).
+#[test]
+fn dependent_rows_are_named_by_condensed() {
+    let k = Stiffness::from_rows(&[
+        vec![4.0, -1.0, 0.0, 0.0],
+        vec![-1.0, 4.0, -1.0, 0.0],
+        vec![0.0, -1.0, 4.0, -1.0],
+        vec![0.0, 0.0, -1.0, 4.0],
+    ])
+    .unwrap();
+    let b = ConstraintKind::Bilateral;
+    let rows = vec![
+        Constraint::row(vec![(0, 1.0), (1, 1.0 / 3.0)], 0.2, b),
+        Constraint::row(vec![(1, 1.0), (2, 0.3)], 0.3, b),
+        Constraint::row(
+            vec![(0, 0.1), (1, 0.7), (2, 0.19999999999999998)],
+            0.21999999999999997,
+            b,
+        ),
+    ];
+    let p = Problem::new(k, vec![1.0; 4], rows).unwrap();
+    assert!(strategy::solve(&p, Method::lagrange()).is_err());
+    let e = strategy::solve(&p, Method::condensed(1e-3))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("dependent"), "{e}");
+}
