@@ -290,7 +290,7 @@ pub fn exact_displacements_in(
     let (lower, upper) = grids(b);
     let fixed = prescribed(&lower, &upper, squeeze);
     let p = b.exact_pressure_in(geometry, squeeze);
-    let (lateral, vertical): (fn(&Material) -> f64, fn(&Material) -> f64) = match geometry {
+    let (lateral, vertical): (PerModulus, PerModulus) = match geometry {
         Geometry::PlaneStrain => (
             |m| m.poisson * (1.0 + m.poisson) / m.young,
             |m| 1.0 / m.contact_modulus(),
@@ -323,6 +323,9 @@ pub fn exact_displacements_in(
         .map(|(u, _)| u)
         .collect())
 }
+
+/// A strain per unit stress of a material (1/E*, ν(1 + ν)/E, ...).
+type PerModulus = fn(&Material) -> f64;
 
 /// Checks the blocks and the squeeze (one-line errors).
 fn validate(b: &TwoBlocks, squeeze: f64) -> Result<()> {
