@@ -232,4 +232,62 @@ mod tests {
         let total: f64 = weighted_gap(&xs, |x| x * x).iter().sum();
         assert!((total - 2.5f64.powi(3) / 3.0).abs() <= 1e-14 * total);
     }
+
+    /// The two-pass rows on a small cylinder: the first pass is `nts-1` unchanged; the second
+    /// adds one row per block top node under the cap, `(1 − ξ)v_a + ξ v_b − v_m ≥ −g`, with g
+    /// the chord of the slave nodes' x²/2R over the master node (computed here from the slave
+    /// abscissae, by hand); every row of every discretization has coefficients summing to 0
+    /// (a rigid vertical motion of both bodies opens no gap) and a non-negative initial gap.
+    #[test]
+    fn two_pass_rows_add_the_master_pass() {
+        let c = CylinderOnBlock {
+            block: Grid::graded(4.0, 4.0, 0.25, 1.5, 1.2).unwrap(),
+            base: Base::Clamped,
+            lower: Material {
+                young: 210e3,
+                poisson: 0.3,
+            },
+            radius: 10.0,
+            cap_width: 1.5,
+            cap_height: 1.5,
+            h: 0.25 * 4.0 / 7.0,
+            fine: 1.0,
+            growth: 1.2,
+            upper: Material {
+                young: 70e3,
+                poisson: 0.33,
+            },
+        };
+        let one = hertz_two_body(&c, 1e-3, Discretization::Nts1).unwrap();
+        let two = hertz_two_body(&c, 1e-3, Discretization::Nts2).unwrap();
+        let m1 = one.problem.m();
+        let under: Vec<f64> = c.block.xs.iter().copied().filter(|&x| x <= 1.5).collect();
+        assert_eq!(two.problem.m(), m1 + under.len());
+        assert_eq!(two.problem.constraints[..m1], one.problem.constraints[..]);
+        let sx: Vec<f64> = one.contact.iter().map(|n| n.x).collect();
+        for (row, node) in two.problem.constraints[m1..].iter().zip(&two.contact[m1..]) {
+            let x = node.x;
+            let b = sx.iter().position(|&s| s >= x).unwrap().max(1);
+            let xi = (x - sx[b - 1]) / (sx[b] - sx[b - 1]);
+            let chord = (1.0 - xi) * sx[b - 1].powi(2) / 20.0 + xi * sx[b].powi(2) / 20.0;
+            assert!(
+                (row.limit + chord).abs() <= 1e-15 + 1e-14 * chord,
+                "x = {x}: limit {} vs −{chord}",
+                row.limit
+            );
+            assert!(
+                chord >= x * x / 20.0 - 1e-15,
+                "the chord lies above the parabola"
+            );
+        }
+        let mortar = hertz_two_body(&c, 1e-3, Discretization::Mortar).unwrap();
+        for scene in [&one, &two, &mortar] {
+            for row in &scene.problem.constraints {
+                let sum: f64 = row.terms.iter().map(|t| t.1).sum();
+                let size: f64 = row.terms.iter().map(|t| t.1.abs()).sum();
+                assert!(sum.abs() <= 8.0 * f64::EPSILON * size, "{:?}", row.terms);
+                assert!(row.limit <= 0.0, "initial gap −limit = {}", -row.limit);
+            }
+        }
+    }
 }

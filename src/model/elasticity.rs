@@ -475,7 +475,8 @@ impl Indentation {
     ///
     /// The row forces f are read from equilibrium, `K u − q = −D f`: `f_c = −(K u − q)_d` for
     /// single-DOF rows, `DᵀD f = −Dᵀ(K u − q)` for rows that couple DOFs (D of full column
-    /// rank; NaN where DᵀD is singular, e.g. the dependent rows of two-pass node-to-segment),
+    /// rank; NaN where DᵀD is singular or nearly so, e.g. the dependent rows of two-pass
+    /// node-to-segment),
     /// and `p_c = s_c f_c / ω_c` with `s_c = +1` for an `upper` row and −1 for a `lower` one
     /// (the compressive sign of each).
     pub fn pressures(&self, u: &[f64]) -> Vec<f64> {
@@ -522,7 +523,8 @@ impl Indentation {
 }
 
 /// The row forces f with `r = −D f` (least squares, `DᵀD f = −Dᵀr`, dense m×m Cholesky; NaN
-/// where DᵀD is singular: dependent rows carry no defined share of the force).
+/// where DᵀD is singular or its pivots spread by more than [`DEPENDENT_ROWS_RATIO`]:
+/// dependent rows carry no defined share of the force).
 fn row_forces(p: &Problem, r: &[f64]) -> Vec<f64> {
     let m = p.m();
     let mut dtd = faer::Mat::<f64>::zeros(m, m);
@@ -538,14 +540,27 @@ fn row_forces(p: &Problem, r: &[f64]) -> Vec<f64> {
         }
     }
     let mut rhs = faer::Mat::<f64>::from_fn(m, 1, |c, _| -p.constraints[c].value(r));
-    match dtd.llt(faer::Side::Lower) {
-        Ok(llt) => {
-            faer::linalg::solvers::Solve::solve_in_place(&llt, rhs.as_mut());
-            (0..m).map(|c| rhs[(c, 0)]).collect()
-        }
-        Err(_) => vec![f64::NAN; m],
+    let Ok(llt) = dtd.llt(faer::Side::Lower) else {
+        return vec![f64::NAN; m];
+    };
+    // Each pivot L_ii² lies in [λ_min, λ_max] of DᵀD, so max/min pivot ≤ cond(DᵀD): a ratio
+    // above 1/√ε_mach proves the forces would keep fewer than half their digits. Dependent
+    // rows (two-pass node-to-segment) give a pivot at the rounding level without a
+    // breakdown; their shares are not defined.
+    let pivots = (0..m).map(|i| llt.L()[(i, i)].powi(2));
+    let (lo, hi) = pivots.fold((f64::INFINITY, 0.0_f64), |(lo, hi), v| {
+        (lo.min(v), hi.max(v))
+    });
+    if m > 0 && lo * DEPENDENT_ROWS_RATIO < hi {
+        return vec![f64::NAN; m];
     }
+    faer::linalg::solvers::Solve::solve_in_place(&llt, rhs.as_mut());
+    (0..m).map(|c| rhs[(c, 0)]).collect()
 }
+
+/// Rows whose DᵀD has a Cholesky pivot ratio above this (1/√ε_mach) are treated as dependent
+/// by [`Indentation::pressures`].
+const DEPENDENT_ROWS_RATIO: f64 = 6.7e7;
 
 /// Tributary weights of the top nodes: ∫ N_i ds (plane strain) or ∫ N_i r dr (axisymmetric)
 /// of the linear edge functions, exact.

@@ -184,3 +184,67 @@ pub fn with_nodal_normals(
     let problem = Problem::new(scene.problem.k.clone(), scene.problem.q.clone(), rows)?;
     Ok(Indentation { problem, ..scene })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::elasticity::{Base, Geometry, Grid, Material};
+
+    /// The rows of [`with_nodal_normals`] by hand, on a parabolic obstacle y = x²/(2R) with
+    /// R = 2 over a 4 × 2 block of width 2: at x = 1 the slope is ½, the unit normal
+    /// (−1, 2)/√5 and the limit the vertical one times 2/√5; at x = ½ the slope is ¼, the
+    /// normal (−1, 4)/√17; on the symmetry line the row stays `v ≤ f`. The x-term sits on the
+    /// node's own x-DOF (global 2·node, beside its y-DOF 2·node + 1).
+    #[test]
+    fn nodal_normal_rows_by_hand() {
+        let grid = Grid::uniform(2.0, 1.0, 4, 2);
+        let material = Material {
+            young: 100.0,
+            poisson: 0.25,
+        };
+        let r = 2.0;
+        let scene = elasticity::indentation(
+            &grid,
+            Geometry::PlaneStrain,
+            &material,
+            Base::Clamped,
+            0.01,
+            |x| x * x / (2.0 * r),
+        )
+        .unwrap();
+        let vertical: Vec<_> = scene.problem.constraints.clone();
+        let xs: Vec<f64> = scene.contact.iter().map(|c| c.x).collect();
+        let free = elasticity::free_dofs(&grid, Base::Clamped);
+        let normals = with_nodal_normals(scene, &free, |x| x / r).unwrap();
+        // (x, m_x, m_y, limit / vertical limit), by hand.
+        let s17 = 17f64.sqrt();
+        let (s5, s2) = (5f64.sqrt(), 2f64.sqrt());
+        let table = [
+            (0.5, -1.0 / s17, 4.0 / s17, 4.0 / s17),
+            (1.0, -1.0 / s5, 2.0 / s5, 2.0 / s5),
+            (1.5, -0.6, 0.8, 0.8),
+            (2.0, -1.0 / s2, 1.0 / s2, 1.0 / s2),
+        ];
+        let by_hand = |x: f64| table.iter().find(|t| t.0 == x).map(|t| (t.1, t.2, t.3));
+        assert_eq!(xs.len(), 5);
+        for ((row, old), &x) in normals.problem.constraints.iter().zip(&vertical).zip(&xs) {
+            let close = |a: f64, b: f64| (a - b).abs() <= 4.0 * f64::EPSILON * b.abs().max(1.0);
+            match by_hand(x) {
+                None => assert_eq!((x, row), (0.0, old), "x = 0: v ≤ f unchanged"),
+                Some((mx, my, scale)) => {
+                    assert_eq!(row.terms.len(), 2, "x = {x}");
+                    let (gx, gy) = (free[row.terms[0].0], free[row.terms[1].0]);
+                    assert_eq!(gy, free[old.single_dof().unwrap()], "x = {x}: y-DOF");
+                    assert_eq!((gx % 2, gx + 1), (0, gy), "x = {x}: the node's own x-DOF");
+                    assert!(close(row.terms[0].1, mx), "x = {x}: {:?}", row.terms);
+                    assert!(close(row.terms[1].1, my), "x = {x}: {:?}", row.terms);
+                    assert!(
+                        close(row.limit, old.limit * scale),
+                        "x = {x}: {}",
+                        row.limit
+                    );
+                }
+            }
+        }
+    }
+}

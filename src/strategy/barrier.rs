@@ -427,34 +427,52 @@ pub fn solve_with(mut ctx: Context, dhat: f64, rule: KappaRule) -> Result<Soluti
     ))
 }
 
-/// Most sweeps of [`feasible_start`]'s cyclic projections.
+/// Most sweeps of [`feasible_start`]'s cyclic projections at the first target margin (later
+/// margins get a tenth of it).
 const START_SWEEPS: usize = 1000;
 
-/// A strictly feasible start: `u0` with every constraint closer than d̂/2 (or violated) moved
-/// to d̂/2 along its row (`set_value`). Rows that share DOFs can undo each other's move, so the
-/// sweep repeats (cyclic projections onto the half-spaces, which converge where their
-/// intersection has an interior) until every row lies above d̂/4, at most [`START_SWEEPS`]
-/// times; single-DOF rows on distinct DOFs are done in the first sweep, as before.
+/// Most halvings of [`feasible_start`]'s target margin.
+const START_HALVINGS: usize = 60;
+
+/// A strictly feasible start: `u0` with every constraint closer than a target margin τ (or
+/// violated) moved to τ along its row (`set_value`), τ = d̂/2 first. Rows that share DOFs can
+/// undo each other's move, so the sweep repeats (cyclic projections onto the half-spaces,
+/// which converge where their intersection has an interior) until every row lies above τ/2,
+/// at most [`START_SWEEPS`] times; where they do not get there — an `upper` and a `lower` row
+/// whose band is narrower than d̂, where no point is d̂/4 from both — τ halves (up to
+/// [`START_HALVINGS`] times), so any band with an interior is found. The barrier only needs
+/// every gap in (0, d̂). Single-DOF rows on distinct DOFs are done in the first sweep at τ =
+/// d̂/2, as before.
 fn feasible_start(p: &Problem, mut u: Vec<f64>, dhat: f64) -> Result<Vec<f64>> {
-    for _ in 0..START_SWEEPS {
-        for con in &p.constraints {
-            if side(con.kind) * con.gap(&u) < 0.5 * dhat {
-                con.set_value(&mut u, con.limit + side(con.kind) * 0.5 * dhat);
+    let mut target = 0.5 * dhat;
+    for halving in 0..=START_HALVINGS {
+        let sweeps = if halving == 0 {
+            START_SWEEPS
+        } else {
+            START_SWEEPS / 10
+        };
+        for _ in 0..sweeps {
+            for con in &p.constraints {
+                if side(con.kind) * con.gap(&u) < target {
+                    con.set_value(&mut u, con.limit + side(con.kind) * target);
+                }
+            }
+            let worst = p
+                .constraints
+                .iter()
+                .map(|con| side(con.kind) * con.gap(&u))
+                .fold(f64::INFINITY, f64::min);
+            if worst > 0.5 * target {
+                return Ok(u);
             }
         }
-        let worst = p
-            .constraints
-            .iter()
-            .map(|con| side(con.kind) * con.gap(&u))
-            .fold(f64::INFINITY, f64::min);
-        if worst > 0.25 * dhat {
-            return Ok(u);
-        }
+        target *= 0.5;
     }
     Err(Error::Numerical(format!(
-        "barrier: no strictly feasible start found in {START_SWEEPS} sweeps of projections \
-         onto the constraint rows (the rows may admit no point with every gap ≥ d̂/4 = {:e})",
-        0.25 * dhat
+        "barrier: no strictly feasible start found by cyclic projections onto the constraint \
+         rows with margins from d̂/2 = {:e} down to {target:e} (the rows may admit no point \
+         strictly inside every one)",
+        0.5 * dhat
     )))
 }
 

@@ -316,6 +316,29 @@ fn barrier_starts_feasible_on_rows_that_share_a_dof() {
     }
 }
 
+/// A band narrower than d̂ (a reviewer's scene): `u0 − u1 ≤ 1` and `u0 − u1 ≥ 0.9` with d̂ = 0.5,
+/// so no point is d̂/4 from both rows; the start's margin halves until one lies strictly
+/// inside, and the barrier's solution keeps both gaps open. The load pulls u0 − u1 towards
+/// 10, so Lagrange sits on the upper row.
+#[test]
+fn barrier_starts_inside_a_band_narrower_than_dhat() {
+    let k = Stiffness::from_rows(&[vec![2.0, -1.0], vec![-1.0, 2.0]]).unwrap();
+    let rows = vec![
+        Constraint::row(vec![(0, 1.0), (1, -1.0)], 1.0, ConstraintKind::Upper),
+        Constraint::row(vec![(0, 1.0), (1, -1.0)], 0.9, ConstraintKind::Lower),
+    ];
+    let p = Problem::new(k, vec![30.0, -30.0], rows).unwrap();
+    let s = strategy::solve(&p, Method::barrier(0.5)).unwrap();
+    let slack = s.u[0] - s.u[1];
+    assert!(slack > 0.9 && slack < 1.0, "u0 − u1 = {slack}");
+    let l = strategy::solve(&p, Method::lagrange()).unwrap();
+    assert!((l.u[0] - l.u[1] - 1.0).abs() <= 1e-12, "{:?}", l.u);
+    assert!(
+        1.0 - slack <= 0.5,
+        "the barrier lies within d̂ of the upper row: {slack}"
+    );
+}
+
 /// Three bilateral rows of which the third is 0.1·(first) + ⅔·(second) to rounding (a
 /// reviewer's scene): `S = DᵀK⁻¹D` is singular, Lagrange refuses the saddle point, and
 /// `condensed` errors naming dependent rows (not only that its active set did not converge).

@@ -126,6 +126,14 @@ fn bad_input_exits_2_naming_the_flag() {
         vec!["--delta-methods", "constant"],
         vec!["--eps-rel=-1"],
         vec!["--delta-rel", "2"],
+        // A reviewer's inputs: r << (levels − 1) overflowed; levels that push the default
+        // ratio past 256 across named only --ratio; repeats; an ε that overflows K + εDDᵀ.
+        vec!["--ratio", "9223372036854775807:1"],
+        vec!["--levels", "7"],
+        vec!["--discretizations", "mortar,mortar"],
+        vec!["--delta-methods", "condensed,condensed"],
+        vec!["--eps-rel", "1,1"],
+        vec!["--eps-rel", "1e300"],
     ];
     let outs = common::assert_bad_input_writes_nothing(BIN, &cases, &["--quiet"]);
     for (args, o) in cases.iter().zip(outs) {

@@ -52,6 +52,67 @@ fn plane_strain_q4_matches_scikit_fem() {
     );
 }
 
+/// The axisymmetric quadrilateral (strains εr, εz, γrz, εθ = u_r/r; per radian, weight r):
+/// on a rectangle off the axis it is the rectangle element; on a distorted quad the axial
+/// translation carries no force, and u = (a r, d z) — exact in the bilinear space, so
+/// εθ = a exactly — stores ½·(εᵀCε)·∫ r dA with ∫ r dA by the polygon's first moment
+/// (r·det J is at most quadratic in ξ and η: 2×2 Gauss is exact).
+fn axisymmetric_quad_passes_its_checks(m: &Material) {
+    use penalty_lab::model::elasticity::{element_stiffness, quad_stiffness};
+    let g = Geometry::Axisymmetric;
+    let c = m.c_matrix(g);
+    let rect = quad_stiffness(g, &c, [(0.5, 1.0), (2.0, 1.0), (2.0, 1.75), (0.5, 1.75)]).unwrap();
+    let want = element_stiffness(g, &c, (0.5, 2.0), (1.0, 1.75));
+    let scale = want.iter().flatten().fold(0.0f64, |a, v| a.max(v.abs()));
+    for (r, w) in rect.iter().flatten().zip(want.iter().flatten()) {
+        assert!((r - w).abs() <= 16.0 * f64::EPSILON * scale, "{r} vs {w}");
+    }
+    let xy = [(0.4, 0.0), (2.0, 0.3), (2.4, 1.9), (0.3, 1.4)];
+    let ke = quad_stiffness(g, &c, xy).unwrap();
+    let scale = ke.iter().flatten().fold(0.0f64, |a, v| a.max(v.abs()));
+    let field = |f: &dyn Fn(f64, f64) -> (f64, f64)| -> [f64; 8] {
+        let mut u = [0.0; 8];
+        for (k, &(x, y)) in xy.iter().enumerate() {
+            (u[2 * k], u[2 * k + 1]) = f(x, y);
+        }
+        u
+    };
+    let apply = |u: &[f64; 8]| -> [f64; 8] {
+        let mut f = [0.0; 8];
+        for (fi, row) in f.iter_mut().zip(&ke) {
+            *fi = row.iter().zip(u).map(|(k, x)| k * x).sum();
+        }
+        f
+    };
+    for f in apply(&field(&|_, _| (0.0, 1.0))) {
+        assert!(
+            f.abs() <= 64.0 * f64::EPSILON * scale,
+            "axial translation force {f:e}"
+        );
+    }
+    let (a, d) = (1e-3, -6e-4);
+    let u = field(&|x, y| (a * x, d * y));
+    let energy: f64 = 0.5 * u.iter().zip(apply(&u)).map(|(x, f)| x * f).sum::<f64>();
+    // ∫ r dA over the polygon: Σ (x_k y_{k+1} − x_{k+1} y_k)(x_k + x_{k+1}) / 6.
+    let moment = (0..4)
+        .map(|k| {
+            let (p, q) = (xy[k], xy[(k + 1) % 4]);
+            (p.0 * q.1 - q.0 * p.1) * (p.0 + q.0) / 6.0
+        })
+        .sum::<f64>();
+    let eps = [a, d, 0.0, a];
+    let mut want = 0.0;
+    for r in 0..4 {
+        for s in 0..4 {
+            want += 0.5 * moment * eps[r] * c[r][s] * eps[s];
+        }
+    }
+    assert!(
+        (energy / want - 1.0).abs() <= 1e-12,
+        "{energy:e} vs {want:e}"
+    );
+}
+
 /// The isoparametric quadrilateral (`quad_stiffness`): on a rectangle it is the rectangle
 /// element (to rounding); on a distorted quad, rigid motions carry no force and a linear field
 /// u = (a x + b y, c x + d y) stores the energy ½·A·εᵀCε exactly (bilinear elements hold
@@ -125,6 +186,7 @@ fn isoparametric_quad_passes_its_checks() {
         (energy / want - 1.0).abs() <= 1e-12,
         "{energy:e} vs {want:e}"
     );
+    axisymmetric_quad_passes_its_checks(&m);
     // A clockwise element is refused.
     let mut cw = xy;
     cw.reverse();

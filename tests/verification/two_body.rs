@@ -171,7 +171,8 @@ fn the_two_body_sweep_family_is_seeded_and_coupled() {
 /// a 5 × 5 cap) on an elastic 16 × 16 block (E₁ = 210e3, ν₁ = 0.3, clamped base), mortar rows,
 /// the cylinder meshed 7:4 finer than the block (h = a/20 on the block), loaded under force
 /// control for the Hertz half-width a = 1 with the pair's E*: Lagrange and `condensed`
-/// (δ = 1e-4·a) reproduce Hertz's p0 within 3 % and a within 5 % (issue 45's bar); one-pass
+/// (δ = 1e-4·a) reproduce Hertz's p0 within 0.5 % and a within 2 % (issue 45's bar: 3 %
+/// and 5 %); one-pass
 /// node-to-segment is printed beside them.
 #[test]
 fn elastic_cylinder_on_elastic_block_meets_hertz() {
@@ -220,8 +221,9 @@ fn elastic_cylinder_on_elastic_block_meets_hertz() {
             done.scene.problem.n()
         );
         if disc == Discretization::Mortar {
-            assert!(ep.abs() <= 0.03, "{} p0 off by {ep:e}", m.name());
-            assert!(ea.abs() <= 0.05, "{} a off by {ea:e}", m.name());
+            // Issue 45's bar is 3 % and 5 %; observed 0.04 % and 1 %.
+            assert!(ep.abs() <= 0.005, "{} p0 off by {ep:e}", m.name());
+            assert!(ea.abs() <= 0.02, "{} a off by {ea:e}", m.name());
         }
     }
 }

@@ -67,6 +67,26 @@ pub const SQUEEZE: f64 = 1e-3;
 /// a minute at N ≈ 5000); above this the Lagrange rows carry their errors only.
 pub const SADDLE_METRICS_MAX_N: usize = 2000;
 
+/// Most elements across a block on the finest level (the upper block's mesh at 256 across
+/// has ≈ 66 000 DOFs beside the lower one's).
+pub const MAX_ACROSS: usize = 256;
+
+/// Largest ε_rel: ε = ε_rel·E*/h beyond 1/ε_mach·E*/h leaves K's entries (≈ E*) below the
+/// rounding of the penalty's.
+pub const MAX_EPS_REL: f64 = 1e15;
+
+/// The first value seen twice.
+fn first_repeat<T: PartialEq + Copy>(items: impl Iterator<Item = T>) -> Option<T> {
+    let mut seen = Vec::new();
+    for x in items {
+        if seen.contains(&x) {
+            return Some(x);
+        }
+        seen.push(x);
+    }
+    None
+}
+
 /// What to run.
 #[derive(Clone, Debug, Serialize)]
 pub struct PenaltyScalingConfig {
@@ -125,17 +145,39 @@ impl PenaltyScalingConfig {
             )));
         }
         let (r1, r2) = self.ratio;
-        let finest = r1.max(r2) << (self.levels - 1);
-        if r1 == 0 || r2 == 0 || finest > 256 {
+        if r1 == 0 || r2 == 0 {
             return Err(Error::input(format!(
-                "--ratio: {r1}:{r2} needs both ≥ 1 and at most 256 elements across on the \
-                 finest level (got {finest})"
+                "--ratio: {r1}:{r2} needs at least one element across each block"
+            )));
+        }
+        let finest = r1.max(r2).checked_mul(1 << (self.levels - 1));
+        if finest.is_none_or(|f| f > MAX_ACROSS) {
+            return Err(Error::input(format!(
+                "--ratio {r1}:{r2} with --levels {}: the finest level would have {} elements \
+                 across (at most {MAX_ACROSS}); lower either",
+                self.levels,
+                finest.map_or("more than usize::MAX".into(), |f| f.to_string())
+            )));
+        }
+        if let Some(d) = first_repeat(self.discretizations.iter().map(|d| d.name())) {
+            return Err(Error::input(format!(
+                "--discretizations: '{d}' given twice"
+            )));
+        }
+        if let Some(d) = first_repeat(self.delta_methods.iter().map(|s| s.name)) {
+            return Err(Error::input(format!("--delta-methods: '{d}' given twice")));
+        }
+        if let Some(e) = first_repeat(self.eps_rel.iter().map(|e| e.to_bits())) {
+            return Err(Error::input(format!(
+                "--eps-rel: {} given twice",
+                f64::from_bits(e)
             )));
         }
         for &e in &self.eps_rel {
-            if !(e.is_finite() && e > 0.0) {
+            if !(e.is_finite() && e > 0.0 && e <= MAX_EPS_REL) {
                 return Err(Error::input(format!(
-                    "--eps-rel: {e} is not finite and > 0"
+                    "--eps-rel: {e} is not in (0, {MAX_EPS_REL:e}] (above, K's entries fall \
+                     below the rounding of the penalty's)"
                 )));
             }
         }
@@ -323,7 +365,8 @@ fn row_of(
     {
         let sep = if row.note.is_empty() { "" } else { "; " };
         row.note = format!(
-            "{}{sep}metrics not run: cond₂ of a saddle point with coupled rows is dense above              N = {SADDLE_METRICS_MAX_N} here (minutes)",
+            "{}{sep}metrics not run: cond₂ of a saddle point with coupled rows is dense above \
+             N = {SADDLE_METRICS_MAX_N} here (minutes)",
             row.note
         );
         return (row, Some(sol.u));

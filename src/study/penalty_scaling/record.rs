@@ -93,7 +93,8 @@ pub struct Slope {
     pub schedule: String,
     /// ε_rel of a `constant` schedule.
     pub eps_rel: Option<f64>,
-    /// Levels with a solution.
+    /// Levels with a solution. Each fit uses those of them whose value is positive and finite
+    /// (errors: above [`ERR_FLOOR`]), at least two, else it is `None`.
     pub levels: usize,
     /// p of cond₂(system).
     pub p_cond2: Option<f64>,
