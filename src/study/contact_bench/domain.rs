@@ -12,7 +12,10 @@
 //!   block: what the finite block adds;
 //! - the Lagrange row's `p_err_rel` = its error on the benchmark's block (both together).
 //!
-//! The flat punch is exact on its finite block: `err_domain` = 0 and no study.
+//! The flat punch is exact on its finite block: `err_domain` = 0 and no study. The study runs
+//! on the rigid Hertz cases only (`Case::is_rigid_hertz`): `hertz-two-body` (a finite cap on
+//! the block) and `hertz-normals` have `err_domain` = 0 and no study, so their
+//! `err_discretization` is Lagrange's error on the benchmark's block, domain error included.
 
 use super::{analytic, BenchConfig, MeshErrors, Prepared};
 use crate::error::Result;
