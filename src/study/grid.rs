@@ -1,10 +1,24 @@
 //! Knob grids shared by the studies: [`LogGrid`], a log-spaced range given as `LO:HI:N`, and
 //! [`KnobGrid`], the levels of every knob on one scene with the one expansion of a strategy's
-//! [`Knob`] into the methods a study runs ([`KnobGrid::points`]).
+//! [`Knob`] into the methods a study runs ([`KnobGrid::points`]); [`parse_ratio`], a mesh
+//! ratio given as `A:B`.
 
 use crate::error::{Error, Result};
 use crate::strategy::{Knob, Knobs, Method, Strategy};
 use serde::{Deserialize, Serialize};
+
+/// `A:B` → (A, B), whole numbers (a mesh ratio flag; the study checks the range).
+pub fn parse_ratio(s: &str) -> std::result::Result<(usize, usize), String> {
+    let (a, b) = s
+        .split_once(':')
+        .ok_or_else(|| format!("'{s}' is not A:B"))?;
+    let n = |t: &str| {
+        t.trim()
+            .parse::<usize>()
+            .map_err(|_| format!("'{t}' is not a whole number"))
+    };
+    Ok((n(a)?, n(b)?))
+}
 
 /// A log-spaced grid `lo..hi` with `n` points, inclusive.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

@@ -56,6 +56,9 @@ pub struct Setup {
     pub radius: f64,
     /// Hertz contact half-width (radius) a the load is chosen for.
     pub a_target: f64,
+    /// The second body's elements per first-body elements at the contact (upper, lower) in
+    /// the two-body cases ([`MESH_RATIO`] by default).
+    pub mesh_ratio: (usize, usize),
 }
 
 impl Setup {
@@ -159,10 +162,10 @@ impl Setup {
 
     /// The elastic cylinder of `hertz-two-body` on the block `grid` ([`CylinderOnBlock`]):
     /// radius R, the material of [`UPPER_BLOCK`] (E/3, ν = 0.33), a cap of 0.5R × 0.5R, its
-    /// elements [`UPPER_BLOCK`]'s 7:4 finer than the block's at the contact, graded like it;
-    /// the block clamped at its base.
+    /// elements `mesh_ratio` (7:4 by default) finer than the block's at the contact, graded
+    /// like it; the block clamped at its base.
     pub fn cylinder_on(&self, grid: &Grid) -> CylinderOnBlock {
-        let (num, den) = UPPER_BLOCK.3;
+        let (num, den) = self.mesh_ratio;
         let h = grid.xs.get(1).copied().unwrap_or(1.0);
         let a = self.a_target;
         CylinderOnBlock {
@@ -190,9 +193,11 @@ impl Setup {
         }
     }
 
-    /// The two blocks of the two-body cases on the lower block's `grid` ([`UPPER_BLOCK`]).
+    /// The two blocks of the two-body cases on the lower block's `grid` ([`UPPER_BLOCK`],
+    /// `mesh_ratio` upper elements across per `lower`).
     pub fn two_blocks(&self, grid: &Grid) -> TwoBlocks {
-        let (h_rel, e_rel, nu, (num, den)) = UPPER_BLOCK;
+        let (h_rel, e_rel, nu) = UPPER_BLOCK;
+        let (num, den) = self.mesh_ratio;
         let (nx, ny) = (grid.xs.len() - 1, grid.ys.len() - 1);
         let a = self.a_target;
         TwoBlocks {
@@ -272,9 +277,12 @@ pub enum Case {
 }
 
 /// The upper block of the two-body cases: its height over a, its modulus over the lower
-/// block's E, its ν, and its elements across per lower element (`7:4`, so the interface
-/// meshes never match: 5:9, 10:18, 20:35 on the default meshes).
-pub const UPPER_BLOCK: (f64, f64, f64, (usize, usize)) = (0.5, 1.0 / 3.0, 0.33, (7, 4));
+/// block's E and its ν.
+pub const UPPER_BLOCK: (f64, f64, f64) = (0.5, 1.0 / 3.0, 0.33);
+
+/// The default elements across the second body per element of the first (upper, lower):
+/// `7:4`, so the interface meshes never match (5:9, 10:18, 20:35 on the default meshes).
+pub const MESH_RATIO: (usize, usize) = (7, 4);
 
 impl Case {
     /// The cases `contact_bench` runs by default: all but `hertz-two-body` (≈ 3.5 min of its

@@ -494,6 +494,49 @@ fn two_body_patch_cases_report_mortar_exact_and_nts_off() {
     }
 }
 
+/// `--mesh-ratio` (issue 45: ratios such as 2:3, 3:5, 4:7): at h = a/10 (10 lower elements
+/// across) the upper block gets 15, 17 and 18 elements; mortar's Lagrange and `condensed`
+/// keep the uniform pressure to 1e-8 at each, one-pass node-to-segment is off by more than
+/// 1e-3, and the rows record the ratio they ran.
+#[test]
+fn two_body_patch_holds_at_every_mesh_ratio() {
+    for ((up, low), upper) in [((3, 2), 15.0), ((5, 3), 17.0), ((7, 4), 18.0)] {
+        let cfg = BenchConfig {
+            cases: vec![Case::PatchMortar, Case::PatchNts1],
+            meshes: vec![0.1],
+            methods: vec!["lagrange".into(), "condensed".into()],
+            deltas_rel: vec![1e-3],
+            mesh_ratio: (up, low),
+            ..config()
+        };
+        let run = contact_bench::run(&cfg, &Progress::quiet(), None).unwrap();
+        assert_eq!(run.rows.len(), 2 * 2);
+        for r in &run.rows {
+            let what = format!("{up}:{low} {} {} {:?}", r.case, r.method, r.knob_rel);
+            assert!(r.error.is_empty(), "{what}: {}", r.error);
+            assert_eq!(r.mesh_ratio, Some(upper / 10.0), "{what}");
+            if r.case == "patch-two-body-mortar" {
+                assert!(r.p_spread <= 1e-8, "{what}: spread {}", r.p_spread);
+            } else {
+                assert!(
+                    r.err_discretization > 1e-3,
+                    "{what}: {}",
+                    r.err_discretization
+                );
+            }
+        }
+    }
+    let bad = BenchConfig {
+        mesh_ratio: (0, 4),
+        ..config()
+    };
+    assert!(bad
+        .validate()
+        .unwrap_err()
+        .to_string()
+        .contains("--mesh-ratio"));
+}
+
 /// `hertz-two-body` in the benchmark (coarsest default mesh, h = a/5): Lagrange and
 /// `condensed` meet Hertz with the pair's E* within the issue's bar (p0 3 %, a 5 %; the
 /// finest mesh is checked in `two_body::elastic_cylinder_on_elastic_block_meets_hertz`), the

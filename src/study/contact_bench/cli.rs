@@ -43,6 +43,10 @@ pub struct Flags {
     /// Hertz block size over a (default 16; the domain study's blocks are fixed).
     #[arg(long)]
     block_over_a: Option<f64>,
+    /// Elements across the second body per elements across the first in the two-body cases,
+    /// UPPER:LOWER (default 7:4; e.g. 3:2, 5:3, 7:4 for the patch test's 2:3, 3:5, 4:7).
+    #[arg(long, value_parser = crate::study::grid::parse_ratio)]
+    mesh_ratio: Option<(usize, usize)>,
 }
 
 impl Flags {
@@ -83,6 +87,9 @@ impl Flags {
         }
         if let Some(b) = self.block_over_a {
             cfg.block_over_a = b;
+        }
+        if let Some(r) = self.mesh_ratio {
+            cfg.mesh_ratio = r;
         }
         cfg.validate()?;
         Ok(cfg)

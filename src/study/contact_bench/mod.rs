@@ -113,6 +113,11 @@ pub struct BenchConfig {
     /// half-space; [`domain`] measures what it costs against larger blocks).
     #[serde(default = "default_block")]
     pub block_over_a: f64,
+    /// Elements across the second body per elements across the first at the contact
+    /// (upper, lower) in the two-body cases: 7:4 by default (the patch test's upper block,
+    /// the cylinder's cap); each 1–16.
+    #[serde(default = "default_ratio")]
+    pub mesh_ratio: (usize, usize),
     /// `optimal` runs only on meshes with at most this many DOFs (≤ `optimal::MAX_N`): each
     /// solve takes ≈ 500–1 600 evaluations of the spectrum's ends on the Hertz meshes, and
     /// force control solves it 4–11 times (measured on 2 cores: 60–132 s per δ at 2 211 DOFs,
@@ -141,12 +146,17 @@ impl Default for BenchConfig {
             a_target: 1.0,
             optimal_max_n: 100,
             block_over_a: BLOCK_OVER_A,
+            mesh_ratio: analytic::MESH_RATIO,
         }
     }
 }
 
 fn default_block() -> f64 {
     BLOCK_OVER_A
+}
+
+fn default_ratio() -> (usize, usize) {
+    analytic::MESH_RATIO
 }
 
 /// Default Hertz block size over a: the model of the half-space ([`domain`]).
@@ -187,6 +197,12 @@ impl BenchConfig {
                 2.0 * FINE_OVER_A
             )));
         }
+        let (up, low) = self.mesh_ratio;
+        if !((1..=16).contains(&up) && (1..=16).contains(&low)) {
+            return Err(Error::input(format!(
+                "--mesh-ratio: {up}:{low} needs both in 1..=16"
+            )));
+        }
         if let Some(h) = self.meshes.iter().find(|h| **h > 0.5 || **h < 1e-3) {
             return Err(Error::input(format!(
                 "--meshes: h/a = {h} is outside [1e-3, 0.5]"
@@ -219,6 +235,7 @@ impl BenchConfig {
             poisson: self.poisson,
             radius: self.radius,
             a_target: self.a_target,
+            mesh_ratio: self.mesh_ratio,
         }
     }
 
@@ -300,7 +317,7 @@ fn base_row(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> BenchRow {
         .two_body()
         .map(|_| cfg.setup().two_blocks(mesh.grid));
     let cylinder = (mesh.case == Case::HertzTwoBody).then(|| cfg.setup().cylinder_material());
-    let ratio = analytic::UPPER_BLOCK.3;
+    let ratio = cfg.mesh_ratio;
     BenchRow {
         case: mesh.case.name().into(),
         discretization: mesh.case.discretization().into(),

@@ -404,19 +404,6 @@ fn row_of(
     (row, Some(sol.u))
 }
 
-/// `r₁:r₂` → (r₁, r₂).
-fn parse_ratio(s: &str) -> std::result::Result<(usize, usize), String> {
-    let (a, b) = s
-        .split_once(':')
-        .ok_or_else(|| format!("'{s}' is not r1:r2"))?;
-    let n = |t: &str| {
-        t.trim()
-            .parse::<usize>()
-            .map_err(|_| format!("'{t}' is not a whole number"))
-    };
-    Ok((n(a)?, n(b)?))
-}
-
 /// The `penalty_scaling` binary's flags.
 #[derive(clap::Args, Debug)]
 pub struct Flags {
@@ -427,7 +414,7 @@ pub struct Flags {
     #[arg(long, default_value_t = 5)]
     levels: usize,
     /// Elements across the lower and the upper block on level 0.
-    #[arg(long, default_value = "4:7", value_parser = parse_ratio)]
+    #[arg(long, default_value = "4:7", value_parser = crate::study::grid::parse_ratio)]
     ratio: (usize, usize),
     /// ε of `constant` over E*/h₀ (eps-fixed) and over E*/h (eps-e-over-h), comma-separated.
     #[arg(long, value_delimiter = ',')]

@@ -74,6 +74,7 @@ pub const HERTZ: Setup = Setup {
     poisson: 0.3,
     radius: 10.0,
     a_target: 1.0,
+    mesh_ratio: crate::study::hertz::MESH_RATIO,
 };
 /// The Hertz block over a.
 pub const HERTZ_BLOCK: f64 = 16.0;
