@@ -31,7 +31,7 @@
 //!   and ν each) with non-matching interface meshes (2…8 elements across each, never equal),
 //!   squeezed by a strain in [1e-4, 1e-2] (log-uniform), with `nts-1` or `mortar` interface
 //!   rows drawn at random ([`crate::model::two_body`]): rows of up to ~7 terms, D not Boolean.
-//!   `optimal` refuses it (its spectral model needs a Boolean D); every other rule runs.
+//!   Every rule runs on it (`optimal` with no certified floor: NaN).
 //!
 //! The metadata of `hertz` and `flat-punch` records the draws (`geometry`, `young`, `poisson`, `h_over_a`,
 //! `radius`, `load`: the total force on the whole body, per unit thickness in plane strain,

@@ -150,18 +150,23 @@ fn a_rows_algebra_by_hand() {
     assert!(a.is_symmetric());
 }
 
+/// The cond₂ floor over all E needs a Boolean D and says so; every rule solves a coupled row,
+/// `optimal` too (its report's floor is then NaN).
 #[test]
 fn methods_that_need_a_boolean_d_say_so() {
     let c = Constraint::row(vec![(0, 0.6), (2, -0.8)], 0.1, ConstraintKind::Upper);
     let p = Problem::new(k3(), vec![0.0, 0.0, 1.0], vec![c]).unwrap();
-    let e = strategy::solve(&p, Method::optimal(0.01))
+    let e = strategy::optimal::cond2_lower_bound(&p)
         .unwrap_err()
         .to_string();
     assert!(
-        e.contains("optimal needs single-DOF constraints") && e.contains("2 term"),
+        e.contains("needs single-DOF constraints") && e.contains("2 term"),
         "{e}"
     );
-    // Every other rule solves it.
+    let opt = strategy::solve(&p, Method::optimal(0.01)).unwrap();
+    assert!(opt.max_penetration <= 0.01);
+    let report = opt.stats.optimal.unwrap();
+    assert!(report.cond2_lower_bound.is_nan());
     for m in [
         Method::constant(10.0),
         Method::scaled(1.0),

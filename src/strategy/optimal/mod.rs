@@ -15,7 +15,7 @@
 //!   is multiple (at the optimum it usually is: the optimiser balances the constrained DOFs'
 //!   eigenvalues against each other). It is replaced by the smooth spectral upper bound
 //!   `F_t = t⁻¹ ln Σ_k λ_k^t + t⁻¹ ln Σ_k λ_k^(−t)`, with `ln cond₂ ≤ F_t ≤ ln cond₂ + 2 ln n / t`
-//!   and the exact gradient `∂F_t/∂ε_c = Σ_k (w⁺_k − w⁻_k) v_k[d_c]² / λ_k` (softmax weights
+//!   and the exact gradient `∂F_t/∂ε_c = Σ_k (w⁺_k − w⁻_k) (d_cᵀv_k)² / λ_k` (softmax weights
 //!   `w^±` of `±t ln λ`), valid whatever the multiplicities (a spectral function's gradient
 //!   is `V f'(Λ) Vᵀ`). t grows to 6·10⁴ (smoothing gap ≤ 2 ln n / t) over the stages.
 //!   The sparse route ([`Route`]) sums over windows instead: the [`spectrum::WINDOW`] largest
@@ -25,8 +25,8 @@
 //!   same formula over the windows; it is smooth except where an eigenvalue crosses a
 //!   window's edge, where its weight is `≤ (λ_edge/λ_extreme)^t`.
 //! * **Constraints**: the gaps `u = A⁻¹(q + D E û)` and their derivatives
-//!   `∂g_i/∂ε_j = −(A⁻¹)_{d_i d_j} g_j`, which enter the gradient through one adjoint solve
-//!   `z = A⁻¹ Σ_i (∂Φ/∂g_i) e_{d_i}` (`∂Φ/∂ε_j ∋ −g_j z[d_j]`), by the route's solver (the
+//!   `∂g_i/∂ε_j = −d_iᵀA⁻¹d_j g_j`, which enter the gradient through one adjoint solve
+//!   `z = A⁻¹ Σ_i (∂Φ/∂g_i) d_i` (`∂Φ/∂ε_j ∋ −g_j d_jᵀz`), by the route's solver (the
 //!   dense eigendecomposition or the sparse Cholesky factor). They enter through a
 //!   log barrier `−μ Σ ln(h/δ)` on `h = δ − penetration` (both sides for bilateral ties), plus
 //!   `h = s g > 0` for penalized unilateral constraints (they must stay violated, or their ε
@@ -70,7 +70,13 @@
 //! Up to [`DENSE_MAX_N`] DOFs every evaluation takes a dense eigendecomposition of the n×n
 //! system; above, the sparse route ([`spectrum`]): a sparse Cholesky factor and Lanczos
 //! windows at both ends of the spectrum. n ≤ [`MAX_N`], m ≤ [`MAX_M`]; larger problems are
-//! refused with [`Error::Input`]. K must be symmetric positive definite. Both routes end the
+//! refused with [`Error::Input`]. K must be symmetric positive definite.
+//!
+//! **Rows that couple DOFs** (issue 45): `A = K + Σ_c ε_c d_c d_cᵀ`, so every formula above
+//! holds with `v_k[d_c]` read as `d_cᵀv_k` and `e_{d_i}` as the row d_i (∂A/∂ε_c = d_c d_cᵀ);
+//! the sparse route factors on the pattern of `K + DDᵀ`. The certified floor
+//! [`cond2_lower_bound`] needs K on the null space of Dᵀ, a Boolean D's free DOFs; with coupled
+//! rows the report's `cond2_lower_bound` is NaN. Both routes end the
 //! same way (exact re-solve, exact cond₂, best feasible candidate), so the route changes the
 //! path of the optimiser, never the exactness of the reported numbers; on scenes both take
 //! (beams, Hertz and patch scenes of 51–136 DOFs) the optima agree to 5·10⁻⁹ relative
@@ -207,7 +213,8 @@ pub struct OptimalReport {
     pub starts_agreeing: usize,
     /// Starts stopped because they reached an earlier start's point (not in `starts`).
     pub starts_merged: usize,
-    /// Certified lower bound λ_max(K)/λ_min(K_FF) of the optimum.
+    /// Certified lower bound λ_max(K)/λ_min(K_FF) of the optimum; NaN where rows couple DOFs
+    /// ([`cond2_lower_bound`] takes a Boolean D).
     pub cond2_lower_bound: f64,
     /// Which candidate won (`optimised from condensed`, `paper`, ...).
     pub winner: String,
@@ -230,8 +237,6 @@ pub fn check_affordable(problem: &Problem) -> Result<()> {
             "optimal: K must be symmetric (cond₂ through symmetric eigenvalues)",
         ));
     }
-    // The spectral model perturbs K's diagonal only (a Boolean D).
-    problem.single_dofs("optimal")?;
     Ok(())
 }
 
@@ -416,7 +421,12 @@ pub fn solve(ctx: Context, delta: f64) -> Result<Solution> {
 pub fn solve_by(ctx: Context, delta: f64, route: Route) -> Result<Solution> {
     let p = ctx.problem;
     check_affordable(p)?;
-    let lower = cond2_lower_bound(p)?;
+    // The floor over all E needs K on the null space of Dᵀ: computed for a Boolean D only.
+    let lower = if p.is_selection() {
+        cond2_lower_bound(p)?
+    } else {
+        f64::NAN
+    };
     let spectrum = Spectrum::new(p, route)?;
     let mut cands: Vec<Candidate> = Vec::new();
     let mut starts: Vec<(String, Vec<f64>)> = Vec::new();

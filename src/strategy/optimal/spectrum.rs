@@ -1,10 +1,12 @@
-//! What one evaluation of the optimiser needs of `A = K + Σ_j ε_j e_{d_j} e_{d_j}ᵀ`: the
-//! eigenpairs that enter the smoothed ln cond₂ (their values and their vectors' entries at the
-//! penalized DOFs) and solves with A, by one of two routes ([`Route`]).
+//! What one evaluation of the optimiser needs of `A = K + Σ_j ε_j d_j d_jᵀ` (d_j the penalized
+//! constraint rows; `e_{d_j}` for single-DOF rows): the eigenpairs that enter the smoothed
+//! ln cond₂ (their values and `d_jᵀv` of their vectors) and solves with A, by one of two
+//! routes ([`Route`]).
 //!
 //! * **Dense**: one symmetric eigendecomposition of the n×n A (faer); every eigenpair enters
 //!   both ends of the smoothing, solves are `V Λ⁻¹ Vᵀ b`. Exact to rounding, ≈ 9n³ flops.
-//! * **Sparse**: a numeric sparse Cholesky of A on K's pattern (symbolic analysis once), the
+//! * **Sparse**: a numeric sparse Cholesky of A on the pattern of `K + DDᵀ` (K's own where the
+//!   rows are single-DOF; symbolic analysis once, each row's entries located once), the
 //!   [`WINDOW`] largest eigenpairs of A and the [`WINDOW`] largest of A⁻¹ (the smallest of A,
 //!   shift-invert at 0 through the factor) by Lanczos
 //!   ([`conditioning::window`](crate::conditioning::window)), each started from the window
@@ -17,7 +19,7 @@
 use crate::conditioning::window::top_window;
 use crate::error::{Error, Result};
 use crate::linalg::{symmetric_matvec, DiagonalPattern, SparseLlt};
-use crate::system::Problem;
+use crate::system::{Constraint, Problem};
 use faer::{Mat, Side};
 use std::cell::RefCell;
 
@@ -59,7 +61,7 @@ const MAX_STEPS: usize = 300;
 /// Smallest n of the sparse route (a window at each end, apart).
 pub const SPARSE_MIN_N: usize = 4 * WINDOW;
 
-/// One eigenpair: λ and the eigenvector's entries at the penalized DOFs (in set order).
+/// One eigenpair: λ and `d_jᵀv` of its eigenvector v for the penalized rows (in set order).
 pub(super) struct Pair {
     pub lambda: f64,
     pub at: Vec<f64>,
@@ -105,6 +107,9 @@ pub(super) enum Spectrum {
     Dense(Mat<f64>),
     Sparse {
         pattern: DiagonalPattern,
+        /// Per constraint row: the positions of its outer product `d dᵀ` in the pattern's
+        /// values, with the products `a_i a_j`.
+        outer: Vec<Vec<(usize, f64)>>,
         /// The last evaluation's windows (top of A, top of A⁻¹): where the next Lanczos
         /// runs start (the evaluation sequence is deterministic, so are the starts).
         warm: RefCell<[Vec<Vec<f64>>; 2]>,
@@ -123,25 +128,44 @@ impl Spectrum {
                         "optimal: the sparse route needs n ≥ {SPARSE_MIN_N} (got {n})"
                     )));
                 }
+                // K widened by explicit zeros to the rows' fill (K itself for single DOFs).
+                let zeros: Vec<(usize, usize, f64)> =
+                    p.constraints.iter().flat_map(|c| c.outer(0.0)).collect();
+                let k = crate::system::Stiffness::Sparse(p.k.to_sparse());
+                let pattern = DiagonalPattern::new(&k.with_entries_added(&zeros).to_sparse())?;
+                let outer = p
+                    .constraints
+                    .iter()
+                    .map(|c| outer_positions(&pattern, c))
+                    .collect::<Result<_>>()?;
                 Spectrum::Sparse {
-                    pattern: DiagonalPattern::new(&p.k.to_sparse())?,
+                    pattern,
+                    outer,
                     warm: RefCell::new([Vec::new(), Vec::new()]),
                 }
             }
         })
     }
 
-    /// The spectrum of `A = K + Σ_j eps[j] e_{dofs[j]} e_{dofs[j]}ᵀ`; None if A is not
-    /// positive definite or a penalty is not finite.
-    pub(super) fn linearize(&self, dofs: &[usize], eps: &[f64]) -> Result<Option<Linearization>> {
+    /// The spectrum of `A = K + Σ_j eps[j] d_c d_cᵀ` over the constraints `c = set[j]` of
+    /// `p`; None if A is not positive definite or a penalty is not finite.
+    pub(super) fn linearize(
+        &self,
+        p: &Problem,
+        set: &[usize],
+        eps: &[f64],
+    ) -> Result<Option<Linearization>> {
+        let rows: Vec<&Constraint> = set.iter().map(|&c| &p.constraints[c]).collect();
         if !eps.iter().all(|e| e.is_finite()) {
             return Ok(None);
         }
         match self {
             Spectrum::Dense(k) => {
                 let mut a = k.clone();
-                for (&d, &e) in dofs.iter().zip(eps) {
-                    a[(d, d)] += e;
+                for (row, &e) in rows.iter().zip(eps) {
+                    for (i, j, v) in row.outer(e) {
+                        a[(i, j)] += v;
+                    }
                 }
                 let evd = a
                     .self_adjoint_eigen(Side::Lower)
@@ -155,7 +179,10 @@ impl Spectrum {
                 let pairs = (0..n)
                     .map(|k| Pair {
                         lambda: lam[k],
-                        at: dofs.iter().map(|&d| v[(d, k)]).collect(),
+                        at: rows
+                            .iter()
+                            .map(|r| r.terms.iter().map(|&(d, c)| c * v[(d, k)]).sum())
+                            .collect(),
                     })
                     .collect();
                 Ok(Some(Linearization {
@@ -168,10 +195,16 @@ impl Spectrum {
                     },
                 }))
             }
-            Spectrum::Sparse { pattern, warm } => {
+            Spectrum::Sparse {
+                pattern,
+                outer,
+                warm,
+            } => {
                 let mut values = pattern.values.clone();
-                for (&d, &e) in dofs.iter().zip(eps) {
-                    values[pattern.diag[d]] += e;
+                for (&c, &e) in set.iter().zip(eps) {
+                    for &(pos, ab) in &outer[c] {
+                        values[pos] += e * ab;
+                    }
                 }
                 let Some(llt) = pattern.factor(&values) else {
                     return Ok(None);
@@ -193,7 +226,7 @@ impl Spectrum {
                 else {
                     return Ok(None);
                 };
-                let at = |v: &Vec<f64>| dofs.iter().map(|&d| v[d]).collect::<Vec<f64>>();
+                let at = |v: &Vec<f64>| rows.iter().map(|r| r.value(v)).collect::<Vec<f64>>();
                 let mut pairs: Vec<Pair> = top
                     .values
                     .iter()
@@ -225,4 +258,18 @@ impl Spectrum {
             }
         }
     }
+}
+
+/// The positions of `d dᵀ`'s entries in `pattern`'s values (columns hold sorted row indices),
+/// with the products `a_i a_j`.
+fn outer_positions(pattern: &DiagonalPattern, row: &Constraint) -> Result<Vec<(usize, f64)>> {
+    let (cp, ri) = (pattern.pattern.col_ptr(), pattern.pattern.row_idx());
+    row.outer(1.0)
+        .map(|(i, j, ab)| {
+            let col = &ri[cp[j]..cp[j + 1]];
+            col.binary_search(&i)
+                .map(|k| (cp[j] + k, ab))
+                .map_err(|_| Error::Numerical(format!("optimal: entry ({i}, {j}) of a row's outer product is not in the widened pattern")))
+        })
+        .collect()
 }
