@@ -179,10 +179,7 @@ impl Spectrum {
                 let pairs = (0..n)
                     .map(|k| Pair {
                         lambda: lam[k],
-                        at: rows
-                            .iter()
-                            .map(|r| r.terms.iter().map(|&(d, c)| c * v[(d, k)]).sum())
-                            .collect(),
+                        at: rows.iter().map(|r| r.apply(|d| v[(d, k)])).collect(),
                     })
                     .collect();
                 Ok(Some(Linearization {
