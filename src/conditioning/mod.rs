@@ -64,6 +64,7 @@ pub mod saddle;
 pub(crate) mod shifts;
 pub mod sparse;
 pub mod temple;
+pub(crate) mod tridiagonal;
 pub mod window;
 
 use crate::error::{Error, Result};

@@ -4,7 +4,7 @@
 
 use super::certify::POSTERIOR_MAX_PRODUCTS;
 use super::certify::{self, Margin};
-use super::lanczos::lanczos;
+use super::lanczos::{lanczos, Keep};
 use crate::error::Result;
 use crate::linalg::{DiagonalPattern, SparseLlt};
 use faer::sparse::SparseColMat;
@@ -141,7 +141,7 @@ pub(super) fn graded_estimate(
         GRADED_LANCZOS_STEPS,
         |_| 1e-2,
         Some(z),
-        false,
+        Keep::Never,
         |x, y| {
             for ((yi, xi), si) in y.iter_mut().zip(x).zip(s_hat) {
                 *yi = xi * si;

@@ -16,7 +16,8 @@
 //! 90-DOF beam whose Krylov subspace became numerically invariant (observed in this
 //! project), and it takes one start vector where a warm start needs the whole window.
 
-use super::lanczos::{start_vector, tridiagonal_dense};
+use super::lanczos::start_vector;
+use super::tridiagonal::tridiagonal_dense;
 use faer::linalg::matmul::matmul;
 use faer::reborrow::{Reborrow, ReborrowMut};
 use faer::{Accum, Col, ColRef, Mat, Par, Side};

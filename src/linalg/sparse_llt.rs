@@ -372,6 +372,12 @@ fn recycled_values(len: usize, zeroed: bool) -> Vec<f64> {
     v
 }
 
+/// Frees this thread's spare value buffer (see `SPARE_VALUES`): for work run on another
+/// thread for once, whose spare would otherwise stay allocated there, unused.
+pub fn release_spare_values() {
+    SPARE_VALUES.with(|s| drop(std::mem::take(&mut *s.borrow_mut())));
+}
+
 /// Keeps `v` as the spare value buffer (the larger of it and the current spare).
 fn recycle_values(v: Vec<f64>) {
     SPARE_VALUES.with(|s| {

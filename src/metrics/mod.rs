@@ -163,12 +163,6 @@ fn log10_det(
     }
 }
 
-/// Largest system size whose two cond₂ analyses (of K and of the system matrix) run side by
-/// side on two threads. Above it they run one after the other, so peak memory is one route's.
-/// At 10⁶ DOFs side by side takes 23 % less time for 1.6× the memory (`solve --method
-/// condensed` on the 10⁶ membrane: 57.8 → 44.3 s, peak 1.50 → 2.44 GB; docs/performance.md).
-pub const SIDE_BY_SIDE_MAX_N: usize = 2_000_000;
-
 /// Threshold on `cond₂ · ε_mach` above which fewer than ~10 digits are reliable.
 pub const DIGITS_LOST_THRESHOLD: f64 = 1e-6;
 
@@ -198,9 +192,12 @@ pub fn compute(problem: &Problem, sol: &Solution, set: MetricSet) -> Result<Metr
     if set.cond {
         // Where K's Ritz vectors are kept (n ≤ RITZ_VECTOR_MAX_N) the system's cond₂ starts
         // from them, after K's, exactly as a sweep does (`compute_with_k`): the same rows bit
-        // for bit. Above, two independent analyses, each sequential inside (the same results
-        // for any number of threads): side by side up to SIDE_BY_SIDE_MAX_N, one after the
-        // other above it.
+        // for bit. Above, two independent analyses one after the other: each runs its two
+        // ends side by side where a second factor fits the memory
+        // (`conditioning::sparse::SIDE_BY_SIDE_ENDS_MIN_N`), which takes the two threads a
+        // side-by-side pair of analyses would, at the memory of one (10⁶ membrane:
+        // docs/performance.md). Each end is sequential inside: the same results for any
+        // number of threads.
         let mut unavailable = Vec::new();
         let tol = set.cond_tol;
         let cond_k = || {
@@ -227,8 +224,6 @@ pub fn compute(problem: &Problem, sol: &Solution, set: MetricSet) -> Result<Metr
                 Ok((k, ritz)) => (Ok(k), cond_sys(&mut unavailable, ritz.as_ref())),
                 Err(e) => (Err(e), Ok(None)),
             }
-        } else if sys.n() <= SIDE_BY_SIDE_MAX_N {
-            rayon::join(cond_k, || cond_sys(&mut unavailable, None))
         } else {
             (cond_k(), cond_sys(&mut unavailable, None))
         };

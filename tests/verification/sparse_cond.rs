@@ -311,3 +311,36 @@ fn a_warm_start_that_misses_the_target_is_redone_cold() {
         r.relative_width()
     );
 }
+
+/// Above `SIDE_BY_SIDE_ENDS_MIN_N` unknowns the λ_min end (solves with A's factor) and the
+/// λ_max end (products, then shift-invert with a second factor) run side by side where the
+/// second factor fits the memory: the same certificate bit for bit as one after the other
+/// (one thread), and both meet the closed form.
+#[test]
+fn both_ends_side_by_side_give_the_sequential_certificate() {
+    let side = 160;
+    assert!(side * side >= sparse::SIDE_BY_SIDE_ENDS_MIN_N);
+    let a = laplacian_2d(side, 1.0);
+    let (lmin, lmax) = membrane::extreme_eigenvalues(side, 1.0);
+    let in_pool = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| conditioning::cond2(&a).unwrap())
+    };
+    let (one, two) = (in_pool(1), in_pool(2));
+    let c = one.certificate.expect("certificate");
+    assert!(
+        c.factorizations >= 4,
+        "the test wants the shift-invert λ_max end (factorizations {})",
+        c.factorizations
+    );
+    assert_eq!(one.certificate, two.certificate);
+    assert_eq!(one.cond2.to_bits(), two.cond2.to_bits());
+    assert_eq!(
+        (one.cond2_lo.to_bits(), one.cond2_hi.to_bits()),
+        (two.cond2_lo.to_bits(), two.cond2_hi.to_bits())
+    );
+    check_certificate("laplacian 160²", &two, lmax, lmin, side * side);
+}

@@ -91,7 +91,7 @@
 
 use super::certify::{self, Margin};
 use super::sparse::{
-    bracket, bracket_tol, bracket_top, lanczos, rayleigh_interval, Certificate, RitzStarts,
+    bracket, bracket_tol, bracket_top, lanczos, rayleigh_interval, Certificate, Keep, RitzStarts,
     MAX_LANCZOS_STEPS, STAGNATION,
 };
 use super::{CondReport, CondRoute};
@@ -325,7 +325,7 @@ impl SaddleRun<'_> {
             MAX_LANCZOS_STEPS,
             |_| STAGNATION,
             start,
-            true,
+            Keep::Always,
             |x, y| inverse.apply(x, y, sign),
         )?;
         self.lanczos_steps += run.steps;
@@ -419,7 +419,7 @@ impl SaddleRun<'_> {
             MAX_LANCZOS_STEPS,
             |_| STAGNATION,
             start,
-            keep,
+            if keep { Keep::Always } else { Keep::Never },
             |x, y| this.apply_a(x, y, sign),
         )?;
         self.lanczos_steps += run.steps;
@@ -593,7 +593,7 @@ impl SaddleRun<'_> {
             MAX_LANCZOS_STEPS,
             |_| STAGNATION,
             None,
-            true,
+            Keep::Always,
             |v, z| {
                 let (p, g) = v.split_at(n);
                 let (zx, zy) = z.split_at_mut(n);

@@ -6,7 +6,7 @@ use super::{
     TOP_STAGNATION,
 };
 use crate::conditioning::certify::{self, Margin};
-use crate::conditioning::lanczos::LanczosRun;
+use crate::conditioning::lanczos::{Keep, LanczosRun};
 use crate::conditioning::shifts::{graded_estimate, graded_floor, ShiftFamily};
 use crate::conditioning::temple;
 use crate::linalg::SparseLlt;
@@ -74,7 +74,7 @@ fn shift_invert(
         MAX_LANCZOS_STEPS,
         |_| 1e-2 * STAGNATION,
         start,
-        true,
+        Keep::Always,
         |x, y| {
             y.copy_from_slice(x);
             f.solve_vec_in_place(y);
@@ -253,7 +253,7 @@ fn restart_top(fam: &ShiftFamily, y: &[f64], need: f64) -> (f64, usize) {
         PLAIN_LANCZOS_STEPS,
         |_| TOP_STAGNATION,
         Some(y),
-        true,
+        Keep::Always,
         |x, z| fam.pattern.matvec(x, z),
     ) else {
         return (0.0, 0);

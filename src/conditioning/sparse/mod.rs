@@ -63,7 +63,7 @@ use super::certify::Margin;
 use super::shifts::{graded_estimate, ShiftFamily};
 use super::Reuse;
 use crate::error::{Error, Result};
-use crate::linalg::{FactorKind, Factorization, SparseLlt};
+use crate::linalg::{DiagonalPattern, FactorKind, Factorization, SparseLlt};
 use ends::certify_ends;
 pub use ends::width_target;
 use faer::sparse::SparseColMat;
@@ -75,7 +75,7 @@ pub(crate) use super::certify::rayleigh_interval;
 pub use super::certify::POSTERIOR_MAX_PRODUCTS;
 use super::lanczos::stagnation_tolerances;
 pub use super::lanczos::RITZ_VECTOR_MAX_N;
-pub(crate) use super::lanczos::{gershgorin_max, lanczos};
+pub(crate) use super::lanczos::{gershgorin_max, lanczos, Keep};
 pub use super::lanczos::{STAGNATION, TOP_STAGNATION};
 pub use crate::route::SPARSE_ROUTE_MIN_N;
 
@@ -334,8 +334,102 @@ fn estimate(
     starts: Option<&RitzStarts>,
     (bottom_stag, top_stag): (f64, f64),
 ) -> Result<Estimates> {
-    let n = a.nrows();
-    let max_diag = fam.pattern.max_diagonal();
+    let pattern = &fam.pattern;
+    let factor_bytes = pattern.symbolic.len_val() * std::mem::size_of::<f64>();
+    let bottom = || {
+        bottom_estimate(
+            pattern,
+            factor_of_a,
+            margin,
+            max_steps,
+            starts.map(|s| s.bottom.as_slice()),
+            bottom_stag,
+        )
+    };
+    let top = || {
+        top_estimate(
+            a,
+            pattern,
+            max_steps,
+            starts.map(|s| s.top.as_slice()),
+            (bottom_stag, top_stag),
+        )
+    };
+    // The two ends share nothing but A: side by side where that pays (see
+    // [`SIDE_BY_SIDE_ENDS_MIN_N`]) and a second factor fits the memory ([`ends_fit_side_by_side`]),
+    // else one after the other (A's factor freed before the λ_max end runs). Each end is
+    // sequential inside, so the results are the same bit for bit either way.
+    let (bottom, top) =
+        if a.nrows() >= SIDE_BY_SIDE_ENDS_MIN_N && ends_fit_side_by_side(factor_bytes) {
+            // A factor freed on a helper thread would stay there as its spare buffer.
+            let caller = std::thread::current().id();
+            rayon::join(
+                || freeing_spare_off(caller, bottom),
+                || freeing_spare_off(caller, top),
+            )
+        } else {
+            let bottom = bottom();
+            (bottom, top())
+        };
+    let (bottom, top) = (bottom?, top?);
+    fam.factorizations += top.factorizations;
+    let (lmax_est, lmin_est) = (top.lmax, bottom.lmin);
+    if !(lmax_est.is_finite() && lmin_est.is_finite() && lmin_est > 0.0) {
+        return Err(Error::Numerical(format!(
+            "Lanczos estimates are not usable (λ_max ≈ {lmax_est:e}, λ_min ≈ {lmin_est:e})"
+        )));
+    }
+    Ok(Estimates {
+        lmax: lmax_est,
+        top: top.vector,
+        steps: top.steps + bottom.steps,
+        ..bottom.estimates
+    })
+}
+
+/// `f()`, then, where it ran on another thread than `caller`, that thread's spare factor
+/// buffer freed ([`crate::linalg::release_spare_values`]).
+fn freeing_spare_off<T>(caller: std::thread::ThreadId, f: impl FnOnce() -> T) -> T {
+    let r = f();
+    if std::thread::current().id() != caller {
+        crate::linalg::release_spare_values();
+    }
+    r
+}
+
+/// Smallest order at which the two ends of a certified cond₂ (the λ_min run with A's factor;
+/// the λ_max run, products then a shifted factor) run side by side where a second factor fits
+/// the memory. Below it a sweep's own parallelism over jobs keeps the threads busy, and a
+/// run takes microseconds.
+pub const SIDE_BY_SIDE_ENDS_MIN_N: usize = RITZ_VECTOR_MAX_N;
+
+/// Whether the λ_max end may factor its shifted matrix while A's factor (`factor_bytes`) is
+/// alive: two factors and the runs' kept bases within the memory a Lanczos run may keep
+/// ([`ritz_basis_budget`](super::lanczos::ritz_basis_budget), a quarter of what the system
+/// reports available, at most 512 MiB) plus one factor — i.e. the second factor must fit
+/// where one run's basis would.
+fn ends_fit_side_by_side(factor_bytes: usize) -> bool {
+    factor_bytes <= super::lanczos::ritz_basis_budget()
+}
+
+/// λ_min's estimate (the bottom end of [`estimate`]): all of [`Estimates`] but `lmax` and
+/// `top`.
+struct BottomEstimate {
+    lmin: f64,
+    steps: usize,
+    estimates: Estimates,
+}
+
+fn bottom_estimate(
+    pattern: &DiagonalPattern,
+    factor_of_a: FactorOfA<'_>,
+    margin: Margin,
+    max_steps: usize,
+    start: Option<&[f64]>,
+    bottom_stag: f64,
+) -> Result<BottomEstimate> {
+    let n = pattern.diag.len();
+    let max_diag = pattern.max_diagonal();
     // Phase 1: estimates, each converged to STAGNATION. λ_min = 1/λ_max(A⁻¹) by Lanczos with
     // the factor of A: Cholesky's backward error is componentwise, so the solves — and the
     // estimate — are as accurate as the equilibrated matrix allows (Demmel–Veselić), where a
@@ -345,8 +439,8 @@ fn estimate(
         n,
         max_steps,
         |_| bottom_stag,
-        starts.map(|s| s.bottom.as_slice()),
-        true,
+        start,
+        Keep::Always,
         |x, y| {
             y.copy_from_slice(x);
             factor_of_a.solve_vec_in_place(y);
@@ -362,11 +456,10 @@ fn estimate(
     // Where the normwise lower bound of λ_min (Corollary 3) would be wider than GRADED_FROM,
     // the graded one (Theorem 4) needs λ_min(Ĥ) of Ĥ = Ŝ⁻¹AŜ⁻¹: estimated by a short Lanczos
     // run on Ĥ⁻¹ = Ŝ A⁻¹ Ŝ with the same factor, certified below.
-    let s_hat: Vec<f64> = fam
-        .pattern
+    let s_hat: Vec<f64> = pattern
         .diag
         .iter()
-        .map(|&p| fam.pattern.values[p].max(0.0).sqrt())
+        .map(|&p| pattern.values[p].max(0.0).sqrt())
         .collect();
     // z = Ŝy: ρ_Ĥ(z) = yᵀAy/‖Ŝy‖² ≥ λ_min(Ĥ), so the graded bound can beat the normwise one
     // by at most max_i A_ii / Σ A_ii y_i²; it is computed where that exceeds GRADED_GAIN, from
@@ -379,68 +472,99 @@ fn estimate(
         && s_hat.iter().all(|&s| s > 0.0);
     // Where Temple's bound can run (a simplicial factor, temple), the lower bound of λ_min
     // rarely needs h: its estimate waits until a Temple bound misses ([`graded_estimate`]).
-    let deferred = graded && fam.pattern.has_ldlt();
+    let deferred = graded && pattern.has_ldlt();
     let (h_est, s3) = if graded && !deferred {
         graded_estimate(&s_hat, &z, |y| factor_of_a.solve_vec_in_place(y))?
     } else {
         (None, 0)
     };
     drop(factor_of_a);
+    Ok(BottomEstimate {
+        lmin: lmin_est,
+        steps: s2 + s3,
+        estimates: Estimates {
+            lmax: f64::NAN,
+            lmin: lmin_est,
+            top: None,
+            bottom: y_bottom,
+            x_hat,
+            s_hat,
+            inv_hmin_lo: (weight / (lmin_est * yy)).max(h_est.map_or(1.0, |h| 1.0 / h)),
+            h_est,
+            deferred,
+            lambda2,
+            steps: 0,
+        },
+    })
+}
 
+/// λ_max's estimate (the top end of [`estimate`]).
+struct TopEstimate {
+    lmax: f64,
+    vector: Option<Vec<f64>>,
+    steps: usize,
+    factorizations: usize,
+}
+
+fn top_estimate(
+    a: &SparseColMat<usize, f64>,
+    pattern: &DiagonalPattern,
+    max_steps: usize,
+    start: Option<&[f64]>,
+    (bottom_stag, top_stag): (f64, f64),
+) -> Result<TopEstimate> {
+    let n = a.nrows();
     // λ_max: plain Lanczos on A (products only); if the top of the spectrum is clustered and
     // it has not settled, shift-invert Lanczos on (σ₀I − A)⁻¹ with σ₀ just above the
-    // Gershgorin bound, where λ_max = σ₀ − 1/ν_max is well separated.
-    let top_start = starts.map(|s| s.top.as_slice());
-    let run_max = lanczos(
+    // Gershgorin bound, where λ_max = σ₀ − 1/ν_max is well separated. The plain run's Ritz
+    // vector, where it has not settled and its basis was not kept, is formed (a second pass of
+    // products) only where the shift-invert run does not replace it.
+    let mut run_max = lanczos(
         n,
         PLAIN_LANCZOS_STEPS,
         |_| top_stag,
-        top_start,
-        true,
-        |x, y| fam.pattern.matvec(x, y),
+        start,
+        Keep::IfConverged,
+        |x, y| pattern.matvec(x, y),
     )?;
-    let (mut lmax_est, mut s1) = (run_max.theta, run_max.steps);
-    let mut top_vector = run_max.vector;
+    let (mut lmax_est, mut steps) = (run_max.theta, run_max.steps);
+    let mut vector = run_max.vector.take();
+    let (mut replaced, mut factorizations) = (false, 0);
     if !run_max.converged {
         let sigma0 = gershgorin_max(a) * (1.0 + 1e-8);
-        if let Some(f) = fam.factor(-1.0, sigma0) {
+        let mut work = Vec::new();
+        pattern.fill_shifted(&mut work, -1.0, sigma0, 0.0, None);
+        factorizations += 1;
+        if let Some(f) = pattern.factor(&work) {
+            drop(work);
             let run = lanczos(
                 n,
                 max_steps,
                 |_| bottom_stag,
-                top_start,
-                true,
+                start,
+                Keep::Always,
                 |x, y| {
                     y.copy_from_slice(x);
                     f.solve_vec_in_place(y);
                 },
             )?;
-            s1 += run.steps;
+            steps += run.steps;
             let nu = run.theta;
             if nu > 0.0 && nu.is_finite() && sigma0 - 1.0 / nu > lmax_est {
                 lmax_est = sigma0 - 1.0 / nu;
-                top_vector = run.vector;
+                vector = run.vector;
+                replaced = true;
             }
         }
     }
-    if !(lmax_est.is_finite() && lmin_est.is_finite() && lmin_est > 0.0) {
-        return Err(Error::Numerical(format!(
-            "Lanczos estimates are not usable (λ_max ≈ {lmax_est:e}, λ_min ≈ {lmin_est:e})"
-        )));
+    if !replaced && vector.is_none() {
+        vector = run_max.deferred_vector(start, &mut |x, y| pattern.matvec(x, y));
     }
-
-    Ok(Estimates {
+    Ok(TopEstimate {
         lmax: lmax_est,
-        lmin: lmin_est,
-        top: top_vector,
-        bottom: y_bottom,
-        x_hat,
-        s_hat,
-        inv_hmin_lo: (weight / (lmin_est * yy)).max(h_est.map_or(1.0, |h| 1.0 / h)),
-        h_est,
-        deferred,
-        lambda2,
-        steps: s1 + s2 + s3,
+        vector,
+        steps,
+        factorizations,
     })
 }
 
