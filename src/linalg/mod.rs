@@ -28,7 +28,7 @@ mod sparse_llt;
 pub use factor_columns::LowerFactor;
 pub use ldlt::InertiaTest;
 pub use pcg::{pcg, PcgOutcome};
-pub use sparse_llt::{release_spare_values, DiagonalPattern, SparseLlt, SYMBOLIC_CACHE_LEN};
+pub use sparse_llt::{release_thread_buffers, DiagonalPattern, SparseLlt, SYMBOLIC_CACHE_LEN};
 
 use crate::error::{Error, Result};
 use crate::system::Stiffness;

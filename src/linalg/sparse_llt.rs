@@ -372,10 +372,15 @@ fn recycled_values(len: usize, zeroed: bool) -> Vec<f64> {
     v
 }
 
-/// Frees this thread's spare value buffer (see `SPARE_VALUES`): for work run on another
-/// thread for once, whose spare would otherwise stay allocated there, unused.
-pub fn release_spare_values() {
+/// Frees this thread's reused buffers — the spare factor values (`SPARE_VALUES`), the
+/// factorization's scratch stack (`SPARE_SCRATCH`) and the solves' work vector
+/// (`SOLVE_WORK`): for work run on another thread for once, whose buffers would otherwise
+/// stay allocated there, unused (at 10⁶ unknowns a factor's values and scratch are hundreds
+/// of MB).
+pub fn release_thread_buffers() {
     SPARE_VALUES.with(|s| drop(std::mem::take(&mut *s.borrow_mut())));
+    SPARE_SCRATCH.with(|s| drop(s.borrow_mut().take()));
+    SOLVE_WORK.with(|w| drop(std::mem::take(&mut *w.borrow_mut())));
 }
 
 /// Keeps `v` as the spare value buffer (the larger of it and the current spare).

@@ -361,7 +361,7 @@ fn estimate(
     // sequential inside, so the results are the same bit for bit either way.
     let (bottom, top) =
         if a.nrows() >= SIDE_BY_SIDE_ENDS_MIN_N && ends_fit_side_by_side(factor_bytes) {
-            // A factor freed on a helper thread would stay there as its spare buffer.
+            // A helper thread would keep the factor's values and scratch as its spare buffers.
             let caller = std::thread::current().id();
             rayon::join(
                 || freeing_spare_off(caller, bottom),
@@ -387,12 +387,12 @@ fn estimate(
     })
 }
 
-/// `f()`, then, where it ran on another thread than `caller`, that thread's spare factor
-/// buffer freed ([`crate::linalg::release_spare_values`]).
+/// `f()`, then, where it ran on another thread than `caller`, that thread's reused factor
+/// buffers freed ([`crate::linalg::release_thread_buffers`]).
 fn freeing_spare_off<T>(caller: std::thread::ThreadId, f: impl FnOnce() -> T) -> T {
     let r = f();
     if std::thread::current().id() != caller {
-        crate::linalg::release_spare_values();
+        crate::linalg::release_thread_buffers();
     }
     r
 }
