@@ -24,16 +24,21 @@ pub const RITZ_VECTOR_MAX_N: usize = 20_000;
 /// the same bit for bit (the same vectors summed in the same order): the budget moves time
 /// and memory, never a result. Read once per process.
 pub fn ritz_basis_budget() -> usize {
-    static BUDGET: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
-    *BUDGET.get_or_init(|| {
-        const CAP: usize = 512 << 20;
-        let available = std::fs::read_to_string("/proc/meminfo").ok().and_then(|m| {
+    const CAP: usize = 512 << 20;
+    mem_available().map_or(64 << 20, |b| (b / 4).min(CAP))
+}
+
+/// The bytes of memory the system reports available (`MemAvailable`, Linux; `None`
+/// elsewhere), read once per process.
+pub fn mem_available() -> Option<usize> {
+    static AVAILABLE: std::sync::OnceLock<Option<usize>> = std::sync::OnceLock::new();
+    *AVAILABLE.get_or_init(|| {
+        std::fs::read_to_string("/proc/meminfo").ok().and_then(|m| {
             m.lines()
                 .find_map(|l| l.strip_prefix("MemAvailable:"))
                 .and_then(|v| v.split_whitespace().next()?.parse::<usize>().ok())
                 .map(|kb| kb * 1024)
-        });
-        available.map_or(64 << 20, |b| (b / 4).min(CAP))
+        })
     })
 }
 
@@ -501,8 +506,18 @@ mod tests {
                 y[i] = 2.0 * x[i] - left - right;
             }
         };
+        // A warm start, and one that the run refuses (non-finite) for the generic start.
+        let warm: Vec<f64> = (0..n).map(|i| ((i * 7 % 13) as f64).sin()).collect();
+        let mut bad = warm.clone();
+        bad[3] = f64::NAN;
+        for start in [None, Some(warm.as_slice()), Some(bad.as_slice())] {
+            check_deferred(n, start, apply);
+        }
+    }
+
+    fn check_deferred(n: usize, start: Option<&[f64]>, apply: impl Fn(&[f64], &mut [f64]) + Copy) {
         let run = |budget, keep| {
-            lanczos_within(budget, n, 40, |_| 1e-15, None, keep, apply).expect("finite")
+            lanczos_within(budget, n, 40, |_| 1e-15, start, keep, apply).expect("finite")
         };
         let kept = run(usize::MAX, Keep::Always);
         assert!(!kept.converged, "the test needs an unconverged run");
@@ -510,14 +525,14 @@ mod tests {
         let deferred = run(10 * n, Keep::IfConverged);
         assert!(deferred.vector.is_none());
         let formed = deferred
-            .deferred_vector(None, &mut |x, y| apply(x, y))
+            .deferred_vector(start, &mut |x, y| apply(x, y))
             .expect("deferred");
         let kept = kept.vector.expect("kept");
         assert_eq!(kept, formed);
         assert_eq!(second_pass.vector.expect("second pass"), formed);
         // A run that formed its vector defers nothing.
         assert!(run(usize::MAX, Keep::IfConverged)
-            .deferred_vector(None, &mut |x, y| apply(x, y))
+            .deferred_vector(start, &mut |x, y| apply(x, y))
             .is_none());
     }
 }

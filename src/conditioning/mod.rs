@@ -267,6 +267,10 @@ pub struct Reuse<'a> {
     /// Lanczos runs at a stagnation of tol/8 (never below their defaults). The bounds are
     /// proven whatever the tolerance; the dense and saddle routes always run to the contract.
     pub tol: Option<f64>,
+    /// Run the two ends of the sparse SPD route one after the other even where they would
+    /// run side by side ([`sparse::SIDE_BY_SIDE_ENDS_MIN_N`]): one factor alive at a time,
+    /// one thread; the same result bit for bit.
+    pub sequential_ends: bool,
 }
 
 impl Reuse<'_> {

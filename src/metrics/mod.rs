@@ -127,8 +127,8 @@ pub(crate) fn cond_of_system(
     let reuse = Reuse {
         starts,
         factor,
-        keep_ritz: false,
         tol,
+        ..Reuse::default()
     };
     match conditioning::cond2_warm(sys, reuse) {
         Ok((r, _)) => Ok(Some(r)),
@@ -192,12 +192,13 @@ pub fn compute(problem: &Problem, sol: &Solution, set: MetricSet) -> Result<Metr
     if set.cond {
         // Where K's Ritz vectors are kept (n ≤ RITZ_VECTOR_MAX_N) the system's cond₂ starts
         // from them, after K's, exactly as a sweep does (`compute_with_k`): the same rows bit
-        // for bit. Above, two independent analyses one after the other: each runs its two
-        // ends side by side where a second factor fits the memory
-        // (`conditioning::sparse::SIDE_BY_SIDE_ENDS_MIN_N`), which takes the two threads a
-        // side-by-side pair of analyses would, at the memory of one (10⁶ membrane:
-        // docs/performance.md). Each end is sequential inside: the same results for any
-        // number of threads.
+        // for bit. Above, two independent analyses one after the other: K's and a penalized
+        // system's each run their two ends side by side where a second factor fits the
+        // memory (`conditioning::sparse::SIDE_BY_SIDE_ENDS_MIN_N`), which uses the two
+        // threads a side-by-side pair of analyses would, at the memory of one (10⁶ membrane:
+        // docs/performance.md); a saddle point's analysis (lagrange) runs on one thread,
+        // after K's. Each end is sequential inside: the same results for any number of
+        // threads.
         let mut unavailable = Vec::new();
         let tol = set.cond_tol;
         let cond_k = || {

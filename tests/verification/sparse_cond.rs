@@ -315,32 +315,47 @@ fn a_warm_start_that_misses_the_target_is_redone_cold() {
 /// Above `SIDE_BY_SIDE_ENDS_MIN_N` unknowns the λ_min end (solves with A's factor) and the
 /// λ_max end (products, then shift-invert with a second factor) run side by side where the
 /// second factor fits the memory: the same certificate bit for bit as one after the other
-/// (one thread), and both meet the closed form.
+/// (`Reuse::sequential_ends`), in one- and two-thread pools, and both meet the closed form.
 #[test]
 fn both_ends_side_by_side_give_the_sequential_certificate() {
+    use penalty_lab::conditioning::Reuse;
     let side = 160;
     assert!(side * side >= sparse::SIDE_BY_SIDE_ENDS_MIN_N);
     let a = laplacian_2d(side, 1.0);
     let (lmin, lmax) = membrane::extreme_eigenvalues(side, 1.0);
-    let in_pool = |threads: usize| {
+    let in_pool = |threads: usize, sequential_ends: bool| {
         rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
             .build()
             .unwrap()
-            .install(|| conditioning::cond2(&a).unwrap())
+            .install(|| {
+                let reuse = Reuse {
+                    sequential_ends,
+                    ..Reuse::default()
+                };
+                conditioning::cond2_warm(&a, reuse).unwrap().0
+            })
     };
-    let (one, two) = (in_pool(1), in_pool(2));
-    let c = one.certificate.expect("certificate");
+    let reference = in_pool(1, true);
+    let c = reference.certificate.expect("certificate");
+    // The λ_max end's plain run (PLAIN_LANCZOS_STEPS products) did not settle, and the
+    // shift-invert run with its own factor followed (A, σ₀I − A, one test per end).
     assert!(
-        c.factorizations >= 4,
-        "the test wants the shift-invert λ_max end (factorizations {})",
-        c.factorizations
+        c.factorizations >= 4 && c.lanczos_steps > sparse::PLAIN_LANCZOS_STEPS,
+        "the test wants the shift-invert λ_max end (factorizations {}, steps {})",
+        c.factorizations,
+        c.lanczos_steps
     );
-    assert_eq!(one.certificate, two.certificate);
-    assert_eq!(one.cond2.to_bits(), two.cond2.to_bits());
-    assert_eq!(
-        (one.cond2_lo.to_bits(), one.cond2_hi.to_bits()),
-        (two.cond2_lo.to_bits(), two.cond2_hi.to_bits())
-    );
-    check_certificate("laplacian 160²", &two, lmax, lmin, side * side);
+    for (threads, sequential) in [(1, false), (2, false), (2, true)] {
+        let r = in_pool(threads, sequential);
+        let what = format!("{threads} threads, sequential ends {sequential}");
+        assert_eq!(r.certificate, reference.certificate, "{what}");
+        assert_eq!(r.cond2.to_bits(), reference.cond2.to_bits(), "{what}");
+        assert_eq!(
+            (r.cond2_lo.to_bits(), r.cond2_hi.to_bits()),
+            (reference.cond2_lo.to_bits(), reference.cond2_hi.to_bits()),
+            "{what}"
+        );
+    }
+    check_certificate("laplacian 160²", &reference, lmax, lmin, side * side);
 }

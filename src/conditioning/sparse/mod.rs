@@ -48,11 +48,14 @@
 //! factorization of A. Neither the value's accuracy nor the certificate depends on them.
 //!
 //! Cost: one symbolic analysis, one Cholesky of A (or none, reused; dropped after the λ_min
-//! estimate: one factor in memory at a time), `k` products and `k + 1` solves (k ≈ 5–100),
+//! estimate), `k` products and `k + 1` solves (k ≈ 5–100),
 //! a short Lanczos run on Ŝ A⁻¹ Ŝ and one Cholesky test of the equilibrated matrix where the
 //! graded bound can gain, one shift-invert factor where the top of the spectrum is clustered,
 //! and one shifted Cholesky test per end (more where one fails). Memory: O(nnz of the
-//! factor), plus k·n for the Lanczos vectors up to [`RITZ_VECTOR_MAX_N`] unknowns.
+//! factor), plus k·n for the Lanczos vectors up to [`RITZ_VECTOR_MAX_N`] unknowns. From
+//! [`SIDE_BY_SIDE_ENDS_MIN_N`] unknowns the λ_min end (A's factor) and the λ_max end (the
+//! shift-invert factor) run side by side where the memory allows: two factors alive at once;
+//! else one after the other, one factor at a time.
 //!
 //! Use it for large sparse SPD matrices (membranes, assembled frames); [`super::cond2`] picks it
 //! automatically above [`SPARSE_ROUTE_MIN_N`], and for dense SPD matrices below it.
@@ -223,7 +226,7 @@ fn analyse(
         factor_of_a,
         margin,
         max_steps,
-        starts,
+        &reuse,
         stagnation_tolerances(reuse.tol, stagnation_scale),
     )?;
     let ends = certify_ends(&mut fam, &est, margin, reuse.tol);
@@ -306,7 +309,7 @@ fn analyse(
 
 /// Phase 1 of [`extreme_eigenvalues`]: the converged Lanczos estimates of both ends, their
 /// Ritz vectors, x̂ = A⁻¹y_bottom and, where the graded bound can gain, a rough λ_min of the
-/// equilibrated matrix. The factor of A is dropped at the end (one factor alive at a time).
+/// equilibrated matrix. The factor of A is dropped when the λ_min end is done.
 pub(super) struct Estimates {
     lmax: f64,
     lmin: f64,
@@ -331,10 +334,10 @@ fn estimate(
     factor_of_a: FactorOfA<'_>,
     margin: Margin,
     max_steps: usize,
-    starts: Option<&RitzStarts>,
+    reuse: &Reuse<'_>,
     (bottom_stag, top_stag): (f64, f64),
 ) -> Result<Estimates> {
-    let pattern = &fam.pattern;
+    let (pattern, starts) = (&fam.pattern, reuse.starts);
     let factor_bytes = pattern.symbolic.len_val() * std::mem::size_of::<f64>();
     let bottom = || {
         bottom_estimate(
@@ -359,18 +362,20 @@ fn estimate(
     // [`SIDE_BY_SIDE_ENDS_MIN_N`]) and a second factor fits the memory ([`ends_fit_side_by_side`]),
     // else one after the other (A's factor freed before the λ_max end runs). Each end is
     // sequential inside, so the results are the same bit for bit either way.
-    let (bottom, top) =
-        if a.nrows() >= SIDE_BY_SIDE_ENDS_MIN_N && ends_fit_side_by_side(factor_bytes) {
-            // A helper thread would keep the factor's values and scratch as its spare buffers.
-            let caller = std::thread::current().id();
-            rayon::join(
-                || freeing_spare_off(caller, bottom),
-                || freeing_spare_off(caller, top),
-            )
-        } else {
-            let bottom = bottom();
-            (bottom, top())
-        };
+    let side_by_side = !reuse.sequential_ends
+        && a.nrows() >= SIDE_BY_SIDE_ENDS_MIN_N
+        && ends_fit_side_by_side(factor_bytes);
+    let (bottom, top) = if side_by_side {
+        // A helper thread would keep the factor's values and scratch as its spare buffers.
+        let caller = std::thread::current().id();
+        rayon::join(
+            || freeing_spare_off(caller, bottom),
+            || freeing_spare_off(caller, top),
+        )
+    } else {
+        let bottom = bottom();
+        (bottom, top())
+    };
     let (bottom, top) = (bottom?, top?);
     fam.factorizations += top.factorizations;
     let (lmax_est, lmin_est) = (top.lmax, bottom.lmin);
@@ -388,7 +393,9 @@ fn estimate(
 }
 
 /// `f()`, then, where it ran on another thread than `caller`, that thread's reused factor
-/// buffers freed ([`crate::linalg::release_thread_buffers`]).
+/// buffers freed ([`crate::linalg::release_thread_buffers`]). A sweep's worker that stole
+/// the closure between two of its own factorizations refills them on its next one (time,
+/// never a value).
 fn freeing_spare_off<T>(caller: std::thread::ThreadId, f: impl FnOnce() -> T) -> T {
     let r = f();
     if std::thread::current().id() != caller {
@@ -403,13 +410,18 @@ fn freeing_spare_off<T>(caller: std::thread::ThreadId, f: impl FnOnce() -> T) ->
 /// run takes microseconds.
 pub const SIDE_BY_SIDE_ENDS_MIN_N: usize = RITZ_VECTOR_MAX_N;
 
-/// Whether the λ_max end may factor its shifted matrix while A's factor (`factor_bytes`) is
-/// alive: two factors and the runs' kept bases within the memory a Lanczos run may keep
-/// ([`ritz_basis_budget`](super::lanczos::ritz_basis_budget), a quarter of what the system
-/// reports available, at most 512 MiB) plus one factor — i.e. the second factor must fit
-/// where one run's basis would.
+/// Whether the λ_max end may factor its shifted matrix while A's factor (`factor_bytes` of
+/// values) is alive: what side by side adds over one after the other — a second factor (its
+/// values and faer's scratch, counted as twice the values) and a second kept basis (at most
+/// [`ritz_basis_budget`](super::lanczos::ritz_basis_budget)) — within a quarter of the memory
+/// the system reports available. Where it reports nothing (not Linux): one after the other.
 fn ends_fit_side_by_side(factor_bytes: usize) -> bool {
-    factor_bytes <= super::lanczos::ritz_basis_budget()
+    super::lanczos::mem_available().is_some_and(|available| {
+        factor_bytes
+            .saturating_mul(2)
+            .saturating_add(super::lanczos::ritz_basis_budget())
+            <= available / 4
+    })
 }
 
 /// λ_min's estimate (the bottom end of [`estimate`]): all of [`Estimates`] but `lmax` and
@@ -587,7 +599,7 @@ pub fn estimate_extremes(a: &SparseColMat<usize, f64>) -> Result<(f64, f64)> {
         FactorOfA::Own(f),
         margin,
         MAX_LANCZOS_STEPS,
-        None,
+        &Reuse::default(),
         stagnation_tolerances(None, 1.0),
     )?;
     Ok((est.lmax, est.lmin))
