@@ -245,6 +245,16 @@ pub fn lookup(name: &str) -> Result<&'static Strategy> {
     find(name).ok_or_else(|| Error::unknown("method", name, &names(), ""))
 }
 
+/// Writes strategies by name: a study's configuration holds `&'static Strategy` (looked up
+/// once, where the names enter) and its manifest lists the names
+/// (`#[serde(serialize_with = "crate::strategy::registry::serialize_names")]`).
+pub fn serialize_names<S: serde::Serializer>(
+    v: &[&'static Strategy],
+    s: S,
+) -> std::result::Result<S::Ok, S::Error> {
+    s.collect_seq(v.iter().map(|x| x.name))
+}
+
 /// The δ-driven rules drawn per δ in the sweep's figures: every strategy with a δ knob except
 /// `optimal`, which is drawn as a frontier.
 pub fn delta_rules() -> Vec<&'static Strategy> {

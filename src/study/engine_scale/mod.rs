@@ -54,8 +54,9 @@ pub fn scale_method_names() -> Vec<&'static str> {
 pub struct ScaleConfig {
     /// Requested DOF counts (the membrane side is `round(√size)`).
     pub sizes: Vec<usize>,
-    /// Methods, from [`SCALE_METHODS`].
-    pub methods: Vec<String>,
+    /// Methods, from [`SCALE_METHODS`] (saved by name).
+    #[serde(serialize_with = "registry::serialize_names")]
+    pub methods: Vec<&'static Strategy>,
     /// Compute the certified cond₂ of K and of each system.
     pub cond: bool,
     /// `constant`: ε / max_c K\[d_c, d_c\].
@@ -70,7 +71,7 @@ impl Default for ScaleConfig {
     fn default() -> Self {
         ScaleConfig {
             sizes: vec![10_000, 100_000],
-            methods: scale_method_names().iter().map(|s| s.to_string()).collect(),
+            methods: SCALE_METHODS.to_vec(),
             cond: true,
             eps_rel: 1e2,
             factor: 1e2,
@@ -88,9 +89,9 @@ impl ScaleConfig {
         if let Some(m) = self
             .methods
             .iter()
-            .find(|m| !scale_method_names().contains(&m.as_str()))
+            .find(|m| !SCALE_METHODS.iter().any(|s| std::ptr::eq(*s, **m)))
         {
-            return Err(Error::unknown("method", m, &scale_method_names(), ""));
+            return Err(Error::unknown("method", m.name, &scale_method_names(), ""));
         }
         for (name, v) in [
             ("eps_rel", self.eps_rel),
@@ -170,10 +171,9 @@ fn peak_rss_mb() -> Option<f64> {
     Some(kb / 1024.0)
 }
 
-/// The method `name` ([`SCALE_METHODS`]) with its knob from `cfg` (ε and δ relative to the
+/// The method `s` ([`SCALE_METHODS`]) with its knob from `cfg` (ε and δ relative to the
 /// scene's scales; [`KnobGrid::points`] at one level each), and the knob's value.
-fn method(name: &str, scene: &PerfScene, cfg: &ScaleConfig) -> Result<(Method, f64)> {
-    let s = strategy::registry::lookup(name)?;
+fn method(s: &'static Strategy, scene: &PerfScene, cfg: &ScaleConfig) -> Result<(Method, f64)> {
     let grid = KnobGrid {
         eps: vec![Level::relative(cfg.eps_rel, scene.k_scale)],
         factors: vec![Level::absolute(cfg.factor)],
@@ -209,8 +209,8 @@ pub fn run(cfg: &ScaleConfig, progress: &Progress) -> Result<Vec<ScaleRow>> {
                 .map_or((None, None), |(lo, hi)| (Some(lo), Some(hi)))
         };
         let (k_lo, k_hi) = k_cond.as_ref().map_or((None, None), bounds);
-        for name in &cfg.methods {
-            let (m, knob) = method(name, &scene, cfg)?;
+        for &s in &cfg.methods {
+            let (m, knob) = method(s, &scene, cfg)?;
             let tracked = reset_peak_rss();
             let t = Instant::now();
             let sol = strategy::solve(p, m)?;
@@ -243,7 +243,7 @@ pub fn run(cfg: &ScaleConfig, progress: &Progress) -> Result<Vec<ScaleRow>> {
             let row = ScaleRow {
                 n: p.n(),
                 m: p.m(),
-                method: name.clone(),
+                method: s.name.to_string(),
                 knob,
                 active: sol.stats.active_set_sizes.last().copied().unwrap_or(0),
                 max_penetration: sol.max_penetration,
@@ -311,10 +311,13 @@ impl Study for EngineScale {
     fn config(f: &Flags) -> Result<ScaleConfig> {
         let cfg = ScaleConfig {
             sizes: f.sizes.clone(),
-            methods: f
-                .methods
-                .clone()
-                .unwrap_or_else(|| scale_method_names().iter().map(|s| s.to_string()).collect()),
+            methods: match &f.methods {
+                Some(names) => names
+                    .iter()
+                    .map(|n| registry::lookup(n))
+                    .collect::<Result<_>>()?,
+                None => SCALE_METHODS.to_vec(),
+            },
             cond: !f.no_cond,
             ..Default::default()
         };

@@ -99,7 +99,7 @@ pub struct PenaltyScalingConfig {
     /// ε of `constant` over E*/h₀ (`eps-fixed`) and over E*/h (`eps-e-over-h`).
     pub eps_rel: Vec<f64>,
     /// The δ-rules (rules whose knob is δ; saved by name).
-    #[serde(serialize_with = "names")]
+    #[serde(serialize_with = "registry::serialize_names")]
     pub delta_methods: Vec<&'static Strategy>,
     /// δ over the squeeze w.
     pub delta_rel: f64,
@@ -241,14 +241,6 @@ impl PenaltyScalingConfig {
         }
         out
     }
-}
-
-/// Writes strategies by name.
-fn names<S: serde::Serializer>(
-    v: &[&'static Strategy],
-    s: S,
-) -> std::result::Result<S::Ok, S::Error> {
-    s.collect_seq(v.iter().map(|x| x.name))
 }
 
 /// One (discretization, level): the scene, the exact field and Lagrange's solution.

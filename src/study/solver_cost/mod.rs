@@ -48,8 +48,9 @@ pub struct SolverCostConfig {
     pub membrane_side0: usize,
     /// Coarsest beam element count; level l has `beam_el0`·2^l.
     pub beam_el0: usize,
-    /// Rules (registry names; lagrange always runs).
-    pub methods: Vec<String>,
+    /// Rules (lagrange always runs; saved by name).
+    #[serde(serialize_with = "registry::serialize_names")]
+    pub methods: Vec<&'static Strategy>,
     /// δ of the `penetration` rows over the family's length scale.
     pub penetration_rel: f64,
     /// Relative tolerance of the knob match.
@@ -78,11 +79,10 @@ impl Default for SolverCostConfig {
 }
 
 /// Every rule but `optimal` (minutes per solve above a few hundred DOFs; `--methods` adds it).
-pub fn default_methods() -> Vec<String> {
-    registry::names()
+pub fn default_methods() -> Vec<&'static Strategy> {
+    registry::all()
         .into_iter()
-        .filter(|n| *n != strategy::optimal::STRATEGY.name)
-        .map(str::to_string)
+        .filter(|s| !std::ptr::eq(*s, &strategy::optimal::STRATEGY))
         .collect()
 }
 
@@ -126,9 +126,6 @@ impl SolverCostConfig {
                 return Err(Error::input(format!("{flag}: {v} is not in (0, 1)")));
             }
         }
-        for m in &self.methods {
-            registry::lookup(m).map_err(|e| e.for_flag("--methods"))?;
-        }
         Ok(())
     }
 
@@ -137,7 +134,7 @@ impl SolverCostConfig {
         s.extend(
             self.methods
                 .iter()
-                .filter_map(|n| registry::find(n))
+                .copied()
                 .filter(|s| s.knob != Knob::None),
         );
         s
@@ -415,7 +412,13 @@ impl Study for SolverCost {
             hertz_h0: f.hertz_h0,
             membrane_side0: f.membrane_side0,
             beam_el0: f.beam_el0,
-            methods: f.methods.clone().unwrap_or(d.methods),
+            methods: match &f.methods {
+                Some(names) => names
+                    .iter()
+                    .map(|n| registry::lookup(n).map_err(|e| e.for_flag("--methods")))
+                    .collect::<Result<_>>()?,
+                None => d.methods,
+            },
             penetration_rel: f.penetration_rel,
             match_tol: d.match_tol,
             krylov_tol: f.krylov_tol,
