@@ -89,8 +89,9 @@ pub struct PerfConfig {
     pub families: Vec<String>,
     /// Requested DOF counts.
     pub sizes: Vec<usize>,
-    /// Methods to time.
-    pub methods: Vec<String>,
+    /// Methods to time (saved by name).
+    #[serde(serialize_with = "registry::serialize_names")]
+    pub methods: Vec<&'static strategy::Strategy>,
     /// Timed repeats per point (the median is reported).
     pub repeats: usize,
     /// Per-solve budget in seconds.
@@ -104,12 +105,9 @@ pub struct PerfConfig {
 }
 
 impl PerfConfig {
-    /// The strategies of `methods` (unknown names, which `validate` refuses, left out).
+    /// The strategies of `methods`.
     pub fn strategies(&self) -> Vec<&'static strategy::Strategy> {
-        self.methods
-            .iter()
-            .filter_map(|m| registry::find(m))
-            .collect()
+        self.methods.clone()
     }
 
     /// Checks the configuration; errors name the offending value and the valid range.
@@ -127,9 +125,6 @@ impl PerfConfig {
                 "sizes {:?}: need at least one, each in 9..=4000000",
                 self.sizes
             )));
-        }
-        for m in &self.methods {
-            registry::lookup(m)?;
         }
         if self.repeats == 0 || self.repeats > 100 {
             return Err(Error::input(format!(
@@ -171,7 +166,7 @@ impl PerfConfig {
             methods: registry::BUILT_IN
                 .iter()
                 .filter(|s| !std::ptr::eq(**s, &strategy::optimal::STRATEGY) && s.bilateral)
-                .map(|s| s.name.to_string())
+                .copied()
                 .collect(),
             repeats: if smoke { 1 } else { 3 },
             budget_seconds: 30.0,
