@@ -245,6 +245,21 @@ pub fn lookup(name: &str) -> Result<&'static Strategy> {
     find(name).ok_or_else(|| Error::unknown("method", name, &names(), ""))
 }
 
+/// The strategies named, each looked up with [`lookup`] (the first unknown name is the error).
+pub fn lookup_all<S: AsRef<str>>(names: &[S]) -> Result<Vec<&'static Strategy>> {
+    names.iter().map(|n| lookup(n.as_ref())).collect()
+}
+
+/// Reads strategies by name, the inverse of [`serialize_names`]
+/// (`#[serde(deserialize_with = "crate::strategy::registry::deserialize_names")]`): an unknown
+/// name is an error naming it and the valid ones.
+pub fn deserialize_names<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> std::result::Result<Vec<&'static Strategy>, D::Error> {
+    let names = <Vec<String> as serde::Deserialize>::deserialize(d)?;
+    lookup_all(&names).map_err(serde::de::Error::custom)
+}
+
 /// Writes strategies by name: a study's configuration holds `&'static Strategy` (looked up
 /// once, where the names enter) and its manifest lists the names
 /// (`#[serde(serialize_with = "crate::strategy::registry::serialize_names")]`).

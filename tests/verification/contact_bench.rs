@@ -3,11 +3,12 @@
 //! for, computed by the library's study.
 
 use penalty_lab::progress::Progress;
+use penalty_lab::strategy::registry;
 use penalty_lab::study::contact_bench::{self, analytic::Case, BenchConfig, BenchRun, Checkpoints};
 
 fn config() -> BenchConfig {
     BenchConfig {
-        methods: vec!["lagrange".into(), "condensed".into()],
+        methods: registry::lookup_all(&["lagrange", "condensed"]).unwrap(),
         deltas_rel: vec![1e-3, 1e-5],
         ..BenchConfig::default()
     }
@@ -203,7 +204,7 @@ fn force_control_takes_optimal_to_its_own_tolerance() {
         &BenchConfig {
             cases: vec![Case::FlatPunch],
             meshes: vec![0.2],
-            methods: vec!["optimal".into()],
+            methods: registry::lookup_all(&["optimal"]).unwrap(),
             deltas_rel: vec![1e-2, 1e-3],
             ..BenchConfig::default()
         },
@@ -243,7 +244,7 @@ fn the_leaderboard_has_a_margin_a_refined_threshold_and_ties() {
     let cfg = BenchConfig {
         cases: vec![Case::HertzPlane],
         meshes: vec![0.2],
-        methods: vec!["lagrange".into(), "constant".into(), "condensed".into()],
+        methods: registry::lookup_all(&["lagrange", "constant", "condensed"]).unwrap(),
         ..BenchConfig::default()
     };
     let run = contact_bench::run(&cfg, &Progress::quiet(), None).unwrap();
@@ -293,7 +294,7 @@ fn constant_penalty_is_per_unit_contact_area() {
     let cfg = BenchConfig {
         cases: vec![Case::FlatPunch, Case::HertzPlane, Case::HertzAxi],
         meshes: vec![0.2, 0.1],
-        methods: vec!["lagrange".into(), "constant".into()],
+        methods: registry::lookup_all(&["lagrange", "constant"]).unwrap(),
         eps_rel: vec![1.0, 10.0, 1e3],
         ..BenchConfig::default()
     };
@@ -365,7 +366,7 @@ fn domain_error_is_measured_and_removed_from_the_discretization_error() {
     let cfg = BenchConfig {
         cases: vec![Case::HertzPlane, Case::HertzAxi],
         meshes: vec![0.2, 0.1],
-        methods: vec!["lagrange".into()],
+        methods: registry::lookup_all(&["lagrange"]).unwrap(),
         ..BenchConfig::default()
     };
     let run = contact_bench::run(&cfg, &Progress::quiet(), None).unwrap();
@@ -426,7 +427,7 @@ fn inclined_cases_give_the_uniform_pressure_with_two_term_rows() {
     let cfg = BenchConfig {
         cases: vec![Case::Inclined15, Case::Inclined30, Case::Inclined45],
         meshes: vec![0.2, 0.1],
-        methods: vec!["lagrange".into(), "condensed".into()],
+        methods: registry::lookup_all(&["lagrange", "condensed"]).unwrap(),
         deltas_rel: vec![1e-2, 1e-4],
         ..config()
     };
@@ -461,7 +462,7 @@ fn two_body_patch_cases_report_mortar_exact_and_nts_off() {
     let cfg = BenchConfig {
         cases: vec![Case::PatchMortar, Case::PatchNts1],
         meshes: vec![0.2, 0.1],
-        methods: vec!["lagrange".into(), "condensed".into()],
+        methods: registry::lookup_all(&["lagrange", "condensed"]).unwrap(),
         deltas_rel: vec![1e-2, 1e-4],
         ..config()
     };
@@ -504,7 +505,7 @@ fn two_body_patch_holds_at_every_mesh_ratio() {
         let cfg = BenchConfig {
             cases: vec![Case::PatchMortar, Case::PatchNts1],
             meshes: vec![0.1],
-            methods: vec!["lagrange".into(), "condensed".into()],
+            methods: registry::lookup_all(&["lagrange", "condensed"]).unwrap(),
             deltas_rel: vec![1e-3],
             mesh_ratio: (up, low),
             ..config()
@@ -547,7 +548,7 @@ fn hertz_two_body_case_meets_hertz_and_records_the_second_body() {
     let cfg = BenchConfig {
         cases: vec![Case::HertzTwoBody],
         meshes: vec![0.2],
-        methods: vec!["lagrange".into(), "condensed".into()],
+        methods: registry::lookup_all(&["lagrange", "condensed"]).unwrap(),
         deltas_rel: vec![1e-3],
         ..config()
     };
@@ -579,7 +580,7 @@ fn hertz_with_nodal_normals_meets_hertz() {
     let cfg = BenchConfig {
         cases: vec![Case::HertzNormals, Case::HertzPlane],
         meshes: vec![0.2],
-        methods: vec!["lagrange".into(), "condensed".into()],
+        methods: registry::lookup_all(&["lagrange", "condensed"]).unwrap(),
         deltas_rel: vec![1e-3],
         ..config()
     };

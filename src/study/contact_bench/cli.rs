@@ -68,7 +68,7 @@ impl Flags {
             cfg.meshes = m.clone();
         }
         if let Some(m) = &self.methods {
-            cfg.methods = m.clone();
+            cfg.methods = registry::lookup_all(m)?;
         }
         for (grid, v) in [
             (&mut cfg.eps_rel, &self.eps_rel),

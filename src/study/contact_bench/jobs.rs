@@ -3,7 +3,7 @@
 
 use super::{admissible, BenchConfig, BenchRow};
 use crate::model::elasticity::Indentation;
-use crate::strategy::{self, registry, Method};
+use crate::strategy::{self, Method};
 use crate::study::grid::{Augmented, KnobGrid, Level};
 
 /// One method at one knob value.
@@ -60,12 +60,7 @@ pub fn jobs(cfg: &BenchConfig, scene: &Indentation, a: f64) -> Vec<BenchJob> {
             rel: None,
         }),
     };
-    let strategies: Vec<_> = cfg
-        .methods
-        .iter()
-        .filter_map(|name| registry::lookup(name).ok())
-        .collect();
-    grid.points(&strategies)
+    grid.points(&cfg.methods)
         .into_iter()
         .map(|p| BenchJob {
             method: p.method,
@@ -91,15 +86,15 @@ pub fn refinement_jobs(
     rows: &[&BenchRow],
 ) -> Vec<BenchJob> {
     let mut out = Vec::new();
-    for name in cfg
+    for &s in cfg
         .methods
         .iter()
-        .filter(|n| n.as_str() != strategy::optimal::STRATEGY.name)
+        .filter(|s| !std::ptr::eq(**s, &strategy::optimal::STRATEGY))
     {
         for knob in ["eps", "factor", "delta", "tol", "adaptive-tol"] {
             let mut grid: Vec<(f64, bool)> = rows
                 .iter()
-                .filter(|r| &r.method == name && r.knob == knob)
+                .filter(|r| r.method == s.name && r.knob == knob)
                 .filter_map(|r| r.knob_rel.map(|k| (k, admissible(r))))
                 .collect();
             grid.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -115,7 +110,7 @@ pub fn refinement_jobs(
                 continue;
             }
             let sub = BenchConfig {
-                methods: vec![name.clone()],
+                methods: vec![s],
                 eps_rel: new.clone(),
                 factors: new.clone(),
                 deltas_rel: new,

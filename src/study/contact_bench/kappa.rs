@@ -20,7 +20,11 @@ pub const PER_DECADE: f64 = 2.0;
 
 /// The κ study's rows (empty when `barrier` is not among the methods or no Hertz case is).
 pub fn kappa_sensitivity(cfg: &BenchConfig, progress: &Progress) -> Result<Vec<BenchRow>> {
-    if !cfg.methods.iter().any(|m| m == barrier::STRATEGY.name) {
+    if !cfg
+        .methods
+        .iter()
+        .any(|m| std::ptr::eq(*m, &barrier::STRATEGY))
+    {
         return Ok(Vec::new());
     }
     let mut meshes = cfg.meshes.clone();
