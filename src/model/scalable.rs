@@ -3,7 +3,7 @@
 //! ([`membrane_scene`]), built directly from the model code with their displacement and
 //! stiffness scales (δ and ε of those studies are relative to them).
 
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::model::beam::{Frame, Section};
 use crate::system::{Constraint, ConstraintKind, Problem};
 
@@ -102,13 +102,4 @@ pub fn membrane_scene(size: usize, max_constraints: usize) -> Result<PerfScene> 
         scale,
         k_scale,
     })
-}
-
-/// Builds a scene of `family` (`beam` or `membrane`) with about `size` DOFs.
-pub fn scene(family: &str, size: usize, max_constraints: usize) -> Result<PerfScene> {
-    match family {
-        "beam" => beam_scene(size, max_constraints),
-        "membrane" => membrane_scene(size, max_constraints),
-        other => Err(Error::unknown("family", other, &["beam", "membrane"], "")),
-    }
 }

@@ -61,7 +61,7 @@ impl Study for RuntimeVsError {
 
     fn config(a: &Flags) -> Result<(PerfConfig, bool)> {
         let mut cfg = PerfConfig::preset(a.smoke);
-        cfg.families = a.families.iter().map(|s| s.trim().to_string()).collect();
+        cfg.families = super::parse_families(&a.families)?;
         if let Some(s) = &a.sizes {
             cfg.sizes = s.clone();
         }

@@ -40,7 +40,8 @@ pub mod report;
 pub use cli::RuntimeVsError;
 
 use crate::error::{Error, Result};
-use crate::model::scalable::{scene, PerfScene};
+use crate::generate::Family;
+use crate::model::scalable::{self, PerfScene};
 use crate::progress::Progress;
 use crate::strategy::{self, registry, Method};
 use crate::study::grid::{Augmented, KnobGrid, Level};
@@ -82,11 +83,33 @@ impl Knobs {
     }
 }
 
+/// The families the study runs (scenes of any size: [`scalable`]).
+pub const FAMILIES: [Family; 2] = [Family::Beam, Family::Membrane];
+
+/// The error for a family the study does not run.
+pub fn unknown_family(name: &str) -> Error {
+    Error::unknown("family", name, &FAMILIES.map(Family::name), "")
+}
+
+/// The families named, each one of [`FAMILIES`] (names trimmed).
+pub fn parse_families<S: AsRef<str>>(names: &[S]) -> Result<Vec<Family>> {
+    names
+        .iter()
+        .map(|n| {
+            let n = n.as_ref().trim();
+            Family::from_name(n)
+                .ok()
+                .filter(|f| FAMILIES.contains(f))
+                .ok_or_else(|| unknown_family(n))
+        })
+        .collect()
+}
+
 /// Configuration of a run.
 #[derive(Clone, Debug, Serialize)]
 pub struct PerfConfig {
     /// Families (`beam`, `membrane`).
-    pub families: Vec<String>,
+    pub families: Vec<Family>,
     /// Requested DOF counts.
     pub sizes: Vec<usize>,
     /// Methods to time (saved by name).
@@ -115,10 +138,8 @@ impl PerfConfig {
         if self.families.is_empty() {
             return Err(Error::input("no families given (valid: beam, membrane)"));
         }
-        for f in &self.families {
-            if f != "beam" && f != "membrane" {
-                return Err(Error::unknown("family", f, &["beam", "membrane"], ""));
-            }
+        if let Some(f) = self.families.iter().find(|f| !FAMILIES.contains(f)) {
+            return Err(unknown_family(f.name()));
         }
         if self.sizes.is_empty() || self.sizes.iter().any(|&s| !(9..=4_000_000).contains(&s)) {
             return Err(Error::input(format!(
@@ -155,7 +176,7 @@ impl PerfConfig {
     /// membrane, 30 s budget per solve, ≤ 400 constraints, 4 GB for condensed's N×m block.
     pub fn preset(smoke: bool) -> PerfConfig {
         PerfConfig {
-            families: vec!["beam".into(), "membrane".into()],
+            families: FAMILIES.to_vec(),
             sizes: if smoke {
                 vec![100, 1000]
             } else {
@@ -525,9 +546,14 @@ pub fn run(cfg: &PerfConfig, progress: &Progress) -> Result<Vec<PerfRow>> {
         let mut budget = Budget::default();
         for &size in &sizes {
             let t0 = Instant::now();
-            let sc = scene(fam, size, cfg.max_constraints)?;
+            let sc = match fam {
+                Family::Beam => scalable::beam_scene(size, cfg.max_constraints)?,
+                Family::Membrane => scalable::membrane_scene(size, cfg.max_constraints)?,
+                other => return Err(unknown_family(other.name())),
+            };
             progress.note(&format!(
-                "{fam}: built N = {}, m = {} in {:.2} s",
+                "{}: built N = {}, m = {} in {:.2} s",
+                fam.name(),
                 sc.problem.n(),
                 sc.problem.m(),
                 t0.elapsed().as_secs_f64()
