@@ -52,10 +52,9 @@ pub(crate) struct LanczosRun {
     pub converged: bool,
     /// The unit Ritz vector of θ, where asked for.
     pub vector: Option<Vec<f64>>,
-    /// Whether the Ritz vector was left to [`LanczosRun::deferred_vector`] ([`Keep::IfConverged`]).
-    deferred: bool,
-    /// The operator's order.
-    n: usize,
+    /// Where the Ritz vector was left to [`LanczosRun::deferred_vector`]
+    /// ([`Keep::IfConverged`]): the run's start vector q₀, for its second pass.
+    deferred_start: Option<Vec<f64>>,
     /// The tridiagonal T's diagonal and off-diagonal (at least `alphas.len() − 1` entries),
     /// for [`LanczosRun::second`].
     alphas: Vec<f64>,
@@ -72,28 +71,14 @@ impl LanczosRun {
     }
 
     /// The Ritz vector an unconverged run left undone ([`Keep::IfConverged`]), by the second
-    /// pass [`lanczos`] would have made: the same start (`start` as given to the run) and
-    /// operator, so the same vector bit for bit. `None` where the run formed its vector (it is
-    /// in `vector`) or was not asked for one.
-    pub fn deferred_vector(
-        &self,
-        start: Option<&[f64]>,
-        apply: &mut dyn FnMut(&[f64], &mut [f64]),
-    ) -> Option<Vec<f64>> {
-        if !self.deferred {
-            return None;
-        }
-        let n = self.n;
-        let warm = start.filter(|v| v.len() == n && v.iter().all(|x| x.is_finite()));
+    /// pass [`lanczos`] would have made from the run's own start vector: with the same
+    /// operator (`apply`), the same vector bit for bit. `None` where the run formed its vector
+    /// (it is in `vector`) or was not asked for one.
+    pub fn deferred_vector(&self, apply: &mut dyn FnMut(&[f64], &mut [f64])) -> Option<Vec<f64>> {
+        let q0 = self.deferred_start.as_ref()?;
         let k = self.alphas.len();
         let s = tridiagonal_eigenvector(&self.alphas, &self.betas[..k - 1], self.theta);
-        Some(second_pass(
-            &s,
-            &self.alphas,
-            &self.betas,
-            &start_vector(n, warm),
-            apply,
-        ))
+        Some(second_pass(&s, &self.alphas, &self.betas, q0, apply))
     }
 }
 
@@ -237,8 +222,7 @@ fn lanczos_within(
         steps,
         converged,
         vector,
-        deferred,
-        n,
+        deferred_start: deferred.then_some(q0),
         alphas,
         betas,
     })
@@ -525,14 +509,14 @@ mod tests {
         let deferred = run(10 * n, Keep::IfConverged);
         assert!(deferred.vector.is_none());
         let formed = deferred
-            .deferred_vector(start, &mut |x, y| apply(x, y))
+            .deferred_vector(&mut |x, y| apply(x, y))
             .expect("deferred");
         let kept = kept.vector.expect("kept");
         assert_eq!(kept, formed);
         assert_eq!(second_pass.vector.expect("second pass"), formed);
         // A run that formed its vector defers nothing.
         assert!(run(usize::MAX, Keep::IfConverged)
-            .deferred_vector(start, &mut |x, y| apply(x, y))
+            .deferred_vector(&mut |x, y| apply(x, y))
             .is_none());
     }
 }

@@ -19,6 +19,18 @@ pub(super) struct ShiftFamily {
     work: Vec<f64>,
 }
 
+/// Cholesky of `alpha·A + sigma·I` on A's pattern (None if not positive definite), the
+/// shifted values written into `work` (kept there for a margin, [`ShiftFamily::margin_of`]).
+pub(super) fn shifted_factor(
+    pattern: &DiagonalPattern,
+    work: &mut Vec<f64>,
+    alpha: f64,
+    sigma: f64,
+) -> Option<SparseLlt> {
+    pattern.fill_shifted(work, alpha, sigma, 0.0, None);
+    pattern.factor(work)
+}
+
 impl ShiftFamily {
     pub(super) fn new(a: &SparseColMat<usize, f64>) -> Result<Self> {
         let pattern = DiagonalPattern::new(a)?;
@@ -32,10 +44,8 @@ impl ShiftFamily {
 
     /// Cholesky of `alpha·A + sigma·I` (None if not positive definite).
     pub(super) fn factor(&mut self, alpha: f64, sigma: f64) -> Option<SparseLlt> {
-        self.pattern
-            .fill_shifted(&mut self.work, alpha, sigma, 0.0, None);
         self.factorizations += 1;
-        self.pattern.factor(&self.work)
+        shifted_factor(&self.pattern, &mut self.work, alpha, sigma)
     }
 
     /// A Cholesky test of `fl(alpha·A + sigma·I)` (alpha = ±1): on success its factor and the

@@ -192,41 +192,27 @@ pub fn compute(problem: &Problem, sol: &Solution, set: MetricSet) -> Result<Metr
     if set.cond {
         // Where K's Ritz vectors are kept (n ≤ RITZ_VECTOR_MAX_N) the system's cond₂ starts
         // from them, after K's, exactly as a sweep does (`compute_with_k`): the same rows bit
-        // for bit. Above, two independent analyses one after the other: K's and a penalized
-        // system's each run their two ends side by side where a second factor fits the
-        // memory (`conditioning::sparse::SIDE_BY_SIDE_ENDS_MIN_N`), which uses the two
-        // threads a side-by-side pair of analyses would, at the memory of one (10⁶ membrane:
-        // docs/performance.md); a saddle point's analysis (lagrange) runs on one thread,
-        // after K's. Each end is sequential inside: the same results for any number of
-        // threads.
+        // for bit. Above, the two analyses one after the other, the system's from the generic
+        // start: K's and a penalized system's each run their two ends side by side where a
+        // second factor fits the memory (`conditioning::sparse::SIDE_BY_SIDE_ENDS_MIN_N`),
+        // which uses the two threads a side-by-side pair of analyses would, at the memory of
+        // one (10⁶ membrane: docs/performance.md); a saddle point's analysis (lagrange) runs
+        // on one thread, after K's. Each end is sequential inside: the same results for any
+        // number of threads. Where K's analysis fails, its error is the result.
         let mut unavailable = Vec::new();
         let tol = set.cond_tol;
-        let cond_k = || {
-            conditioning::cond2_warm(
-                &problem.k,
-                Reuse {
-                    tol,
-                    ..Reuse::default()
-                },
-            )
-            .map(|(r, _)| r)
+        let reuse_k = Reuse {
+            tol,
+            keep_ritz: problem.n() <= conditioning::sparse::RITZ_VECTOR_MAX_N,
+            ..Reuse::default()
         };
-        let cond_sys = |notes: &mut Vec<String>, starts: Option<&RitzStarts>| {
-            system_cond(problem, sol, &sys, starts, tol, notes)
-        };
-        let (k, system) = if problem.n() <= conditioning::sparse::RITZ_VECTOR_MAX_N {
-            match conditioning::cond2_warm(
-                &problem.k,
-                Reuse {
-                    tol,
-                    ..Reuse::keeping_ritz()
-                },
-            ) {
-                Ok((k, ritz)) => (Ok(k), cond_sys(&mut unavailable, ritz.as_ref())),
-                Err(e) => (Err(e), Ok(None)),
+        let (k, system) = match conditioning::cond2_warm(&problem.k, reuse_k) {
+            Ok((k, ritz)) => {
+                let starts = ritz.as_ref();
+                let system = system_cond(problem, sol, &sys, starts, tol, &mut unavailable);
+                (Ok(k), system)
             }
-        } else {
-            (cond_k(), cond_sys(&mut unavailable, None))
+            Err(e) => (Err(e), Ok(None)),
         };
         out.cond2_k = Some(k?);
         out.cond2_system = system?;

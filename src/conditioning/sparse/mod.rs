@@ -63,7 +63,7 @@
 mod ends;
 
 use super::certify::Margin;
-use super::shifts::{graded_estimate, ShiftFamily};
+use super::shifts::{graded_estimate, shifted_factor, ShiftFamily};
 use super::Reuse;
 use crate::error::{Error, Result};
 use crate::linalg::{DiagonalPattern, FactorKind, Factorization, SparseLlt};
@@ -388,7 +388,7 @@ fn estimate(
         lmax: lmax_est,
         top: top.vector,
         steps: top.steps + bottom.steps,
-        ..bottom.estimates
+        ..bottom
     })
 }
 
@@ -424,14 +424,8 @@ fn ends_fit_side_by_side(factor_bytes: usize) -> bool {
     })
 }
 
-/// λ_min's estimate (the bottom end of [`estimate`]): all of [`Estimates`] but `lmax` and
-/// `top`.
-struct BottomEstimate {
-    lmin: f64,
-    steps: usize,
-    estimates: Estimates,
-}
-
+/// λ_min's estimate (the bottom end of [`estimate`]): every field of [`Estimates`] but
+/// `lmax` (NaN) and `top` (None), which the λ_max end fills in.
 fn bottom_estimate(
     pattern: &DiagonalPattern,
     factor_of_a: FactorOfA<'_>,
@@ -439,7 +433,7 @@ fn bottom_estimate(
     max_steps: usize,
     start: Option<&[f64]>,
     bottom_stag: f64,
-) -> Result<BottomEstimate> {
+) -> Result<Estimates> {
     let n = pattern.diag.len();
     let max_diag = pattern.max_diagonal();
     // Phase 1: estimates, each converged to STAGNATION. λ_min = 1/λ_max(A⁻¹) by Lanczos with
@@ -491,22 +485,18 @@ fn bottom_estimate(
         (None, 0)
     };
     drop(factor_of_a);
-    Ok(BottomEstimate {
+    Ok(Estimates {
+        lmax: f64::NAN,
         lmin: lmin_est,
+        top: None,
+        bottom: y_bottom,
+        x_hat,
+        s_hat,
+        inv_hmin_lo: (weight / (lmin_est * yy)).max(h_est.map_or(1.0, |h| 1.0 / h)),
+        h_est,
+        deferred,
+        lambda2,
         steps: s2 + s3,
-        estimates: Estimates {
-            lmax: f64::NAN,
-            lmin: lmin_est,
-            top: None,
-            bottom: y_bottom,
-            x_hat,
-            s_hat,
-            inv_hmin_lo: (weight / (lmin_est * yy)).max(h_est.map_or(1.0, |h| 1.0 / h)),
-            h_est,
-            deferred,
-            lambda2,
-            steps: 0,
-        },
     })
 }
 
@@ -541,14 +531,13 @@ fn top_estimate(
     )?;
     let (mut lmax_est, mut steps) = (run_max.theta, run_max.steps);
     let mut vector = run_max.vector.take();
-    let (mut replaced, mut factorizations) = (false, 0);
+    let mut factorizations = 0;
     if !run_max.converged {
         let sigma0 = gershgorin_max(a) * (1.0 + 1e-8);
-        let mut work = Vec::new();
-        pattern.fill_shifted(&mut work, -1.0, sigma0, 0.0, None);
         factorizations += 1;
-        if let Some(f) = pattern.factor(&work) {
-            drop(work);
+        // Its own value buffer (A's family's is the other end's), freed once factored.
+        let factor = shifted_factor(pattern, &mut Vec::new(), -1.0, sigma0);
+        if let Some(f) = factor {
             let run = lanczos(
                 n,
                 max_steps,
@@ -565,12 +554,12 @@ fn top_estimate(
             if nu > 0.0 && nu.is_finite() && sigma0 - 1.0 / nu > lmax_est {
                 lmax_est = sigma0 - 1.0 / nu;
                 vector = run.vector;
-                replaced = true;
             }
         }
     }
-    if !replaced && vector.is_none() {
-        vector = run_max.deferred_vector(start, &mut |x, y| pattern.matvec(x, y));
+    // (A replacing shift-invert vector is always formed: `Keep::Always`.)
+    if vector.is_none() {
+        vector = run_max.deferred_vector(&mut |x, y| pattern.matvec(x, y));
     }
     Ok(TopEstimate {
         lmax: lmax_est,

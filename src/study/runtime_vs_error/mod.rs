@@ -128,11 +128,6 @@ pub struct PerfConfig {
 }
 
 impl PerfConfig {
-    /// The strategies of `methods`.
-    pub fn strategies(&self) -> Vec<&'static strategy::Strategy> {
-        self.methods.clone()
-    }
-
     /// Checks the configuration; errors name the offending value and the valid range.
     pub fn validate(&self) -> Result<()> {
         if self.families.is_empty() {
@@ -267,7 +262,7 @@ fn knob_grid(cfg: &PerfConfig, k_scale: f64, scale: f64) -> KnobGrid {
 
 /// Number of points [`jobs`] gives per scene.
 pub fn jobs_per_scene(cfg: &PerfConfig) -> usize {
-    knob_grid(cfg, 1.0, 1.0).count(&cfg.strategies())
+    knob_grid(cfg, 1.0, 1.0).count(&cfg.methods)
 }
 
 /// The jobs `(method, knob name, absolute value, relative value)` of a scene: each relative
@@ -276,7 +271,7 @@ pub fn jobs_per_scene(cfg: &PerfConfig) -> usize {
 pub fn jobs(scene: &PerfScene, cfg: &PerfConfig) -> Vec<(Method, &'static str, f64, f64)> {
     let grid = knob_grid(cfg, scene.k_scale, scene.scale);
     // Knob values are validated with the config (finite, > 0).
-    grid.points(&cfg.strategies())
+    grid.points(&cfg.methods)
         .into_iter()
         .map(|p| {
             let knob = if p.knob.is_empty() { "-" } else { p.knob };
