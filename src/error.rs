@@ -4,8 +4,13 @@
 //! The variants that name a thing carry it as a field — which knob ([`Error::MissingKnob`],
 //! [`Error::NotPositive`]), which name and the valid ones ([`Error::Unknown`]), which DOF
 //! ([`Error::DofOutOfRange`]), which file and line ([`Error::Parse`]), which command-line
-//! flag ([`Error::Flag`], added by the command-line layer only) — so that callers can match
-//! on them; [`Error::Input`] holds the rest as text.
+//! flag ([`Error::Flag`], added by the command-line layer only), which value and its valid
+//! range ([`Error::OutOfRange`], [`Error::NotFinite`]), which list and its lengths
+//! ([`Error::LengthMismatch`], [`Error::NoneGiven`], [`Error::Duplicate`]), which constraint
+//! row and what is wrong with it ([`Error::Constraint`], [`ConstraintProblem`]), which method
+//! and what it needs ([`Error::Unsupported`]), which file is not what it must be
+//! ([`Error::BadFile`]) — so that callers can match on them; [`Error::Input`] holds the few
+//! that fit none of these as text.
 
 use thiserror::Error as ThisError;
 
@@ -41,6 +46,73 @@ pub enum Error {
         name: String,
         /// The valid names, comma-separated (and what else is accepted).
         valid: String,
+    },
+    /// A value outside the range its quantity allows.
+    #[error("invalid input: {name} must be {expected} (got {value})")]
+    OutOfRange {
+        /// What it is (`--levels`, `picard.relaxation`, `Poisson's ratio ν`, …).
+        name: String,
+        /// The value given, as written (a number, a pair, a list).
+        value: String,
+        /// What it must be (`in 2..=8`, `≥ 1`, `in (0, 1)`, `≤ punch.radius = 2`).
+        expected: String,
+    },
+    /// A value that must be finite and is not (NaN or ±∞).
+    #[error("invalid input: {what} is not finite")]
+    NotFinite {
+        /// Which value (`load entry 3`, `constraint 2's limit`).
+        what: String,
+    },
+    /// A list or vector whose length does not match what it goes with.
+    #[error("invalid input: {what} has {got} entries, expected {expected}")]
+    LengthMismatch {
+        /// Which list (`load vector q`, `surface weights`).
+        what: String,
+        /// Its length.
+        got: usize,
+        /// The length it must have (and why, in `what`).
+        expected: usize,
+    },
+    /// A list given empty where at least one entry is needed.
+    #[error("invalid input: {what}: none given{hint}")]
+    NoneGiven {
+        /// Which list (`--families`, `shard folders`).
+        what: String,
+        /// What may be given (`" (valid: beam, membrane)"`), or empty.
+        hint: String,
+    },
+    /// An item given twice where each may appear once.
+    #[error("invalid input: {what} {item} given twice")]
+    Duplicate {
+        /// What kind of item (`--delta-methods entry`, `shard`).
+        what: String,
+        /// The item (`'paper'`, `2/4`).
+        item: String,
+    },
+    /// A constraint row that is malformed.
+    #[error("invalid input: constraint {index}: {problem}")]
+    Constraint {
+        /// The row (0-based).
+        index: usize,
+        /// What is wrong with it.
+        problem: ConstraintProblem,
+    },
+    /// A method or route asked for on a problem it does not handle.
+    #[error("invalid input: {what} needs {needs}")]
+    Unsupported {
+        /// The method or route (`optimal`, `the elimination route`).
+        what: String,
+        /// What it needs that the problem lacks (`a sparse K`, `single-DOF constraints`).
+        needs: String,
+    },
+    /// A file or folder that exists but is not what it must be (a folder that is not a sweep
+    /// output, a manifest without its fields, a shard of another run).
+    #[error("invalid input: {path}: {problem}")]
+    BadFile {
+        /// The file or folder.
+        path: String,
+        /// What is wrong with it.
+        problem: String,
     },
     /// A constraint on a DOF the system does not have.
     #[error("invalid input: {context}: DOF {dof} is out of range (N = {n}, DOFs are 0-based)")]
@@ -92,7 +164,112 @@ pub enum Error {
     OutsideModel(String),
 }
 
+/// What is wrong with a constraint row ([`Error::Constraint`]).
+#[derive(Debug, Clone, PartialEq)]
+pub enum ConstraintProblem {
+    /// The row has no terms.
+    NoTerms,
+    /// Every coefficient of the row is zero.
+    AllZero,
+    /// A coefficient that is NaN or ±∞.
+    NonFiniteCoefficient {
+        /// The DOF it multiplies.
+        dof: usize,
+    },
+    /// A DOF listed twice in one row.
+    RepeatedDof {
+        /// The DOF.
+        dof: usize,
+    },
+    /// The limit is NaN or ±∞.
+    NonFiniteLimit,
+    /// A single-DOF row on a DOF an earlier single-DOF row already constrains.
+    ConstrainedTwice {
+        /// The DOF.
+        dof: usize,
+    },
+}
+
+impl std::fmt::Display for ConstraintProblem {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ConstraintProblem::NoTerms => write!(f, "the row has no terms"),
+            ConstraintProblem::AllZero => write!(f, "every coefficient is zero"),
+            ConstraintProblem::NonFiniteCoefficient { dof } => {
+                write!(f, "the coefficient of DOF {dof} is not finite")
+            }
+            ConstraintProblem::RepeatedDof { dof } => write!(f, "DOF {dof} appears twice in the row"),
+            ConstraintProblem::NonFiniteLimit => write!(f, "limit is not finite"),
+            ConstraintProblem::ConstrainedTwice { dof } => {
+                write!(f, "DOF {dof} is constrained twice")
+            }
+        }
+    }
+}
+
 impl Error {
+    /// Shorthand for [`Error::OutOfRange`]: `name` must be `expected` but is `value`.
+    pub fn out_of_range(
+        name: impl std::fmt::Display,
+        value: impl std::fmt::Display,
+        expected: impl std::fmt::Display,
+    ) -> Self {
+        Error::OutOfRange {
+            name: name.to_string(),
+            value: value.to_string(),
+            expected: expected.to_string(),
+        }
+    }
+    /// Shorthand for [`Error::NotFinite`].
+    pub fn not_finite(what: impl std::fmt::Display) -> Self {
+        Error::NotFinite {
+            what: what.to_string(),
+        }
+    }
+    /// Shorthand for [`Error::LengthMismatch`].
+    pub fn length_mismatch(what: impl std::fmt::Display, got: usize, expected: usize) -> Self {
+        Error::LengthMismatch {
+            what: what.to_string(),
+            got,
+            expected,
+        }
+    }
+    /// Shorthand for [`Error::NoneGiven`].
+    pub fn none_given(what: impl std::fmt::Display, hint: impl std::fmt::Display) -> Self {
+        Error::NoneGiven {
+            what: what.to_string(),
+            hint: hint.to_string(),
+        }
+    }
+    /// Shorthand for [`Error::Duplicate`].
+    pub fn duplicate(what: impl std::fmt::Display, item: impl std::fmt::Display) -> Self {
+        Error::Duplicate {
+            what: what.to_string(),
+            item: item.to_string(),
+        }
+    }
+    /// Shorthand for [`Error::Unsupported`].
+    pub fn unsupported(what: impl std::fmt::Display, needs: impl std::fmt::Display) -> Self {
+        Error::Unsupported {
+            what: what.to_string(),
+            needs: needs.to_string(),
+        }
+    }
+    /// Shorthand for [`Error::BadFile`].
+    pub fn bad_file(path: impl std::fmt::Display, problem: impl std::fmt::Display) -> Self {
+        Error::BadFile {
+            path: path.to_string(),
+            problem: problem.to_string(),
+        }
+    }
+    /// A JSON file that does not parse as what it must hold: [`Error::Parse`] with serde's
+    /// line, its column and message (`path: line L: column C: message`).
+    pub fn json(path: impl std::fmt::Display, e: &serde_json::Error) -> Self {
+        let text = e.to_string();
+        let suffix = format!(" at line {} column {}", e.line(), e.column());
+        let msg = text.strip_suffix(&suffix).unwrap_or(&text);
+        Error::parse(path, e.line(), format!("column {}: {msg}", e.column()))
+    }
     /// Shorthand for [`Error::Input`].
     pub fn input(msg: impl Into<String>) -> Self {
         Error::Input(msg.into())
@@ -151,6 +328,14 @@ impl Error {
                 | Error::NotPositive { .. }
                 | Error::Unknown { .. }
                 | Error::DofOutOfRange { .. }
+                | Error::OutOfRange { .. }
+                | Error::NotFinite { .. }
+                | Error::LengthMismatch { .. }
+                | Error::NoneGiven { .. }
+                | Error::Duplicate { .. }
+                | Error::Constraint { .. }
+                | Error::Unsupported { .. }
+                | Error::BadFile { .. }
         )
     }
     /// The message without its `invalid input: ` prefix (for a caller that names the input

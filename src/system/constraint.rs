@@ -1,7 +1,7 @@
 //! Contact constraints: the rows `d_cᵀ` of Dᵀ with their limits and kinds, and their checks.
 
 use super::Stiffness;
-use crate::error::{Error, Result};
+use crate::error::{ConstraintProblem, Error, Result};
 use serde::{Deserialize, Serialize};
 
 /// Kind of a contact constraint (binding names: `bilateral`, `upper`, `lower`).
@@ -166,9 +166,10 @@ pub(crate) fn check_constraints(constraints: &[Constraint], n: usize) -> Result<
     let mut in_row = vec![usize::MAX; n];
     for (c, con) in constraints.iter().enumerate() {
         if con.terms.is_empty() {
-            return Err(Error::input(format!(
-                "constraint {c}: the row has no terms, or every coefficient is zero"
-            )));
+            return Err(Error::Constraint {
+                index: c,
+                problem: ConstraintProblem::NoTerms,
+            });
         }
         for &(dof, a) in &con.terms {
             if dof >= n {
@@ -179,29 +180,36 @@ pub(crate) fn check_constraints(constraints: &[Constraint], n: usize) -> Result<
                 });
             }
             if !a.is_finite() {
-                return Err(Error::input(format!(
-                    "constraint {c}: the coefficient of DOF {dof} is not finite"
-                )));
+                return Err(Error::Constraint {
+                    index: c,
+                    problem: ConstraintProblem::NonFiniteCoefficient { dof },
+                });
             }
             if std::mem::replace(&mut in_row[dof], c) == c {
-                return Err(Error::input(format!(
-                    "constraint {c}: DOF {dof} appears twice in the row"
-                )));
+                return Err(Error::Constraint {
+                    index: c,
+                    problem: ConstraintProblem::RepeatedDof { dof },
+                });
             }
         }
         if con.terms.iter().all(|t| t.1 == 0.0) {
-            return Err(Error::input(format!(
-                "constraint {c}: every coefficient is zero"
-            )));
+            return Err(Error::Constraint {
+                index: c,
+                problem: ConstraintProblem::AllZero,
+            });
         }
         if !con.limit.is_finite() {
-            return Err(Error::input(format!("constraint {c}: limit is not finite")));
+            return Err(Error::Constraint {
+                index: c,
+                problem: ConstraintProblem::NonFiniteLimit,
+            });
         }
         if let [(dof, _)] = con.terms[..] {
             if std::mem::replace(&mut single[dof], true) {
-                return Err(Error::input(format!(
-                    "constraint {c}: DOF {dof} is constrained twice"
-                )));
+                return Err(Error::Constraint {
+                    index: c,
+                    problem: ConstraintProblem::ConstrainedTwice { dof },
+                });
             }
         }
     }
