@@ -64,7 +64,7 @@ pub fn run(out: &Path, count: usize) -> Result<(Vec<Row>, Vec<PathBuf>)> {
     registry::register(&GAP_SCALED)?;
     let cfg = SweepConfig {
         count,
-        methods: vec!["paper".into(), "condensed".into(), GAP_SCALED.name.into()],
+        methods: registry::lookup_all(&["paper", "condensed", GAP_SCALED.name])?,
         ..SweepConfig::default()
     };
     let opts = RunOptions {

@@ -198,7 +198,9 @@ impl std::fmt::Display for ConstraintProblem {
             ConstraintProblem::NonFiniteCoefficient { dof } => {
                 write!(f, "the coefficient of DOF {dof} is not finite")
             }
-            ConstraintProblem::RepeatedDof { dof } => write!(f, "DOF {dof} appears twice in the row"),
+            ConstraintProblem::RepeatedDof { dof } => {
+                write!(f, "DOF {dof} appears twice in the row")
+            }
             ConstraintProblem::NonFiniteLimit => write!(f, "limit is not finite"),
             ConstraintProblem::ConstrainedTwice { dof } => {
                 write!(f, "DOF {dof} is constrained twice")

@@ -52,8 +52,10 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 /// Scene families.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, serde::Serialize)]
-#[serde(rename_all = "lowercase")]
+///
+/// Read and written by name ([`Family::name`]; [`Family::from_name`] also reads `patch`), in
+/// configurations and manifests alike.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Family {
     /// Euler–Bernoulli beams against rigid surfaces.
     Beam,
@@ -82,6 +84,19 @@ pub const FAMILY_NAMES: [&str; 6] = [
 
 /// The families a sweep runs when none are named.
 pub const DEFAULT_FAMILIES: [&str; 3] = ["beam", "membrane", "spectrum"];
+
+impl serde::Serialize for Family {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
+impl<'de> serde::Deserialize<'de> for Family {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        let name = <String as serde::Deserialize>::deserialize(d)?;
+        Family::from_name(&name).map_err(serde::de::Error::custom)
+    }
+}
 
 impl Family {
     /// Parses a family name.
@@ -145,33 +160,43 @@ impl GeneratorConfig {
     pub fn validate(&self) -> Result<()> {
         let (a, b) = self.beam_elements;
         if !(3 <= a && a <= b && b <= 500) {
-            return Err(Error::input(format!(
-                "beam_elements = ({a}, {b}): need 3 ≤ min ≤ max ≤ 500"
-            )));
+            return Err(Error::out_of_range(
+                "beam_elements",
+                format!("({a}, {b})"),
+                "3 ≤ min ≤ max ≤ 500",
+            ));
         }
         let (a, b) = self.membrane_side;
         if !(10 <= a && a <= b && b <= 2000) {
-            return Err(Error::input(format!(
-                "membrane_side = ({a}, {b}): need 10 ≤ min ≤ max ≤ 2000"
-            )));
+            return Err(Error::out_of_range(
+                "membrane_side",
+                format!("({a}, {b})"),
+                "10 ≤ min ≤ max ≤ 2000",
+            ));
         }
         let (a, b) = self.spectrum_n;
         if !(4 <= a && a <= b && b <= 4000) {
-            return Err(Error::input(format!(
-                "spectrum_n = ({a}, {b}): need 4 ≤ min ≤ max ≤ 4000"
-            )));
+            return Err(Error::out_of_range(
+                "spectrum_n",
+                format!("({a}, {b})"),
+                "4 ≤ min ≤ max ≤ 4000",
+            ));
         }
         let (a, b) = self.spectrum_log10_spread;
         if !(a.is_finite() && b.is_finite() && 0.0 <= a && a <= b && b <= 16.0) {
-            return Err(Error::input(format!(
-                "spectrum_log10_spread = ({a}, {b}): need 0 ≤ min ≤ max ≤ 16"
-            )));
+            return Err(Error::out_of_range(
+                "spectrum_log10_spread",
+                format!("({a}, {b})"),
+                "0 ≤ min ≤ max ≤ 16",
+            ));
         }
         let (a, b) = self.elastic_h;
         if !(a.is_finite() && b.is_finite() && 0.02 <= a && a <= b && b <= 0.5) {
-            return Err(Error::input(format!(
-                "elastic_h = ({a}, {b}): need 0.02 ≤ min ≤ max ≤ 0.5"
-            )));
+            return Err(Error::out_of_range(
+                "elastic_h",
+                format!("({a}, {b})"),
+                "0.02 ≤ min ≤ max ≤ 0.5",
+            ));
         }
         Ok(())
     }

@@ -4,6 +4,7 @@
 
 use crate::common;
 pub(crate) use crate::common::stderr;
+use penalty_lab::generate::Family;
 use penalty_lab::study::sweep::rows::{self, Row};
 use penalty_lab::study::sweep::{self, SweepConfig};
 use std::path::{Path, PathBuf};
@@ -71,7 +72,7 @@ pub(crate) fn with<'a>(base: &[&'a str], extra: &[&'a str]) -> Vec<&'a str> {
 /// The config SMALL describes (for row counts).
 pub(crate) fn small_config() -> SweepConfig {
     SweepConfig {
-        families: vec!["beam".into(), "membrane".into(), "spectrum".into()],
+        families: vec![Family::Beam, Family::Membrane, Family::Spectrum],
         count: 2,
         seed: 77,
         eps: sweep::LogGrid {

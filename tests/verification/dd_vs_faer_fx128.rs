@@ -8,6 +8,7 @@
 //! plain f64 solve misses by orders of magnitude more (checked, so the comparison can fail).
 
 use faer::fx128;
+use penalty_lab::generate::Family;
 use penalty_lab::linalg::Factorization;
 use penalty_lab::model::beam::paper;
 use penalty_lab::study::stress::{stress_scenes, PenalizedSystem};
@@ -71,7 +72,7 @@ fn rel_diff(a: &[f64], b: &[f64]) -> f64 {
 #[test]
 fn double_double_reference_agrees_with_faer_fx128() {
     let mut problems = vec![paper::problem()];
-    let families = ["spectrum".to_string(), "beam".to_string()];
+    let families = [Family::Spectrum, Family::Beam];
     for sc in stress_scenes(7, 2, &families).unwrap() {
         problems.push(sc.problem);
     }

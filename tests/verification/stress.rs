@@ -10,6 +10,7 @@ use crate::common;
 
 use num_rational::BigRational;
 use num_traits::{ToPrimitive, Zero};
+use penalty_lab::generate::Family;
 use penalty_lab::metrics::{self, MetricSet};
 use penalty_lab::model::beam::paper;
 use penalty_lab::strategy::{self, Method};
@@ -95,16 +96,7 @@ fn small_cfg() -> StressConfig {
 }
 
 fn stress_scenes() -> Vec<StressScene> {
-    stability::stress_scenes(
-        11,
-        1,
-        &[
-            "beam".to_string(),
-            "spectrum".to_string(),
-            "membrane".to_string(),
-        ],
-    )
-    .unwrap()
+    stability::stress_scenes(11, 1, &[Family::Beam, Family::Spectrum, Family::Membrane]).unwrap()
 }
 
 // ----------------------------------------------------------------------------------------

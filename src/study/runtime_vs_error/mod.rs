@@ -131,37 +131,37 @@ impl PerfConfig {
     /// Checks the configuration; errors name the offending value and the valid range.
     pub fn validate(&self) -> Result<()> {
         if self.families.is_empty() {
-            return Err(Error::input("no families given (valid: beam, membrane)"));
+            return Err(Error::none_given("families", " (valid: beam, membrane)"));
         }
         if let Some(f) = self.families.iter().find(|f| !FAMILIES.contains(f)) {
             return Err(unknown_family(f.name()));
         }
         if self.sizes.is_empty() || self.sizes.iter().any(|&s| !(9..=4_000_000).contains(&s)) {
-            return Err(Error::input(format!(
-                "sizes {:?}: need at least one, each in 9..=4000000",
-                self.sizes
-            )));
+            return Err(Error::out_of_range(
+                "sizes",
+                format!("{:?}", self.sizes),
+                "at least one, each in 9..=4000000",
+            ));
         }
         if self.repeats == 0 || self.repeats > 100 {
-            return Err(Error::input(format!(
-                "repeats = {}: need 1..=100",
-                self.repeats
-            )));
+            return Err(Error::out_of_range("repeats", self.repeats, "in 1..=100"));
         }
         if !(self.budget_seconds.is_finite() && self.budget_seconds > 0.0) {
-            return Err(Error::input(format!(
-                "budget = {}: need a finite number of seconds > 0",
-                self.budget_seconds
-            )));
+            return Err(Error::out_of_range(
+                "budget",
+                self.budget_seconds,
+                "a finite number of seconds > 0",
+            ));
         }
         if self.max_constraints == 0 {
-            return Err(Error::input("max constraints must be ≥ 1"));
+            return Err(Error::out_of_range("max constraints", 0, "≥ 1"));
         }
         if !(self.memory_limit_bytes.is_finite() && self.memory_limit_bytes > 0.0) {
-            return Err(Error::input(format!(
-                "memory limit {} GB: need a finite number > 0",
-                self.memory_limit_bytes / 1e9
-            )));
+            return Err(Error::out_of_range(
+                "memory limit (GB)",
+                self.memory_limit_bytes / 1e9,
+                "a finite number > 0",
+            ));
         }
         Ok(())
     }

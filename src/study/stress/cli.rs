@@ -3,7 +3,8 @@
 
 use super::record::{self, Record, StressRun};
 use super::{figures, report, StressConfig};
-use crate::error::Result;
+use crate::error::{Error, Result};
+use crate::generate::{Family, FAMILY_NAMES};
 use crate::study::grid::LogGrid;
 use crate::study::shape::{Drawing, RunContext, Study};
 use std::path::Path;
@@ -52,12 +53,7 @@ impl Study for Stress {
         Ok(StressRun {
             seed: a.seed,
             count: a.count,
-            families: a
-                .families
-                .iter()
-                .map(|s| s.trim().to_string())
-                .filter(|s| !s.is_empty() && s != "none")
-                .collect(),
+            families: parse_families(&a.families)?,
             config: StressConfig {
                 eps: LogGrid::parse(&a.eps)?.values(),
                 max_steps: a.max_steps,
@@ -90,4 +86,18 @@ impl Study for Stress {
     fn report(rec: &Record) -> String {
         report::text(rec)
     }
+}
+
+/// `--families` parsed: every name but `none` (and empty entries) as a family; an unknown one
+/// is an error listing the valid names.
+fn parse_families(names: &[String]) -> Result<Vec<Family>> {
+    names
+        .iter()
+        .map(|s| s.trim())
+        .filter(|s| !s.is_empty() && *s != "none")
+        .map(|s| {
+            Family::from_name(s)
+                .map_err(|_| Error::unknown("family", s, &FAMILY_NAMES, ", or none"))
+        })
+        .collect()
 }

@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::error::{Error, Result};
-use crate::generate::FAMILY_NAMES;
+use crate::generate::Family;
 use crate::progress::Progress;
 use crate::provenance::{self, csv_opt, Provenance};
 use crate::stats::median;
@@ -20,7 +20,7 @@ pub struct StressRun {
     pub count: usize,
     /// Families of generated scenes (`beam`, `membrane`, `spectrum`); empty: the paper's beam
     /// only.
-    pub families: Vec<String>,
+    pub families: Vec<Family>,
     /// The studies' configuration.
     pub config: StressConfig,
 }
@@ -44,16 +44,12 @@ pub struct StressOutput {
 /// Runs both studies on every scene, one progress step per scene. Errors on an unknown family
 /// or a `count` above [`MAX_COUNT`].
 pub fn run(r: &StressRun, progress: &Progress) -> Result<StressOutput> {
-    for f in &r.families {
-        if !FAMILY_NAMES.contains(&f.as_str()) {
-            return Err(Error::unknown("family", f, &FAMILY_NAMES, ", or none"));
-        }
-    }
     if r.count > MAX_COUNT {
-        return Err(Error::input(format!(
-            "--count {} is too large for the dense double-double reference (max {MAX_COUNT})",
-            r.count
-        )));
+        return Err(Error::out_of_range(
+            "--count",
+            r.count,
+            format!("≤ {MAX_COUNT} (the dense double-double reference grows like N³)"),
+        ));
     }
     let t0 = Instant::now();
     let scenes = stress_scenes(r.seed, r.count, &r.families)?;

@@ -3,6 +3,7 @@
 use super::*;
 use crate::conditioning;
 use crate::error::Result;
+use crate::generate::Family;
 use crate::metrics::{self, MetricSet};
 use crate::strategy::{self, Method, Solution, SystemKind};
 use crate::system::{ConstraintKind, Problem, Stiffness};
@@ -516,8 +517,8 @@ pub fn strategy_study(scene: &StressScene, cfg: &StressConfig) -> Result<Vec<Str
 /// generated scenes per family with sizes small enough for the dense double-double reference
 /// (beams of 3–12 elements, a 10×10 membrane, spectrum matrices of N = 8–40 with eigenvalue
 /// spreads 10¹⁰–10¹⁶).
-pub fn stress_scenes(seed: u64, count: usize, families: &[String]) -> Result<Vec<StressScene>> {
-    use crate::generate::{generate, Family, GeneratorConfig};
+pub fn stress_scenes(seed: u64, count: usize, families: &[Family]) -> Result<Vec<StressScene>> {
+    use crate::generate::{generate, GeneratorConfig};
     let mut out = vec![
         StressScene {
             name: "paper-beam".into(),
@@ -537,8 +538,7 @@ pub fn stress_scenes(seed: u64, count: usize, families: &[String]) -> Result<Vec
         spectrum_log10_spread: (10.0, 16.0),
         elastic_h: (0.1, 0.25),
     };
-    for f in families {
-        let family = Family::from_name(f)?;
+    for &family in families {
         for i in 0..count {
             let g = generate(family, i, seed, &cfg)?;
             out.push(StressScene {

@@ -54,22 +54,26 @@ impl<'a> PenalizedSystem<'a> {
     pub fn with_limits(problem: &'a Problem, penalties: &[f64], limits: Vec<f64>) -> Result<Self> {
         let m = problem.m();
         if penalties.len() != m || limits.len() != m {
-            return Err(Error::input(format!(
-                "penalized system: {} penalties and {} limits for {m} constraints",
-                penalties.len(),
-                limits.len()
-            )));
+            let (what, got) = if penalties.len() != m {
+                ("penalized system: the penalties", penalties.len())
+            } else {
+                ("penalized system: the limits", limits.len())
+            };
+            return Err(Error::length_mismatch(
+                format!("{what} (one per constraint)"),
+                got,
+                m,
+            ));
         }
         if let Some(c) = penalties.iter().position(|e| !(e.is_finite() && *e >= 0.0)) {
-            return Err(Error::input(format!(
-                "penalized system: penalty {c} is {} (need a finite ε ≥ 0)",
-                penalties[c]
-            )));
+            return Err(Error::out_of_range(
+                format!("penalized system: penalty {c}"),
+                penalties[c],
+                "a finite ε ≥ 0",
+            ));
         }
         if let Some(c) = limits.iter().position(|l| !l.is_finite()) {
-            return Err(Error::input(format!(
-                "penalized system: limit {c} is not finite"
-            )));
+            return Err(Error::not_finite(format!("penalized system: limit {c}")));
         }
         Ok(PenalizedSystem {
             problem,
@@ -137,9 +141,11 @@ impl<'a> PenalizedSystem<'a> {
         let p = self.problem;
         let n = p.n();
         if n > REFERENCE_MAX_N {
-            return Err(Error::input(format!(
-                "extended-precision reference limited to N ≤ {REFERENCE_MAX_N} (N = {n})"
-            )));
+            return Err(Error::out_of_range(
+                "N of the extended-precision reference",
+                n,
+                format!("≤ {REFERENCE_MAX_N}"),
+            ));
         }
         let mut a = vec![Dd::ZERO; n * n];
         p.k.for_each_entry(|i, j, v| a[i * n + j] = a[i * n + j] + Dd::from_f64(v));

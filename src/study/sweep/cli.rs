@@ -3,9 +3,12 @@
 //! binary's own flags and `merge` subcommand, and [`Sweep`], the study as the shared entry
 //! ([`crate::study::shape::main`]) runs it.
 
+use super::config::Metric;
 use super::rows::{self, Row};
 use super::{figures, merge, report, LogGrid, RunOptions, SweepConfig};
 use crate::error::{Error, Result};
+use crate::generate::Family;
+use crate::strategy::registry;
 use crate::study::shape::{Drawing, RunContext, Study};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -64,7 +67,10 @@ impl ConfigArgs {
             None => SweepConfig::default(),
         };
         if let Some(v) = &a.families {
-            c.families = v.iter().map(|s| s.trim().to_string()).collect();
+            c.families = v
+                .iter()
+                .map(|s| Family::from_name(s.trim()))
+                .collect::<Result<_>>()?;
         }
         if let Some(v) = a.count {
             c.count = v;
@@ -91,14 +97,18 @@ impl ConfigArgs {
             }
         }
         if let Some(v) = &a.methods {
-            c.methods = v.iter().map(|s| s.trim().to_string()).collect();
+            c.methods = v
+                .iter()
+                .map(|s| registry::lookup(s.trim()))
+                .collect::<Result<_>>()?;
         }
         if let Some(v) = &a.metrics {
             c.metrics = v
                 .iter()
-                .map(|s| s.trim().to_string())
-                .filter(|s| s != "none")
-                .collect();
+                .map(|s| s.trim())
+                .filter(|s| *s != "none")
+                .map(Metric::from_name)
+                .collect::<Result<_>>()?;
         }
         if let Some(t) = a.cond_tol {
             c.cond_tol = Some(t);
@@ -214,7 +224,7 @@ impl Study for Sweep {
         let cfg = a.config.config()?;
         let shard = a.shard.as_deref().map(super::parse_shard).transpose()?;
         if a.threads == Some(0) {
-            return Err(Error::input("--threads must be ≥ 1"));
+            return Err(Error::out_of_range("--threads", 0, "≥ 1"));
         }
         let opts = RunOptions {
             threads: a.threads,

@@ -10,12 +10,14 @@ use crate::study::grid::{Augmented, KnobGrid, Level};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
-/// Everything that determines the rows (the manifest stores it; `--resume` checks it).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+/// Everything that determines the rows (the manifest stores it; `--resume` checks it). Names
+/// are parsed once, where they enter (the TOML file, the command line): families, methods,
+/// metrics and `optimal_families` are held typed and written back by name.
+#[derive(Clone, Debug, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct SweepConfig {
     /// Families to generate (ignored with `scenes_dir`).
-    pub families: Vec<String>,
+    pub families: Vec<Family>,
     /// Scenes per family.
     pub count: usize,
     /// Master seed.
@@ -29,9 +31,14 @@ pub struct SweepConfig {
     /// Relative δ values (δ = R · max_c |u0\[d_c\]|).
     pub deltas_rel: Vec<f64>,
     /// Methods to run (`lagrange` always runs: it is the reference).
-    pub methods: Vec<String>,
-    /// Metrics: any of `cond`, `det` (penetration, error and timing are always recorded).
-    pub metrics: Vec<String>,
+    #[serde(
+        serialize_with = "registry::serialize_names",
+        deserialize_with = "registry::deserialize_names"
+    )]
+    pub methods: Vec<&'static strategy::Strategy>,
+    /// Metrics: any of `cond`, `det`, `solver` (penetration, error and timing are always
+    /// recorded).
+    pub metrics: Vec<Metric>,
     /// Generator size ranges.
     pub generator: GeneratorConfig,
     /// Run over every `*.scene.json` in this folder instead of generating.
@@ -39,7 +46,7 @@ pub struct SweepConfig {
     /// Families on which `optimal` runs (`file` for scene files); its rows on other families
     /// say so in `warnings`. The default, beam and files, keeps the default sweep under a
     /// minute: one optimisation costs tens to hundreds of dense eigendecompositions.
-    pub optimal_families: Vec<String>,
+    pub optimal_families: Vec<Source>,
     /// Relative accuracy asked of every cond₂ (`--cond-tol`, in (0, 1)); `None` (the default):
     /// the accuracy contract `max(1e-12, 4·ε_mach·cond₂)`. A looser value stops the Lanczos
     /// runs earlier; the bounds stay proven and rows.csv records both (`cond_tol`, the bound
@@ -52,7 +59,7 @@ impl Default for SweepConfig {
         SweepConfig {
             families: generate::DEFAULT_FAMILIES
                 .iter()
-                .map(|s| s.to_string())
+                .map(|s| Family::from_name(s).expect("a default family is a family"))
                 .collect(),
             count: 8,
             seed: 2011,
@@ -67,13 +74,13 @@ impl Default for SweepConfig {
             // The default families tie 30 % of their constraints bilaterally.
             methods: registry::BUILT_IN
                 .iter()
+                .copied()
                 .filter(|s| s.bilateral)
-                .map(|s| s.name.to_string())
                 .collect(),
-            metrics: vec!["cond".into(), "det".into()],
+            metrics: vec![Metric::Cond, Metric::Det],
             generator: GeneratorConfig::default(),
             scenes_dir: None,
-            optimal_families: vec!["beam".into(), "file".into()],
+            optimal_families: vec![Source::Generated(Family::Beam), Source::Files],
             cond_tol: None,
         }
     }
@@ -81,6 +88,79 @@ impl Default for SweepConfig {
 
 /// Metric names accepted in `metrics`.
 pub const METRIC_NAMES: [&str; 3] = ["cond", "det", "solver"];
+
+/// A metric set of the sweep's rows ([`METRIC_NAMES`]; penetration, error and time are always
+/// recorded).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Metric {
+    /// cond₂ of K and of every system, with proven bounds.
+    Cond,
+    /// log10|det| of K and of every system.
+    Det,
+    /// The solver-cost metrics ([`crate::metrics::solver`]).
+    Solver,
+}
+
+impl Metric {
+    /// Parses a metric name; the error lists the valid ones.
+    pub fn from_name(name: &str) -> Result<Metric> {
+        match name {
+            "cond" => Ok(Metric::Cond),
+            "det" => Ok(Metric::Det),
+            "solver" => Ok(Metric::Solver),
+            _ => Err(Error::unknown(
+                "metric",
+                name,
+                &METRIC_NAMES,
+                "; penetration, error and time are always recorded",
+            )),
+        }
+    }
+}
+
+/// Where a scene comes from, as `optimal_families` names it: a generated family, or scene
+/// files (`file`, the rows' family of a `--scenes-dir` run).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Source {
+    /// Scenes generated from a family.
+    Generated(Family),
+    /// Scene files (`file`).
+    Files,
+}
+
+impl Source {
+    /// Parses `file` or a family name; the error lists the valid ones.
+    pub fn from_name(name: &str) -> Result<Source> {
+        match name {
+            "file" => Ok(Source::Files),
+            _ => Family::from_name(name)
+                .map(Source::Generated)
+                .map_err(|_| Error::unknown("family", name, &generate::FAMILY_NAMES, ", file")),
+        }
+    }
+
+    /// The name (the rows' `family` column).
+    pub fn name(self) -> &'static str {
+        match self {
+            Source::Generated(f) => f.name(),
+            Source::Files => "file",
+        }
+    }
+}
+
+impl Serialize for Source {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
+impl<'de> Deserialize<'de> for Source {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        let name = String::deserialize(d)?;
+        Source::from_name(&name).map_err(serde::de::Error::custom)
+    }
+}
 
 impl SweepConfig {
     /// Reads a TOML config (fields as in [`SweepConfig`]; missing fields take defaults).
@@ -104,37 +184,13 @@ impl SweepConfig {
         MetricSet::check_cond_tol(self.cond_tol).map_err(|e| e.for_flag("--cond-tol"))?;
         if self.scenes_dir.is_none() {
             if self.families.is_empty() {
-                return Err(Error::input(format!(
-                    "no families given (valid: {})",
-                    generate::FAMILY_NAMES.join(", ")
-                )));
-            }
-            for f in &self.families {
-                Family::from_name(f)?;
+                return Err(Error::none_given(
+                    "families",
+                    format!(" (valid: {})", generate::FAMILY_NAMES.join(", ")),
+                ));
             }
             if self.count == 0 {
-                return Err(Error::input("--count must be ≥ 1"));
-            }
-        }
-        for m in &self.methods {
-            registry::lookup(m)?;
-        }
-        for f in &self.optimal_families {
-            if f != "file" && Family::from_name(f).is_err() {
-                return Err(
-                    Error::unknown("family", f, &generate::FAMILY_NAMES, ", file")
-                        .for_flag("optimal_families"),
-                );
-            }
-        }
-        for m in &self.metrics {
-            if !METRIC_NAMES.contains(&m.as_str()) {
-                return Err(Error::unknown(
-                    "metric",
-                    m,
-                    &METRIC_NAMES,
-                    "; penetration, error and time are always recorded",
-                ));
+                return Err(Error::out_of_range("--count", 0, "≥ 1"));
             }
         }
         self.eps.validate()?;
@@ -148,33 +204,30 @@ impl SweepConfig {
             }
         }
         let with_knob = |knobs: &[Knob]| -> Vec<&str> {
-            self.strategies()
-                .into_iter()
+            self.methods
+                .iter()
                 .filter(|s| knobs.contains(&s.knob))
                 .map(|s| s.name)
                 .collect()
         };
         let needs_delta = with_knob(&[Knob::Delta, Knob::EpsTol]);
         if !needs_delta.is_empty() && self.deltas.is_empty() && self.deltas_rel.is_empty() {
-            return Err(Error::input(format!(
-                "{} need δ values (--deltas or --deltas-rel)",
-                needs_delta.join("/")
-            )));
+            return Err(Error::unsupported(
+                needs_delta.join("/"),
+                "δ values (--deltas or --deltas-rel)",
+            ));
         }
         let needs_factors = with_knob(&[Knob::Factor]);
         if !needs_factors.is_empty() && self.factors.is_empty() {
-            return Err(Error::input(format!(
-                "{} needs --factors",
-                needs_factors.join("/")
-            )));
+            return Err(Error::unsupported(needs_factors.join("/"), "--factors"));
         }
         self.generator.validate()
     }
 
     pub(super) fn metric_set(&self) -> MetricSet {
         MetricSet {
-            cond: self.metrics.iter().any(|m| m == "cond"),
-            det: self.metrics.iter().any(|m| m == "det"),
+            cond: self.metrics.contains(&Metric::Cond),
+            det: self.metrics.contains(&Metric::Det),
             cond_tol: self.cond_tol,
         }
     }
@@ -184,21 +237,11 @@ impl SweepConfig {
     /// default: they cost nothing unless asked for).
     pub(super) fn solver_options(&self) -> Option<crate::metrics::solver::SolverOptions> {
         self.metrics
-            .iter()
-            .any(|m| m == "solver")
+            .contains(&Metric::Solver)
             .then(|| crate::metrics::solver::SolverOptions {
                 cond_tol: self.cond_tol,
                 ..Default::default()
             })
-    }
-
-    /// The strategies of `methods` (unknown names, which [`SweepConfig::validate`] refuses,
-    /// left out).
-    pub fn strategies(&self) -> Vec<&'static strategy::Strategy> {
-        self.methods
-            .iter()
-            .filter_map(|m| registry::find(m))
-            .collect()
     }
 
     /// The knob grid of a scene whose displacement scale is `scale` (the relative δs multiply
@@ -228,6 +271,6 @@ impl SweepConfig {
 
     /// Rows produced per scene: the lagrange reference and the grid's points.
     pub fn rows_per_scene(&self) -> usize {
-        1 + self.knob_grid(1.0, 1.0).count(&self.strategies())
+        1 + self.knob_grid(1.0, 1.0).count(&self.methods)
     }
 }

@@ -97,11 +97,11 @@ pub fn build_figures(rows: &[Row]) -> Vec<(String, Figure)> {
 /// when missing. Figures that would have no data (e.g. `cond2_system` empty in every row) are
 /// skipped, not an error.
 ///
-/// Errors: [`Error::Input`] for an empty row set; [`Error::Io`] when `dir` or a file cannot be
+/// Errors: [`Error::NoneGiven`] for an empty row set; [`Error::Io`] when `dir` or a file cannot be
 /// written.
 pub fn render_all(rows: &[Row], dir: &Path) -> Result<Vec<PathBuf>> {
     if rows.is_empty() {
-        return Err(Error::input("sweep figures: no rows to plot"));
+        return Err(Error::none_given("sweep figures: rows to plot", ""));
     }
     std::fs::create_dir_all(dir).map_err(|e| Error::io(dir.display(), e))?;
     let mut written = Vec::new();

@@ -31,7 +31,7 @@ pub fn jobs(cfg: &SweepConfig, problem: &Problem, u0: Option<&[f64]>) -> Vec<Job
         method: Method::lagrange(),
         delta_rel: None,
     }];
-    out.extend(grid.points(&cfg.strategies()).into_iter().map(|p| Job {
+    out.extend(grid.points(&cfg.methods).into_iter().map(|p| Job {
         method: p.method,
         delta_rel: p.level.rel,
     }));
@@ -175,6 +175,9 @@ pub(super) fn skipped_row(work: &SceneWork, job: Job, cfg: &SweepConfig) -> Row 
     row.warnings = format!(
         "skipped: optimal runs on the families {:?} only (optimal_families)",
         cfg.optimal_families
+            .iter()
+            .map(|s| s.name())
+            .collect::<Vec<_>>()
     );
     row
 }
@@ -316,7 +319,10 @@ pub fn run_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<(Vec<Row>, Scene
         .with_max_len(1)
         .map(|&job| {
             let skip = job.method.is(&strategy::optimal::STRATEGY)
-                && !cfg.optimal_families.contains(&work.scene.family);
+                && !cfg
+                    .optimal_families
+                    .iter()
+                    .any(|s| s.name() == work.scene.family);
             if skip {
                 skipped_row(&work, job, cfg)
             } else {

@@ -43,35 +43,33 @@ struct Shard {
 fn read_shard(dir: &Path) -> Result<Shard> {
     let path = dir.join("manifest.json");
     let text = std::fs::read_to_string(&path).map_err(|e| {
-        Error::input(format!(
-            "{}: no readable manifest.json ({e}): not a sweep output folder",
-            dir.display()
-        ))
+        Error::bad_file(
+            dir.display(),
+            format!("no readable manifest.json ({e}): not a sweep output folder"),
+        )
     })?;
-    let manifest: Value = serde_json::from_str(&text).map_err(|e| {
-        Error::input(format!(
-            "{}: manifest.json is not JSON ({e})",
-            dir.display()
-        ))
-    })?;
+    let manifest: Value = serde_json::from_str(&text)
+        .map_err(|e| Error::bad_file(dir.display(), format!("manifest.json is not JSON ({e})")))?;
     let shard = manifest
         .get("shard")
         .and_then(|s| s.as_array())
         .and_then(|a| Some((a.first()?.as_u64()?, a.get(1)?.as_u64()?)))
         .ok_or_else(|| {
-            Error::input(format!(
-                "{}: manifest.json has no shard [K, N]: not a sweep manifest",
-                dir.display()
-            ))
+            Error::bad_file(
+                dir.display(),
+                "manifest.json has no shard [K, N]: not a sweep manifest",
+            )
         })?;
     if manifest.get("status").and_then(Value::as_str) != Some("complete") {
-        return Err(Error::input(format!(
-            "{}: shard {}/{} is not complete (status {}); finish it with --resume first",
+        return Err(Error::bad_file(
             dir.display(),
-            shard.0,
-            shard.1,
-            manifest.get("status").unwrap_or(&Value::Null)
-        )));
+            format!(
+                "shard {}/{} is not complete (status {}); finish it with --resume first",
+                shard.0,
+                shard.1,
+                manifest.get("status").unwrap_or(&Value::Null)
+            ),
+        ));
     }
     Ok(Shard {
         dir: dir.to_path_buf(),
@@ -94,17 +92,17 @@ fn differs(a: &Shard, b: &Shard) -> Option<&'static str> {
 /// Checks the shard folders and returns them in shard order.
 fn check(out: &Path, dirs: &[PathBuf]) -> Result<Vec<Shard>> {
     if dirs.is_empty() {
-        return Err(Error::input("sweep merge: no shard folders given"));
+        return Err(Error::none_given("sweep merge: shard folders", ""));
     }
     let same_dir = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
         (Ok(x), Ok(y)) => x == y,
         _ => a == b,
     };
     if let Some(d) = dirs.iter().find(|d| same_dir(d, out)) {
-        return Err(Error::input(format!(
-            "sweep merge: OUT {} is one of the shard folders; merge into another folder",
-            d.display()
-        )));
+        return Err(Error::bad_file(
+            d.display(),
+            "sweep merge: OUT is one of the shard folders; merge into another folder",
+        ));
     }
     let shards = dirs
         .iter()
@@ -113,41 +111,47 @@ fn check(out: &Path, dirs: &[PathBuf]) -> Result<Vec<Shard>> {
     let first = &shards[0];
     for s in &shards[1..] {
         if let Some(what) = differs(first, s) {
-            return Err(Error::input(format!(
-                "sweep merge: {} belongs to another run ({what} differs from {})",
+            return Err(Error::bad_file(
                 s.dir.display(),
-                first.dir.display()
-            )));
+                format!(
+                    "sweep merge: belongs to another run ({what} differs from {})",
+                    first.dir.display()
+                ),
+            ));
         }
     }
     let n = first.n;
     let mut by_k: Vec<Option<Shard>> = (0..n).map(|_| None).collect();
     for s in shards {
         if s.k == 0 || s.k > n {
-            return Err(Error::input(format!(
-                "{}: shard {}/{} is out of range",
+            return Err(Error::bad_file(
                 s.dir.display(),
-                s.k,
-                n
-            )));
+                format!("shard {}/{n} is out of range", s.k),
+            ));
         }
         if let Some(other) = &by_k[s.k - 1] {
-            return Err(Error::input(format!(
-                "sweep merge: shard {}/{n} given twice ({} and {})",
-                s.k,
-                other.dir.display(),
-                s.dir.display()
-            )));
+            return Err(Error::duplicate(
+                "sweep merge: shard",
+                format!(
+                    "{}/{n} ({} and {})",
+                    s.k,
+                    other.dir.display(),
+                    s.dir.display()
+                ),
+            ));
         }
         let k = s.k;
         by_k[k - 1] = Some(s);
     }
     if let Some(k) = by_k.iter().position(Option::is_none) {
-        return Err(Error::input(format!(
-            "sweep merge: shard {}/{n} is missing (got {} of {n} shards)",
-            k + 1,
-            by_k.iter().flatten().count()
-        )));
+        return Err(Error::length_mismatch(
+            format!(
+                "sweep merge: the shard list (shard {}/{n} is missing)",
+                k + 1
+            ),
+            by_k.iter().flatten().count(),
+            n,
+        ));
     }
     Ok(by_k.into_iter().flatten().collect())
 }
@@ -204,11 +208,10 @@ pub fn merge(out: &Path, dirs: &[PathBuf]) -> Result<MergeSummary> {
         let (rs, _) = rows::read_rows(&path, false)?;
         let expected = count(&s.manifest, "scenes") * count(&s.manifest, "rows_per_scene");
         if rs.len() != expected {
-            return Err(Error::input(format!(
-                "{}: {} rows, but its manifest promises {expected}",
+            return Err(Error::bad_file(
                 path.display(),
-                rs.len()
-            )));
+                format!("{} rows, but its manifest promises {expected}", rs.len()),
+            ));
         }
         text.push_str(&rows::format_rows(&rs));
         total_rows += rs.len();

@@ -40,8 +40,7 @@ pub fn plan(cfg: &SweepConfig) -> Result<Vec<SceneSpec>> {
         return Ok(files.into_iter().map(SceneSpec::File).collect());
     }
     let mut out = Vec::new();
-    for f in &cfg.families {
-        let family = Family::from_name(f)?;
+    for &family in &cfg.families {
         out.extend((0..cfg.count).map(|index| SceneSpec::Generated { family, index }));
     }
     Ok(out)
@@ -54,11 +53,7 @@ pub fn shard_range(total: usize, k: usize, n: usize) -> std::ops::Range<usize> {
 
 /// Parses `K/N` (1 ≤ K ≤ N).
 pub fn parse_shard(s: &str) -> Result<(usize, usize)> {
-    let bad = || {
-        Error::input(format!(
-            "malformed shard '{s}': expected K/N with 1 ≤ K ≤ N"
-        ))
-    };
+    let bad = || Error::out_of_range("shard", format!("'{s}'"), "K/N with 1 ≤ K ≤ N");
     let (a, b) = s.split_once('/').ok_or_else(bad)?;
     let k: usize = a.trim().parse().map_err(|_| bad())?;
     let n: usize = b.trim().parse().map_err(|_| bad())?;

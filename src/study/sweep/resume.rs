@@ -35,10 +35,10 @@ pub(super) fn resume_point(
     if old.get("config") != Some(config_json)
         || old.get("shard") != Some(&serde_json::json!([k, n]))
     {
-        return Err(Error::input(format!(
-            "cannot resume in {}: it was produced with a different config or shard; use another --out",
-            opts.out.display()
-        )));
+        return Err(Error::bad_file(
+            opts.out.display(),
+            "cannot resume here: it was produced with a different config or shard; use another --out",
+        ));
     }
     let (rows, _) = rows::read_rows(&rows_path, true)?;
     let done = rows.len() / per_scene;
