@@ -228,6 +228,30 @@ fn lanczos_within(
     })
 }
 
+/// [`lanczos`] on the inverse of a factored matrix, keeping the Ritz vector: the operator
+/// `y = B⁻¹x` by `solve` (a factor's in-place solve), the stagnation tolerance constant. The
+/// shift-invert runs of the certified routes (λ_min through A⁻¹, λ_max through (σI − A)⁻¹,
+/// the refinements) are all this.
+pub(crate) fn inverse_lanczos(
+    n: usize,
+    max_steps: usize,
+    stagnation: f64,
+    start: Option<&[f64]>,
+    solve: impl Fn(&mut [f64]),
+) -> Result<LanczosRun> {
+    lanczos(
+        n,
+        max_steps,
+        |_| stagnation,
+        start,
+        Keep::Always,
+        |x, y| {
+            y.copy_from_slice(x);
+            solve(y);
+        },
+    )
+}
+
 /// Which Ritz vector a [`lanczos`] run forms.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Keep {

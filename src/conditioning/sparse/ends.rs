@@ -6,7 +6,7 @@ use super::{
     TOP_STAGNATION,
 };
 use crate::conditioning::certify::{self, Margin};
-use crate::conditioning::lanczos::{Keep, LanczosRun};
+use crate::conditioning::lanczos::{inverse_lanczos, Keep, LanczosRun};
 use crate::conditioning::shifts::{graded_estimate, graded_floor, ShiftFamily};
 use crate::conditioning::temple;
 use crate::linalg::SparseLlt;
@@ -69,17 +69,9 @@ fn shift_invert(
     f: &SparseLlt,
     start: Option<&[f64]>,
 ) -> crate::error::Result<LanczosRun> {
-    lanczos(
-        n,
-        MAX_LANCZOS_STEPS,
-        |_| 1e-2 * STAGNATION,
-        start,
-        Keep::Always,
-        |x, y| {
-            y.copy_from_slice(x);
-            f.solve_vec_in_place(y);
-        },
-    )
+    inverse_lanczos(n, MAX_LANCZOS_STEPS, 1e-2 * STAGNATION, start, |y| {
+        f.solve_vec_in_place(y)
+    })
 }
 
 pub(super) fn certify_ends(

@@ -76,9 +76,9 @@ pub use super::bracket::BRACKET_TOL;
 pub(crate) use super::bracket::{bracket, bracket_tol, bracket_top};
 pub(crate) use super::certify::rayleigh_interval;
 pub use super::certify::POSTERIOR_MAX_PRODUCTS;
-use super::lanczos::stagnation_tolerances;
 pub use super::lanczos::RITZ_VECTOR_MAX_N;
 pub(crate) use super::lanczos::{gershgorin_max, lanczos, Keep};
+use super::lanczos::{inverse_lanczos, stagnation_tolerances};
 pub use super::lanczos::{STAGNATION, TOP_STAGNATION};
 pub use crate::route::SPARSE_ROUTE_MIN_N;
 
@@ -441,17 +441,9 @@ fn bottom_estimate(
     // estimate — are as accurate as the equilibrated matrix allows (Demmel–Veselić), where a
     // dense eigensolver on A loses ε_mach·cond₂(A) relative. Its Ritz vector y gives the upper
     // side of λ_min's bracket through x̂ = A⁻¹y (certify, Lemma 6).
-    let run_min = lanczos(
-        n,
-        max_steps,
-        |_| bottom_stag,
-        start,
-        Keep::Always,
-        |x, y| {
-            y.copy_from_slice(x);
-            factor_of_a.solve_vec_in_place(y);
-        },
-    )?;
+    let run_min = inverse_lanczos(n, max_steps, bottom_stag, start, |y| {
+        factor_of_a.solve_vec_in_place(y)
+    })?;
     let (inv_max, s2) = (run_min.theta, run_min.steps);
     // 1/ν₂ of the same run: λ₂ estimated from above (interlacing), for Temple's inertia test.
     let lambda2 = run_min.second().filter(|&v| v > 0.0).map(|v| 1.0 / v);
@@ -538,17 +530,9 @@ fn top_estimate(
         // Its own value buffer (A's family's is the other end's), freed once factored.
         let factor = shifted_factor(pattern, &mut Vec::new(), -1.0, sigma0);
         if let Some(f) = factor {
-            let run = lanczos(
-                n,
-                max_steps,
-                |_| bottom_stag,
-                start,
-                Keep::Always,
-                |x, y| {
-                    y.copy_from_slice(x);
-                    f.solve_vec_in_place(y);
-                },
-            )?;
+            let run = inverse_lanczos(n, max_steps, bottom_stag, start, |y| {
+                f.solve_vec_in_place(y)
+            })?;
             steps += run.steps;
             let nu = run.theta;
             if nu > 0.0 && nu.is_finite() && sigma0 - 1.0 / nu > lmax_est {
