@@ -167,7 +167,8 @@ pub enum Error {
 /// What is wrong with a constraint row ([`Error::Constraint`]).
 #[derive(Debug, Clone, PartialEq)]
 pub enum ConstraintProblem {
-    /// The row has no terms.
+    /// The row has no terms (zero coefficients are dropped when a row is built, so an
+    /// all-zero row arrives here too).
     NoTerms,
     /// Every coefficient of the row is zero.
     AllZero,
@@ -193,7 +194,9 @@ pub enum ConstraintProblem {
 impl std::fmt::Display for ConstraintProblem {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            ConstraintProblem::NoTerms => write!(f, "the row has no terms"),
+            ConstraintProblem::NoTerms => {
+                write!(f, "the row has no terms, or every coefficient is zero")
+            }
             ConstraintProblem::AllZero => write!(f, "every coefficient is zero"),
             ConstraintProblem::NonFiniteCoefficient { dof } => {
                 write!(f, "the coefficient of DOF {dof} is not finite")
