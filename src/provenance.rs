@@ -61,10 +61,11 @@ pub fn json_text(what: &str, value: &impl serde::Serialize) -> Result<String> {
 }
 
 /// Reads the JSON file `path` as a `T` (the one JSON reader of the saved records): a missing
-/// file is an I/O error naming it, malformed JSON an input error naming it and the position.
+/// file is an I/O error naming it, malformed JSON a parse error ([`Error::Parse`]) naming it,
+/// the line and the column.
 pub fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path.display(), e))?;
-    serde_json::from_str(&text).map_err(|e| Error::input(format!("{}: {e}", path.display())))
+    serde_json::from_str(&text).map_err(|e| Error::json(path.display(), &e))
 }
 
 /// JSON writes non-finite numbers as `null`; read them back as NaN

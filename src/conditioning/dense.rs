@@ -20,7 +20,10 @@ use faer::{MatRef, Side};
 pub fn cond2_dense(a: MatRef<'_, f64>, symmetric: bool) -> Result<CondReport> {
     let n = a.nrows();
     if n == 0 || a.ncols() != n {
-        return Err(Error::input("cond₂ needs a non-empty square matrix"));
+        return Err(Error::unsupported(
+            "cond₂",
+            format!("a non-empty square matrix (got {n}×{})", a.ncols()),
+        ));
     }
     if !(0..n).all(|j| (0..n).all(|i| a[(i, j)].is_finite())) {
         return Err(Error::Numerical(

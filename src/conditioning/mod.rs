@@ -329,11 +329,10 @@ pub(super) fn cond2_routes(
         Stiffness::Dense(m) => Ok((cond2_dense(m.as_ref(), symmetric)?, None)),
         Stiffness::Sparse(_) => {
             if !structure.densify_allowed() {
-                return Err(Error::input(format!(
-                    "exact cond₂ of a sparse {n}×{n} matrix needs densifying, which is limited \
-                     to n ≤ {DENSIFY_LIMIT}",
-                    n = a.n()
-                )));
+                return Err(Error::unsupported(
+                    format!("exact cond₂ of a sparse {n}×{n} matrix", n = a.n()),
+                    format!("densifying, which is limited to n ≤ {DENSIFY_LIMIT}"),
+                ));
             }
             let mut r = cond2_dense(a.to_dense().as_ref(), symmetric)?;
             r.route = match r.route {
@@ -403,11 +402,8 @@ pub fn log10_abs_det(a: &Stiffness) -> Result<f64> {
 /// matrix. `-∞` where K_FF is singular; an error for repeated or out-of-range DOFs.
 pub fn log10_abs_det_saddle(k: &Stiffness, dofs: &[usize]) -> Result<f64> {
     let n = k.n();
-    let constrained = saddle::dof_mask(n, dofs).map_err(|d| {
-        Error::input(format!(
-            "saddle determinant: DOF {d} is out of range or repeated"
-        ))
-    })?;
+    let constrained =
+        saddle::dof_mask(n, dofs).map_err(|d| saddle::dof_error("saddle determinant", n, d))?;
     let free: Vec<usize> = (0..n).filter(|&i| !constrained[i]).collect();
     if free.is_empty() {
         return Ok(0.0); // |det [0 I; I 0]| = 1

@@ -68,13 +68,15 @@ pub(super) fn cond2_near_symmetric(
     let densifiable = matches!(a, Stiffness::Dense(_)) || a.structure().densify_allowed();
     if !densifiable {
         return widened.ok_or_else(|| {
-            Error::input(format!(
-                "exact cond₂ of a sparse {n}×{n} matrix that is not symmetric ({}) and whose \
-                 symmetric part is not positive definite needs densifying, which is limited \
-                 to n ≤ {DENSIFY_LIMIT}",
-                asym.describe(),
-                n = a.n()
-            ))
+            Error::unsupported(
+                format!(
+                    "exact cond₂ of a sparse {n}×{n} matrix that is not symmetric ({}) and whose \
+                     symmetric part is not positive definite",
+                    asym.describe(),
+                    n = a.n()
+                ),
+                format!("densifying, which is limited to n ≤ {DENSIFY_LIMIT}"),
+            )
         });
     }
     let (mut svd, _) = cond2_routes(a, false, Reuse::default())?;

@@ -209,13 +209,8 @@ impl FormingConfig {
     /// Reads a TOML file; missing fields take the Woo-like defaults.
     pub fn from_toml_file(path: &std::path::Path) -> Result<Self> {
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path.display(), e))?;
-        let c: FormingConfig = toml::from_str(&text).map_err(|e| {
-            Error::input(format!(
-                "{}: {}",
-                path.display(),
-                e.to_string().replace('\n', " ")
-            ))
-        })?;
+        let c: FormingConfig = toml::from_str(&text)
+            .map_err(|e| Error::bad_file(path.display(), e.to_string().replace('\n', " ")))?;
         c.validate()?;
         Ok(c)
     }
@@ -232,9 +227,7 @@ impl FormingConfig {
             if v.is_finite() && v >= 0.0 {
                 Ok(())
             } else {
-                Err(Error::input(format!(
-                    "{name} must be a finite number ≥ 0 (got {v})"
-                )))
+                Err(Error::out_of_range(name, v, "a finite number ≥ 0"))
             }
         };
         pos("blank_radius", self.blank_radius)?;
@@ -245,10 +238,11 @@ impl FormingConfig {
         if let Some(rp) = self.punch.profile_radius {
             pos("punch.profile_radius", rp)?;
             if rp > self.punch.radius {
-                return Err(Error::input(format!(
-                    "punch.profile_radius ({rp}) must not exceed punch.radius ({})",
-                    self.punch.radius
-                )));
+                return Err(Error::out_of_range(
+                    "punch.profile_radius",
+                    rp,
+                    format!("≤ punch.radius = {}", self.punch.radius),
+                ));
             }
         }
         pos("die.opening_radius", self.die.opening_radius)?;
@@ -259,50 +253,48 @@ impl FormingConfig {
         nonneg("drag", self.drag)?;
         pos("picard.tol", self.picard.tol)?;
         if !(self.picard.relaxation > 0.0 && self.picard.relaxation <= 1.0) {
-            return Err(Error::input(format!(
-                "picard.relaxation must be in (0, 1] (got {})",
-                self.picard.relaxation
-            )));
+            return Err(Error::out_of_range(
+                "picard.relaxation",
+                self.picard.relaxation,
+                "in (0, 1]",
+            ));
         }
         if self.picard.max_iterations == 0 {
-            return Err(Error::input("picard.max_iterations must be ≥ 1"));
+            return Err(Error::out_of_range("picard.max_iterations", 0, "≥ 1"));
         }
         if !(2..=2000).contains(&self.elements) {
-            return Err(Error::input(format!(
-                "elements must be in 2..=2000 (got {})",
-                self.elements
-            )));
+            return Err(Error::out_of_range(
+                "elements",
+                self.elements,
+                "in 2..=2000",
+            ));
         }
         if !(1..=100_000).contains(&self.steps) {
-            return Err(Error::input(format!(
-                "steps must be in 1..=100000 (got {})",
-                self.steps
-            )));
+            return Err(Error::out_of_range("steps", self.steps, "in 1..=100000"));
         }
         if !(1..=5).contains(&self.layers) {
-            return Err(Error::input(format!(
-                "layers must be in 1..=5 (got {})",
-                self.layers
-            )));
+            return Err(Error::out_of_range("layers", self.layers, "in 1..=5"));
         }
         if self.punch.radius >= self.die.opening_radius {
-            return Err(Error::input(format!(
-                "punch.radius ({}) must be smaller than die.opening_radius ({})",
-                self.punch.radius, self.die.opening_radius
-            )));
+            return Err(Error::out_of_range(
+                "punch.radius",
+                self.punch.radius,
+                format!("< die.opening_radius = {}", self.die.opening_radius),
+            ));
         }
         if self.die.opening_radius - self.punch.radius < self.thickness {
-            return Err(Error::input(format!(
-                "die clearance {} is smaller than the thickness {}",
+            return Err(Error::out_of_range(
+                "the die clearance (die.opening_radius − punch.radius)",
                 self.die.opening_radius - self.punch.radius,
-                self.thickness
-            )));
+                format!("≥ the thickness = {}", self.thickness),
+            ));
         }
         if self.blank_radius <= self.die.opening_radius {
-            return Err(Error::input(format!(
-                "blank_radius ({}) must exceed die.opening_radius ({})",
-                self.blank_radius, self.die.opening_radius
-            )));
+            return Err(Error::out_of_range(
+                "blank_radius",
+                self.blank_radius,
+                format!("> die.opening_radius = {}", self.die.opening_radius),
+            ));
         }
         for &s in &self.snapshots {
             nonneg("snapshots entry", s)?;

@@ -105,17 +105,23 @@ impl Material {
     pub fn validate(&self) -> crate::Result<()> {
         crate::Error::positive("material.rate_cutoff", self.rate_cutoff)?;
         if let Some(g) = self.gamma {
-            if !(g.is_finite() && g > 0.0 && self.n.is_finite() && self.n > 0.0) {
-                return Err(crate::Error::input(format!(
-                    "material.gamma and material.n must be finite numbers > 0 (got {g}, {})",
-                    self.n
-                )));
-            }
+            crate::Error::positive("material.gamma", g)?;
+            crate::Error::positive("material.n (with material.gamma)", self.n)?;
         }
         if let Hardening::Power { sigma0, k, n } = self.hardening {
-            if !(sigma0 > 0.0 && k >= 0.0 && n >= 0.0 && sigma0.is_finite() && k.is_finite()) {
-                return Err(crate::Error::input(
-                    "material.hardening power law needs sigma0 > 0, k ≥ 0, n ≥ 0",
+            crate::Error::positive("material.hardening.sigma0 (power law)", sigma0)?;
+            if !(k.is_finite() && k >= 0.0) {
+                return Err(crate::Error::out_of_range(
+                    "material.hardening.k (power law)",
+                    k,
+                    "a finite number ≥ 0",
+                ));
+            }
+            if n.is_nan() || n < 0.0 {
+                return Err(crate::Error::out_of_range(
+                    "material.hardening.n (power law)",
+                    n,
+                    "≥ 0",
                 ));
             }
         }

@@ -30,10 +30,10 @@ impl Jacobi {
     /// `M⁻¹ = diag(inv)`: errors unless every entry is positive and finite.
     pub fn from_inverse_diagonal(inv: Vec<f64>) -> Result<Jacobi> {
         if let Some(i) = inv.iter().position(|&v| !(v > 0.0 && v.is_finite())) {
-            return Err(Error::input(format!(
-                "Jacobi preconditioner: entry {i} of diag(M)⁻¹ is {}, not positive and finite",
-                inv[i]
-            )));
+            return Err(Error::NotPositive {
+                name: format!("Jacobi preconditioner: entry {i} of diag(M)⁻¹"),
+                value: inv[i],
+            });
         }
         Ok(Jacobi { inv })
     }
@@ -59,10 +59,10 @@ pub fn diagonal(a: SparseColMatRef<'_, usize, f64>) -> Result<Vec<f64>> {
         })
         .collect();
     if let Some(i) = d.iter().position(|&x| !(x > 0.0 && x.is_finite())) {
-        return Err(Error::input(format!(
-            "diagonal entry {i} is {}, not positive and finite: no Jacobi scaling",
-            d[i]
-        )));
+        return Err(Error::NotPositive {
+            name: format!("diagonal entry {i} (for Jacobi scaling)"),
+            value: d[i],
+        });
     }
     Ok(d)
 }

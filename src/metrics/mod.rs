@@ -30,9 +30,11 @@ impl MetricSet {
     /// Checks a relative accuracy asked of cond₂: finite, in (0, 1).
     pub fn check_cond_tol(tol: Option<f64>) -> Result<()> {
         match tol {
-            Some(t) if !(t.is_finite() && t > 0.0 && t < 1.0) => Err(Error::input(format!(
-                "relative cond₂ accuracy {t} is not in (0, 1)"
-            ))),
+            Some(t) if !(t.is_finite() && t > 0.0 && t < 1.0) => Err(Error::out_of_range(
+                "relative cond₂ accuracy",
+                t,
+                "in (0, 1)",
+            )),
             _ => Ok(()),
         }
     }

@@ -80,13 +80,14 @@ impl SolverOptions {
     /// Checks τ ∈ (0, 1) and a positive iteration limit.
     pub fn check(&self) -> Result<()> {
         if !(self.tol.is_finite() && self.tol > 0.0 && self.tol < 1.0) {
-            return Err(Error::input(format!(
-                "Krylov tolerance {} is not in (0, 1)",
-                self.tol
-            )));
+            return Err(Error::out_of_range(
+                "Krylov tolerance",
+                self.tol,
+                "in (0, 1)",
+            ));
         }
         if self.max_iters == Some(0) {
-            return Err(Error::input("the Krylov iteration limit must be positive"));
+            return Err(Error::out_of_range("the Krylov iteration limit", 0, "≥ 1"));
         }
         super::MetricSet::check_cond_tol(self.cond_tol)
     }

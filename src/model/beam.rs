@@ -119,11 +119,10 @@ impl Frame {
     /// A straight cantilever along +x with `n_el` equal elements of total length `length`,
     /// clamped (u, w, θ) at node 0.
     pub fn cantilever(n_el: usize, length: f64, section: Section) -> Result<Self> {
-        if n_el == 0 || !(length.is_finite() && length > 0.0) {
-            return Err(Error::input(format!(
-                "cantilever needs ≥ 1 element and length > 0 (got {n_el}, {length})"
-            )));
+        if n_el == 0 {
+            return Err(Error::out_of_range("cantilever elements", n_el, "≥ 1"));
         }
+        Error::positive("cantilever length", length)?;
         let le = length / n_el as f64;
         let nodes = (0..=n_el).map(|i| (i as f64 * le, 0.0)).collect();
         let elements = (0..n_el)
@@ -175,15 +174,26 @@ impl Frame {
         };
         let n = self.n_dofs();
         if n == 0 {
-            return Err(Error::input("frame has no free DOFs"));
+            return Err(Error::none_given(
+                "frame: free DOFs",
+                " (every DOF is fixed)",
+            ));
         }
         let mut t = Vec::with_capacity(36 * self.elements.len());
         for el in &self.elements {
-            if el.n1 >= self.nodes.len() || el.n2 >= self.nodes.len() || el.n1 == el.n2 {
-                return Err(Error::input(format!(
-                    "element ({}, {}) references a missing or repeated node",
-                    el.n1, el.n2
-                )));
+            let nodes = self.nodes.len();
+            if let Some(missing) = [el.n1, el.n2].into_iter().find(|&i| i >= nodes) {
+                return Err(Error::out_of_range(
+                    format!("element ({}, {}): node", el.n1, el.n2),
+                    missing,
+                    format!("< {nodes} (the frame's nodes, 0-based)"),
+                ));
+            }
+            if el.n1 == el.n2 {
+                return Err(Error::duplicate(
+                    format!("element ({}, {}): node", el.n1, el.n2),
+                    el.n1,
+                ));
             }
             let ke = frame_element_stiffness(el.section, self.nodes[el.n1], self.nodes[el.n2]);
             let g: Vec<Option<usize>> = (0..6)

@@ -71,40 +71,48 @@ impl CylinderOnBlock {
     /// The cap's node abscissae and (relative) heights (module doc).
     fn cap_axes(&self) -> Result<(Vec<f64>, Vec<f64>)> {
         let w = *self.block.xs.last().unwrap_or(&0.0);
-        let ok = |v: f64| v.is_finite() && v > 0.0;
-        if !(ok(self.radius)
-            && ok(self.cap_width)
-            && ok(self.cap_height)
-            && ok(self.h)
-            && ok(self.fine)
-            && self.growth.is_finite()
-            && self.growth >= 1.0)
-        {
-            return Err(Error::input(
-                "cylinder: R, cap width and height, h and fine must be finite and > 0, growth ≥ 1",
+        for (name, v) in [
+            ("R", self.radius),
+            ("cap width", self.cap_width),
+            ("cap height", self.cap_height),
+            ("h", self.h),
+            ("fine", self.fine),
+        ] {
+            Error::positive(format!("cylinder: {name}"), v)?;
+        }
+        if !(self.growth.is_finite() && self.growth >= 1.0) {
+            return Err(Error::out_of_range(
+                "cylinder: growth",
+                self.growth,
+                "a finite number ≥ 1",
             ));
         }
         if !(self.cap_width <= w && self.cap_width < self.radius) {
-            return Err(Error::input(format!(
-                "cylinder: the cap's half-width {} must lie within the block's ({w}) and below R = {}",
-                self.cap_width, self.radius
-            )));
+            return Err(Error::out_of_range(
+                "cylinder: the cap's half-width",
+                self.cap_width,
+                format!("within the block's ({w}) and below R = {}", self.radius),
+            ));
         }
         if self.gap0(self.cap_width) >= 0.5 * self.cap_height {
-            return Err(Error::input(format!(
-                "cylinder: the cap's height {} is too small for its curved face (rise {} at x = {})",
+            return Err(Error::out_of_range(
+                "cylinder: the cap's height",
                 self.cap_height,
-                self.gap0(self.cap_width),
-                self.cap_width
-            )));
+                format!(
+                    "more than twice the rise of its curved face ({} at x = {})",
+                    self.gap0(self.cap_width),
+                    self.cap_width
+                ),
+            ));
         }
         let xs = graded_axis(self.cap_width, self.h, self.fine, self.growth);
         let ds = graded_axis(self.cap_height, self.h, self.fine, self.growth);
         if xs.len() * ds.len() > 4_000_000 {
-            return Err(Error::input(format!(
-                "cylinder: h = {} is too small for its cap",
-                self.h
-            )));
+            return Err(Error::out_of_range(
+                "cylinder: h",
+                self.h,
+                "large enough for its cap (at most 4e6 cap nodes)",
+            ));
         }
         Ok((xs, ds))
     }
@@ -137,7 +145,7 @@ pub fn hertz_two_body(
     disc: Discretization,
 ) -> Result<Indentation> {
     if !squeeze.is_finite() {
-        return Err(Error::input("cylinder: the squeeze must be finite"));
+        return Err(Error::not_finite("cylinder: the squeeze"));
     }
     let (xs, ds) = c.cap_axes()?;
     let block = &c.block;

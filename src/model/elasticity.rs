@@ -85,10 +85,11 @@ impl Material {
     fn validate(&self) -> Result<()> {
         Error::positive("Young's modulus", self.young)?;
         if !(self.poisson > -1.0 && self.poisson < 0.5) {
-            return Err(Error::input(format!(
-                "Poisson's ratio must lie in (−1, 0.5) (got {})",
-                self.poisson
-            )));
+            return Err(Error::out_of_range(
+                "Poisson's ratio ν",
+                self.poisson,
+                "in (−1, 0.5)",
+            ));
         }
         Ok(())
     }
@@ -150,12 +151,20 @@ impl Grid {
     /// A `width × height` block with elements of size `h` on `[0, fine]` in x and in the top
     /// `fine` of y, growing by the factor `growth` (≥ 1) away from the contact corner.
     pub fn graded(width: f64, height: f64, h: f64, fine: f64, growth: f64) -> Result<Grid> {
-        let ok = |v: f64| v.is_finite() && v > 0.0;
-        if !(ok(width) && ok(height) && ok(h) && ok(fine) && growth.is_finite() && growth >= 1.0) {
-            return Err(Error::input(format!(
-                "graded grid needs finite width, height, h, fine > 0 and growth ≥ 1 \
-                 (got {width}, {height}, {h}, {fine}, {growth})"
-            )));
+        for (name, v) in [
+            ("width", width),
+            ("height", height),
+            ("h", h),
+            ("fine", fine),
+        ] {
+            Error::positive(format!("graded grid: {name}"), v)?;
+        }
+        if !(growth.is_finite() && growth >= 1.0) {
+            return Err(Error::out_of_range(
+                "graded grid: growth",
+                growth,
+                "a finite number ≥ 1",
+            ));
         }
         // Elements per axis: the uniform zone, then a geometric growth (all uniform if 1).
         let count = |len: f64| {
@@ -166,9 +175,13 @@ impl Grid {
             }
         };
         if count(width) > 1e5 || count(height) > 1e5 {
-            return Err(Error::input(format!(
-                "graded grid: h = {h} is too small for a {width} × {height} block"
-            )));
+            return Err(Error::out_of_range(
+                "graded grid: h",
+                h,
+                format!(
+                    "large enough for a {width} × {height} block (at most 1e5 elements per axis)"
+                ),
+            ));
         }
         let xs = graded_axis(width, h, fine, growth);
         let ys: Vec<f64> = graded_axis(height, h, fine, growth)
@@ -301,9 +314,11 @@ pub fn quad_stiffness(
         let (j10, j11) = (sum(&deta, |p| p.0), sum(&deta, |p| p.1));
         let det = j00 * j11 - j01 * j10;
         if !(det > 0.0 && det.is_finite()) {
-            return Err(Error::input(format!(
-                "quadrilateral {xy:?} is folded or not counter-clockwise (det J = {det:e})"
-            )));
+            return Err(Error::out_of_range(
+                format!("det J of quadrilateral {xy:?}"),
+                format!("{det:e}"),
+                "> 0 (a quadrilateral that is not folded and is counter-clockwise)",
+            ));
         }
         let x = sum(&n, |p| p.0);
         let w = det
@@ -339,11 +354,19 @@ pub fn assemble_mapped(
     material: &Material,
 ) -> Result<Vec<(usize, usize, f64)>> {
     material.validate()?;
-    if nx < 2 || ny < 2 || coords.len() != nx * ny {
-        return Err(Error::input(format!(
-            "mapped mesh: {} coordinates for {nx} × {ny} nodes (at least 2 × 2)",
-            coords.len()
-        )));
+    if nx < 2 || ny < 2 {
+        return Err(Error::out_of_range(
+            "mapped mesh nodes",
+            format!("{nx} × {ny}"),
+            "at least 2 × 2",
+        ));
+    }
+    if coords.len() != nx * ny {
+        return Err(Error::length_mismatch(
+            format!("mapped mesh coordinates ({nx} × {ny} nodes)"),
+            coords.len(),
+            nx * ny,
+        ));
     }
     let c = material.c_matrix(geometry);
     let mut t = Vec::with_capacity((nx - 1) * (ny - 1) * 64);
@@ -377,7 +400,11 @@ pub fn assemble(
     let c = material.c_matrix(geometry);
     let (nx, ny) = (grid.xs.len(), grid.ys.len());
     if nx < 2 || ny < 2 {
-        return Err(Error::input("elasticity grid needs at least one element"));
+        return Err(Error::out_of_range(
+            "elasticity grid nodes",
+            format!("{nx} × {ny}"),
+            "at least 2 × 2 (one element)",
+        ));
     }
     let mut t = Vec::with_capacity((nx - 1) * (ny - 1) * 64);
     for i in 0..nx - 1 {
@@ -645,7 +672,7 @@ pub fn indentation(
     profile: impl Fn(f64) -> f64,
 ) -> Result<Indentation> {
     if !lift.is_finite() {
-        return Err(Error::input(format!("lift must be finite (got {lift})")));
+        return Err(Error::out_of_range("lift", lift, "finite"));
     }
     let triplets = assemble(grid, geometry, material)?;
     let (nx, ny) = (grid.xs.len(), grid.ys.len());
@@ -659,9 +686,11 @@ pub fn indentation(
         let d = map[2 * grid.node(i, ny - 1) + 1];
         let limit = profile(x);
         if !limit.is_finite() {
-            return Err(Error::input(format!(
-                "indenter profile is not finite at x = {x} (got {limit})"
-            )));
+            return Err(Error::out_of_range(
+                format!("indenter profile at x = {x}"),
+                limit,
+                "finite",
+            ));
         }
         constraints.push(Constraint::on_dof(d, limit, ConstraintKind::Upper));
         contact.push(ContactNode { x, weight: w });

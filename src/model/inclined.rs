@@ -34,17 +34,19 @@ pub fn normal(theta: f64) -> (f64, f64) {
 /// ([`elasticity::free_dofs`]).
 pub fn rotated(flat: &Indentation, free: &[usize], theta: f64) -> Result<Indentation> {
     if !(theta.is_finite() && theta.abs() <= std::f64::consts::FRAC_PI_2) {
-        return Err(Error::input(format!(
-            "inclination θ must be finite and |θ| ≤ π/2 (got {theta})"
-        )));
+        return Err(Error::out_of_range(
+            "inclination θ",
+            theta,
+            "finite with |θ| ≤ π/2",
+        ));
     }
     let p = &flat.problem;
     if free.len() != p.n() {
-        return Err(Error::input(format!(
-            "{} DOF numbers for a problem of N = {}",
+        return Err(Error::length_mismatch(
+            "DOF numbers (one per unknown of the problem)",
             free.len(),
-            p.n()
-        )));
+            p.n(),
+        ));
     }
     let (s, c) = theta.sin_cos();
     // The unknown holding each node's other component, where both are free.
@@ -73,7 +75,7 @@ pub fn rotated(flat: &Indentation, free: &[usize], theta: f64) -> Result<Indenta
             }
         }
         if !v.is_finite() {
-            err = Some(Error::input("stiffness entry is not finite"));
+            err = Some(Error::not_finite("stiffness entry"));
         }
     });
     if let Some(e) = err {
@@ -97,9 +99,9 @@ pub fn rotated(flat: &Indentation, free: &[usize], theta: f64) -> Result<Indenta
         .constraints
         .iter()
         .map(|con| {
-            let d = con
-                .single_dof()
-                .ok_or_else(|| Error::input("the flat scene's constraints must be single-DOF"))?;
+            let d = con.single_dof().ok_or_else(|| {
+                Error::unsupported("turning the flat scene", "single-DOF constraints")
+            })?;
             Ok(Constraint::row(cols[d].clone(), con.limit, con.kind))
         })
         .collect::<Result<Vec<_>>>()?;
@@ -151,23 +153,24 @@ pub fn with_nodal_normals(
     slope: impl Fn(f64) -> f64,
 ) -> Result<Indentation> {
     if free.len() != scene.problem.n() {
-        return Err(Error::input(format!(
-            "nodal normals: {} free DOFs listed for {} unknowns",
+        return Err(Error::length_mismatch(
+            "nodal normals: free DOFs (one per unknown)",
             free.len(),
-            scene.problem.n()
-        )));
+            scene.problem.n(),
+        ));
     }
     let mut rows = Vec::with_capacity(scene.problem.m());
     for (con, node) in scene.problem.constraints.iter().zip(&scene.contact) {
         let Some(d) = con.single_dof() else {
-            return Err(Error::input(
-                "nodal normals: the scene's rows must be single-DOF (v ≤ f)",
+            return Err(Error::unsupported(
+                "nodal normals",
+                "the scene's rows single-DOF (v ≤ f)",
             ));
         };
         let fp = slope(node.x);
         if !fp.is_finite() {
-            return Err(Error::input(format!(
-                "nodal normals: the obstacle's slope is not finite at x = {}",
+            return Err(Error::not_finite(format!(
+                "nodal normals: the obstacle's slope at x = {}",
                 node.x
             )));
         }

@@ -88,9 +88,8 @@ impl Discretization {
             .into_iter()
             .find(|d| d.name() == s)
             .ok_or_else(|| {
-                Error::input(format!(
-                    "unknown discretization '{s}' (known: nts-1, nts-2, mortar)"
-                ))
+                let valid = Discretization::ALL.map(Discretization::name);
+                Error::unknown("discretization", s, &valid, "")
             })
     }
 }
@@ -329,17 +328,20 @@ type PerModulus = fn(&Material) -> f64;
 
 /// Checks the blocks and the squeeze (one-line errors).
 fn validate(b: &TwoBlocks, squeeze: f64) -> Result<()> {
-    let ok = |v: f64| v.is_finite() && v > 0.0;
-    if !(ok(b.width) && ok(b.h_lower) && ok(b.h_upper) && squeeze.is_finite()) {
-        return Err(Error::input(
-            "two blocks: width and heights must be finite and > 0, the squeeze finite",
-        ));
+    Error::positive("two blocks: width", b.width)?;
+    Error::positive("two blocks: lower height", b.h_lower)?;
+    Error::positive("two blocks: upper height", b.h_upper)?;
+    if !squeeze.is_finite() {
+        return Err(Error::not_finite("two blocks: the squeeze"));
     }
-    let (n1, n2) = (b.mesh_lower, b.mesh_upper);
-    if n1.0 == 0 || n1.1 == 0 || n2.0 == 0 || n2.1 == 0 {
-        return Err(Error::input(
-            "two blocks: every mesh needs at least one element",
-        ));
+    for (which, (nx, ny)) in [("lower", b.mesh_lower), ("upper", b.mesh_upper)] {
+        if nx == 0 || ny == 0 {
+            return Err(Error::out_of_range(
+                format!("two blocks: the {which} mesh"),
+                format!("{nx} × {ny} elements"),
+                "at least one element each way",
+            ));
+        }
     }
     Ok(())
 }

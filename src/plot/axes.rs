@@ -40,23 +40,25 @@ pub(super) fn prepare(fig: &Figure) -> Result<Prepared> {
     };
     for s in &fig.series {
         if s.x.len() != s.y.len() {
-            return Err(Error::input(format!(
-                "{name}: series '{}' has {} x values but {} y values",
-                s.label,
+            return Err(Error::length_mismatch(
+                format!("{name}: series '{}': y values (one per x value)", s.label),
+                s.y.len(),
                 s.x.len(),
-                s.y.len()
-            )));
+            ));
         }
     }
     for b in &fig.bands {
-        if b.x.len() != b.lo.len() || b.x.len() != b.hi.len() {
-            return Err(Error::input(format!(
-                "{name}: band '{}' has {} x, {} lo and {} hi values (must be equal)",
-                b.label,
-                b.x.len(),
-                b.lo.len(),
-                b.hi.len()
-            )));
+        for (what, v) in [("lo", &b.lo), ("hi", &b.hi)] {
+            if v.len() != b.x.len() {
+                return Err(Error::length_mismatch(
+                    format!(
+                        "{name}: band '{}': {what} values (one per x value)",
+                        b.label
+                    ),
+                    v.len(),
+                    b.x.len(),
+                ));
+            }
         }
     }
     let (xs, ys) = (fig.x_scale, fig.y_scale);
@@ -109,9 +111,10 @@ pub(super) fn prepare(fig: &Figure) -> Result<Prepared> {
         } else {
             ""
         };
-        Error::input(format!(
-            "{name}: no finite data for the {axis} axis, nothing to plot{extra}"
-        ))
+        Error::none_given(
+            format!("{name}: finite data for the {axis} axis (nothing to plot)"),
+            extra,
+        )
     };
     let xt = axis_range(&xv, xs).ok_or_else(|| no_data("x", xs))?;
     let yt = axis_range(&yv, ys).ok_or_else(|| no_data("y", ys))?;

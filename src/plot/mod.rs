@@ -9,7 +9,7 @@
 //! backend). Log axes use plotters' log coordinates with tick labels such as `1e3` / `1e-2`.
 //!
 //! Non-finite values are skipped (lines are broken there); on a log axis non-positive values are
-//! skipped too. A figure without a single drawable point is an [`Error::Input`].
+//! skipped too. A figure without a single drawable point is an [`Error::NoneGiven`].
 //!
 //! Files: `style.rs` (font, palette, per-method colours and labels, type sizes), `axes.rs`
 //! (ranges, scales, ticks), `chart.rs` (one chart), `legend.rs` (legend corner, reference
@@ -301,8 +301,9 @@ impl Figure {
 /// Renders `<stem>.png` and `<stem>.svg` (`stem` is a path without extension; missing parent
 /// directories are created) and returns the two paths written.
 ///
-/// Errors: [`Error::Input`] for inconsistent lengths, a zero image size or a figure with no
-/// finite data; [`Error::Io`] when a file cannot be written.
+/// Errors: [`Error::LengthMismatch`] for inconsistent lengths, [`Error::OutOfRange`] for an
+/// image side below 50 px, [`Error::NoneGiven`] for a figure with no finite data;
+/// [`Error::Io`] when a file cannot be written.
 pub fn render(fig: &Figure, stem: &Path) -> Result<Vec<PathBuf>> {
     render_panels_impl(std::slice::from_ref(fig), 1, stem, fig.size)
 }
@@ -312,7 +313,8 @@ pub fn render(fig: &Figure, stem: &Path) -> Result<Vec<PathBuf>> {
 /// of the total `size`, grown where a cell would be smaller than [`MIN_PANEL`]
 /// ([`panel_canvas`]). Writes `<stem>.png` and `<stem>.svg` and returns the paths.
 ///
-/// Errors as for [`render`]; also [`Error::Input`] for no figures or `cols == 0`.
+/// Errors as for [`render`]; also [`Error::NoneGiven`] for no figures and
+/// [`Error::OutOfRange`] for `cols == 0`.
 pub fn render_panels(
     figs: &[Figure],
     cols: usize,
@@ -382,16 +384,17 @@ fn render_panels_impl(
     size: (u32, u32),
 ) -> Result<Vec<PathBuf>> {
     if figs.is_empty() {
-        return Err(Error::input("plot: no figures to render"));
+        return Err(Error::none_given("plot: figures to render", ""));
     }
     if cols == 0 {
-        return Err(Error::input("plot: panel columns must be ≥ 1, got 0"));
+        return Err(Error::out_of_range("plot: panel columns", cols, "≥ 1"));
     }
     if size.0 < 50 || size.1 < 50 {
-        return Err(Error::input(format!(
-            "plot: image size {}×{} px too small (each side must be ≥ 50)",
-            size.0, size.1
-        )));
+        return Err(Error::out_of_range(
+            "plot: image size",
+            format!("{}×{} px", size.0, size.1),
+            "at least 50 px on each side",
+        ));
     }
     let preps = figs.iter().map(prepare).collect::<Result<Vec<_>>>()?;
     ensure_font()?;

@@ -144,9 +144,10 @@ pub fn kappa_bounds(p: &Problem, dhat: f64, rule: KappaRule) -> Result<(f64, f64
     let (min, below) = match rule {
         KappaRule::Ipc => {
             let Some(surface) = &p.surface else {
-                return Err(Error::input(
-                    "barrier: the ipc κ rule needs the problem's contact surface (its \
-                     bounding box); use the balanced rule for a bare K, q, D",
+                return Err(Error::unsupported(
+                    "barrier: the ipc κ rule",
+                    "the problem's contact surface (its bounding box); use the balanced rule \
+                     for a bare K, q, D",
                 ));
             };
             let bbox = surface.bbox_diagonal;
@@ -348,10 +349,13 @@ pub fn solve_with(mut ctx: Context, dhat: f64, rule: KappaRule) -> Result<Soluti
         .iter()
         .position(|c| c.kind == ConstraintKind::Bilateral)
     {
-        return Err(Error::input(format!(
-            "barrier: constraint {c} is bilateral (a tie); the log barrier handles unilateral \
-             constraints only — use a penalty rule or lagrange"
-        )));
+        return Err(Error::unsupported(
+            "barrier",
+            format!(
+                "unilateral constraints only, but constraint {c} is bilateral (a tie); use a \
+                 penalty rule or lagrange"
+            ),
+        ));
     }
     let rule = rule.validated()?.resolved(p);
     let u = feasible_start(p, ctx.u0()?.to_vec(), dhat)?;

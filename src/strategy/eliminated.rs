@@ -85,7 +85,7 @@ pub fn box_solve(
 ) -> Result<BoxSolve> {
     let problem = ctx.problem;
     let Stiffness::Sparse(kmat) = &problem.k else {
-        return Err(Error::input("elimination route needs a sparse K"));
+        return Err(Error::unsupported("the elimination route", "a sparse K"));
     };
     let (n, m) = (problem.n(), problem.m());
     let dofs = problem.single_dofs("the elimination route")?;

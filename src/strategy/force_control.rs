@@ -40,10 +40,14 @@ pub fn solve_at_load(
     guess: f64,
     rel_tol: f64,
 ) -> Result<Loaded> {
-    if !(load.is_finite() && load > 0.0 && guess.is_finite() && guess > 0.0) {
-        return Err(Error::input(format!(
-            "{name}: force control needs a finite load > 0 and a first lift > 0 (got {load:e}, {guess:e})"
-        )));
+    for (what, v) in [("load", load), ("first lift", guess)] {
+        if !(v.is_finite() && v > 0.0) {
+            return Err(Error::out_of_range(
+                format!("{name}: force control's {what}"),
+                format!("{v:e}"),
+                "a finite number > 0",
+            ));
+        }
     }
     let force = |w: f64| -> Result<(f64, Indentation, Solution)> {
         let scene = scene(w)?;

@@ -198,18 +198,19 @@ pub fn register(s: &'static Strategy) -> Result<()> {
             .chars()
             .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '-' || c == '_')
     {
-        return Err(Error::input(format!(
-            "strategy name '{}' must be non-empty and use only a-z, 0-9, '-' and '_'",
-            s.name
-        )));
+        return Err(Error::out_of_range(
+            "strategy name",
+            format!("'{}'", s.name),
+            "non-empty and use only a-z, 0-9, '-' and '_'",
+        ));
     }
     let mut list = REGISTERED.write().unwrap_or_else(|e| e.into_inner());
     match all_in(&list).into_iter().find(|t| t.name == s.name) {
         Some(t) if std::ptr::eq(t, s) => Ok(()),
-        Some(_) => Err(Error::input(format!(
-            "a strategy named '{}' is already registered",
-            s.name
-        ))),
+        Some(_) => Err(Error::duplicate(
+            "strategy name (already registered)",
+            format!("'{}'", s.name),
+        )),
         None => {
             list.push(s);
             Ok(())

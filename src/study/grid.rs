@@ -36,9 +36,11 @@ impl LogGrid {
     pub fn parse(s: &str) -> Result<Self> {
         let parts: Vec<&str> = s.split(':').collect();
         let bad = || {
-            Error::input(format!(
-                "malformed range '{s}': expected LO:HI:N with 0 < LO ≤ HI and N ≥ 1 (e.g. 1e-2:1e12:15)"
-            ))
+            Error::out_of_range(
+                "ε range",
+                format!("'{s}'"),
+                "LO:HI:N with 0 < LO ≤ HI and N ≥ 1 (e.g. 1e-2:1e12:15)",
+            )
         };
         if parts.len() != 3 {
             return Err(bad());
@@ -57,10 +59,11 @@ impl LogGrid {
             || self.n == 0
             || (self.n == 1 && self.lo != self.hi)
         {
-            return Err(Error::input(format!(
-                "bad ε grid {}:{}:{}: need 0 < LO ≤ HI, N ≥ 1",
-                self.lo, self.hi, self.n
-            )));
+            return Err(Error::out_of_range(
+                "ε grid",
+                format!("{}:{}:{}", self.lo, self.hi, self.n),
+                "LO:HI:N with 0 < LO ≤ HI, N ≥ 1",
+            ));
         }
         Ok(())
     }

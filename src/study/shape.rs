@@ -221,16 +221,19 @@ fn entry<S: Study>(cli: &Cli<S::Flags>) -> Result<()> {
         .clone()
         .unwrap_or_else(|| PathBuf::from(S::DEFAULT_OUT));
     if cli.resume && !S::RESUMABLE {
-        return Err(crate::Error::input(format!(
-            "--resume: {} keeps no checkpoints",
-            S::NAME
-        )));
+        return Err(crate::Error::unsupported(
+            "--resume",
+            format!(
+                "a study that keeps checkpoints ({} keeps no checkpoints)",
+                S::NAME
+            ),
+        ));
     }
     if !S::SAVES && (cli.out.is_some() || cli.render_only) {
-        return Err(crate::Error::input(format!(
-            "--out/--render-only: {} keeps no record",
-            S::NAME
-        )));
+        return Err(crate::Error::unsupported(
+            "--out/--render-only",
+            format!("a study that keeps a record ({} keeps no record)", S::NAME),
+        ));
     }
     let (record, out) = if cli.render_only {
         (S::load(&out)?, out)

@@ -78,16 +78,23 @@ pub fn sparse_of_dense(m: faer::MatRef<'_, f64>) -> SparseColMat<usize, f64> {
     )
 }
 
+/// The error for a 0×0 stiffness matrix.
+fn empty_stiffness() -> Error {
+    Error::none_given("stiffness matrix rows", " (K is empty (0×0))")
+}
+
 /// N for rows of lengths `row_lens`, all N; errors on an empty or non-square matrix.
 fn square_rows(row_lens: &[usize]) -> Result<usize> {
     let n = row_lens.len();
     if n == 0 {
-        return Err(Error::input("stiffness matrix is empty (0×0)"));
+        return Err(empty_stiffness());
     }
-    if let Some((i, len)) = row_lens.iter().enumerate().find(|(_, &l)| l != n) {
-        return Err(Error::input(format!(
-            "stiffness matrix is not square: row {i} has {len} entries, expected {n}"
-        )));
+    if let Some((i, &len)) = row_lens.iter().enumerate().find(|(_, &l)| l != n) {
+        return Err(Error::length_mismatch(
+            format!("stiffness matrix is not square: row {i}"),
+            len,
+            n,
+        ));
     }
     Ok(n)
 }
@@ -140,7 +147,7 @@ impl Stiffness {
     /// Builds a sparse matrix from (row, col, value) triplets; duplicates are summed.
     fn assemble(n: usize, triplets: &[(usize, usize, f64)]) -> Result<Self> {
         if n == 0 {
-            return Err(Error::input("stiffness matrix is empty (0×0)"));
+            return Err(empty_stiffness());
         }
         let t: Vec<Triplet<usize, usize, f64>> = triplets
             .iter()
@@ -148,10 +155,11 @@ impl Stiffness {
             .collect();
         for x in &t {
             if x.row >= n || x.col >= n {
-                return Err(Error::input(format!(
-                    "sparse entry ({}, {}) is outside the {n}×{n} matrix",
-                    x.row, x.col
-                )));
+                return Err(Error::out_of_range(
+                    "sparse entry (row, column)",
+                    format!("({}, {})", x.row, x.col),
+                    format!("inside the {n}×{n} matrix (0-based)"),
+                ));
             }
         }
         let m = SparseColMat::try_new_from_triplets(n, n, &t)
@@ -169,8 +177,8 @@ impl Stiffness {
         let (cp, ri) = (m.symbolic().col_ptr(), m.symbolic().row_idx());
         if let Some(p) = m.val().iter().position(|v| !v.is_finite()) {
             let j = cp.partition_point(|&c| c <= p) - 1;
-            return Err(Error::input(format!(
-                "sparse entry ({}, {j}) is not finite after summing duplicate entries (overflow)",
+            return Err(Error::not_finite(format!(
+                "sparse entry ({}, {j}) after summing its duplicate entries (overflow)",
                 ri[p]
             )));
         }
@@ -528,16 +536,17 @@ impl Problem {
     pub fn new(k: Stiffness, q: Vec<f64>, constraints: Vec<Constraint>) -> Result<Self> {
         let n = k.n();
         if q.len() != n {
-            return Err(Error::input(format!(
-                "load vector has {} entries but K is {n}×{n}",
-                q.len()
-            )));
+            return Err(Error::length_mismatch(
+                format!("load vector q (K is {n}×{n})"),
+                q.len(),
+                n,
+            ));
         }
         if !k.all_finite() {
-            return Err(Error::input("stiffness matrix contains NaN or Inf"));
+            return Err(Error::not_finite("a stiffness matrix entry (NaN or Inf)"));
         }
         if let Some(i) = q.iter().position(|v| !v.is_finite()) {
-            return Err(Error::input(format!("load entry {i} is not finite")));
+            return Err(Error::not_finite(format!("load entry {i}")));
         }
         check_constraints(&constraints, n)?;
         Ok(Problem {
@@ -552,28 +561,21 @@ impl Problem {
     /// finite bounding-box diagonal > 0, else an error naming the bad value.
     pub fn with_surface(self, surface: Surface) -> Result<Problem> {
         if surface.weights.len() != self.m() {
-            return Err(Error::input(format!(
-                "surface: {} weights for {} constraints",
+            return Err(Error::length_mismatch(
+                "surface weights (one per constraint)",
                 surface.weights.len(),
-                self.m()
-            )));
+                self.m(),
+            ));
         }
-        if let Some((c, w)) = surface
-            .weights
-            .iter()
-            .enumerate()
-            .find(|(_, w)| !(w.is_finite() && **w > 0.0))
-        {
-            return Err(Error::input(format!(
-                "surface: weight of constraint {c} is {w}, not a finite number > 0"
-            )));
+        for (c, &w) in surface.weights.iter().enumerate() {
+            if !(w.is_finite() && w > 0.0) {
+                return Err(Error::NotPositive {
+                    name: format!("surface: weight of constraint {c}"),
+                    value: w,
+                });
+            }
         }
-        let b = surface.bbox_diagonal;
-        if !(b.is_finite() && b > 0.0) {
-            return Err(Error::input(format!(
-                "surface: bounding-box diagonal {b} is not a finite number > 0"
-            )));
-        }
+        Error::positive("surface: bounding-box diagonal", surface.bbox_diagonal)?;
         Ok(Problem {
             surface: Some(surface),
             ..self
@@ -621,10 +623,12 @@ impl Problem {
                         [(d, a)] => format!("is {a}·u[{d}] (one term, coefficient ≠ 1)"),
                         t => format!("has {} terms", t.len()),
                     };
-                    Error::input(format!(
-                        "{method} needs single-DOF constraints (coefficient 1), but constraint \
-                         {c} {what}"
-                    ))
+                    Error::unsupported(
+                        method,
+                        format!(
+                            "single-DOF constraints (coefficient 1), but constraint {c} {what}"
+                        ),
+                    )
                 })
             })
             .collect()

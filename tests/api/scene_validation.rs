@@ -118,7 +118,10 @@ fn wrong_load_length() {
     let e = scene_err(&scene(K3, "[0, 0]", C1));
     assert_has(
         &e,
-        &["t.scene.json", "load vector has 2 entries but K is 3×3"],
+        &[
+            "t.scene.json",
+            "load vector q (K is 3×3) has 2 entries, expected 3",
+        ],
     );
 }
 
@@ -294,7 +297,10 @@ fn matrix_market_reference_errors() {
     .to_string();
     assert_has(
         &e,
-        &["s.scene.json", "load vector has 3 entries but K is 2×2"],
+        &[
+            "s.scene.json",
+            "load vector q (K is 2×2) has 3 entries, expected 2",
+        ],
     );
 }
 

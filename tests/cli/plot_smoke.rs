@@ -66,7 +66,7 @@ fn all_nan_is_an_error() {
         Mark::Line,
     ));
     let err = render(&fig, &dir.join("nan")).unwrap_err();
-    assert!(matches!(err, penalty_lab::Error::Input(_)), "{err}");
+    assert!(matches!(err, penalty_lab::Error::NoneGiven { .. }), "{err}");
     assert!(!dir.join("nan.png").exists());
     // Empty figure as well.
     assert!(render(&Figure::new("", "x", "y"), &dir.join("empty")).is_err());
@@ -79,7 +79,7 @@ fn length_mismatch_is_an_error() {
     let fig = Figure::new("bad", "x", "y").line("s", vec![1.0, 2.0], vec![1.0]);
     assert!(matches!(
         render(&fig, &dir.join("bad")),
-        Err(penalty_lab::Error::Input(_))
+        Err(penalty_lab::Error::LengthMismatch { .. })
     ));
 }
 

@@ -256,7 +256,7 @@ fn repeated_dof_is_an_input_error() {
     let p = &membranes()[0];
     let Stiffness::Sparse(k) = &p.k else { panic!() };
     let e = cond2_saddle(k, &[3, 3]).unwrap_err().to_string();
-    assert!(e.contains("repeated"), "{e}");
+    assert!(e.contains("DOF 3 given twice"), "{e}");
 }
 
 /// Warm starts that point away from both ends (a smooth mode for the top, an alternating one

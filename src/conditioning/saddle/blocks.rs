@@ -105,19 +105,31 @@ pub(crate) fn dof_mask(n: usize, dofs: &[usize]) -> std::result::Result<Vec<bool
     Ok(mask)
 }
 
+/// The error for DOF `d` that [`dof_mask`] refused: [`Error::DofOutOfRange`] for `d ≥ n`,
+/// else [`Error::Duplicate`] (a DOF listed twice); `context` names the computation.
+pub(crate) fn dof_error(context: &str, n: usize, d: usize) -> Error {
+    if d >= n {
+        Error::DofOutOfRange {
+            context: context.to_string(),
+            dof: d,
+            n,
+        }
+    } else {
+        Error::duplicate(format!("{context}: constraint DOF"), d)
+    }
+}
+
 /// The mask of the constrained DOFs B; errors on a repeated or out-of-range DOF and unless
 /// 0 < m < N.
 pub(super) fn constrained_mask(n: usize, dofs: &[usize]) -> Result<Vec<bool>> {
     let m = dofs.len();
-    let in_b = dof_mask(n, dofs).map_err(|d| {
-        Error::input(format!(
-            "saddle-point cond₂: constraint DOF {d} repeated or out of range (N = {n})"
-        ))
-    })?;
+    let in_b = dof_mask(n, dofs).map_err(|d| dof_error("saddle-point cond₂", n, d))?;
     if m == 0 || m >= n {
-        return Err(Error::input(format!(
-            "saddle-point cond₂ needs 0 < m < N (m = {m}, N = {n})"
-        )));
+        return Err(Error::out_of_range(
+            "saddle-point cond₂: the number of constraint DOFs m",
+            m,
+            format!("0 < m < N = {n}"),
+        ));
     }
     Ok(in_b)
 }

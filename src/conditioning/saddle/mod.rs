@@ -103,19 +103,19 @@ use faer::Side;
 mod blocks;
 pub mod schur;
 mod shifts;
-pub(crate) use blocks::dof_mask;
 use blocks::{
     constrained_mask, free_block_factor, free_block_values, s0, saddle_csc, BlockInverse,
 };
+pub(crate) use blocks::{dof_error, dof_mask};
 use shifts::Shifts;
 
 /// Largest m for which the fourth end (λ⁻_max) is certified by the m×m test `λ_min(M(s)) ≥ s`.
 pub const SCHUR_TEST_MAX: usize = 1500;
 
 /// cond₂ of `[K D; Dᵀ 0]` (D: columns `e_d` for `dofs`, distinct) for sparse SPD K (both
-/// triangles stored), certified as in the module docs. Errors with [`Error::Input`] on
-/// repeated or out-of-range DOFs and [`Error::Singular`] if K_FF is not positive definite (A
-/// singular).
+/// triangles stored), certified as in the module docs. Errors with [`Error::DofOutOfRange`] on
+/// an out-of-range DOF, [`Error::Duplicate`] on a repeated one, [`Error::OutOfRange`] unless
+/// 0 < m < N, and [`Error::Singular`] if K_FF is not positive definite (A singular).
 pub fn cond2_saddle(k: &SparseColMat<usize, f64>, dofs: &[usize]) -> Result<CondReport> {
     cond2_saddle_with(k, dofs, SCHUR_TEST_MAX)
 }

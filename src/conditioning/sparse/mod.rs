@@ -204,7 +204,7 @@ fn analyse(
     let (starts, keep_ritz) = (reuse.starts, reuse.keep_ritz);
     let n = a.nrows();
     if n == 0 {
-        return Err(Error::input("empty matrix has no condition number"));
+        return Err(empty_matrix());
     }
     let mut fam = ShiftFamily::new(a)?;
     // A's factor: the caller's sparse Cholesky of A where it passes one, else a new one
@@ -553,13 +553,18 @@ fn top_estimate(
     })
 }
 
+/// The error for a 0×0 matrix ([`Error::NoneGiven`]).
+fn empty_matrix() -> Error {
+    Error::none_given("matrix rows", " (an empty matrix has no condition number)")
+}
+
 /// The uncertified estimates of [`extreme_eigenvalues`], `(λ_max, λ_min)`: the same converged
 /// Lanczos runs without the certificate's Cholesky tests — for a comparison of routes
 /// (`cond_accuracy`); no bound comes with them. Errors with [`Error::Singular`] if the Cholesky
 /// factorization of A fails.
 pub fn estimate_extremes(a: &SparseColMat<usize, f64>) -> Result<(f64, f64)> {
     if a.nrows() == 0 {
-        return Err(Error::input("empty matrix has no condition number"));
+        return Err(empty_matrix());
     }
     let mut fam = ShiftFamily::new(a)?;
     let f = fam.factor(1.0, 0.0).ok_or_else(|| {

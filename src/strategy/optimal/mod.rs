@@ -70,7 +70,7 @@
 //! Up to [`DENSE_MAX_N`] DOFs every evaluation takes a dense eigendecomposition of the n×n
 //! system; above, the sparse route ([`spectrum`]): a sparse Cholesky factor and Lanczos
 //! windows at both ends of the spectrum. n ≤ [`MAX_N`], m ≤ [`MAX_M`]; larger problems are
-//! refused with [`Error::Input`]. K must be symmetric positive definite.
+//! refused with [`Error::Unsupported`]. K must be symmetric positive definite.
 //!
 //! **Rows that couple DOFs** (issue 45): `A = K + Σ_c ε_c d_c d_cᵀ`, so every formula above
 //! holds with `v_k[d_c]` read as `d_cᵀv_k` and `e_{d_i}` as the row d_i (∂A/∂ε_c = d_c d_cᵀ);
@@ -228,13 +228,15 @@ pub struct OptimalReport {
 pub fn check_affordable(problem: &Problem) -> Result<()> {
     let (n, m) = (problem.n(), problem.m());
     if n > MAX_N || m > MAX_M {
-        return Err(Error::input(format!(
-            "optimal: needs n ≤ {MAX_N} and m ≤ {MAX_M} (got n = {n}, m = {m})"
-        )));
+        return Err(Error::unsupported(
+            "optimal",
+            format!("n ≤ {MAX_N} and m ≤ {MAX_M} (got n = {n}, m = {m})"),
+        ));
     }
     if !problem.k.is_symmetric() {
-        return Err(Error::input(
-            "optimal: K must be symmetric (cond₂ through symmetric eigenvalues)",
+        return Err(Error::unsupported(
+            "optimal",
+            "a symmetric K (cond₂ through symmetric eigenvalues)",
         ));
     }
     Ok(())

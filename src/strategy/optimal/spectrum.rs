@@ -124,9 +124,10 @@ impl Spectrum {
             Route::Sparse => {
                 let n = p.n();
                 if n < SPARSE_MIN_N {
-                    return Err(Error::input(format!(
-                        "optimal: the sparse route needs n ≥ {SPARSE_MIN_N} (got {n})"
-                    )));
+                    return Err(Error::unsupported(
+                        "optimal: the sparse route",
+                        format!("n ≥ {SPARSE_MIN_N} (got {n})"),
+                    ));
                 }
                 // K widened by explicit zeros to the rows' fill (K itself for single DOFs).
                 let zeros: Vec<(usize, usize, f64)> =

@@ -201,12 +201,14 @@ fn penalized(p: &Problem, factor: f64) -> Stiffness {
 /// Measures every matrix of `cfg`, calling `step` after each (progress).
 pub fn run(cfg: &Config, mut step: impl FnMut(&str)) -> Result<Vec<Row>> {
     if cfg.repeats == 0 {
-        return Err(Error::input("--repeats must be ≥ 1"));
+        return Err(Error::out_of_range("--repeats", cfg.repeats, "≥ 1"));
     }
     if let Some(f) = cfg.factors.iter().find(|f| !(f.is_finite() && **f >= 0.0)) {
-        return Err(Error::input(format!(
-            "penalty factor {f} is not finite and ≥ 0"
-        )));
+        return Err(Error::out_of_range(
+            "penalty factor",
+            f,
+            "a finite number ≥ 0",
+        ));
     }
     let mut scenes: Vec<(String, String, Problem)> = Vec::new();
     let gen = GeneratorConfig::default();

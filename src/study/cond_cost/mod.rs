@@ -45,13 +45,13 @@ pub struct CostConfig {
 /// Measures every matrix of `cfg`, one progress step per matrix.
 pub fn run(cfg: &CostConfig, progress: &Progress) -> Result<Vec<Row>> {
     if cfg.repeats == 0 {
-        return Err(Error::input("--repeats must be ≥ 1"));
+        return Err(Error::out_of_range("--repeats", cfg.repeats, "≥ 1"));
     }
     if let Some(s) = cfg.sides.iter().find(|&&s| !(2..=2000).contains(&s)) {
-        return Err(Error::input(format!("--sides: {s} outside 2..=2000")));
+        return Err(Error::out_of_range("--sides entry", s, "in 2..=2000"));
     }
     if let Some(e) = cfg.elements.iter().find(|&&e| !(1..=300_000).contains(&e)) {
-        return Err(Error::input(format!("--elements: {e} outside 1..=300000")));
+        return Err(Error::out_of_range("--elements entry", e, "in 1..=300000"));
     }
     progress.set_total(cfg.sides.len() + cfg.elements.len());
     let mut rows = Vec::new();
@@ -120,7 +120,7 @@ fn null_is_infinite<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Resu
 /// routes only up to `dense_max` unknowns.
 pub fn measure(family: &str, a: &Stiffness, repeats: usize, dense_max: usize) -> Result<Row> {
     let Stiffness::Sparse(m) = a else {
-        return Err(Error::input("cond_cost measures sparse matrices"));
+        return Err(Error::unsupported("cond_cost", "a sparse matrix"));
     };
     let n = a.n();
     let (cholesky_s, _) = median_time(repeats, || Factorization::new(a, true))?;

@@ -182,48 +182,47 @@ impl BenchConfig {
     /// Validates the grids and the material.
     pub fn validate(&self) -> Result<()> {
         let pos = |name: &str, v: &[f64]| -> Result<()> {
-            match v.iter().find(|x| !(x.is_finite() && **x > 0.0)) {
-                Some(x) => Err(Error::input(format!(
-                    "{name}: {x} is not a finite number > 0"
-                ))),
-                None => Ok(()),
-            }
+            v.iter()
+                .try_for_each(|&x| Error::positive(name, x).map(|_| ()))
         };
         pos("--meshes", &self.meshes)?;
         pos("--eps-rel", &self.eps_rel)?;
         pos("--factors", &self.factors)?;
         pos("--deltas-rel", &self.deltas_rel)?;
-        pos("E, R, a", &[self.young, self.radius, self.a_target])?;
+        Error::positive("Young's modulus E", self.young)?;
+        Error::positive("indenter radius R", self.radius)?;
+        Error::positive("Hertz half-width a", self.a_target)?;
         if !(self.block_over_a >= 2.0 * FINE_OVER_A && self.block_over_a <= 1e4) {
-            return Err(Error::input(format!(
-                "--block-over-a: {} is outside [{}, 1e4]",
+            return Err(Error::out_of_range(
+                "--block-over-a",
                 self.block_over_a,
-                2.0 * FINE_OVER_A
-            )));
+                format!("in [{}, 1e4]", 2.0 * FINE_OVER_A),
+            ));
         }
         let (up, low) = self.mesh_ratio;
         if !((1..=16).contains(&up) && (1..=16).contains(&low)) {
-            return Err(Error::input(format!(
-                "--mesh-ratio: {up}:{low} needs both in 1..=16"
-            )));
+            return Err(Error::out_of_range(
+                "--mesh-ratio",
+                format!("{up}:{low}"),
+                "UP:LOW with both in 1..=16",
+            ));
         }
         if let Some(h) = self.meshes.iter().find(|h| **h > 0.5 || **h < 1e-3) {
-            return Err(Error::input(format!(
-                "--meshes: h/a = {h} is outside [1e-3, 0.5]"
-            )));
+            return Err(Error::out_of_range("--meshes: h/a", h, "in [1e-3, 0.5]"));
         }
         if !(self.poisson > -1.0 && self.poisson < 0.5) {
-            return Err(Error::input(format!(
-                "ν = {} is not in (−1, 0.5)",
-                self.poisson
-            )));
+            return Err(Error::out_of_range(
+                "Poisson's ratio ν",
+                self.poisson,
+                "in (−1, 0.5)",
+            ));
         }
         if self.optimal_max_n > strategy::optimal::MAX_N {
-            return Err(Error::input(format!(
-                "--optimal-max-n: {} exceeds the optimiser's limit n ≤ {}",
+            return Err(Error::out_of_range(
+                "--optimal-max-n",
                 self.optimal_max_n,
-                strategy::optimal::MAX_N
-            )));
+                format!("≤ {} (the optimiser's limit)", strategy::optimal::MAX_N),
+            ));
         }
         MetricSet::check_cond_tol(Some(self.cond_tol)).map_err(|e| e.for_flag("--cond-tol"))?;
         Ok(())

@@ -267,7 +267,7 @@ impl Checkpoints {
     }
 
     /// The checkpoint of (case, h_rel) if one exists for this build and config; a malformed
-    /// file is an input error naming it.
+    /// file is a parse error ([`Error::Parse`]) naming it, the line and the column.
     pub fn read(&self, cfg: &BenchConfig, case: Case, h_rel: f64) -> Result<Option<MeshRun>> {
         let path = self.path(case, h_rel);
         if !path.exists() {

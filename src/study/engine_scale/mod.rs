@@ -83,8 +83,11 @@ impl Default for ScaleConfig {
 impl ScaleConfig {
     /// Rejects unknown methods, empty lists and non-positive knobs.
     pub fn validate(&self) -> Result<()> {
-        if self.sizes.is_empty() || self.sizes.iter().any(|&s| s < 9) {
-            return Err(Error::input("sizes: need at least one size ≥ 9"));
+        if self.sizes.is_empty() {
+            return Err(Error::none_given("sizes", " (each ≥ 9)"));
+        }
+        if let Some(&s) = self.sizes.iter().find(|&&s| s < 9) {
+            return Err(Error::out_of_range("sizes entry", s, "≥ 9"));
         }
         if let Some(m) = self
             .methods

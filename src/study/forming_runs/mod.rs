@@ -66,13 +66,8 @@ impl ExperimentConfig {
     /// Reads a TOML file; the `[forming]` table is merged over `preset`.
     pub fn from_toml_file(path: &std::path::Path, preset: FormingConfig) -> Result<Self> {
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path.display(), e))?;
-        let one_line = |e: toml::de::Error| {
-            Error::input(format!(
-                "{}: {}",
-                path.display(),
-                e.to_string().replace('\n', " ")
-            ))
-        };
+        let one_line =
+            |e: toml::de::Error| Error::bad_file(path.display(), e.to_string().replace('\n', " "));
         let mut value: toml::Table = toml::from_str(&text).map_err(one_line)?;
         // Merge [forming] over the preset.
         let preset_toml = toml::Table::try_from(&preset)
@@ -85,12 +80,7 @@ impl ExperimentConfig {
                         forming.insert(k, v);
                     }
                 }
-                _ => {
-                    return Err(Error::input(format!(
-                        "{}: [forming] must be a table",
-                        path.display()
-                    )))
-                }
+                _ => return Err(Error::bad_file(path.display(), "[forming] must be a table")),
             }
         }
         value.insert("forming".into(), toml::Value::Table(forming));

@@ -204,7 +204,7 @@ fn read_csv<T: for<'de> Deserialize<'de>>(path: &Path) -> Result<Vec<T>> {
     let mut r = csv::Reader::from_path(path).map_err(|e| Error::io(path.display(), e))?;
     r.deserialize()
         .collect::<std::result::Result<Vec<T>, _>>()
-        .map_err(|e| Error::input(format!("{}: {e}", path.display())))
+        .map_err(|e| Error::bad_file(path.display(), e))
 }
 
 /// Reads back what [`save`] wrote into `out`.
@@ -216,8 +216,7 @@ pub fn load(out: &Path) -> Result<Study> {
             e,
         )
     })?;
-    let record: Record =
-        serde_json::from_str(&text).map_err(|e| Error::input(format!("{}: {e}", jp.display())))?;
+    let record: Record = serde_json::from_str(&text).map_err(|e| Error::json(jp.display(), &e))?;
     Ok(Study {
         record,
         deflection: read_csv::<DeflectionRow>(&out.join(DEFLECTION_FILE))?,

@@ -136,49 +136,56 @@ impl PenaltyScalingConfig {
     /// Checks the ranges (each error names its flag).
     pub fn validate(&self) -> Result<()> {
         if self.discretizations.is_empty() {
-            return Err(Error::input("--discretizations: none given"));
+            let valid: Vec<&str> = Discretization::ALL.iter().map(|d| d.name()).collect();
+            return Err(Error::none_given(
+                "--discretizations",
+                format!(" (valid: {})", valid.join(", ")),
+            ));
         }
         if !(2..=7).contains(&self.levels) {
-            return Err(Error::input(format!(
-                "--levels: {} is outside 2..=7",
-                self.levels
-            )));
+            return Err(Error::out_of_range("--levels", self.levels, "in 2..=7"));
         }
         let (r1, r2) = self.ratio;
         if r1 == 0 || r2 == 0 {
-            return Err(Error::input(format!(
-                "--ratio: {r1}:{r2} needs at least one element across each block"
-            )));
+            return Err(Error::out_of_range(
+                "--ratio",
+                format!("{r1}:{r2}"),
+                "R1:R2 with both ≥ 1 (at least one element across each block)",
+            ));
         }
         let finest = r1.max(r2).checked_mul(1 << (self.levels - 1));
         if finest.is_none_or(|f| f > MAX_ACROSS) {
-            return Err(Error::input(format!(
-                "--ratio {r1}:{r2} with --levels {}: the finest level would have {} elements \
-                 across (at most {MAX_ACROSS}); lower either",
-                self.levels,
-                finest.map_or("more than usize::MAX".into(), |f| f.to_string())
-            )));
+            return Err(Error::out_of_range(
+                format!(
+                    "--ratio {r1}:{r2} with --levels {}: the finest level's elements across",
+                    self.levels
+                ),
+                finest.map_or("more than usize::MAX".into(), |f| f.to_string()),
+                format!("at most {MAX_ACROSS} (lower either)"),
+            ));
         }
         if let Some(d) = first_repeat(self.discretizations.iter().map(|d| d.name())) {
-            return Err(Error::input(format!(
-                "--discretizations: '{d}' given twice"
-            )));
+            return Err(Error::duplicate(
+                "--discretizations entry",
+                format!("'{d}'"),
+            ));
         }
         if let Some(d) = first_repeat(self.delta_methods.iter().map(|s| s.name)) {
-            return Err(Error::input(format!("--delta-methods: '{d}' given twice")));
+            return Err(Error::duplicate("--delta-methods entry", format!("'{d}'")));
         }
         if let Some(e) = first_repeat(self.eps_rel.iter().map(|e| e.to_bits())) {
-            return Err(Error::input(format!(
-                "--eps-rel: {} given twice",
-                f64::from_bits(e)
-            )));
+            return Err(Error::duplicate("--eps-rel entry", f64::from_bits(e)));
         }
         for &e in &self.eps_rel {
             if !(e.is_finite() && e > 0.0 && e <= MAX_EPS_REL) {
-                return Err(Error::input(format!(
-                    "--eps-rel: {e} is not in (0, {MAX_EPS_REL:e}] (above, K's entries fall \
-                     below the rounding of the penalty's)"
-                )));
+                return Err(Error::out_of_range(
+                    "--eps-rel",
+                    e,
+                    format!(
+                        "in (0, {MAX_EPS_REL:e}] (above, K's entries fall below the rounding \
+                         of the penalty's)"
+                    ),
+                ));
             }
         }
         for (flag, v) in [
@@ -187,7 +194,7 @@ impl PenaltyScalingConfig {
             ("--cond-tol", self.cond_tol),
         ] {
             if !(v.is_finite() && v > 0.0 && v < 1.0) {
-                return Err(Error::input(format!("{flag}: {v} is not in (0, 1)")));
+                return Err(Error::out_of_range(flag, v, "in (0, 1)"));
             }
         }
         Ok(())
@@ -463,9 +470,11 @@ impl Study for PenaltyScaling {
                 .map(|n| {
                     let s = registry::lookup(n).map_err(|e| e.for_flag("--delta-methods"))?;
                     if s.knob != Knob::Delta {
-                        return Err(Error::input(format!(
-                            "--delta-methods: '{n}' does not take δ"
-                        )));
+                        return Err(Error::out_of_range(
+                            "--delta-methods entry",
+                            format!("'{n}'"),
+                            "a method that takes δ",
+                        ));
                     }
                     Ok(s)
                 })

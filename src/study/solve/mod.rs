@@ -354,7 +354,10 @@ impl Study for Solve {
     }
 
     fn load(_: &Path) -> Result<Value> {
-        Err(Error::input("solve keeps no record"))
+        Err(Error::unsupported(
+            "--render-only",
+            "a study that keeps a record (solve keeps no record)",
+        ))
     }
 
     fn figures(_: &Value) -> Result<Vec<Drawing>> {

@@ -90,31 +90,30 @@ impl SolverCostConfig {
     /// Checks the ranges (each error names its flag).
     pub fn validate(&self) -> Result<()> {
         if !(2..=8).contains(&self.levels) {
-            return Err(Error::input(format!(
-                "--levels: {} is outside 2..=8",
-                self.levels
-            )));
+            return Err(Error::out_of_range("--levels", self.levels, "in 2..=8"));
         }
         let finest = self.hertz_h0 / (1u64 << (self.levels - 1)) as f64;
         if !(self.hertz_h0 <= 0.5 && finest >= 1e-3) {
-            return Err(Error::input(format!(
-                "--hertz-h0: {} (finest {finest:e}) is outside h/a ∈ [1e-3, 0.5]",
-                self.hertz_h0
-            )));
+            return Err(Error::out_of_range(
+                "--hertz-h0",
+                format!("{}, finest {finest:e}", self.hertz_h0),
+                "such that h/a ∈ [1e-3, 0.5] at every level",
+            ));
         }
         let side = (self.membrane_side0 + 1) << (self.levels - 1);
         if self.membrane_side0 < 1 || side > 2001 {
-            return Err(Error::input(format!(
-                "--membrane-side0: {} gives a finest side {} outside 1..=2000",
-                self.membrane_side0,
-                side - 1
-            )));
+            return Err(Error::out_of_range(
+                "--membrane-side0",
+                format!("{}, finest side {}", self.membrane_side0, side - 1),
+                "≥ 1 with a finest side in 1..=2000",
+            ));
         }
         if self.beam_el0 < 2 || self.beam_el0 << (self.levels - 1) > 20_000 {
-            return Err(Error::input(format!(
-                "--beam-el0: {} gives a finest beam outside 2..=20000 elements",
-                self.beam_el0
-            )));
+            return Err(Error::out_of_range(
+                "--beam-el0",
+                self.beam_el0,
+                "≥ 2 with a finest beam of at most 20000 elements",
+            ));
         }
         for (flag, v) in [
             ("--penetration-rel", self.penetration_rel),
@@ -123,7 +122,7 @@ impl SolverCostConfig {
             ("--cond-tol", self.cond_tol),
         ] {
             if !(v.is_finite() && v > 0.0 && v < 1.0) {
-                return Err(Error::input(format!("{flag}: {v} is not in (0, 1)")));
+                return Err(Error::out_of_range(flag, v, "in (0, 1)"));
             }
         }
         Ok(())
