@@ -324,7 +324,8 @@ impl Error {
             source: Box::new(self),
         }
     }
-    /// Whether this is bad input: [`Error::Input`] or one of the typed input variants.
+    /// Whether this is bad input: [`Error::Input`] or one of the typed input variants
+    /// (a malformed file's [`Error::Parse`] included).
     pub fn is_input(&self) -> bool {
         matches!(
             self.root(),
@@ -341,6 +342,7 @@ impl Error {
                 | Error::Constraint { .. }
                 | Error::Unsupported { .. }
                 | Error::BadFile { .. }
+                | Error::Parse { .. }
         )
     }
     /// The message without its `invalid input: ` prefix (for a caller that names the input
