@@ -275,6 +275,20 @@ impl Error {
         let msg = text.strip_suffix(&suffix).unwrap_or(&text);
         Error::parse(path, e.line(), format!("column {}: {msg}", e.column()))
     }
+    /// A TOML file that does not parse as what it must hold: [`Error::Parse`] at the line of
+    /// the error's span in `text` (the file's contents), or [`Error::BadFile`] where the error
+    /// has no span (or no text is given: a value decoded after merging); the message on one
+    /// line.
+    pub fn toml(path: impl std::fmt::Display, text: Option<&str>, e: &toml::de::Error) -> Self {
+        let msg = e.message().replace('\n', " ");
+        match (text, e.span()) {
+            (Some(text), Some(span)) => {
+                let line = text[..span.start.min(text.len())].matches('\n').count() + 1;
+                Error::parse(path, line, msg)
+            }
+            _ => Error::bad_file(path, msg),
+        }
+    }
     /// Shorthand for [`Error::Input`].
     pub fn input(msg: impl Into<String>) -> Self {
         Error::Input(msg.into())
@@ -315,6 +329,15 @@ impl Error {
                 name: name.to_string(),
                 value,
             })
+        }
+    }
+    /// `value` if it lies in the open interval (0, 1) (a relative tolerance), else
+    /// [`Error::OutOfRange`] naming it.
+    pub fn fraction(name: impl std::fmt::Display, value: f64) -> Result<f64> {
+        if value.is_finite() && value > 0.0 && value < 1.0 {
+            Ok(value)
+        } else {
+            Err(Error::out_of_range(name, value, "in (0, 1)"))
         }
     }
     /// This error as the value of command-line flag `flag` ([`Error::Flag`]).

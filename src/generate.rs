@@ -85,6 +85,39 @@ pub const FAMILY_NAMES: [&str; 6] = [
 /// The families a sweep runs when none are named.
 pub const DEFAULT_FAMILIES: [&str; 3] = ["beam", "membrane", "spectrum"];
 
+/// The families named (names trimmed), each one of `valid`: an unknown name, or one outside
+/// `valid`, is an error listing `valid`'s names followed by `extra` (what else the caller
+/// accepts, e.g. `", or none"`).
+pub fn parse_families<S: AsRef<str>>(
+    names: &[S],
+    valid: &[Family],
+    extra: &str,
+) -> Result<Vec<Family>> {
+    names
+        .iter()
+        .map(|n| {
+            let n = n.as_ref().trim();
+            Family::from_name(n)
+                .ok()
+                .filter(|f| valid.contains(f))
+                .ok_or_else(|| {
+                    let names: Vec<&str> = valid.iter().map(|f| f.name()).collect();
+                    Error::unknown("family", n, &names, extra)
+                })
+        })
+        .collect()
+}
+
+/// Every family, in [`FAMILY_NAMES`] order.
+pub const ALL_FAMILIES: [Family; 6] = [
+    Family::Beam,
+    Family::Membrane,
+    Family::Spectrum,
+    Family::Hertz,
+    Family::FlatPunch,
+    Family::TwoBody,
+];
+
 impl serde::Serialize for Family {
     fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
         s.serialize_str(self.name())
@@ -546,4 +579,26 @@ fn two_body(rng: &mut ChaCha8Rng) -> Result<(Problem, serde_json::Value)> {
         "exact_pressure": exact_pressure,
     });
     Ok((scene.problem, meta))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_family_reads_back_by_its_name_in_list_order() {
+        let names: Vec<&str> = ALL_FAMILIES.iter().map(|f| f.name()).collect();
+        assert_eq!(names, FAMILY_NAMES);
+        for f in ALL_FAMILIES {
+            assert_eq!(Family::from_name(f.name()).unwrap(), f);
+            let json = serde_json::to_string(&f).unwrap();
+            assert_eq!(json, format!("\"{}\"", f.name()));
+            assert_eq!(serde_json::from_str::<Family>(&json).unwrap(), f);
+        }
+        let e = parse_families(&["beam", "shell"], &[Family::Beam], ", or none").unwrap_err();
+        assert!(
+            e.to_string().contains("'shell' (valid: beam, or none)"),
+            "{e}"
+        );
+    }
 }

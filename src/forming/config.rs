@@ -209,8 +209,8 @@ impl FormingConfig {
     /// Reads a TOML file; missing fields take the Woo-like defaults.
     pub fn from_toml_file(path: &std::path::Path) -> Result<Self> {
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path.display(), e))?;
-        let c: FormingConfig = toml::from_str(&text)
-            .map_err(|e| Error::bad_file(path.display(), e.to_string().replace('\n', " ")))?;
+        let c: FormingConfig =
+            toml::from_str(&text).map_err(|e| Error::toml(path.display(), Some(&text), &e))?;
         c.validate()?;
         Ok(c)
     }

@@ -29,14 +29,9 @@ pub struct MetricSet {
 impl MetricSet {
     /// Checks a relative accuracy asked of cond₂: finite, in (0, 1).
     pub fn check_cond_tol(tol: Option<f64>) -> Result<()> {
-        match tol {
-            Some(t) if !(t.is_finite() && t > 0.0 && t < 1.0) => Err(Error::out_of_range(
-                "relative cond₂ accuracy",
-                t,
-                "in (0, 1)",
-            )),
-            _ => Ok(()),
-        }
+        tol.map_or(Ok(()), |t| {
+            Error::fraction("relative cond₂ accuracy", t).map(|_| ())
+        })
     }
 
     /// Everything.

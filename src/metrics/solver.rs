@@ -79,13 +79,7 @@ impl Default for SolverOptions {
 impl SolverOptions {
     /// Checks τ ∈ (0, 1) and a positive iteration limit.
     pub fn check(&self) -> Result<()> {
-        if !(self.tol.is_finite() && self.tol > 0.0 && self.tol < 1.0) {
-            return Err(Error::out_of_range(
-                "Krylov tolerance",
-                self.tol,
-                "in (0, 1)",
-            ));
-        }
+        Error::fraction("Krylov tolerance", self.tol)?;
         if self.max_iters == Some(0) {
             return Err(Error::out_of_range("the Krylov iteration limit", 0, "≥ 1"));
         }

@@ -248,7 +248,7 @@ pub fn lookup(name: &str) -> Result<&'static Strategy> {
 
 /// The strategies named, each looked up with [`lookup`] (the first unknown name is the error).
 pub fn lookup_all<S: AsRef<str>>(names: &[S]) -> Result<Vec<&'static Strategy>> {
-    names.iter().map(|n| lookup(n.as_ref())).collect()
+    names.iter().map(|n| lookup(n.as_ref().trim())).collect()
 }
 
 /// Reads strategies by name, the inverse of [`serialize_names`]

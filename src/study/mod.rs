@@ -9,11 +9,14 @@
 //! [`runtime_vs_error`], [`stress`], [`cond_cost`], [`cond_accuracy`], [`engine_scale`],
 //! [`contact_bench`], [`solver_cost`], [`penalty_scaling`]. Each has `mod.rs` (configuration, record and run), `figures.rs` and
 //! `report.rs` (`solve` draws nothing and has no `figures.rs`; [`deep_drawing`] and
-//! [`stretch_test`] declare an experiment whose files are [`forming_runs`]'s). No study
+//! [`stretch_test`] declare an experiment whose files are [`forming_runs`]'s; `stretch_test`
+//! adds its own `--json` summary in `report.rs`). No study
 //! imports another; what several share is a support module: [`text`] (number formats,
 //! aligned tables and wrapped notes of the printed reports), [`shape`] (the one shape of a
 //! study, [`Study`], and the entry every study binary goes through, [`main`]), [`grid`]
-//! (knob grids) and [`forming_runs`] (the forming experiments' runs, records and figures).
+//! (knob grids), [`hertz`] (the contact benchmarks' cases, meshes and analytic solutions,
+//! shared by `contact_bench` and `solver_cost`) and [`forming_runs`] (the forming
+//! experiments' runs, records and figures).
 
 pub mod cond_accuracy;
 pub mod cond_cost;

@@ -21,7 +21,7 @@
 
 use nalgebra::{DMatrix, DVector};
 use penalty_lab::scene::read_scene;
-use penalty_lab::strategy::Knobs;
+use penalty_lab::strategy::{registry, Knobs};
 use penalty_lab::study::solve::{solve_scene, SolveOptions};
 use penalty_lab::system::{ConstraintKind, Problem};
 use serde::Deserialize;
@@ -95,8 +95,13 @@ fn cond_agrees(ours: f64, reference: f64) -> bool {
 }
 
 fn solve(path: &Path, method: &str, knobs: Knobs) -> Value {
-    solve_scene(path, method, knobs, &SolveOptions::default())
-        .unwrap_or_else(|e| panic!("{} {method}: {e}", path.display()))
+    solve_scene(
+        path,
+        registry::lookup(method).unwrap(),
+        knobs,
+        &SolveOptions::default(),
+    )
+    .unwrap_or_else(|e| panic!("{} {method}: {e}", path.display()))
 }
 
 /// D as a dense N×m nalgebra matrix, from the rows as stored.

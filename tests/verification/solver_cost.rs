@@ -15,7 +15,7 @@
 //!   mpmath's LU solve at 50 digits: within a factor 2 where it exceeds 1e-15.
 
 use penalty_lab::metrics::solver::SolverOptions;
-use penalty_lab::strategy::Knobs;
+use penalty_lab::strategy::{registry, Knobs};
 use penalty_lab::study::solve::{solve_scene, SolveOptions};
 use serde::Deserialize;
 use serde_json::Value;
@@ -89,7 +89,13 @@ fn solver_cost_metrics_agree_with_numpy_scipy_and_mpmath() {
             },
             ..SolveOptions::default()
         };
-        let out = solve_scene(&dir.join(&c.scene), &c.method, knobs(&c.args), &opts).unwrap();
+        let out = solve_scene(
+            &dir.join(&c.scene),
+            registry::lookup(&c.method).unwrap(),
+            knobs(&c.args),
+            &opts,
+        )
+        .unwrap();
         let what = format!("{} {} {:?}", c.scene, c.method, c.args);
         let cond = out["cond2_jacobi"].as_f64().unwrap();
         let allowance = 2.0 * 1e-12f64.max(4.0 * f64::EPSILON * c.cond2_jacobi);

@@ -198,18 +198,27 @@ fn penalized(p: &Problem, factor: f64) -> Stiffness {
     p.k.with_entries_added(&adds)
 }
 
-/// Measures every matrix of `cfg`, calling `step` after each (progress).
+impl Config {
+    /// Checks the repeats and the penalty factors; errors name the value and its range.
+    pub fn validate(&self) -> Result<()> {
+        if self.repeats == 0 {
+            return Err(Error::out_of_range("--repeats", self.repeats, "≥ 1"));
+        }
+        if let Some(f) = self.factors.iter().find(|f| !(f.is_finite() && **f >= 0.0)) {
+            return Err(Error::out_of_range(
+                "penalty factor",
+                f,
+                "a finite number ≥ 0",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// Measures every matrix of `cfg` ([`Config::validate`]d first), calling `step` after each
+/// (progress).
 pub fn run(cfg: &Config, mut step: impl FnMut(&str)) -> Result<Vec<Row>> {
-    if cfg.repeats == 0 {
-        return Err(Error::out_of_range("--repeats", cfg.repeats, "≥ 1"));
-    }
-    if let Some(f) = cfg.factors.iter().find(|f| !(f.is_finite() && **f >= 0.0)) {
-        return Err(Error::out_of_range(
-            "penalty factor",
-            f,
-            "a finite number ≥ 0",
-        ));
-    }
+    cfg.validate()?;
     let mut scenes: Vec<(String, String, Problem)> = Vec::new();
     let gen = GeneratorConfig::default();
     for family in [Family::Beam, Family::Membrane, Family::Spectrum] {
@@ -315,7 +324,7 @@ impl crate::study::shape::Study for CondAccuracy {
     type Record = Vec<Row>;
 
     fn config(a: &Flags) -> Result<Config> {
-        Ok(Config {
+        let cfg = Config {
             per_family: a.per_family,
             seed: a.seed,
             factors: a.factors.clone(),
@@ -326,7 +335,9 @@ impl crate::study::shape::Study for CondAccuracy {
                 .map(PathBuf::from)
                 .collect(),
             repeats: a.repeats,
-        })
+        };
+        cfg.validate()?;
+        Ok(cfg)
     }
 
     fn run(cfg: &Config, ctx: &crate::study::shape::RunContext) -> Result<Vec<Row>> {

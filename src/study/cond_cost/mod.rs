@@ -42,17 +42,26 @@ pub struct CostConfig {
     pub dense_max: usize,
 }
 
-/// Measures every matrix of `cfg`, one progress step per matrix.
+impl CostConfig {
+    /// Checks the repeats and the sizes; errors name the value and its range.
+    pub fn validate(&self) -> Result<()> {
+        if self.repeats == 0 {
+            return Err(Error::out_of_range("--repeats", self.repeats, "≥ 1"));
+        }
+        if let Some(s) = self.sides.iter().find(|&&s| !(2..=2000).contains(&s)) {
+            return Err(Error::out_of_range("--sides entry", s, "in 2..=2000"));
+        }
+        if let Some(e) = self.elements.iter().find(|&&e| !(1..=300_000).contains(&e)) {
+            return Err(Error::out_of_range("--elements entry", e, "in 1..=300000"));
+        }
+        Ok(())
+    }
+}
+
+/// Measures every matrix of `cfg` ([`CostConfig::validate`]d first), one progress step per
+/// matrix.
 pub fn run(cfg: &CostConfig, progress: &Progress) -> Result<Vec<Row>> {
-    if cfg.repeats == 0 {
-        return Err(Error::out_of_range("--repeats", cfg.repeats, "≥ 1"));
-    }
-    if let Some(s) = cfg.sides.iter().find(|&&s| !(2..=2000).contains(&s)) {
-        return Err(Error::out_of_range("--sides entry", s, "in 2..=2000"));
-    }
-    if let Some(e) = cfg.elements.iter().find(|&&e| !(1..=300_000).contains(&e)) {
-        return Err(Error::out_of_range("--elements entry", e, "in 1..=300000"));
-    }
+    cfg.validate()?;
     progress.set_total(cfg.sides.len() + cfg.elements.len());
     let mut rows = Vec::new();
     for &side in &cfg.sides {
@@ -184,12 +193,14 @@ impl crate::study::shape::Study for CondCost {
     type Record = Vec<Row>;
 
     fn config(a: &Flags) -> Result<CostConfig> {
-        Ok(CostConfig {
+        let cfg = CostConfig {
             sides: a.sides.clone(),
             elements: a.elements.clone(),
             repeats: a.repeats,
             dense_max: a.dense_max,
-        })
+        };
+        cfg.validate()?;
+        Ok(cfg)
     }
 
     fn run(cfg: &CostConfig, ctx: &crate::study::shape::RunContext) -> Result<Vec<Row>> {

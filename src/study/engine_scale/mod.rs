@@ -315,10 +315,7 @@ impl Study for EngineScale {
         let cfg = ScaleConfig {
             sizes: f.sizes.clone(),
             methods: match &f.methods {
-                Some(names) => names
-                    .iter()
-                    .map(|n| registry::lookup(n))
-                    .collect::<Result<_>>()?,
+                Some(names) => registry::lookup_all(names)?,
                 None => SCALE_METHODS.to_vec(),
             },
             cond: !f.no_cond,

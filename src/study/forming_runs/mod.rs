@@ -66,9 +66,8 @@ impl ExperimentConfig {
     /// Reads a TOML file; the `[forming]` table is merged over `preset`.
     pub fn from_toml_file(path: &std::path::Path, preset: FormingConfig) -> Result<Self> {
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path.display(), e))?;
-        let one_line =
-            |e: toml::de::Error| Error::bad_file(path.display(), e.to_string().replace('\n', " "));
-        let mut value: toml::Table = toml::from_str(&text).map_err(one_line)?;
+        let mut value: toml::Table =
+            toml::from_str(&text).map_err(|e| Error::toml(path.display(), Some(&text), &e))?;
         // Merge [forming] over the preset.
         let preset_toml = toml::Table::try_from(&preset)
             .map_err(|e| Error::Numerical(format!("cannot encode preset: {e}")))?;
@@ -86,7 +85,9 @@ impl ExperimentConfig {
         value.insert("forming".into(), toml::Value::Table(forming));
         value.entry("penalty").or_insert(toml::Value::Float(1e7));
         value.entry("delta").or_insert(toml::Value::Float(1e-5));
-        let c: ExperimentConfig = value.try_into().map_err(one_line)?;
+        let c: ExperimentConfig = value
+            .try_into()
+            .map_err(|e| Error::toml(path.display(), None, &e))?;
         c.validate()?;
         Ok(c)
     }

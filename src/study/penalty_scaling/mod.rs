@@ -193,9 +193,7 @@ impl PenaltyScalingConfig {
             ("--krylov-tol", self.krylov_tol),
             ("--cond-tol", self.cond_tol),
         ] {
-            if !(v.is_finite() && v > 0.0 && v < 1.0) {
-                return Err(Error::out_of_range(flag, v, "in (0, 1)"));
-            }
+            Error::fraction(flag, v)?;
         }
         Ok(())
     }

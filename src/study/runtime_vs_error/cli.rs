@@ -66,10 +66,7 @@ impl Study for RuntimeVsError {
             cfg.sizes = s.clone();
         }
         if let Some(m) = &a.methods {
-            cfg.methods = m
-                .iter()
-                .map(|n| registry::lookup(n))
-                .collect::<Result<_>>()?;
+            cfg.methods = registry::lookup_all(m)?;
         }
         cfg.repeats = a.repeats.unwrap_or(cfg.repeats);
         cfg.budget_seconds = a.budget;

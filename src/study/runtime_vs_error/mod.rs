@@ -93,16 +93,7 @@ pub fn unknown_family(name: &str) -> Error {
 
 /// The families named, each one of [`FAMILIES`] (names trimmed).
 pub fn parse_families<S: AsRef<str>>(names: &[S]) -> Result<Vec<Family>> {
-    names
-        .iter()
-        .map(|n| {
-            let n = n.as_ref().trim();
-            Family::from_name(n)
-                .ok()
-                .filter(|f| FAMILIES.contains(f))
-                .ok_or_else(|| unknown_family(n))
-        })
-        .collect()
+    crate::generate::parse_families(names, &FAMILIES, "")
 }
 
 /// Configuration of a run.

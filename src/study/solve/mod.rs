@@ -8,7 +8,7 @@ pub use report::table;
 use crate::error::{Error, Result};
 use crate::metrics::{self, finite_or_null, solver::SolverOptions, MetricSet};
 use crate::scene;
-use crate::strategy::{self, registry, Knob, Knobs, Method};
+use crate::strategy::{self, registry, Knob, Knobs, Method, Strategy};
 use crate::study::shape::{Drawing, RunContext, Study};
 use serde_json::{json, Value};
 use std::path::Path;
@@ -91,7 +91,12 @@ fn augmented_defaults(p: &crate::system::Problem, knobs: &mut Knobs) {
 /// the statistics or `seconds`). With `opts.write_system`, the final system `A x = b` is
 /// written there exactly as solved ([`write_system`]). Errors on unreadable scenes, bad knobs,
 /// a `cond_tol` outside (0, 1), singular systems and a non-finite solution.
-pub fn solve_scene(scene: &Path, name: &str, knobs: Knobs, opts: &SolveOptions) -> Result<Value> {
+pub fn solve_scene(
+    scene: &Path,
+    strategy: &'static Strategy,
+    knobs: Knobs,
+    opts: &SolveOptions,
+) -> Result<Value> {
     let (no_metrics, exact_start, cond_tol) = (opts.no_metrics, opts.exact_start, opts.cond_tol);
     check_options(opts)?;
     // K in the storage its structure prefers, as `sweep` reads scenes: the same solve and
@@ -100,7 +105,6 @@ pub fn solve_scene(scene: &Path, name: &str, knobs: Knobs, opts: &SolveOptions) 
     let sc = scene::read_scene_preferred(scene)?;
     let p = &sc.problem;
     let mut knobs = knobs;
-    let strategy = registry::lookup(name)?;
     if strategy.knob == Knob::EpsTol {
         augmented_defaults(p, &mut knobs);
     }
@@ -299,6 +303,21 @@ pub struct Flags {
     write_system: Option<std::path::PathBuf>,
 }
 
+/// What one `solve` run does, parsed and checked from the flags at the edge: the scene file,
+/// the strategy (looked up once), its knobs and the options.
+#[derive(Clone, Debug)]
+pub struct SolveConfig {
+    /// The scene file.
+    pub scene: std::path::PathBuf,
+    /// The strategy.
+    pub strategy: &'static Strategy,
+    /// Its knobs (`augmented`'s missing ε and tolerance default from the scene in
+    /// [`solve_scene`]).
+    pub knobs: Knobs,
+    /// Metrics, start and output.
+    pub opts: SolveOptions,
+}
+
 /// The study as the shared entry runs it: prints the table, or with `--json` the object.
 pub struct Solve;
 
@@ -310,7 +329,7 @@ impl Study for Solve {
     const DEFAULT_OUT: &'static str = "";
     const SAVES: bool = false;
     type Flags = Flags;
-    type Config = Flags;
+    type Config = SolveConfig;
     type Record = Value;
 
     fn after_help() -> String {
@@ -321,11 +340,8 @@ impl Study for Solve {
             .into()
     }
 
-    fn config(f: &Flags) -> Result<Flags> {
-        Ok(f.clone())
-    }
-
-    fn run(f: &Flags, _: &RunContext) -> Result<Value> {
+    fn config(f: &Flags) -> Result<SolveConfig> {
+        let strategy = registry::lookup(&f.method)?;
         let knobs = Knobs {
             eps: f.eps,
             factor: f.factor,
@@ -346,10 +362,25 @@ impl Study for Solve {
             },
             write_system: f.write_system.clone(),
         };
-        solve_scene(&f.scene, &f.method, knobs, &opts)
+        check_options(&opts)?;
+        // The knobs checked here where they do not depend on the scene (augmented's defaults
+        // do: checked in the run, after they are filled in).
+        if strategy.knob != Knob::EpsTol {
+            Method::new(strategy, knobs).map_err(with_flag)?;
+        }
+        Ok(SolveConfig {
+            scene: f.scene.clone(),
+            strategy,
+            knobs,
+            opts,
+        })
     }
 
-    fn save(_: &Path, _: &Flags, _: &Value) -> Result<()> {
+    fn run(c: &SolveConfig, _: &RunContext) -> Result<Value> {
+        solve_scene(&c.scene, c.strategy, c.knobs, &c.opts)
+    }
+
+    fn save(_: &Path, _: &SolveConfig, _: &Value) -> Result<()> {
         Ok(())
     }
 

@@ -121,9 +121,7 @@ impl SolverCostConfig {
             ("--krylov-tol", self.krylov_tol),
             ("--cond-tol", self.cond_tol),
         ] {
-            if !(v.is_finite() && v > 0.0 && v < 1.0) {
-                return Err(Error::out_of_range(flag, v, "in (0, 1)"));
-            }
+            Error::fraction(flag, v)?;
         }
         Ok(())
     }
@@ -412,10 +410,7 @@ impl Study for SolverCost {
             membrane_side0: f.membrane_side0,
             beam_el0: f.beam_el0,
             methods: match &f.methods {
-                Some(names) => names
-                    .iter()
-                    .map(|n| registry::lookup(n).map_err(|e| e.for_flag("--methods")))
-                    .collect::<Result<_>>()?,
+                Some(names) => registry::lookup_all(names).map_err(|e| e.for_flag("--methods"))?,
                 None => d.methods,
             },
             penetration_rel: f.penetration_rel,

@@ -3,8 +3,8 @@
 
 use super::record::{self, Record, StressRun};
 use super::{figures, report, StressConfig};
-use crate::error::{Error, Result};
-use crate::generate::{Family, FAMILY_NAMES};
+use crate::error::Result;
+use crate::generate::{self, Family};
 use crate::study::grid::LogGrid;
 use crate::study::shape::{Drawing, RunContext, Study};
 use std::path::Path;
@@ -50,7 +50,7 @@ impl Study for Stress {
     }
 
     fn config(a: &Flags) -> Result<StressRun> {
-        Ok(StressRun {
+        let run = StressRun {
             seed: a.seed,
             count: a.count,
             families: parse_families(&a.families)?,
@@ -59,7 +59,9 @@ impl Study for Stress {
                 max_steps: a.max_steps,
                 ..StressConfig::default()
             },
-        })
+        };
+        run.validate()?;
+        Ok(run)
     }
 
     fn run(r: &StressRun, ctx: &RunContext) -> Result<Record> {
@@ -91,13 +93,10 @@ impl Study for Stress {
 /// `--families` parsed: every name but `none` (and empty entries) as a family; an unknown one
 /// is an error listing the valid names.
 fn parse_families(names: &[String]) -> Result<Vec<Family>> {
-    names
+    let named: Vec<&str> = names
         .iter()
         .map(|s| s.trim())
         .filter(|s| !s.is_empty() && *s != "none")
-        .map(|s| {
-            Family::from_name(s)
-                .map_err(|_| Error::unknown("family", s, &FAMILY_NAMES, ", or none"))
-        })
-        .collect()
+        .collect();
+    generate::parse_families(&named, &generate::ALL_FAMILIES, ", or none")
 }

@@ -41,16 +41,24 @@ pub struct StressOutput {
     pub wall_seconds: f64,
 }
 
-/// Runs both studies on every scene, one progress step per scene. Errors on an unknown family
-/// or a `count` above [`MAX_COUNT`].
-pub fn run(r: &StressRun, progress: &Progress) -> Result<StressOutput> {
-    if r.count > MAX_COUNT {
-        return Err(Error::out_of_range(
-            "--count",
-            r.count,
-            format!("≤ {MAX_COUNT} (the dense double-double reference grows like N³)"),
-        ));
+impl StressRun {
+    /// Checks `count` ≤ [`MAX_COUNT`].
+    pub fn validate(&self) -> Result<()> {
+        if self.count > MAX_COUNT {
+            return Err(Error::out_of_range(
+                "--count",
+                self.count,
+                format!("≤ {MAX_COUNT} (the dense double-double reference grows like N³)"),
+            ));
+        }
+        Ok(())
     }
+}
+
+/// Runs both studies on every scene ([`StressRun::validate`]d first), one progress step per
+/// scene.
+pub fn run(r: &StressRun, progress: &Progress) -> Result<StressOutput> {
+    r.validate()?;
     let t0 = Instant::now();
     let scenes = stress_scenes(r.seed, r.count, &r.families)?;
     progress.set_total(scenes.len());

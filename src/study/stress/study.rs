@@ -5,7 +5,7 @@ use crate::conditioning;
 use crate::error::Result;
 use crate::generate::Family;
 use crate::metrics::{self, MetricSet};
-use crate::strategy::{self, Method, Solution, SystemKind};
+use crate::strategy::{self, Knob, Method, Solution, SystemKind};
 use crate::system::{ConstraintKind, Problem, Stiffness};
 use serde::Serialize;
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -407,6 +407,82 @@ pub struct StrategyRow {
     pub error_vs_lagrange: Option<f64>,
 }
 
+/// The jobs of [`strategy_study`] on a scene of displacement scale `scale` whose largest
+/// constraint stiffness is `kmax`, through the one expansion of knob grids
+/// ([`KnobGrid::points`]), in the rows' order: `constant` at every ε, `scaled` at every
+/// factor, `spring`, `paper` and `condensed` at each relative δ in turn, `augmented` at each
+/// relative ε and tolerance (fixed, then adaptive update), `lagrange`. Each job: the method,
+/// the knob's name in the rows (`eps,tol` for augmented, `-` for lagrange) and its values
+/// (augmented: ε and the tolerance).
+fn strategy_jobs(
+    cfg: &StressConfig,
+    scale: f64,
+    kmax: f64,
+) -> Vec<(Method, &'static str, f64, Option<f64>)> {
+    use crate::strategy::{augmented, condensed, constant, lagrange, paper, scaled, spring};
+    use crate::study::grid::{Augmented, KnobGrid, Level};
+    let absolute = |v: &[f64]| v.iter().map(|&x| Level::absolute(x)).collect();
+    let mut grids = vec![
+        (
+            KnobGrid {
+                eps: absolute(&cfg.eps),
+                ..KnobGrid::default()
+            },
+            vec![&constant::STRATEGY],
+        ),
+        (
+            KnobGrid {
+                factors: absolute(&cfg.factors),
+                ..KnobGrid::default()
+            },
+            vec![&scaled::STRATEGY],
+        ),
+    ];
+    for &r in &cfg.deltas_rel {
+        let grid = KnobGrid {
+            deltas: vec![Level::relative(r, scale)],
+            ..KnobGrid::default()
+        };
+        grids.push((
+            grid,
+            vec![&spring::STRATEGY, &paper::STRATEGY, &condensed::STRATEGY],
+        ));
+    }
+    for &er in &cfg.augmented_eps_rel {
+        for &tr in &cfg.augmented_tol_rel {
+            let grid = KnobGrid {
+                tols: vec![Level::relative(tr, scale)],
+                augmented: [false, true]
+                    .map(|adaptive| Augmented {
+                        eps: er * kmax,
+                        adaptive,
+                        name: "eps,tol",
+                    })
+                    .to_vec(),
+                ..KnobGrid::default()
+            };
+            grids.push((grid, vec![&augmented::STRATEGY]));
+        }
+    }
+    let exact = KnobGrid {
+        exact: Some(Level::absolute(0.0)),
+        ..KnobGrid::default()
+    };
+    grids.push((exact, vec![&lagrange::STRATEGY]));
+    grids
+        .iter()
+        .flat_map(|(grid, strategies)| grid.points(strategies))
+        .map(|p| {
+            let k = p.method.knobs();
+            match p.method.strategy().knob {
+                Knob::EpsTol => (p.method, p.knob, k.eps.unwrap_or(f64::NAN), k.tol),
+                Knob::None => (p.method, "-", 0.0, None),
+                _ => (p.method, p.knob, p.level.value, None),
+            }
+        })
+        .collect()
+}
+
 /// Every strategy at the knobs of `cfg` (extremes included) on one scene, guarded.
 pub fn strategy_study(scene: &StressScene, cfg: &StressConfig) -> Result<Vec<StrategyRow>> {
     let p = &scene.problem;
@@ -420,35 +496,7 @@ pub fn strategy_study(scene: &StressScene, cfg: &StressConfig) -> Result<Vec<Str
         .map(|c| c.stiffness(&p.k).abs())
         .fold(0.0f64, f64::max);
     let kmax = if kmax > 0.0 { kmax } else { 1.0 };
-    let mut jobs: Vec<(Method, &'static str, f64, Option<f64>)> = Vec::new();
-    for &eps in &cfg.eps {
-        jobs.push((Method::constant(eps), "eps", eps, None));
-    }
-    for &factor in &cfg.factors {
-        jobs.push((Method::scaled(factor), "factor", factor, None));
-    }
-    for &r in &cfg.deltas_rel {
-        let delta = r * scale;
-        if delta > 0.0 && delta.is_finite() {
-            jobs.push((Method::spring(delta), "delta", delta, None));
-            jobs.push((Method::paper(delta), "delta", delta, None));
-            jobs.push((Method::condensed(delta), "delta", delta, None));
-        }
-    }
-    for &er in &cfg.augmented_eps_rel {
-        for &tr in &cfg.augmented_tol_rel {
-            for adaptive in [false, true] {
-                let (eps, tol) = (er * kmax, tr * scale);
-                jobs.push((
-                    Method::augmented(eps, tol, adaptive),
-                    "eps,tol",
-                    eps,
-                    Some(tol),
-                ));
-            }
-        }
-    }
-    jobs.push((Method::lagrange(), "-", 0.0, None));
+    let jobs = strategy_jobs(cfg, scale, kmax);
     let mut rows = Vec::with_capacity(jobs.len());
     for (method, knob, value, value2) in jobs {
         let (outcome, sol) = guarded_solve(p, method);

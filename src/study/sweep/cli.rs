@@ -97,10 +97,7 @@ impl ConfigArgs {
             }
         }
         if let Some(v) = &a.methods {
-            c.methods = v
-                .iter()
-                .map(|s| registry::lookup(s.trim()))
-                .collect::<Result<_>>()?;
+            c.methods = registry::lookup_all(v)?;
         }
         if let Some(v) = &a.metrics {
             c.metrics = v

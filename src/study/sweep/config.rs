@@ -166,16 +166,8 @@ impl SweepConfig {
     /// Reads a TOML config (fields as in [`SweepConfig`]; missing fields take defaults).
     pub fn from_toml_file(path: &Path) -> Result<Self> {
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path.display(), e))?;
-        let cfg: SweepConfig = toml::from_str(&text).map_err(|e| {
-            let line = e
-                .span()
-                .map(|s| text[..s.start.min(text.len())].matches('\n').count() + 1);
-            let msg = e.message().replace('\n', " ");
-            match line {
-                Some(l) => Error::parse(path.display(), l, msg),
-                None => Error::io(path.display(), msg),
-            }
-        })?;
+        let cfg: SweepConfig =
+            toml::from_str(&text).map_err(|e| Error::toml(path.display(), Some(&text), &e))?;
         Ok(cfg)
     }
 
