@@ -75,6 +75,7 @@ pub fn run(out: &Path, count: usize) -> Result<(Vec<Row>, Vec<PathBuf>)> {
         write_scenes: None,
         dense_scenes: false,
         progress: false,
+        provenance: None,
     };
     sweep::run(&cfg, &opts)?;
     let (rows, _) = sweep::rows::read_rows(&out.join("rows.csv"), false)?;

@@ -128,10 +128,10 @@ impl Look {
 
 /// [`Strategy::BASE`]'s solve: an error naming the strategy that declared none.
 fn undeclared(_: Context, m: &Method) -> Result<Solution> {
-    Err(Error::input(format!(
-        "strategy '{}' declares no solve",
-        m.strategy().name
-    )))
+    Err(Error::unsupported(
+        format!("strategy '{}'", m.strategy().name),
+        "a solve (its declaration has none)",
+    ))
 }
 
 impl Strategy {

@@ -26,6 +26,7 @@
 use crate::error::Result;
 use crate::plot::{render_panels, Figure};
 use crate::progress::Progress;
+use crate::provenance::Provenance;
 use clap::{Args, CommandFactory, FromArgMatches, Parser};
 use serde::{de::DeserializeOwned, Serialize};
 use std::path::{Path, PathBuf};
@@ -73,22 +74,23 @@ pub struct RowsDocument<R> {
     pub rows: Vec<R>,
 }
 
-/// Writes `out/<name>.json` ([`RowsDocument`], provenance recording `fields`) and
-/// `out/<name>.csv`.
+/// Writes `out/<name>.json` ([`RowsDocument`], `provenance` recording `fields`) and
+/// `out/<name>.csv`, `name` the provenance's experiment (the study's name).
 pub fn save_rows<R: Serialize + Clone>(
     out: &Path,
-    name: &str,
+    provenance: &Provenance,
     fields: serde_json::Value,
     rows: &[R],
 ) -> Result<()> {
-    use crate::provenance::{self, Provenance};
+    use crate::provenance::{write_csv, write_json};
     std::fs::create_dir_all(out).map_err(|e| crate::Error::io(out.display(), e))?;
+    let name = provenance.experiment.as_str();
     let doc = RowsDocument {
-        provenance: Provenance::new(name).record(fields),
+        provenance: provenance.record(fields),
         rows: rows.to_vec(),
     };
-    provenance::write_json(&out.join(format!("{name}.json")), &doc)?;
-    provenance::write_csv(&out.join(format!("{name}.csv")), rows)
+    write_json(&out.join(format!("{name}.json")), &doc)?;
+    write_csv(&out.join(format!("{name}.csv")), rows)
 }
 
 /// The rows of `out/<name>.json` ([`save_rows`]).
@@ -107,6 +109,9 @@ pub struct RunContext<'a> {
     pub resume: bool,
     /// `--quiet` was given (for a study that draws its own progress).
     pub quiet: bool,
+    /// The run's provenance, made once by the entry (the study's name, the commit, the crate
+    /// versions, the command line): every record the study writes carries it.
+    pub provenance: &'a Provenance,
 }
 
 /// One study (module doc).
@@ -137,8 +142,14 @@ pub trait Study {
     fn config(flags: &Self::Flags) -> Result<Self::Config>;
     /// Runs the study.
     fn run(cfg: &Self::Config, ctx: &RunContext) -> Result<Self::Record>;
-    /// Writes the record's files into `out` (with provenance).
-    fn save(out: &Path, cfg: &Self::Config, record: &Self::Record) -> Result<()>;
+    /// Writes the record's files into `out`, with the entry's `provenance` where the record
+    /// does not already carry it.
+    fn save(
+        out: &Path,
+        cfg: &Self::Config,
+        record: &Self::Record,
+        provenance: &Provenance,
+    ) -> Result<()>;
     /// Reads the record back from `out`.
     fn load(out: &Path) -> Result<Self::Record>;
     /// The record's drawings.
@@ -241,17 +252,19 @@ fn entry<S: Study>(cli: &Cli<S::Flags>) -> Result<()> {
         let cfg = S::config(&cli.flags)?;
         let out = S::out_override(&cfg).unwrap_or(out);
         let progress = Progress::new(S::PROGRESS, cli.quiet);
+        let provenance = Provenance::new(S::NAME);
         let ctx = RunContext {
             progress: &progress,
             out: &out,
             resume: cli.resume,
             quiet: cli.quiet,
+            provenance: &provenance,
         };
         let record = S::run(&cfg, &ctx)?;
         progress.finish();
         if S::SAVES {
             // What follows is drawn and printed from the saved files, as --render-only would.
-            S::save(&out, &cfg, &record)?;
+            S::save(&out, &cfg, &record, &provenance)?;
             (S::load(&out)?, out)
         } else {
             (record, out)

@@ -163,7 +163,7 @@ impl Stiffness {
             }
         }
         let m = SparseColMat::try_new_from_triplets(n, n, &t)
-            .map_err(|e| Error::input(format!("cannot build sparse matrix: {e:?}")))?;
+            .map_err(|e| Error::Numerical(format!("cannot build the sparse matrix: {e:?}")))?;
         Ok(Stiffness::Sparse(m))
     }
 

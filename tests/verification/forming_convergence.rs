@@ -19,7 +19,11 @@ fn draw(elements: usize, steps: usize) -> SavedRuns {
     f.elements = elements;
     f.steps = steps;
     let cfg = ExperimentConfig::paper_knobs(f);
-    forming_runs::run("deep_drawing", &cfg, "tests").expect("the draw runs")
+    forming_runs::run(
+        &penalty_lab::provenance::Provenance::new("deep_drawing"),
+        &cfg,
+    )
+    .expect("the draw runs")
 }
 
 fn default_draw() -> &'static SavedRuns {

@@ -15,7 +15,11 @@ fn default_runs() -> &'static SavedRuns {
     static RUNS: OnceLock<SavedRuns> = OnceLock::new();
     RUNS.get_or_init(|| {
         let cfg = ExperimentConfig::paper_knobs(FormingConfig::woo_deep_drawing());
-        forming_runs::run("deep_drawing", &cfg, "tests").expect("default deep draw runs")
+        forming_runs::run(
+            &penalty_lab::provenance::Provenance::new("deep_drawing"),
+            &cfg,
+        )
+        .expect("default deep draw runs")
     })
 }
 

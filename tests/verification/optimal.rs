@@ -129,7 +129,10 @@ proptest! {
 /// `cond_vs_delta` the optimum is feasible and never above a feasible Eq. 28 / condensed.
 #[test]
 fn paper_beam_study_records_the_optimum() {
-    let study = penalty_lab::study::paper_beam::run().unwrap();
+    let study = penalty_lab::study::paper_beam::run(&penalty_lab::provenance::Provenance::new(
+        "paper_beam",
+    ))
+    .unwrap();
     let o = study.record.optimum.clone().unwrap();
     assert!(o.cond2 <= o.outside_cond2 * (1.0 + 1e-3));
     assert!(o.cond2 <= o.cond2_condensed && o.cond2 <= o.cond2_paper);

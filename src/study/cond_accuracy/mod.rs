@@ -346,10 +346,15 @@ impl crate::study::shape::Study for CondAccuracy {
         run(cfg, |what| progress.step(what))
     }
 
-    fn save(out: &std::path::Path, cfg: &Config, rows: &Vec<Row>) -> Result<()> {
+    fn save(
+        out: &std::path::Path,
+        cfg: &Config,
+        rows: &Vec<Row>,
+        provenance: &crate::provenance::Provenance,
+    ) -> Result<()> {
         crate::study::shape::save_rows(
             out,
-            Self::NAME,
+            provenance,
             serde_json::json!({ "config": cfg, "threads": 1 }),
             rows,
         )

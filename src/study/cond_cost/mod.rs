@@ -207,10 +207,15 @@ impl crate::study::shape::Study for CondCost {
         run(cfg, ctx.progress)
     }
 
-    fn save(out: &Path, cfg: &CostConfig, rows: &Vec<Row>) -> Result<()> {
+    fn save(
+        out: &Path,
+        cfg: &CostConfig,
+        rows: &Vec<Row>,
+        provenance: &crate::provenance::Provenance,
+    ) -> Result<()> {
         crate::study::shape::save_rows(
             out,
-            Self::NAME,
+            provenance,
             serde_json::json!({
                 "config": cfg,
                 "threads": 1,

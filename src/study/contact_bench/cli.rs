@@ -118,11 +118,16 @@ impl Study for ContactBench {
     fn run(cfg: &BenchConfig, ctx: &RunContext) -> Result<Summary> {
         let checkpoints = Checkpoints::in_out(ctx.out, ctx.resume);
         let run = super::run(cfg, ctx.progress, Some(&checkpoints))?;
-        Ok(super::summary(cfg, run))
+        Ok(super::summary(cfg, run, ctx.provenance))
     }
 
     /// Writes the record, then removes the checkpoints it makes redundant.
-    fn save(out: &Path, _cfg: &BenchConfig, summary: &Summary) -> Result<()> {
+    fn save(
+        out: &Path,
+        _cfg: &BenchConfig,
+        summary: &Summary,
+        _provenance: &crate::provenance::Provenance,
+    ) -> Result<()> {
         super::save(out, summary)?;
         Checkpoints::in_out(out, false).remove()
     }

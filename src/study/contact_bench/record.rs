@@ -188,9 +188,13 @@ pub struct Summary {
 
 /// The record of a run: provenance with `cfg`, the rates, the leaderboard, and the run's rows,
 /// profiles, floors and both studies.
-pub fn summary(cfg: &BenchConfig, run: BenchRun) -> Summary {
+pub fn summary(
+    cfg: &BenchConfig,
+    run: BenchRun,
+    provenance: &crate::provenance::Provenance,
+) -> Summary {
     Summary {
-        provenance: crate::provenance::Provenance::new("contact_bench").record(serde_json::json!({
+        provenance: provenance.record(serde_json::json!({
             "config": cfg,
             // The jobs of a mesh run on rayon's pool (results do not depend on it; `seconds` do).
             "threads": rayon::current_num_threads(),

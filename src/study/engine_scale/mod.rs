@@ -330,12 +330,17 @@ impl Study for EngineScale {
     }
 
     /// `rows.csv`, `rows.json` and `manifest.json`.
-    fn save(out: &Path, cfg: &ScaleConfig, rows: &Vec<ScaleRow>) -> Result<()> {
+    fn save(
+        out: &Path,
+        cfg: &ScaleConfig,
+        rows: &Vec<ScaleRow>,
+        provenance: &crate::provenance::Provenance,
+    ) -> Result<()> {
         use crate::provenance;
         std::fs::create_dir_all(out).map_err(|e| Error::io(out.display(), e))?;
         provenance::write_csv(&out.join("rows.csv"), rows)?;
         provenance::write_json(&out.join("rows.json"), rows)?;
-        let manifest = provenance::Provenance::new("engine_scale").record(serde_json::json!({
+        let manifest = provenance.record(serde_json::json!({
             "config": cfg,
             "threads": 1,
             "timing": "wall time (std::time::Instant) of one strategy::solve, release build",

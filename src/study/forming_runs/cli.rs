@@ -119,10 +119,9 @@ impl<E: FormingExperiment> Study for Forming<E> {
         Ok((flags.config((E::EXPERIMENT.preset)())?, flags.allow_invalid))
     }
 
-    fn run(cfg: &(ExperimentConfig, bool), _ctx: &RunContext) -> Result<SavedRuns> {
+    fn run(cfg: &(ExperimentConfig, bool), ctx: &RunContext) -> Result<SavedRuns> {
         let (cfg, allow_invalid) = (&cfg.0, cfg.1);
-        let command = std::env::args().collect::<Vec<_>>().join(" ");
-        let doc = run_with(E::EXPERIMENT.name, cfg, &command, allow_invalid)?;
+        let doc = run_with(ctx.provenance, cfg, allow_invalid)?;
         if !doc.valid && !allow_invalid {
             return Err(Error::OutsideModel(format!(
                 "{} (rerun with --allow-invalid to keep the outputs)",
@@ -132,7 +131,12 @@ impl<E: FormingExperiment> Study for Forming<E> {
         Ok(doc)
     }
 
-    fn save(out: &Path, _cfg: &(ExperimentConfig, bool), doc: &SavedRuns) -> Result<()> {
+    fn save(
+        out: &Path,
+        _cfg: &(ExperimentConfig, bool),
+        doc: &SavedRuns,
+        _provenance: &crate::provenance::Provenance,
+    ) -> Result<()> {
         record::save(out, E::EXPERIMENT.name, doc).map(|_| ())
     }
 

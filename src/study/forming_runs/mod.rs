@@ -280,8 +280,9 @@ pub fn matched_penalty(cfg: &ExperimentConfig, classical: &RunResult) -> Result<
 /// it did: the failure is one of the document's invalid reasons if the configuration or the
 /// steps done already left the model's domain (or the caller allows invalid runs,
 /// `keep_failed`), and an error (exit status 2) otherwise.
-pub fn run(experiment: &str, cfg: &ExperimentConfig, command: &str) -> Result<SavedRuns> {
-    run_with(experiment, cfg, command, false)
+/// The document records `provenance` (its experiment names the document).
+pub fn run(provenance: &Provenance, cfg: &ExperimentConfig) -> Result<SavedRuns> {
+    run_with(provenance, cfg, false)
 }
 
 /// Is a run of this rule a diagnostic only (its validity is reported per run and does not
@@ -293,11 +294,11 @@ pub fn diagnostic_only(rule: &ContactRule) -> bool {
 
 /// [`run`], keeping the runs that failed numerically as invalid when `keep_failed`.
 pub fn run_with(
-    experiment: &str,
+    provenance: &Provenance,
     cfg: &ExperimentConfig,
-    command: &str,
     keep_failed: bool,
 ) -> Result<SavedRuns> {
+    let experiment = provenance.experiment.as_str();
     cfg.validate()?;
     let t0 = Instant::now();
     let rules = cfg.rules();
@@ -366,9 +367,7 @@ pub fn run_with(
     }
     let wall = t0.elapsed().as_secs_f64();
     let cpu: BTreeMap<String, f64> = runs.iter().map(|(k, v)| (k.clone(), v.seconds)).collect();
-    let mut record = Provenance::new(experiment);
-    record.command = command.to_string();
-    let provenance = record.record(serde_json::json!({
+    let provenance = provenance.record(serde_json::json!({
         "threads": rayon::current_num_threads(),
         "wall_seconds": wall,
         "run_seconds": cpu,

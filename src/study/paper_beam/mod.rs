@@ -118,7 +118,8 @@ fn beam_info(frame: &crate::model::beam::Frame, p: &crate::system::Problem) -> B
 }
 
 /// Runs the study: every solve, check, comparison and note, and the data of the figures.
-pub fn run() -> Result<Study> {
+/// The record carries `provenance` (the entry's).
+pub fn run(provenance: &crate::provenance::Provenance) -> Result<Study> {
     let frame = paper::frame();
     let p = paper::problem();
     let s = solves::solve_all(&p)?;
@@ -129,7 +130,7 @@ pub fn run() -> Result<Study> {
     let cond_delta = cond_vs_eps::cond_delta_rows(&p)?;
     let optimum = optimum(&s);
     let record = Record {
-        provenance: crate::provenance::Provenance::new("paper_beam"),
+        provenance: provenance.clone(),
         delta: DELTA,
         paper: "Bednarek, Kowalczyk, Marczewski, Sosnowski, CMMS 2011, Sec. 4.2, Eq. 30-37".into(),
         beam: beam_info(&frame, &p),
@@ -203,10 +204,15 @@ impl shape::Study for PaperBeam {
     fn config(_: &Flags) -> Result<()> {
         Ok(())
     }
-    fn run(_: &(), _: &RunContext) -> Result<Study> {
-        run()
+    fn run(_: &(), ctx: &RunContext) -> Result<Study> {
+        run(ctx.provenance)
     }
-    fn save(out: &std::path::Path, _: &(), study: &Study) -> Result<()> {
+    fn save(
+        out: &std::path::Path,
+        _: &(),
+        study: &Study,
+        _provenance: &crate::provenance::Provenance,
+    ) -> Result<()> {
         save(out, study)
     }
     fn load(out: &std::path::Path) -> Result<Study> {

@@ -496,13 +496,18 @@ impl Study for PenaltyScaling {
         run(cfg, ctx.progress)
     }
 
-    fn save(out: &Path, cfg: &PenaltyScalingConfig, rows: &Record) -> Result<()> {
+    fn save(
+        out: &Path,
+        cfg: &PenaltyScalingConfig,
+        rows: &Record,
+        provenance: &crate::provenance::Provenance,
+    ) -> Result<()> {
         let fields = serde_json::json!({
             "config": cfg,
             "e_star": cfg.e_star(),
             "squeeze": SQUEEZE,
         });
-        crate::study::shape::save_rows(out, Self::NAME, fields, rows)?;
+        crate::study::shape::save_rows(out, provenance, fields, rows)?;
         crate::provenance::write_json(
             &out.join("summary.json"),
             &serde_json::json!({ "slopes": slopes(rows) }),

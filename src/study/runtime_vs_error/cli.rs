@@ -84,10 +84,16 @@ impl Study for RuntimeVsError {
             *smoke,
             rows,
             t0.elapsed().as_secs_f64(),
+            ctx.provenance,
         ))
     }
 
-    fn save(out: &Path, _: &(PerfConfig, bool), rec: &Record) -> Result<()> {
+    fn save(
+        out: &Path,
+        _: &(PerfConfig, bool),
+        rec: &Record,
+        _provenance: &crate::provenance::Provenance,
+    ) -> Result<()> {
         record::save(out, rec)
     }
 

@@ -58,10 +58,16 @@ pub struct Record {
     pub rows: Vec<PerfRow>,
 }
 
-/// The record of `rows` measured with `cfg` in `wall` seconds.
-pub fn record(cfg: &PerfConfig, smoke: bool, rows: Vec<PerfRow>, wall: f64) -> Record {
+/// The record of `rows` measured with `cfg` in `wall` seconds, with `provenance`.
+pub fn record(
+    cfg: &PerfConfig,
+    smoke: bool,
+    rows: Vec<PerfRow>,
+    wall: f64,
+    provenance: &Provenance,
+) -> Record {
     let count = |s: &str| rows.iter().filter(|r| r.status == s).count();
-    let manifest = Provenance::new("runtime_vs_error").record(json!({
+    let manifest = provenance.record(json!({
         "smoke": smoke,
         "config": cfg,
         "threads": 1,

@@ -380,7 +380,7 @@ impl Study for Solve {
         solve_scene(&c.scene, c.strategy, c.knobs, &c.opts)
     }
 
-    fn save(_: &Path, _: &SolveConfig, _: &Value) -> Result<()> {
+    fn save(_: &Path, _: &SolveConfig, _: &Value, _: &crate::provenance::Provenance) -> Result<()> {
         Ok(())
     }
 

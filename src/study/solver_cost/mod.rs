@@ -426,10 +426,15 @@ impl Study for SolverCost {
         run(cfg, ctx.progress)
     }
 
-    fn save(out: &Path, cfg: &SolverCostConfig, rows: &Vec<Row>) -> Result<()> {
+    fn save(
+        out: &Path,
+        cfg: &SolverCostConfig,
+        rows: &Vec<Row>,
+        provenance: &crate::provenance::Provenance,
+    ) -> Result<()> {
         crate::study::shape::save_rows(
             out,
-            Self::NAME,
+            provenance,
             serde_json::json!({ "config": cfg }),
             rows,
         )?;

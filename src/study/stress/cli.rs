@@ -67,13 +67,18 @@ impl Study for Stress {
     fn run(r: &StressRun, ctx: &RunContext) -> Result<Record> {
         let o = record::run(r, ctx.progress)?;
         Ok(Record {
-            manifest: record::record(r, &o),
+            manifest: record::record(r, &o, ctx.provenance),
             eps_study: o.eps_rows,
             strategies: o.strategy_rows,
         })
     }
 
-    fn save(out: &Path, _: &StressRun, rec: &Record) -> Result<()> {
+    fn save(
+        out: &Path,
+        _: &StressRun,
+        rec: &Record,
+        _provenance: &crate::provenance::Provenance,
+    ) -> Result<()> {
         record::write(out, rec)
     }
 

@@ -87,8 +87,8 @@ pub fn run(r: &StressRun, progress: &Progress) -> Result<StressOutput> {
 }
 
 /// The record of a run (`stress.json`): provenance, what was run, the summary.
-pub fn record(r: &StressRun, o: &StressOutput) -> Value {
-    Provenance::new("stress").record(json!({
+pub fn record(r: &StressRun, o: &StressOutput, provenance: &Provenance) -> Value {
+    provenance.record(json!({
         "seed": r.seed,
         "count": r.count,
         "families": r.families,

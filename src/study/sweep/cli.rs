@@ -243,13 +243,14 @@ impl Study for Sweep {
     fn run(job: &SweepJob, ctx: &RunContext) -> Result<Record> {
         match job {
             SweepJob::Merge { out, dirs } => {
-                merge::merge(out, dirs)?;
+                merge::merge(out, dirs, ctx.provenance)?;
             }
             SweepJob::Run(cfg, opts) => {
                 let opts = RunOptions {
                     out: ctx.out.to_path_buf(),
                     resume: ctx.resume,
                     progress: !ctx.quiet,
+                    provenance: Some(ctx.provenance.clone()),
                     ..opts.clone()
                 };
                 super::run(cfg, &opts)?;
@@ -259,7 +260,7 @@ impl Study for Sweep {
     }
 
     /// Nothing: the run wrote its folder.
-    fn save(_: &Path, _: &SweepJob, _: &Record) -> Result<()> {
+    fn save(_: &Path, _: &SweepJob, _: &Record, _: &crate::provenance::Provenance) -> Result<()> {
         Ok(())
     }
 

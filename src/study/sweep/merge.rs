@@ -198,7 +198,8 @@ fn summed_timing(shards: &[Shard]) -> Value {
 
 /// Merges the shard folders `dirs` (any order) into `out`: `rows.csv` in scene order and one
 /// manifest. Nothing is written unless every check passes and every shard's rows read back.
-pub fn merge(out: &Path, dirs: &[PathBuf]) -> Result<MergeSummary> {
+/// The merged manifest records `provenance`.
+pub fn merge(out: &Path, dirs: &[PathBuf], provenance: &Provenance) -> Result<MergeSummary> {
     let shards = check(out, dirs)?;
     let mut text = rows::header();
     let mut total_rows = 0;
@@ -229,7 +230,7 @@ pub fn merge(out: &Path, dirs: &[PathBuf]) -> Result<MergeSummary> {
             })
         })
         .collect();
-    let mut manifest = Provenance::new("sweep").record(serde_json::json!({
+    let mut manifest = provenance.record(serde_json::json!({
         "config": first.get("config"),
         "seed": first.get("seed"),
         "shard": [1, 1],

@@ -60,6 +60,9 @@ pub struct RunOptions {
     pub dense_scenes: bool,
     /// Show a progress bar (hidden anyway when stderr is not a terminal).
     pub progress: bool,
+    /// The manifest's provenance (the study entry's); `None`: the running program's, named
+    /// `sweep`.
+    pub provenance: Option<Provenance>,
 }
 
 /// What a run did.
@@ -114,10 +117,23 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.threads.unwrap_or(0))
         .build()
-        .map_err(|e| Error::input(format!("cannot start {:?} threads: {e}", opts.threads)))?;
+        .map_err(|e| {
+            Error::io(
+                "--threads",
+                format!("cannot start {:?} threads: {e}", opts.threads),
+            )
+        })?;
     faer::set_global_parallelism(faer::Par::Seq);
     let threads = pool.current_num_threads();
-    let mut manifest = Provenance::new("sweep").record(serde_json::json!({
+    let own;
+    let provenance = match &opts.provenance {
+        Some(p) => p,
+        None => {
+            own = Provenance::new("sweep");
+            &own
+        }
+    };
+    let mut manifest = provenance.record(serde_json::json!({
         "config": config_json,
         "seed": cfg.seed,
         "threads": threads,
