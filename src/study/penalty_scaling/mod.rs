@@ -53,7 +53,7 @@ use crate::metrics::{self, solver::SolverOptions, MetricSet};
 use crate::model::elasticity::{Indentation, Material};
 use crate::model::two_body::{self, Discretization, TwoBlocks};
 use crate::progress::Progress;
-use crate::strategy::{self, registry, Knob, Knobs, Method, Strategy};
+use crate::strategy::{self, registry, Knob, Method, Strategy};
 use crate::study::shape::{Drawing, RunContext, Study};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -229,21 +229,41 @@ impl PenaltyScalingConfig {
         1.0 / (self.ratio.1 << l) as f64
     }
 
-    /// The penalty jobs of a level: `(method, schedule, ε_rel)` (Lagrange runs apart).
+    /// The penalty jobs of a level: `(method, schedule, ε_rel)` (Lagrange runs apart), through
+    /// the one expansion of knob grids ([`KnobGrid::points`]): `constant` at each relative ε
+    /// on the coarsest level's h (`eps-fixed`) and on this level's (`eps-e-over-h`), then the
+    /// δ-methods at δ = `delta_rel` times the squeeze.
     fn jobs(&self, l: usize) -> Vec<(Method, &'static str, Option<f64>)> {
+        use crate::study::grid::{KnobGrid, Level};
         let e = self.e_star();
         let mut out = Vec::new();
         for &r in &self.eps_rel {
-            out.push((Method::constant(r * e / self.h(0)), "eps-fixed", Some(r)));
-            out.push((Method::constant(r * e / self.h(l)), "eps-e-over-h", Some(r)));
+            let grid = KnobGrid {
+                eps: vec![
+                    Level::absolute(r * e / self.h(0)),
+                    Level::absolute(r * e / self.h(l)),
+                ],
+                ..KnobGrid::default()
+            };
+            let points = grid.points(&[&strategy::constant::STRATEGY]);
+            out.extend(
+                points
+                    .into_iter()
+                    .zip(["eps-fixed", "eps-e-over-h"])
+                    .map(|(p, schedule)| (p.method, schedule, Some(r))),
+            );
         }
-        let delta = self.delta_rel * SQUEEZE;
-        for s in &self.delta_methods {
-            // validated in `config`: every δ-method takes δ.
-            if let Ok(m) = Method::new(s, Knobs::delta(delta)) {
-                out.push((m, "delta", None));
-            }
-        }
+        let deltas = KnobGrid {
+            deltas: vec![Level::absolute(self.delta_rel * SQUEEZE)],
+            ..KnobGrid::default()
+        };
+        // (Validated in `config`: every δ-method takes δ.)
+        out.extend(
+            deltas
+                .points(&self.delta_methods)
+                .into_iter()
+                .map(|p| (p.method, "delta", None)),
+        );
         out
     }
 }
