@@ -7,7 +7,7 @@
 //!
 //! The study is [`penalty_lab::study::cond_accuracy`]. Writes `cond_accuracy.csv`,
 //! `cond_accuracy.json` (with provenance) and the figure `cond_accuracy` (error against time,
-//! log–log, one colour per route) into `--out` (default `figures/cond_accuracy`).
+//! log–log, one colour per route) into `--out` (default `results/cond_accuracy`; the committed figures are `figures/cond_accuracy`, written by `figures/regenerate.sh`).
 
 use penalty_lab::study::{self, cond_accuracy::CondAccuracy};
 use std::process::ExitCode;

@@ -8,7 +8,7 @@
 //!
 //! The study is [`penalty_lab::study::cond_cost`]. Writes `cond_cost.csv`, `cond_cost.json` (with
 //! provenance) and the figure `cond_cost` (time vs n, log–log, with least-squares slopes in
-//! the legend) into `--out` (default `figures/cond_cost`).
+//! the legend) into `--out` (default `results/cond_cost`; the committed figures are `figures/cond_cost`, written by `figures/regenerate.sh`).
 
 use penalty_lab::study::{self, cond_cost::CondCost};
 use std::process::ExitCode;

@@ -8,7 +8,7 @@
 //! ```
 //!
 //! Writes `rows.csv`, `rows.json` and `manifest.json` (provenance) and the figure
-//! `engine_scale` into `--out` (default `figures/engine_scale`); prints a table.
+//! `engine_scale` into `--out` (default `results/engine_scale`; the committed figures are `figures/engine_scale`, written by `figures/regenerate.sh`); prints a table.
 
 use penalty_lab::study::{self, engine_scale::EngineScale};
 use std::process::ExitCode;

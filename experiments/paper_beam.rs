@@ -6,7 +6,7 @@
 //! cargo run --release --bin paper_beam -- --render-only     # re-render figures from saved data
 //! ```
 //!
-//! Writes into `--out` (default `figures/paper_beam`) `paper_beam.json` (every number the paper
+//! Writes into `--out` (default `results/paper_beam`; the committed figures are `figures/paper_beam`, written by `figures/regenerate.sh`) `paper_beam.json` (every number the paper
 //! prints next to ours, the `condensed` comparison, one line per strategy, the notes and the
 //! computations behind them, provenance), `deflection.csv`, `cond_vs_eps.csv` and the figures
 //! `fig3_deflection_free`, `fig4_deflection_contact`, `cond_vs_eps` (PNG + SVG), rendered from

@@ -10,7 +10,7 @@
 //!
 //! The study is [`penalty_lab::study::penalty_scaling`]. Writes `penalty_scaling.csv`,
 //! `penalty_scaling.json` (with provenance), `summary.json` (slopes) and the figure into
-//! `--out` (default `figures/penalty_scaling`).
+//! `--out` (default `results/penalty_scaling`; the committed figures are `figures/penalty_scaling`, written by `figures/regenerate.sh`).
 
 use penalty_lab::study::{self, penalty_scaling::PenaltyScaling};
 use std::process::ExitCode;

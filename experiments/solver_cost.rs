@@ -11,7 +11,7 @@
 //!
 //! The study is [`penalty_lab::study::solver_cost`]. Writes `solver_cost.csv`,
 //! `solver_cost.json` (with provenance), `summary.json` (slopes) and the figures into `--out`
-//! (default `figures/solver_cost`).
+//! (default `results/solver_cost`; the committed figures are `figures/solver_cost`, written by `figures/regenerate.sh`).
 
 use penalty_lab::study::{self, solver_cost::SolverCost};
 use std::process::ExitCode;

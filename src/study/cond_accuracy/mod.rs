@@ -317,7 +317,7 @@ impl crate::study::shape::Study for CondAccuracy {
     const ABOUT: &'static str =
         "Error of cond2 against a double-double reference vs run time, for every route";
     const PROGRESS: &'static str = "cond_accuracy (matrices)";
-    const DEFAULT_OUT: &'static str = "figures/cond_accuracy";
+    const DEFAULT_OUT: &'static str = "results/cond_accuracy";
     const FIGURES_DIR: &'static str = "";
     type Flags = Flags;
     type Config = Config;

@@ -186,7 +186,7 @@ impl crate::study::shape::Study for CondCost {
     const ABOUT: &'static str =
         "Time of an exact cond2 by route (sparse inertia, dense eigen, dense SVD) against one Cholesky";
     const PROGRESS: &'static str = "cond_cost (matrices)";
-    const DEFAULT_OUT: &'static str = "figures/cond_cost";
+    const DEFAULT_OUT: &'static str = "results/cond_cost";
     const FIGURES_DIR: &'static str = "";
     type Flags = Flags;
     type Config = CostConfig;

@@ -305,7 +305,7 @@ impl Study for EngineScale {
     const NAME: &'static str = "engine_scale";
     const ABOUT: &'static str = "The contact solve engine at 1e4-1e6 DOFs";
     const PROGRESS: &'static str = "engine_scale (solves)";
-    const DEFAULT_OUT: &'static str = "figures/engine_scale";
+    const DEFAULT_OUT: &'static str = "results/engine_scale";
     const FIGURES_DIR: &'static str = "";
     type Flags = Flags;
     type Config = ScaleConfig;

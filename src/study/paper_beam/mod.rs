@@ -195,7 +195,7 @@ impl shape::Study for PaperBeam {
     const ABOUT: &'static str =
         "The paper's beam example (Eq. 30-37): paper's numbers vs ours, data files and figures";
     const PROGRESS: &'static str = "paper_beam";
-    const DEFAULT_OUT: &'static str = "figures/paper_beam";
+    const DEFAULT_OUT: &'static str = "results/paper_beam";
     const FIGURES_DIR: &'static str = "";
     type Flags = Flags;
     type Config = ();

@@ -461,7 +461,7 @@ impl Study for PenaltyScaling {
     const ABOUT: &'static str =
         "How penalty error and cond₂ scale with h on coupled contact rows (two-body patch test)";
     const PROGRESS: &'static str = "penalty_scaling (levels)";
-    const DEFAULT_OUT: &'static str = "figures/penalty_scaling";
+    const DEFAULT_OUT: &'static str = "results/penalty_scaling";
     type Flags = Flags;
     type Config = PenaltyScalingConfig;
     type Record = Record;

@@ -390,7 +390,7 @@ impl Study for SolverCost {
     const ABOUT: &'static str =
         "What each penalty rule costs a direct and an iterative solver at equal accuracy, over mesh levels";
     const PROGRESS: &'static str = "solver_cost (levels)";
-    const DEFAULT_OUT: &'static str = "figures/solver_cost";
+    const DEFAULT_OUT: &'static str = "results/solver_cost";
     type Flags = Flags;
     type Config = SolverCostConfig;
     type Record = Vec<Row>;
