@@ -185,3 +185,99 @@ fn barrier_rows_name_their_kappa_rule_and_the_kappa_study_is_written() {
     }
     assert!(dir.path().join("figures/kappa_sensitivity.png").is_file());
 }
+
+/// Reads rows.csv of `dir` as (header, rows), each row its fields.
+fn csv_rows(dir: &std::path::Path) -> (Vec<String>, Vec<Vec<String>>) {
+    let text = std::fs::read_to_string(dir.join("rows.csv")).unwrap();
+    let mut lines = text
+        .lines()
+        .map(|l| l.split(',').map(String::from).collect::<Vec<_>>());
+    let header = lines.next().unwrap();
+    (header, lines.collect())
+}
+
+/// `--resume` through the binary: a run killed once its coarse mesh is checkpointed resumes
+/// from that checkpoint (its rows are the checkpoint's: a timing planted there comes back)
+/// and ends with the rows of an uninterrupted run (timings aside) and no checkpoints left.
+#[test]
+fn killed_run_resumes_from_its_checkpoint() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = [
+        "--cases",
+        "flat-punch",
+        "--meshes",
+        "0.2,0.02",
+        "--methods",
+        "lagrange,constant",
+        "--quiet",
+        "--no-figures",
+        "--out",
+    ];
+    let full = dir.path().join("full");
+    common::run_ok(bin().args(args).arg(&full));
+
+    let out = dir.path().join("killed");
+    let checkpoint = out.join("meshes").join("flat-punch-h0.2.json");
+    let mut child = bin()
+        .args(args)
+        .arg(&out)
+        .stdout(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let t0 = std::time::Instant::now();
+    while !checkpoint.exists() && t0.elapsed().as_secs() < 120 {
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    let running = child.try_wait().unwrap().is_none();
+    child.kill().unwrap();
+    child.wait().unwrap();
+    assert!(
+        running && checkpoint.exists(),
+        "the run ended before its fine mesh (≈ 1 s of work) could be interrupted"
+    );
+    assert!(
+        !out.join("rows.csv").exists(),
+        "a killed run wrote its rows"
+    );
+
+    // Plant a timing in the checkpoint: a resumed run that reuses it reports it.
+    const PLANTED: f64 = 12345.0;
+    let mut c: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&checkpoint).unwrap()).unwrap();
+    let rows = c["mesh"]["rows"].as_array_mut().unwrap();
+    assert!(!rows.is_empty());
+    for r in rows.iter_mut() {
+        r["seconds"] = PLANTED.into();
+    }
+    std::fs::write(&checkpoint, serde_json::to_string(&c).unwrap()).unwrap();
+
+    common::run_ok(bin().args(args).arg(&out).arg("--resume"));
+    assert!(
+        !out.join("meshes").exists(),
+        "checkpoints left after the run"
+    );
+    let (header, resumed) = csv_rows(&out);
+    let (header_full, reference) = csv_rows(&full);
+    assert_eq!(header, header_full);
+    assert_eq!(resumed.len(), reference.len());
+    let col = |name: &str| header.iter().position(|c| c == name).unwrap();
+    let (h, seconds) = (col("h"), col("seconds"));
+    let planted = resumed
+        .iter()
+        .filter(|r| r[seconds].parse::<f64>().unwrap() == PLANTED)
+        .count();
+    let coarse = resumed.iter().filter(|r| r[h] == "0.2").count();
+    assert!(
+        coarse > 0 && planted == coarse,
+        "{planted} planted of {coarse} coarse rows"
+    );
+    // Every other column as in the uninterrupted run.
+    let timing = |name: &str| name.starts_with("seconds");
+    for (a, b) in resumed.iter().zip(&reference) {
+        for (i, name) in header.iter().enumerate() {
+            if !timing(name) {
+                assert_eq!(a[i], b[i], "column {name}");
+            }
+        }
+    }
+}
