@@ -340,6 +340,21 @@ impl Error {
             Err(Error::out_of_range(name, value, "in (0, 1)"))
         }
     }
+    /// Ok where no two of `items` are equal, else [`Error::Duplicate`] naming the first
+    /// repeated one as an entry of `what` (a list flag or field: a repeated entry would run
+    /// the same rows twice).
+    pub fn distinct<T: PartialEq + std::fmt::Display>(
+        what: impl std::fmt::Display,
+        items: impl IntoIterator<Item = T>,
+    ) -> Result<()> {
+        let items: Vec<T> = items.into_iter().collect();
+        for (i, x) in items.iter().enumerate() {
+            if items[..i].contains(x) {
+                return Err(Error::duplicate(format!("{what} entry"), format!("'{x}'")));
+            }
+        }
+        Ok(())
+    }
     /// This error as the value of command-line flag `flag` ([`Error::Flag`]).
     pub fn for_flag(self, flag: &'static str) -> Self {
         Error::Flag {

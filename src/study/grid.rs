@@ -32,6 +32,9 @@ pub struct LogGrid {
 }
 
 impl LogGrid {
+    /// Most points of a grid (every point is a solve per scene: a larger N is a typo).
+    pub const MAX_N: usize = 10_000;
+
     /// Parses `LO:HI:N`.
     pub fn parse(s: &str) -> Result<Self> {
         let parts: Vec<&str> = s.split(':').collect();
@@ -39,7 +42,7 @@ impl LogGrid {
             Error::out_of_range(
                 "ε range",
                 format!("'{s}'"),
-                "LO:HI:N with 0 < LO ≤ HI and N ≥ 1 (e.g. 1e-2:1e12:15)",
+                "LO:HI:N with 0 < LO ≤ HI and 1 ≤ N ≤ 10000 (e.g. 1e-2:1e12:15)",
             )
         };
         if parts.len() != 3 {
@@ -53,16 +56,18 @@ impl LogGrid {
         Ok(g)
     }
 
-    /// Checks `0 < lo ≤ hi`, finite, `n ≥ 1` (and `lo = hi` when `n = 1`).
+    /// Checks `0 < lo ≤ hi`, finite, `1 ≤ n ≤` [`LogGrid::MAX_N`] (and `lo = hi` when
+    /// `n = 1`).
     pub fn validate(&self) -> Result<()> {
         if !(self.lo.is_finite() && self.hi.is_finite() && self.lo > 0.0 && self.lo <= self.hi)
             || self.n == 0
+            || self.n > Self::MAX_N
             || (self.n == 1 && self.lo != self.hi)
         {
             return Err(Error::out_of_range(
                 "ε grid",
                 format!("{}:{}:{}", self.lo, self.hi, self.n),
-                "LO:HI:N with 0 < LO ≤ HI, N ≥ 1",
+                "LO:HI:N with 0 < LO ≤ HI, 1 ≤ N ≤ 10000",
             ));
         }
         Ok(())

@@ -218,12 +218,40 @@ pub fn main<S: Study>() -> ExitCode {
     if S::RESUMABLE {
         cmd = cmd.mut_arg("resume", |a| a.hide(false));
     }
-    let matches = cmd.get_matches();
+    let matches = match cmd.try_get_matches() {
+        Ok(m) => m,
+        Err(e) => return command_line_error(e),
+    };
     let cli = match Cli::<S::Flags>::from_arg_matches(&matches) {
         Ok(c) => c,
-        Err(e) => e.exit(),
+        Err(e) => return command_line_error(e),
     };
     crate::error::run_main(std::panic::AssertUnwindSafe(move || entry::<S>(&cli)))
+}
+
+/// A command line clap refuses: `--help` and `--version` print as clap prints them (exit 0);
+/// an error becomes one line on stderr — clap's message with its possible values, without
+/// the usage lines — and exit status 2, as every other bad input.
+fn command_line_error(e: clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    if matches!(
+        e.kind(),
+        ErrorKind::DisplayHelp
+            | ErrorKind::DisplayVersion
+            | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+    ) {
+        e.exit()
+    }
+    let text = e.render().to_string();
+    let line = text
+        .lines()
+        .map(str::trim)
+        .take_while(|l| !l.starts_with("Usage:"))
+        .filter(|l| !l.is_empty() && !l.starts_with("For more information"))
+        .collect::<Vec<_>>()
+        .join(" ");
+    eprintln!("{line}");
+    ExitCode::from(2)
 }
 
 fn entry<S: Study>(cli: &Cli<S::Flags>) -> Result<()> {
@@ -247,7 +275,17 @@ fn entry<S: Study>(cli: &Cli<S::Flags>) -> Result<()> {
         ));
     }
     let (record, out) = if cli.render_only {
-        (S::load(&out)?, out)
+        let record = S::load(&out).map_err(|e| match e {
+            crate::Error::Io { .. } => crate::Error::bad_file(
+                out.display(),
+                format!(
+                    "no saved {} record to redraw ({e}); run without --render-only first",
+                    S::NAME
+                ),
+            ),
+            e => e,
+        })?;
+        (record, out)
     } else {
         let cfg = S::config(&cli.flags)?;
         let out = S::out_override(&cfg).unwrap_or(out);

@@ -80,7 +80,11 @@ pub fn sparse_of_dense(m: faer::MatRef<'_, f64>) -> SparseColMat<usize, f64> {
 
 /// The error for a 0×0 stiffness matrix.
 fn empty_stiffness() -> Error {
-    Error::none_given("stiffness matrix rows", " (K is empty (0×0))")
+    Error::out_of_range(
+        "the order N of the stiffness matrix",
+        "0: K is empty (0×0)",
+        "≥ 1",
+    )
 }
 
 /// N for rows of lengths `row_lens`, all N; errors on an empty or non-square matrix.

@@ -263,3 +263,34 @@ fn solve_shares_the_entry_and_refuses_a_record() {
     }
     assert!(!never.exists());
 }
+
+/// Every study binary refuses a command line clap cannot parse (an unknown flag, a value of
+/// the wrong type) with one line on stderr and status 2, as any other bad input; and
+/// `--render-only` on a folder with no saved record says so and how to get one.
+#[test]
+fn command_line_errors_and_a_missing_record_are_one_line() {
+    let mut all = binaries();
+    all.push(("solve", env!("CARGO_BIN_EXE_solve"), vec![], false));
+    for (name, bin, _, _) in all {
+        for args in [&["--no-such-flag"][..], &["--quiet=maybe"][..]] {
+            let o = Command::new(bin).args(args).output().unwrap();
+            let err = String::from_utf8_lossy(&o.stderr);
+            assert_eq!(o.status.code(), Some(2), "{name} {args:?}: {err}");
+            assert!(
+                err.starts_with("error:") && err.trim_end().lines().count() == 1,
+                "{name} {args:?}: not one line:\n{err}"
+            );
+        }
+        if name == "solve" {
+            continue;
+        }
+        let empty = tempfile::tempdir().unwrap();
+        let o = run(bin, &["--render-only", "--quiet"], empty.path());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{name}: {err}");
+        assert!(
+            err.contains("run without --render-only first") && err.trim_end().lines().count() == 1,
+            "{name}: {err}"
+        );
+    }
+}

@@ -122,3 +122,34 @@ fn toml_config_with_unknown_field_is_a_one_line_error() {
     let p = write_toml(&d, "gentypo", "[generator]\nbeam_elems = [3, 5]\n");
     assert_rejected(&d, "gentypo", &["--config", s(&p)], &["beam_elems"]);
 }
+
+/// A list entry given twice would run the same rows twice; an ε grid of absurd size is a typo
+/// (and would exhaust memory): both are refused before anything is written.
+#[test]
+fn repeated_entries_and_huge_grids_are_refused() {
+    let (_tmp, d) = work_dir("repeats");
+    assert_rejected(
+        &d,
+        "fam2",
+        &["--families", "beam,beam"],
+        &["families", "'beam'", "twice"],
+    );
+    assert_rejected(
+        &d,
+        "meth2",
+        &["--methods", "paper,paper"],
+        &["methods", "'paper'", "twice"],
+    );
+    assert_rejected(
+        &d,
+        "delta2",
+        &["--deltas-rel", "0.1,0.1"],
+        &["deltas_rel", "twice"],
+    );
+    assert_rejected(
+        &d,
+        "epsn",
+        &["--eps", "1:10:100000000"],
+        &["LO:HI:N", "10000"],
+    );
+}

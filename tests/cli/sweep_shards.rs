@@ -109,7 +109,10 @@ fn merge_refuses_missing_duplicated_foreign_and_incomplete_shards() {
     std::fs::write(incomplete.join("manifest.json"), m.to_string()).unwrap();
     let out = d.join("out");
     let cases: [(Vec<&Path>, &str); 5] = [
-        (vec![&q[0], &q[1], &q[3]], "shard 3/4 is missing"),
+        (
+            vec![&q[0], &q[1], &q[3]],
+            "shard 3/4: none given (got 3 of 4 shards",
+        ),
         (vec![&q[0], &q[1], &q[1], &q[2], &q[3]], "given twice"),
         (
             vec![&q[0], &q[1], &q[2], &foreign],

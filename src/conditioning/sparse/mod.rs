@@ -553,9 +553,10 @@ fn top_estimate(
     })
 }
 
-/// The error for a 0×0 matrix ([`Error::NoneGiven`]).
+/// The error for a 0×0 matrix ([`Error::OutOfRange`]: an empty matrix has no condition
+/// number).
 fn empty_matrix() -> Error {
-    Error::none_given("matrix rows", " (an empty matrix has no condition number)")
+    Error::out_of_range("the order of a matrix whose cond₂ is asked", 0, "≥ 1")
 }
 
 /// The uncertified estimates of [`extreme_eigenvalues`], `(λ_max, λ_min)`: the same converged

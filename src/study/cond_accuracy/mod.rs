@@ -201,6 +201,17 @@ fn penalized(p: &Problem, factor: f64) -> Stiffness {
 impl Config {
     /// Checks the repeats and the penalty factors; errors name the value and its range.
     pub fn validate(&self) -> Result<()> {
+        Error::distinct("--factors", &self.factors)?;
+        Error::distinct(
+            "--scenes",
+            self.scene_files.iter().map(|p| p.display().to_string()),
+        )?;
+        if self.per_family == 0 && self.scene_files.is_empty() {
+            return Err(Error::none_given(
+                "matrices to measure",
+                " (--per-family 0 and no --scenes)",
+            ));
+        }
         if self.repeats == 0 {
             return Err(Error::out_of_range("--repeats", self.repeats, "≥ 1"));
         }

@@ -45,6 +45,8 @@ pub struct CostConfig {
 impl CostConfig {
     /// Checks the repeats and the sizes; errors name the value and its range.
     pub fn validate(&self) -> Result<()> {
+        Error::distinct("--sides", &self.sides)?;
+        Error::distinct("--elements", &self.elements)?;
         if self.repeats == 0 {
             return Err(Error::out_of_range("--repeats", self.repeats, "≥ 1"));
         }

@@ -181,6 +181,12 @@ impl BenchConfig {
 
     /// Validates the grids and the material.
     pub fn validate(&self) -> Result<()> {
+        Error::distinct("--cases", self.cases.iter().map(|c| c.name()))?;
+        Error::distinct("--meshes", &self.meshes)?;
+        Error::distinct("--methods", self.methods.iter().map(|s| s.name))?;
+        Error::distinct("--eps-rel", &self.eps_rel)?;
+        Error::distinct("--factors", &self.factors)?;
+        Error::distinct("--deltas-rel", &self.deltas_rel)?;
         let pos = |name: &str, v: &[f64]| -> Result<()> {
             v.iter()
                 .try_for_each(|&x| Error::positive(name, x).map(|_| ()))

@@ -83,11 +83,13 @@ impl Default for ScaleConfig {
 impl ScaleConfig {
     /// Rejects unknown methods, empty lists and non-positive knobs.
     pub fn validate(&self) -> Result<()> {
+        Error::distinct("--sizes", &self.sizes)?;
+        Error::distinct("--methods", self.methods.iter().map(|s| s.name))?;
         if self.sizes.is_empty() {
             return Err(Error::none_given("sizes", " (each ≥ 9)"));
         }
-        if let Some(&s) = self.sizes.iter().find(|&&s| s < 9) {
-            return Err(Error::out_of_range("sizes entry", s, "≥ 9"));
+        if let Some(&s) = self.sizes.iter().find(|&&s| !(9..=4_000_000).contains(&s)) {
+            return Err(Error::out_of_range("--sizes entry", s, "in 9..=4000000"));
         }
         if let Some(m) = self
             .methods

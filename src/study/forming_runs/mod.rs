@@ -63,7 +63,9 @@ impl ExperimentConfig {
         }
     }
 
-    /// Reads a TOML file; the `[forming]` table is merged over `preset`.
+    /// Reads a TOML file; the `[forming]` table is merged over `preset`. Not yet validated:
+    /// the command line's flags override it first ([`ExperimentConfig::apply`] validates
+    /// the result), so a flag can correct a value of the file.
     pub fn from_toml_file(path: &std::path::Path, preset: FormingConfig) -> Result<Self> {
         let text = std::fs::read_to_string(path).map_err(|e| Error::io(path.display(), e))?;
         let mut value: toml::Table =
@@ -88,7 +90,6 @@ impl ExperimentConfig {
         let c: ExperimentConfig = value
             .try_into()
             .map_err(|e| Error::toml(path.display(), None, &e))?;
-        c.validate()?;
         Ok(c)
     }
 

@@ -121,6 +121,9 @@ pub struct PerfConfig {
 impl PerfConfig {
     /// Checks the configuration; errors name the offending value and the valid range.
     pub fn validate(&self) -> Result<()> {
+        Error::distinct("--families", self.families.iter().map(|f| f.name()))?;
+        Error::distinct("--methods", self.methods.iter().map(|s| s.name))?;
+        Error::distinct("--sizes", &self.sizes)?;
         if self.families.is_empty() {
             return Err(Error::none_given("families", " (valid: beam, membrane)"));
         }

@@ -89,6 +89,8 @@ pub fn default_methods() -> Vec<&'static Strategy> {
 impl SolverCostConfig {
     /// Checks the ranges (each error names its flag).
     pub fn validate(&self) -> Result<()> {
+        Error::distinct("--families", self.families.iter().map(|f| f.name()))?;
+        Error::distinct("--methods", self.methods.iter().map(|s| s.name))?;
         if !(2..=8).contains(&self.levels) {
             return Err(Error::out_of_range("--levels", self.levels, "in 2..=8"));
         }
@@ -101,11 +103,21 @@ impl SolverCostConfig {
             ));
         }
         let side = (self.membrane_side0 + 1) << (self.levels - 1);
-        if self.membrane_side0 < 1 || side > 2001 {
+        if self.membrane_side0 < 1 {
             return Err(Error::out_of_range(
                 "--membrane-side0",
-                format!("{}, finest side {}", self.membrane_side0, side - 1),
-                "≥ 1 with a finest side in 1..=2000",
+                self.membrane_side0,
+                "≥ 1",
+            ));
+        }
+        if side > 2001 {
+            return Err(Error::out_of_range(
+                "--membrane-side0",
+                format!("{}, whose finest side is {}", self.membrane_side0, side - 1),
+                format!(
+                    "small enough for a finest side ≤ 2000 at --levels {}",
+                    self.levels
+                ),
             ));
         }
         if self.beam_el0 < 2 || self.beam_el0 << (self.levels - 1) > 20_000 {

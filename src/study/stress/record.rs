@@ -44,6 +44,7 @@ pub struct StressOutput {
 impl StressRun {
     /// Checks `count` ≤ [`MAX_COUNT`].
     pub fn validate(&self) -> Result<()> {
+        Error::distinct("--families", self.families.iter().map(|f| f.name()))?;
         if self.count > MAX_COUNT {
             return Err(Error::out_of_range(
                 "--count",

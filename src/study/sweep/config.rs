@@ -103,6 +103,15 @@ pub enum Metric {
 }
 
 impl Metric {
+    /// Its name ([`METRIC_NAMES`]).
+    pub fn name(self) -> &'static str {
+        match self {
+            Metric::Cond => "cond",
+            Metric::Det => "det",
+            Metric::Solver => "solver",
+        }
+    }
+
     /// Parses a metric name; the error lists the valid ones.
     pub fn from_name(name: &str) -> Result<Metric> {
         match name {
@@ -173,6 +182,16 @@ impl SweepConfig {
 
     /// Validates names, ranges and knobs; errors name the problem and the valid choices.
     pub fn validate(&self) -> Result<()> {
+        Error::distinct("families", self.families.iter().map(|f| f.name()))?;
+        Error::distinct("methods", self.methods.iter().map(|s| s.name))?;
+        Error::distinct("metrics", self.metrics.iter().map(|m| m.name()))?;
+        Error::distinct(
+            "optimal_families",
+            self.optimal_families.iter().map(|s| s.name()),
+        )?;
+        Error::distinct("factors", &self.factors)?;
+        Error::distinct("deltas", &self.deltas)?;
+        Error::distinct("deltas_rel", &self.deltas_rel)?;
         MetricSet::check_cond_tol(self.cond_tol).map_err(|e| e.for_flag("--cond-tol"))?;
         if self.scenes_dir.is_none() {
             if self.families.is_empty() {

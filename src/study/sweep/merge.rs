@@ -144,13 +144,12 @@ fn check(out: &Path, dirs: &[PathBuf]) -> Result<Vec<Shard>> {
         by_k[k - 1] = Some(s);
     }
     if let Some(k) = by_k.iter().position(Option::is_none) {
-        return Err(Error::length_mismatch(
+        return Err(Error::none_given(
+            format!("sweep merge: shard {}/{n}", k + 1),
             format!(
-                "sweep merge: the shard list (shard {}/{n} is missing)",
-                k + 1
+                " (got {} of {n} shards; every shard of the run is needed)",
+                by_k.iter().flatten().count()
             ),
-            by_k.iter().flatten().count(),
-            n,
         ));
     }
     Ok(by_k.into_iter().flatten().collect())
