@@ -127,7 +127,7 @@ impl serde::Serialize for Family {
 impl<'de> serde::Deserialize<'de> for Family {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
         let name = <String as serde::Deserialize>::deserialize(d)?;
-        Family::from_name(&name).map_err(serde::de::Error::custom)
+        Family::from_name(&name).map_err(|e| serde::de::Error::custom(e.bare_message()))
     }
 }
 

@@ -258,7 +258,7 @@ pub fn deserialize_names<'de, D: serde::Deserializer<'de>>(
     d: D,
 ) -> std::result::Result<Vec<&'static Strategy>, D::Error> {
     let names = <Vec<String> as serde::Deserialize>::deserialize(d)?;
-    lookup_all(&names).map_err(serde::de::Error::custom)
+    lookup_all(&names).map_err(|e| serde::de::Error::custom(e.bare_message()))
 }
 
 /// Writes strategies by name: a study's configuration holds `&'static Strategy` (looked up

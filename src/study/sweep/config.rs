@@ -167,7 +167,7 @@ impl Serialize for Source {
 impl<'de> Deserialize<'de> for Source {
     fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
         let name = String::deserialize(d)?;
-        Source::from_name(&name).map_err(serde::de::Error::custom)
+        Source::from_name(&name).map_err(|e| serde::de::Error::custom(e.bare_message()))
     }
 }
 
