@@ -284,9 +284,15 @@ pub fn delta_rules() -> Vec<&'static Strategy> {
 /// time the command line is parsed, each with its summary in `--help`, and the list of valid
 /// values in the error message.
 pub fn method_parser() -> clap::builder::PossibleValuesParser {
+    method_parser_of(&all())
+}
+
+/// [`method_parser`] restricted to `strategies` (a study that runs only some of them lists
+/// only those in `--help` and in its error message).
+pub fn method_parser_of(strategies: &[&'static Strategy]) -> clap::builder::PossibleValuesParser {
     clap::builder::PossibleValuesParser::new(
-        all()
-            .into_iter()
+        strategies
+            .iter()
             .map(|s| clap::builder::PossibleValue::new(s.name).help(s.summary)),
     )
 }

@@ -274,6 +274,12 @@ fn entry<S: Study>(cli: &Cli<S::Flags>) -> Result<()> {
             format!("a study that keeps a record ({} keeps no record)", S::NAME),
         ));
     }
+    if S::SAVES && out.exists() && !out.is_dir() {
+        return Err(crate::Error::bad_file(
+            out.display(),
+            "--out names a file; it must be a folder (created where missing)",
+        ));
+    }
     let (record, out) = if cli.render_only {
         let record = S::load(&out).map_err(|e| match e {
             crate::Error::Io { .. } => crate::Error::bad_file(

@@ -125,6 +125,19 @@ fn bad_inputs_exit_2_with_a_clear_message() {
     assert_bad(&[SCENE, "--method", "paper", "--delta", "NaN"], "> 0");
     assert_bad(&[SCENE, "--method", "paper"], "--delta");
     assert_bad(&[SCENE, "--method", "bogus"], "condensed");
+    // A knob flag the method does not take is refused, not ignored.
+    assert_bad(
+        &[SCENE, "--method", "lagrange", "--eps", "5"],
+        "--eps needs a method that takes it (lagrange takes no knob)",
+    );
+    assert_bad(
+        &[SCENE, "--method", "constant", "--eps", "5", "--delta", "1"],
+        "constant takes --eps",
+    );
+    assert_bad(
+        &[SCENE, "--method", "paper", "--delta", "1", "--adaptive"],
+        "--adaptive",
+    );
     assert_bad(
         &["/nonexistent/x.scene.json", "--method", "lagrange"],
         "nonexistent",

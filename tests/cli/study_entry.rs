@@ -294,3 +294,21 @@ fn command_line_errors_and_a_missing_record_are_one_line() {
         );
     }
 }
+
+/// `--out` naming a file (not a folder) is refused with one line before anything runs.
+#[test]
+fn out_naming_a_file_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("a-file");
+    std::fs::write(&file, "keep me").unwrap();
+    for (name, bin, small, _) in binaries() {
+        let o = run(bin, &small, &file);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{name}: {err}");
+        assert!(
+            err.contains("--out names a file") && err.trim_end().lines().count() == 1,
+            "{name}: {err}"
+        );
+        assert_eq!(std::fs::read_to_string(&file).unwrap(), "keep me", "{name}");
+    }
+}

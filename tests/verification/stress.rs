@@ -562,6 +562,11 @@ fn stress_cli_bad_input_exits_2() {
         vec!["--eps", "x"],
         vec!["--families", "plate"],
         vec!["--count", "1000"],
+        vec!["--eps", "1:10:100000000"],
+        vec!["--families", ""],
+        vec!["--families", "none,beam"],
+        vec!["--families", "beam,beam"],
+        vec!["--families", "beam", "--count", "0"],
     ];
     let runs = common::assert_bad_input_writes_nothing(env!("CARGO_BIN_EXE_stress"), &cases, &[]);
     for (args, o) in cases.iter().zip(&runs) {

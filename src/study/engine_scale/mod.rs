@@ -293,7 +293,7 @@ pub struct Flags {
     #[arg(long, value_delimiter = ',', default_values_t = [10_000usize, 100_000])]
     sizes: Vec<usize>,
     /// Methods (default: constant, scaled, condensed, lagrange).
-    #[arg(long, value_parser = registry::method_parser(), value_delimiter = ',')]
+    #[arg(long, value_parser = registry::method_parser_of(&SCALE_METHODS), value_delimiter = ',')]
     methods: Option<Vec<String>>,
     /// Skip the cond₂ metrics.
     #[arg(long)]

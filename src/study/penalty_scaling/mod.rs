@@ -75,18 +75,6 @@ pub const MAX_ACROSS: usize = 256;
 /// rounding of the penalty's.
 pub const MAX_EPS_REL: f64 = 1e15;
 
-/// The first value seen twice.
-fn first_repeat<T: PartialEq + Copy>(items: impl Iterator<Item = T>) -> Option<T> {
-    let mut seen = Vec::new();
-    for x in items {
-        if seen.contains(&x) {
-            return Some(x);
-        }
-        seen.push(x);
-    }
-    None
-}
-
 /// What to run.
 #[derive(Clone, Debug, Serialize)]
 pub struct PenaltyScalingConfig {
@@ -164,18 +152,12 @@ impl PenaltyScalingConfig {
                 format!("at most {MAX_ACROSS} (lower either)"),
             ));
         }
-        if let Some(d) = first_repeat(self.discretizations.iter().map(|d| d.name())) {
-            return Err(Error::duplicate(
-                "--discretizations entry",
-                format!("'{d}'"),
-            ));
-        }
-        if let Some(d) = first_repeat(self.delta_methods.iter().map(|s| s.name)) {
-            return Err(Error::duplicate("--delta-methods entry", format!("'{d}'")));
-        }
-        if let Some(e) = first_repeat(self.eps_rel.iter().map(|e| e.to_bits())) {
-            return Err(Error::duplicate("--eps-rel entry", f64::from_bits(e)));
-        }
+        Error::distinct(
+            "--discretizations",
+            self.discretizations.iter().map(|d| d.name()),
+        )?;
+        Error::distinct("--delta-methods", self.delta_methods.iter().map(|s| s.name))?;
+        Error::distinct("--eps-rel", &self.eps_rel)?;
         for &e in &self.eps_rel {
             if !(e.is_finite() && e > 0.0 && e <= MAX_EPS_REL) {
                 return Err(Error::out_of_range(
@@ -488,10 +470,15 @@ impl Study for PenaltyScaling {
                 .map(|n| {
                     let s = registry::lookup(n).map_err(|e| e.for_flag("--delta-methods"))?;
                     if s.knob != Knob::Delta {
+                        let takes_delta: Vec<&str> = registry::all()
+                            .into_iter()
+                            .filter(|s| s.knob == Knob::Delta)
+                            .map(|s| s.name)
+                            .collect();
                         return Err(Error::out_of_range(
                             "--delta-methods entry",
                             format!("'{n}'"),
-                            "a method that takes δ",
+                            format!("a method that takes δ ({})", takes_delta.join(", ")),
                         ));
                     }
                     Ok(s)

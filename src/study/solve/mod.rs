@@ -303,6 +303,43 @@ pub struct Flags {
     write_system: Option<std::path::PathBuf>,
 }
 
+/// A knob flag given to a method that does not take it (it would be ignored silently): an
+/// error naming the flag and what the method takes.
+fn check_knob_flags(f: &Flags, strategy: &'static Strategy) -> Result<()> {
+    let takes: &[&str] = match strategy.knob {
+        Knob::None => &[],
+        Knob::Eps => &["--eps"],
+        Knob::Factor => &["--factor"],
+        Knob::Delta => &["--delta"],
+        Knob::EpsTol => &["--eps", "--tol", "--adaptive"],
+    };
+    let given = [
+        ("--eps", f.eps.is_some()),
+        ("--factor", f.factor.is_some()),
+        ("--delta", f.delta.is_some()),
+        ("--tol", f.tol.is_some()),
+        ("--adaptive", f.adaptive),
+    ];
+    match given
+        .iter()
+        .find(|(flag, set)| *set && !takes.contains(flag))
+    {
+        Some((flag, _)) => Err(Error::unsupported(
+            *flag,
+            format!(
+                "a method that takes it ({} takes {})",
+                strategy.name,
+                if takes.is_empty() {
+                    "no knob".to_string()
+                } else {
+                    takes.join(", ")
+                }
+            ),
+        )),
+        None => Ok(()),
+    }
+}
+
 /// What one `solve` run does, parsed and checked from the flags at the edge: the scene file,
 /// the strategy (looked up once), its knobs and the options.
 #[derive(Clone, Debug)]
@@ -363,6 +400,7 @@ impl Study for Solve {
             write_system: f.write_system.clone(),
         };
         check_options(&opts)?;
+        check_knob_flags(f, strategy)?;
         // The knobs checked here where they do not depend on the scene (augmented's defaults
         // do: checked in the run, after they are filled in).
         if strategy.knob != Knob::EpsTol {

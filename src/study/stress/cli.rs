@@ -101,7 +101,18 @@ fn parse_families(names: &[String]) -> Result<Vec<Family>> {
     let named: Vec<&str> = names
         .iter()
         .map(|s| s.trim())
-        .filter(|s| !s.is_empty() && *s != "none")
+        .filter(|s| !s.is_empty())
         .collect();
-    generate::parse_families(&named, &generate::ALL_FAMILIES, ", or none")
+    match named[..] {
+        [] => Err(crate::error::Error::none_given(
+            "--families",
+            format!(" (valid: {}, or none)", generate::FAMILY_NAMES.join(", ")),
+        )),
+        ["none"] => Ok(Vec::new()),
+        _ if named.contains(&"none") => Err(crate::error::Error::unsupported(
+            "--families none",
+            "to stand alone (it means the paper's beam only)",
+        )),
+        _ => generate::parse_families(&named, &generate::ALL_FAMILIES, ", or none"),
+    }
 }

@@ -45,6 +45,13 @@ impl StressRun {
     /// Checks `count` ≤ [`MAX_COUNT`].
     pub fn validate(&self) -> Result<()> {
         Error::distinct("--families", self.families.iter().map(|f| f.name()))?;
+        if self.count == 0 && !self.families.is_empty() {
+            return Err(Error::out_of_range(
+                "--count",
+                0,
+                "≥ 1 where --families names a family (--families none: the paper's beam only)",
+            ));
+        }
         if self.count > MAX_COUNT {
             return Err(Error::out_of_range(
                 "--count",

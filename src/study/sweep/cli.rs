@@ -118,6 +118,9 @@ impl ConfigArgs {
     }
 }
 
+/// Most worker threads `--threads` takes (more is a typo: every thread is an OS thread).
+pub const MAX_THREADS: usize = 1024;
+
 /// The `sweep` binary's flags.
 #[derive(clap::Args, Debug)]
 pub struct Flags {
@@ -220,8 +223,12 @@ impl Study for Sweep {
         }
         let cfg = a.config.config()?;
         let shard = a.shard.as_deref().map(super::parse_shard).transpose()?;
-        if a.threads == Some(0) {
-            return Err(Error::out_of_range("--threads", 0, "≥ 1"));
+        if let Some(t) = a.threads.filter(|t| !(1..=MAX_THREADS).contains(t)) {
+            return Err(Error::out_of_range(
+                "--threads",
+                t,
+                format!("in 1..={MAX_THREADS}"),
+            ));
         }
         let opts = RunOptions {
             threads: a.threads,
