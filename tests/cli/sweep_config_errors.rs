@@ -153,3 +153,20 @@ fn repeated_entries_and_huge_grids_are_refused() {
         &["LO:HI:N", "10000"],
     );
 }
+
+/// Flags that shape generated scenes are refused beside `--scenes-dir` (they would be ignored).
+#[test]
+fn generator_flags_beside_a_scene_folder_are_refused() {
+    let (_tmp, d) = work_dir("scenes_and_families");
+    let dir = d.join("scenes");
+    std::fs::create_dir_all(&dir).unwrap();
+    for (tag, flag) in [("fam", "--families"), ("count", "--count")] {
+        let value = if flag == "--count" { "2" } else { "beam" };
+        assert_rejected(
+            &d,
+            tag,
+            &["--scenes-dir", s(&dir), flag, value],
+            &[flag, "--scenes-dir"],
+        );
+    }
+}

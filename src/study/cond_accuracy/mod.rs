@@ -307,13 +307,19 @@ pub struct Flags {
     #[arg(long, default_value_t = 2024)]
     seed: u64,
     /// Penalty factors f (ε_c = f·K_dd on every constraint DOF; 0 = K alone).
-    #[arg(long, value_delimiter = ',', allow_negative_numbers = true, default_values_t = [0.0, 1.0, 1e3, 1e6, 1e9, 1e12])]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_negative_numbers = true,
+        default_value = "0,1,1e3,1e6,1e9,1e12"
+    )]
     factors: Vec<f64>,
     /// Scene files measured besides the generated ones ("" for none).
-    #[arg(long, value_delimiter = ',', default_values_t = [
-        "tests/data/elasticity/elasticity-quad-block.scene.json".to_string(),
-        "tests/data/elasticity/elasticity-tet-brick.scene.json".to_string(),
-    ])]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "tests/data/elasticity/elasticity-quad-block.scene.json,tests/data/elasticity/elasticity-tet-brick.scene.json"
+    )]
     scenes: Vec<String>,
     /// Repeats per timing (the median is reported).
     #[arg(long, default_value_t = 3)]

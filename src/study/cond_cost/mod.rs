@@ -167,10 +167,18 @@ pub fn measure(family: &str, a: &Stiffness, repeats: usize, dense_max: usize) ->
 #[derive(clap::Args, Debug)]
 pub struct Flags {
     /// Membrane grid sides (n = side²).
-    #[arg(long, value_delimiter = ',', default_values_t = [4usize, 6, 10, 14, 20, 45, 100, 224, 316])]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "4,6,10,14,20,45,100,224,316"
+    )]
     sides: Vec<usize>,
     /// Cantilever element counts (n = 3·elements).
-    #[arg(long, value_delimiter = ',', default_values_t = [4usize, 12, 40, 112, 150, 700, 3300, 33000])]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "4,12,40,112,150,700,3300,33000"
+    )]
     elements: Vec<usize>,
     /// Repeats per measurement (the median is reported).
     #[arg(long, default_value_t = 5)]

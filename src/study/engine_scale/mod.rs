@@ -290,7 +290,7 @@ pub fn run(cfg: &ScaleConfig, progress: &Progress) -> Result<Vec<ScaleRow>> {
 #[derive(clap::Args, Debug)]
 pub struct Flags {
     /// Requested DOF counts (membrane side = round(√size)).
-    #[arg(long, value_delimiter = ',', default_values_t = [10_000usize, 100_000])]
+    #[arg(long, value_delimiter = ',', default_value = "10000,100000")]
     sizes: Vec<usize>,
     /// Methods (default: constant, scaled, condensed, lagrange).
     #[arg(long, value_parser = registry::method_parser_of(&SCALE_METHODS), value_delimiter = ',')]

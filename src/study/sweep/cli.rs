@@ -113,6 +113,21 @@ impl ConfigArgs {
         if let Some(d) = &a.scenes_dir {
             c.scenes_dir = Some(d.clone());
         }
+        if c.scenes_dir.is_some() {
+            // Flags that shape generated scenes mean nothing for scene files: refused, not
+            // ignored.
+            for (flag, given) in [
+                ("--families", a.families.is_some()),
+                ("--count", a.count.is_some()),
+            ] {
+                if given {
+                    return Err(Error::unsupported(
+                        flag,
+                        "generated scenes (with --scenes-dir the scenes are the folder's files)",
+                    ));
+                }
+            }
+        }
         c.validate()?;
         Ok(c)
     }
