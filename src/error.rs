@@ -362,25 +362,14 @@ impl Error {
             source: Box::new(self),
         }
     }
-    /// Whether this is bad input: [`Error::Input`] or one of the typed input variants
-    /// (a malformed file's [`Error::Parse`] included).
+    /// Whether this is bad input: every variant but a singular matrix, an I/O failure, a
+    /// numerical failure and a run outside its model (so [`Error::Input`], each typed input
+    /// variant and a malformed file's [`Error::Parse`]; a new input variant counts without
+    /// being listed).
     pub fn is_input(&self) -> bool {
-        matches!(
+        !matches!(
             self.root(),
-            Error::Input(_)
-                | Error::MissingKnob { .. }
-                | Error::NotPositive { .. }
-                | Error::Unknown { .. }
-                | Error::DofOutOfRange { .. }
-                | Error::OutOfRange { .. }
-                | Error::NotFinite { .. }
-                | Error::LengthMismatch { .. }
-                | Error::NoneGiven { .. }
-                | Error::Duplicate { .. }
-                | Error::Constraint { .. }
-                | Error::Unsupported { .. }
-                | Error::BadFile { .. }
-                | Error::Parse { .. }
+            Error::Singular(_) | Error::Io { .. } | Error::Numerical(_) | Error::OutsideModel(_)
         )
     }
     /// The message without its `invalid input: ` prefix (for a caller that names the input

@@ -68,6 +68,14 @@ pub fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T> {
     serde_json::from_str(&text).map_err(|e| Error::json(path.display(), &e))
 }
 
+/// Reads the TOML file `path` as a `T` (the one reader of the configuration files): a missing
+/// file is an I/O error naming it, malformed TOML a parse error ([`Error::Parse`]) naming it
+/// and the line ([`Error::toml`]).
+pub fn read_toml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T> {
+    let text = std::fs::read_to_string(path).map_err(|e| Error::io(path.display(), e))?;
+    toml::from_str(&text).map_err(|e| Error::toml(path.display(), Some(&text), &e))
+}
+
 /// JSON writes non-finite numbers as `null`; read them back as NaN
 /// (`#[serde(deserialize_with = "crate::provenance::null_as_nan")]`).
 pub fn null_as_nan<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<f64, D::Error> {

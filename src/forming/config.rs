@@ -208,9 +208,7 @@ impl FormingConfig {
 
     /// Reads a TOML file; missing fields take the Woo-like defaults.
     pub fn from_toml_file(path: &std::path::Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path.display(), e))?;
-        let c: FormingConfig =
-            toml::from_str(&text).map_err(|e| Error::toml(path.display(), Some(&text), &e))?;
+        let c: FormingConfig = crate::provenance::read_toml(path)?;
         c.validate()?;
         Ok(c)
     }

@@ -67,9 +67,7 @@ impl ExperimentConfig {
     /// the command line's flags override it first ([`ExperimentConfig::apply`] validates
     /// the result), so a flag can correct a value of the file.
     pub fn from_toml_file(path: &std::path::Path, preset: FormingConfig) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path.display(), e))?;
-        let mut value: toml::Table =
-            toml::from_str(&text).map_err(|e| Error::toml(path.display(), Some(&text), &e))?;
+        let mut value: toml::Table = crate::provenance::read_toml(path)?;
         // Merge [forming] over the preset.
         let preset_toml = toml::Table::try_from(&preset)
             .map_err(|e| Error::Numerical(format!("cannot encode preset: {e}")))?;

@@ -527,9 +527,9 @@ fn fallback_reference(
 pub fn run(cfg: &PerfConfig, progress: &Progress) -> Result<Vec<PerfRow>> {
     cfg.validate()?;
     let mut rows = Vec::new();
+    // (Distinct: `validate` refuses a size given twice.)
     let mut sizes = cfg.sizes.clone();
     sizes.sort_unstable();
-    sizes.dedup();
     progress.set_total(cfg.families.len() * sizes.len() * jobs_per_scene(cfg));
     for fam in &cfg.families {
         let mut budget = Budget::default();

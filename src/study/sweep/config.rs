@@ -174,10 +174,7 @@ impl<'de> Deserialize<'de> for Source {
 impl SweepConfig {
     /// Reads a TOML config (fields as in [`SweepConfig`]; missing fields take defaults).
     pub fn from_toml_file(path: &Path) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path.display(), e))?;
-        let cfg: SweepConfig =
-            toml::from_str(&text).map_err(|e| Error::toml(path.display(), Some(&text), &e))?;
-        Ok(cfg)
+        crate::provenance::read_toml(path)
     }
 
     /// Validates names, ranges and knobs; errors name the problem and the valid choices.

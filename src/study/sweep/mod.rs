@@ -125,14 +125,10 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
         })?;
     faer::set_global_parallelism(faer::Par::Seq);
     let threads = pool.current_num_threads();
-    let own;
-    let provenance = match &opts.provenance {
-        Some(p) => p,
-        None => {
-            own = Provenance::new("sweep");
-            &own
-        }
-    };
+    let provenance = opts
+        .provenance
+        .clone()
+        .unwrap_or_else(|| Provenance::new("sweep"));
     let mut manifest = provenance.record(serde_json::json!({
         "config": config_json,
         "seed": cfg.seed,
