@@ -92,8 +92,9 @@ pub(crate) fn cond_of_system(
     tol: Option<f64>,
     unavailable: &mut Vec<String>,
 ) -> Result<Option<CondReport>> {
-    // A saddle point with Boolean D and symmetric K: block-structure route, never densified
-    // (a dense K in compressed columns). A general D takes the generic route.
+    // A saddle point with symmetric K: the block-structure route, never densified (a dense K
+    // in compressed columns), for a Boolean D and for rows that couple DOFs
+    // (`cond2_saddle_rows`); where it does not apply, the generic route.
     let boolean_dofs = |active: &[usize]| -> Option<Vec<usize>> {
         active
             .iter()
@@ -116,6 +117,26 @@ pub(crate) fn cond_of_system(
                 Ok(r) => return Ok(Some(r)),
                 // Not its structure (repeated DOFs, no active constraint) or K_FF not
                 // positive definite: the generic route decides below.
+                Err(e) if e.is_input() || matches!(e, Error::Singular(_)) => {}
+                Err(e) => return Err(e),
+            }
+        } else if crate::route::saddle_route(problem.k.is_symmetric()) {
+            // Rows that couple DOFs: the same route on the pattern of K + DDᵀ.
+            let rows: Vec<conditioning::saddle::Row> = active
+                .iter()
+                .map(|&c| problem.constraints[c].terms.clone())
+                .collect();
+            let k = match &problem.k {
+                Stiffness::Sparse(k) => std::borrow::Cow::Borrowed(k),
+                Stiffness::Dense(k) => {
+                    std::borrow::Cow::Owned(crate::system::sparse_of_dense(k.as_ref()))
+                }
+            };
+            let schur = conditioning::saddle::SCHUR_TEST_MAX;
+            match conditioning::saddle::cond2_saddle_rows(&k, &rows, schur, starts) {
+                Ok(r) => return Ok(Some(r)),
+                // Dependent rows, K not positive semidefinite, sizes past its limits: the
+                // generic route decides below.
                 Err(e) if e.is_input() || matches!(e, Error::Singular(_)) => {}
                 Err(e) => return Err(e),
             }

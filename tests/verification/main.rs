@@ -20,6 +20,7 @@ mod kernels;
 mod optimal;
 mod paper_beam;
 mod saddle_cond;
+mod saddle_rows;
 mod solver_cost;
 mod sparse_cond;
 mod stress;

@@ -83,6 +83,23 @@
 //! always on a supernodal factor. The λ_max and λ⁺_min runs start from K's Ritz
 //! vectors where the caller has them ([`cond2_saddle_warm`]).
 //!
+//! **Coupled rows** ([`cond2_saddle_rows`]: `d_c = Σ_j a_cj e_j`, inclined planes,
+//! node-to-segment, mortar). Every congruence above holds for any D of full column rank, with
+//! `H(σ) = K − σI + σ⁻¹DDᵀ` on the pattern of `K + DDᵀ` (K widened with explicit zeros) and
+//! every monotonicity step resting on `DDᵀ ⪰ 0`. The test matrices' rounding is no longer
+//! diagonal: each entry of `β·DDᵀ` is bounded (`γ_{k+4}` of its terms) and the whole in 2-norm
+//! by the largest row sum, which every margin above includes. `A⁻¹` goes through the
+//! augmented block `K_ρ = K + ρDDᵀ` and the dense m×m `S = DᵀK_ρ⁻¹D` (`|det A| = det K_ρ ·
+//! det S`; rows whose S spreads its Cholesky pivots by more than 1/(64ε_mach) are refused as
+//! dependent). s₀ and the Schur complement onto B are written for a Boolean D; in their place
+//! the negative side's floor is proven by **Lemma R**: for any X̂,
+//! `Dᵀ(K + tI)⁻¹D ⪰ X̂ᵀD + RᵀX̂` with `R = D − (K + tI)X̂` (the solves' error enters through a
+//! dropped term ⪰ 0), so a dense Cholesky of that m×m matrix minus tI, its rounding bounded,
+//! leaves no eigenvalue in (−t', 0) for a t' a few roundings below t. On the inclined plane,
+//! the two-body patch test and Hertz between two bodies the brackets are proven (Hertz,
+//! cond₂ ≈ 5e12: 2.5e-13 wide, where the dense route's value is off by 1.6e-4;
+//! tests/verification/saddle_rows.rs).
+//!
 //! Cost: one Cholesky of K_FF, Lanczos products and solves (O(nnz) and O(nnz of the factor)
 //! each), 3–4 shifted factorizations for the proof (2–4 more per end for the searches where
 //! they run); memory O(nnz of the factor).
@@ -96,17 +113,22 @@ use super::sparse::{
 };
 use super::{CondReport, CondRoute};
 use crate::error::{Error, Result};
-use crate::linalg::{symmetric_matvec, DiagonalPattern, SparseLlt};
+use crate::linalg::{symmetric_matvec, DiagonalPattern};
 use faer::sparse::{SparseColMat, SymbolicSparseColMat};
-use faer::Side;
 
 mod blocks;
+mod coupling;
+mod negative;
 pub mod schur;
 mod shifts;
+mod top;
 use blocks::{
     constrained_mask, free_block_factor, free_block_values, s0, saddle_csc, BlockInverse,
 };
 pub(crate) use blocks::{dof_error, dof_mask};
+use coupling::{AugmentedInverse, Blocks, Inverse};
+pub use coupling::{Row, MAX_ROWS_ENTRIES};
+use negative::schur_test_fails;
 use shifts::Shifts;
 
 /// Largest m for which the fourth end (λ⁻_max) is certified by the m×m test `λ_min(M(s)) ≥ s`.
@@ -141,29 +163,94 @@ pub fn cond2_saddle_warm(
     let n = k.nrows();
     let in_b = constrained_mask(n, dofs)?;
     let pattern = DiagonalPattern::new(k)?;
-    let kff = free_block_factor(&pattern, &in_b)?;
+    let blocks = Blocks::selection(dofs, in_b);
+    let kff = free_block_factor(&pattern, &blocks.in_b)?;
     // |det A| = det K_FF (module `conditioning`, `log10_abs_det_saddle`): the B rows of the
     // stored factor are the identity.
     let log10_det = kff.log10_det();
-    let (a_pattern, a_values) = saddle_csc(&pattern, dofs);
+    let inverse = Inverse::Free(BlockInverse {
+        pattern: &pattern,
+        dofs,
+        in_b: &blocks.in_b,
+        kff: &kff,
+        kxb: vec![0.0; n],
+    });
+    let a = saddle_csc(&pattern, dofs);
+    let floor = s0(k, &blocks.in_b);
+    run_saddle(
+        &pattern,
+        &blocks,
+        inverse,
+        a,
+        floor,
+        log10_det,
+        schur_test_max,
+        starts,
+    )
+}
+
+/// cond₂ of `[K D; Dᵀ 0]` for general constraint rows (row c = column c of D: its
+/// `(DOF, coefficient)` terms) and sparse symmetric K (both triangles stored), certified as
+/// in the module docs with the changes its *Coupled rows* lists: the shifted matrices on the
+/// pattern of `K + DDᵀ`, A⁻¹ through `K + ρDDᵀ`, no analytic floor s₀ and no Schur
+/// complement onto B. Errors with [`Error::DofOutOfRange`], [`Error::Duplicate`] (a DOF twice
+/// in a row), [`Error::NotFinite`] (a zero or non-finite row), [`Error::OutOfRange`] unless
+/// 0 < m < N or where N·m exceeds [`MAX_ROWS_ENTRIES`], and [`Error::Singular`] where
+/// `K + ρDDᵀ` or `DᵀK_ρ⁻¹D` is not positive definite (A singular or K not positive
+/// semidefinite). Single-DOF rows with coefficient 1 are better served by
+/// [`cond2_saddle_warm`] (its analytic floor and Schur complement).
+pub fn cond2_saddle_rows(
+    k: &SparseColMat<usize, f64>,
+    rows: &[Row],
+    schur_test_max: usize,
+    starts: Option<&RitzStarts>,
+) -> Result<CondReport> {
+    let wide = coupling::widened(k, rows)?;
+    let pattern = DiagonalPattern::new(&wide)?;
+    let blocks = Blocks::rows(&pattern, rows)?;
+    let augmented = AugmentedInverse::new(&pattern, &blocks)?;
+    let log10_det = augmented.log10_det();
+    let a = coupling::rows_csc(&pattern, &blocks);
+    run_saddle(
+        &pattern,
+        &blocks,
+        Inverse::Augmented(augmented),
+        a,
+        0.0,
+        log10_det,
+        schur_test_max,
+        starts,
+    )
+}
+
+/// The route of the module docs once D's blocks, A⁻¹, A in CSC (`a`), the floor s₀ and
+/// `log10|det A|` are set up.
+#[allow(clippy::too_many_arguments)]
+fn run_saddle(
+    pattern: &DiagonalPattern,
+    blocks: &Blocks<'_>,
+    inverse: Inverse<'_>,
+    a: (SymbolicSparseColMat<usize>, Vec<f64>),
+    s0: f64,
+    log10_det: f64,
+    schur_test_max: usize,
+    starts: Option<&RitzStarts>,
+) -> Result<CondReport> {
+    let (n, m) = (pattern.n(), blocks.m);
+    let (a_pattern, a_values) = a;
     let mut run = SaddleRun {
         shifts: Shifts {
-            pattern: &pattern,
-            in_b: &in_b,
+            pattern,
+            blocks,
             factorizations: 1,
             work: Vec::new(),
         },
-        inverse: BlockInverse {
-            pattern: &pattern,
-            dofs,
-            in_b: &in_b,
-            kff: &kff,
-            kxb: vec![0.0; n],
-        },
+        blocks,
+        inverse,
         a_pattern,
         a_values,
-        size: n + dofs.len(),
-        s0: s0(k, &in_b),
+        size: n + m,
+        s0,
         lanczos_steps: 0,
         bottom_vectors: Vec::new(),
         positive: None,
@@ -172,7 +259,7 @@ pub fn cond2_saddle_warm(
         starts: starts
             .filter(|s| s.top.len() == n && s.bottom.len() == n)
             .map(|s| {
-                let pad = |v: &[f64]| v.iter().copied().chain(dofs.iter().map(|_| 0.0)).collect();
+                let pad = |v: &[f64]| v.iter().copied().chain((0..m).map(|_| 0.0)).collect();
                 (pad(&s.top), pad(&s.bottom))
             }),
     };
@@ -201,7 +288,7 @@ pub fn cond2_saddle_warm(
             tol: top_est.tol,
             top_rq: None,
         };
-        run.proven(&pattern, &top_est, &bottom_est)
+        run.proven(pattern, &top_est, &bottom_est)
             .filter(|p| p.0 .1 / p.0 .0 - 1.0 <= top_est.tol)
             .map(|p| (bottom_est, p))
     } else {
@@ -211,8 +298,8 @@ pub fn cond2_saddle_warm(
         Some((bottom_est, p)) => (top_est, bottom_est, Some(p)),
         None => {
             let top = run.sigma_max(&top_est)?;
-            let bottom = run.sigma_min(dofs, pos_min_est, &top, schur_test_max)?;
-            let proven = run.proven(&pattern, &top, &bottom);
+            let bottom = run.sigma_min(pos_min_est, &top, schur_test_max)?;
+            let proven = run.proven(pattern, &top, &bottom);
             (top, bottom, proven)
         }
     };
@@ -285,7 +372,9 @@ struct End {
 /// and the work counted so far.
 struct SaddleRun<'a> {
     shifts: Shifts<'a>,
-    inverse: BlockInverse<'a>,
+    /// D and the DOFs it touches.
+    blocks: &'a Blocks<'a>,
+    inverse: Inverse<'a>,
     a_pattern: SymbolicSparseColMat<usize>,
     a_values: Vec<f64>,
     size: usize,
@@ -362,7 +451,7 @@ impl SaddleRun<'_> {
         if !(theta > 0.0 && theta.is_finite()) {
             return None;
         }
-        let m = self.inverse.dofs.len();
+        let m = self.blocks.m;
         let values: std::borrow::Cow<[f64]> = if sign > 0.0 {
             std::borrow::Cow::Borrowed(&self.a_values)
         } else {
@@ -379,14 +468,13 @@ impl SaddleRun<'_> {
             if sign < 0.0 {
                 return None;
             }
-            let n = self.inverse.in_b.len();
-            let pin = (0..n).filter(|&i| !self.inverse.in_b[i]).fold(
-                None,
-                |b: Option<usize>, i| match b {
+            let in_b = &self.blocks.in_b;
+            let pin = (0..in_b.len())
+                .filter(|&i| !in_b[i])
+                .fold(None, |b: Option<usize>, i| match b {
                     Some(j) if x[j].abs() >= x[i].abs() => Some(j),
                     _ => Some(i),
-                },
-            )?;
+                })?;
             let margin = Margin::of(&self.shifts.pattern.symbolic);
             let mu = super::temple::INTERLACED_SHIFTS
                 .iter()
@@ -482,13 +570,7 @@ impl SaddleRun<'_> {
     }
 
     /// σ_min: λ⁺_min, and −λ⁻_max unless s₀ already shows −λ⁻_max > λ⁺_min.
-    fn sigma_min(
-        &mut self,
-        dofs: &[usize],
-        pos_min_est: f64,
-        top: &End,
-        schur_test_max: usize,
-    ) -> Result<End> {
+    fn sigma_min(&mut self, pos_min_est: f64, top: &End, schur_test_max: usize) -> Result<End> {
         let tol = top.tol.max(bracket_tol(top.bracket.1 / pos_min_est));
         let shifts = &mut self.shifts;
         let (pmin_lo, pmin_hi) = bracket(pos_min_est, tol, |s| !shifts.is_pd(1.0, -s, 1.0 / s));
@@ -508,18 +590,19 @@ impl SaddleRun<'_> {
         };
         let tol = tol.max(bracket_tol(top.bracket.1 / near_est));
         let estimate = pos_min_est.min(near_est);
-        let bracket = if dofs.len() <= schur_test_max {
+        let blocks = self.blocks;
+        let bracket = if blocks.m <= schur_test_max {
             // Where −λ⁻_max is estimated clearly above λ⁺_min's bracket, one test at its top
             // settles σ_min = λ⁺_min; otherwise (or if that test finds an eigenvalue in
             // [−λ⁺_hi, 0)) −λ⁻_max gets its own bracket.
             let shifts = &mut self.shifts;
             let separated = near_est > pmin_hi * (1.0 + tol)
-                && schur_test_fails(shifts, dofs, pmin_hi) == Some(false);
+                && schur_test_fails(shifts, blocks, pmin_hi) == Some(false);
             let (lo, hi) = if separated {
                 (pmin_hi, f64::INFINITY)
             } else {
                 bracket(near_est, tol, |s| {
-                    schur_test_fails(shifts, dofs, s).unwrap_or(true)
+                    schur_test_fails(shifts, blocks, s).unwrap_or(true)
                 })
             };
             (pmin_lo.min(lo), pmin_hi.min(hi))
@@ -550,21 +633,37 @@ impl SaddleRun<'_> {
     ) -> Option<(f64, f64)> {
         let neg_est = self.negative.map(|(t, _)| t);
         let pos_est = self.positive?.0;
-        let (kff, dofs) = (self.inverse.kff, self.inverse.dofs);
-        let nb = schur::negative_bracket(
-            &mut self.shifts,
-            kff,
-            dofs,
-            neg_est,
-            0.0,
-            0.25 * tol.min(1e-12),
-        )?;
+        // (lo⁻, hi⁻, the Newton value): through the Schur complement onto B for a Boolean D;
+        // for coupled rows lo⁻ alone, by Lemma R's tests stepping down from the estimate
+        // (`coupling::negative_floor`), with the estimate in place of hi⁻ to place p.
+        let (nb_lo, nb_hi, place, value) = match &self.inverse {
+            Inverse::Free(free) => {
+                let nb = schur::negative_bracket(
+                    &mut self.shifts,
+                    free.kff,
+                    free.dofs,
+                    neg_est,
+                    0.0,
+                    0.25 * tol.min(1e-12),
+                )?;
+                (nb.lo, nb.hi, nb.hi, Some(nb.value))
+            }
+            Inverse::Augmented(_) => {
+                let neg = neg_est?;
+                let shifts = &mut self.shifts;
+                let w0 = (4.0 * f64::EPSILON).max(0.25 * tol.min(1e-12));
+                let lo = certify::step_outwards(w0, |w, _| {
+                    negative::negative_floor(shifts, neg * (1.0 - w), margin)
+                })?;
+                (lo, f64::INFINITY, neg, None)
+            }
+        };
         let shifts = &mut self.shifts;
         let p = match temple_pos {
             Some(lo) => lo,
             None => {
-                let s = 2.0 * nb.hi;
-                if pos_est > 4.0 * nb.hi && shifts.verified_pd(1.0, -s, 1.0 / s, margin) {
+                let s = 2.0 * place;
+                if pos_est > 4.0 * place && shifts.verified_pd(1.0, -s, 1.0 / s, margin) {
                     s
                 } else {
                     certify::step_outwards((4.0 * f64::EPSILON).max(0.25 * tol), |w, _| {
@@ -577,103 +676,10 @@ impl SaddleRun<'_> {
         if p.is_nan() || p <= 0.0 {
             return None;
         }
-        self.negative_value = Some(nb.value);
-        Some((p.min(nb.lo), nb.hi))
-    }
-
-    /// λ_max from below after a test `−H(s) ≻ 0` passed with factor `f`: Lanczos on
-    /// `(sI − A)⁻¹` (positive definite; its top eigenvalue `1/(s − λ_max)` is separated by
-    /// the gap at the top over `s − λ_max`), each product one solve with f: for
-    /// `(A − sI)[x; y] = [p; g]`, `H(s)x = p + Dg/s` and `y = (Dᵀx − g)/s`. Returns the proven
-    /// lower end of its Ritz vector's Rayleigh quotient (compensated, Courant–Fischer).
-    fn refine_top(&mut self, f: &SparseLlt, s: f64) -> Option<f64> {
-        let (dofs, n) = (self.inverse.dofs, self.inverse.in_b.len());
-        let run = lanczos(
-            self.size,
-            MAX_LANCZOS_STEPS,
-            |_| STAGNATION,
-            None,
-            Keep::Always,
-            |v, z| {
-                let (p, g) = v.split_at(n);
-                let (zx, zy) = z.split_at_mut(n);
-                zx.copy_from_slice(p);
-                for (c, &d) in dofs.iter().enumerate() {
-                    zx[d] += g[c] / s;
-                }
-                // f factors −H(s): x = −f⁻¹(p + Dg/s); z = −[x; y] = (sI − A)⁻¹v.
-                f.solve_vec_in_place(zx);
-                for (c, &d) in dofs.iter().enumerate() {
-                    zy[c] = (zx[d] + g[c]) / s;
-                }
-            },
-        )
-        .ok()?;
-        self.lanczos_steps += run.steps;
-        let y = run.vector?;
-        certify::rayleigh_interval_dot2(self.a_pattern.as_ref(), &self.a_values, &y)
-            .map(|(lo, _)| lo)
-    }
-
-    /// σ_max's proven bracket `(lo, hi)` ([`Self::proven`]): Cholesky tests stepping out from
-    /// the estimate, refined by a shift-invert run where the bracket is wider than wanted; `hi`
-    /// is infinite where no test passed.
-    fn proven_top(&mut self, pattern: &DiagonalPattern, top: &End, margin: Margin) -> (f64, f64) {
-        // The tests start from the estimate or, where the inertia search ran, from its upper
-        // end (a Cholesky test passed there, unverified): in a cluster at the top (the
-        // 10⁶-unknown membrane's λ_max, gaps ≈ 1e-5) the Lanczos estimate stops short and
-        // tests stepping out from it would cost a factorization per step.
-        let smax_est = top
-            .estimate
-            .max(top.bracket.0)
-            .max(if top.bracket.1.is_finite() {
-                top.bracket.1
-            } else {
-                0.0
-            });
-        // e_iᵀAe_i = K_ii ≤ σ_max for a unit vector of the N block (K ≻ 0).
-        let max_lo = top
-            .top_rq
-            .map_or(0.0, |(lo, _)| lo)
-            .max(pattern.max_diagonal());
-        let shifts = &mut self.shifts;
-        // Tests just above σ_max's estimate, judged by their factors' own margins
-        // (`Shifts::sigma_max_test`). The first sits a few ε above the estimate on a
-        // simplicial factor, at Lemma 1's m/64 on a supernodal one (its factorizations cost
-        // seconds at 10⁶ unknowns; Lemma 7a is ≈ 300× below Lemma 1 there).
-        let w0 = if pattern.has_ldlt() {
-            16.0 * f64::EPSILON
-        } else {
-            (margin.m / 64.0).max(16.0 * f64::EPSILON)
-        };
-        let top_test = certify::step_outwards_by(w0, 4.0, |w, _| {
-            let s = smax_est * (1.0 + w);
-            shifts.sigma_max_test(s, margin).map(|(hi, f)| (hi, s, f))
-        });
-        let mut max_hi = top_test.as_ref().map_or(f64::INFINITY, |t| t.0);
-        // Where the bracket is wider than wanted (a Ritz vector stopped short in a cluster at
-        // the top, or tests started from the search's upper end), the passing test's factor
-        // drives a shift-invert run (`SaddleRun::refine_top`) that raises the lower end, and
-        // tests stepping out from it — below the one that passed — lower the upper end.
-        let mut max_lo = max_lo;
-        if let Some((hi, s_ok, f)) = top_test.filter(|t| t.0 / max_lo - 1.0 > 2.5e-13) {
-            max_lo = max_lo.max(self.refine_top(&f, s_ok).unwrap_or(0.0));
-            drop(f);
-            let shifts = &mut self.shifts;
-            let from = max_lo;
-            if hi / from - 1.0 > 2.5e-13 {
-                if let Some(h) = certify::step_outwards_by(16.0 * f64::EPSILON, 4.0, |w, _| {
-                    let s = from * (1.0 + w);
-                    if s >= s_ok {
-                        return Some(f64::INFINITY);
-                    }
-                    shifts.sigma_max_test(s, margin).map(|t| t.0)
-                }) {
-                    max_hi = max_hi.min(h);
-                }
-            }
+        if value.is_some() {
+            self.negative_value = value;
         }
-        (max_lo, max_hi)
+        Some((p.min(nb_lo), nb_hi))
     }
 
     /// The proven brackets (certify) of σ_max and σ_min, where they pin cond₂ within a factor
@@ -705,15 +711,19 @@ impl SaddleRun<'_> {
             x_hats.push(x);
         }
         let base = bottom.estimate.min(min_hi);
-        let (s0, m) = (self.s0, self.inverse.dofs.len());
+        let (s0, m) = (self.s0, self.blocks.m);
         // σ_min ≥ min(s, t) once `#{λ < s} ≤ m` is proven for an s > 0 and no eigenvalue lies
         // in [−t, 0) (t = s₀ or, above it, t from an inertia test of H(−s)).
         let floor = |shifts: &mut Shifts, s: f64| {
-            let t = if s > s0 {
+            let mut t = if s > s0 {
                 s0.max(shifts.no_eigenvalue_above(s, m).unwrap_or(0.0))
             } else {
                 s0
             };
+            // Coupled rows (no s₀): Lemma R's test at s where the LDLᵀ test did not settle it.
+            if t < s && !shifts.blocks.is_selection() {
+                t = t.max(negative::negative_floor(shifts, s, margin).unwrap_or(0.0));
+            }
             s.min(t)
         };
         // By Temple's bounds (second order in the residuals of x = A⁻¹y): λ⁺_min ≥ lo⁺ gives
@@ -760,24 +770,4 @@ impl SaddleRun<'_> {
             && max_hi / min_lo <= 2.0 * max_lo / min_hi;
         informative.then_some(((max_lo, max_hi), (min_lo, min_hi)))
     }
-}
-
-/// Is there an eigenvalue of A in [−s, 0)? ⇔ `λ_min(Dᵀ(K + sI)⁻¹D) < s` (None where
-/// `K + sI` is not positive definite).
-fn schur_test_fails(shifts: &mut Shifts, dofs: &[usize], s: f64) -> Option<bool> {
-    let f = shifts.factor(1.0, s, 0.0)?;
-    let n = shifts.pattern.n();
-    let m = dofs.len();
-    let mut x = faer::Mat::<f64>::zeros(n, m);
-    for (c, &d) in dofs.iter().enumerate() {
-        x[(d, c)] = 1.0;
-    }
-    f.solve_mat_in_place(x.as_mut());
-    // λ_min(M) ≥ s ⇔ M − sI ⪰ 0, tested (strictly) by a dense Cholesky: the same
-    // floating-point definiteness test as every inertia test of these routes, at m³/3 flops
-    // instead of a symmetric eigendecomposition.
-    let shifted = faer::Mat::from_fn(m, m, |i, j| {
-        0.5 * (x[(dofs[i], j)] + x[(dofs[j], i)]) - if i == j { s } else { 0.0 }
-    });
-    Some(shifted.llt(Side::Lower).is_err())
 }

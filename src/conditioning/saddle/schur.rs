@@ -203,7 +203,7 @@ fn evaluate(
     kff_lo: f64,
 ) -> Option<Nu> {
     let pattern = shifts.pattern;
-    let in_b = shifts.in_b;
+    let in_b = &shifts.blocks.in_b;
     let (n, m) = (pattern.n(), dofs.len());
     let (cp, ri, vals) = (
         pattern.pattern.col_ptr(),
@@ -337,22 +337,32 @@ fn top_upper(a: &Mat<f64>, t0: f64) -> Option<f64> {
     for _ in 0..12 {
         let t = t0 + w * t0.abs();
         let tm = Mat::from_fn(m, m, |i, j| if i == j { t - a[(i, j)] } else { -a[(i, j)] });
-        if let Ok(llt) = tm.llt(Side::Lower) {
-            let l = llt.L();
-            // Collatz–Wielandt with the vector of ones: ρ(|L||Lᵀ|) ≤ max_i (|L|(|Lᵀ|1))_i.
-            let col: Vec<f64> = (0..m)
-                .map(|j| (j..m).map(|i| l[(i, j)].abs()).sum())
-                .collect();
-            let cw = (0..m)
-                .map(|i| (0..=i).map(|j| l[(i, j)].abs() * col[j]).sum::<f64>())
-                .fold(0.0, f64::max)
-                * (1.0 + gamma(2 * m + 2));
-            let tmax = (0..m).map(|i| tm[(i, i)].abs()).fold(0.0, f64::max);
-            return Some(up(t + gamma(m + 1) * cw + 2.0 * U * tmax));
+        if let Some(slack) = cholesky_slack(&tm) {
+            return Some(up(t + slack));
         }
         w *= 8.0;
     }
     None
+}
+
+/// Where the dense Cholesky of the stored symmetric `tm` succeeds, `c` with `T ⪰ −c·I` for
+/// every T that `tm` rounds (its diagonal formed by one subtraction):
+/// `γ_{m+1}·ρ(|L̂||L̂ᵀ|) + 2u·max_i |t̂_ii|` (Higham's Theorem 10.3, ρ bounded by
+/// Collatz–Wielandt with the vector of ones). None where the Cholesky fails.
+pub(super) fn cholesky_slack(tm: &Mat<f64>) -> Option<f64> {
+    let m = tm.nrows();
+    let llt = tm.llt(Side::Lower).ok()?;
+    let l = llt.L();
+    // Collatz–Wielandt with the vector of ones: ρ(|L||Lᵀ|) ≤ max_i (|L|(|Lᵀ|1))_i.
+    let col: Vec<f64> = (0..m)
+        .map(|j| (j..m).map(|i| l[(i, j)].abs()).sum())
+        .collect();
+    let cw = (0..m)
+        .map(|i| (0..=i).map(|j| l[(i, j)].abs() * col[j]).sum::<f64>())
+        .fold(0.0, f64::max)
+        * (1.0 + gamma(2 * m + 2));
+    let tmax = (0..m).map(|i| tm[(i, i)].abs()).fold(0.0, f64::max);
+    Some(gamma(m + 1) * cw + 2.0 * U * tmax)
 }
 
 #[cfg(test)]
@@ -381,9 +391,10 @@ mod tests {
         let pattern = DiagonalPattern::new(&k).unwrap();
         let in_b = super::super::dof_mask(n, dofs).unwrap();
         let kff = super::super::free_block_factor(&pattern, &in_b).unwrap();
+        let blocks = super::super::Blocks::selection(dofs, in_b);
         let mut shifts = Shifts {
             pattern: &pattern,
-            in_b: &in_b,
+            blocks: &blocks,
             factorizations: 1,
             work: Vec::new(),
         };

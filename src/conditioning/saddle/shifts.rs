@@ -2,14 +2,16 @@
 //! pattern, their Cholesky tests (plain and verified) and LDLᵀ inertia tests with their
 //! backward error bounded.
 
+use super::coupling::Blocks;
 use crate::conditioning::certify::{self, Margin};
 use crate::conditioning::residual::perron_bound;
 use crate::linalg::{DiagonalPattern, SparseLlt};
 
-/// `α·K + σ·I + β·1_B` on K's pattern, factorized with one symbolic analysis.
+/// `α·K + σ·I + β·DDᵀ` (`β·1_B` for a Boolean D) on the pattern of `K + DDᵀ`, factorized
+/// with one symbolic analysis.
 pub(super) struct Shifts<'a> {
     pub(super) pattern: &'a DiagonalPattern,
-    pub(super) in_b: &'a [bool],
+    pub(super) blocks: &'a Blocks<'a>,
     pub(super) factorizations: usize,
     /// Value buffer reused by every factorization.
     pub(super) work: Vec<f64>,
@@ -17,8 +19,8 @@ pub(super) struct Shifts<'a> {
 
 impl Shifts<'_> {
     pub(super) fn factor(&mut self, alpha: f64, sigma: f64, beta: f64) -> Option<SparseLlt> {
-        self.pattern
-            .fill_shifted(&mut self.work, alpha, sigma, beta, Some(self.in_b));
+        self.blocks
+            .fill(self.pattern, &mut self.work, alpha, sigma, beta);
         self.factorizations += 1;
         self.pattern.factor(&self.work)
     }
@@ -40,11 +42,23 @@ impl Shifts<'_> {
         margin: Margin,
     ) -> bool {
         let (mut max_b, mut max_e) = (f64::NEG_INFINITY, 0.0f64);
-        for (j, &p) in self.pattern.diag.iter().enumerate() {
-            let k = alpha * self.pattern.values[p];
-            let b = if self.in_b[j] { beta } else { 0.0 };
-            max_b = max_b.max(k + sigma + b);
-            max_e = max_e.max(k.abs() + sigma.abs() + b.abs());
+        if self.blocks.is_selection() {
+            let in_b = &self.blocks.in_b;
+            for (j, &p) in self.pattern.diag.iter().enumerate() {
+                let k = alpha * self.pattern.values[p];
+                let b = if in_b[j] { beta } else { 0.0 };
+                max_b = max_b.max(k + sigma + b);
+                max_e = max_e.max(k.abs() + sigma.abs() + b.abs());
+            }
+        } else {
+            // Coupled rows: the formed matrix's own diagonal (rounded up) and its formation
+            // bound (`Blocks::fill`, which covers every entry's rounding in 2-norm).
+            max_e = self
+                .blocks
+                .fill(self.pattern, &mut self.work, alpha, sigma, beta);
+            for &p in &self.pattern.diag {
+                max_b = max_b.max(certify::up(self.work[p]));
+            }
         }
         if max_b.is_nan() || max_b <= 0.0 {
             return false;
@@ -71,8 +85,8 @@ impl Shifts<'_> {
         need: f64,
     ) -> Option<(f64, SparseLlt)> {
         let max_e = self
-            .pattern
-            .fill_shifted(&mut self.work, alpha, sigma, beta, Some(self.in_b));
+            .blocks
+            .fill(self.pattern, &mut self.work, alpha, sigma, beta);
         self.factorizations += 1;
         let f = self.pattern.factor(&self.work)?;
         // Lemma 7's residual only where it needs no copy of a supernodal factor.
@@ -101,9 +115,9 @@ impl Shifts<'_> {
     /// most one eigenvalue of A in (0, μ). The margin is Lemma 7a's, read in place (Lemma 1's
     /// would be first order in the 1/τ of B's diagonal). None where the test fails.
     pub(super) fn pinned_gap(&mut self, tau: f64, pin: usize, margin: Margin) -> Option<f64> {
-        let max_e =
-            self.pattern
-                .fill_shifted(&mut self.work, 1.0, -tau, 1.0 / tau, Some(self.in_b));
+        let max_e = self
+            .blocks
+            .fill(self.pattern, &mut self.work, 1.0, -tau, 1.0 / tau);
         self.pattern.pin(&mut self.work, pin);
         self.factorizations += 1;
         let f = self.pattern.factor(&self.work)?;
@@ -151,8 +165,8 @@ impl Shifts<'_> {
     /// where the factor has no LDLᵀ (supernodal) or a zero pivot.
     pub(super) fn ldlt_inertia(&mut self, sigma: f64, beta: f64) -> Option<(usize, f64)> {
         let max_e = self
-            .pattern
-            .fill_shifted(&mut self.work, 1.0, sigma, beta, Some(self.in_b));
+            .blocks
+            .fill(self.pattern, &mut self.work, 1.0, sigma, beta);
         self.factorizations += 1;
         let test = self.pattern.ldlt(&self.work)?;
         let rho = perron_bound(

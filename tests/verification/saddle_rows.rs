@@ -1,0 +1,266 @@
+//! The sparse saddle-point cond₂ route for constraint rows that couple DOFs
+//! (`conditioning::saddle::cond2_saddle_rows`, issue 45) against dense symmetric eigenvalues
+//! of the assembled `[K D; Dᵀ 0]` (this code's dense route, and NumPy's SVD where
+//! `tests/data/coupled/reference.json` has it): the dense value lies in the certified
+//! bracket, widened by the dense solver's own rounding (64·n·ε_mach·cond₂ relative, as in
+//! `saddle_cond.rs`), on the inclined plane (two-term rows), the two-body patch test with
+//! mortar and one-pass node-to-segment rows, Hertz between two elastic bodies (mortar), the
+//! outside references' truss scenes, and single-DOF rows written as rows.
+
+use penalty_lab::conditioning::saddle::{cond2_saddle, cond2_saddle_rows, Row, SCHUR_TEST_MAX};
+use penalty_lab::conditioning::{cond2_dense, CondReport, CondRoute};
+use penalty_lab::error::Error;
+use penalty_lab::model::elasticity::{Grid, Material};
+use penalty_lab::model::two_body::{patch, Discretization, TwoBlocks};
+use penalty_lab::scene::read_scene;
+use penalty_lab::strategy::{self, lagrange, Method, SystemKind};
+use penalty_lab::study::contact_bench::BenchConfig;
+use penalty_lab::study::hertz::Case;
+use penalty_lab::system::{sparse_of_dense, Problem, Stiffness};
+use std::path::Path;
+
+/// K in compressed columns, whatever its storage.
+fn sparse_k(p: &Problem) -> faer::sparse::SparseColMat<usize, f64> {
+    match &p.k {
+        Stiffness::Sparse(k) => k.clone(),
+        Stiffness::Dense(k) => sparse_of_dense(k.as_ref()),
+    }
+}
+
+/// Lagrange's active set and its rows.
+fn active_rows(p: &Problem) -> (Vec<usize>, Vec<Row>) {
+    let s = strategy::solve(p, Method::lagrange()).unwrap();
+    let SystemKind::SaddlePoint { active } = s.system else {
+        panic!("lagrange returns a saddle point")
+    };
+    let rows = active
+        .iter()
+        .map(|&c| p.constraints[c].terms.clone())
+        .collect();
+    (active, rows)
+}
+
+/// The rows route on Lagrange's system of `p`, checked against the dense eigenvalues; returns
+/// the report and the dense cond₂.
+fn check(p: &Problem, label: &str) -> (CondReport, f64) {
+    let (act, rows) = active_rows(p);
+    let sparse = cond2_saddle_rows(&sparse_k(p), &rows, SCHUR_TEST_MAX, None).unwrap();
+    assert_eq!(sparse.route, CondRoute::SparseSaddleInertia, "{label}");
+    let kkt = lagrange::saddle_matrix(p, &act).to_dense();
+    let dense = cond2_dense(kkt.as_ref(), true).unwrap();
+    let n = kkt.nrows() as f64;
+    let slack = 64.0 * n * f64::EPSILON * dense.cond2;
+    let cert = sparse.certificate.expect("certificate");
+    let (lo, hi) = cert.cond2_bounds();
+    assert!(
+        dense.cond2 >= lo * (1.0 - slack) && dense.cond2 <= hi * (1.0 + slack),
+        "{label}: dense cond₂ {:e} outside [{lo:e}, {hi:e}] (slack {slack:e})",
+        dense.cond2
+    );
+    let abs = 64.0 * n * f64::EPSILON * dense.sigma_max;
+    for (what, d, l, h) in [
+        (
+            "σ_max",
+            dense.sigma_max,
+            cert.lambda_max_lo,
+            cert.lambda_max_hi,
+        ),
+        (
+            "σ_min",
+            dense.sigma_min,
+            cert.lambda_min_lo,
+            cert.lambda_min_hi,
+        ),
+    ] {
+        assert!(
+            d >= l - abs && d <= h + abs,
+            "{label}: dense {what} {d:e} outside [{l:e}, {h:e}]"
+        );
+    }
+    // The value itself as exact as the dense one: within the contract's width.
+    let rel = (sparse.cond2 / dense.cond2 - 1.0).abs();
+    assert!(
+        rel <= 1e-11f64.max(slack),
+        "{label}: cond₂ {:e} vs dense {:e}",
+        sparse.cond2,
+        dense.cond2
+    );
+    // |det A| from the route's factors against the dense LU's.
+    let det = sparse.log10_det.expect("log10|det A|");
+    let lu = faer::linalg::solvers::PartialPivLu::new(kkt.as_ref());
+    let dense_det: f64 = (0..kkt.nrows()).map(|i| lu.U()[(i, i)].abs().log10()).sum();
+    assert!(
+        (det - dense_det).abs() <= 1e-9 * dense_det.abs().max(1.0),
+        "{label}: log10|det| {det} vs {dense_det}"
+    );
+    (sparse, dense.cond2)
+}
+
+fn steel() -> Material {
+    Material {
+        young: 210e3,
+        poisson: 0.3,
+    }
+}
+
+fn blocks(nx_lower: usize, nx_upper: usize) -> TwoBlocks {
+    TwoBlocks {
+        width: 1.0,
+        h_lower: 0.6,
+        h_upper: 0.4,
+        mesh_lower: (nx_lower, 3),
+        mesh_upper: (nx_upper, 2),
+        lower: steel(),
+        upper: Material {
+            young: 70e3,
+            poisson: 0.33,
+        },
+    }
+}
+
+#[test]
+fn inclined_plane_rows_bracket_the_dense_cond2() {
+    let grid = Grid::uniform(1.0, 0.5, 7, 5);
+    for theta_deg in [15.0f64, 30.0, 45.0] {
+        let ind = penalty_lab::model::inclined::inclined_punch(
+            &grid,
+            &steel(),
+            1e-3,
+            theta_deg.to_radians(),
+        )
+        .unwrap();
+        let (r, _) = check(&ind.problem, &format!("inclined {theta_deg}°"));
+        assert!(r.bounds_proven, "inclined {theta_deg}°: {r:?}");
+    }
+}
+
+#[test]
+fn two_body_rows_bracket_the_dense_cond2() {
+    for (disc, lower, upper) in [
+        (Discretization::Mortar, 4, 7),
+        (Discretization::Mortar, 3, 5),
+        (Discretization::Nts1, 4, 7),
+    ] {
+        let ind = patch(&blocks(lower, upper), 1e-3, disc).unwrap();
+        let (r, _) = check(&ind.problem, &format!("{} {lower}:{upper}", disc.name()));
+        assert!(r.bounds_proven, "{}: {r:?}", disc.name());
+    }
+}
+
+/// Hertz between two elastic bodies, mortar rows (contact_bench's `hertz-two-body` on its
+/// coarsest mesh): cond₂ ≈ 1e12–1e13, the regime where the dense route's Kahan bounds are
+/// wide.
+#[test]
+fn hertz_two_body_mortar_rows_bracket_the_dense_cond2() {
+    let cfg = BenchConfig::default();
+    let grid = cfg.grid(Case::HertzTwoBody, 0.2).unwrap();
+    let ind = cfg.scene(Case::HertzTwoBody, &grid, 0.05).unwrap();
+    let (r, dense) = check(&ind.problem, "hertz-two-body");
+    let (lo, hi) = r.certificate.unwrap().cond2_bounds();
+    eprintln!(
+        "hertz-two-body h = 0.2: N = {}, cond₂ {:e} (dense {dense:e}), proven {}, width {:.1e}",
+        ind.problem.n(),
+        r.cond2,
+        r.bounds_proven,
+        hi / lo - 1.0
+    );
+    // Proven, and narrower than the contract (max(1e-11, 64·ε·cond₂) ≈ 0.08 here) by far.
+    assert!(
+        r.bounds_proven && hi / lo - 1.0 <= 1e-11,
+        "[{lo:e}, {hi:e}]"
+    );
+}
+
+/// The outside references (NumPy, `scripts/coupled_reference.py`): cond₂ of Lagrange's
+/// saddle point by SVD.
+#[test]
+fn coupled_reference_scenes_agree_with_numpy() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/coupled");
+    let reference: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("reference.json")).unwrap())
+            .unwrap();
+    let mut checked = 0;
+    for s in reference["scenes"].as_array().unwrap() {
+        let name = s["scene"].as_str().unwrap();
+        let scene = read_scene(&dir.join(name)).unwrap();
+        let p = &scene.problem;
+        let (_, rows) = active_rows(p);
+        if rows.len() >= p.n() || rows.iter().all(|r| r.len() == 1) {
+            continue;
+        }
+        let (r, _) = check(p, name);
+        let numpy = s["lagrange"]["cond2"].as_f64().unwrap();
+        let slack = 64.0 * (p.n() + rows.len()) as f64 * f64::EPSILON * numpy;
+        let (lo, hi) = r.certificate.unwrap().cond2_bounds();
+        assert!(
+            numpy >= lo * (1.0 - slack) && numpy <= hi * (1.0 + slack),
+            "{name}: NumPy cond₂ {numpy:e} outside [{lo:e}, {hi:e}]"
+        );
+        eprintln!(
+            "{name}: cond₂ {:e} (NumPy {numpy:e}), proven {}",
+            r.cond2, r.bounds_proven
+        );
+        checked += 1;
+    }
+    assert!(
+        checked >= 2,
+        "only {checked} reference scenes have coupled active rows"
+    );
+}
+
+/// Single-DOF rows with coefficient 1 through the rows route give the Boolean route's cond₂
+/// (both within their brackets); a row scaled by 2.5 scales D's column and changes the
+/// spectrum, which the rows route follows (checked against the dense eigenvalues).
+#[test]
+fn single_dof_rows_agree_with_the_boolean_route() {
+    let p = &crate::common::matrices::membranes((20, 30), 1, 5)[0];
+    let (act, rows) = active_rows(p);
+    let dofs: Vec<usize> = act
+        .iter()
+        .map(|&c| p.constraints[c].single_dof().unwrap())
+        .collect();
+    let k = sparse_k(p);
+    let boolean = cond2_saddle(&k, &dofs).unwrap();
+    let as_rows = cond2_saddle_rows(&k, &rows, SCHUR_TEST_MAX, None).unwrap();
+    let (lo, hi) = as_rows.certificate.unwrap().cond2_bounds();
+    assert!(
+        boolean.cond2 >= lo * (1.0 - 1e-12) && boolean.cond2 <= hi * (1.0 + 1e-12),
+        "Boolean cond₂ {:e} outside the rows route's [{lo:e}, {hi:e}]",
+        boolean.cond2
+    );
+    assert!((as_rows.cond2 / boolean.cond2 - 1.0).abs() <= 1e-11);
+    check(p, "membrane as rows");
+    // One row scaled: a different matrix, the same route.
+    let mut scaled = p.clone();
+    let c0 = act[0];
+    let d0 = scaled.constraints[c0].single_dof().unwrap();
+    scaled.constraints[c0].terms = vec![(d0, 2.5)];
+    check(&scaled, "membrane, one row ×2.5");
+}
+
+#[test]
+fn bad_rows_are_refused() {
+    let p = &crate::common::matrices::membranes((20, 30), 1, 5)[0];
+    let k = sparse_k(p);
+    let n = p.n();
+    let refuse = |rows: &[Row]| cond2_saddle_rows(&k, rows, SCHUR_TEST_MAX, None).unwrap_err();
+    assert!(matches!(refuse(&[]), Error::OutOfRange { .. }));
+    assert!(matches!(
+        refuse(&[vec![(n, 1.0)]]),
+        Error::DofOutOfRange { .. }
+    ));
+    assert!(matches!(
+        refuse(&[vec![(0, 1.0), (0, 2.0)]]),
+        Error::Duplicate { .. }
+    ));
+    assert!(matches!(refuse(&[vec![(0, 0.0)]]), Error::NotFinite { .. }));
+    assert!(matches!(
+        refuse(&[vec![(0, f64::NAN)]]),
+        Error::NotFinite { .. }
+    ));
+    // Dependent rows: A singular.
+    assert!(matches!(
+        refuse(&[vec![(0, 1.0), (1, 1.0)], vec![(0, 2.0), (1, 2.0)]]),
+        Error::Singular(_)
+    ));
+}
