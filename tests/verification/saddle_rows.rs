@@ -264,3 +264,69 @@ fn bad_rows_are_refused() {
         Error::Singular(_)
     ));
 }
+
+/// λ_min of K on the null space of Dᵀ (the floor of cond₂ over all penalties for coupled rows,
+/// `optimal::cond2_lower_bound`) against a dense computation: the (m+1)-th smallest eigenvalue
+/// of `PKP`, `P = I − D(DᵀD)⁻¹Dᵀ` (m zeros on range(D), then K_Z's spectrum); the proven
+/// upper bound sits above it by at most a few roundings, and the floor lies below the cond₂
+/// of `K + DEDᵀ` for penalties spread over eleven decades.
+#[test]
+fn the_coupled_floor_is_k_on_the_null_space_of_dt() {
+    use nalgebra::{DMatrix, SymmetricEigen};
+    use penalty_lab::conditioning::saddle::null_space_lambda_min;
+    use penalty_lab::strategy::optimal::cond2_lower_bound;
+    let grid = Grid::uniform(1.0, 0.5, 5, 3);
+    let inclined =
+        penalty_lab::model::inclined::inclined_punch(&grid, &steel(), 1e-3, 0.5).unwrap();
+    let mortar = patch(&blocks(3, 5), 1e-3, Discretization::Mortar).unwrap();
+    for (label, p) in [("inclined", inclined.problem), ("mortar", mortar.problem)] {
+        let rows: Vec<Row> = p.constraints.iter().map(|c| c.terms.clone()).collect();
+        let got = null_space_lambda_min(&sparse_k(&p), &rows).unwrap();
+        let (n, m) = (p.n(), rows.len());
+        let kd = p.k.to_dense();
+        let k = DMatrix::from_fn(n, n, |i, j| kd[(i, j)]);
+        let mut d = DMatrix::<f64>::zeros(n, m);
+        for (c, row) in rows.iter().enumerate() {
+            for &(i, a) in row {
+                d[(i, c)] = a;
+            }
+        }
+        let g = (d.transpose() * &d).cholesky().unwrap();
+        let proj = DMatrix::<f64>::identity(n, n) - &d * g.solve(&d.transpose());
+        let pkp = &proj * &k * &proj;
+        let pkp = (&pkp + pkp.transpose()) * 0.5;
+        let mut ev: Vec<f64> = SymmetricEigen::new(pkp)
+            .eigenvalues
+            .iter()
+            .copied()
+            .collect();
+        ev.sort_by(f64::total_cmp);
+        let dense = ev[m];
+        let scale = ev[n - 1];
+        // The dense value's own rounding: 64·n·ε·λ_max(K).
+        let slack = 64.0 * n as f64 * f64::EPSILON * scale;
+        assert!(
+            got.upper >= dense - slack && got.upper <= dense * (1.0 + 1e-8) + slack,
+            "{label}: upper {:e} vs dense λ_min(K_Z) {dense:e} (slack {slack:e})",
+            got.upper
+        );
+        assert!((got.estimate / dense - 1.0).abs() <= 1e-8 + slack / dense);
+        // The floor against cond₂(K + DEDᵀ) for penalties over eleven decades.
+        let floor = cond2_lower_bound(&p).unwrap();
+        for e in [1e-3, 1.0, 1e3, 1e6, 1e8] {
+            let eps: Vec<f64> = (0..m)
+                .map(|c| e * kd[(c, c)] * (1.0 + c as f64 / 7.0))
+                .collect();
+            let a = p.penalized_k(&eps).to_dense();
+            let cond = cond2_dense(a.as_ref(), true).unwrap().cond2;
+            assert!(
+                floor <= cond * (1.0 + 64.0 * n as f64 * f64::EPSILON),
+                "{label}: floor {floor:e} above cond₂ {cond:e} at ε = {e:e}·k"
+            );
+        }
+        eprintln!(
+            "{label}: λ_min(K_Z) {dense:e}, upper {:e}, floor {floor:e}",
+            got.upper
+        );
+    }
+}

@@ -119,6 +119,7 @@ use faer::sparse::{SparseColMat, SymbolicSparseColMat};
 mod blocks;
 mod coupling;
 mod negative;
+mod null_space;
 pub mod schur;
 mod shifts;
 mod top;
@@ -129,6 +130,7 @@ pub(crate) use blocks::{dof_error, dof_mask};
 use coupling::{AugmentedInverse, Blocks, Inverse};
 pub use coupling::{Row, MAX_ROWS_ENTRIES};
 use negative::schur_test_fails;
+pub use null_space::{null_space_lambda_min, NullSpaceMin};
 use shifts::Shifts;
 
 /// Largest m for which the fourth end (λ⁻_max) is certified by the m×m test `λ_min(M(s)) ≥ s`.

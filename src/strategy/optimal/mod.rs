@@ -75,8 +75,10 @@
 //! **Rows that couple DOFs** (issue 45): `A = K + Σ_c ε_c d_c d_cᵀ`, so every formula above
 //! holds with `v_k[d_c]` read as `d_cᵀv_k` and `e_{d_i}` as the row d_i (∂A/∂ε_c = d_c d_cᵀ);
 //! the sparse route factors on the pattern of `K + DDᵀ`. The certified floor
-//! [`cond2_lower_bound`] needs K on the null space of Dᵀ, a Boolean D's free DOFs; with coupled
-//! rows the report's `cond2_lower_bound` is NaN. Both routes end the
+//! [`cond2_lower_bound`] needs K on the null space of Dᵀ: a Boolean D's free DOFs (K_FF), and
+//! for coupled rows `λ_min(K_Z)` from above by
+//! [`crate::conditioning::saddle::null_space_lambda_min`] (NaN in the report where the rows
+//! are dependent). Both routes end the
 //! same way (exact re-solve, exact cond₂, best feasible candidate), so the route changes the
 //! path of the optimiser, never the exactness of the reported numbers; on scenes both take
 //! (beams, Hertz and patch scenes of 51–136 DOFs) the optima agree to 5·10⁻⁹ relative
@@ -213,8 +215,8 @@ pub struct OptimalReport {
     pub starts_agreeing: usize,
     /// Starts stopped because they reached an earlier start's point (not in `starts`).
     pub starts_merged: usize,
-    /// Certified lower bound λ_max(K)/λ_min(K_FF) of the optimum; NaN where rows couple DOFs
-    /// ([`cond2_lower_bound`] takes a Boolean D).
+    /// Certified lower bound λ_max(K)/λ_min(K_Z) of the optimum (K_Z = K on the null space
+    /// of Dᵀ; K_FF for a Boolean D); NaN where it cannot be had (dependent coupled rows).
     pub cond2_lower_bound: f64,
     /// Which candidate won (`optimised from condensed`, `paper`, ...).
     pub winner: String,
@@ -247,8 +249,13 @@ pub fn check_affordable(problem: &Problem) -> Result<()> {
 /// on K and on K_FF, any size, sparse or dense): the lower end of λ_max(K)'s bracket over
 /// the upper end of λ_min(K_FF)'s, rounded down. 1 when every DOF is constrained; +∞ when
 /// K_FF is not positive definite (every K + DEDᵀ is then singular). K symmetric positive
-/// definite and D Boolean (errors otherwise).
+/// definite. Rows that couple DOFs: `λ_max(K)/λ_min(K_Z)` with K_Z = K on the null space of
+/// Dᵀ, λ_min(K_Z) from above ([`crate::conditioning::saddle::null_space_lambda_min`]; errors
+/// on dependent rows).
 pub fn cond2_lower_bound(problem: &Problem) -> Result<f64> {
+    if !problem.is_selection() {
+        return coupled_lower_bound(problem);
+    }
     let n = problem.n();
     let mut index = vec![usize::MAX; n];
     for d in problem.single_dofs("the cond₂ lower bound over all E")? {
@@ -293,6 +300,33 @@ pub fn cond2_lower_bound(problem: &Problem) -> Result<f64> {
     } else {
         f64::INFINITY
     })
+}
+
+/// [`cond2_lower_bound`] for rows that couple DOFs: `λ_max(K) / λ_min(K_Z)`, K_Z = K on the
+/// null space of Dᵀ (the module docs' argument with any `z`, `Dᵀz = 0`, in place of the padded
+/// eigenvector of K_FF), λ_min(K_Z) from above by
+/// [`conditioning::saddle::null_space_lambda_min`]. 1 when the rows leave no null space
+/// (m ≥ N).
+fn coupled_lower_bound(problem: &Problem) -> Result<f64> {
+    if problem.m() >= problem.n() {
+        return Ok(1.0);
+    }
+    let rows: Vec<conditioning::saddle::Row> = problem
+        .constraints
+        .iter()
+        .map(|c| c.terms.clone())
+        .collect();
+    let k = match &problem.k {
+        Stiffness::Sparse(k) => std::borrow::Cow::Borrowed(k),
+        Stiffness::Dense(k) => std::borrow::Cow::Owned(crate::system::sparse_of_dense(k.as_ref())),
+    };
+    let bottom = conditioning::saddle::null_space_lambda_min(&k, &rows)?;
+    let top = conditioning::cond2(&problem.k)?;
+    let lmax = top
+        .certificate
+        .filter(|_| top.bounds_proven)
+        .map_or(top.sigma_max, |c| c.lambda_max_lo);
+    Ok((lmax / bottom.upper * (1.0 - 4.0 * f64::EPSILON)).max(1.0))
 }
 
 /// A feasible candidate: its solution and exact cond₂.
@@ -423,11 +457,12 @@ pub fn solve(ctx: Context, delta: f64) -> Result<Solution> {
 pub fn solve_by(ctx: Context, delta: f64, route: Route) -> Result<Solution> {
     let p = ctx.problem;
     check_affordable(p)?;
-    // The floor over all E needs K on the null space of Dᵀ: computed for a Boolean D only.
+    // The floor over all E: for coupled rows NaN where it cannot be had (dependent rows, K
+    // not positive definite on the null space of Dᵀ).
     let lower = if p.is_selection() {
         cond2_lower_bound(p)?
     } else {
-        f64::NAN
+        cond2_lower_bound(p).unwrap_or(f64::NAN)
     };
     let spectrum = Spectrum::new(p, route)?;
     let mut cands: Vec<Candidate> = Vec::new();

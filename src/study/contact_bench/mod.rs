@@ -605,11 +605,11 @@ pub fn run_mesh(cfg: &BenchConfig, case: Case, h_rel: f64, progress: &Progress) 
         case: case.name().into(),
         h: h_rel * cfg.a_target,
         n_dofs: lag.scene.n_free,
-        // The bound over all E needs a Boolean D (the inclined rows have two terms).
+        // Coupled rows: K on the null space of Dᵀ; NaN where the rows are dependent.
         cond2_floor: if lag.scene.problem.is_selection() {
             strategy::optimal::cond2_lower_bound(&lag.scene.problem)?
         } else {
-            f64::NAN
+            strategy::optimal::cond2_lower_bound(&lag.scene.problem).unwrap_or(f64::NAN)
         },
     };
     let mesh = prep.mesh(&errors);
