@@ -274,6 +274,12 @@ pub enum Case {
     /// with nodal normals, two terms per row.
     #[serde(rename = "hertz-normals")]
     HertzNormals,
+    /// The two-body patch test with two-pass node-to-segment rows: linearly dependent, so
+    /// Lagrange (and `condensed`) refuse them and the case has no Lagrange reference; the
+    /// pressures are the nodal ones of both bodies' interface nodes
+    /// ([`crate::model::two_body`], **Pressure**).
+    #[serde(rename = "patch-two-body-nts-2")]
+    PatchNts2,
 }
 
 /// The upper block of the two-body cases: its height over a, its modulus over the lower
@@ -286,11 +292,12 @@ pub const MESH_RATIO: (usize, usize) = (7, 4);
 
 impl Case {
     /// The cases `contact_bench` runs by default: all but `hertz-two-body` (≈ 3.5 min of its
-    /// own on 2 cores, which would take the default run past 2 min) and `hertz-normals`.
+    /// own on 2 cores, which would take the default run past 2 min), `hertz-normals` and
+    /// `patch-two-body-nts-2` (no Lagrange reference).
     pub const DEFAULT: &'static [Case] = Case::ALL.split_at(8).0;
 
     /// Every case, in table order.
-    pub const ALL: [Case; 10] = [
+    pub const ALL: [Case; 11] = [
         Case::HertzPlane,
         Case::HertzAxi,
         Case::FlatPunch,
@@ -301,10 +308,12 @@ impl Case {
         Case::PatchNts1,
         Case::HertzTwoBody,
         Case::HertzNormals,
+        Case::PatchNts2,
     ];
 
     /// Its name in rows and options (`hertz-plane`, `hertz-axi`, `flat-punch`,
-    /// `inclined-15`, `inclined-30`, `inclined-45`).
+    /// `inclined-15`, `inclined-30`, `inclined-45`, `patch-two-body-mortar`,
+    /// `patch-two-body-nts-1`, `hertz-two-body`, `hertz-normals`, `patch-two-body-nts-2`).
     pub fn name(self) -> &'static str {
         match self {
             Case::HertzPlane => "hertz-plane",
@@ -317,6 +326,7 @@ impl Case {
             Case::PatchNts1 => "patch-two-body-nts-1",
             Case::HertzTwoBody => "hertz-two-body",
             Case::HertzNormals => "hertz-normals",
+            Case::PatchNts2 => "patch-two-body-nts-2",
         }
     }
 
@@ -325,6 +335,7 @@ impl Case {
         match self {
             Case::PatchMortar => Some(Discretization::Mortar),
             Case::PatchNts1 => Some(Discretization::Nts1),
+            Case::PatchNts2 => Some(Discretization::Nts2),
             _ => None,
         }
     }
@@ -355,12 +366,19 @@ impl Case {
     }
 
     /// How the contact rows are discretized (`nodal`: one row per contact node; two bodies:
-    /// `mortar`, `nts-1`).
+    /// `mortar`, `nts-1`, `nts-2`).
     pub fn discretization(self) -> &'static str {
         match self {
             Case::HertzTwoBody => Discretization::Mortar.name(),
             _ => self.two_body().map_or("nodal", Discretization::name),
         }
+    }
+
+    /// Whether the case's contact rows are linearly dependent (`patch-two-body-nts-2`):
+    /// Lagrange refuses them (a singular saddle point), so the case has no Lagrange reference
+    /// and its rows no `err_penalty` or `err_discretization`.
+    pub fn dependent_rows(self) -> bool {
+        self.two_body() == Some(Discretization::Nts2)
     }
 
     /// The case named `s` (`patch` is read as `flat-punch`, its name before issue 44).

@@ -6,8 +6,8 @@ use serde::{Deserialize, Serialize};
 /// One (case, method, knob, mesh).
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct BenchRow {
-    /// `hertz-plane`, `hertz-axi`, `flat-punch`, `inclined-15`, `inclined-30` or
-    /// `inclined-45`.
+    /// The case ([`super::analytic::Case::name`]: `hertz-plane`, `flat-punch`,
+    /// `patch-two-body-nts-1`, …).
     pub case: String,
     /// How the contact rows are discretized: `nodal` (one row per contact node; issue 45
     /// adds `nts-1`, `nts-2` and `mortar` for two bodies).
@@ -198,6 +198,12 @@ pub struct Floor {
 }
 
 impl BenchRow {
+    /// Whether the rule's force-controlled solve succeeded (it found a lift; the row may still
+    /// carry an error of its metrics).
+    pub fn solved(&self) -> bool {
+        !self.lift.is_nan()
+    }
+
     /// The solver-cost columns ([`crate::metrics::solver::Summary`]).
     pub fn set_solver_columns(&mut self, c: crate::metrics::solver::Summary) {
         self.cond2_jacobi = c.cond2_jacobi;
