@@ -483,6 +483,25 @@ pub fn contact_width(nodes: &[ContactNode], p: &[f64], floor: f64) -> f64 {
 mod tests {
     use super::*;
 
+    /// Every case reads back from its name (also through serde); the default run holds the
+    /// first eight, without the on-request cases; `patch-two-body-nts-2` is the two-pass
+    /// discretization, the only one with dependent rows.
+    #[test]
+    fn case_names_and_the_default_run() {
+        for c in Case::ALL {
+            assert_eq!(Case::from_name(c.name()), Some(c));
+            let json = serde_json::to_string(&c).unwrap();
+            assert_eq!(json, format!("\"{}\"", c.name()));
+            assert_eq!(c.dependent_rows(), c == Case::PatchNts2);
+        }
+        assert_eq!(Case::DEFAULT.len(), 8);
+        for c in [Case::HertzTwoBody, Case::HertzNormals, Case::PatchNts2] {
+            assert!(!Case::DEFAULT.contains(&c), "{}", c.name());
+        }
+        assert_eq!(Case::PatchNts2.discretization(), "nts-2");
+        assert!(Case::PatchNts2.is_uniform());
+    }
+
     /// Hertz's load–width relations invert: the load that gives width a back from a.
     #[test]
     fn hertz_closed_forms_are_consistent() {
