@@ -520,7 +520,7 @@ impl Indentation {
     /// Contact pressures p_c = −(K u − q)_c / ω_c at the contact nodes for the solution `u`
     /// for an `upper` row (compressive positive; a `lower` row's with the sign turned).
     ///
-    /// The row forces f are read from equilibrium, `K u − q = −D f` ([`super::contact_forces`]):
+    /// The row forces f are read from equilibrium, `K u − q = −D f` (`model::contact_forces`):
     /// `f_c = −(K u − q)_d` for single-DOF rows, `DᵀD f = −Dᵀ(K u − q)` for rows that couple
     /// DOFs (D of full column rank: one-pass node-to-segment, mortar; NaN where DᵀD is
     /// singular or nearly so); `p_c = s_c f_c / ω_c`, `s_c` +1 for an `upper` row and −1 for
