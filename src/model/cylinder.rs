@@ -23,7 +23,8 @@
 //! top nodes under the cap against the slave segments (limit the slave surface's linear
 //! interpolant at the master node); `mortar`, `(Σ_j D_ij v_j − Σ_k M_ik v_k)/ω_i ≥
 //! −(∫ N_i g0 ds)/ω_i` (the weighted gap, exact by 2-point Gauss: N_i g0 is cubic). Pressures
-//! are read as in [`two_body`] ([`Indentation::pressures`]; p_c = −f_c/ω_c at the slave nodes).
+//! are read as in [`two_body`] ([`Indentation::pressures`]; p_c = −f_c/ω_c at the slave nodes;
+//! `nts-2`: the nodal pressure of each row's own node, both bodies').
 
 use super::elasticity::{
     self, graded_axis, prescribed, Base, ContactNode, Geometry, Grid, Indentation, Material,
@@ -179,11 +180,15 @@ pub fn hertz_two_body(
         .collect();
     let (sx, mx) = (&xs, &block.xs);
     let ws = two_body::tributary(sx, Geometry::PlaneStrain);
-    let mut rows: Vec<(Terms, f64, f64, f64)> = Vec::new(); // (terms, limit, ω, x)
+    let mut rows: Vec<(Terms, f64, ContactNode)> = Vec::new(); // (terms, limit, node)
     match disc {
         Discretization::Nts1 | Discretization::Nts2 => {
             for (i, &x) in sx.iter().enumerate() {
-                rows.push((two_body::nts_terms(x, sd[i], mx, &md), -c.gap0(x), ws[i], x));
+                let node = ContactNode {
+                    own_dof: Some(sd[i]),
+                    ..ContactNode::new(x, ws[i])
+                };
+                rows.push((two_body::nts_terms(x, sd[i], mx, &md), -c.gap0(x), node));
             }
             if disc == Discretization::Nts2 {
                 let wm = two_body::tributary(mx, Geometry::PlaneStrain);
@@ -197,7 +202,7 @@ pub fn hertz_two_body(
                     let seg = sx.windows(2).position(|w| x <= w[1]).unwrap_or(nx - 2);
                     let xi = ((x - sx[seg]) / (sx[seg + 1] - sx[seg])).clamp(0.0, 1.0);
                     let g = (1.0 - xi) * c.gap0(sx[seg]) + xi * c.gap0(sx[seg + 1]);
-                    rows.push((terms, -g, wm[k], x));
+                    rows.push((terms, -g, two_body::second_pass(x, wm[k], md[k])));
                 }
             }
         }
@@ -205,15 +210,15 @@ pub fn hertz_two_body(
             let wg = weighted_gap(sx, |x| c.gap0(x));
             let m_rows = two_body::mortar_rows(sx, &sd, mx, &md, Geometry::PlaneStrain);
             for (i, terms) in m_rows.into_iter().enumerate() {
-                rows.push((terms, -wg[i] / ws[i], ws[i], sx[i]));
+                rows.push((terms, -wg[i] / ws[i], ContactNode::new(sx[i], ws[i])));
             }
         }
     }
     let mut constraints = Vec::with_capacity(rows.len());
     let mut contact = Vec::with_capacity(rows.len());
-    for (terms, limit, weight, x) in rows {
+    for (terms, limit, node) in rows {
         constraints.push(Constraint::row(terms, limit, ConstraintKind::Lower));
-        contact.push(ContactNode { x, weight });
+        contact.push(node);
     }
     let width = *block.xs.last().unwrap_or(&0.0);
     Indentation {

@@ -32,6 +32,7 @@
 //! `contact_bench` study and the sweep's `hertz` and `patch` families. The assembly is
 //! checked against scikit-fem's K of the same block (`tests/verification`).
 
+use super::contact_forces;
 use crate::error::{Error, Result};
 use crate::system::{Constraint, ConstraintKind, Problem, Stiffness, Surface};
 
@@ -441,13 +442,32 @@ pub enum Base {
     Sliding,
 }
 
-/// One top node in contact with the indenter.
+/// The node of one contact row: a top node in contact with the indenter, or the node a
+/// two-body row belongs to ([`super::two_body`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContactNode {
     /// Its abscissa (x or r).
     pub x: f64,
     /// Tributary weight ω = ∫ N ds (plane strain) or ∫ N r dr (axisymmetric) over the top.
     pub weight: f64,
+    /// A node-to-segment row's own node: the free DOF (normal) of the node whose gap the row
+    /// measures, its term with coefficient ±1; None for nodal and mortar rows.
+    pub own_dof: Option<usize>,
+    /// A second-pass row of two-pass node-to-segment (a master node against the slave face):
+    /// the other side of the slave nodes' load, left out of [`Indentation::total_force`].
+    pub second_pass: bool,
+}
+
+impl ContactNode {
+    /// A node at `x` with tributary weight `weight`: no own DOF, not of a second pass.
+    pub fn new(x: f64, weight: f64) -> ContactNode {
+        ContactNode {
+            x,
+            weight,
+            own_dof: None,
+            second_pass: false,
+        }
+    }
 }
 
 /// A block pushed onto a rigid indenter (see the module doc): the contact problem and what is
@@ -500,12 +520,15 @@ impl Indentation {
     /// Contact pressures p_c = −(K u − q)_c / ω_c at the contact nodes for the solution `u`
     /// for an `upper` row (compressive positive; a `lower` row's with the sign turned).
     ///
-    /// The row forces f are read from equilibrium, `K u − q = −D f`: `f_c = −(K u − q)_d` for
-    /// single-DOF rows, `DᵀD f = −Dᵀ(K u − q)` for rows that couple DOFs (D of full column
-    /// rank; NaN where DᵀD is singular or nearly so, e.g. the dependent rows of two-pass
-    /// node-to-segment),
-    /// and `p_c = s_c f_c / ω_c` with `s_c = +1` for an `upper` row and −1 for a `lower` one
-    /// (the compressive sign of each).
+    /// The row forces f are read from equilibrium, `K u − q = −D f` (`model::contact_forces`):
+    /// `f_c = −(K u − q)_d` for single-DOF rows, `DᵀD f = −Dᵀ(K u − q)` for rows that couple
+    /// DOFs (D of full column rank: one-pass node-to-segment, mortar; NaN where DᵀD is
+    /// singular or nearly so); `p_c = s_c f_c / ω_c`, `s_c` +1 for an `upper` row and −1 for
+    /// a `lower` one. **Two-pass node-to-segment** (a row of the [`ContactNode::second_pass`],
+    /// every row with its [`ContactNode::own_dof`] d): its rows are dependent and a row's share
+    /// of a force is not defined, so f_c is the contact force on the row's own node,
+    /// `−(K u − q)_d / a_cd` (a_cd = ±1), every row's force on it together: p_c is the nodal
+    /// pressure of each interface node of both bodies (one-pass rows: the row force itself).
     pub fn pressures(&self, u: &[f64]) -> Vec<f64> {
         let p = &self.problem;
         let mut r = p.k.matvec(u);
@@ -528,7 +551,10 @@ impl Indentation {
                 .map(|(con, node)| sign(con) * -con.value(&r) / node.weight)
                 .collect();
         }
-        let forces = row_forces(p, &r);
+        let forces = match self.two_pass_own_dofs() {
+            Some(own) => contact_forces::nodal_forces(p, &own, &r),
+            None => contact_forces::row_forces(p, &r),
+        };
         p.constraints
             .iter()
             .zip(&self.contact)
@@ -537,57 +563,34 @@ impl Indentation {
             .collect()
     }
 
+    /// Every row's own DOF where the rows are two-pass node-to-segment (some row of the
+    /// second pass, every row with its own DOF); None otherwise.
+    fn two_pass_own_dofs(&self) -> Option<Vec<usize>> {
+        if !self.contact.iter().any(|n| n.second_pass) {
+            return None;
+        }
+        self.contact.iter().map(|n| n.own_dof).collect()
+    }
+
     /// The total contact force of the whole body for the solution `u`: twice the half model's
-    /// (plane strain, per unit thickness) or 2π times the per-radian sum (axisymmetric).
+    /// (plane strain, per unit thickness) or 2π times the per-radian sum (axisymmetric). Of
+    /// two-pass node-to-segment rows only the first pass's count: the slave (upper) body's
+    /// interface nodes carry the whole load, and the second pass's nodes (the lower body's)
+    /// the same load from the other side.
     pub fn total_force(&self, u: &[f64]) -> f64 {
         let p = self.pressures(u);
-        let half: f64 = p.iter().zip(&self.contact).map(|(p, n)| p * n.weight).sum();
+        let half: f64 = p
+            .iter()
+            .zip(&self.contact)
+            .filter(|(_, n)| !n.second_pass)
+            .map(|(p, n)| p * n.weight)
+            .sum();
         match self.geometry {
             Geometry::PlaneStrain => 2.0 * half,
             Geometry::Axisymmetric => 2.0 * std::f64::consts::PI * half,
         }
     }
 }
-
-/// The row forces f with `r = −D f` (least squares, `DᵀD f = −Dᵀr`, dense m×m Cholesky; NaN
-/// where DᵀD is singular or its pivots spread by more than [`DEPENDENT_ROWS_RATIO`]:
-/// dependent rows carry no defined share of the force).
-fn row_forces(p: &Problem, r: &[f64]) -> Vec<f64> {
-    let m = p.m();
-    let mut dtd = faer::Mat::<f64>::zeros(m, m);
-    let n = p.n();
-    let mut col = vec![0.0; n];
-    for (j, cj) in p.constraints.iter().enumerate() {
-        cj.scatter(&mut col, 1.0);
-        for (i, ci) in p.constraints.iter().enumerate() {
-            dtd[(i, j)] = ci.value(&col);
-        }
-        for &(d, _) in &cj.terms {
-            col[d] = 0.0;
-        }
-    }
-    let mut rhs = faer::Mat::<f64>::from_fn(m, 1, |c, _| -p.constraints[c].value(r));
-    let Ok(llt) = dtd.llt(faer::Side::Lower) else {
-        return vec![f64::NAN; m];
-    };
-    // Each pivot L_ii² lies in [λ_min, λ_max] of DᵀD, so max/min pivot ≤ cond(DᵀD): a ratio
-    // above 1/√ε_mach proves the forces would keep fewer than half their digits. Dependent
-    // rows (two-pass node-to-segment) give a pivot at the rounding level without a
-    // breakdown; their shares are not defined.
-    let pivots = (0..m).map(|i| llt.L()[(i, i)].powi(2));
-    let (lo, hi) = pivots.fold((f64::INFINITY, 0.0_f64), |(lo, hi), v| {
-        (lo.min(v), hi.max(v))
-    });
-    if m > 0 && lo * DEPENDENT_ROWS_RATIO < hi {
-        return vec![f64::NAN; m];
-    }
-    faer::linalg::solvers::Solve::solve_in_place(&llt, rhs.as_mut());
-    (0..m).map(|c| rhs[(c, 0)]).collect()
-}
-
-/// Rows whose DᵀD has a Cholesky pivot ratio above this (1/√ε_mach) are treated as dependent
-/// by [`Indentation::pressures`].
-const DEPENDENT_ROWS_RATIO: f64 = 6.7e7;
 
 /// Tributary weights of the top nodes: ∫ N_i ds (plane strain) or ∫ N_i r dr (axisymmetric)
 /// of the linear edge functions, exact.
@@ -693,7 +696,7 @@ pub fn indentation(
             ));
         }
         constraints.push(Constraint::on_dof(d, limit, ConstraintKind::Upper));
-        contact.push(ContactNode { x, weight: w });
+        contact.push(ContactNode::new(x, w));
     }
     let problem = Problem::new(k, q, constraints)?.in_preferred_storage();
     Ok(Indentation {

@@ -7,6 +7,7 @@
 //! ([`scalable`], the run-time studies' input). Seeded random scenes of these models are
 //! the `generate` module's (above the strategies: some families are calibrated by a solve).
 pub mod beam;
+mod contact_forces;
 pub mod cylinder;
 pub mod elasticity;
 pub mod inclined;

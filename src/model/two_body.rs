@@ -18,7 +18,8 @@
 //!   [m₁, m₂] that contains it at ξ: `g_s = v_s − (1 − ξ) v_m₁ − ξ v_m₂` (≤ 3 terms);
 //! - `nts-2` (two-pass): those rows and the same with the bodies' roles swapped (every
 //!   master node against the slave segments); the rows are linearly dependent where nodes
-//!   line up, and the pass count doubles the stiffness of a penalty;
+//!   line up (always at the faces' ends), and the pass count doubles the stiffness of a
+//!   penalty;
 //! - `mortar` (segment-to-segment, the standard multiplier space on the slave side): one row
 //!   per slave node i, `g̃_i = (Σ_j D_ij v_j − Σ_k M_ik v_k) / ω_i` with
 //!   `D_ij = ∫ N_i N_j ds`, `M_ik = ∫ N_i N̂_k ds` over the slave face (N slave, N̂ master
@@ -34,7 +35,15 @@
 //! exact: with uniform p, `f_c = −ω_c p` makes both bodies' nodal forces the consistent ones
 //! (`Σ_i D_ij p = p ∫N_j`, `Σ_i M_ik p = p ∫N̂_k` since `Σ_i N_i = 1`), which is why mortar
 //! passes the patch test; one-pass node-to-segment hands the master nodes `(1 − ξ, ξ)` of
-//! each slave force instead, which is not `p ∫N̂_k`, and fails it.
+//! each slave force instead, which is not `p ∫N̂_k`, and fails it. For `nts-2` a row's own
+//! share is not defined (its rows are dependent: the least-squares forces would be NaN), so
+//! each row reads the contact force on its own node ([`ContactNode::own_dof`]: the slave
+//! node of its pass, coefficient +1 for an upper node, −1 for a lower one), `r = K u − q`
+//! there: `p_c = r_s/ω_c` at an upper node s, `−r_m/ω_c` at a lower node m — the nodal
+//! pressure of every interface node of both bodies, whatever the rows' dependence (for
+//! `nts-1` it is the row force itself, kept as it was). The load is the first pass's
+//! `Σ p_c ω_c` (the upper body's interface; the second pass's nodes carry it back:
+//! [`Indentation::total_force`] counts the first pass only).
 //!
 //! **Exact solution** of the patch test: uniform compression, `p = w / (H₁/E₁* + H₂/E₂*)`,
 //! `E* = E/(1 − ν²)` (plane strain, free lateral expansion on frictionless faces), reproduced
@@ -180,6 +189,16 @@ pub(super) fn nts_terms(x: f64, own: usize, xs: &[f64], other: &[usize]) -> Term
     let mut t = vec![(own, 1.0), (other[seg], -(1.0 - xi)), (other[seg + 1], -xi)];
     t.retain(|&(_, a)| a != 0.0);
     t
+}
+
+/// The contact node of a second-pass row (the master node at `x`, tributary weight `weight`,
+/// normal DOF `dof`): its own DOF, marked as of the second pass.
+pub(super) fn second_pass(x: f64, weight: f64, dof: usize) -> ContactNode {
+    ContactNode {
+        own_dof: Some(dof),
+        second_pass: true,
+        ..ContactNode::new(x, weight)
+    }
 }
 
 /// Tributary lengths ∫ N_i ds on the 1-D mesh `xs` (axisymmetric: ∫ N_i r dr, per radian).
@@ -348,7 +367,8 @@ fn validate(b: &TwoBlocks, squeeze: f64) -> Result<()> {
 
 /// The patch test of `blocks` pressed by `squeeze` (module doc), with rows of `disc`, as an
 /// [`Indentation`]: one contact node per row (its slave node's abscissa and tributary length
-/// ω), `lift` = the squeeze, so that [`Indentation::pressures`] reads `p_c = −f_c/ω_c` and
+/// ω; node-to-segment rows with their own DOF, the second pass marked), `lift` = the squeeze,
+/// so that [`Indentation::pressures`] reads `p_c = −f_c/ω_c` (module doc, **Pressure**) and
 /// force control (`strategy::force_control`) finds the squeeze that carries a load.
 pub fn patch(blocks: &TwoBlocks, squeeze: f64, disc: Discretization) -> Result<Indentation> {
     patch_in(Geometry::PlaneStrain, blocks, squeeze, disc)
@@ -382,11 +402,15 @@ pub fn patch_in(
         .collect();
     let (sx, mx) = (&upper.xs, &lower.xs);
     let (ws, wm) = (tributary(sx, geometry), tributary(mx, geometry));
-    let mut rows: Vec<(Terms, f64, f64)> = Vec::new(); // (terms, ω, x)
+    let mut rows: Vec<(Terms, ContactNode)> = Vec::new();
     match disc {
         Discretization::Nts1 | Discretization::Nts2 => {
             for (i, &x) in sx.iter().enumerate() {
-                rows.push((nts_terms(x, sd[i], mx, &md), ws[i], x));
+                let node = ContactNode {
+                    own_dof: Some(sd[i]),
+                    ..ContactNode::new(x, ws[i])
+                };
+                rows.push((nts_terms(x, sd[i], mx, &md), node));
             }
             if disc == Discretization::Nts2 {
                 for (k, &x) in mx.iter().enumerate() {
@@ -396,7 +420,7 @@ pub fn patch_in(
                         .into_iter()
                         .map(|(d, a)| (d, -a))
                         .collect();
-                    rows.push((terms, wm[k], x));
+                    rows.push((terms, second_pass(x, wm[k], md[k])));
                 }
             }
         }
@@ -406,15 +430,15 @@ pub fn patch_in(
                 .zip(&ws)
                 .zip(sx)
             {
-                rows.push((terms, w, x));
+                rows.push((terms, ContactNode::new(x, w)));
             }
         }
     }
     let mut constraints = Vec::with_capacity(rows.len());
     let mut contact = Vec::with_capacity(rows.len());
-    for (terms, weight, x) in rows {
+    for (terms, node) in rows {
         constraints.push(Constraint::row(terms, 0.0, ConstraintKind::Lower));
-        contact.push(ContactNode { x, weight });
+        contact.push(node);
     }
     Ok(Indentation {
         problem: Problem::new(k, q, constraints)?.in_preferred_storage(),
@@ -451,6 +475,84 @@ mod tests {
             for &(d, a) in row.iter().filter(|t| t.0 < 100) {
                 let b = row.iter().find(|t| t.0 == 100 + d).map_or(0.0, |t| t.1);
                 assert!((a + b).abs() <= 8.0 * f64::EPSILON, "{row:?}");
+            }
+        }
+    }
+
+    /// u in equilibrium with a force on every row: `(K + D E Dᵀ) u = q`, every row active
+    /// with the penalty `eps` (dense Cholesky: the blocks are small).
+    fn all_active(s: &Indentation, eps: f64) -> Vec<f64> {
+        let p = &s.problem;
+        let k = p.penalized_k(&vec![eps; p.m()]).to_dense();
+        let llt = k.llt(faer::Side::Lower).unwrap();
+        let mut b = faer::Mat::<f64>::from_fn(p.n(), 1, |i, _| p.q[i]);
+        faer::linalg::solvers::Solve::solve_in_place(&llt, b.as_mut());
+        (0..p.n()).map(|i| b[(i, 0)]).collect()
+    }
+
+    /// One-pass rows (`nts-1`, `mortar`) keep the least-squares row forces of
+    /// `contact_forces::row_forces` as their pressures, bit for bit (`p_c = −f_c/ω_c`, the
+    /// reading before two-pass rows had theirs), in both geometries; for `nts-1` the nodal
+    /// reading (the force on each row's own node) agrees with them to rounding, since no other
+    /// row touches a slave node. Two-pass rows are dependent (their least-squares forces are
+    /// NaN); they get the nodal reading, every row with its own DOF, the second pass marked.
+    #[test]
+    fn one_pass_pressures_are_the_row_forces_and_two_pass_the_nodal_ones() {
+        use crate::model::contact_forces::{nodal_forces, row_forces};
+        let b = TwoBlocks {
+            width: 1.0,
+            h_lower: 0.6,
+            h_upper: 0.4,
+            mesh_lower: (4, 3),
+            mesh_upper: (7, 2),
+            lower: Material {
+                young: 210e3,
+                poisson: 0.3,
+            },
+            upper: Material {
+                young: 70e3,
+                poisson: 0.33,
+            },
+        };
+        for geometry in [Geometry::PlaneStrain, Geometry::Axisymmetric] {
+            for disc in Discretization::ALL {
+                let s = patch_in(geometry, &b, 1e-3, disc).unwrap();
+                let u = all_active(&s, 1e6);
+                let p = &s.problem;
+                let mut r = p.k.matvec(&u);
+                for (ri, qi) in r.iter_mut().zip(&p.q) {
+                    *ri -= qi;
+                }
+                let rows = row_forces(p, &r);
+                let got = s.pressures(&u);
+                let what = format!("{geometry:?} {}", disc.name());
+                let own: Option<Vec<usize>> = s.contact.iter().map(|n| n.own_dof).collect();
+                if disc == Discretization::Nts2 {
+                    assert!(rows.iter().all(|f| f.is_nan()), "{what}: dependent rows");
+                    let own = own.unwrap();
+                    let nodal = nodal_forces(p, &own, &r);
+                    for (c, node) in s.contact.iter().enumerate() {
+                        assert_eq!(got[c], -nodal[c] / node.weight, "{what} row {c}");
+                    }
+                    let second = s.contact.iter().filter(|n| n.second_pass).count();
+                    assert_eq!(second, b.mesh_lower.0 + 1, "{what}");
+                    assert!(got.iter().all(|v| v.is_finite() && *v > 0.0), "{what}");
+                    continue;
+                }
+                assert!(s.contact.iter().all(|n| !n.second_pass), "{what}");
+                for (c, node) in s.contact.iter().enumerate() {
+                    let old = -rows[c] / node.weight;
+                    assert_eq!(got[c].to_bits(), old.to_bits(), "{what} row {c}");
+                }
+                if disc == Discretization::Nts1 {
+                    let nodal = nodal_forces(p, &own.unwrap(), &r);
+                    let scale = rows.iter().fold(0.0_f64, |a, f| a.max(f.abs()));
+                    for (f, g) in rows.iter().zip(&nodal) {
+                        assert!((f - g).abs() <= 1e-9 * scale, "{what}: {f} vs {g}");
+                    }
+                } else {
+                    assert!(own.is_none(), "{what}: mortar rows have no own node");
+                }
             }
         }
     }

@@ -274,6 +274,12 @@ pub enum Case {
     /// with nodal normals, two terms per row.
     #[serde(rename = "hertz-normals")]
     HertzNormals,
+    /// The two-body patch test with two-pass node-to-segment rows: linearly dependent, so
+    /// Lagrange (and `condensed`) refuse them and the case has no Lagrange reference; the
+    /// pressures are the nodal ones of both bodies' interface nodes
+    /// ([`crate::model::two_body`], **Pressure**).
+    #[serde(rename = "patch-two-body-nts-2")]
+    PatchNts2,
 }
 
 /// The upper block of the two-body cases: its height over a, its modulus over the lower
@@ -286,11 +292,12 @@ pub const MESH_RATIO: (usize, usize) = (7, 4);
 
 impl Case {
     /// The cases `contact_bench` runs by default: all but `hertz-two-body` (≈ 3.5 min of its
-    /// own on 2 cores, which would take the default run past 2 min) and `hertz-normals`.
+    /// own on 2 cores, which would take the default run past 2 min), `hertz-normals` and
+    /// `patch-two-body-nts-2` (no Lagrange reference).
     pub const DEFAULT: &'static [Case] = Case::ALL.split_at(8).0;
 
     /// Every case, in table order.
-    pub const ALL: [Case; 10] = [
+    pub const ALL: [Case; 11] = [
         Case::HertzPlane,
         Case::HertzAxi,
         Case::FlatPunch,
@@ -301,10 +308,12 @@ impl Case {
         Case::PatchNts1,
         Case::HertzTwoBody,
         Case::HertzNormals,
+        Case::PatchNts2,
     ];
 
     /// Its name in rows and options (`hertz-plane`, `hertz-axi`, `flat-punch`,
-    /// `inclined-15`, `inclined-30`, `inclined-45`).
+    /// `inclined-15`, `inclined-30`, `inclined-45`, `patch-two-body-mortar`,
+    /// `patch-two-body-nts-1`, `hertz-two-body`, `hertz-normals`, `patch-two-body-nts-2`).
     pub fn name(self) -> &'static str {
         match self {
             Case::HertzPlane => "hertz-plane",
@@ -317,6 +326,7 @@ impl Case {
             Case::PatchNts1 => "patch-two-body-nts-1",
             Case::HertzTwoBody => "hertz-two-body",
             Case::HertzNormals => "hertz-normals",
+            Case::PatchNts2 => "patch-two-body-nts-2",
         }
     }
 
@@ -325,6 +335,7 @@ impl Case {
         match self {
             Case::PatchMortar => Some(Discretization::Mortar),
             Case::PatchNts1 => Some(Discretization::Nts1),
+            Case::PatchNts2 => Some(Discretization::Nts2),
             _ => None,
         }
     }
@@ -355,12 +366,19 @@ impl Case {
     }
 
     /// How the contact rows are discretized (`nodal`: one row per contact node; two bodies:
-    /// `mortar`, `nts-1`).
+    /// `mortar`, `nts-1`, `nts-2`).
     pub fn discretization(self) -> &'static str {
         match self {
             Case::HertzTwoBody => Discretization::Mortar.name(),
             _ => self.two_body().map_or("nodal", Discretization::name),
         }
+    }
+
+    /// Whether the case's contact rows are linearly dependent (`patch-two-body-nts-2`):
+    /// Lagrange refuses them (a singular saddle point), so the case has no Lagrange reference
+    /// and its rows no `err_penalty` or `err_discretization`.
+    pub fn dependent_rows(self) -> bool {
+        self.two_body() == Some(Discretization::Nts2)
     }
 
     /// The case named `s` (`patch` is read as `flat-punch`, its name before issue 44).
@@ -464,6 +482,25 @@ pub fn contact_width(nodes: &[ContactNode], p: &[f64], floor: f64) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Every case reads back from its name (also through serde); the default run holds the
+    /// first eight, without the on-request cases; `patch-two-body-nts-2` is the two-pass
+    /// discretization, the only one with dependent rows.
+    #[test]
+    fn case_names_and_the_default_run() {
+        for c in Case::ALL {
+            assert_eq!(Case::from_name(c.name()), Some(c));
+            let json = serde_json::to_string(&c).unwrap();
+            assert_eq!(json, format!("\"{}\"", c.name()));
+            assert_eq!(c.dependent_rows(), c == Case::PatchNts2);
+        }
+        assert_eq!(Case::DEFAULT.len(), 8);
+        for c in [Case::HertzTwoBody, Case::HertzNormals, Case::PatchNts2] {
+            assert!(!Case::DEFAULT.contains(&c), "{}", c.name());
+        }
+        assert_eq!(Case::PatchNts2.discretization(), "nts-2");
+        assert!(Case::PatchNts2.is_uniform());
+    }
 
     /// Hertz's load–width relations invert: the load that gives width a back from a.
     #[test]

@@ -150,23 +150,30 @@ fn a_rows_algebra_by_hand() {
     assert!(a.is_symmetric());
 }
 
-/// The cond₂ floor over all E needs a Boolean D and says so; every rule solves a coupled row,
-/// `optimal` too (its report's floor is then NaN).
+/// The cond₂ floor over all E for a coupled row is `λ_max(K)/λ_min(ZᵀKZ)` (Z an orthonormal
+/// basis of the null space of Dᵀ, here by hand: e₂ and (0.8, 0, 0.6)); every rule solves a
+/// coupled row, `optimal` too, its report carrying that floor below its cond₂.
 #[test]
-fn methods_that_need_a_boolean_d_say_so() {
+fn coupled_rows_get_every_rule_and_the_floor() {
+    use nalgebra::{DMatrix, SymmetricEigen};
     let c = Constraint::row(vec![(0, 0.6), (2, -0.8)], 0.1, ConstraintKind::Upper);
     let p = Problem::new(k3(), vec![0.0, 0.0, 1.0], vec![c]).unwrap();
-    let e = strategy::optimal::cond2_lower_bound(&p)
-        .unwrap_err()
-        .to_string();
+    let kd = p.k.to_dense();
+    let k = DMatrix::from_fn(3, 3, |i, j| kd[(i, j)]);
+    let z = DMatrix::from_row_slice(3, 2, &[0.0, 0.8, 1.0, 0.0, 0.0, 0.6]);
+    let kz = z.transpose() * &k * &z;
+    let lmin = SymmetricEigen::new(kz).eigenvalues.min();
+    let lmax = SymmetricEigen::new(k).eigenvalues.max();
+    let floor = strategy::optimal::cond2_lower_bound(&p).unwrap();
     assert!(
-        e.contains("needs single-DOF constraints") && e.contains("2 term"),
-        "{e}"
+        floor <= lmax / lmin && floor >= lmax / lmin * (1.0 - 1e-12),
+        "floor {floor:e} vs λ_max(K)/λ_min(K_Z) {:e}",
+        lmax / lmin
     );
     let opt = strategy::solve(&p, Method::optimal(0.01)).unwrap();
     assert!(opt.max_penetration <= 0.01);
     let report = opt.stats.optimal.unwrap();
-    assert!(report.cond2_lower_bound.is_nan());
+    assert_eq!(report.cond2_lower_bound, floor);
     for m in [
         Method::constant(10.0),
         Method::scaled(1.0),

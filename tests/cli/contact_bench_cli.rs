@@ -135,6 +135,63 @@ fn bad_options_exit_2_with_one_line() {
     }
 }
 
+/// `patch-two-body-nts-2` (two-pass node-to-segment, on request only) runs through the binary:
+/// its rows say `nts-2`; Lagrange's row carries its refusal of the dependent rows (singular)
+/// and the run goes on; the penalties' rows have a finite `p_err_rel` against the exact
+/// uniform pressure and no `err_penalty` or `err_discretization` (no Lagrange reference); the
+/// report says so, and the pressure figure is drawn (no leaderboard figure: nothing to draw).
+#[test]
+fn two_pass_patch_case_runs_without_a_lagrange_reference() {
+    let dir = tempfile::tempdir().unwrap();
+    let o = common::run_ok(
+        bin()
+            .args([
+                "--cases",
+                "patch-two-body-nts-2",
+                "--meshes",
+                "0.2",
+                "--quiet",
+            ])
+            .args(["--methods", "lagrange,constant,scaled", "--out"])
+            .arg(dir.path()),
+    );
+    let read: Vec<std::collections::HashMap<String, String>> =
+        csv::Reader::from_path(dir.path().join("rows.csv"))
+            .unwrap()
+            .deserialize()
+            .map(|r| r.unwrap())
+            .collect();
+    // lagrange, 7 ε values, 5 factors (no refinement: nothing is admissible without Lagrange).
+    assert_eq!(read.len(), 1 + 7 + 5);
+    for r in &read {
+        let what = format!("{} {}", r["method"], r["knob_rel"]);
+        assert_eq!(r["case"], "patch-two-body-nts-2", "{what}");
+        assert_eq!(r["discretization"], "nts-2", "{what}");
+        for col in ["err_penalty", "err_discretization"] {
+            assert!(
+                r[col].is_empty() || r[col] == "NaN",
+                "{what}: {col} = {}",
+                r[col]
+            );
+        }
+        if r["method"] == "lagrange" {
+            assert!(r["error"].contains("singular"), "{what}: {}", r["error"]);
+        } else {
+            assert!(r["error"].is_empty(), "{what}: {}", r["error"]);
+            let e: f64 = r["p_err_rel"].parse().unwrap();
+            assert!(e.is_finite() && e > 0.0 && e < 0.2, "{what}: p_err_rel {e}");
+        }
+    }
+    let report = String::from_utf8_lossy(&o.stdout);
+    assert!(report.contains("Lagrange failed"), "{report}");
+    assert!(report.contains("no Lagrange reference"), "{report}");
+    let figures = dir.path().join("figures");
+    assert!(figures.join("pressure_patch-two-body-nts-2.png").is_file());
+    assert!(!figures
+        .join("leaderboard_patch-two-body-nts-2.png")
+        .exists());
+}
+
 /// The barrier's κ study (issue 44, item 10): `kappa.csv` holds fixed-κ rows spanning both
 /// rules' clamps and one row per rule and d̂; the benchmark's own barrier rows use the `ipc`
 /// rule (the scene carries its surface); the figure is drawn.

@@ -450,7 +450,27 @@ fn inclined_cases_give_the_uniform_pressure_with_two_term_rows() {
             assert!(r.max_penetration <= delta, "{what}: {}", r.max_penetration);
         }
     }
-    assert!(run.floors.iter().all(|f| f.cond2_floor.is_nan()));
+    // The floor over all penalties (K on the null space of the two-term rows' Dᵀ) lies below
+    // every penalized system's cond₂ on its mesh.
+    for f in &run.floors {
+        assert!(f.cond2_floor.is_finite() && f.cond2_floor >= 1.0, "{f:?}");
+        let mesh_rows: Vec<_> = run
+            .rows
+            .iter()
+            .filter(|r| {
+                r.case == f.case && (r.h - f.h).abs() <= 1e-12 * f.h && r.method == "condensed"
+            })
+            .collect();
+        assert_eq!(mesh_rows.len(), 2, "{f:?}");
+        for r in mesh_rows {
+            let cond = r.cond2_system.unwrap();
+            assert!(
+                f.cond2_floor <= cond,
+                "{f:?} above {} cond₂ {cond:e}",
+                r.method
+            );
+        }
+    }
 }
 
 /// The two-body patch test in the benchmark: mortar's Lagrange and `condensed` rows carry the

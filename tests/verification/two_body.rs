@@ -7,13 +7,13 @@
 //! - `nts-1`: its error is measured and reported (it fails the patch test: Taylor &
 //!   Papadopoulos 1991); here it must be above rounding, so that the test shows the failure
 //!   rather than assuming it;
-//! - `nts-2`: printed, not asserted: Lagrange refuses it as singular on every ratio (the two
-//!   passes' rows are dependent: the end nodes line up, and 2·(m₁ + m₂) rows over-constrain
-//!   the interface), as the literature says of two-pass node-to-segment with multipliers; a
-//!   penalty's row pressures are each pass's share of the load.
+//! - `nts-2`: Lagrange refuses it as singular on every ratio (the two passes' rows are
+//!   dependent: the end nodes line up, and 2·(m₁ + m₂) rows over-constrain the interface), as
+//!   the literature says of two-pass node-to-segment with multipliers; a penalty solves it,
+//!   and its pressures (the nodal ones of each row's own node: both bodies' interface nodes)
+//!   carry each body's load as its supports do.
 
-use penalty_lab::model::elasticity::Indentation;
-use penalty_lab::model::elasticity::Material;
+use penalty_lab::model::elasticity::{self, Geometry, Grid, Indentation, Material};
 use penalty_lab::model::two_body::{exact_displacements, patch, Discretization, TwoBlocks};
 use penalty_lab::strategy::{self, Method};
 
@@ -177,7 +177,7 @@ fn the_two_body_sweep_family_is_seeded_and_coupled() {
 #[test]
 fn elastic_cylinder_on_elastic_block_meets_hertz() {
     use penalty_lab::model::cylinder::{hertz_two_body, CylinderOnBlock};
-    use penalty_lab::model::elasticity::{Base, Geometry, Grid};
+    use penalty_lab::model::elasticity::Base;
     use penalty_lab::strategy::force_control::{solve_at_load, FORCE_TOL};
     use penalty_lab::study::hertz::{contact_width, Exact};
     let (a, r, h) = (1.0, 10.0, 0.05);
@@ -234,7 +234,6 @@ fn elastic_cylinder_on_elastic_block_meets_hertz() {
 /// every row and the total force p·πW²; one-pass node-to-segment does not.
 #[test]
 fn axisymmetric_mortar_passes_the_patch_test() {
-    use penalty_lab::model::elasticity::Geometry;
     use penalty_lab::model::two_body::{exact_displacements_in, patch_in};
     let (squeeze, ax) = (1e-3, Geometry::Axisymmetric);
     for (a, b) in [(2, 3), (4, 7), (7, 4)] {
@@ -263,5 +262,108 @@ fn axisymmetric_mortar_passes_the_patch_test() {
         let lag = strategy::solve(&nts.problem, Method::lagrange()).unwrap();
         println!("{a}:{b} axisymmetric nts-1: {:.3e}", dist(&lag.u));
         assert!(dist(&lag.u) > 1e-6, "{a}:{b}: NTS reproduced the field");
+    }
+}
+
+/// The free unknowns `u` of `patch_in`'s problem put back into both blocks' full fields (lower
+/// block first), the prescribed values where `two_body`'s module doc puts them: the lower
+/// base's v = 0, the symmetry line's u = 0, the upper top's v = −squeeze. Returns the press's
+/// force on the upper block's top and the support's on the lower block's base, each the sum of
+/// that block's own `K U` (assembled here) over the supported DOFs: the y-force the support
+/// applies.
+fn support_forces(tb: &TwoBlocks, geometry: Geometry, squeeze: f64, u: &[f64]) -> (f64, f64) {
+    let lower = Grid::uniform(tb.width, tb.h_lower, tb.mesh_lower.0, tb.mesh_lower.1);
+    let upper = Grid::uniform(tb.width, tb.h_upper, tb.mesh_upper.0, tb.mesh_upper.1);
+    let off = 2 * lower.nodes();
+    let mut fixed: Vec<Option<f64>> = vec![None; off + 2 * upper.nodes()];
+    for (grid, at, bottom) in [(&lower, 0, true), (&upper, off, false)] {
+        for i in 0..grid.xs.len() {
+            let (j, v) = if bottom {
+                (0, 0.0)
+            } else {
+                (grid.ny() - 1, -squeeze)
+            };
+            fixed[at + 2 * grid.node(i, j) + 1] = Some(v);
+        }
+        for j in 0..grid.ny() {
+            fixed[at + 2 * grid.node(0, j)] = Some(0.0);
+        }
+    }
+    let mut free = u.iter();
+    let full: Vec<f64> = fixed
+        .iter()
+        .map(|f| f.unwrap_or_else(|| *free.next().expect("as many unknowns as free DOFs")))
+        .collect();
+    assert!(free.next().is_none(), "as many free DOFs as unknowns");
+    let force = |grid: &Grid, mat: &Material, at: usize, j: usize| -> f64 {
+        let mut f = vec![0.0; 2 * grid.nodes()];
+        for (r, c, v) in elasticity::assemble(grid, geometry, mat).unwrap() {
+            f[r] += v * full[at + c];
+        }
+        (0..grid.xs.len()).map(|i| f[2 * grid.node(i, j) + 1]).sum()
+    };
+    (
+        force(&upper, &tb.upper, off, upper.ny() - 1),
+        force(&lower, &tb.lower, 0, 0),
+    )
+}
+
+/// Two-pass node-to-segment (`nts-2`) under a penalty: Lagrange refuses its dependent rows,
+/// `constant` (ε = 100·E₁*/W per unit length) solves them, and the pressures — each row's own
+/// node's contact force over its tributary weight, defined whatever the rows' dependence — are
+/// finite and carry each body's load as its supports do: the first pass's Σ p_c ω_c (the upper
+/// body's interface nodes) equals minus the press's force on the upper block's top, the second
+/// pass's (the lower body's nodes) the support's force on the lower block's base, both computed
+/// from the blocks' own stiffness and the full field (`support_forces`), not from the rows;
+/// `total_force` counts the first pass (times 2 or 2π). Plane strain and axisymmetric.
+#[test]
+fn two_pass_pressures_carry_each_bodys_load() {
+    use penalty_lab::model::two_body::patch_in;
+    let squeeze = 1e-3;
+    for geometry in [Geometry::PlaneStrain, Geometry::Axisymmetric] {
+        for (a, b) in [(2, 3), (4, 7), (7, 4)] {
+            let tb = blocks(a, b);
+            let what = format!("{geometry:?} {a}:{b}");
+            let two = patch_in(geometry, &tb, squeeze, Discretization::Nts2)
+                .unwrap()
+                .with_surface_of(tb.width, tb.h_lower + tb.h_upper)
+                .unwrap();
+            let lag = strategy::solve(&two.problem, Method::lagrange());
+            assert!(lag.is_err(), "{what}: Lagrange solved dependent rows");
+            let eps = 100.0 * tb.lower.contact_modulus() / tb.width;
+            let sol = strategy::solve(&two.problem, Method::constant(eps)).unwrap();
+            let p = two.pressures(&sol.u);
+            assert!(p.iter().all(|v| v.is_finite()), "{what}: {p:?}");
+            let (mut first, mut second) = (0.0, 0.0);
+            for (pc, node) in p.iter().zip(&two.contact) {
+                *if node.second_pass {
+                    &mut second
+                } else {
+                    &mut first
+                } += pc * node.weight;
+            }
+            let (top, base) = support_forces(&tb, geometry, squeeze, &sol.u);
+            assert!(top < 0.0 && base > 0.0, "{what}: {top}, {base}");
+            assert!(
+                (first + top).abs() <= 1e-9 * base,
+                "{what}: {first} vs {}",
+                -top
+            );
+            assert!(
+                (second - base).abs() <= 1e-9 * base,
+                "{what}: {second} vs {base}"
+            );
+            let factor = match geometry {
+                Geometry::PlaneStrain => 2.0,
+                Geometry::Axisymmetric => 2.0 * std::f64::consts::PI,
+            };
+            let total = two.total_force(&sol.u);
+            assert!((total / (factor * first) - 1.0).abs() <= 1e-12, "{what}");
+            let exact = tb.exact_pressure_in(geometry, squeeze);
+            println!(
+                "{what} nts-2 constant: max |p − p_exact|/p = {:.3e}, load {first:.6e}",
+                spread(&two, &sol.u, exact)
+            );
+        }
     }
 }

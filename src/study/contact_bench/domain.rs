@@ -81,15 +81,15 @@ pub(crate) fn domain(cfg: &BenchConfig, block: &Prepared) -> Result<MeshErrors> 
         .collect::<Result<_>>()?;
     let blocks: Vec<&Prepared> = solved.iter().map(|s| s.as_ref().unwrap_or(block)).collect();
     let r = blocks[blocks.len() - 1];
-    let (r_nodes, r_p) = (&r.lagrange.scene.contact, &r.p_lagrange);
+    let (r_nodes, r_p) = (&r.scene().contact, &r.p_lagrange);
     let mut rows = Vec::new();
     for (&size, s) in DOMAIN_SIZES.iter().zip(&blocks) {
-        let nodes = &s.lagrange.scene.contact;
+        let nodes = &s.scene().contact;
         rows.push(DomainRow {
             case: block.case.name().into(),
             h: block.h,
             block_over_a: size,
-            n_dofs: s.lagrange.scene.n_free,
+            n_dofs: s.scene().n_free,
             err_total: s.err_own,
             err_domain: block_distance((nodes, &s.p_lagrange), (r_nodes, r_p), &s.exact),
         });
@@ -98,7 +98,7 @@ pub(crate) fn domain(cfg: &BenchConfig, block: &Prepared) -> Result<MeshErrors> 
         discretization: r.err_own,
         // The benchmark's block need not be one of the study's sizes (`--block-over-a`).
         domain: block_distance(
-            (&block.lagrange.scene.contact, &block.p_lagrange),
+            (&block.scene().contact, &block.p_lagrange),
             (r_nodes, r_p),
             &block.exact,
         ),

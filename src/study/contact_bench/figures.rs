@@ -93,7 +93,9 @@ fn pressure_panels(s: &Summary, case: Case) -> Vec<Figure> {
         )
         .with_series(reference.clone());
         for (k, p) in profs.iter().enumerate() {
-            let keep: Vec<usize> = (0..p.x.len()).filter(|&i| p.x[i] <= x_max).collect();
+            // From the axis outwards (two-pass rows: both bodies' nodes, interleaved).
+            let mut keep: Vec<usize> = (0..p.x.len()).filter(|&i| p.x[i] <= x_max).collect();
+            keep.sort_by(|&i, &j| p.x[i].total_cmp(&p.x[j]));
             f = f.with_series(
                 Series::new(
                     knob_label(&p.knob, p.knob_rel),
@@ -124,7 +126,7 @@ fn convergence(s: &Summary) -> Figure {
         let lag: Vec<&BenchRow> = s
             .rows
             .iter()
-            .filter(|r| r.case == case.name() && r.method == "lagrange")
+            .filter(|r| r.case == case.name() && r.method == "lagrange" && r.solved())
             .collect();
         if lag.is_empty() {
             continue;
@@ -263,6 +265,10 @@ fn leaderboard_panels(s: &Summary, case: Case) -> Vec<Figure> {
             .filter(|r| r.case == case.name() && r.h == h && r.error.is_empty())
             .collect();
         let Some(first) = rows.first() else { continue };
+        // Without a Lagrange reference (dependent rows) there is no penalty error to draw.
+        if first.err_discretization.is_nan() {
+            continue;
+        }
         let mut f = Figure::new(
             format!(
                 "{}: h = {}, {} DOFs",
@@ -419,7 +425,7 @@ pub fn drawings(s: &Summary) -> Result<Vec<Drawing>> {
         let size = (1500, 520 * k.len().div_ceil(2) as u32);
         push("kappa_sensitivity".into(), k, 2, size);
     }
-    if s.rows.iter().any(|r| r.method == "lagrange") {
+    if s.rows.iter().any(|r| r.method == "lagrange" && r.solved()) {
         push("convergence".into(), vec![convergence(s)], 1, (900, 620));
     }
     Ok(out)

@@ -38,7 +38,7 @@ pub fn kappa_sensitivity(cfg: &BenchConfig, progress: &Progress) -> Result<Vec<B
         // The rows' `err_discretization` and `err_domain` mean what they mean in rows.csv.
         let errors = prep.errors(cfg)?;
         let mesh = prep.mesh(&errors);
-        let problem = &prep.lagrange.scene.problem;
+        let problem = &prep.scene().problem;
         let mut jobs = Vec::new();
         for &rel in &KAPPA_DHATS {
             let dhat = rel * cfg.a_target;

@@ -6,7 +6,13 @@
 //! `patch-two-body-nts-1`, [`crate::model::two_body`]: an upper block with a finer,
 //! non-matching mesh pressed on the a × a block; rows record `mesh_ratio`, `young2`,
 //! `poisson2`) — on graded Q4 meshes
-//! ([`crate::model::elasticity`]), with the analytic references of [`analytic`].
+//! ([`crate::model::elasticity`]), with the analytic references of [`analytic`]. On request
+//! also `hertz-two-body`, `hertz-normals` and `patch-two-body-nts-2` (two-pass
+//! node-to-segment, whose rows are dependent: Lagrange refuses them, and its row says so;
+//! the case has no Lagrange reference, so its rows have `p_err_rel` against the exact
+//! pressure — the nodal pressures of both bodies' interface nodes — and no `err_penalty`,
+//! `err_discretization` or leaderboard entry; every rule starts its force control from the
+//! analytic squeeze, and the δ scale is that squeeze).
 //!
 //! Every solve is **force-controlled**: the lift w of the block's base is found (regula falsi
 //! in a bracket, [`solve_at_load`]) so that the rule's own solution carries the load P — rules
@@ -81,7 +87,7 @@ use std::time::Instant;
 pub struct BenchConfig {
     /// Cases (`hertz-plane`, `hertz-axi`, `flat-punch`, `inclined-15`, `inclined-30`,
     /// `inclined-45`, `patch-two-body-mortar`, `patch-two-body-nts-1`: [`Case::DEFAULT`];
-    /// `hertz-two-body` on request).
+    /// `hertz-two-body`, `hertz-normals` and `patch-two-body-nts-2` on request).
     pub cases: Vec<Case>,
     /// Element sizes at the contact over a (the Hertz contact half-width; the flat-punch block is
     /// a × a), coarse to fine.
@@ -307,9 +313,10 @@ pub(crate) struct Mesh<'a> {
     h: f64,
     /// Free DOFs.
     n_free: usize,
-    /// Lagrange's lift (the start of every rule's search) and its pressures.
+    /// Lagrange's lift (the start of every rule's search; without Lagrange the first guess)
+    /// and its pressures (None without Lagrange: [`Case::dependent_rows`]).
     lift_lagrange: f64,
-    p_lagrange: &'a [f64],
+    p_lagrange: Option<&'a [f64]>,
     err_discretization: f64,
     err_domain: f64,
 }
@@ -426,7 +433,9 @@ pub(crate) fn run_job(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> (BenchR
     row.p0_num = p[0];
     row.a_num = analytic::contact_width(nodes, &p, 1e-9 * exact.p0);
     row.p_err_rel = analytic::pressure_error(nodes, &p, exact);
-    row.err_penalty = analytic::pressure_distance(nodes, &p, mesh.p_lagrange, exact);
+    row.err_penalty = mesh.p_lagrange.map_or(f64::NAN, |pl| {
+        analytic::pressure_distance(nodes, &p, pl, exact)
+    });
     row.max_penetration = sol.max_penetration;
     row.converged = sol.stats.converged;
     row.iterations = sol.stats.iterations;
@@ -479,7 +488,9 @@ pub struct MeshRun {
     pub h_rel: f64,
     /// Free DOFs.
     pub n_dofs: usize,
-    /// Lagrange's lift at the load.
+    /// Lagrange's lift at the load (NaN where Lagrange refused the case:
+    /// [`Case::dependent_rows`]).
+    #[serde(deserialize_with = "crate::provenance::null_as_nan")]
     pub lift: f64,
     /// One per (method, knob).
     pub rows: Vec<BenchRow>,
@@ -503,11 +514,22 @@ pub(crate) struct Prepared {
     grid: Grid,
     load: f64,
     pub(crate) exact: Exact,
-    /// Lagrange at the load.
-    pub(crate) lagrange: Loaded,
+    /// Lagrange at the load, or the case without it.
+    pub(crate) reference: Reference,
+    /// Lagrange's pressures (empty without Lagrange).
     pub(crate) p_lagrange: Vec<f64>,
-    /// Lagrange's error against the analytic pressure on this block.
+    /// Lagrange's error against the analytic pressure on this block (NaN without Lagrange).
     pub(crate) err_own: f64,
+}
+
+/// What a mesh's rows are measured against.
+pub(crate) enum Reference {
+    /// Lagrange at the load.
+    Lagrange(Box<Loaded>),
+    /// Lagrange refused the case's dependent rows ([`Case::dependent_rows`]; its row says
+    /// why): the scene at the first guess of the lift (the patch test's analytic squeeze),
+    /// for the jobs' knobs and the mesh's floor.
+    Refused { scene: Box<Indentation> },
 }
 
 /// What the rows of one mesh report as `err_discretization` and `err_domain`, and the domain
@@ -541,9 +563,27 @@ impl Prepared {
             load,
             guess,
             FORCE_TOL,
-        )?;
-        let p_lagrange = lagrange.scene.pressures(&lagrange.sol.u);
-        let err_own = analytic::pressure_error(&lagrange.scene.contact, &p_lagrange, &exact);
+        );
+        let (reference, p_lagrange, err_own) = match lagrange {
+            Ok(l) => {
+                let p = l.scene.pressures(&l.sol.u);
+                let err = analytic::pressure_error(&l.scene.contact, &p, &exact);
+                (Reference::Lagrange(Box::new(l)), p, err)
+            }
+            // Two-pass node-to-segment: the refusal is the literature's over-constraint,
+            // reported in the Lagrange row; the penalties are measured without a reference.
+            Err(_) if case.dependent_rows() => {
+                let scene = cfg.scene(case, &grid, guess)?;
+                (
+                    Reference::Refused {
+                        scene: Box::new(scene),
+                    },
+                    Vec::new(),
+                    f64::NAN,
+                )
+            }
+            Err(e) => return Err(e),
+        };
         Ok(Prepared {
             case,
             h_rel,
@@ -551,10 +591,31 @@ impl Prepared {
             grid,
             load,
             exact,
-            lagrange,
+            reference,
             p_lagrange,
             err_own,
         })
+    }
+
+    /// Lagrange at the load, where it solved the case.
+    pub(crate) fn lagrange(&self) -> Option<&Loaded> {
+        match &self.reference {
+            Reference::Lagrange(l) => Some(l),
+            Reference::Refused { .. } => None,
+        }
+    }
+
+    /// The scene of the mesh: Lagrange's at its lift, or the scene at the first guess.
+    pub(crate) fn scene(&self) -> &Indentation {
+        match &self.reference {
+            Reference::Lagrange(l) => &l.scene,
+            Reference::Refused { scene } => scene,
+        }
+    }
+
+    /// Lagrange's lift at the load (NaN without Lagrange).
+    pub(crate) fn lift_lagrange(&self) -> f64 {
+        self.lagrange().map_or(f64::NAN, |l| l.scene.lift)
     }
 
     /// The rows' errors: rigid Hertz from the domain study ([`domain`]); the flat punch is
@@ -573,18 +634,18 @@ impl Prepared {
 
     /// What the mesh's jobs share, with the rows' `errors`.
     pub(crate) fn mesh(&self, errors: &MeshErrors) -> Mesh<'_> {
-        let lag = &self.lagrange;
+        let scene = self.scene();
         Mesh {
             case: self.case,
             grid: &self.grid,
             exact: self.exact,
             load: self.load,
             h: self.h,
-            n_free: lag.scene.n_free,
-            lift_lagrange: lag.scene.lift,
+            n_free: scene.n_free,
+            lift_lagrange: scene.lift,
             err_discretization: errors.discretization,
             err_domain: errors.domain,
-            p_lagrange: &self.p_lagrange,
+            p_lagrange: self.lagrange().map(|_| self.p_lagrange.as_slice()),
         }
     }
 }
@@ -599,33 +660,34 @@ pub fn run_mesh(cfg: &BenchConfig, case: Case, h_rel: f64, progress: &Progress) 
     let finest = cfg.meshes.iter().copied().fold(f64::INFINITY, f64::min);
     let prep = Prepared::new(cfg, case, h_rel)?;
     let errors = prep.errors(cfg)?;
-    let lag = &prep.lagrange;
+    // Lagrange's scene, or the case's at the first guess where Lagrange refused it.
+    let scene = prep.scene();
     // K and the contact DOFs do not depend on the lift: one floor per mesh.
     let floor = Floor {
         case: case.name().into(),
         h: h_rel * cfg.a_target,
-        n_dofs: lag.scene.n_free,
+        n_dofs: scene.n_free,
         // Coupled rows: K on the null space of Dᵀ; NaN where the rows are dependent.
-        cond2_floor: if lag.scene.problem.is_selection() {
-            strategy::optimal::cond2_lower_bound(&lag.scene.problem)?
+        cond2_floor: if scene.problem.is_selection() {
+            strategy::optimal::cond2_lower_bound(&scene.problem)?
         } else {
-            strategy::optimal::cond2_lower_bound(&lag.scene.problem).unwrap_or(f64::NAN)
+            strategy::optimal::cond2_lower_bound(&scene.problem).unwrap_or(f64::NAN)
         },
     };
     let mesh = prep.mesh(&errors);
     // The jobs of a mesh are independent: solved in parallel, kept in job order; then the
     // knob values added near each rule's leaderboard threshold, solved the same way.
-    let scale = cfg.length_scale(case, lag.scene.lift);
-    let first = jobs(cfg, &lag.scene, scale);
+    let scale = cfg.length_scale(case, scene.lift);
+    let first = jobs(cfg, scene, scale);
     let mut solved = solve_jobs(cfg, &mesh, &first, progress, h_rel);
     let rows: Vec<&BenchRow> = solved.iter().map(|(r, _)| r).collect();
-    let extra = refinement_jobs(cfg, &lag.scene, scale, &rows);
+    let extra = refinement_jobs(cfg, scene, scale, &rows);
     solved.extend(solve_jobs(cfg, &mesh, &extra, progress, h_rel));
     let mut out = MeshRun {
         case,
         h_rel,
-        n_dofs: lag.scene.n_free,
-        lift: lag.scene.lift,
+        n_dofs: scene.n_free,
+        lift: prep.lift_lagrange(),
         rows: Vec::new(),
         profiles: Vec::new(),
         floor,
@@ -639,7 +701,7 @@ pub fn run_mesh(cfg: &BenchConfig, case: Case, h_rel: f64, progress: &Progress) 
                 knob: row.knob.clone(),
                 knob_rel: row.knob_rel,
                 h: row.h,
-                x: lag.scene.contact.iter().map(|n| n.x).collect(),
+                x: scene.contact.iter().map(|n| n.x).collect(),
                 p,
             });
         }
@@ -706,11 +768,15 @@ pub fn run(
                     (m, false)
                 }
             };
+            let lift = if mesh.lift.is_nan() {
+                "no Lagrange reference (its rows are dependent)".to_string()
+            } else {
+                format!("lift {:.4e}", mesh.lift)
+            };
             progress.step(&format!(
-                "{} h/a = {h_rel}: {} DOFs, lift {:.4e}{}",
+                "{} h/a = {h_rel}: {} DOFs, {lift}{}",
                 case.name(),
                 mesh.n_dofs,
-                mesh.lift,
                 if from_checkpoint { " (checkpoint)" } else { "" }
             ));
             out.rows.extend(mesh.rows);

@@ -12,7 +12,7 @@ pub fn tables(s: &Summary) -> String {
     let lag: Vec<Vec<String>> = s
         .rows
         .iter()
-        .filter(|r| r.method == "lagrange")
+        .filter(|r| r.method == "lagrange" && r.solved())
         .map(|r| {
             vec![
                 r.case.clone(),
@@ -54,6 +54,19 @@ pub fn tables(s: &Summary) -> String {
             false, true, true, true, true, true, true, true, true, true, true,
         ],
     ));
+    // A case whose rows Lagrange refuses (two-pass node-to-segment) has no reference.
+    for r in s
+        .rows
+        .iter()
+        .filter(|r| r.method == "lagrange" && !r.solved())
+    {
+        out.push_str(&format!(
+            "{} h = {}: Lagrange failed, no reference for the other rules: {}\n",
+            r.case,
+            fmt_e(r.h, 2),
+            r.error
+        ));
+    }
     for (case, rate) in &s.rates {
         out.push_str(&format!(
             "{case}: discretization error ∝ h^{}\n",
@@ -81,6 +94,7 @@ fn leader_table(s: &Summary) -> String {
                 match (l.knob_rel, l.tried) {
                     (Some(_), _) => knob_label(&l.knob, l.knob_rel),
                     (None, 0) => "no solve (see rows)".into(),
+                    (None, _) if l.err_discretization.is_nan() => "no Lagrange reference".into(),
                     (None, _) => "none within".into(),
                 },
                 l.cond2_system.map_or("—".into(), |c| fmt_e(c, 3)),
@@ -89,7 +103,11 @@ fn leader_table(s: &Summary) -> String {
                     _ => "—".into(),
                 },
                 l.err_penalty.map_or("—".into(), |e| fmt_e(e, 2)),
-                fmt_e(l.err_discretization, 2),
+                if l.err_discretization.is_nan() {
+                    "—".into()
+                } else {
+                    fmt_e(l.err_discretization, 2)
+                },
                 l.resolution.map_or("—".into(), |r| fmt_e(r, 1)),
                 match (l.cond2_system, l.tied_best) {
                     (Some(_), true) => "tie".into(),

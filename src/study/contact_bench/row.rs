@@ -6,8 +6,8 @@ use serde::{Deserialize, Serialize};
 /// One (case, method, knob, mesh).
 #[derive(Clone, Debug, Serialize, Deserialize, PartialEq)]
 pub struct BenchRow {
-    /// `hertz-plane`, `hertz-axi`, `flat-punch`, `inclined-15`, `inclined-30` or
-    /// `inclined-45`.
+    /// The case ([`super::analytic::Case::name`]: `hertz-plane`, `flat-punch`,
+    /// `patch-two-body-nts-1`, …).
     pub case: String,
     /// How the contact rows are discretized: `nodal` (one row per contact node; issue 45
     /// adds `nts-1`, `nts-2` and `mortar` for two bodies).
@@ -191,13 +191,19 @@ pub struct Floor {
     pub h: f64,
     /// Free DOFs.
     pub n_dofs: usize,
-    /// The certified lower bound of cond₂(K + DEDᵀ) over every E ≥ 0 (NaN where D is not
-    /// Boolean: the bound is written for single-DOF constraints).
+    /// The certified lower bound of cond₂(K + DEDᵀ) over every E ≥ 0 (NaN where the rows are
+    /// dependent: two-pass node-to-segment).
     #[serde(deserialize_with = "crate::provenance::null_as_nan")]
     pub cond2_floor: f64,
 }
 
 impl BenchRow {
+    /// Whether the rule's force-controlled solve succeeded (it found a lift; the row may still
+    /// carry an error of its metrics).
+    pub fn solved(&self) -> bool {
+        !self.lift.is_nan()
+    }
+
     /// The solver-cost columns ([`crate::metrics::solver::Summary`]).
     pub fn set_solver_columns(&mut self, c: crate::metrics::solver::Summary) {
         self.cond2_jacobi = c.cond2_jacobi;

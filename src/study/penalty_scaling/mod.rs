@@ -28,10 +28,11 @@
 //! **Measures** per row: `err_u = ‖u − u_exact‖∞ / w` (against the analytic field: the patch
 //! test's error and the penalty's together); `err_penalty = ‖u − u_L‖∞ / w` against Lagrange
 //! on the same discretization and mesh (the penalty's own error); `err_pressure =
-//! max_c |p_c − p|/p` where the rows' pressures are defined (not `nts-2`); the largest
-//! penetration; cond₂ of the final system and of its Jacobi-scaled form (certified, to
-//! `--cond-tol`), CG iterations with Jacobi and IC(0) (MINRES for Lagrange) and the forward
-//! error of the direct solve ([`crate::metrics::solver`]); Lagrange's only up to
+//! max_c |p_c − p|/p` over the rows' pressures ([`Indentation::pressures`]; `nts-2`: the
+//! nodal pressures of both bodies' interface nodes, its rows' shares of a force not being
+//! defined); the largest penetration; cond₂ of the final system and of its Jacobi-scaled
+//! form (certified, to `--cond-tol`), CG iterations with Jacobi and IC(0) (MINRES for
+//! Lagrange) and the forward error of the direct solve ([`crate::metrics::solver`]); Lagrange's only up to
 //! [`SADDLE_METRICS_MAX_N`] unknowns (its cond₂ with coupled rows is densified). Slopes against h are fitted over
 //! the levels ([`record::slopes`]): cond ∝ h^−p, error ∝ h^s.
 //!

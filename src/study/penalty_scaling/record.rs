@@ -29,7 +29,8 @@ pub struct Row {
     /// ‖u − u_lagrange‖∞ / w on the same discretization and mesh (none where Lagrange
     /// refused the rows).
     pub err_penalty: Option<f64>,
-    /// max_c |p_c − p|/p (none where the rows' pressures are not defined).
+    /// max_c |p_c − p|/p (none where a pressure is not finite; `nts-2`: over the nodal
+    /// pressures of both bodies' interface nodes).
     pub err_pressure: Option<f64>,
     /// Largest penetration.
     pub max_penetration: Option<f64>,
