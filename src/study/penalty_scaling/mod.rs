@@ -32,8 +32,8 @@
 //! nodal pressures of both bodies' interface nodes, its rows' shares of a force not being
 //! defined); the largest penetration; cond₂ of the final system and of its Jacobi-scaled
 //! form (certified, to `--cond-tol`), CG iterations with Jacobi and IC(0) (MINRES for
-//! Lagrange) and the forward error of the direct solve ([`crate::metrics::solver`]); Lagrange's only up to
-//! [`SADDLE_METRICS_MAX_N`] unknowns (its cond₂ with coupled rows is densified). Slopes against h are fitted over
+//! Lagrange) and the forward error of the direct solve ([`crate::metrics::solver`]), Lagrange's
+//! on every level (the certified sparse saddle route for coupled rows). Slopes against h are fitted over
 //! the levels ([`record::slopes`]): cond ∝ h^−p, error ∝ h^s.
 //!
 //! What to expect (derivation): the penalty adds a compliance g/p = 1/ε to the contact, so
@@ -62,11 +62,6 @@ use std::path::Path;
 
 /// The squeeze w of the top face.
 pub const SQUEEZE: f64 = 1e-3;
-
-/// Largest N at which Lagrange's metrics run: the certified sparse saddle-point route takes
-/// Boolean rows only, so cond₂ of a saddle point with coupled rows is densified (n² memory,
-/// a minute at N ≈ 5000); above this the Lagrange rows carry their errors only.
-pub const SADDLE_METRICS_MAX_N: usize = 2000;
 
 /// Most elements across a block on the finest level (the upper block's mesh at 256 across
 /// has ≈ 66 000 DOFs beside the lower one's).
@@ -358,18 +353,6 @@ fn row_of(
                 .map(|v| (v - level.exact_p).abs() / level.exact_p)
                 .fold(0.0, f64::max),
         );
-    }
-    if matches!(sol.system, crate::strategy::SystemKind::SaddlePoint { .. })
-        && !problem.is_selection()
-        && problem.n() > SADDLE_METRICS_MAX_N
-    {
-        let sep = if row.note.is_empty() { "" } else { "; " };
-        row.note = format!(
-            "{}{sep}metrics not run: cond₂ of a saddle point with coupled rows is dense above \
-             N = {SADDLE_METRICS_MAX_N} here (minutes)",
-            row.note
-        );
-        return (row, Some(sol.u));
     }
     let t1 = std::time::Instant::now();
     let set = MetricSet {
