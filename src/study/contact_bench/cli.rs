@@ -12,7 +12,7 @@ use std::path::Path;
 pub struct Flags {
     /// Cases: hertz-plane, hertz-axi, flat-punch, inclined-15, inclined-30, inclined-45,
     /// patch-two-body-mortar, patch-two-body-nts-1 (the default: these), hertz-two-body (an
-    /// elastic cylinder on the block, ≈ 3.5 min on 2 cores), hertz-normals (the rigid
+    /// elastic cylinder on the block, ≈ 1 min on 2 cores), hertz-normals (the rigid
     /// cylinder with rows along its nodal normals) and patch-two-body-nts-2 (two-pass
     /// node-to-segment: Lagrange refuses its dependent rows, so no penalty error), asked for
     /// by name; `patch` reads as flat-punch.
