@@ -102,40 +102,24 @@ pub(crate) fn cond_of_system(
             .collect()
     };
     if let SystemKind::SaddlePoint { active } = kind {
-        if let (true, Some(dofs)) = (
-            crate::route::saddle_route(problem.k.is_symmetric()),
-            boolean_dofs(active),
-        ) {
-            let k = match &problem.k {
-                Stiffness::Sparse(k) => std::borrow::Cow::Borrowed(k),
-                Stiffness::Dense(k) => {
-                    std::borrow::Cow::Owned(crate::system::sparse_of_dense(k.as_ref()))
+        if crate::route::saddle_route(problem.k.is_symmetric()) {
+            let k = problem.k.as_sparse();
+            let schur = conditioning::saddle::SCHUR_TEST_MAX;
+            let report = match boolean_dofs(active) {
+                Some(dofs) => conditioning::saddle::cond2_saddle_warm(&k, &dofs, schur, starts),
+                // Rows that couple DOFs: the same route on the pattern of K + DDᵀ.
+                None => {
+                    let rows: Vec<conditioning::saddle::Row> = active
+                        .iter()
+                        .map(|&c| problem.constraints[c].terms.clone())
+                        .collect();
+                    conditioning::saddle::cond2_saddle_rows(&k, &rows, schur, starts)
                 }
             };
-            let schur = conditioning::saddle::SCHUR_TEST_MAX;
-            match conditioning::saddle::cond2_saddle_warm(&k, &dofs, schur, starts) {
+            match report {
                 Ok(r) => return Ok(Some(r)),
-                // Not its structure (repeated DOFs, no active constraint) or K_FF not
-                // positive definite: the generic route decides below.
-                Err(e) if e.is_input() || matches!(e, Error::Singular(_)) => {}
-                Err(e) => return Err(e),
-            }
-        } else if crate::route::saddle_route(problem.k.is_symmetric()) {
-            // Rows that couple DOFs: the same route on the pattern of K + DDᵀ.
-            let rows: Vec<conditioning::saddle::Row> = active
-                .iter()
-                .map(|&c| problem.constraints[c].terms.clone())
-                .collect();
-            let k = match &problem.k {
-                Stiffness::Sparse(k) => std::borrow::Cow::Borrowed(k),
-                Stiffness::Dense(k) => {
-                    std::borrow::Cow::Owned(crate::system::sparse_of_dense(k.as_ref()))
-                }
-            };
-            let schur = conditioning::saddle::SCHUR_TEST_MAX;
-            match conditioning::saddle::cond2_saddle_rows(&k, &rows, schur, starts) {
-                Ok(r) => return Ok(Some(r)),
-                // Dependent rows, K not positive semidefinite, sizes past its limits: the
+                // Not its structure (repeated DOFs, no active constraint, dependent rows,
+                // sizes past its limits) or K_FF / K + ρDDᵀ not positive definite: the
                 // generic route decides below.
                 Err(e) if e.is_input() || matches!(e, Error::Singular(_)) => {}
                 Err(e) => return Err(e),

@@ -123,6 +123,32 @@ pub struct TwoBlocks {
 }
 
 impl TwoBlocks {
+    /// The patch test's pair of materials — E₁ = 210e3, ν₁ = 0.3 below, E₂ = E₁/3 = 70e3,
+    /// ν₂ = 0.33 above (steel on aluminium) — on blocks `width` wide, `heights` (H₁, H₂)
+    /// high, meshed (nx₁, ny₁) and (nx₂, ny₂).
+    pub fn steel_under_aluminium(
+        width: f64,
+        heights: (f64, f64),
+        mesh_lower: (usize, usize),
+        mesh_upper: (usize, usize),
+    ) -> TwoBlocks {
+        TwoBlocks {
+            width,
+            h_lower: heights.0,
+            h_upper: heights.1,
+            mesh_lower,
+            mesh_upper,
+            lower: Material {
+                young: 210e3,
+                poisson: 0.3,
+            },
+            upper: Material {
+                young: 70e3,
+                poisson: 0.33,
+            },
+        }
+    }
+
     /// The exact uniform pressure of the patch test at `squeeze`: `w / (H₁/E₁* + H₂/E₂*)`.
     pub fn exact_pressure(&self, squeeze: f64) -> f64 {
         squeeze
@@ -499,21 +525,7 @@ mod tests {
     #[test]
     fn one_pass_pressures_are_the_row_forces_and_two_pass_the_nodal_ones() {
         use crate::model::contact_forces::{nodal_forces, row_forces};
-        let b = TwoBlocks {
-            width: 1.0,
-            h_lower: 0.6,
-            h_upper: 0.4,
-            mesh_lower: (4, 3),
-            mesh_upper: (7, 2),
-            lower: Material {
-                young: 210e3,
-                poisson: 0.3,
-            },
-            upper: Material {
-                young: 70e3,
-                poisson: 0.33,
-            },
-        };
+        let b = TwoBlocks::steel_under_aluminium(1.0, (0.6, 0.4), (4, 3), (7, 2));
         for geometry in [Geometry::PlaneStrain, Geometry::Axisymmetric] {
             for disc in Discretization::ALL {
                 let s = patch_in(geometry, &b, 1e-3, disc).unwrap();

@@ -192,9 +192,14 @@ impl Stiffness {
     /// The matrix in sparse storage, whatever its storage now (a dense one: its nonzero
     /// entries, every value bit for bit).
     pub fn to_sparse(&self) -> SparseColMat<usize, f64> {
+        self.as_sparse().into_owned()
+    }
+
+    /// [`Stiffness::to_sparse`] borrowed where the matrix is sparse already.
+    pub fn as_sparse(&self) -> std::borrow::Cow<'_, SparseColMat<usize, f64>> {
         match self {
-            Stiffness::Sparse(m) => m.clone(),
-            Stiffness::Dense(m) => sparse_of_dense(m.as_ref()),
+            Stiffness::Sparse(m) => std::borrow::Cow::Borrowed(m),
+            Stiffness::Dense(m) => std::borrow::Cow::Owned(sparse_of_dense(m.as_ref())),
         }
     }
 

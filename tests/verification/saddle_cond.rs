@@ -57,7 +57,9 @@ fn sparse_saddle(p: &Problem, schur_test_max: usize) -> (Vec<usize>, CondReport)
     (act, cond2_saddle_with(k, &dofs, schur_test_max).unwrap())
 }
 
-fn check(p: &Problem, act: &[usize], sparse: &CondReport, label: &str) {
+/// The dense eigenvalues of Lagrange's saddle point of `p` on `act` inside `sparse`'s
+/// certified brackets (widened by the dense solver's rounding); returns the dense report.
+pub(crate) fn check(p: &Problem, act: &[usize], sparse: &CondReport, label: &str) -> CondReport {
     let kkt = lagrange::saddle_matrix(p, act).to_dense();
     let dense = cond2_dense(kkt.as_ref(), true).unwrap();
     let slack = 64.0 * kkt.nrows() as f64 * f64::EPSILON * dense.cond2;
@@ -89,6 +91,7 @@ fn check(p: &Problem, act: &[usize], sparse: &CondReport, label: &str) {
             "{label}: dense {what} {d:e} outside [{l:e}, {h:e}]"
         );
     }
+    dense
 }
 
 #[test]

@@ -46,37 +46,9 @@ fn check(p: &Problem, label: &str) -> (CondReport, f64) {
     let (act, rows) = active_rows(p);
     let sparse = cond2_saddle_rows(&sparse_k(p), &rows, SCHUR_TEST_MAX, None).unwrap();
     assert_eq!(sparse.route, CondRoute::SparseSaddleInertia, "{label}");
+    let dense = crate::saddle_cond::check(p, &act, &sparse, label);
     let kkt = lagrange::saddle_matrix(p, &act).to_dense();
-    let dense = cond2_dense(kkt.as_ref(), true).unwrap();
-    let n = kkt.nrows() as f64;
-    let slack = 64.0 * n * f64::EPSILON * dense.cond2;
-    let cert = sparse.certificate.expect("certificate");
-    let (lo, hi) = cert.cond2_bounds();
-    assert!(
-        dense.cond2 >= lo * (1.0 - slack) && dense.cond2 <= hi * (1.0 + slack),
-        "{label}: dense cond₂ {:e} outside [{lo:e}, {hi:e}] (slack {slack:e})",
-        dense.cond2
-    );
-    let abs = 64.0 * n * f64::EPSILON * dense.sigma_max;
-    for (what, d, l, h) in [
-        (
-            "σ_max",
-            dense.sigma_max,
-            cert.lambda_max_lo,
-            cert.lambda_max_hi,
-        ),
-        (
-            "σ_min",
-            dense.sigma_min,
-            cert.lambda_min_lo,
-            cert.lambda_min_hi,
-        ),
-    ] {
-        assert!(
-            d >= l - abs && d <= h + abs,
-            "{label}: dense {what} {d:e} outside [{l:e}, {h:e}]"
-        );
-    }
+    let slack = 64.0 * kkt.nrows() as f64 * f64::EPSILON * dense.cond2;
     // The value itself as exact as the dense one: within the contract's width.
     let rel = (sparse.cond2 / dense.cond2 - 1.0).abs();
     assert!(
@@ -96,6 +68,22 @@ fn check(p: &Problem, label: &str) -> (CondReport, f64) {
     (sparse, dense.cond2)
 }
 
+/// `p` with `rows` as bilateral constraints (limit 0).
+fn with_rows(p: &Problem, rows: &[Row]) -> Problem {
+    let mut q = p.clone();
+    q.constraints = rows
+        .iter()
+        .map(|t| {
+            penalty_lab::system::Constraint::row(
+                t.clone(),
+                0.0,
+                penalty_lab::system::ConstraintKind::Bilateral,
+            )
+        })
+        .collect();
+    q
+}
+
 fn steel() -> Material {
     Material {
         young: 210e3,
@@ -104,18 +92,7 @@ fn steel() -> Material {
 }
 
 fn blocks(nx_lower: usize, nx_upper: usize) -> TwoBlocks {
-    TwoBlocks {
-        width: 1.0,
-        h_lower: 0.6,
-        h_upper: 0.4,
-        mesh_lower: (nx_lower, 3),
-        mesh_upper: (nx_upper, 2),
-        lower: steel(),
-        upper: Material {
-            young: 70e3,
-            poisson: 0.33,
-        },
-    }
+    TwoBlocks::steel_under_aluminium(1.0, (0.6, 0.4), (nx_lower, 3), (nx_upper, 2))
 }
 
 #[test]
@@ -371,17 +348,7 @@ fn random_overlapping_rows_bracket_the_dense_cond2() {
             }
             Err(e) => panic!("{label}: {e}"),
         };
-        let mut q = p.clone();
-        q.constraints = rows
-            .iter()
-            .map(|t| {
-                penalty_lab::system::Constraint::row(
-                    t.clone(),
-                    0.0,
-                    penalty_lab::system::ConstraintKind::Bilateral,
-                )
-            })
-            .collect();
+        let q = with_rows(p, &rows);
         let all: Vec<usize> = (0..m).collect();
         let kkt = lagrange::saddle_matrix(&q, &all).to_dense();
         let dense = cond2_dense(kkt.as_ref(), true).unwrap();
@@ -423,17 +390,7 @@ fn nearly_dependent_rows_stay_bracketed() {
             vec![(61, 1.0), (62, 0.5), (80, -0.5)],
         ];
         let r = cond2_saddle_rows(&k, &rows, SCHUR_TEST_MAX, None).unwrap();
-        let mut q = p.clone();
-        q.constraints = rows
-            .iter()
-            .map(|t| {
-                penalty_lab::system::Constraint::row(
-                    t.clone(),
-                    0.0,
-                    penalty_lab::system::ConstraintKind::Bilateral,
-                )
-            })
-            .collect();
+        let q = with_rows(p, &rows);
         let kkt = lagrange::saddle_matrix(&q, &[0, 1, 2, 3]).to_dense();
         let dense = cond2_dense(kkt.as_ref(), true).unwrap();
         let slack = 64.0 * (n + 4) as f64 * f64::EPSILON * dense.cond2;

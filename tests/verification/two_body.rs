@@ -18,21 +18,7 @@ use penalty_lab::model::two_body::{exact_displacements, patch, Discretization, T
 use penalty_lab::strategy::{self, Method};
 
 fn blocks(nx_lower: usize, nx_upper: usize) -> TwoBlocks {
-    TwoBlocks {
-        width: 1.0,
-        h_lower: 0.6,
-        h_upper: 0.4,
-        mesh_lower: (nx_lower, 3),
-        mesh_upper: (nx_upper, 2),
-        lower: Material {
-            young: 210e3,
-            poisson: 0.3,
-        },
-        upper: Material {
-            young: 70e3,
-            poisson: 0.33,
-        },
-    }
+    TwoBlocks::steel_under_aluminium(1.0, (0.6, 0.4), (nx_lower, 3), (nx_upper, 2))
 }
 
 /// max_c |p_c − p| / p (NaN if any pressure is NaN).

@@ -316,11 +316,7 @@ fn coupled_lower_bound(problem: &Problem) -> Result<f64> {
         .iter()
         .map(|c| c.terms.clone())
         .collect();
-    let k = match &problem.k {
-        Stiffness::Sparse(k) => std::borrow::Cow::Borrowed(k),
-        Stiffness::Dense(k) => std::borrow::Cow::Owned(crate::system::sparse_of_dense(k.as_ref())),
-    };
-    let bottom = conditioning::saddle::null_space_lambda_min(&k, &rows)?;
+    let bottom = conditioning::saddle::null_space_lambda_min(&problem.k.as_sparse(), &rows)?;
     let top = conditioning::cond2(&problem.k)?;
     let lmax = top
         .certificate

@@ -51,7 +51,7 @@ pub use record::{slopes, Row, Slope};
 
 use crate::error::{Error, Result};
 use crate::metrics::{self, solver::SolverOptions, MetricSet};
-use crate::model::elasticity::{Indentation, Material};
+use crate::model::elasticity::Indentation;
 use crate::model::two_body::{self, Discretization, TwoBlocks};
 use crate::progress::Progress;
 use crate::strategy::{self, registry, Knob, Method, Strategy};
@@ -179,21 +179,7 @@ impl PenaltyScalingConfig {
     /// The two blocks of level `l` (module doc).
     pub fn blocks(&self, l: usize) -> TwoBlocks {
         let (r1, r2) = (self.ratio.0 << l, self.ratio.1 << l);
-        TwoBlocks {
-            width: 1.0,
-            h_lower: 1.0,
-            h_upper: 0.5,
-            mesh_lower: (r1, r1),
-            mesh_upper: (r2, r2.div_ceil(2)),
-            lower: Material {
-                young: 210e3,
-                poisson: 0.3,
-            },
-            upper: Material {
-                young: 70e3,
-                poisson: 0.33,
-            },
-        }
+        TwoBlocks::steel_under_aluminium(1.0, (1.0, 0.5), (r1, r1), (r2, r2.div_ceil(2)))
     }
 
     /// The contact modulus E* = 1/(1/E₁* + 1/E₂*) of the pair.
