@@ -411,3 +411,56 @@ fn nearly_dependent_rows_stay_bracketed() {
         Err(Error::Singular(_))
     ));
 }
+
+/// Found by a referee: rows of very different scales are not dependent (rows 1e8·e₀ and e₁ on
+/// K = I: cond₂ = 1.618e8, refused as dependent before the pivots were normalized by the rows'
+/// norms); K with one triangle stored is refused (it was "proven" about another matrix); a
+/// zero term still has its DOF checked.
+#[test]
+fn row_scales_and_half_stored_k() {
+    use faer::sparse::{SparseColMat, Triplet};
+    let eye = SparseColMat::<usize, f64>::try_new_from_triplets(
+        3,
+        3,
+        &[
+            Triplet::new(0, 0, 1.0),
+            Triplet::new(1, 1, 1.0),
+            Triplet::new(2, 2, 1.0),
+        ],
+    )
+    .unwrap();
+    let rows: Vec<Row> = vec![vec![(0, 1e8)], vec![(1, 1.0)]];
+    let r = cond2_saddle_rows(&eye, &rows, SCHUR_TEST_MAX, None).unwrap();
+    // Exact: the blocks [1 1e8; 1e8 0], [1 1; 1 0] and 1: σ_max = (1 + √(1 + 4e16))/2,
+    // σ_min = (√5 − 1)/2.
+    let exact = (1.0 + (1.0f64 + 4e16).sqrt()) / 2.0 / ((5.0f64.sqrt() - 1.0) / 2.0);
+    let (lo, hi) = r.certificate.unwrap().cond2_bounds();
+    assert!(
+        lo <= exact * (1.0 + 1e-15) && exact <= hi * (1.0 + 1e-15),
+        "[{lo:e}, {hi:e}]"
+    );
+    assert!(
+        (r.cond2 / exact - 1.0).abs() <= 1e-12,
+        "{:e} vs {exact:e}",
+        r.cond2
+    );
+    let lower = SparseColMat::<usize, f64>::try_new_from_triplets(
+        3,
+        3,
+        &[
+            Triplet::new(0, 0, 2.0),
+            Triplet::new(1, 0, -1.0),
+            Triplet::new(1, 1, 2.0),
+            Triplet::new(2, 1, -1.0),
+            Triplet::new(2, 2, 2.0),
+        ],
+    )
+    .unwrap();
+    let half = cond2_saddle_rows(&lower, &[vec![(0, 1.0), (2, 1.0)]], SCHUR_TEST_MAX, None);
+    assert!(matches!(half, Err(Error::Unsupported { .. })), "{half:?}");
+    let zero_out = cond2_saddle_rows(&eye, &[vec![(0, 1.0), (7, 0.0)]], SCHUR_TEST_MAX, None);
+    assert!(
+        matches!(zero_out, Err(Error::DofOutOfRange { .. })),
+        "{zero_out:?}"
+    );
+}

@@ -211,7 +211,8 @@ fn checked_rows(n: usize, rows: &[Row]) -> Result<Vec<Row>> {
     }
     let mut out = Vec::with_capacity(m);
     for row in rows {
-        let mut r: Row = row.iter().copied().filter(|&(_, a)| a != 0.0).collect();
+        // Range and repeats are checked on every term, zero ones included (then dropped).
+        let mut r: Row = row.clone();
         r.sort_by_key(|&(d, _)| d);
         if let Some(&(d, _)) = r.iter().find(|&&(d, _)| d >= n) {
             return Err(dof_error("saddle-point cond₂", n, d));
@@ -219,6 +220,7 @@ fn checked_rows(n: usize, rows: &[Row]) -> Result<Vec<Row>> {
         if let Some(w) = r.windows(2).find(|w| w[0].0 == w[1].0) {
             return Err(dof_error("saddle-point cond₂", n, w[0].0));
         }
+        r.retain(|&(_, a)| a != 0.0);
         if r.is_empty() || r.iter().any(|&(_, a)| !a.is_finite()) {
             return Err(Error::NotFinite {
                 what: "saddle-point cond₂: a constraint row (zero or not finite)".into(),
@@ -313,17 +315,25 @@ impl<'a> AugmentedInverse<'a> {
         }
         let s = Mat::from_fn(m, m, |i, j| 0.5 * (s[(i, j)] + s[(j, i)]));
         let s = s.llt(Side::Lower).map_err(|_| singular())?;
-        // Each pivot L_ii² lies in [λ_min(S), λ_max(S)]: a spread above 1/(64ε_mach) proves
-        // cond₂(S) above it, S singular to working precision (dependent rows, e.g. two-pass
-        // node-to-segment: [1, 1] and [2, 2] on two DOFs spread by 9e14, cond₂(A) ≈ 3e18).
-        let pivots = (0..m).map(|i| s.L()[(i, i)].powi(2));
+        // Dependence is a property of the rows' directions, not of their scales: with
+        // `N = diag(1/‖d_c‖)`, the Cholesky factor of `N S N` is `N L`, so its pivots are
+        // `L_ii²/‖d_i‖²`, each in [λ_min(NSN), λ_max(NSN)]. A spread above 1/(64ε_mach)
+        // proves cond₂(NSN) above it: the rows, scaled to unit norm, are dependent to
+        // working precision (two-pass node-to-segment; [1, 1] and [2, 2] on two DOFs spread
+        // by 2e14). Unnormalized pivots would refuse independent rows of different scales
+        // (rows 1e8·e₀ and e₁ on K = I: a spread of 1e16, cond₂(A) = 1.6e8).
+        let pivots = (0..m).map(|i| {
+            let norm2: f64 = blocks.column(i).map(|(_, a)| a * a).sum();
+            s.L()[(i, i)].powi(2) / norm2
+        });
         let (lo, hi) = pivots.fold((f64::INFINITY, 0.0f64), |(lo, hi), p| {
             (lo.min(p), hi.max(p))
         });
         if lo * (1.0 / (64.0 * f64::EPSILON)) < hi {
             return Err(Error::singular(
                 "saddle-point matrix is singular to working precision: the constraint rows are \
-                 linearly dependent (DᵀK_ρ⁻¹D's Cholesky pivots spread by more than 1/(64ε_mach))",
+                 linearly dependent (DᵀK_ρ⁻¹D with unit rows spreads its Cholesky pivots by more \
+                 than 1/(64ε_mach))",
             ));
         }
         let log10_det_s = (0..m).map(|i| 2.0 * s.L()[(i, i)].log10()).sum();

@@ -95,7 +95,8 @@
 //! the negative side's floor is proven by **Lemma R**: for any X̂,
 //! `Dᵀ(K + tI)⁻¹D ⪰ X̂ᵀD + RᵀX̂` with `R = D − (K + tI)X̂` (the solves' error enters through a
 //! dropped term ⪰ 0), so a dense Cholesky of that m×m matrix minus tI, its rounding bounded,
-//! leaves no eigenvalue in (−t', 0) for a t' a few roundings below t. On the inclined plane,
+//! puts m eigenvalues at or below −t' for a t' a few roundings below t; with the positive
+//! side's `#{λ < s} ≤ m`, none lies in (−t', s). On the inclined plane,
 //! the two-body patch test and Hertz between two bodies the brackets are proven (Hertz,
 //! cond₂ ≈ 5e12: 2.5e-13 wide, where the dense route's value is off by 1.6e-4;
 //! tests/verification/saddle_rows.rs).
@@ -207,6 +208,14 @@ pub fn cond2_saddle_rows(
     schur_test_max: usize,
     starts: Option<&RitzStarts>,
 ) -> Result<CondReport> {
+    // K must be symmetric with both triangles stored (one triangle would be read as a
+    // different matrix and "proven" about it).
+    if k.nrows() != k.ncols() || !crate::system::Stiffness::Sparse(k.clone()).is_symmetric() {
+        return Err(Error::Unsupported {
+            what: "saddle-point cond₂ with coupled rows: K".into(),
+            needs: "a square symmetric K with both triangles stored".into(),
+        });
+    }
     let wide = coupling::widened(k, rows)?;
     let pattern = DiagonalPattern::new(&wide)?;
     let blocks = Blocks::rows(&pattern, rows)?;

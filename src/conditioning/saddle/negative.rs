@@ -10,14 +10,19 @@ use faer::{Mat, Side};
 /// Largest N·m² for [`negative_floor`] (its dense `R̂ᵀX̂`).
 pub const MAX_FLOOR_WORK: usize = 2_000_000_000;
 
-/// A proven `t' ≤ t` with no eigenvalue of A in `(−t', 0)`, for any D (the negative side's
-/// floor where no LDLᵀ inertia test settles it: coupled rows, whose negative eigenvalues
-/// cluster as a Boolean D's do and where [`super::schur`] does not apply).
+/// A proven `t' ≤ t` with at least m eigenvalues of A in `(−∞, −t']`, for any D (the negative
+/// side's floor where no LDLᵀ inertia test settles it: coupled rows, whose negative
+/// eigenvalues cluster as a Boolean D's do and where [`super::schur`] does not apply). With
+/// `#{λ < s} ≤ m` proven for an s > 0 — what every caller has from the positive side
+/// (a verified `H(s) ≻ 0`, or Temple's bound of λ⁺_min) — no eigenvalue lies in
+/// `(−t', s)`, so σ_min ≥ min(t', s). (The positive side's count is needed: `K + t'I ≻ 0`
+/// alone would allow an (m+1)-th negative eigenvalue in (−t', 0) where K is indefinite.)
 ///
 /// **Lemma R.** For t > 0 with `K + tI ≻ 0`, eliminating `K + tI` from
 /// `A + tI = [K + tI, D; Dᵀ, tI]` gives `#{λ(A) < −t} = #{eigenvalues of M(t) above t}`,
-/// `M(t) = Dᵀ(K + tI)⁻¹D`, so λ_min(M(t)) ≥ t leaves no eigenvalue in (−t, 0); M decreases
-/// with t. For any X̂ and `R = D − (K + tI)X̂`,
+/// `M(t) = Dᵀ(K + tI)⁻¹D`, so λ_min(M(t)) ≥ t puts all m of M's eigenvalues at or above t,
+/// i.e. m eigenvalues of A at or below −t (for λ_min(M(t')) = t' exactly, one at −t'); M
+/// decreases with t. For any X̂ and `R = D − (K + tI)X̂`,
 /// `M(t) = S' + Rᵀ(K + tI)⁻¹R ⪰ S'`, `S' = X̂ᵀD + RᵀX̂` (symmetric; expand
 /// `D = (K + tI)X̂ + R`): the solves' error enters only through a term ⪰ 0 that is dropped.
 /// Computed: X̂ by m solves, R̂ by compensated dot products with its bound (the stored
@@ -25,7 +30,7 @@ pub const MAX_FLOOR_WORK: usize = 2_000_000_000;
 /// whose Frobenius norm e bounds `‖Ŝ_sym − S'‖₂`, and a dense Cholesky of `fl(Ŝ_sym − tI)`:
 /// where it succeeds with slack c ([`super::schur::cholesky_slack`]),
 /// `λ_min(M(t)) ≥ λ_min(S') ≥ t − c − e =: t'`; then `λ_min(M(t')) ≥ λ_min(M(t)) ≥ t'` once
-/// `K + t'I ≻ 0` is verified (`Shifts::verified_pd`): no eigenvalue in `(−t', 0)`.
+/// `K + t'I ≻ 0` is verified (`Shifts::verified_pd`): m eigenvalues at or below −t'.
 /// None where a test fails, t' ≤ 0 or N·m² exceeds [`MAX_FLOOR_WORK`].
 pub(super) fn negative_floor(shifts: &mut Shifts<'_>, t: f64, margin: Margin) -> Option<f64> {
     use crate::conditioning::certify::{residual_dot2, up};
