@@ -437,22 +437,32 @@ impl Stiffness {
     }
 }
 
+/// The position of entry (i, j) in the values of a CSC pattern whose columns hold sorted row
+/// indices, or None where it is not stored.
+pub fn csc_position(
+    pattern: faer::sparse::SymbolicSparseColMatRef<'_, usize>,
+    i: usize,
+    j: usize,
+) -> Option<usize> {
+    let (cp, ri) = (pattern.col_ptr(), pattern.row_idx());
+    ri[cp[j]..cp[j + 1]]
+        .binary_search(&i)
+        .ok()
+        .map(|k| cp[j] + k)
+}
+
 /// `m` with `adds` added in place, in order, or None where an entry is not stored (or `m` is
 /// not compressed).
 fn add_in_place(
     m: &SparseColMat<usize, f64>,
     adds: &[(usize, usize, f64)],
 ) -> Option<SparseColMat<usize, f64>> {
-    let (cp, ri) = (m.symbolic().col_ptr(), m.symbolic().row_idx());
     if m.symbolic().col_nnz().is_some() {
         return None;
     }
     let pos: Option<Vec<usize>> = adds
         .iter()
-        .map(|&(i, j, _)| {
-            let rows = &ri[cp[j]..cp[j + 1]];
-            rows.binary_search(&i).ok().map(|k| cp[j] + k)
-        })
+        .map(|&(i, j, _)| csc_position(m.symbolic(), i, j))
         .collect();
     let pos = pos?;
     let mut out = m.clone();

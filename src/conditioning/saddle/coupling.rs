@@ -36,7 +36,8 @@ use super::blocks::dof_error;
 use crate::conditioning::certify::{gamma, U};
 use crate::error::{Error, Result};
 use crate::linalg::{DiagonalPattern, SparseLlt};
-use faer::sparse::{SparseColMat, Triplet};
+use crate::system::{csc_position, Stiffness};
+use faer::sparse::SparseColMat;
 use faer::{Mat, Side};
 
 /// Largest N·m for coupled rows (the dense `K_ρ⁻¹D` of the block inverse: 8·N·m bytes,
@@ -91,28 +92,22 @@ impl<'a> Blocks<'a> {
         }
     }
 
-    /// General rows on `pattern` (the pattern of `K + DDᵀ`, [`widened`]); errors on an
-    /// out-of-range DOF, a DOF twice in a row, a non-finite or zero row, and unless
-    /// 0 < m < N.
-    pub(super) fn rows(pattern: &DiagonalPattern, rows: &[Row]) -> Result<Blocks<'static>> {
+    /// General rows, checked ([`checked_rows`]: errors on an out-of-range DOF, a DOF twice in
+    /// a row, a non-finite or zero row, and unless 0 < m < N), on `pattern` (the pattern of
+    /// `K + DDᵀ`, [`rows_on`]).
+    fn rows(pattern: &DiagonalPattern, rows: Vec<Row>) -> Result<Blocks<'static>> {
         let n = pattern.n();
         let m = rows.len();
-        let rows = checked_rows(n, rows)?;
         let mut in_b = vec![false; n];
         for &(d, _) in rows.iter().flatten() {
             in_b[d] = true;
         }
-        let (cp, ri) = (pattern.pattern.col_ptr(), pattern.pattern.row_idx());
-        let position = |i: usize, j: usize| {
-            let col = &ri[cp[j]..cp[j + 1]];
-            col.binary_search(&i).ok().map(|k| cp[j] + k)
-        };
         // Entries keyed by position, accumulated in row order.
         let mut at = std::collections::BTreeMap::<usize, OuterEntry>::new();
         for row in &rows {
             for &(i, a) in row {
                 for &(j, b) in row {
-                    let pos = position(i, j).ok_or_else(|| {
+                    let pos = csc_position(pattern.pattern.as_ref(), i, j).ok_or_else(|| {
                         Error::Numerical(format!(
                             "saddle-point cond₂: entry ({i}, {j}) of DDᵀ is not in the widened pattern"
                         ))
@@ -167,6 +162,23 @@ impl<'a> Blocks<'a> {
         self.column(c).map(|(d, a)| a * x[d]).sum()
     }
 
+    /// `f⁻¹D` as a dense N×m matrix (m solves with the factor f of an N×N matrix).
+    pub(super) fn solved(&self, f: &SparseLlt, n: usize) -> Mat<f64> {
+        let mut x = Mat::<f64>::zeros(n, self.m);
+        for c in 0..self.m {
+            for (d, a) in self.column(c) {
+                x[(d, c)] = a;
+            }
+        }
+        f.solve_mat_in_place(x.as_mut());
+        x
+    }
+
+    /// `(DᵀX)_ij` for a dense N×m X.
+    pub(super) fn dt_col(&self, x: &Mat<f64>, i: usize, j: usize) -> f64 {
+        self.column(i).map(|(d, a)| a * x[(d, j)]).sum()
+    }
+
     /// Writes `α·K + σI + β·DDᵀ` on `pattern` into `out` and returns `max_e` with
     /// `4u·max_e` ≥ the 2-norm of its formation error (module doc): for a Boolean D
     /// [`DiagonalPattern::fill_shifted`]'s diagonal bound.
@@ -199,7 +211,8 @@ impl<'a> Blocks<'a> {
     }
 }
 
-/// The rows with their terms sorted by DOF; errors as [`Blocks::rows`].
+/// The rows with their terms sorted by DOF, zero terms dropped; errors on an out-of-range
+/// DOF, a DOF twice in a row, a non-finite or zero row, and unless 0 < m < N.
 fn checked_rows(n: usize, rows: &[Row]) -> Result<Vec<Row>> {
     let m = rows.len();
     if m == 0 || m >= n {
@@ -231,31 +244,27 @@ fn checked_rows(n: usize, rows: &[Row]) -> Result<Vec<Row>> {
     Ok(out)
 }
 
-/// K widened with explicit zeros at every entry of `DDᵀ` it does not store (the pattern of
-/// `K + DDᵀ`; K's own values unchanged).
-pub(super) fn widened(
+/// Checks `rows` against K (N×N), widens K with explicit zeros at every entry of `DDᵀ` it
+/// does not store (`Stiffness::with_entries_added`, the fill of `K + DEDᵀ`; K's own values
+/// unchanged) and sets up D on that pattern. Errors as [`Blocks::rows`].
+pub(super) fn rows_on(
     k: &SparseColMat<usize, f64>,
     rows: &[Row],
-) -> Result<SparseColMat<usize, f64>> {
-    let n = k.nrows();
-    let (cp, ri, v) = (k.symbolic().col_ptr(), k.symbolic().row_idx(), k.val());
-    let mut t: Vec<Triplet<usize, usize, f64>> = Vec::with_capacity(v.len());
-    for j in 0..k.ncols() {
-        for p in cp[j]..cp[j + 1] {
-            t.push(Triplet::new(ri[p], j, v[p]));
-        }
-    }
-    for row in rows {
-        for &(i, _) in row {
-            for &(j, _) in row {
-                if i < n && j < n {
-                    t.push(Triplet::new(i, j, 0.0));
-                }
-            }
-        }
-    }
-    SparseColMat::try_new_from_triplets(n, n, &t)
-        .map_err(|e| Error::Numerical(format!("saddle-point cond₂: K + DDᵀ's pattern: {e:?}")))
+) -> Result<(DiagonalPattern, Blocks<'static>)> {
+    let rows = checked_rows(k.nrows(), rows)?;
+    let zeros: Vec<(usize, usize, f64)> = rows
+        .iter()
+        .flat_map(|r| {
+            r.iter()
+                .flat_map(move |&(i, _)| r.iter().map(move |&(j, _)| (i, j, 0.0)))
+        })
+        .collect();
+    let Stiffness::Sparse(wide) = Stiffness::Sparse(k.clone()).with_entries_added(&zeros) else {
+        unreachable!("a sparse matrix stays sparse")
+    };
+    let pattern = DiagonalPattern::new(&wide)?;
+    let blocks = Blocks::rows(&pattern, rows)?;
+    Ok((pattern, blocks))
 }
 
 /// `A⁻¹` through the augmented block `K_ρ = K + ρDDᵀ` (module doc).
@@ -298,21 +307,8 @@ impl<'a> AugmentedInverse<'a> {
         let mut values = Vec::new();
         blocks.fill(pattern, &mut values, 1.0, 0.0, rho);
         let k_rho = pattern.factor(&values).ok_or_else(singular)?;
-        let mut w = Mat::<f64>::zeros(n, m);
-        for c in 0..m {
-            for (d, a) in blocks.column(c) {
-                w[(d, c)] = a;
-            }
-        }
-        k_rho.solve_mat_in_place(w.as_mut());
-        let col = |c: usize| -> Vec<f64> { (0..n).map(|i| w[(i, c)]).collect() };
-        let mut s = Mat::<f64>::zeros(m, m);
-        for j in 0..m {
-            let wj = col(j);
-            for i in 0..m {
-                s[(i, j)] = blocks.dt(&wj, i);
-            }
-        }
+        let w = blocks.solved(&k_rho, n);
+        let s = Mat::from_fn(m, m, |i, j| blocks.dt_col(&w, i, j));
         let s = Mat::from_fn(m, m, |i, j| 0.5 * (s[(i, j)] + s[(j, i)]));
         let s = s.llt(Side::Lower).map_err(|_| singular())?;
         // Dependence is a property of the rows' directions, not of their scales: with

@@ -216,9 +216,7 @@ pub fn cond2_saddle_rows(
             needs: "a square symmetric K with both triangles stored".into(),
         });
     }
-    let wide = coupling::widened(k, rows)?;
-    let pattern = DiagonalPattern::new(&wide)?;
-    let blocks = Blocks::rows(&pattern, rows)?;
+    let (pattern, blocks) = coupling::rows_on(k, rows)?;
     let augmented = AugmentedInverse::new(&pattern, &blocks)?;
     let log10_det = augmented.log10_det();
     let a = coupling::rows_csc(&pattern, &blocks);

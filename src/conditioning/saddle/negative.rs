@@ -2,7 +2,7 @@
 //! ([`super`]): the plain m×m test that brackets |λ⁻_max| in the inertia search, and Lemma R's
 //! proven floor for coupled rows.
 
-use super::coupling::{Blocks, Coupling};
+use super::coupling::Blocks;
 use super::shifts::Shifts;
 use crate::conditioning::certify::{gamma, Margin, U};
 use faer::{Mat, Side};
@@ -41,13 +41,7 @@ pub(super) fn negative_floor(shifts: &mut Shifts<'_>, t: f64, margin: Margin) ->
     }
     let f = shifts.factor(1.0, t, 0.0)?;
     let stored = &shifts.work; // fl(K + tI): the matrix R̂ is formed with
-    let mut x = Mat::<f64>::zeros(n, m);
-    for c in 0..m {
-        for (d, a) in blocks.column(c) {
-            x[(d, c)] = a;
-        }
-    }
-    f.solve_mat_in_place(x.as_mut());
+    let x = blocks.solved(&f, n);
     drop(f);
     let mut r = vec![0.0; n * m];
     let mut dr = vec![0.0; n * m];
@@ -109,20 +103,9 @@ pub(super) fn schur_test_fails(shifts: &mut Shifts, blocks: &Blocks<'_>, s: f64)
     let f = shifts.factor(1.0, s, 0.0)?;
     let n = shifts.pattern.n();
     let m = blocks.m;
-    let mut x = faer::Mat::<f64>::zeros(n, m);
-    for c in 0..m {
-        for (d, a) in blocks.column(c) {
-            x[(d, c)] = a;
-        }
-    }
-    f.solve_mat_in_place(x.as_mut());
-    // M = DᵀX: for a Boolean D the entries x[(d_i, j)] themselves.
-    let dtx = |i: usize, j: usize| -> f64 {
-        match &blocks.d {
-            Coupling::Selection(dofs) => x[(dofs[i], j)],
-            Coupling::Rows { .. } => blocks.column(i).map(|(d, a)| a * x[(d, j)]).sum(),
-        }
-    };
+    let x = blocks.solved(&f, n);
+    // M = DᵀX (for a Boolean D the entries x[(d_i, j)] themselves, bit for bit).
+    let dtx = |i: usize, j: usize| blocks.dt_col(&x, i, j);
     // λ_min(M) ≥ s ⇔ M − sI ⪰ 0, tested (strictly) by a dense Cholesky: the same
     // floating-point definiteness test as every inertia test of these routes, at m³/3 flops
     // instead of a symmetric eigendecomposition.

@@ -16,11 +16,10 @@
 //! ρ_hi the upper end of x̂'s Rayleigh interval (`certify::rayleigh_interval`). t is of the
 //! order of u·cond(G): the bound sits a rounding above the Rayleigh quotient.
 
-use super::coupling::{self, AugmentedInverse, Blocks, Row};
+use super::coupling::{self, AugmentedInverse, Row};
 use crate::conditioning::certify::{dot_interval, gamma, rayleigh_interval, up, U};
 use crate::conditioning::sparse::{lanczos, Keep, MAX_LANCZOS_STEPS, STAGNATION};
 use crate::error::{Error, Result};
-use crate::linalg::DiagonalPattern;
 use faer::sparse::SparseColMat;
 use faer::{Mat, Side};
 
@@ -39,9 +38,7 @@ pub struct NullSpaceMin {
 /// finite nonzero rows; dependent rows are [`Error::Singular`]), and [`Error::Numerical`]
 /// where the bound cannot be proven.
 pub fn null_space_lambda_min(k: &SparseColMat<usize, f64>, rows: &[Row]) -> Result<NullSpaceMin> {
-    let wide = coupling::widened(k, rows)?;
-    let pattern = DiagonalPattern::new(&wide)?;
-    let blocks = Blocks::rows(&pattern, rows)?;
+    let (pattern, blocks) = coupling::rows_on(k, rows)?;
     let mut inverse = AugmentedInverse::new(&pattern, &blocks)?;
     let (n, m) = (pattern.n(), blocks.m);
     let mut full = vec![0.0; n + m];
@@ -129,12 +126,12 @@ pub fn null_space_lambda_min(k: &SparseColMat<usize, f64>, rows: &[Row]) -> Resu
         }
     };
     // Λ ≥ λ_max(K): Gershgorin, rounded up.
-    let cp = wide.symbolic().col_ptr();
+    let cp = pattern.pattern.col_ptr();
     let big = (0..n)
         .map(|j| {
             let (a, b) = (cp[j], cp[j + 1]);
             let len = b - a;
-            (1.0 + gamma(len + 1)) * wide.val()[a..b].iter().map(|v| v.abs()).sum::<f64>()
+            (1.0 + gamma(len + 1)) * pattern.values[a..b].iter().map(|v| v.abs()).sum::<f64>()
         })
         .fold(0.0, f64::max);
     let (_, rho_hi) = rayleigh_interval(pattern.pattern.as_ref(), &pattern.values, &x)

@@ -261,13 +261,11 @@ impl Spectrum {
 /// The positions of `d dᵀ`'s entries in `pattern`'s values (columns hold sorted row indices),
 /// with the products `a_i a_j`.
 fn outer_positions(pattern: &DiagonalPattern, row: &Constraint) -> Result<Vec<(usize, f64)>> {
-    let (cp, ri) = (pattern.pattern.col_ptr(), pattern.pattern.row_idx());
     row.outer(1.0)
         .map(|(i, j, ab)| {
-            let col = &ri[cp[j]..cp[j + 1]];
-            col.binary_search(&i)
-                .map(|k| (cp[j] + k, ab))
-                .map_err(|_| Error::Numerical(format!("optimal: entry ({i}, {j}) of a row's outer product is not in the widened pattern")))
+            crate::system::csc_position(pattern.pattern.as_ref(), i, j)
+                .map(|p| (p, ab))
+                .ok_or_else(|| Error::Numerical(format!("optimal: entry ({i}, {j}) of a row's outer product is not in the widened pattern")))
         })
         .collect()
 }
