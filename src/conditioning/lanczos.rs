@@ -83,8 +83,23 @@ impl LanczosRun {
 }
 
 /// Weight of the generic start vector mixed into a warm start: keeps every eigenvector's
-/// component nonzero, so a start orthogonal to the new top eigenvector still finds it.
-pub(crate) const WARM_MIX: f64 = 1e-2;
+/// component nonzero, so a start orthogonal to the new top eigenvector still finds it. Small,
+/// since what Lanczos needs is a component above rounding, not a large one: the second
+/// Lanczos vector is the start's residual `(A − α)q` normalized, made of exactly the parts of
+/// q that are not an eigenvector, so a top eigenvector the warm start lacks but for a
+/// component c dominates it wherever `c·|λ_max − α| ≫ ε_mach·‖A‖` (c ≈ mix/√n ≥ 1e-9 up to
+/// 10⁶ unknowns), and θ jumps at the first check. A larger mix only adds random components
+/// that the run must converge away (1e-2: 5 decades; 1e-6: 1). The certificate never depends
+/// on it: a run that settles short is caught by the failing inertia test. (A window of
+/// several eigenpairs, started from the sum of the last window's vectors, needs more of the
+/// generic start: [`WINDOW_MIX`].)
+pub(crate) const WARM_MIX: f64 = 1e-6;
+
+/// The generic start's weight in a warm-started window run (`conditioning::window`): the sum
+/// of the last window's vectors leaves new directions to the random part, and `optimal`'s
+/// Newton stages need the window's vectors converged (its canonical Hertz sample stalls
+/// with 1e-6).
+pub(crate) const WINDOW_MIX: f64 = 1e-2;
 
 /// Largest eigenvalue of a symmetric operator by plain Lanczos: stops when the top Ritz value
 /// θ stagnates to `stagnation(θ)` relative over [`CHECK_EVERY`] steps, on an invariant
@@ -127,7 +142,7 @@ fn lanczos_within(
     } else {
         CHECK_EVERY
     };
-    let q0 = start_vector(n, warm);
+    let q0 = start_vector(n, warm, WARM_MIX);
     let mut q = q0.clone();
     // Ritz vectors from the stored basis (memory k·n) up to RITZ_VECTOR_MAX_N unknowns and
     // above it within the budget, else by a second pass of the same recurrence (k more
@@ -139,12 +154,19 @@ fn lanczos_within(
         Keep::Always => true,
         Keep::IfConverged => max_steps.min(n).saturating_mul(n) <= budget_words,
     };
-    let mut basis: Vec<f64> = Vec::new();
+    // Room for a typical run up front (the vectors grew by doubling, a reallocation and a
+    // copy each time; a sweep makes hundreds of short runs).
+    let typical = max_steps.min(n).clamp(1, TYPICAL_STEPS);
+    let mut basis: Vec<f64> = Vec::with_capacity(if store {
+        (typical * n).min(BASIS_RESERVE_WORDS)
+    } else {
+        0
+    });
     let mut q_prev = vec![0.0; n];
     let mut w = vec![0.0; n];
-    let (mut alphas, mut betas) = (Vec::new(), Vec::new());
+    let (mut alphas, mut betas) = (Vec::with_capacity(typical), Vec::with_capacity(typical));
     let mut beta_prev = 0.0;
-    let mut history: Vec<f64> = Vec::new();
+    let mut history: Vec<f64> = Vec::with_capacity(typical / check_every + 1);
     let mut steps = 0;
     let mut upper = 0.0f64;
     // The top Ritz value where it settled (or the Krylov space became invariant).
@@ -302,14 +324,14 @@ fn has_stagnated(history: &[f64], theta: f64, tol: f64) -> bool {
 /// The deterministic start vector of [`lanczos`]: seeded random ([`random_start`], seed 0),
 /// so that it cannot share a mesh's symmetry (a start symmetric under a mirror is orthogonal
 /// to every antisymmetric mode, and Lanczos would return the lowest symmetric eigenvalue in
-/// place of λ_min), mixed with the warm start where there is one, normalized.
-pub(crate) fn start_vector(n: usize, warm: Option<&[f64]>) -> Vec<f64> {
+/// place of λ_min), mixed with weight `mix` into the warm start where there is one, normalized.
+pub(crate) fn start_vector(n: usize, warm: Option<&[f64]>, mix: f64) -> Vec<f64> {
     let mut q = random_start(n, 0);
     if let Some(v) = warm {
         let nv = norm(v);
         if nv > 0.0 {
             for (qi, vi) in q.iter_mut().zip(v) {
-                *qi = WARM_MIX * *qi + vi / nv;
+                *qi = mix * *qi + vi / nv;
             }
             let nq = norm(&q);
             q.iter_mut().for_each(|x| *x /= nq);
@@ -323,6 +345,45 @@ pub(crate) fn start_vector(n: usize, warm: Option<&[f64]>) -> Vec<f64> {
 /// component, bar measure zero), no structure in common with any mesh, and the same on every
 /// machine and thread count.
 pub(crate) fn random_start(n: usize, seed: u64) -> Vec<f64> {
+    // The same (n, seed) gives the same vector: this thread's last few are kept (a sweep
+    // starts every run of a scene's systems from the same n).
+    let cached = RANDOM_STARTS.with(|c| {
+        c.borrow()
+            .iter()
+            .find(|(m, s, _)| *m == n && *s == seed)
+            .map(|(_, _, v)| v.clone())
+    });
+    if let Some(v) = cached {
+        return v;
+    }
+    let q = generate_random_start(n, seed);
+    RANDOM_STARTS.with(|c| {
+        let mut c = c.borrow_mut();
+        if c.len() == RANDOM_STARTS_KEPT {
+            c.remove(0);
+        }
+        c.push((n, seed, q.clone()));
+    });
+    q
+}
+
+/// How many [`random_start`] vectors each thread keeps.
+const RANDOM_STARTS_KEPT: usize = 4;
+
+/// Lanczos steps a run makes room for up front (it grows beyond them as needed).
+const TYPICAL_STEPS: usize = 32;
+
+/// At most this many words of a kept basis are reserved up front (512 KiB).
+const BASIS_RESERVE_WORDS: usize = 1 << 16;
+
+thread_local! {
+    /// This thread's last [`random_start`] vectors, `(n, seed, vector)`, oldest first.
+    static RANDOM_STARTS: std::cell::RefCell<Vec<(usize, u64, Vec<f64>)>> =
+        const { std::cell::RefCell::new(Vec::new()) };
+}
+
+/// [`random_start`] computed.
+fn generate_random_start(n: usize, seed: u64) -> Vec<f64> {
     use rand::{Rng, SeedableRng};
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(0x4c41_4e43_5a4f_5300 ^ seed);
     let mut q: Vec<f64> = (0..n)

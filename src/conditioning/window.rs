@@ -16,7 +16,7 @@
 //! 90-DOF beam whose Krylov subspace became numerically invariant (observed in this
 //! project), and it takes one start vector where a warm start needs the whole window.
 
-use super::lanczos::start_vector;
+use super::lanczos::{start_vector, WINDOW_MIX};
 use super::tridiagonal::tridiagonal_dense;
 use faer::linalg::matmul::matmul;
 use faer::reborrow::{Reborrow, ReborrowMut};
@@ -58,7 +58,7 @@ pub fn top_window(
             *s += x;
         }
     }
-    let q0 = start_vector(n, (!warm.is_empty()).then_some(&sum[..]));
+    let q0 = start_vector(n, (!warm.is_empty()).then_some(&sum[..]), WINDOW_MIX);
     // Lanczos vectors as the columns of one matrix: the reorthogonalization is two
     // matrix-vector products per pass (faer), c = Vᵀw and w ← w − V c.
     let mut basis = Mat::<f64>::zeros(n, max_steps);

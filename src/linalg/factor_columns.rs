@@ -25,7 +25,10 @@ impl SparseLlt {
     /// `LLᵀ − PAPᵀ` of the cond₂ certificates (`conditioning::certify::posterior_margin`).
     pub fn lower_factor(&self) -> LowerFactor {
         let fwd = self.symbolic.perm().map(|p| p.arrays().0.to_vec());
-        let (mut col_ptr, mut row_idx, mut values) = (vec![0usize], Vec::new(), Vec::new());
+        let (n, len) = (self.symbolic.nrows(), self.values.len());
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        col_ptr.push(0usize);
+        let (mut row_idx, mut values) = (Vec::with_capacity(len), Vec::with_capacity(len));
         match self.symbolic.raw() {
             SymbolicCholeskyRaw::Simplicial(s) => {
                 let (cp, ri) = (s.col_ptr(), s.row_idx());

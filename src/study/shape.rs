@@ -152,6 +152,11 @@ pub trait Study {
     ) -> Result<()>;
     /// Reads the record back from `out`.
     fn load(out: &Path) -> Result<Self::Record>;
+    /// Reads back what [`Study::report`] alone needs (`--no-figures` without `--json`): the
+    /// whole record unless the study reads less.
+    fn load_report(out: &Path) -> Result<Self::Record> {
+        Self::load(out)
+    }
     /// The record's drawings.
     fn figures(record: &Self::Record) -> Result<Vec<Drawing>>;
     /// The text printed on stdout (without `--json`).
@@ -280,8 +285,16 @@ fn entry<S: Study>(cli: &Cli<S::Flags>) -> Result<()> {
             "--out names a file; it must be a folder (created where missing)",
         ));
     }
+    // Only the report is printed: the study may read back less than its whole record.
+    let read_back = |out: &Path| {
+        if cli.no_figures && !cli.json {
+            S::load_report(out)
+        } else {
+            S::load(out)
+        }
+    };
     let (record, out) = if cli.render_only {
-        let record = S::load(&out).map_err(|e| match e {
+        let record = read_back(&out).map_err(|e| match e {
             crate::Error::Io { .. } => crate::Error::bad_file(
                 out.display(),
                 format!(
@@ -309,7 +322,7 @@ fn entry<S: Study>(cli: &Cli<S::Flags>) -> Result<()> {
         if S::SAVES {
             // What follows is drawn and printed from the saved files, as --render-only would.
             S::save(&out, &cfg, &record, &provenance)?;
-            (S::load(&out)?, out)
+            (read_back(&out)?, out)
         } else {
             (record, out)
         }

@@ -190,24 +190,45 @@ pub enum SweepJob {
 pub struct Record {
     /// `manifest.json` (`null` where the folder has none).
     pub manifest: serde_json::Value,
-    /// `rows.csv`.
+    /// `rows.csv` (empty where only counted, [`load_count`]).
     pub rows: Vec<Row>,
+    /// The number of rows in `rows.csv`.
+    pub rows_in_file: usize,
 }
 
 /// Reads `out/rows.csv` and, where present, `out/manifest.json`.
 pub fn load(out: &Path) -> Result<Record> {
     let (rows, _) = rows::read_rows(&out.join("rows.csv"), false)?;
+    Ok(Record {
+        manifest: read_manifest(out)?,
+        rows_in_file: rows.len(),
+        rows,
+    })
+}
+
+/// [`load`] for the report alone: the manifest, and rows.csv's rows counted
+/// ([`rows::count_rows`]), not read.
+pub fn load_count(out: &Path) -> Result<Record> {
+    Ok(Record {
+        rows_in_file: rows::count_rows(&out.join("rows.csv"))?,
+        manifest: read_manifest(out)?,
+        rows: Vec::new(),
+    })
+}
+
+/// `out/manifest.json`, `null` where there is none.
+fn read_manifest(out: &Path) -> Result<serde_json::Value> {
     let m = out.join("manifest.json");
-    let manifest = if m.exists() {
-        crate::provenance::read_json(&m)?
+    if m.exists() {
+        crate::provenance::read_json(&m)
     } else {
-        serde_json::Value::Null
-    };
-    Ok(Record { manifest, rows })
+        Ok(serde_json::Value::Null)
+    }
 }
 
 /// The study as the shared entry runs it. The rows and the manifest are written while the
-/// sweep runs (so that `--resume` can complete a killed run), not by [`Study::save`].
+/// sweep runs (so that `--resume` can complete a killed run), not by [`Study::save`]; its
+/// [`Study::run`] returns an empty record, and the entry reads the folder back.
 pub struct Sweep;
 
 impl Study for Sweep {
@@ -278,7 +299,13 @@ impl Study for Sweep {
                 super::run(cfg, &opts)?;
             }
         }
-        load(ctx.out)
+        // The folder is the record: the entry reads it back after `save` (as `--render-only`
+        // would), so it is not read here too.
+        Ok(Record {
+            manifest: serde_json::Value::Null,
+            rows: Vec::new(),
+            rows_in_file: 0,
+        })
     }
 
     /// Nothing: the run wrote its folder.
@@ -290,12 +317,16 @@ impl Study for Sweep {
         load(out)
     }
 
+    fn load_report(out: &Path) -> Result<Record> {
+        load_count(out)
+    }
+
     fn figures(rec: &Record) -> Result<Vec<Drawing>> {
         Ok(figures::drawings(&rec.rows))
     }
 
     fn report(rec: &Record) -> String {
-        report::text(&rec.manifest, rec.rows.len())
+        report::text(&rec.manifest, rec.rows_in_file)
     }
 
     fn json(rec: &Record) -> Result<String> {

@@ -331,6 +331,36 @@ fn parse_opt<T: std::str::FromStr>(s: &str) -> std::result::Result<Option<T>, St
 /// instead of being an error; the number of bytes of well-formed content is returned too.
 /// Quoted cells may span lines (a warning with a newline).
 pub fn read_rows(path: &Path, lenient: bool) -> Result<(Vec<Row>, usize)> {
+    let mut rows = Vec::new();
+    let good = scan_rows(path, lenient, |rec| {
+        rows.push(parse_record(rec)?);
+        Ok(())
+    })?;
+    Ok((rows, good))
+}
+
+/// The number of rows in rows.csv, as [`read_rows`] (not lenient) would return them, but
+/// without converting their cells: the header and every record's completeness and field count
+/// are checked, the values are not (a run's own report, which needs only the count).
+pub fn count_rows(path: &Path) -> Result<usize> {
+    let mut count = 0;
+    scan_rows(path, false, |rec| {
+        if rec.len() != COLUMNS.len() {
+            return Err(field_count_error(rec.len()));
+        }
+        count += 1;
+        Ok(())
+    })?;
+    Ok(count)
+}
+
+/// The scan of [`read_rows`]: the header checked, then `row` on every complete record in
+/// order; returns the bytes of well-formed content.
+fn scan_rows(
+    path: &Path,
+    lenient: bool,
+    mut row: impl FnMut(&csv::StringRecord) -> std::result::Result<(), String>,
+) -> Result<usize> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path.display(), e))?;
     let mut rd = csv::ReaderBuilder::new()
         .has_headers(false)
@@ -353,21 +383,17 @@ pub fn read_rows(path: &Path, lenient: bool) -> Result<(Vec<Row>, usize)> {
             },
         ));
     }
-    let mut rows = Vec::new();
     loop {
         let parsed = match rd.read_record(&mut rec) {
             Ok(false) => break,
             Ok(true) => match complete(&rd) {
-                (end, true) => parse_record(&rec).map(|r| (r, end)),
+                (end, true) => row(&rec).map(|()| end),
                 (_, false) => Err("truncated line".to_string()),
             },
             Err(e) => Err(e.to_string()),
         };
         match parsed {
-            Ok((r, end)) => {
-                rows.push(r);
-                good = end;
-            }
+            Ok(end) => good = end,
             Err(_) if lenient => break,
             Err(e) => {
                 let line = rec.position().map_or(0, |p| p.line());
@@ -375,16 +401,16 @@ pub fn read_rows(path: &Path, lenient: bool) -> Result<(Vec<Row>, usize)> {
             }
         }
     }
-    Ok((rows, good))
+    Ok(good)
+}
+
+fn field_count_error(found: usize) -> String {
+    format!("expected {} fields, found {found}", COLUMNS.len())
 }
 
 fn parse_record(rec: &csv::StringRecord) -> std::result::Result<Row, String> {
     if rec.len() != COLUMNS.len() {
-        return Err(format!(
-            "expected {} fields, found {}",
-            COLUMNS.len(),
-            rec.len()
-        ));
+        return Err(field_count_error(rec.len()));
     }
     let mut cells = rec.iter();
     let mut next = || cells.next().unwrap_or("");
@@ -662,5 +688,24 @@ mod tests {
                 (b.cond2_bounds_proven, b.cond2_within_contract)
             );
         }
+    }
+
+    #[test]
+    fn counted_rows_are_the_rows_read() {
+        let rows = samples();
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("rows.csv");
+        let text = header() + &format_rows(&rows);
+        std::fs::write(&path, &text).unwrap();
+        let (read, _) = read_rows(&path, false).unwrap();
+        assert_eq!(count_rows(&path).unwrap(), read.len());
+        // What read_rows refuses, count_rows refuses: a torn last line, a short record, a
+        // foreign header.
+        std::fs::write(&path, &text[..text.len() - 3]).unwrap();
+        assert!(read_rows(&path, false).is_err() && count_rows(&path).is_err());
+        std::fs::write(&path, header() + "a,b,c\n").unwrap();
+        assert!(read_rows(&path, false).is_err() && count_rows(&path).is_err());
+        std::fs::write(&path, "x,y\n").unwrap();
+        assert!(count_rows(&path).is_err());
     }
 }
