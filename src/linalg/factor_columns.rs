@@ -32,6 +32,17 @@ impl SparseLlt {
         match self.symbolic.raw() {
             SymbolicCholeskyRaw::Simplicial(s) => {
                 let (cp, ri) = (s.col_ptr(), s.row_idx());
+                // The up-looking factorization fills each column in increasing row order, so
+                // the columns normally come sorted and are copied as they are.
+                let m = s.nrows();
+                if (0..m).all(|j| ri[cp[j]..cp[j + 1]].is_sorted()) {
+                    return LowerFactor {
+                        col_ptr: cp.to_vec(),
+                        row_idx: ri[..cp[m]].to_vec(),
+                        values: self.values[..cp[m]].to_vec(),
+                        fwd,
+                    };
+                }
                 let mut col: Vec<(usize, f64)> = Vec::new();
                 for j in 0..s.nrows() {
                     col.clear();

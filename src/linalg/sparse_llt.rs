@@ -614,6 +614,21 @@ impl DiagonalPattern {
         let cp = a.symbolic().col_ptr();
         let ri = a.symbolic().row_idx();
         let av = a.val();
+        // Every diagonal stored (the usual case): A's own arrays, copied whole.
+        if a.symbolic().col_nnz().is_none() {
+            let diag: Option<Vec<usize>> = (0..n)
+                .map(|j| {
+                    let col = &ri[cp[j]..cp[j + 1]];
+                    col.binary_search(&j).ok().map(|k| cp[j] + k)
+                })
+                .collect();
+            if let Some(diag) = diag {
+                let end = cp[n];
+                let pattern =
+                    SymbolicSparseColMat::new_checked(n, n, cp.to_vec(), None, ri[..end].to_vec());
+                return Self::with_pattern(pattern, av[..end].to_vec(), diag);
+            }
+        }
         let mut col_ptr = Vec::with_capacity(n + 1);
         let mut row_idx = Vec::with_capacity(ri.len() + n);
         let mut values = Vec::with_capacity(ri.len() + n);
@@ -644,6 +659,15 @@ impl DiagonalPattern {
             col_ptr.push(row_idx.len());
         }
         let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
+        Self::with_pattern(pattern, values, diag)
+    }
+
+    /// The analysis of `pattern` (cached) around its values and diagonal positions.
+    fn with_pattern(
+        pattern: SymbolicSparseColMat<usize>,
+        values: Vec<f64>,
+        diag: Vec<usize>,
+    ) -> Result<Self> {
         let symbolic = SparseLlt::analyze_pattern(pattern.as_ref())?;
         let permuted = cached_permutation(&symbolic, pattern.as_ref());
         Ok(DiagonalPattern {
