@@ -154,14 +154,10 @@ fn lanczos_within(
         Keep::Always => true,
         Keep::IfConverged => max_steps.min(n).saturating_mul(n) <= budget_words,
     };
-    // Room for a typical run up front (the vectors grew by doubling, a reallocation and a
-    // copy each time; a sweep makes hundreds of short runs).
+    // Room for a typical run up front ([`TYPICAL_STEPS`]).
     let typical = max_steps.min(n).clamp(1, TYPICAL_STEPS);
-    let mut basis: Vec<f64> = Vec::with_capacity(if store {
-        (typical * n).min(BASIS_RESERVE_WORDS)
-    } else {
-        0
-    });
+    let reserve = if store { typical * n } else { 0 };
+    let mut basis: Vec<f64> = Vec::with_capacity(reserve.min(BASIS_RESERVE_WORDS));
     let mut q_prev = vec![0.0; n];
     let mut w = vec![0.0; n];
     let (mut alphas, mut betas) = (Vec::with_capacity(typical), Vec::with_capacity(typical));
@@ -370,7 +366,9 @@ pub(crate) fn random_start(n: usize, seed: u64) -> Vec<f64> {
 /// How many [`random_start`] vectors each thread keeps.
 const RANDOM_STARTS_KEPT: usize = 4;
 
-/// Lanczos steps a run makes room for up front (it grows beyond them as needed).
+/// Lanczos steps a run makes room for up front (it grows beyond them as needed): its vectors
+/// grew by doubling, a reallocation and a copy each time, and a sweep makes hundreds of short
+/// runs.
 const TYPICAL_STEPS: usize = 32;
 
 /// At most this many words of a kept basis are reserved up front (512 KiB).
