@@ -340,6 +340,12 @@ impl Case {
         }
     }
 
+    /// A case with a second elastic body (the two-body patch tests and `hertz-two-body`):
+    /// the cases `mesh_ratio` shapes.
+    pub fn two_bodies(self) -> bool {
+        self.two_body().is_some() || self == Case::HertzTwoBody
+    }
+
     /// The inclination θ of the rigid plane in degrees (0 for the flat punch and Hertz).
     pub fn theta_deg(self) -> f64 {
         match self {

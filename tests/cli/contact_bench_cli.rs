@@ -126,12 +126,22 @@ fn bad_options_exit_2_with_one_line() {
         &["--optimal-max-n", "20001"],
         &["--block-over-a", "1"],
         &["--block-over-a", "nan"],
+        // A case's own flag with none of its cases (it was ignored).
+        &["--cases", "flat-punch", "--block-over-a", "20"],
+        &["--cases", "hertz-plane,inclined-30", "--mesh-ratio", "3:2"],
     ] {
         let o = bin().args(args).arg("--quiet").output().unwrap();
         assert_eq!(o.status.code(), Some(2), "{args:?}");
         let err = String::from_utf8_lossy(&o.stderr);
         assert!(!err.trim().is_empty(), "{args:?}: no message");
         assert!(o.stdout.is_empty(), "{args:?}: wrote to stdout");
+        if args.len() == 4 {
+            let flag = args[2];
+            assert!(
+                err.contains(&format!("{flag} needs one of the cases")),
+                "{args:?}: {err}"
+            );
+        }
     }
 }
 

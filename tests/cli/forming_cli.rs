@@ -27,6 +27,17 @@ fn bad_input_exits_with_status_2_and_one_line() {
     let bad_toml = tmp.path().join("bad.toml");
     std::fs::write(&bad_toml, "penalty = 1e7\n[forming]\nelemnts = 3\n").unwrap();
     let bad_toml = bad_toml.to_str().unwrap().to_string();
+    // A value of the wrong type: the message names its line (the typed conversion has none).
+    let typed = tmp.path().join("typed.toml");
+    std::fs::write(
+        &typed,
+        "penalty = 1e7\n\n[forming]\nelements = 3\nsteps = \"ten\"\n",
+    )
+    .unwrap();
+    let typed = typed.to_str().unwrap().to_string();
+    let top = tmp.path().join("top.toml");
+    std::fs::write(&top, "delta = 1e-5\npenalty = true\n[forming]\nsteps = 4\n").unwrap();
+    let top = top.to_str().unwrap().to_string();
     let cases: Vec<(&str, Vec<&str>, &str)> = vec![
         (DD, vec!["--elements", "1"], "elements"),
         (DD, vec!["--delta", "-1"], "δ"),
@@ -35,6 +46,9 @@ fn bad_input_exits_with_status_2_and_one_line() {
         (DD, vec!["--friction", "-0.1"], "friction"),
         (DD, vec!["--config", "/nonexistent/x.toml"], "nonexistent"),
         (DD, vec!["--config", &bad_toml], "elemnts"),
+        (DD, vec!["--config", &bad_toml], "line 3"),
+        (DD, vec!["--config", &typed], "line 5"),
+        (DD, vec!["--config", &top], "line 2"),
         (TE, vec!["--steps", "0"], "steps"),
     ];
     for (bin, args, needle) in cases {

@@ -135,6 +135,19 @@ fn bad_input_exits_2() {
         (vec!["--methods", "bogus"], "bogus"),
         (vec!["--krylov-tol", "2"], "--krylov-tol"),
         (vec!["--hertz-h0", "0.9"], "--hertz-h0"),
+        // A family's own flag without the family (it was ignored).
+        (
+            vec!["--families", "membrane", "--hertz-h0", "0.2"],
+            "--hertz-h0 needs the family hertz-plane or hertz-axi",
+        ),
+        (
+            vec!["--families", "beam", "--membrane-side0", "5"],
+            "--membrane-side0",
+        ),
+        (
+            vec!["--families", "membrane", "--beam-el0", "4"],
+            "--beam-el0",
+        ),
     ] {
         let tmp = common::tmp_dir("solver-cost-bad");
         let o = bin()

@@ -240,6 +240,31 @@ fn bad_rows_are_refused() {
         refuse(&[vec![(0, 1.0), (1, 1.0)], vec![(0, 2.0), (1, 2.0)]]),
         Error::Singular(_)
     ));
+    // K itself: a NaN entry is named (both coupled routes), a non-square K refused.
+    let rows = [vec![(0, 1.0), (1, 0.5)]];
+    let mut bad = k.clone();
+    let p = bad.symbolic().col_ptr()[3] + 1;
+    bad.val_mut()[p] = f64::NAN;
+    let (i, j) = (bad.symbolic().row_idx()[p], 3);
+    for e in [
+        cond2_saddle_rows(&bad, &rows, SCHUR_TEST_MAX, None).unwrap_err(),
+        penalty_lab::conditioning::saddle::null_space_lambda_min(&bad, &rows).unwrap_err(),
+    ] {
+        match e {
+            Error::NotFinite { what } => assert_eq!(what, format!("K[{i}, {j}]")),
+            e => panic!("{e}"),
+        }
+    }
+    let wide = faer::sparse::SparseColMat::<usize, f64>::try_new_from_triplets(
+        2,
+        3,
+        &[faer::sparse::Triplet::new(0, 0, 1.0)],
+    )
+    .unwrap();
+    assert!(matches!(
+        cond2_saddle_rows(&wide, &[vec![(0, 1.0)]], SCHUR_TEST_MAX, None).unwrap_err(),
+        Error::Unsupported { .. }
+    ));
 }
 
 /// λ_min of K on the null space of Dᵀ (the floor of cond₂ over all penalties for coupled rows,

@@ -251,6 +251,7 @@ pub(super) fn rows_on(
     k: &SparseColMat<usize, f64>,
     rows: &[Row],
 ) -> Result<(DiagonalPattern, Blocks<'static>)> {
+    square_and_finite(k)?;
     let rows = checked_rows(k.nrows(), rows)?;
     let zeros: Vec<(usize, usize, f64)> = rows
         .iter()
@@ -265,6 +266,25 @@ pub(super) fn rows_on(
     let pattern = DiagonalPattern::new(&wide)?;
     let blocks = Blocks::rows(&pattern, rows)?;
     Ok((pattern, blocks))
+}
+
+/// K as the coupled routes take it: square, every stored entry finite (else the input error
+/// naming the first entry that is not).
+pub(super) fn square_and_finite(k: &SparseColMat<usize, f64>) -> Result<()> {
+    if k.nrows() != k.ncols() {
+        return Err(Error::Unsupported {
+            what: format!("a {}×{} K", k.nrows(), k.ncols()),
+            needs: "a square K".into(),
+        });
+    }
+    match k.val().iter().position(|v| !v.is_finite()) {
+        Some(p) => {
+            let (cp, ri) = (k.symbolic().col_ptr(), k.symbolic().row_idx());
+            let j = cp.partition_point(|&c| c <= p) - 1;
+            Err(Error::not_finite(format!("K[{}, {j}]", ri[p])))
+        }
+        None => Ok(()),
+    }
 }
 
 /// `A⁻¹` through the augmented block `K_ρ = K + ρDDᵀ` (module doc).

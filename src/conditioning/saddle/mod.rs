@@ -210,7 +210,8 @@ pub fn cond2_saddle_rows(
 ) -> Result<CondReport> {
     // K must be symmetric with both triangles stored (one triangle would be read as a
     // different matrix and "proven" about it).
-    if k.nrows() != k.ncols() || !crate::system::Stiffness::Sparse(k.clone()).is_symmetric() {
+    coupling::square_and_finite(k)?;
+    if !crate::system::Stiffness::Sparse(k.clone()).is_symmetric() {
         return Err(Error::Unsupported {
             what: "saddle-point cond₂ with coupled rows: K".into(),
             needs: "a square symmetric K with both triangles stored".into(),

@@ -92,6 +92,30 @@ impl Flags {
         if let Some(r) = self.mesh_ratio {
             cfg.mesh_ratio = r;
         }
+        // A case's own flag with none of its cases selected would be ignored: refused.
+        let hertz = |c: &Case| !c.is_uniform();
+        for (flag, given, uses) in [
+            (
+                "--block-over-a",
+                self.block_over_a.is_some(),
+                &hertz as &dyn Fn(&Case) -> bool,
+            ),
+            ("--mesh-ratio", self.mesh_ratio.is_some(), &|c: &Case| {
+                c.two_bodies()
+            }),
+        ] {
+            if given && !cfg.cases.iter().any(uses) {
+                let names: Vec<&str> = Case::ALL
+                    .iter()
+                    .filter(|c| uses(c))
+                    .map(|c| c.name())
+                    .collect();
+                return Err(Error::unsupported(
+                    flag,
+                    format!("one of the cases {} among --cases", names.join(", ")),
+                ));
+            }
+        }
         cfg.validate()?;
         Ok(cfg)
     }

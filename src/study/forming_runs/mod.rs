@@ -50,6 +50,27 @@ fn yes() -> bool {
     true
 }
 
+/// The 1-based line of `key` in TOML `text`: at the top level (`table` None: before the first
+/// header) or in `[table]` (up to the next header), a line `key = …` (bare or quoted key).
+fn key_line(text: &str, (table, key): &(Option<String>, String)) -> Option<usize> {
+    let mut current: Option<String> = None;
+    for (i, line) in text.lines().enumerate() {
+        let t = line.trim();
+        if let Some(h) = t.strip_prefix('[') {
+            current = Some(h.trim_end_matches(']').trim().to_string());
+            continue;
+        }
+        let Some((k, _)) = t.split_once('=') else {
+            continue;
+        };
+        let k = k.trim().trim_matches('"');
+        if current == *table && k == key {
+            return Some(i + 1);
+        }
+    }
+    None
+}
+
 impl ExperimentConfig {
     /// ε = 1e7, δ = 1e-5 in (the paper's values) on `forming`.
     pub fn paper_knobs(forming: FormingConfig) -> Self {
@@ -67,28 +88,62 @@ impl ExperimentConfig {
     /// the command line's flags override it first ([`ExperimentConfig::apply`] validates
     /// the result), so a flag can correct a value of the file.
     pub fn from_toml_file(path: &std::path::Path, preset: FormingConfig) -> Result<Self> {
-        let mut value: toml::Table = crate::provenance::read_toml(path)?;
-        // Merge [forming] over the preset.
+        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path.display(), e))?;
+        let file: toml::Table =
+            toml::from_str(&text).map_err(|e| Error::toml(path.display(), Some(&text), &e))?;
         let preset_toml = toml::Table::try_from(&preset)
             .map_err(|e| Error::Numerical(format!("cannot encode preset: {e}")))?;
-        let mut forming = preset_toml;
-        if let Some(v) = value.remove("forming") {
-            match v {
-                toml::Value::Table(t) => {
-                    for (k, v) in t {
-                        forming.insert(k, v);
-                    }
-                }
-                _ => return Err(Error::bad_file(path.display(), "[forming] must be a table")),
+        let merged = Self::merged(&file, &preset_toml)
+            .ok_or_else(|| Error::bad_file(path.display(), "[forming] must be a table"))?;
+        merged.try_into().map_err(|e: toml::de::Error| {
+            // The typed conversion has no spans: the line of the first key of the file whose
+            // value alone makes it fail.
+            match Self::culprit(&file, &preset_toml).and_then(|k| key_line(&text, &k)) {
+                Some(line) => Error::parse(path.display(), line, e.message().replace('\n', " ")),
+                None => Error::toml(path.display(), None, &e),
             }
+        })
+    }
+
+    /// The file's table with its `[forming]` merged over the preset's and the default ε and
+    /// δ where it has none; None where `forming` is not a table.
+    fn merged(file: &toml::Table, preset: &toml::Table) -> Option<toml::Table> {
+        let mut value = file.clone();
+        let mut forming = preset.clone();
+        if let Some(v) = value.remove("forming") {
+            forming.extend(v.as_table()?.clone());
         }
         value.insert("forming".into(), toml::Value::Table(forming));
         value.entry("penalty").or_insert(toml::Value::Float(1e7));
         value.entry("delta").or_insert(toml::Value::Float(1e-5));
-        let c: ExperimentConfig = value
-            .try_into()
-            .map_err(|e| Error::toml(path.display(), None, &e))?;
-        Ok(c)
+        Some(value)
+    }
+
+    /// The first key of the file (`(Some("forming"), key)` inside `[forming]`) without which
+    /// the merged table converts.
+    fn culprit(file: &toml::Table, preset: &toml::Table) -> Option<(Option<String>, String)> {
+        let converts = |t: toml::Table| {
+            Self::merged(&t, preset).is_some_and(|m| m.try_into::<ExperimentConfig>().is_ok())
+        };
+        let inner = file.get("forming").and_then(|v| v.as_table());
+        let in_forming = inner.into_iter().flat_map(|t| t.keys()).find(|k| {
+            let mut t = file.clone();
+            if let Some(f) = t.get_mut("forming").and_then(|v| v.as_table_mut()) {
+                f.remove(*k);
+            }
+            converts(t)
+        });
+        if let Some(k) = in_forming {
+            return Some((Some("forming".into()), k.clone()));
+        }
+        file.keys()
+            .filter(|k| *k != "forming")
+            .find(|k| {
+                let mut t = file.clone();
+                t.remove(*k);
+                converts(t)
+            })
+            .map(|k| (None, k.clone()))
     }
 
     /// Checks ε, δ and the forming configuration.

@@ -371,15 +371,17 @@ pub struct Flags {
     /// Mesh levels per family (h halving), 2–8.
     #[arg(long, default_value_t = 5)]
     levels: usize,
-    /// Coarsest Hertz element size at the contact, over a.
-    #[arg(long, default_value_t = 0.4)]
-    hertz_h0: f64,
-    /// Coarsest membrane side (level l: (side0+1)·2^l − 1 interior nodes per direction).
-    #[arg(long, default_value_t = 7)]
-    membrane_side0: usize,
-    /// Coarsest beam element count (level l: el0·2^l).
-    #[arg(long, default_value_t = 8)]
-    beam_el0: usize,
+    /// Coarsest Hertz element size at the contact, over a [default: 0.4]; needs a Hertz
+    /// family.
+    #[arg(long)]
+    hertz_h0: Option<f64>,
+    /// Coarsest membrane side (level l: (side0+1)·2^l − 1 interior nodes per direction)
+    /// [default: 7]; needs the membrane family.
+    #[arg(long)]
+    membrane_side0: Option<usize>,
+    /// Coarsest beam element count (level l: el0·2^l) [default: 8]; needs the beam family.
+    #[arg(long)]
+    beam_el0: Option<usize>,
     /// Rules, comma-separated (default: every rule but optimal; lagrange always runs).
     #[arg(long, value_delimiter = ',')]
     methods: Option<Vec<String>>,
@@ -415,12 +417,35 @@ impl Study for SolverCost {
 
     fn config(f: &Flags) -> Result<SolverCostConfig> {
         let d = SolverCostConfig::default();
+        let families = f.families.clone().unwrap_or(d.families);
+        // A family's own flag without the family would be ignored: refused instead.
+        for (flag, given, users) in [
+            (
+                "--hertz-h0",
+                f.hertz_h0.is_some(),
+                &[Family::HertzPlane, Family::HertzAxi][..],
+            ),
+            (
+                "--membrane-side0",
+                f.membrane_side0.is_some(),
+                &[Family::Membrane],
+            ),
+            ("--beam-el0", f.beam_el0.is_some(), &[Family::Beam]),
+        ] {
+            if given && !families.iter().any(|x| users.contains(x)) {
+                let names: Vec<&str> = users.iter().map(|x| x.name()).collect();
+                return Err(Error::unsupported(
+                    flag,
+                    format!("the family {} among --families", names.join(" or ")),
+                ));
+            }
+        }
         let cfg = SolverCostConfig {
-            families: f.families.clone().unwrap_or(d.families),
+            families,
             levels: f.levels,
-            hertz_h0: f.hertz_h0,
-            membrane_side0: f.membrane_side0,
-            beam_el0: f.beam_el0,
+            hertz_h0: f.hertz_h0.unwrap_or(d.hertz_h0),
+            membrane_side0: f.membrane_side0.unwrap_or(d.membrane_side0),
+            beam_el0: f.beam_el0.unwrap_or(d.beam_el0),
             methods: match &f.methods {
                 Some(names) => registry::lookup_all(names).map_err(|e| e.for_flag("--methods"))?,
                 None => d.methods,
