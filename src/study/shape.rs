@@ -17,7 +17,8 @@
 //!   for a run outside its model.
 //!
 //! After a run the record is saved and read back, so that the figures, the report and the
-//! JSON come from the saved files exactly as with `--render-only`.
+//! JSON come from the saved files exactly as with `--render-only` (where only the report is
+//! printed, `--no-figures` without `--json`, a study may read back less: `load_report`).
 //!
 //! A binary is then `fn main() -> ExitCode { study::main::<TheStudy>() }`. Each study's
 //! module has the same files: `mod.rs` (configuration, record and run), `figures.rs` and
