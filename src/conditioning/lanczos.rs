@@ -84,15 +84,15 @@ impl LanczosRun {
 
 /// Weight of the generic start vector mixed into a warm start: keeps every eigenvector's
 /// component nonzero, so a start orthogonal to the new top eigenvector still finds it. Small,
-/// since what Lanczos needs is a component above rounding, not a large one: the second
-/// Lanczos vector is the start's residual `(A − α)q` normalized, made of exactly the parts of
-/// q that are not an eigenvector, so a top eigenvector the warm start lacks but for a
-/// component c dominates it wherever `c·|λ_max − α| ≫ ε_mach·‖A‖` (c ≈ mix/√n ≥ 1e-9 up to
-/// 10⁶ unknowns), and θ jumps at the first check. A larger mix only adds random components
-/// that the run must converge away (1e-2: 5 decades; 1e-6: 1). The certificate never depends
-/// on it: a run that settles short is caught by the failing inertia test. (A window of
-/// several eigenpairs, started from the sum of the last window's vectors, needs more of the
-/// generic start: [`WINDOW_MIX`].)
+/// since what the mix must supply is a component above rounding, not a large one: its size
+/// only sets how fast a missing eigenvector surfaces (c ≈ mix/√n; the warm start's own error
+/// against this matrix — a nearby matrix's Ritz vector — usually supplies far more), while
+/// every component it adds is one the run must converge away (1e-2: about five decades,
+/// 1e-6: one; the folder's beams at small ε: 86–100 products → 4–6). Nothing certified depends
+/// on it: a run that settles short fails its inertia test and is refined, and a bracket that
+/// misses its target is recomputed from the generic start (`sparse::extreme_eigenvalues`).
+/// (A window of several eigenpairs, started from the sum of the last window's vectors, needs
+/// more of the generic start: [`WINDOW_MIX`].)
 pub(crate) const WARM_MIX: f64 = 1e-6;
 
 /// The generic start's weight in a warm-started window run (`conditioning::window`): the sum
@@ -353,6 +353,9 @@ pub(crate) fn random_start(n: usize, seed: u64) -> Vec<f64> {
         return v;
     }
     let q = generate_random_start(n, seed);
+    if n > RITZ_VECTOR_MAX_N {
+        return q; // kept only where small: a sweep's scenes, not a 10⁶ run's vectors
+    }
     RANDOM_STARTS.with(|c| {
         let mut c = c.borrow_mut();
         if c.len() == RANDOM_STARTS_KEPT {
@@ -375,7 +378,8 @@ const TYPICAL_STEPS: usize = 32;
 const BASIS_RESERVE_WORDS: usize = 1 << 16;
 
 thread_local! {
-    /// This thread's last [`random_start`] vectors, `(n, seed, vector)`, oldest first.
+    /// This thread's last [`random_start`] vectors, `(n, seed, vector)`, oldest first (only
+    /// up to [`RITZ_VECTOR_MAX_N`] unknowns).
     static RANDOM_STARTS: std::cell::RefCell<Vec<(usize, u64, Vec<f64>)>> =
         const { std::cell::RefCell::new(Vec::new()) };
 }

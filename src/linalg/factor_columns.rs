@@ -25,6 +25,19 @@ impl SparseLlt {
     /// `LLᵀ − PAPᵀ` of the cond₂ certificates (`conditioning::certify::posterior_margin`).
     pub fn lower_factor(&self) -> LowerFactor {
         let fwd = self.symbolic.perm().map(|p| p.arrays().0.to_vec());
+        if let SymbolicCholeskyRaw::Simplicial(s) = self.symbolic.raw() {
+            // The up-looking factorization fills each column in increasing row order, so the
+            // columns normally come sorted and are copied as they are.
+            let (cp, ri, m) = (s.col_ptr(), s.row_idx(), s.nrows());
+            if cp[0] == 0 && (0..m).all(|j| ri[cp[j]..cp[j + 1]].is_sorted()) {
+                return LowerFactor {
+                    col_ptr: cp.to_vec(),
+                    row_idx: ri[..cp[m]].to_vec(),
+                    values: self.values[..cp[m]].to_vec(),
+                    fwd,
+                };
+            }
+        }
         let (n, len) = (self.symbolic.nrows(), self.values.len());
         let mut col_ptr = Vec::with_capacity(n + 1);
         col_ptr.push(0usize);
@@ -32,17 +45,6 @@ impl SparseLlt {
         match self.symbolic.raw() {
             SymbolicCholeskyRaw::Simplicial(s) => {
                 let (cp, ri) = (s.col_ptr(), s.row_idx());
-                // The up-looking factorization fills each column in increasing row order, so
-                // the columns normally come sorted and are copied as they are.
-                let m = s.nrows();
-                if (0..m).all(|j| ri[cp[j]..cp[j + 1]].is_sorted()) {
-                    return LowerFactor {
-                        col_ptr: cp.to_vec(),
-                        row_idx: ri[..cp[m]].to_vec(),
-                        values: self.values[..cp[m]].to_vec(),
-                        fwd,
-                    };
-                }
                 let mut col: Vec<(usize, f64)> = Vec::new();
                 for j in 0..s.nrows() {
                     col.clear();

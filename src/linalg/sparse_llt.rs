@@ -614,8 +614,9 @@ impl DiagonalPattern {
         let cp = a.symbolic().col_ptr();
         let ri = a.symbolic().row_idx();
         let av = a.val();
-        // Every diagonal stored (the usual case): A's own arrays, copied whole.
-        if a.symbolic().col_nnz().is_none() {
+        // Every diagonal stored (the usual case): A's own arrays, copied whole (compact
+        // storage from position 0).
+        if a.symbolic().col_nnz().is_none() && cp[0] == 0 {
             let diag: Option<Vec<usize>> = (0..n)
                 .map(|j| {
                     let col = &ri[cp[j]..cp[j + 1]];

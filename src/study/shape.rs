@@ -18,7 +18,8 @@
 //!
 //! After a run the record is saved and read back, so that the figures, the report and the
 //! JSON come from the saved files exactly as with `--render-only` (where only the report is
-//! printed, `--no-figures` without `--json`, a study may read back less: `load_report`).
+//! printed after a run, `--no-figures` without `--json`, a study may read back less of what
+//! it has just written: `load_report`; `--render-only` reads the whole record).
 //!
 //! A binary is then `fn main() -> ExitCode { study::main::<TheStudy>() }`. Each study's
 //! module has the same files: `mod.rs` (configuration, record and run), `figures.rs` and
@@ -153,8 +154,8 @@ pub trait Study {
     ) -> Result<()>;
     /// Reads the record back from `out`.
     fn load(out: &Path) -> Result<Self::Record>;
-    /// Reads back what [`Study::report`] alone needs (`--no-figures` without `--json`): the
-    /// whole record unless the study reads less.
+    /// Reads back, after a run, what [`Study::report`] alone needs (`--no-figures` without
+    /// `--json`): the whole record unless the study reads less.
     fn load_report(out: &Path) -> Result<Self::Record> {
         Self::load(out)
     }
@@ -286,16 +287,8 @@ fn entry<S: Study>(cli: &Cli<S::Flags>) -> Result<()> {
             "--out names a file; it must be a folder (created where missing)",
         ));
     }
-    // Only the report is printed: the study may read back less than its whole record.
-    let read_back = |out: &Path| {
-        if cli.no_figures && !cli.json {
-            S::load_report(out)
-        } else {
-            S::load(out)
-        }
-    };
     let (record, out) = if cli.render_only {
-        let record = read_back(&out).map_err(|e| match e {
+        let record = S::load(&out).map_err(|e| match e {
             crate::Error::Io { .. } => crate::Error::bad_file(
                 out.display(),
                 format!(
@@ -323,7 +316,14 @@ fn entry<S: Study>(cli: &Cli<S::Flags>) -> Result<()> {
         if S::SAVES {
             // What follows is drawn and printed from the saved files, as --render-only would.
             S::save(&out, &cfg, &record, &provenance)?;
-            (read_back(&out)?, out)
+            // Where only the report is printed, the study may read back less of what it
+            // has just written (`--render-only` always reads the whole record).
+            let record = if cli.no_figures && !cli.json {
+                S::load_report(&out)?
+            } else {
+                S::load(&out)?
+            };
+            (record, out)
         } else {
             (record, out)
         }

@@ -38,6 +38,14 @@ fn bad_input_exits_with_status_2_and_one_line() {
     let top = tmp.path().join("top.toml");
     std::fs::write(&top, "delta = 1e-5\npenalty = true\n[forming]\nsteps = 4\n").unwrap();
     let top = top.to_str().unwrap().to_string();
+    // A key's name inside a multi-line string is not its line; a header may carry a comment.
+    let mls = tmp.path().join("mls.toml");
+    std::fs::write(
+        &mls,
+        "[forming] # the run\nname = \"\"\"\nsteps = 4\n\"\"\"\nelements = 3\nsteps = \"ten\"\n",
+    )
+    .unwrap();
+    let mls = mls.to_str().unwrap().to_string();
     let cases: Vec<(&str, Vec<&str>, &str)> = vec![
         (DD, vec!["--elements", "1"], "elements"),
         (DD, vec!["--delta", "-1"], "δ"),
@@ -49,6 +57,7 @@ fn bad_input_exits_with_status_2_and_one_line() {
         (DD, vec!["--config", &bad_toml], "line 3"),
         (DD, vec!["--config", &typed], "line 5"),
         (DD, vec!["--config", &top], "line 2"),
+        (DD, vec!["--config", &mls], "line 6"),
         (TE, vec!["--steps", "0"], "steps"),
     ];
     for (bin, args, needle) in cases {

@@ -238,3 +238,46 @@ fn preferred_reader_is_reading_then_converting() {
     }
     assert!(sparse_seen, "some scene is stored sparse");
 }
+
+/// `DiagonalPattern::new` reads A the same from compact storage and from storage whose
+/// columns start past position 0 (slack entries before, never read): the same pattern,
+/// values and diagonal positions; on the sweep's matrices (every diagonal stored, the copy
+/// of the whole arrays) and with a diagonal missing (the entry-by-entry path).
+#[test]
+fn diagonal_pattern_reads_a_whatever_its_storage() {
+    use faer::sparse::SymbolicSparseColMat;
+    let mut cases = spd_matrices();
+    // A diagonal entry missing: column 1 without (1, 1).
+    let t: Vec<Triplet<usize, usize, f64>> = [(0, 0, 4.0), (1, 0, 1.0), (0, 1, 1.0), (2, 2, 3.0)]
+        .map(|(r, c, v)| Triplet::new(r, c, v))
+        .to_vec();
+    cases.push((
+        "missing diagonal".into(),
+        SparseColMat::try_new_from_triplets(3, 3, &t).unwrap(),
+    ));
+    for (label, a) in cases {
+        let (cp, ri) = (a.symbolic().col_ptr(), a.symbolic().row_idx());
+        let slack = 3;
+        let cp2: Vec<usize> = cp.iter().map(|p| p + slack).collect();
+        let ri2: Vec<usize> = [0; 3].into_iter().chain(ri.iter().copied()).collect();
+        let v2: Vec<f64> = [f64::NAN; 3]
+            .into_iter()
+            .chain(a.val().iter().copied())
+            .collect();
+        let n = a.nrows();
+        let offset = SparseColMat::new(SymbolicSparseColMat::new_checked(n, n, cp2, None, ri2), v2);
+        let (x, y) = (
+            DiagonalPattern::new(&a).unwrap(),
+            DiagonalPattern::new(&offset).unwrap(),
+        );
+        assert_eq!(x.pattern.col_ptr(), y.pattern.col_ptr(), "{label}");
+        assert_eq!(x.pattern.row_idx(), y.pattern.row_idx(), "{label}");
+        assert_eq!(x.diag, y.diag, "{label}");
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&x.values), bits(&y.values), "{label}");
+        assert_eq!(x.pattern.col_ptr()[0], 0, "{label}");
+        for (j, &p) in x.diag.iter().enumerate() {
+            assert_eq!(x.pattern.row_idx()[p], j, "{label}");
+        }
+    }
+}

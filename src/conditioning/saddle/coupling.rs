@@ -277,12 +277,9 @@ pub(super) fn square_and_finite(k: &SparseColMat<usize, f64>) -> Result<()> {
             needs: "a square K".into(),
         });
     }
-    match k.val().iter().position(|v| !v.is_finite()) {
-        Some(p) => {
-            let (cp, ri) = (k.symbolic().col_ptr(), k.symbolic().row_idx());
-            let j = cp.partition_point(|&c| c <= p) - 1;
-            Err(Error::not_finite(format!("K[{}, {j}]", ri[p])))
-        }
+    // Column by column over each column's stored range (storage need not start at 0).
+    match k.triplet_iter().find(|t| !t.val.is_finite()) {
+        Some(t) => Err(Error::not_finite(format!("K[{}, {}]", t.row, t.col))),
         None => Ok(()),
     }
 }

@@ -51,19 +51,35 @@ fn yes() -> bool {
 }
 
 /// The 1-based line of `key` in TOML `text`: at the top level (`table` None: before the first
-/// header) or in `[table]` (up to the next header), a line `key = …` (bare or quoted key).
+/// header) or in `[table]` (up to the next header), a line `key = …` (bare or quoted key);
+/// lines inside multi-line strings are skipped. None where the key is written otherwise
+/// (dotted, in an inline table): the message then goes without a line.
 fn key_line(text: &str, (table, key): &(Option<String>, String)) -> Option<usize> {
     let mut current: Option<String> = None;
+    let mut in_string: Option<&str> = None;
     for (i, line) in text.lines().enumerate() {
+        // Multi-line strings: an odd count of a delimiter opens (or closes) one.
+        let open = in_string.or(["\"\"\"", "'''"].into_iter().find(|d| line.contains(d)));
+        if let Some(d) = open {
+            let odd = line.matches(d).count() % 2 == 1;
+            let was_inside = in_string.is_some();
+            in_string = match (was_inside, odd) {
+                (false, true) | (true, false) => Some(d),
+                _ => None,
+            };
+            if was_inside {
+                continue;
+            }
+        }
         let t = line.trim();
         if let Some(h) = t.strip_prefix('[') {
-            current = Some(h.trim_end_matches(']').trim().to_string());
+            current = h.split(']').next().map(|h| h.trim().to_string());
             continue;
         }
         let Some((k, _)) = t.split_once('=') else {
             continue;
         };
-        let k = k.trim().trim_matches('"');
+        let k = k.trim().trim_matches(|c| c == '"' || c == '\'');
         if current == *table && k == key {
             return Some(i + 1);
         }
