@@ -72,8 +72,14 @@ pub fn read_json<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T> {
 /// file is an I/O error naming it, malformed TOML a parse error ([`Error::Parse`]) naming it
 /// and the line ([`Error::toml`]).
 pub fn read_toml<T: serde::de::DeserializeOwned>(path: &Path) -> Result<T> {
+    read_toml_with_text(path).map(|(value, _)| value)
+}
+
+/// [`read_toml`], with the file's text (for a caller that places its own errors in it).
+pub fn read_toml_with_text<T: serde::de::DeserializeOwned>(path: &Path) -> Result<(T, String)> {
     let text = std::fs::read_to_string(path).map_err(|e| Error::io(path.display(), e))?;
-    toml::from_str(&text).map_err(|e| Error::toml(path.display(), Some(&text), &e))
+    let value = toml::from_str(&text).map_err(|e| Error::toml(path.display(), Some(&text), &e))?;
+    Ok((value, text))
 }
 
 /// JSON writes non-finite numbers as `null`; read them back as NaN

@@ -618,10 +618,7 @@ impl DiagonalPattern {
         // storage from position 0).
         if a.symbolic().col_nnz().is_none() && cp[0] == 0 {
             let diag: Option<Vec<usize>> = (0..n)
-                .map(|j| {
-                    let col = &ri[cp[j]..cp[j + 1]];
-                    col.binary_search(&j).ok().map(|k| cp[j] + k)
-                })
+                .map(|j| crate::system::csc_position(a.symbolic(), j, j))
                 .collect();
             if let Some(diag) = diag {
                 let end = cp[n];

@@ -24,28 +24,27 @@ const TE_ALIAS: &str = env!("CARGO_BIN_EXE_test_example");
 #[test]
 fn bad_input_exits_with_status_2_and_one_line() {
     let tmp = common::tmp_dir("forming-bad");
-    let bad_toml = tmp.path().join("bad.toml");
-    std::fs::write(&bad_toml, "penalty = 1e7\n[forming]\nelemnts = 3\n").unwrap();
-    let bad_toml = bad_toml.to_str().unwrap().to_string();
+    // A config file in the temp folder; its path.
+    let file = |name: &str, text: &str| {
+        let path = tmp.path().join(name);
+        std::fs::write(&path, text).unwrap();
+        path.to_str().unwrap().to_string()
+    };
+    let bad_toml = file("bad.toml", "penalty = 1e7\n[forming]\nelemnts = 3\n");
     // A value of the wrong type: the message names its line (the typed conversion has none).
-    let typed = tmp.path().join("typed.toml");
-    std::fs::write(
-        &typed,
+    let typed = file(
+        "typed.toml",
         "penalty = 1e7\n\n[forming]\nelements = 3\nsteps = \"ten\"\n",
-    )
-    .unwrap();
-    let typed = typed.to_str().unwrap().to_string();
-    let top = tmp.path().join("top.toml");
-    std::fs::write(&top, "delta = 1e-5\npenalty = true\n[forming]\nsteps = 4\n").unwrap();
-    let top = top.to_str().unwrap().to_string();
+    );
+    let top = file(
+        "top.toml",
+        "delta = 1e-5\npenalty = true\n[forming]\nsteps = 4\n",
+    );
     // A key's name inside a multi-line string is not its line; a header may carry a comment.
-    let mls = tmp.path().join("mls.toml");
-    std::fs::write(
-        &mls,
+    let mls = file(
+        "mls.toml",
         "[forming] # the run\nname = \"\"\"\nsteps = 4\n\"\"\"\nelements = 3\nsteps = \"ten\"\n",
-    )
-    .unwrap();
-    let mls = mls.to_str().unwrap().to_string();
+    );
     let cases: Vec<(&str, Vec<&str>, &str)> = vec![
         (DD, vec!["--elements", "1"], "elements"),
         (DD, vec!["--delta", "-1"], "δ"),

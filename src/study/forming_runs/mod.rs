@@ -104,9 +104,7 @@ impl ExperimentConfig {
     /// the command line's flags override it first ([`ExperimentConfig::apply`] validates
     /// the result), so a flag can correct a value of the file.
     pub fn from_toml_file(path: &std::path::Path, preset: FormingConfig) -> Result<Self> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::io(path.display(), e))?;
-        let file: toml::Table =
-            toml::from_str(&text).map_err(|e| Error::toml(path.display(), Some(&text), &e))?;
+        let (file, text): (toml::Table, String) = crate::provenance::read_toml_with_text(path)?;
         let preset_toml = toml::Table::try_from(&preset)
             .map_err(|e| Error::Numerical(format!("cannot encode preset: {e}")))?;
         let merged = Self::merged(&file, &preset_toml)
@@ -141,25 +139,28 @@ impl ExperimentConfig {
         let converts = |t: toml::Table| {
             Self::merged(&t, preset).is_some_and(|m| m.try_into::<ExperimentConfig>().is_ok())
         };
-        let inner = file.get("forming").and_then(|v| v.as_table());
-        let in_forming = inner.into_iter().flat_map(|t| t.keys()).find(|k| {
-            let mut t = file.clone();
-            if let Some(f) = t.get_mut("forming").and_then(|v| v.as_table_mut()) {
-                f.remove(*k);
-            }
-            converts(t)
-        });
-        if let Some(k) = in_forming {
-            return Some((Some("forming".into()), k.clone()));
-        }
-        file.keys()
-            .filter(|k| *k != "forming")
-            .find(|k| {
+        // `[forming]`'s keys first, then the top level's.
+        let forming = file.get("forming").and_then(|v| v.as_table());
+        let in_forming = forming
+            .into_iter()
+            .flat_map(|t| t.keys())
+            .map(|k| (true, k));
+        let top = file.keys().filter(|k| *k != "forming").map(|k| (false, k));
+        in_forming
+            .chain(top)
+            .find(|&(inner, k)| {
                 let mut t = file.clone();
-                t.remove(*k);
+                let table = if inner {
+                    t.get_mut("forming").and_then(|v| v.as_table_mut())
+                } else {
+                    Some(&mut t)
+                };
+                if let Some(table) = table {
+                    table.remove(k);
+                }
                 converts(t)
             })
-            .map(|k| (None, k.clone()))
+            .map(|(inner, k)| (inner.then(|| "forming".to_string()), k.clone()))
     }
 
     /// Checks ε, δ and the forming configuration.
