@@ -63,6 +63,7 @@ pub mod residual;
 pub mod saddle;
 pub(crate) mod shifts;
 pub mod sparse;
+pub mod starts;
 pub mod temple;
 pub(crate) mod tridiagonal;
 pub mod window;

@@ -77,7 +77,44 @@ fn system_cond(
     unavailable: &mut Vec<String>,
 ) -> Result<Option<CondReport>> {
     let factor = sol.factor.as_deref();
+    let penalty = starts.and_then(|s| penalty_starts(problem, sol, sys, s));
+    let starts = penalty.as_ref().or(starts);
     cond_of_system(problem, &sol.system, sys, factor, starts, tol, unavailable)
+}
+
+/// K's Ritz vectors with the top one replaced by [`conditioning::starts::penalty_top_start`]
+/// where the system is penalized through single-DOF constraints whose every active penalty
+/// exceeds K's diagonal entry at its DOF (the regime where A's top eigenvector leaves K's for
+/// the active block) and the padded vector is the better start; None otherwise (K's as
+/// they are). A function of the problem, the solution and K's vectors alone: `solve` and a
+/// sweep row start alike.
+fn penalty_starts(
+    problem: &Problem,
+    sol: &Solution,
+    sys: &Stiffness,
+    k_starts: &RitzStarts,
+) -> Option<RitzStarts> {
+    if !matches!(sol.system, SystemKind::Penalized) {
+        return None;
+    }
+    let mut active = Vec::new();
+    for (c, &e) in sol.penalties.iter().enumerate() {
+        if e > 0.0 {
+            let d = problem.constraints.get(c)?.single_dof()?;
+            if e <= problem.k.diag(d) {
+                return None;
+            }
+            active.push(d);
+        }
+    }
+    active.sort_unstable();
+    active.dedup();
+    let a = sys.as_sparse();
+    let top = conditioning::starts::penalty_top_start(&a, &k_starts.top, &active)?;
+    Some(RitzStarts {
+        top,
+        bottom: k_starts.bottom.clone(),
+    })
 }
 
 /// cond₂ of `sys`, the system matrix of `kind` on `problem` (for a saddle point, `problem.k`
@@ -233,8 +270,9 @@ pub fn compute(problem: &Problem, sol: &Solution, set: MetricSet) -> Result<Metr
 /// Like [`compute`], but only the system matrix is analysed: `cond2_k` is left `None` and
 /// `log10|det K|` is taken from `log10_det_k` when given (a sweep computes K's metrics once per
 /// scene). `starts`: K's Ritz vectors ([`conditioning::cond2_warm`]), from which the system's
-/// cond₂ starts its Lanczos runs (penalty systems `K + D E Dᵀ` only; same certified result in
-/// fewer steps).
+/// cond₂ starts its Lanczos runs (penalty systems `K + D E Dᵀ` only, the top run from the
+/// active block's vector where the penalties dominate K's diagonal, `penalty_starts`; same
+/// certified result in fewer steps).
 pub fn compute_with_k(
     problem: &Problem,
     sol: &Solution,

@@ -44,8 +44,10 @@
 //!
 //! **Reuse** ([`super::Reuse`]): a sweep computes many matrices `K + D E Dᵀ` of one K. K's
 //! Ritz vectors ([`RitzStarts`]) start both Lanczos runs of each of them (about half the
-//! steps), and the solver's own sparse Cholesky factor of the system replaces the
-//! factorization of A. Neither the value's accuracy nor the certificate depends on them.
+//! steps; where the penalties dominate K's diagonal the top run starts from the active block's
+//! own top vector instead, [`super::starts`]), and the solver's own sparse Cholesky factor of
+//! the system replaces the factorization of A. Neither the value's accuracy nor the
+//! certificate depends on them.
 //!
 //! Cost: one symbolic analysis, one Cholesky of A (or none, reused; dropped after the λ_min
 //! estimate), `k` products and `k + 1` solves (k ≈ 5–100),
