@@ -82,6 +82,68 @@ pub fn read_toml_with_text<T: serde::de::DeserializeOwned>(path: &Path) -> Resul
     Ok((value, text))
 }
 
+/// The 1-based line of `key` in TOML `text`: at the top level (`table` None: before the first
+/// header) or in `[table]` (up to the next header), a line `key = …` (bare or quoted key);
+/// lines inside multi-line strings are skipped. None where the key is written otherwise
+/// (dotted, in an inline table): the message then goes without a line.
+pub fn toml_key_line(text: &str, table: Option<&str>, key: &str) -> Option<usize> {
+    let mut current: Option<&str> = None;
+    let mut in_string: Option<&str> = None;
+    for (i, line) in text.lines().enumerate() {
+        // Multi-line strings: an odd count of a delimiter opens (or closes) one.
+        let open = in_string.or(["\"\"\"", "'''"].into_iter().find(|d| line.contains(d)));
+        if let Some(d) = open {
+            let odd = line.matches(d).count() % 2 == 1;
+            let was_inside = in_string.is_some();
+            in_string = match (was_inside, odd) {
+                (false, true) | (true, false) => Some(d),
+                _ => None,
+            };
+            if was_inside {
+                continue;
+            }
+        }
+        let t = line.trim();
+        if let Some(h) = t.strip_prefix('[') {
+            current = h.split(']').next().map(str::trim);
+            continue;
+        }
+        let Some((k, _)) = t.split_once('=') else {
+            continue;
+        };
+        let k = k.trim().trim_matches(|c| c == '"' || c == '\'');
+        if current == table && k == key {
+            return Some(i + 1);
+        }
+    }
+    None
+}
+
+/// `e` (a validation error of a configuration read from the TOML file `path`, whose text is
+/// `text`) placed in the file where the offending value came from it: the key `key` of
+/// `[table]` (`None`: the top level) named, with its line where [`toml_key_line`] finds it
+/// (`PATH: line L: `key`: message`), else without. `e` unchanged where the file does not set
+/// the key (the value came from a flag or the default).
+pub fn in_toml_file(e: Error, path: &Path, text: &str, table: Option<&str>, key: &str) -> Error {
+    let set = toml::from_str::<toml::Table>(text)
+        .ok()
+        .is_some_and(|t| match table {
+            None => t.contains_key(key),
+            Some(h) => t
+                .get(h)
+                .and_then(|v| v.as_table())
+                .is_some_and(|t| t.contains_key(key)),
+        });
+    if !set {
+        return e;
+    }
+    let msg = format!("`{key}`: {}", e.bare_message());
+    match toml_key_line(text, table, key) {
+        Some(line) => Error::parse(path.display(), line, msg),
+        None => Error::bad_file(path.display(), msg),
+    }
+}
+
 /// JSON writes non-finite numbers as `null`; read them back as NaN
 /// (`#[serde(deserialize_with = "crate::provenance::null_as_nan")]`).
 pub fn null_as_nan<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<f64, D::Error> {

@@ -123,6 +123,66 @@ fn toml_config_with_unknown_field_is_a_one_line_error() {
     assert_rejected(&d, "gentypo", &["--config", s(&p)], &["beam_elems"]);
 }
 
+/// A value of the TOML file that fails validation is placed in the file: its key and line
+/// (after a comment line, in a file that also sets a valid key); the same value from a flag
+/// names the flag, and a flag that replaces the file's value clears the error.
+#[test]
+fn a_bad_value_of_the_config_file_names_its_key_and_line() {
+    let (_tmp, d) = work_dir("bad_value");
+    let p = write_toml(
+        &d,
+        "count0",
+        "# two families\nfamilies = [\"beam\"]\ncount = 0\n",
+    );
+    assert_rejected(
+        &d,
+        "count0",
+        &["--config", s(&p)],
+        &["count0.toml: line 3: `count`:", "≥ 1"],
+    );
+    let p = write_toml(
+        &d,
+        "rel",
+        "families = [\"beam\"]\ndeltas_rel = [1e-2, -1e-3]\n",
+    );
+    assert_rejected(
+        &d,
+        "rel",
+        &["--config", s(&p)],
+        &["rel.toml: line 2: `deltas_rel`:", "-0.001"],
+    );
+    // From a flag: the flag, not the file.
+    let p = write_toml(&d, "ok", "families = [\"beam\"]\ncount = 2\n");
+    let o = sweep_in(
+        &d,
+        &["--config", s(&p), "--count", "0", "--out", s(&d.join("o1"))],
+    );
+    let e = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{e}");
+    assert!(e.contains("--count") && !e.contains("ok.toml"), "{e}");
+    // The flag replaces the file's bad value: no error about it.
+    let p = write_toml(&d, "fixed", "families = [\"beam\"]\ncount = 0\n");
+    let o = sweep_in(
+        &d,
+        &[
+            "--config",
+            s(&p),
+            "--count",
+            "1",
+            "--eps",
+            "1:10:2",
+            "--methods",
+            "constant",
+            "--metrics",
+            "none",
+            "--no-figures",
+            "--out",
+            s(&d.join("o2")),
+        ],
+    );
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+}
+
 /// A list entry given twice would run the same rows twice; an ε grid of absurd size is a typo
 /// (and would exhaust memory): both are refused before anything is written.
 #[test]

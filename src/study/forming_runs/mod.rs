@@ -14,7 +14,7 @@ pub use report::{comparisons, summary_table, Comparison};
 use crate::error::{Error, Result};
 use crate::forming::config::{ContactRule, FormingConfig};
 use crate::forming::solver::{RunResult, Simulation, StepRecord};
-use crate::provenance::Provenance;
+use crate::provenance::{toml_key_line, Provenance};
 use record::{SavedRun, SavedRuns};
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -50,43 +50,6 @@ fn yes() -> bool {
     true
 }
 
-/// The 1-based line of `key` in TOML `text`: at the top level (`table` None: before the first
-/// header) or in `[table]` (up to the next header), a line `key = …` (bare or quoted key);
-/// lines inside multi-line strings are skipped. None where the key is written otherwise
-/// (dotted, in an inline table): the message then goes without a line.
-fn key_line(text: &str, (table, key): &(Option<String>, String)) -> Option<usize> {
-    let mut current: Option<String> = None;
-    let mut in_string: Option<&str> = None;
-    for (i, line) in text.lines().enumerate() {
-        // Multi-line strings: an odd count of a delimiter opens (or closes) one.
-        let open = in_string.or(["\"\"\"", "'''"].into_iter().find(|d| line.contains(d)));
-        if let Some(d) = open {
-            let odd = line.matches(d).count() % 2 == 1;
-            let was_inside = in_string.is_some();
-            in_string = match (was_inside, odd) {
-                (false, true) | (true, false) => Some(d),
-                _ => None,
-            };
-            if was_inside {
-                continue;
-            }
-        }
-        let t = line.trim();
-        if let Some(h) = t.strip_prefix('[') {
-            current = h.split(']').next().map(|h| h.trim().to_string());
-            continue;
-        }
-        let Some((k, _)) = t.split_once('=') else {
-            continue;
-        };
-        let k = k.trim().trim_matches(|c| c == '"' || c == '\'');
-        if current == *table && k == key {
-            return Some(i + 1);
-        }
-    }
-    None
-}
-
 impl ExperimentConfig {
     /// ε = 1e7, δ = 1e-5 in (the paper's values) on `forming`.
     pub fn paper_knobs(forming: FormingConfig) -> Self {
@@ -112,7 +75,9 @@ impl ExperimentConfig {
         merged.try_into().map_err(|e: toml::de::Error| {
             // The typed conversion has no spans: the line of the first key of the file whose
             // value alone makes it fail.
-            match Self::culprit(&file, &preset_toml).and_then(|k| key_line(&text, &k)) {
+            match Self::culprit(&file, &preset_toml)
+                .and_then(|(table, key)| toml_key_line(&text, table.as_deref(), &key))
+            {
                 Some(line) => Error::parse(path.display(), line, e.message().replace('\n', " ")),
                 None => Error::toml(path.display(), None, &e),
             }

@@ -62,9 +62,12 @@ impl ConfigArgs {
     /// validated. Absolute δs given alone replace the relative ones and vice versa.
     pub fn config(&self) -> Result<SweepConfig> {
         let a = self;
-        let mut c = match &a.config {
-            Some(p) => SweepConfig::from_toml_file(p)?,
-            None => SweepConfig::default(),
+        let (mut c, text) = match &a.config {
+            Some(p) => {
+                let (c, text) = crate::provenance::read_toml_with_text(p)?;
+                (c, Some(text))
+            }
+            None => (SweepConfig::default(), None),
         };
         if let Some(v) = &a.families {
             c.families = v
@@ -128,8 +131,32 @@ impl ConfigArgs {
                 }
             }
         }
-        c.validate()?;
+        c.check()
+            .map_err(|(key, e)| match (key, &a.config, &text) {
+                // A value the file set and no flag replaced: the error names its key and line.
+                (Some(key), Some(path), Some(text)) if !a.flag_given(key) => {
+                    crate::provenance::in_toml_file(e, path, text, None, key)
+                }
+                _ => e,
+            })?;
         Ok(c)
+    }
+
+    /// Whether the flag of the configuration field `key` was given (its value then replaced
+    /// the file's); giving `--deltas` alone also clears `deltas_rel`, and vice versa.
+    fn flag_given(&self, key: &str) -> bool {
+        let deltas = self.deltas.is_some() || self.deltas_rel.is_some();
+        match key {
+            "families" => self.families.is_some(),
+            "count" => self.count.is_some(),
+            "eps" => self.eps.is_some(),
+            "factors" => self.factors.is_some(),
+            "deltas" | "deltas_rel" => deltas,
+            "methods" => self.methods.is_some(),
+            "metrics" => self.metrics.is_some(),
+            "cond_tol" => self.cond_tol.is_some(),
+            _ => false,
+        }
     }
 }
 

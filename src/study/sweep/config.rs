@@ -179,36 +179,51 @@ impl SweepConfig {
 
     /// Validates names, ranges and knobs; errors name the problem and the valid choices.
     pub fn validate(&self) -> Result<()> {
-        Error::distinct("families", self.families.iter().map(|f| f.name()))?;
-        Error::distinct("methods", self.methods.iter().map(|s| s.name))?;
-        Error::distinct("metrics", self.metrics.iter().map(|m| m.name()))?;
+        self.check().map_err(|(_, e)| e)
+    }
+
+    /// [`SweepConfig::validate`], each error with the field it is about (None where it is
+    /// about two at once): [`ConfigArgs`](super::cli::ConfigArgs) places an error of a value
+    /// read from a TOML file at its key and line.
+    pub(super) fn check(&self) -> std::result::Result<(), (Option<&'static str>, Error)> {
+        let at = |key: &'static str| move |e: Error| (Some(key), e);
+        Error::distinct("families", self.families.iter().map(|f| f.name()))
+            .map_err(at("families"))?;
+        Error::distinct("methods", self.methods.iter().map(|s| s.name)).map_err(at("methods"))?;
+        Error::distinct("metrics", self.metrics.iter().map(|m| m.name())).map_err(at("metrics"))?;
         Error::distinct(
             "optimal_families",
             self.optimal_families.iter().map(|s| s.name()),
-        )?;
-        Error::distinct("factors", &self.factors)?;
-        Error::distinct("deltas", &self.deltas)?;
-        Error::distinct("deltas_rel", &self.deltas_rel)?;
-        MetricSet::check_cond_tol(self.cond_tol).map_err(|e| e.for_flag("--cond-tol"))?;
+        )
+        .map_err(at("optimal_families"))?;
+        Error::distinct("factors", &self.factors).map_err(at("factors"))?;
+        Error::distinct("deltas", &self.deltas).map_err(at("deltas"))?;
+        Error::distinct("deltas_rel", &self.deltas_rel).map_err(at("deltas_rel"))?;
+        MetricSet::check_cond_tol(self.cond_tol)
+            .map_err(|e| e.for_flag("--cond-tol"))
+            .map_err(at("cond_tol"))?;
         if self.scenes_dir.is_none() {
             if self.families.is_empty() {
-                return Err(Error::none_given(
-                    "families",
-                    format!(" (valid: {})", generate::FAMILY_NAMES.join(", ")),
+                return Err((
+                    Some("families"),
+                    Error::none_given(
+                        "families",
+                        format!(" (valid: {})", generate::FAMILY_NAMES.join(", ")),
+                    ),
                 ));
             }
             if self.count == 0 {
-                return Err(Error::out_of_range("--count", 0, "≥ 1"));
+                return Err((Some("count"), Error::out_of_range("--count", 0, "≥ 1")));
             }
         }
-        self.eps.validate()?;
-        for (what, v) in [
-            ("factor", &self.factors),
-            ("δ (--deltas)", &self.deltas),
-            ("relative δ (--deltas-rel)", &self.deltas_rel),
+        self.eps.validate().map_err(at("eps"))?;
+        for (key, what, v) in [
+            ("factors", "factor", &self.factors),
+            ("deltas", "δ (--deltas)", &self.deltas),
+            ("deltas_rel", "relative δ (--deltas-rel)", &self.deltas_rel),
         ] {
             for &x in v {
-                Error::positive(what, x)?;
+                Error::positive(what, x).map_err(at(key))?;
             }
         }
         let with_knob = |knobs: &[Knob]| -> Vec<&str> {
@@ -220,16 +235,19 @@ impl SweepConfig {
         };
         let needs_delta = with_knob(&[Knob::Delta, Knob::EpsTol]);
         if !needs_delta.is_empty() && self.deltas.is_empty() && self.deltas_rel.is_empty() {
-            return Err(Error::unsupported(
-                needs_delta.join("/"),
-                "δ values (--deltas or --deltas-rel)",
+            return Err((
+                None,
+                Error::unsupported(needs_delta.join("/"), "δ values (--deltas or --deltas-rel)"),
             ));
         }
         let needs_factors = with_knob(&[Knob::Factor]);
         if !needs_factors.is_empty() && self.factors.is_empty() {
-            return Err(Error::unsupported(needs_factors.join("/"), "--factors"));
+            return Err((
+                None,
+                Error::unsupported(needs_factors.join("/"), "--factors"),
+            ));
         }
-        self.generator.validate()
+        self.generator.validate().map_err(|e| (None, e))
     }
 
     pub(super) fn metric_set(&self) -> MetricSet {
