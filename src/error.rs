@@ -136,7 +136,7 @@ pub enum Error {
     },
     /// An error in the value of a command-line flag (the command-line layer names the flag;
     /// the library below it names the quantity).
-    #[error("{flag}: {source}")]
+    #[error("{}", flag_text(flag, source))]
     Flag {
         /// The flag (`--delta`).
         flag: &'static str,
@@ -426,5 +426,15 @@ pub fn run_main(f: impl FnOnce() -> Result<()> + std::panic::UnwindSafe) -> std:
             );
             std::process::ExitCode::from(2)
         }
+    }
+}
+
+/// [`Error::Flag`]'s message: `invalid input: --flag: what is wrong` for bad input (the prefix
+/// once, in front), `--flag: message` otherwise.
+fn flag_text(flag: &str, source: &Error) -> String {
+    if source.is_input() {
+        format!("invalid input: {flag}: {}", source.bare_message())
+    } else {
+        format!("{flag}: {source}")
     }
 }

@@ -191,45 +191,39 @@ impl Default for GeneratorConfig {
 impl GeneratorConfig {
     /// Checks the ranges; errors repeat the valid range.
     pub fn validate(&self) -> Result<()> {
-        let (a, b) = self.beam_elements;
-        if !(3 <= a && a <= b && b <= 500) {
-            return Err(Error::out_of_range(
-                "beam_elements",
-                format!("({a}, {b})"),
-                "3 ≤ min ≤ max ≤ 500",
-            ));
+        self.check().map_err(|(_, e)| e)
+    }
+
+    /// [`GeneratorConfig::validate`], each error with its field (its key in a configuration
+    /// file's `[generator]` table).
+    pub fn check(&self) -> std::result::Result<(), (&'static str, Error)> {
+        let bad = |key: &'static str, (a, b): (String, String), valid: &str| {
+            Err((key, Error::out_of_range(key, format!("({a}, {b})"), valid)))
+        };
+        let ints = [
+            ("beam_elements", self.beam_elements, (3, 500)),
+            ("membrane_side", self.membrane_side, (10, 2000)),
+            ("spectrum_n", self.spectrum_n, (4, 4000)),
+        ];
+        for (key, (a, b), (lo, hi)) in ints {
+            if !(lo <= a && a <= b && b <= hi) {
+                let valid = format!("{lo} ≤ min ≤ max ≤ {hi}");
+                return bad(key, (a.to_string(), b.to_string()), &valid);
+            }
         }
-        let (a, b) = self.membrane_side;
-        if !(10 <= a && a <= b && b <= 2000) {
-            return Err(Error::out_of_range(
-                "membrane_side",
-                format!("({a}, {b})"),
-                "10 ≤ min ≤ max ≤ 2000",
-            ));
-        }
-        let (a, b) = self.spectrum_n;
-        if !(4 <= a && a <= b && b <= 4000) {
-            return Err(Error::out_of_range(
-                "spectrum_n",
-                format!("({a}, {b})"),
-                "4 ≤ min ≤ max ≤ 4000",
-            ));
-        }
-        let (a, b) = self.spectrum_log10_spread;
-        if !(a.is_finite() && b.is_finite() && 0.0 <= a && a <= b && b <= 16.0) {
-            return Err(Error::out_of_range(
+        let floats = [
+            (
                 "spectrum_log10_spread",
-                format!("({a}, {b})"),
-                "0 ≤ min ≤ max ≤ 16",
-            ));
-        }
-        let (a, b) = self.elastic_h;
-        if !(a.is_finite() && b.is_finite() && 0.02 <= a && a <= b && b <= 0.5) {
-            return Err(Error::out_of_range(
-                "elastic_h",
-                format!("({a}, {b})"),
-                "0.02 ≤ min ≤ max ≤ 0.5",
-            ));
+                self.spectrum_log10_spread,
+                (0.0, 16.0),
+            ),
+            ("elastic_h", self.elastic_h, (0.02, 0.5)),
+        ];
+        for (key, (a, b), (lo, hi)) in floats {
+            if !(a.is_finite() && b.is_finite() && lo <= a && a <= b && b <= hi) {
+                let valid = format!("{lo} ≤ min ≤ max ≤ {hi}");
+                return bad(key, (a.to_string(), b.to_string()), &valid);
+            }
         }
         Ok(())
     }

@@ -84,26 +84,27 @@ pub fn read_toml_with_text<T: serde::de::DeserializeOwned>(path: &Path) -> Resul
 
 /// The 1-based line of `key` in TOML `text`: at the top level (`table` None: before the first
 /// header) or in `[table]` (up to the next header), a line `key = …` (bare or quoted key);
-/// lines inside multi-line strings are skipped. None where the key is written otherwise
-/// (dotted, in an inline table): the message then goes without a line.
+/// comments and lines inside multi-line strings are skipped. None where the key is written
+/// otherwise (dotted, in an inline table): the message then goes without a line.
 pub fn toml_key_line(text: &str, table: Option<&str>, key: &str) -> Option<usize> {
     let mut current: Option<&str> = None;
     let mut in_string: Option<&str> = None;
     for (i, line) in text.lines().enumerate() {
+        let line = line.trim_start_matches('\u{feff}');
         // Multi-line strings: an odd count of a delimiter opens (or closes) one.
-        let open = in_string.or(["\"\"\"", "'''"].into_iter().find(|d| line.contains(d)));
-        if let Some(d) = open {
-            let odd = line.matches(d).count() % 2 == 1;
-            let was_inside = in_string.is_some();
-            in_string = match (was_inside, odd) {
-                (false, true) | (true, false) => Some(d),
-                _ => None,
-            };
-            if was_inside {
-                continue;
+        if let Some(d) = in_string {
+            if line.matches(d).count() % 2 == 1 {
+                in_string = None;
+            }
+            continue;
+        }
+        let code = without_comment(line);
+        if let Some(d) = ["\"\"\"", "'''"].into_iter().find(|d| code.contains(d)) {
+            if code.matches(d).count() % 2 == 1 {
+                in_string = Some(d);
             }
         }
-        let t = line.trim();
+        let t = code.trim();
         if let Some(h) = t.strip_prefix('[') {
             current = h.split(']').next().map(str::trim);
             continue;
@@ -117,6 +118,25 @@ pub fn toml_key_line(text: &str, table: Option<&str>, key: &str) -> Option<usize
         }
     }
     None
+}
+
+/// A TOML line up to its comment: the first `#` outside a quoted string (basic strings with
+/// their backslash escapes, literal strings as they stand).
+fn without_comment(line: &str) -> &str {
+    let mut quote: Option<char> = None;
+    let mut escaped = false;
+    for (i, c) in line.char_indices() {
+        match quote {
+            Some('"') if escaped => escaped = false,
+            Some('"') if c == '\\' => escaped = true,
+            Some(q) if c == q => quote = None,
+            Some(_) => {}
+            None if c == '#' => return &line[..i],
+            None if c == '"' || c == '\'' => quote = Some(c),
+            None => {}
+        }
+    }
+    line
 }
 
 /// `e` (a validation error of a configuration read from the TOML file `path`, whose text is
@@ -137,7 +157,7 @@ pub fn in_toml_file(e: Error, path: &Path, text: &str, table: Option<&str>, key:
     if !set {
         return e;
     }
-    let msg = format!("`{key}`: {}", e.bare_message());
+    let msg = format!("`{key}`: {}", e.root().bare_message());
     match toml_key_line(text, table, key) {
         Some(line) => Error::parse(path.display(), line, msg),
         None => Error::bad_file(path.display(), msg),
@@ -231,4 +251,36 @@ pub fn csv_line(fields: &[String]) -> String {
     let mut s = String::from_utf8(bytes).expect("fields are UTF-8");
     s.pop(); // the terminator
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::toml_key_line;
+
+    /// The key's line past comments (one holding a multi-line delimiter), multi-line strings
+    /// (one holding the key's text), trailing comments, quoted keys, tables and a byte-order
+    /// mark; None for a key the file does not write as `key = …` at that level.
+    #[test]
+    fn toml_key_line_finds_the_key_where_it_is_written() {
+        let text = "\u{feff}count = 1\n\
+                    # tip: long strings take \"\"\"\n\
+                    factors = [2.0] # \"\"\" here too\n\
+                    note = \"\"\"\n\
+                    deltas = [1.0]\n\
+                    \"\"\"\n\
+                    'deltas' = [1e-3]\n\
+                    s = \"a # b\" # c\n\
+                    [generator]\n\
+                    count = 3\n\
+                    [generator.sub] # header comment\n\
+                    x = 1\n";
+        assert_eq!(toml_key_line(text, None, "count"), Some(1));
+        assert_eq!(toml_key_line(text, None, "factors"), Some(3));
+        assert_eq!(toml_key_line(text, None, "deltas"), Some(7));
+        assert_eq!(toml_key_line(text, None, "s"), Some(8));
+        assert_eq!(toml_key_line(text, Some("generator"), "count"), Some(10));
+        assert_eq!(toml_key_line(text, Some("generator.sub"), "x"), Some(12));
+        assert_eq!(toml_key_line(text, None, "x"), None);
+        assert_eq!(toml_key_line(text, None, "b"), None);
+    }
 }

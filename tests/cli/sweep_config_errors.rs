@@ -132,7 +132,7 @@ fn a_bad_value_of_the_config_file_names_its_key_and_line() {
     let p = write_toml(
         &d,
         "count0",
-        "# two families\nfamilies = [\"beam\"]\ncount = 0\n",
+        "# one family\nfamilies = [\"beam\"]\ncount = 0\n",
     );
     assert_rejected(
         &d,
@@ -150,6 +150,18 @@ fn a_bad_value_of_the_config_file_names_its_key_and_line() {
         "rel",
         &["--config", s(&p)],
         &["rel.toml: line 2: `deltas_rel`:", "-0.001"],
+    );
+    // In the [generator] table, after a comment with a multi-line delimiter.
+    let p = write_toml(
+        &d,
+        "gen",
+        "# strings: \"\"\"\nfamilies = [\"membrane\"]\n[generator]\nmembrane_side = [0, 0]\n",
+    );
+    assert_rejected(
+        &d,
+        "gen",
+        &["--config", s(&p)],
+        &["gen.toml: line 4: `membrane_side`:", "10 ≤ min"],
     );
     // From a flag: the flag, not the file.
     let p = write_toml(&d, "ok", "families = [\"beam\"]\ncount = 2\n");

@@ -130,3 +130,52 @@ fn solve_and_sweep_count_the_same_linear_solves() {
         mismatches.join("\n")
     );
 }
+
+/// With `--cond-tol`, `solve` still reproduces a sweep row: the sweep's analysis of K (whose
+/// Ritz vectors start every row's) runs at the tolerance asked, as `solve`'s does. A membrane
+/// (the sparse route) at ε over eleven decades, the top start from the active block included.
+#[test]
+fn solve_reproduces_sweep_rows_at_a_loose_cond_tol() {
+    use crate::sweep_support::{rows_of, s, sweep_ok, work_dir};
+    let (_tmp, d) = work_dir("solve_rows_tol");
+    let (out, scenes) = (d.join("out"), d.join("scenes"));
+    sweep_ok(
+        &d,
+        &[
+            "--families",
+            "membrane",
+            "--count",
+            "1",
+            "--methods",
+            "constant",
+            "--eps",
+            "1e-1:1e10:3",
+            "--cond-tol",
+            "1e-6",
+            "--no-figures",
+            "--quiet",
+            "--out",
+            s(&out),
+            "--write-scenes",
+            s(&scenes),
+        ],
+    );
+    let rows = rows_of(&out);
+    let constant: Vec<&Row> = rows.iter().filter(|r| r.method == "constant").collect();
+    assert_eq!(constant.len(), 3);
+    for row in constant {
+        let mut args = solve_args(row);
+        args.extend(["--cond-tol".into(), "1e-6".into()]);
+        let file = scenes.join(format!("{}.scene.json", row.scene));
+        let o = common::run_ok(Command::new(SOLVE).arg(&file).args(&args));
+        let j = String::from_utf8(o.stdout).unwrap();
+        for (key, want) in [("cond2_system", row.cond2_system), ("cond2_K", row.cond2_k)] {
+            assert_eq!(
+                top_level_number(&j, key).map(f64::to_bits),
+                want.map(f64::to_bits),
+                "{key}: ε {:?}",
+                row.eps
+            );
+        }
+    }
+}

@@ -14,23 +14,41 @@ use serde_json::{json, Value};
 use std::path::Path;
 use std::time::Instant;
 
+/// The `solve` flags of each kind of knob, with the symbol the library names each value by
+/// in its errors (`None`: a switch, no value): the one table behind [`with_flag`] and
+/// [`check_knob_flags`].
+fn knob_flags(knob: Knob) -> &'static [(Option<&'static str>, &'static str)] {
+    use strategy::symbol;
+    match knob {
+        Knob::None => &[],
+        Knob::Eps => &[(Some(symbol::EPS), "--eps")],
+        Knob::Factor => &[(Some(symbol::FACTOR), "--factor")],
+        Knob::Delta => &[(Some(symbol::DELTA), "--delta")],
+        Knob::EpsTol => &[
+            (Some(symbol::EPS), "--eps"),
+            (Some(symbol::TOL), "--tol"),
+            (None, "--adaptive"),
+        ],
+    }
+}
+
 /// A knob error of [`Method::new`] as the value of the `solve` flag that sets the knob
 /// (the library names the knob by its symbol; flags live here, in the command line's layer).
 fn with_flag(e: Error) -> Error {
-    use strategy::symbol;
     let knob = match &e {
         Error::MissingKnob { knob, .. } => *knob,
         Error::NotPositive { name, .. } => name.as_str(),
         _ => return e,
     };
-    let flag = match knob {
-        k if k == symbol::EPS => "--eps",
-        k if k == symbol::FACTOR => "--factor",
-        k if k == symbol::DELTA => "--delta",
-        k if k == symbol::TOL => "--tol",
-        _ => return e,
-    };
-    e.for_flag(flag)
+    let flag = [Knob::Eps, Knob::Factor, Knob::Delta, Knob::EpsTol]
+        .into_iter()
+        .flat_map(knob_flags)
+        .find(|(symbol, _)| *symbol == Some(knob))
+        .map(|(_, flag)| *flag);
+    match flag {
+        Some(flag) => e.for_flag(flag),
+        None => e,
+    }
 }
 
 /// How [`solve_scene`] runs: which metrics, from which start, and what it writes.
@@ -306,13 +324,7 @@ pub struct Flags {
 /// A knob flag given to a method that does not take it (it would be ignored silently): an
 /// error naming the flag and what the method takes.
 fn check_knob_flags(f: &Flags, strategy: &'static Strategy) -> Result<()> {
-    let takes: &[&str] = match strategy.knob {
-        Knob::None => &[],
-        Knob::Eps => &["--eps"],
-        Knob::Factor => &["--factor"],
-        Knob::Delta => &["--delta"],
-        Knob::EpsTol => &["--eps", "--tol", "--adaptive"],
-    };
+    let takes: Vec<&str> = knob_flags(strategy.knob).iter().map(|(_, f)| *f).collect();
     let given = [
         ("--eps", f.eps.is_some()),
         ("--factor", f.factor.is_some()),

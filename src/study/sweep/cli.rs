@@ -132,30 +132,37 @@ impl ConfigArgs {
             }
         }
         c.check()
-            .map_err(|(key, e)| match (key, &a.config, &text) {
-                // A value the file set and no flag replaced: the error names its key and line.
-                (Some(key), Some(path), Some(text)) if !a.flag_given(key) => {
-                    crate::provenance::in_toml_file(e, path, text, None, key)
+            .map_err(|(field, e)| match (field, &a.config, &text) {
+                // Set by a flag (which replaces the file's value): the flag.
+                (Some((None, key)), _, _) if a.flag_of(key).is_some() => {
+                    e.for_flag(a.flag_of(key).unwrap_or_default())
+                }
+                // Else from the file where it sets the key: its key and line.
+                (Some((table, key)), Some(path), Some(text)) => {
+                    crate::provenance::in_toml_file(e, path, text, table, key)
                 }
                 _ => e,
             })?;
         Ok(c)
     }
 
-    /// Whether the flag of the configuration field `key` was given (its value then replaced
-    /// the file's); giving `--deltas` alone also clears `deltas_rel`, and vice versa.
-    fn flag_given(&self, key: &str) -> bool {
+    /// The flag that set the top-level configuration field `key`, where one was given (its
+    /// value then replaced the file's); giving `--deltas` alone also clears `deltas_rel`, and
+    /// vice versa, so either flag sets both.
+    fn flag_of(&self, key: &str) -> Option<&'static str> {
+        let given = |set: bool, flag: &'static str| set.then_some(flag);
         let deltas = self.deltas.is_some() || self.deltas_rel.is_some();
         match key {
-            "families" => self.families.is_some(),
-            "count" => self.count.is_some(),
-            "eps" => self.eps.is_some(),
-            "factors" => self.factors.is_some(),
-            "deltas" | "deltas_rel" => deltas,
-            "methods" => self.methods.is_some(),
-            "metrics" => self.metrics.is_some(),
-            "cond_tol" => self.cond_tol.is_some(),
-            _ => false,
+            "families" => given(self.families.is_some(), "--families"),
+            "count" => given(self.count.is_some(), "--count"),
+            "eps" => given(self.eps.is_some(), "--eps"),
+            "factors" => given(self.factors.is_some(), "--factors"),
+            "deltas" => given(deltas, "--deltas"),
+            "deltas_rel" => given(deltas, "--deltas-rel"),
+            "methods" => given(self.methods.is_some(), "--methods"),
+            "metrics" => given(self.metrics.is_some(), "--metrics"),
+            "cond_tol" => given(self.cond_tol.is_some(), "--cond-tol"),
+            _ => None,
         }
     }
 }

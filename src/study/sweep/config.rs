@@ -171,6 +171,10 @@ impl<'de> Deserialize<'de> for Source {
     }
 }
 
+/// A field of the configuration as a TOML file writes it: `(table, key)`, the table `None` at
+/// the top level.
+pub(super) type Field = (Option<&'static str>, &'static str);
+
 impl SweepConfig {
     /// Reads a TOML config (fields as in [`SweepConfig`]; missing fields take defaults).
     pub fn from_toml_file(path: &Path) -> Result<Self> {
@@ -182,11 +186,12 @@ impl SweepConfig {
         self.check().map_err(|(_, e)| e)
     }
 
-    /// [`SweepConfig::validate`], each error with the field it is about (None where it is
-    /// about two at once): [`ConfigArgs`](super::cli::ConfigArgs) places an error of a value
-    /// read from a TOML file at its key and line.
-    pub(super) fn check(&self) -> std::result::Result<(), (Option<&'static str>, Error)> {
-        let at = |key: &'static str| move |e: Error| (Some(key), e);
+    /// [`SweepConfig::validate`], each error with the field it is about — `(table, key)` as in
+    /// a TOML file (`None` for two fields at once) — and naming the quantity, not a flag:
+    /// [`ConfigArgs`](super::cli::ConfigArgs) names the flag where one set the value, else the
+    /// file's key and line.
+    pub(super) fn check(&self) -> std::result::Result<(), (Option<Field>, Error)> {
+        let at = |key: &'static str| move |e: Error| (Some((None, key)), e);
         Error::distinct("families", self.families.iter().map(|f| f.name()))
             .map_err(at("families"))?;
         Error::distinct("methods", self.methods.iter().map(|s| s.name)).map_err(at("methods"))?;
@@ -199,28 +204,23 @@ impl SweepConfig {
         Error::distinct("factors", &self.factors).map_err(at("factors"))?;
         Error::distinct("deltas", &self.deltas).map_err(at("deltas"))?;
         Error::distinct("deltas_rel", &self.deltas_rel).map_err(at("deltas_rel"))?;
-        MetricSet::check_cond_tol(self.cond_tol)
-            .map_err(|e| e.for_flag("--cond-tol"))
-            .map_err(at("cond_tol"))?;
+        MetricSet::check_cond_tol(self.cond_tol).map_err(at("cond_tol"))?;
         if self.scenes_dir.is_none() {
             if self.families.is_empty() {
-                return Err((
-                    Some("families"),
-                    Error::none_given(
-                        "families",
-                        format!(" (valid: {})", generate::FAMILY_NAMES.join(", ")),
-                    ),
-                ));
+                return Err(at("families")(Error::none_given(
+                    "families",
+                    format!(" (valid: {})", generate::FAMILY_NAMES.join(", ")),
+                )));
             }
             if self.count == 0 {
-                return Err((Some("count"), Error::out_of_range("--count", 0, "≥ 1")));
+                return Err(at("count")(Error::out_of_range("count", 0, "≥ 1")));
             }
         }
         self.eps.validate().map_err(at("eps"))?;
         for (key, what, v) in [
             ("factors", "factor", &self.factors),
-            ("deltas", "δ (--deltas)", &self.deltas),
-            ("deltas_rel", "relative δ (--deltas-rel)", &self.deltas_rel),
+            ("deltas", "δ", &self.deltas),
+            ("deltas_rel", "relative δ", &self.deltas_rel),
         ] {
             for &x in v {
                 Error::positive(what, x).map_err(at(key))?;
@@ -247,7 +247,9 @@ impl SweepConfig {
                 Error::unsupported(needs_factors.join("/"), "--factors"),
             ));
         }
-        self.generator.validate().map_err(|e| (None, e))
+        self.generator
+            .check()
+            .map_err(|(key, e)| (Some((Some("generator"), key)), e))
     }
 
     pub(super) fn metric_set(&self) -> MetricSet {

@@ -108,7 +108,14 @@ pub fn prepare_scene(spec: &SceneSpec, cfg: &SweepConfig) -> Result<SceneWork> {
         || {
             timed(|| {
                 set.cond
-                    .then(|| conditioning::cond2_warm(&p.k, Reuse::keeping_ritz()).ok())
+                    .then(|| {
+                        // As `metrics::compute` analyses K: the same Ritz starts, the same rows.
+                        let reuse = Reuse {
+                            tol: set.cond_tol,
+                            ..Reuse::keeping_ritz()
+                        };
+                        conditioning::cond2_warm(&p.k, reuse).ok()
+                    })
                     .flatten()
             })
         },
