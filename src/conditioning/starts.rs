@@ -74,8 +74,8 @@ fn rayleigh(a: &SparseColMat<usize, f64>, v: &[f64], scratch: &mut [f64]) -> f64
     dot(v, scratch) / dot(v, v)
 }
 
-/// The top Lanczos start for `a = K + D E Dᵀ` (see the module docs; `a` stored as
-/// [`principal_submatrix`] reads it): the top Ritz vector of the principal submatrix on
+/// The top Lanczos start for `a = K + D E Dᵀ` (see the module docs; `a` in compressed
+/// columns with sorted row indices, both triangles stored): the top Ritz vector of the principal submatrix on
 /// `active` (sorted, distinct DOFs), padded with zeros, where its Rayleigh quotient on `a`
 /// exceeds that of `k_top` (K's top Ritz vector); else None (keep K's). None also where
 /// `active` is empty or every DOF, or the run fails.
