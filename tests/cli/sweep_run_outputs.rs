@@ -3,8 +3,8 @@
 //! families with the barrier.
 
 use crate::sweep_support::{
-    assert_well_formed, manifest, rows_of, s, small_config, stderr, sweep_in, sweep_ok, with,
-    work_dir, SMALL,
+    assert_well_formed, manifest, rows_of, s, small_config, stderr, sweep_in, sweep_ok,
+    sweep_writing_scenes, with, work_dir, SMALL,
 };
 use penalty_lab::generate::DEFAULT_FAMILIES as FAMILY_NAMES;
 use penalty_lab::study::sweep::rows::{self, Row};
@@ -174,9 +174,7 @@ fn default_run_writes_rows_manifest_and_figures() {
 #[test]
 fn elastic_families_run_every_rule_and_the_barrier_never_penetrates() {
     let (_tmp, d) = work_dir("elastic");
-    let out = d.join("out");
-    let scenes = d.join("scenes");
-    sweep_ok(
+    let (rows, scenes) = sweep_writing_scenes(
         &d,
         &[
             "--families",
@@ -185,15 +183,8 @@ fn elastic_families_run_every_rule_and_the_barrier_never_penetrates() {
             "2",
             "--methods",
             "constant,scaled,condensed,lagrange,barrier",
-            "--no-figures",
-            "--quiet",
-            "--out",
-            s(&out),
-            "--write-scenes",
-            s(&scenes),
         ],
     );
-    let rows = rows_of(&out);
     assert!(
         rows.iter().any(|r| r.family == "hertz") && rows.iter().any(|r| r.family == "flat-punch")
     );

@@ -136,10 +136,9 @@ fn solve_and_sweep_count_the_same_linear_solves() {
 /// (the sparse route) at ε over eleven decades, the top start from the active block included.
 #[test]
 fn solve_reproduces_sweep_rows_at_a_loose_cond_tol() {
-    use crate::sweep_support::{rows_of, s, sweep_ok, work_dir};
+    use crate::sweep_support::{sweep_writing_scenes, work_dir};
     let (_tmp, d) = work_dir("solve_rows_tol");
-    let (out, scenes) = (d.join("out"), d.join("scenes"));
-    sweep_ok(
+    let (rows, scenes) = sweep_writing_scenes(
         &d,
         &[
             "--families",
@@ -152,15 +151,8 @@ fn solve_reproduces_sweep_rows_at_a_loose_cond_tol() {
             "1e-1:1e10:3",
             "--cond-tol",
             "1e-6",
-            "--no-figures",
-            "--quiet",
-            "--out",
-            s(&out),
-            "--write-scenes",
-            s(&scenes),
         ],
     );
-    let rows = rows_of(&out);
     let constant: Vec<&Row> = rows.iter().filter(|r| r.method == "constant").collect();
     assert_eq!(constant.len(), 3);
     for row in constant {

@@ -38,6 +38,23 @@ pub(crate) fn sweep_ok(cwd: &Path, args: &[&str]) -> Output {
     common::run_ok(&mut sweep_cmd(cwd, args))
 }
 
+/// Runs the sweep with `args` into `d/out` (no figures, quiet), writing its scenes into
+/// `d/scenes`: its rows and the scene folder.
+#[track_caller]
+pub(crate) fn sweep_writing_scenes(d: &Path, args: &[&str]) -> (Vec<Row>, PathBuf) {
+    let (out, scenes) = (d.join("out"), d.join("scenes"));
+    let tail = [
+        "--no-figures",
+        "--quiet",
+        "--out",
+        s(&out),
+        "--write-scenes",
+        s(&scenes),
+    ];
+    sweep_ok(d, &with(args, &tail));
+    (rows_of(&out), scenes)
+}
+
 /// Rows of `dir/rows.csv` (strict parse), without timing.
 pub(crate) fn rows_of(dir: &Path) -> Vec<Row> {
     let (rows, _) = rows::read_rows(&dir.join("rows.csv"), false)
