@@ -271,8 +271,8 @@ pub fn compute(problem: &Problem, sol: &Solution, set: MetricSet) -> Result<Metr
 /// `log10|det K|` is taken from `log10_det_k` when given (a sweep computes K's metrics once per
 /// scene). `starts`: K's Ritz vectors ([`conditioning::cond2_warm`]), from which the system's
 /// cond₂ starts its Lanczos runs (penalty systems `K + D E Dᵀ` only, the top run from the
-/// active block's vector where the penalties dominate K's diagonal, `penalty_starts`; same
-/// certified result in fewer steps).
+/// active block's vector where the penalties dominate K's diagonal, `penalty_starts`: fewer
+/// steps, the value inside the same certified bracket).
 pub fn compute_with_k(
     problem: &Problem,
     sol: &Solution,

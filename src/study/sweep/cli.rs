@@ -131,18 +131,22 @@ impl ConfigArgs {
                 }
             }
         }
-        c.check()
-            .map_err(|(field, e)| match (field, &a.config, &text) {
-                // Set by a flag (which replaces the file's value): the flag.
-                (Some((None, key)), _, _) if a.flag_of(key).is_some() => {
-                    e.for_flag(a.flag_of(key).unwrap_or_default())
-                }
-                // Else from the file where it sets the key: its key and line.
-                (Some((table, key)), Some(path), Some(text)) => {
+        c.check().map_err(|(field, e)| {
+            let Some((table, key)) = field else {
+                return e;
+            };
+            // Set by a flag (which replaces the file's value): the flag.
+            if let Some(flag) = table.is_none().then(|| a.flag_of(key)).flatten() {
+                return e.for_flag(flag);
+            }
+            // Else from the file where it sets the key: its key and line.
+            match (&a.config, &text) {
+                (Some(path), Some(text)) => {
                     crate::provenance::in_toml_file(e, path, text, table, key)
                 }
                 _ => e,
-            })?;
+            }
+        })?;
         Ok(c)
     }
 
