@@ -381,6 +381,14 @@ impl Error {
             None => text,
         }
     }
+    /// The quantity a range error names (`steps`, `punch.radius`, `penalty ε`), under any
+    /// [`Error::Flag`] wrappers: for a caller that places the value in its source.
+    pub fn quantity(&self) -> Option<&str> {
+        match self.root() {
+            Error::NotPositive { name, .. } | Error::OutOfRange { name, .. } => Some(name),
+            _ => None,
+        }
+    }
     /// The error under any [`Error::Flag`] wrappers.
     pub fn root(&self) -> &Error {
         match self {

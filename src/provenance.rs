@@ -141,19 +141,18 @@ fn without_comment(line: &str) -> &str {
 
 /// `e` (a validation error of a configuration read from the TOML file `path`, whose text is
 /// `text`) placed in the file where the offending value came from it: the key `key` of
-/// `[table]` (`None`: the top level) named, with its line where [`toml_key_line`] finds it
+/// `[table]` (`None`: the top level; dotted for a nested table) named, with its line where [`toml_key_line`] finds it
 /// (`PATH: line L: `key`: message`), else without. `e` unchanged where the file does not set
 /// the key (the value came from a flag or the default).
 pub fn in_toml_file(e: Error, path: &Path, text: &str, table: Option<&str>, key: &str) -> Error {
-    let set = toml::from_str::<toml::Table>(text)
-        .ok()
-        .is_some_and(|t| match table {
-            None => t.contains_key(key),
-            Some(h) => t
-                .get(h)
-                .and_then(|v| v.as_table())
-                .is_some_and(|t| t.contains_key(key)),
+    // The table `a.b` is `[a.b]`, or `b = {…}` inside `[a]`: walked through the parsed file.
+    let set = toml::from_str::<toml::Table>(text).ok().is_some_and(|t| {
+        let inner = table.map_or(Some(&t), |h| {
+            h.split('.')
+                .try_fold(&t, |t, part| t.get(part).and_then(|v| v.as_table()))
         });
+        inner.is_some_and(|t| t.contains_key(key))
+    });
     if !set {
         return e;
     }

@@ -45,7 +45,32 @@ fn bad_input_exits_with_status_2_and_one_line() {
         "mls.toml",
         "[forming] # the run\nname = \"\"\"\nsteps = 4\n\"\"\"\nelements = 3\nsteps = \"ten\"\n",
     );
+    // Values that parse but fail validation: their key and line (a nested table's too), or
+    // the flag that set them.
+    let invalid = file(
+        "invalid.toml",
+        "penalty = 1e7\n[forming]\n# a comment\nsteps = 0\n",
+    );
+    let nested = file(
+        "nested.toml",
+        "[forming]\nsteps = 4\n[forming.punch]\nradius = -2.0\n",
+    );
     let cases: Vec<(&str, Vec<&str>, &str)> = vec![
+        (
+            DD,
+            vec!["--config", &invalid],
+            "invalid.toml: line 4: `steps`",
+        ),
+        (
+            DD,
+            vec!["--config", &nested],
+            "nested.toml: line 4: `radius`",
+        ),
+        (
+            DD,
+            vec!["--config", &invalid, "--steps", "0"],
+            "--steps: steps",
+        ),
         (DD, vec!["--elements", "1"], "elements"),
         (DD, vec!["--delta", "-1"], "δ"),
         (DD, vec!["--penalty", "0"], "penalty"),

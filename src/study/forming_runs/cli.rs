@@ -69,9 +69,12 @@ impl Flags {
     /// The experiment configuration: the TOML file (or the paper's knobs) on the preset, then
     /// the flags; validated.
     pub fn config(&self, preset: FormingConfig) -> Result<ExperimentConfig> {
-        let c = match &self.config {
-            Some(p) => ExperimentConfig::from_toml_file(p, preset)?,
-            None => ExperimentConfig::paper_knobs(preset),
+        let (c, text) = match &self.config {
+            Some(p) => {
+                let (c, text) = ExperimentConfig::from_toml_file_with_text(p, preset)?;
+                (c, Some(text))
+            }
+            None => (ExperimentConfig::paper_knobs(preset), None),
         };
         c.apply(&Overrides {
             elements: self.elements,
@@ -81,6 +84,44 @@ impl Flags {
             penalty: self.penalty,
             delta: self.delta,
         })
+        .map_err(|e| self.placed(e, text.as_deref()))
+    }
+
+    /// A validation error of the configuration placed where its value came from: the flag
+    /// that set it, else the file's key (`penalty`, `delta` at the top level, the others in
+    /// `[forming]`, `punch.radius` in `[forming.punch]`) and line, else as it is (a default,
+    /// or a condition between two fields).
+    fn placed(&self, e: Error, text: Option<&str>) -> Error {
+        let Some(token) = e.quantity().and_then(|q| q.split_whitespace().next()) else {
+            return e;
+        };
+        let path = match token {
+            "penalty" => "penalty",
+            "δ" => "delta",
+            t => t,
+        }
+        .to_string();
+        let flag = match path.as_str() {
+            "elements" => self.elements.map(|_| "--elements"),
+            "steps" => self.steps.map(|_| "--steps"),
+            "travel" => self.travel.map(|_| "--travel"),
+            "friction" => self.friction.map(|_| "--friction"),
+            "penalty" => self.penalty.map(|_| "--penalty"),
+            "delta" => self.delta.map(|_| "--delta"),
+            _ => None,
+        };
+        if let Some(flag) = flag {
+            return e.for_flag(flag);
+        }
+        let (Some(file), Some(text)) = (&self.config, text) else {
+            return e;
+        };
+        let (table, key) = match (path.as_str(), path.rsplit_once('.')) {
+            ("penalty" | "delta", _) => (None, path.as_str()),
+            (_, Some((table, key))) => (Some(format!("forming.{table}")), key),
+            (key, None) => (Some("forming".to_string()), key),
+        };
+        crate::provenance::in_toml_file(e, file, text, table.as_deref(), key)
     }
 }
 

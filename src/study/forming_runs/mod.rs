@@ -67,12 +67,21 @@ impl ExperimentConfig {
     /// the command line's flags override it first ([`ExperimentConfig::apply`] validates
     /// the result), so a flag can correct a value of the file.
     pub fn from_toml_file(path: &std::path::Path, preset: FormingConfig) -> Result<Self> {
+        Self::from_toml_file_with_text(path, preset).map(|(c, _)| c)
+    }
+
+    /// [`ExperimentConfig::from_toml_file`], with the file's text (to place the errors of
+    /// [`ExperimentConfig::apply`] in it).
+    pub fn from_toml_file_with_text(
+        path: &std::path::Path,
+        preset: FormingConfig,
+    ) -> Result<(Self, String)> {
         let (file, text): (toml::Table, String) = crate::provenance::read_toml_with_text(path)?;
         let preset_toml = toml::Table::try_from(&preset)
             .map_err(|e| Error::Numerical(format!("cannot encode preset: {e}")))?;
         let merged = Self::merged(&file, &preset_toml)
             .ok_or_else(|| Error::bad_file(path.display(), "[forming] must be a table"))?;
-        merged.try_into().map_err(|e: toml::de::Error| {
+        let config = merged.try_into().map_err(|e: toml::de::Error| {
             // The typed conversion has no spans: the line of the first key of the file whose
             // value alone makes it fail.
             match Self::culprit(&file, &preset_toml)
@@ -81,7 +90,8 @@ impl ExperimentConfig {
                 Some(line) => Error::parse(path.display(), line, e.message().replace('\n', " ")),
                 None => Error::toml(path.display(), None, &e),
             }
-        })
+        })?;
+        Ok((config, text))
     }
 
     /// The file's table with its `[forming]` merged over the preset's and the default ε and
