@@ -141,9 +141,9 @@ fn without_comment(line: &str) -> &str {
 
 /// `e` (a validation error of a configuration read from the TOML file `path`, whose text is
 /// `text`) placed in the file where the offending value came from it: the key `key` of
-/// `[table]` (`None`: the top level; dotted for a nested table) named, with its line where [`toml_key_line`] finds it
-/// (`PATH: line L: `key`: message`), else without. `e` unchanged where the file does not set
-/// the key (the value came from a flag or the default).
+/// `[table]` (`None`: the top level; dotted for a nested table) named, with its line where
+/// [`toml_key_line`] finds it (`PATH: line L: `key`: message`), else without. `e` unchanged
+/// where the file does not set the key (the value came from a flag or the default).
 pub fn in_toml_file(e: Error, path: &Path, text: &str, table: Option<&str>, key: &str) -> Error {
     // The table `a.b` is `[a.b]`, or `b = {…}` inside `[a]`: walked through the parsed file.
     let set = toml::from_str::<toml::Table>(text).ok().is_some_and(|t| {

@@ -27,10 +27,9 @@
 //! rows bit for bit. Its own run (products with A_𝒜𝒜, up to [`PLAIN_LANCZOS_STEPS`]) and two
 //! products with A are not counted in the certificate's `lanczos_steps`; the timings of
 //! docs/performance.md include them.
-//! Where to use it: a penalized system with single-DOF constraints whose smallest active
-//! penalty exceeds K's largest diagonal entry on the active DOFs
-//! (the metrics decide); below that, the top of A is K's and K's vector is the
-//! better start.
+//! Where to use it: a penalized system with single-DOF constraints whose every active
+//! penalty exceeds K's diagonal entry at its DOF (the metrics decide); below that, the top of
+//! A is K's and K's vector is the better start.
 
 use super::lanczos::{dot, lanczos, Keep, TOP_STAGNATION};
 use super::sparse::PLAIN_LANCZOS_STEPS;
@@ -75,10 +74,10 @@ fn rayleigh(a: &SparseColMat<usize, f64>, v: &[f64], scratch: &mut [f64]) -> f64
 }
 
 /// The top Lanczos start for `a = K + D E Dᵀ` (see the module docs; `a` in compressed
-/// columns with sorted row indices, both triangles stored): the top Ritz vector of the principal submatrix on
-/// `active` (sorted, distinct DOFs), padded with zeros, where its Rayleigh quotient on `a`
-/// exceeds that of `k_top` (K's top Ritz vector); else None (keep K's). None also where
-/// `active` is empty or every DOF, or the run fails.
+/// columns with sorted row indices, both triangles stored): the top Ritz vector of the
+/// principal submatrix on `active` (sorted, distinct DOFs), padded with zeros, where its
+/// Rayleigh quotient on `a` exceeds that of `k_top` (K's top Ritz vector); else None (keep
+/// K's). None also where `active` is empty or every DOF, or the run fails.
 pub fn penalty_top_start(
     a: &SparseColMat<usize, f64>,
     k_top: &[f64],

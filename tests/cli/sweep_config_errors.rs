@@ -129,40 +129,29 @@ fn toml_config_with_unknown_field_is_a_one_line_error() {
 #[test]
 fn a_bad_value_of_the_config_file_names_its_key_and_line() {
     let (_tmp, d) = work_dir("bad_value");
-    let p = write_toml(
-        &d,
-        "count0",
-        "# one family\nfamilies = [\"beam\"]\ncount = 0\n",
-    );
-    assert_rejected(
-        &d,
-        "count0",
-        &["--config", s(&p)],
-        &["count0.toml: line 3: `count`:", "≥ 1"],
-    );
-    let p = write_toml(
-        &d,
-        "rel",
-        "families = [\"beam\"]\ndeltas_rel = [1e-2, -1e-3]\n",
-    );
-    assert_rejected(
-        &d,
-        "rel",
-        &["--config", s(&p)],
-        &["rel.toml: line 2: `deltas_rel`:", "-0.001"],
-    );
-    // In the [generator] table, after a comment with a multi-line delimiter.
-    let p = write_toml(
-        &d,
-        "gen",
-        "# strings: \"\"\"\nfamilies = [\"membrane\"]\n[generator]\nmembrane_side = [0, 0]\n",
-    );
-    assert_rejected(
-        &d,
-        "gen",
-        &["--config", s(&p)],
-        &["gen.toml: line 4: `membrane_side`:", "10 ≤ min"],
-    );
+    // (tag, file, what the message names); the last in the [generator] table, after a
+    // comment with a multi-line delimiter.
+    let cases = [
+        (
+            "count0",
+            "# one family\nfamilies = [\"beam\"]\ncount = 0\n",
+            ["count0.toml: line 3: `count`:", "≥ 1"],
+        ),
+        (
+            "rel",
+            "families = [\"beam\"]\ndeltas_rel = [1e-2, -1e-3]\n",
+            ["rel.toml: line 2: `deltas_rel`:", "-0.001"],
+        ),
+        (
+            "gen",
+            "# strings: \"\"\"\nfamilies = [\"membrane\"]\n[generator]\nmembrane_side = [0, 0]\n",
+            ["gen.toml: line 4: `membrane_side`:", "10 ≤ min"],
+        ),
+    ];
+    for (tag, text, needles) in cases {
+        let p = write_toml(&d, tag, text);
+        assert_rejected(&d, tag, &["--config", s(&p)], &needles);
+    }
     // From a flag: the flag, not the file.
     let p = write_toml(&d, "ok", "families = [\"beam\"]\ncount = 2\n");
     let o = sweep_in(

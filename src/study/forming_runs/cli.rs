@@ -71,7 +71,7 @@ impl Flags {
     pub fn config(&self, preset: FormingConfig) -> Result<ExperimentConfig> {
         let (c, text) = match &self.config {
             Some(p) => {
-                let (c, text) = ExperimentConfig::from_toml_file_with_text(p, preset)?;
+                let (c, text) = ExperimentConfig::from_toml_file(p, preset)?;
                 (c, Some(text))
             }
             None => (ExperimentConfig::paper_knobs(preset), None),

@@ -65,17 +65,9 @@ impl ExperimentConfig {
 
     /// Reads a TOML file; the `[forming]` table is merged over `preset`. Not yet validated:
     /// the command line's flags override it first ([`ExperimentConfig::apply`] validates
-    /// the result), so a flag can correct a value of the file.
-    pub fn from_toml_file(path: &std::path::Path, preset: FormingConfig) -> Result<Self> {
-        Self::from_toml_file_with_text(path, preset).map(|(c, _)| c)
-    }
-
-    /// [`ExperimentConfig::from_toml_file`], with the file's text (to place the errors of
-    /// [`ExperimentConfig::apply`] in it).
-    pub fn from_toml_file_with_text(
-        path: &std::path::Path,
-        preset: FormingConfig,
-    ) -> Result<(Self, String)> {
+    /// the result), so a flag can correct a value of the file. With the file's text, to place
+    /// those errors in it.
+    pub fn from_toml_file(path: &std::path::Path, preset: FormingConfig) -> Result<(Self, String)> {
         let (file, text): (toml::Table, String) = crate::provenance::read_toml_with_text(path)?;
         let preset_toml = toml::Table::try_from(&preset)
             .map_err(|e| Error::Numerical(format!("cannot encode preset: {e}")))?;
