@@ -86,7 +86,7 @@ fn main() -> penalty_lab::Result<()> {
         det: false,
         cond_tol: None,
     };
-    let met = metrics::compute_with_k(p, &sol, set, None, None)?;
+    let met = metrics::compute_with_k(p, &sol, set, None, None, None)?;
     let seconds_sys = t.elapsed().as_secs_f64();
     println!(
         "N = {}, m = {}; one factorization of K {t_fact:.2} s, one solve {t_solve:.3} s; \

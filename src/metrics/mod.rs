@@ -68,35 +68,60 @@ pub struct Metrics {
 }
 
 /// cond₂ of the system matrix, or `None` with a note when no exact route exists for it.
+/// `starts`: K's Ritz vectors; `free_bottom`: K_ℱℱ's bottom Ritz vector at the exact contact
+/// set ([`contact_bottom`]), where known.
 fn system_cond(
     problem: &Problem,
     sol: &Solution,
     sys: &Stiffness,
     starts: Option<&RitzStarts>,
+    free_bottom: Option<&[f64]>,
     tol: Option<f64>,
     unavailable: &mut Vec<String>,
 ) -> Result<Option<CondReport>> {
     let factor = sol.factor.as_deref();
-    let penalty = starts.and_then(|s| penalty_starts(problem, sol, sys, s));
+    let penalty = starts.and_then(|s| penalty_starts(problem, sol, sys, s, free_bottom));
     let starts = penalty.as_ref().or(starts);
     cond_of_system(problem, &sol.system, sys, factor, starts, tol, unavailable)
 }
 
-/// K's Ritz vectors with the top one replaced by [`conditioning::starts::penalty_top_start`]
-/// where the system is penalized through single-DOF constraints whose every active penalty
-/// exceeds K's diagonal entry at its DOF (the regime where A's top eigenvector leaves K's for
-/// the active block) and the padded vector is the better start; None otherwise (K's as
-/// they are). A function of the problem, the solution and K's vectors alone: `solve` and a
-/// sweep row start alike.
+/// The starts of a penalized system's cond₂ ([`conditioning::starts`]), K's Ritz vectors
+/// where nothing better is at hand: the top one replaced by
+/// [`conditioning::starts::penalty_top_start`] where the constraints are single-DOF and every
+/// active penalty exceeds K's diagonal entry at its DOF (the regime where A's top eigenvector
+/// leaves K's for the active block) and the padded vector is the better start; the bottom
+/// one by `free_bottom` (K_ℱℱ's at the exact contact set) where its Rayleigh quotient on A is
+/// the smaller ([`conditioning::starts::penalty_bottom_start`]). None where neither is
+/// replaced or the system is not penalized. A function of the problem, the solution, K's
+/// vectors and `free_bottom` alone: `solve` and a sweep row start alike.
 fn penalty_starts(
     problem: &Problem,
     sol: &Solution,
     sys: &Stiffness,
     k_starts: &RitzStarts,
+    free_bottom: Option<&[f64]>,
 ) -> Option<RitzStarts> {
     if !matches!(sol.system, SystemKind::Penalized) {
         return None;
     }
+    let a = sys.as_sparse();
+    let top = dominant_active_dofs(problem, sol)
+        .and_then(|active| conditioning::starts::penalty_top_start(&a, &k_starts.top, &active));
+    let bottom = free_bottom
+        .and_then(|f| conditioning::starts::penalty_bottom_start(&a, &k_starts.bottom, f));
+    if top.is_none() && bottom.is_none() {
+        return None;
+    }
+    Some(RitzStarts {
+        top: top.unwrap_or_else(|| k_starts.top.clone()),
+        bottom: bottom.unwrap_or_else(|| k_starts.bottom.clone()),
+    })
+}
+
+/// The sorted, distinct DOFs of the active constraints of a penalized solution where every
+/// constraint with a penalty is single-DOF and its penalty exceeds K's diagonal entry at its
+/// DOF; None otherwise.
+fn dominant_active_dofs(problem: &Problem, sol: &Solution) -> Option<Vec<usize>> {
     let mut active = Vec::new();
     for (c, &e) in sol.penalties.iter().enumerate() {
         if e > 0.0 {
@@ -109,12 +134,32 @@ fn penalty_starts(
     }
     active.sort_unstable();
     active.dedup();
-    let a = sys.as_sparse();
-    let top = conditioning::starts::penalty_top_start(&a, &k_starts.top, &active)?;
-    Some(RitzStarts {
-        top,
-        bottom: k_starts.bottom.clone(),
-    })
+    Some(active)
+}
+
+/// K_ℱℱ's bottom Ritz vector at a contact set (`contact[c]`: constraint c in contact, the
+/// exact solution's set from `lagrange`), padded with zeros on the contact DOFs ℬ
+/// ([`conditioning::starts::free_block_bottom`], started from K's bottom Ritz vector): the
+/// bottom start of every penalized row of the scene where it is the better one. None where
+/// a constraint in contact couples DOFs, no constraint is in contact, or the run fails. A
+/// sweep computes it once per scene after its lagrange row; `solve --exact-start` the same
+/// way.
+pub fn contact_bottom(
+    problem: &Problem,
+    contact: &[bool],
+    k_starts: &RitzStarts,
+) -> Option<Vec<f64>> {
+    let dofs = contact
+        .iter()
+        .enumerate()
+        .filter(|&(_, &on)| on)
+        .map(|(c, _)| problem.constraints.get(c)?.single_dof())
+        .collect::<Option<Vec<usize>>>()?;
+    let mut dofs = dofs;
+    dofs.sort_unstable();
+    dofs.dedup();
+    let k = problem.k.as_sparse();
+    conditioning::starts::free_block_bottom(&k, &dofs, &k_starts.bottom)
 }
 
 /// cond₂ of `sys`, the system matrix of `kind` on `problem` (for a saddle point, `problem.k`
@@ -223,6 +268,19 @@ pub fn system_matrix(problem: &Problem, sol: &Solution) -> Stiffness {
 
 /// Computes the requested metrics.
 pub fn compute(problem: &Problem, sol: &Solution, set: MetricSet) -> Result<Metrics> {
+    compute_at_contact_set(problem, sol, set, None)
+}
+
+/// [`compute`] where the exact contact set is known (`contact[c]`: constraint c in contact,
+/// from a lagrange solve of the same problem, as `solve --exact-start` and every sweep row
+/// have it): a penalized system's bottom Lanczos run may then start from K_ℱℱ's bottom Ritz
+/// vector at that set ([`contact_bottom`]), as a sweep's rows do — the same rows bit for bit.
+pub fn compute_at_contact_set(
+    problem: &Problem,
+    sol: &Solution,
+    set: MetricSet,
+    contact: Option<&[bool]>,
+) -> Result<Metrics> {
     let mut out = Metrics::default();
     if !(set.cond || set.det) {
         return Ok(out);
@@ -248,7 +306,19 @@ pub fn compute(problem: &Problem, sol: &Solution, set: MetricSet) -> Result<Metr
         let (k, system) = match conditioning::cond2_warm(&problem.k, reuse_k) {
             Ok((k, ritz)) => {
                 let starts = ritz.as_ref();
-                let system = system_cond(problem, sol, &sys, starts, tol, &mut unavailable);
+                let free = contact
+                    .zip(starts)
+                    .filter(|_| matches!(sol.system, SystemKind::Penalized))
+                    .and_then(|(c, r)| contact_bottom(problem, c, r));
+                let system = system_cond(
+                    problem,
+                    sol,
+                    &sys,
+                    starts,
+                    free.as_deref(),
+                    tol,
+                    &mut unavailable,
+                );
                 (Ok(k), system)
             }
             Err(e) => (Err(e), Ok(None)),
@@ -272,13 +342,16 @@ pub fn compute(problem: &Problem, sol: &Solution, set: MetricSet) -> Result<Metr
 /// scene). `starts`: K's Ritz vectors ([`conditioning::cond2_warm`]), from which the system's
 /// cond₂ starts its Lanczos runs (penalty systems `K + D E Dᵀ` only, the top run from the
 /// active block's vector where the penalties dominate K's diagonal, `penalty_starts`: fewer
-/// steps, the value inside the same certified bracket).
+/// steps, the value inside the same certified bracket), the bottom run from `free_bottom`
+/// (K_ℱℱ's bottom Ritz vector at the exact contact set, [`contact_bottom`]) where it is the
+/// better start.
 pub fn compute_with_k(
     problem: &Problem,
     sol: &Solution,
     set: MetricSet,
     log10_det_k: Option<f64>,
     starts: Option<&RitzStarts>,
+    free_bottom: Option<&[f64]>,
 ) -> Result<Metrics> {
     let mut out = Metrics::default();
     if !(set.cond || set.det) {
@@ -292,6 +365,7 @@ pub fn compute_with_k(
             sol,
             &sys,
             starts,
+            free_bottom,
             set.cond_tol,
             &mut out.unavailable,
         )?;

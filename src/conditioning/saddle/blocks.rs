@@ -136,7 +136,7 @@ pub(super) fn constrained_mask(n: usize, dofs: &[usize]) -> Result<Vec<bool>> {
 
 /// Cholesky of K_FF, stored as K with the rows and columns of B replaced by the identity (for
 /// the block elimination behind A⁻¹); errors when K_FF is not positive definite.
-pub(super) fn free_block_factor(pattern: &DiagonalPattern, in_b: &[bool]) -> Result<SparseLlt> {
+pub(crate) fn free_block_factor(pattern: &DiagonalPattern, in_b: &[bool]) -> Result<SparseLlt> {
     let mut vff = Vec::new();
     free_block_values(pattern, in_b, 0.0, &mut vff);
     pattern.factor(&vff).ok_or_else(|| {

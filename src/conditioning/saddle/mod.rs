@@ -124,10 +124,8 @@ mod null_space;
 pub mod schur;
 mod shifts;
 mod top;
-use blocks::{
-    constrained_mask, free_block_factor, free_block_values, s0, saddle_csc, BlockInverse,
-};
-pub(crate) use blocks::{dof_error, dof_mask};
+use blocks::{constrained_mask, free_block_values, s0, saddle_csc, BlockInverse};
+pub(crate) use blocks::{dof_error, dof_mask, free_block_factor};
 use coupling::{AugmentedInverse, Blocks, Inverse};
 pub use coupling::{Row, MAX_ROWS_ENTRIES};
 use negative::schur_test_fails;

@@ -232,6 +232,7 @@ pub fn run(cfg: &ScaleConfig, progress: &Progress) -> Result<Vec<ScaleRow>> {
                     },
                     None,
                     None,
+                    None,
                 )?;
                 let route = match (&met.cond2_system, met.unavailable.first()) {
                     (Some(c), _) => c.route.name().to_string(),

@@ -58,8 +58,8 @@ pub struct SolveOptions {
     pub no_metrics: bool,
     /// Skip the solver-cost metrics only.
     pub no_solver_metrics: bool,
-    /// Start constant, scaled and condensed from the exact contact set (module doc of
-    /// [`solve_scene`]).
+    /// Start constant, scaled and condensed from the exact contact set, and a penalized
+    /// system's cond₂ from its free block's bottom vector (module doc of [`solve_scene`]).
     pub exact_start: bool,
     /// Relative accuracy asked of the cond₂ values ([`MetricSet::cond_tol`]; `None`: the
     /// contract).
@@ -106,7 +106,8 @@ fn augmented_defaults(p: &crate::system::Problem, knobs: &mut Knobs) {
 /// (contract in `shared/notes/methods.md`). With `opts.exact_start`, the scene is first solved
 /// by `lagrange` and constant, scaled and condensed start from its contact set, as every
 /// `sweep` row does ([`strategy::Prepared::with_contact_set`]; the lagrange solve is not in
-/// the statistics or `seconds`). With `opts.write_system`, the final system `A x = b` is
+/// the statistics or `seconds`), and a penalized system's cond₂ may start its bottom run from
+/// K_ℱℱ's bottom Ritz vector at that set ([`metrics::compute_at_contact_set`]). With `opts.write_system`, the final system `A x = b` is
 /// written there exactly as solved ([`write_system`]). Errors on unreadable scenes, bad knobs,
 /// a `cond_tol` outside (0, 1), singular systems and a non-finite solution.
 pub fn solve_scene(
@@ -127,16 +128,21 @@ pub fn solve_scene(
         augmented_defaults(p, &mut knobs);
     }
     let method = Method::new(strategy, knobs).map_err(with_flag)?;
-    let prepared = if exact_start {
-        // The sweep's order: K prepared once, lagrange on it, its contact set for the rest.
-        strategy::Prepared::new(p).ok().and_then(|prep| {
+    // The sweep's order: K prepared once, lagrange on it, its contact set for the rest (the
+    // start of constant, scaled and condensed; and where the cond₂ of every penalized system
+    // may start its bottom run, `metrics::compute_at_contact_set`).
+    let exact = exact_start
+        .then(|| {
+            let prep = strategy::Prepared::new(p).ok()?;
             let set = strategy::solve_prepared(p, Method::lagrange(), Some(&prep))
                 .ok()?
                 .contact_set()?;
-            Some(prep.with_contact_set(set))
+            Some((prep, set))
         })
-    } else {
-        None
+        .flatten();
+    let (prepared, contact) = match exact {
+        Some((prep, set)) => (Some(prep.with_contact_set(set.clone())), Some(set)),
+        None => (None, None),
     };
     let t0 = Instant::now();
     let sol = match &prepared {
@@ -152,7 +158,7 @@ pub fn solve_scene(
             ..MetricSet::ALL
         }
     };
-    let m = metrics::compute(p, &sol, set)?;
+    let m = metrics::compute_at_contact_set(p, &sol, set, contact.as_deref())?;
     let mut warnings = metrics::warnings(&sol, &m);
     if let Some(c) = m.cond2_system {
         if !c.cond2.is_finite() {
@@ -301,7 +307,8 @@ pub struct Flags {
     #[arg(long)]
     no_metrics: bool,
     /// Start constant, scaled and condensed from the exact contact set (a lagrange solve
-    /// first), as every sweep row does: reproduces a sweep row's iteration counts.
+    /// first), and a penalized system's cond₂ from K's free block at it, as every sweep row
+    /// does: reproduces a sweep row bit for bit.
     #[arg(long)]
     exact_start: bool,
     /// Relative accuracy asked of the cond₂ values, in (0, 1) (default: the accuracy

@@ -321,6 +321,7 @@ pub fn eps_study(scene: &StressScene, cfg: &StressConfig) -> Result<Vec<EpsRow>>
                 },
                 None,
                 None,
+                None,
             )
             .unwrap_or_default();
             s.warnings.len() + metrics::precision_warnings(&m).len()
@@ -513,6 +514,7 @@ pub fn strategy_study(scene: &StressScene, cfg: &StressConfig) -> Result<Vec<Str
                     det: false,
                     cond_tol: None,
                 },
+                None,
                 None,
                 None,
             ) {

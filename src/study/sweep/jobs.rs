@@ -196,6 +196,10 @@ pub struct Reference {
     /// The scene's [`Prepared`] with the exact contact set
     /// ([`Prepared::with_contact_set`]): where constant, scaled and condensed start.
     pub prepared: Option<Prepared>,
+    /// K_ℱℱ's bottom Ritz vector at the exact contact set ([`metrics::contact_bottom`]):
+    /// the bottom start of the penalized rows' cond₂ where it is the better one (with cond₂
+    /// asked for and K's Ritz vectors kept).
+    pub free_bottom: Option<Vec<f64>>,
 }
 
 /// One row: `job` solved on the scene with its metrics; `reference` is what the lagrange row
@@ -220,7 +224,15 @@ pub fn run_job(
     row.seconds_solve = Some(seconds_solve);
     let mut u_out = None;
     match solved.and_then(|sol| {
-        let m = metrics::compute_with_k(p, &sol, set, work.log10_det_k, work.ritz_k.as_ref())?;
+        let free_bottom = reference.and_then(|r| r.free_bottom.as_deref());
+        let m = metrics::compute_with_k(
+            p,
+            &sol,
+            set,
+            work.log10_det_k,
+            work.ritz_k.as_ref(),
+            free_bottom,
+        )?;
         Ok((sol, m))
     }) {
         Ok((sol, m)) => {
@@ -257,13 +269,23 @@ pub fn run_job(
             }
             if job.method.is(&strategy::lagrange::STRATEGY) {
                 row.error_vs_exact = Some(metrics::relative_error(&sol.u, &sol.u));
+                let contact = sol.contact_set();
+                let free_bottom = contact
+                    .as_deref()
+                    .zip(work.ritz_k.as_ref())
+                    .filter(|_| set.cond)
+                    .and_then(|(c, r)| metrics::contact_bottom(p, c, r));
                 let prepared = work
                     .prepared
                     .as_ref()
                     .ok()
-                    .zip(sol.contact_set())
+                    .zip(contact)
                     .map(|(p, set)| p.clone().with_contact_set(set));
-                u_out = Some(Reference { u: sol.u, prepared });
+                u_out = Some(Reference {
+                    u: sol.u,
+                    prepared,
+                    free_bottom,
+                });
             }
         }
         Err(e) => row.warnings = format!("error: {e}"),

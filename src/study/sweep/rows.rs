@@ -2,8 +2,9 @@
 //!
 //! Columns (in order): see [`COLUMNS`]. Units: `eps*` in stiffness units (force/length of the
 //! scene), `delta` and `max_penetration` in the units of u, `seconds` wall time of the solve
-//! plus metrics on one thread, split into `seconds_solve`, `seconds_cond` and `seconds_det`.
-//! Every column except those four ([`TIMING_COLUMNS`]) is deterministic: identical for any
+//! plus metrics on one thread, split into `seconds_solve`, `seconds_cond` and `seconds_det`
+//! (the lagrange row's `seconds` also holds the scene's bottom start for the penalized rows'
+//! cond₂, [`crate::metrics::contact_bottom`]). Every column except those four ([`TIMING_COLUMNS`]) is deterministic: identical for any
 //! thread count and shard split.
 
 use crate::error::{Error, Result};
@@ -85,7 +86,8 @@ pub struct Row {
     pub kappa_increases: Option<usize>,
     /// The strategy's iteration reached its solution (`Stats::converged`); empty on error.
     pub converged: Option<bool>,
-    /// Wall time of this row (s): the solve plus its metrics.
+    /// Wall time of this row (s): the solve plus its metrics (the lagrange row: plus the
+    /// scene's bottom start, [`crate::metrics::contact_bottom`]).
     pub seconds: Option<f64>,
     /// Wall time of the solve alone (s).
     pub seconds_solve: Option<f64>,
