@@ -55,6 +55,9 @@ pub(crate) struct LanczosRun {
     /// Where the Ritz vector was left to [`LanczosRun::deferred_vector`]
     /// ([`Keep::IfConverged`]): the run's start vector q₀, for its second pass.
     deferred_start: Option<Vec<f64>>,
+    /// The change of θ between the run's last two checks (+∞ with fewer than two): of an
+    /// unconverged run, a rough measure of how far θ still is from the eigenvalue.
+    pub last_change: f64,
     /// The tridiagonal T's diagonal and off-diagonal (at least `alphas.len() − 1` entries),
     /// for [`LanczosRun::second`].
     alphas: Vec<f64>,
@@ -241,6 +244,7 @@ fn lanczos_within(
         converged,
         vector,
         deferred_start: deferred.then_some(q0),
+        last_change: last_change(&history),
         alphas,
         betas,
     })
@@ -299,6 +303,14 @@ fn top_ritz_value(alphas: &[f64], betas: &[f64], history: &[f64], upper: f64, st
             let (lo, hi) = gershgorin(alphas, betas);
             tridiagonal_max_eigenvalue(alphas, betas, lo, hi, None)
         }
+    }
+}
+
+/// The change of θ between the last two checks in `history` (+∞ with fewer than two).
+fn last_change(history: &[f64]) -> f64 {
+    match history[..] {
+        [.., p, q] => (q - p).abs(),
+        _ => f64::INFINITY,
     }
 }
 

@@ -49,7 +49,7 @@
 //! ε ≥ 1e3 from K's vector, against 4–6 from K_ℱℱ's. [`free_block_bottom`] computes K_ℱℱ's
 //! bottom Ritz vector once per scene, with ℬ the exact (lagrange) contact set: shift-invert
 //! Lanczos with the Cholesky factor of K_ℱℱ (stored as K with ℬ's rows and columns replaced
-//! by the identity, the saddle-point route's [`super::saddle::free_block_factor`]) and ℬ's
+//! by the identity, the saddle-point route's `free_block_factor`) and ℬ's
 //! components projected out after every solve, started from K's bottom vector. Each
 //! penalized row starts from whichever of it and K's bottom vector has the smaller Rayleigh
 //! quotient on A (for a unit v, `ρ_A(v) − λ_min ≥ (λ₂ − λ_min)·sin²∠(v, u_min)`): rows at

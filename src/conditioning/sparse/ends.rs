@@ -176,6 +176,9 @@ fn certify_top(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opti
     } else {
         (4.0 * margin.m).max(4.0 * f64::EPSILON)
     };
+    // A rough estimate (the plain run stopped at its budget, `top_estimate`): the first test
+    // four of its last changes above it, where the refinement below takes over.
+    let w0 = est.top_rough.map_or(w0, |r| w0.max(4.0 * r));
     // The margin of a successful top test at σ (its factor f, its largest stored b̃_ii).
     // (Lemma 1's margin alone where the placement does not aim at Lemma 7's: need = ∞.)
     let top_need = if top_posterior {
@@ -190,7 +193,8 @@ fn certify_top(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opti
     let (mut max_hi, refined, steps) = certify::step_outwards(w0, |w, k| {
         let s = base * (1.0 + w);
         let (f, max_b) = fam.test_factor(-1.0, s)?;
-        let refined = (k > 0).then(|| shift_invert(fam.pattern.n(), &f, est.top.as_deref()));
+        let refined = (k > 0 || est.top_rough.is_some())
+            .then(|| shift_invert(fam.pattern.n(), &f, est.top.as_deref()));
         let steps = refined
             .as_ref()
             .map_or(0, |r| r.as_ref().map_or(0, |r| r.steps));
@@ -205,11 +209,10 @@ fn certify_top(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opti
     // vector raises the lower end, and tests stepping out from the refined value — below the
     // test that succeeded — tighten the upper end.
     let refined_max = refined.map(|(r, s_ok, vector)| {
-        let (pat, vals) = (fam.pattern.pattern.as_ref(), fam.pattern.values.as_slice());
         if let Some(v) = vector {
-            if let Some(plain) = rayleigh_interval(pat, vals, &v) {
-                max_lo = max_lo.max(sharpen_top(pat, vals, &v, plain, 2.0 * top_need));
-            }
+            let share = 0.25 * top_share * target;
+            let (lo, k) = refined_lower(fam, (r, &v), max_lo, 2.0 * top_need, share);
+            (max_lo, restart_steps) = (lo, restart_steps + k);
         }
         if max_hi / r.max(max_lo) - 1.0 > top_share * target {
             let from = r.max(max_lo);
@@ -233,6 +236,30 @@ fn certify_top(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opti
         steps: steps + restart_steps,
         target,
     }
+}
+
+/// The lower end of λ_max after a shift-invert refinement (value `r`, Ritz vector `v`), from
+/// `max_lo`: `v`'s sharpened Rayleigh quotient ([`sharpen_top`] to `need`), and where it
+/// lags `r` by more than `share`, a short plain run from `v` ([`restart_top`]; its steps
+/// returned): the shift-invert run leaves the components of the far spectrum that its start
+/// carried, which barely move its value but much the quotient on A.
+fn refined_lower(
+    fam: &ShiftFamily,
+    (r, v): (f64, &[f64]),
+    max_lo: f64,
+    need: f64,
+    share: f64,
+) -> (f64, usize) {
+    let (pat, vals) = (fam.pattern.pattern.as_ref(), fam.pattern.values.as_slice());
+    let mut lo = max_lo;
+    if let Some(plain) = rayleigh_interval(pat, vals, v) {
+        lo = lo.max(sharpen_top(pat, vals, v, plain, need));
+    }
+    if r / lo - 1.0 <= share {
+        return (lo, 0);
+    }
+    let (restarted, steps) = restart_top(fam, v, share);
+    (lo.max(restarted), steps)
 }
 
 /// A second, short Lanczos run on A started from the Ritz vector `y`: the sharpened Rayleigh

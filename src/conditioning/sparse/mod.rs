@@ -16,7 +16,10 @@
 //!    two estimates**, clamped into the proven brackets, each refined where that is cheap:
 //!    λ_min as the inverse-Rayleigh value `yᵀy / (2x̂ᵀy − x̂ᵀAx̂)` (x̂ = A⁻¹y: second order in
 //!    the solve error), λ_max by a shift-invert run with the factor of the certificate's
-//!    test where its first test fails (the plain run stopped short below a cluster).
+//!    test where its first test fails (the plain run stopped short below a cluster) or
+//!    where a warm-started plain run was stopped unsettled at its cost budget (a cheap
+//!    factor, `plain_budget`: the test is then placed above the rough estimate, and a
+//!    short plain run from the refined vector sharpens its Rayleigh quotient).
 //! 2. **Certify** ([`certify`](super::certify) states and proves each step). λ_max ≥ ρ(y_top) (Courant–
 //!    Fischer, rounding bounded) and λ_max ≤ σ + m·max b̃_ii once floating-point Cholesky of
 //!    `σI − A` succeeds (σ just above the estimate; m from the backward error of Cholesky and
@@ -324,6 +327,9 @@ pub(super) struct Estimates {
     deferred: bool,
     /// λ₂ estimated from the λ_min run (from above), where it gives one.
     lambda2: Option<f64>,
+    /// The top estimate's rough relative error where its plain run stopped at its budget
+    /// unsettled ([`TopEstimate::rough`]).
+    top_rough: Option<f64>,
     /// An estimate from below of `1/λ_min(Ĥ)`, `Ĥ = Ŝ⁻¹AŜ⁻¹` (for the width target):
     /// `λ_min(Ĥ) ≤ ρ_Ĥ(Ŝy) = λ_min·‖y‖²/Σ a_ii y_i²` and `≤ 1/θ` of the Ĥ⁻¹ run.
     inv_hmin_lo: f64,
@@ -390,6 +396,7 @@ fn estimate(
         lmax: lmax_est,
         top: top.vector,
         steps: top.steps + bottom.steps,
+        top_rough: top.rough,
         ..bottom
     })
 }
@@ -490,6 +497,7 @@ fn bottom_estimate(
         h_est,
         deferred,
         lambda2,
+        top_rough: None,
         steps: s2 + s3,
     })
 }
@@ -500,6 +508,33 @@ struct TopEstimate {
     vector: Option<Vec<f64>>,
     steps: usize,
     factorizations: usize,
+    /// Where the plain run stopped at its cost budget ([`plain_budget`]) unsettled: its
+    /// last change relative to θ, for the certificate's shift-invert refinement.
+    rough: Option<f64>,
+}
+
+/// Fewest plain steps before a cheap factor's top run may hand a slow estimate to the
+/// certificate's shift-invert refinement ([`plain_budget`]).
+const MIN_PLAIN_BUDGET: usize = 12;
+
+/// The plain Lanczos steps on A worth as much as the refinement that replaces the rest of a
+/// slow run (a clustered top creeps by a constant factor per step): three factorizations
+/// (a test just above the rough estimate, one or two just above the refined value) and eight
+/// solves with the factor, at `Σ c_j²` and `4 Σ c_j` flops for the column counts c_j of L,
+/// against `nnz(A) + 8n` per step. Between [`MIN_PLAIN_BUDGET`] and [`PLAIN_LANCZOS_STEPS`]
+/// (the folder's beams, bandwidth 4–6: 12; its membranes, whose factors cost ≈ 100 steps
+/// each: the full run).
+fn plain_budget(pattern: &DiagonalPattern) -> usize {
+    let (n, nnz) = (pattern.n() as f64, pattern.values.len() as f64);
+    let products = super::certify::factor_products(&pattern.symbolic);
+    let entries = super::certify::factor_entries(&pattern.symbolic);
+    let refinement = 3.0 * products + 32.0 * entries;
+    let steps = (refinement / (nnz + 8.0 * n)).ceil();
+    if steps.is_finite() {
+        (steps as usize).clamp(MIN_PLAIN_BUDGET, PLAIN_LANCZOS_STEPS)
+    } else {
+        PLAIN_LANCZOS_STEPS
+    }
 }
 
 fn top_estimate(
@@ -514,10 +549,19 @@ fn top_estimate(
     // it has not settled, shift-invert Lanczos on (σ₀I − A)⁻¹ with σ₀ just above the
     // Gershgorin bound, where λ_max = σ₀ − 1/ν_max is well separated. The plain run's Ritz
     // vector, where it has not settled and its basis was not kept, is formed (a second pass of
-    // products) only where the shift-invert run does not replace it.
+    // products) only where the shift-invert run does not replace it. Where A's factor is
+    // cheap against the run ([`plain_budget`]), a run unsettled at its budget is left rough:
+    // the certificate's first test is placed above it and drives a shift-invert refinement
+    // from just above λ_max ([`super::ends`]), which separates a clustered top in a few solves.
+    // (A cold run keeps the full budget: its Ritz vector starts every warm run of a sweep.)
+    let budget = if start.is_some() {
+        plain_budget(pattern)
+    } else {
+        PLAIN_LANCZOS_STEPS
+    };
     let mut run_max = lanczos(
         n,
-        PLAIN_LANCZOS_STEPS,
+        budget,
         |_| top_stag,
         start,
         Keep::IfConverged,
@@ -526,7 +570,10 @@ fn top_estimate(
     let (mut lmax_est, mut steps) = (run_max.theta, run_max.steps);
     let mut vector = run_max.vector.take();
     let mut factorizations = 0;
-    if !run_max.converged {
+    let rough = (!run_max.converged && budget < PLAIN_LANCZOS_STEPS)
+        .then(|| run_max.last_change / run_max.theta.abs())
+        .filter(|r| r.is_finite() && *r > 0.0);
+    if !run_max.converged && rough.is_none() {
         let sigma0 = gershgorin_max(a) * (1.0 + 1e-8);
         factorizations += 1;
         // Its own value buffer (A's family's is the other end's), freed once factored.
@@ -552,6 +599,7 @@ fn top_estimate(
         vector,
         steps,
         factorizations,
+        rough,
     })
 }
 
@@ -596,6 +644,7 @@ const GRADED_GAIN: f64 = 8.0;
 
 #[cfg(test)]
 mod tests {
+    use super::{plain_budget, DiagonalPattern};
 
     /// The Rayleigh interval of the exact (rounded) eigenvectors of the second-difference
     /// matrix contains the closed-form eigenvalues λ_j = 2 − 2cos(jπ/(n+1)) and is no wider
@@ -627,5 +676,45 @@ mod tests {
                 );
             }
         }
+    }
+
+    /// A warm-started run on a clustered top (the second-difference matrix, n = 300, from
+    /// the Ritz vectors of a nearby matrix) stops at its budget unsettled ([`plain_budget`]:
+    /// a tridiagonal factor is cheap) and is finished by the certificate's shift-invert
+    /// refinement: fewer Lanczos steps than the plain run needs, and a bracket that holds the
+    /// closed-form cond₂ within the contract.
+    #[test]
+    fn a_slow_warm_top_is_refined_by_shift_invert() {
+        use crate::conditioning::{cond2_warm, Reuse};
+        use crate::system::Stiffness;
+        let n = 300;
+        let a = crate::conditioning::certify::tests::second_difference(n);
+        let mut nearby = a.clone();
+        let pattern = DiagonalPattern::new(&a).unwrap();
+        for j in 100..110 {
+            nearby.val_mut()[pattern.diag[j]] += 0.05;
+        }
+        let (_, ritz) = cond2_warm(&Stiffness::Sparse(nearby), Reuse::keeping_ritz()).unwrap();
+        let ritz = ritz.expect("Ritz vectors");
+        let reuse = Reuse {
+            starts: Some(&ritz),
+            ..Reuse::default()
+        };
+        let (r, _) = cond2_warm(&Stiffness::Sparse(a), reuse).unwrap();
+        // λ_j = 2 − 2cos(jπ/(n+1)) = 4sin²(jπ/(2(n+1))), the second form without the
+        // cancellation at small j (a few ulps each).
+        let h = std::f64::consts::PI / (2.0 * (n as f64 + 1.0));
+        let cond = ((n as f64 * h).sin() / h.sin()).powi(2);
+        let slack = 8.0 * f64::EPSILON * cond;
+        assert!(
+            r.cond2_lo - slack <= cond && cond <= r.cond2_hi + slack,
+            "{cond} {r:?}"
+        );
+        assert!(r.cond2_hi / r.cond2_lo - 1.0 <= (4.0 * f64::EPSILON * cond).max(1e-12));
+        assert!((r.cond2 / cond - 1.0).abs() <= (4.0 * f64::EPSILON * cond).max(1e-12));
+        assert!(plain_budget(&pattern) < super::PLAIN_LANCZOS_STEPS);
+        // (The whole plain run from this start takes 134 steps and 4 tests; refined: 44 and 5.)
+        let c = r.certificate.expect("certified");
+        assert!(c.lanczos_steps < 100 && c.factorizations >= 3, "{c:?}");
     }
 }
