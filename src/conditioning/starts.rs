@@ -4,7 +4,6 @@
 //!
 //! ## The top start
 //!
-//!
 //! With D Boolean (constraint c on DOF d_c) and the active DOFs 𝒜 = {d_c : E_cc > 0}, ℱ the
 //! rest, once every active penalty exceeds K's diagonal at its DOF the top of A's spectrum
 //! belongs to the active block: as ε → ∞,
@@ -45,8 +44,8 @@
 //! equality in the limit (`A⁻¹ → K_ℱℱ⁻¹ ⊕ 0` as `min E_ℬ → ∞`),
 //!
 //! and K's bottom Ritz vector, spread over ℬ, is a poor start for it: on the folder's
-//! membranes the bottom run (solves with A's factor, the costly end) took 12–16 steps at
-//! ε ≥ 1e3 from K's vector, against 4–6 from K_ℱℱ's. [`free_block_bottom`] computes K_ℱℱ's
+//! membranes the `constant` rows' bottom runs (solves with A's factor, the costly end) took
+//! 12–16 steps at ε ≥ 1e4 from K's vector, against 4 from K_ℱℱ's. [`free_block_bottom`] computes K_ℱℱ's
 //! bottom Ritz vector once per scene, with ℬ the exact (lagrange) contact set: shift-invert
 //! Lanczos with the Cholesky factor of K_ℱℱ (stored as K with ℬ's rows and columns replaced
 //! by the identity, the saddle-point route's `free_block_factor`) and ℬ's

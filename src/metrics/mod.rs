@@ -104,8 +104,12 @@ fn penalty_starts(
     if !matches!(sol.system, SystemKind::Penalized) {
         return None;
     }
+    let active = dominant_active_dofs(problem, sol);
+    if active.is_none() && free_bottom.is_none() {
+        return None;
+    }
     let a = sys.as_sparse();
-    let top = dominant_active_dofs(problem, sol)
+    let top = active
         .and_then(|active| conditioning::starts::penalty_top_start(&a, &k_starts.top, &active));
     let bottom = free_bottom
         .and_then(|f| conditioning::starts::penalty_bottom_start(&a, &k_starts.bottom, f));
@@ -141,7 +145,8 @@ fn dominant_active_dofs(problem: &Problem, sol: &Solution) -> Option<Vec<usize>>
 /// exact solution's set from `lagrange`), padded with zeros on the contact DOFs ℬ
 /// ([`conditioning::starts::free_block_bottom`], started from K's bottom Ritz vector): the
 /// bottom start of every penalized row of the scene where it is the better one. None where
-/// a constraint in contact couples DOFs, no constraint is in contact, or the run fails. A
+/// a constraint in contact couples DOFs, no constraint or every DOF is in contact, K_ℱℱ is
+/// not positive definite, or the run fails. A
 /// sweep computes it once per scene after its lagrange row; `solve --exact-start` the same
 /// way.
 pub fn contact_bottom(
@@ -289,7 +294,8 @@ pub fn compute_at_contact_set(
     if set.cond {
         // Where K's Ritz vectors are kept (n ≤ RITZ_VECTOR_MAX_N) the system's cond₂ starts
         // from them, after K's, exactly as a sweep does (`compute_with_k`): the same rows bit
-        // for bit. Above, the two analyses one after the other, the system's from the generic
+        // for bit, given the exact contact set for a penalized system (a sweep's rows have
+        // it: `contact_bottom`; without it the bottom run starts from K's vector). Above, the two analyses one after the other, the system's from the generic
         // start: K's and a penalized system's each run their two ends side by side where a
         // second factor fits the memory (`conditioning::sparse::SIDE_BY_SIDE_ENDS_MIN_N`),
         // which uses the two threads a side-by-side pair of analyses would, at the memory of

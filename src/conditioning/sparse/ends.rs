@@ -18,7 +18,8 @@ pub(super) struct Ends {
     pub(super) max_hi: f64,
     pub(super) min_lo: f64,
     pub(super) min_hi: f64,
-    /// λ_max from a shift-invert run where the first upper test failed.
+    /// λ_max from a shift-invert run where the first upper test failed or the estimate was
+    /// rough (a warm plain run stopped at its budget, `Estimates::top_rough`).
     pub(super) refined_max: Option<f64>,
     /// λ_min as the inverse-Rayleigh value of Lemma 6, where it is positive.
     pub(super) refined_min: Option<f64>,
@@ -240,8 +241,8 @@ fn certify_top(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opti
 
 /// The lower end of λ_max after a shift-invert refinement (value `r`, Ritz vector `v`), from
 /// `max_lo`: `v`'s sharpened Rayleigh quotient ([`sharpen_top`] to `need`), and where it
-/// lags `r` by more than `share`, a short plain run from `v` ([`restart_top`]; its steps
-/// returned): the shift-invert run leaves the components of the far spectrum that its start
+/// lags `r` by more than `share`, a plain run from `v` ([`restart_top`], up to
+/// [`PLAIN_LANCZOS_STEPS`] products, a few where `v` is good; its steps returned): the shift-invert run leaves the components of the far spectrum that its start
 /// carried, which barely move its value but much the quotient on A.
 fn refined_lower(
     fam: &ShiftFamily,
@@ -262,7 +263,8 @@ fn refined_lower(
     (lo.max(restarted), steps)
 }
 
-/// A second, short Lanczos run on A started from the Ritz vector `y`: the sharpened Rayleigh
+/// A second Lanczos run on A started from the Ritz vector `y` (up to
+/// [`PLAIN_LANCZOS_STEPS`] products, a few from a good vector): the sharpened Rayleigh
 /// quotient of its Ritz vector (a lower end of λ_max, [`sharpen_top`] to `need`; 0 where the
 /// run fails) and its steps.
 fn restart_top(fam: &ShiftFamily, y: &[f64], need: f64) -> (f64, usize) {

@@ -18,8 +18,9 @@
 //!    the solve error), λ_max by a shift-invert run with the factor of the certificate's
 //!    test where its first test fails (the plain run stopped short below a cluster) or
 //!    where a warm-started plain run was stopped unsettled at its cost budget (a cheap
-//!    factor, `plain_budget`: the test is then placed above the rough estimate, and a
-//!    short plain run from the refined vector sharpens its Rayleigh quotient).
+//!    factor, `plain_budget`: the test is then placed above the rough estimate). After
+//!    either, where the refined vector's Rayleigh quotient lags the refined value, a plain
+//!    run started from that vector sharpens it (a few products where the vector is good).
 //! 2. **Certify** ([`certify`](super::certify) states and proves each step). λ_max ≥ ρ(y_top) (Courant–
 //!    Fischer, rounding bounded) and λ_max ≤ σ + m·max b̃_ii once floating-point Cholesky of
 //!    `σI − A` succeeds (σ just above the estimate; m from the backward error of Cholesky and
@@ -312,8 +313,8 @@ fn analyse(
     })
 }
 
-/// Phase 1 of [`extreme_eigenvalues`]: the converged Lanczos estimates of both ends, their
-/// Ritz vectors, x̂ = A⁻¹y_bottom and, where the graded bound can gain, a rough λ_min of the
+/// Phase 1 of [`extreme_eigenvalues`]: the Lanczos estimates of both ends (converged, but
+/// for a rough top, `top_rough`), their Ritz vectors, x̂ = A⁻¹y_bottom and, where the graded bound can gain, a rough λ_min of the
 /// equilibrated matrix. The factor of A is dropped when the λ_min end is done.
 pub(super) struct Estimates {
     lmax: f64,
@@ -357,11 +358,23 @@ fn estimate(
             bottom_stag,
         )
     };
+    // A warm top run may stop at its cost budget ([`plain_budget`]); a cold one, and the
+    // strict rerun of an analysis that missed its target (tighter stopping, seeded random
+    // starts), keep the full plain budget: a cold run's Ritz vector starts every warm run of
+    // a sweep.
+    let top_start = starts
+        .map(|s| s.top.as_slice())
+        .filter(|v| v.len() == a.nrows() && v.iter().all(|x| x.is_finite()));
+    let budget = if top_start.is_some() && top_stag >= TOP_STAGNATION {
+        plain_budget(pattern)
+    } else {
+        PLAIN_LANCZOS_STEPS
+    };
     let top = || {
         top_estimate(
             a,
             pattern,
-            max_steps,
+            (max_steps, budget),
             starts.map(|s| s.top.as_slice()),
             (bottom_stag, top_stag),
         )
@@ -513,6 +526,10 @@ struct TopEstimate {
     rough: Option<f64>,
 }
 
+/// Largest relative offset from a rough top estimate at which its first Cholesky test is
+/// placed ([`TopEstimate::rough`]).
+const ROUGH_MAX: f64 = 1e-6;
+
 /// Fewest plain steps before a cheap factor's top run may hand a slow estimate to the
 /// certificate's shift-invert refinement ([`plain_budget`]).
 const MIN_PLAIN_BUDGET: usize = 12;
@@ -540,7 +557,7 @@ fn plain_budget(pattern: &DiagonalPattern) -> usize {
 fn top_estimate(
     a: &SparseColMat<usize, f64>,
     pattern: &DiagonalPattern,
-    max_steps: usize,
+    (max_steps, budget): (usize, usize),
     start: Option<&[f64]>,
     (bottom_stag, top_stag): (f64, f64),
 ) -> Result<TopEstimate> {
@@ -553,12 +570,6 @@ fn top_estimate(
     // cheap against the run ([`plain_budget`]), a run unsettled at its budget is left rough:
     // the certificate's first test is placed above it and drives a shift-invert refinement
     // from just above λ_max ([`super::ends`]), which separates a clustered top in a few solves.
-    // (A cold run keeps the full budget: its Ritz vector starts every warm run of a sweep.)
-    let budget = if start.is_some() {
-        plain_budget(pattern)
-    } else {
-        PLAIN_LANCZOS_STEPS
-    };
     let mut run_max = lanczos(
         n,
         budget,
@@ -570,9 +581,13 @@ fn top_estimate(
     let (mut lmax_est, mut steps) = (run_max.theta, run_max.steps);
     let mut vector = run_max.vector.take();
     let mut factorizations = 0;
+    // (At most ROUGH_MAX: a run still far off goes to the certificate as if it were at
+    // ROUGH_MAX, whose tests then step out ×8 — a bounded number of them — rather than place
+    // the refinement's shift far above λ_max, where it separates the top slowly.)
     let rough = (!run_max.converged && budget < PLAIN_LANCZOS_STEPS)
         .then(|| run_max.last_change / run_max.theta.abs())
-        .filter(|r| r.is_finite() && *r > 0.0);
+        .filter(|r| r.is_finite() && *r > 0.0)
+        .map(|r| r.min(ROUGH_MAX));
     if !run_max.converged && rough.is_none() {
         let sigma0 = gershgorin_max(a) * (1.0 + 1e-8);
         factorizations += 1;

@@ -223,75 +223,95 @@ pub fn run_job(
     let (solved, seconds_solve) = timed(|| strategy::solve_prepared(p, job.method, prep));
     row.seconds_solve = Some(seconds_solve);
     let mut u_out = None;
-    match solved.and_then(|sol| {
-        let free_bottom = reference.and_then(|r| r.free_bottom.as_deref());
-        let m = metrics::compute_with_k(
-            p,
-            &sol,
-            set,
-            work.log10_det_k,
-            work.ritz_k.as_ref(),
-            free_bottom,
-        )?;
-        Ok((sol, m))
-    }) {
-        Ok((sol, m)) => {
-            let pen: Vec<f64> = sol.penalties.iter().copied().filter(|e| *e > 0.0).collect();
-            if !pen.is_empty() {
-                row.eps_min = Some(pen.iter().copied().fold(f64::INFINITY, f64::min));
-                row.eps_max = Some(pen.iter().copied().fold(0.0, f64::max));
+    let is_lagrange = job.method.is(&strategy::lagrange::STRATEGY);
+    match solved {
+        Ok(sol) => {
+            let free_bottom = reference.and_then(|r| r.free_bottom.as_deref());
+            let k_ritz = work.ritz_k.as_ref();
+            match metrics::compute_with_k(p, &sol, set, work.log10_det_k, k_ritz, free_bottom) {
+                Ok(m) => {
+                    fill_row(&mut row, work, (&sol, &m), set, solver, u_ref);
+                    if is_lagrange {
+                        row.error_vs_exact = Some(metrics::relative_error(&sol.u, &sol.u));
+                    }
+                }
+                Err(e) => row.warnings = format!("error: {e}"),
             }
-            row.active = sol.stats.active_set_sizes.last().copied();
-            row.cond2_system = m.cond2_system.map(|c| c.cond2);
-            row.cond2_system_lo = m.cond2_system.map(|c| c.cond2_lo);
-            row.cond2_system_hi = m.cond2_system.map(|c| c.cond2_hi);
-            row.cond_route = m.cond2_system.map(|c| c.route.name().to_string());
-            (row.cond2_bounds_proven, row.cond2_within_contract) =
-                conditioning::CondReport::flags([
-                    work.cond2_k_report.as_ref(),
-                    m.cond2_system.as_ref(),
-                ]);
-            row.log10_det_ratio = m.log10_det_ratio;
-            row.max_penetration = Some(sol.max_penetration);
-            row.error_vs_exact = u_ref.map(|r| metrics::relative_error(&sol.u, r));
-            row.linear_solves = Some(sol.stats.linear_solves);
-            row.iterations = Some(sol.stats.iterations);
-            if let Some(k) = sol.stats.barrier {
-                (row.kappa_initial, row.kappa_final, row.kappa_increases) =
-                    (Some(k.initial), Some(k.last), Some(k.increases));
-            }
-            row.converged = Some(sol.stats.converged);
-            row.seconds_cond = set.cond.then_some(m.seconds_cond);
-            row.seconds_det = set.det.then_some(m.seconds_det);
-            row.warnings = metrics::warnings(&sol, &m).join("; ");
-            if let Some(opts) = solver {
-                solver_columns(&mut row, p, &sol, opts);
-            }
-            if job.method.is(&strategy::lagrange::STRATEGY) {
-                row.error_vs_exact = Some(metrics::relative_error(&sol.u, &sol.u));
-                let contact = sol.contact_set();
-                let free_bottom = contact
-                    .as_deref()
-                    .zip(work.ritz_k.as_ref())
-                    .filter(|_| set.cond)
-                    .and_then(|(c, r)| metrics::contact_bottom(p, c, r));
-                let prepared = work
-                    .prepared
-                    .as_ref()
-                    .ok()
-                    .zip(contact)
-                    .map(|(p, set)| p.clone().with_contact_set(set));
-                u_out = Some(Reference {
-                    u: sol.u,
-                    prepared,
-                    free_bottom,
-                });
+            // The reference is the lagrange solve's, whatever its own metrics gave: as
+            // `solve --exact-start`, which needs only the solve.
+            if is_lagrange {
+                u_out = Some(lagrange_reference(work, sol, set));
             }
         }
         Err(e) => row.warnings = format!("error: {e}"),
     }
     row.seconds = Some(t0.elapsed().as_secs_f64());
     (row, u_out)
+}
+
+/// The columns of a row whose solve and metrics succeeded (`error_vs_exact` against `u_ref`,
+/// the lagrange reference's solution).
+fn fill_row(
+    row: &mut Row,
+    work: &SceneWork,
+    (sol, m): (&strategy::Solution, &metrics::Metrics),
+    set: MetricSet,
+    solver: Option<SolverOptions>,
+    u_ref: Option<&[f64]>,
+) {
+    let pen: Vec<f64> = sol.penalties.iter().copied().filter(|e| *e > 0.0).collect();
+    if !pen.is_empty() {
+        row.eps_min = Some(pen.iter().copied().fold(f64::INFINITY, f64::min));
+        row.eps_max = Some(pen.iter().copied().fold(0.0, f64::max));
+    }
+    row.active = sol.stats.active_set_sizes.last().copied();
+    row.cond2_system = m.cond2_system.map(|c| c.cond2);
+    row.cond2_system_lo = m.cond2_system.map(|c| c.cond2_lo);
+    row.cond2_system_hi = m.cond2_system.map(|c| c.cond2_hi);
+    row.cond_route = m.cond2_system.map(|c| c.route.name().to_string());
+    (row.cond2_bounds_proven, row.cond2_within_contract) =
+        conditioning::CondReport::flags([work.cond2_k_report.as_ref(), m.cond2_system.as_ref()]);
+    row.log10_det_ratio = m.log10_det_ratio;
+    row.max_penetration = Some(sol.max_penetration);
+    row.error_vs_exact = u_ref.map(|r| metrics::relative_error(&sol.u, r));
+    row.linear_solves = Some(sol.stats.linear_solves);
+    row.iterations = Some(sol.stats.iterations);
+    if let Some(k) = sol.stats.barrier {
+        (row.kappa_initial, row.kappa_final, row.kappa_increases) =
+            (Some(k.initial), Some(k.last), Some(k.increases));
+    }
+    row.converged = Some(sol.stats.converged);
+    row.seconds_cond = set.cond.then_some(m.seconds_cond);
+    row.seconds_det = set.det.then_some(m.seconds_det);
+    row.warnings = metrics::warnings(sol, m).join("; ");
+    if let Some(opts) = solver {
+        solver_columns(row, &work.scene.problem, sol, opts);
+    }
+}
+
+/// What the lagrange solve `sol` gives the other rows of its scene: the exact solution, the
+/// scene's [`Prepared`] at its contact set, and, where cond₂ is asked for, K's Ritz vectors
+/// are kept and another job follows, K_ℱℱ's bottom Ritz vector at that set
+/// ([`metrics::contact_bottom`]).
+fn lagrange_reference(work: &SceneWork, sol: strategy::Solution, set: MetricSet) -> Reference {
+    let p = &work.scene.problem;
+    let contact = sol.contact_set();
+    let free_bottom = contact
+        .as_deref()
+        .zip(work.ritz_k.as_ref())
+        .filter(|_| set.cond && work.jobs.len() > 1)
+        .and_then(|(c, r)| metrics::contact_bottom(p, c, r));
+    let prepared = work
+        .prepared
+        .as_ref()
+        .ok()
+        .zip(contact)
+        .map(|(prep, set)| prep.clone().with_contact_set(set));
+    Reference {
+        u: sol.u,
+        prepared,
+        free_bottom,
+    }
 }
 
 /// The `--metrics solver` columns of a row ([`crate::metrics::solver`]); a failure is
