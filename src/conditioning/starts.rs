@@ -209,6 +209,7 @@ pub fn penalty_bottom_start(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::conditioning::sparse::RitzStarts;
 
     /// K the second-difference matrix plus ε on a block of DOFs: the padded start is A's top
     /// eigenvector to O(1/ε) — its angle to the dense eigenvector below 1e-5 at ε = 1e6 (a basis
@@ -248,66 +249,6 @@ mod tests {
             .enumerate()
             .all(|(i, &x)| active.contains(&i) || x == 0.0));
         assert!(penalty_top_start(&a, &k_top, &[]).is_none());
-    }
-
-    /// On a five-point membrane (12 × 12, 29 DOFs penalized at ε = 1e6), the certified cond₂
-    /// of A started from the padded top vector takes fewer Lanczos steps than from K's
-    /// vectors alone, and both brackets hold the same value (each within the other's bracket).
-    #[test]
-    fn the_padded_start_saves_steps_on_a_membrane() {
-        use crate::conditioning::{cond2_warm, Reuse};
-        use crate::system::Stiffness;
-        let side = 12;
-        let n = side * side;
-        let active: Vec<usize> = (0..n).step_by(5).collect();
-        let laplacian = |eps: f64| {
-            let mut t = Vec::new();
-            for r in 0..side {
-                for c in 0..side {
-                    let i = r * side + c;
-                    let e = if active.contains(&i) { eps } else { 0.0 };
-                    t.push(faer::sparse::Triplet::new(i, i, 4.0 + e));
-                    for (rr, cc) in [(r + 1, c), (r, c + 1)] {
-                        if rr < side && cc < side {
-                            let j = rr * side + cc;
-                            t.push(faer::sparse::Triplet::new(i, j, -1.0));
-                            t.push(faer::sparse::Triplet::new(j, i, -1.0));
-                        }
-                    }
-                }
-            }
-            SparseColMat::try_new_from_triplets(n, n, &t).unwrap()
-        };
-        let (k, a) = (laplacian(0.0), laplacian(1e6));
-        let (_, ritz) = cond2_warm(&Stiffness::Sparse(k), Reuse::keeping_ritz()).unwrap();
-        let ritz = ritz.expect("K's Ritz vectors");
-        let top = penalty_top_start(&a, &ritz.top, &active).expect("the padded start wins");
-        let padded = crate::conditioning::sparse::RitzStarts {
-            top,
-            bottom: ritz.bottom.clone(),
-        };
-        let system = Stiffness::Sparse(a);
-        let run = |starts| {
-            let reuse = Reuse {
-                starts: Some(starts),
-                ..Reuse::default()
-            };
-            cond2_warm(&system, reuse).unwrap().0
-        };
-        let (plain, better) = (run(&ritz), run(&padded));
-        let steps = |r: &crate::conditioning::CondReport| r.certificate.unwrap().lanczos_steps;
-        assert!(
-            steps(&better) < steps(&plain),
-            "{} vs {}",
-            steps(&better),
-            steps(&plain)
-        );
-        for (x, y) in [(&plain, &better), (&better, &plain)] {
-            assert!(
-                x.cond2_lo <= y.cond2 && y.cond2 <= x.cond2_hi,
-                "{x:?} {y:?}"
-            );
-        }
     }
 
     /// The second-difference matrix of order 60 (K, λ_min ≈ 0.0026) and its free block with
@@ -364,44 +305,32 @@ mod tests {
         assert!(free_block_bottom(&k, &b, &k_bottom[1..]).is_none());
     }
 
-    /// On a five-point membrane (12 × 12, every fifth DOF penalized at ε = 1e8), the certified
-    /// cond₂ of A with its bottom run started from the free block's vector takes fewer Lanczos
-    /// steps than from K's vectors alone, and both brackets hold the same value.
-    #[test]
-    fn the_free_block_start_saves_steps_on_a_membrane() {
-        use crate::conditioning::{cond2_warm, Reuse};
-        use crate::system::Stiffness;
-        let side = 12;
+    /// The five-point membrane of side `side` with `eps` added on the diagonal at `active`.
+    fn membrane(side: usize, active: &[usize], eps: f64) -> SparseColMat<usize, f64> {
         let n = side * side;
-        let active: Vec<usize> = (0..n).step_by(5).collect();
-        let membrane = |eps: f64| {
-            let mut t = Vec::new();
-            for r in 0..side {
-                for c in 0..side {
-                    let i = r * side + c;
-                    let e = if active.contains(&i) { eps } else { 0.0 };
-                    t.push(faer::sparse::Triplet::new(i, i, 4.0 + e));
-                    for (rr, cc) in [(r + 1, c), (r, c + 1)] {
-                        if rr < side && cc < side {
-                            let j = rr * side + cc;
-                            t.push(faer::sparse::Triplet::new(i, j, -1.0));
-                            t.push(faer::sparse::Triplet::new(j, i, -1.0));
-                        }
+        let mut t = Vec::new();
+        for r in 0..side {
+            for c in 0..side {
+                let i = r * side + c;
+                let e = if active.contains(&i) { eps } else { 0.0 };
+                t.push(faer::sparse::Triplet::new(i, i, 4.0 + e));
+                for (rr, cc) in [(r + 1, c), (r, c + 1)] {
+                    if rr < side && cc < side {
+                        let j = rr * side + cc;
+                        t.push(faer::sparse::Triplet::new(i, j, -1.0));
+                        t.push(faer::sparse::Triplet::new(j, i, -1.0));
                     }
                 }
             }
-            SparseColMat::try_new_from_triplets(n, n, &t).unwrap()
-        };
-        let (k, a) = (membrane(0.0), membrane(1e8));
-        let (_, ritz) = cond2_warm(&Stiffness::Sparse(k.clone()), Reuse::keeping_ritz()).unwrap();
-        let ritz = ritz.expect("K's Ritz vectors");
-        let free = free_block_bottom(&k, &active, &ritz.bottom).expect("a free-block vector");
-        let bottom = penalty_bottom_start(&a, &ritz.bottom, &free).expect("the better start");
-        let started = crate::conditioning::sparse::RitzStarts {
-            top: ritz.top.clone(),
-            bottom,
-        };
-        let system = Stiffness::Sparse(a);
+        }
+        SparseColMat::try_new_from_triplets(n, n, &t).unwrap()
+    }
+
+    /// The certified cond₂ of `a` from `better` takes fewer Lanczos steps than from `plain`,
+    /// and each bracket holds the other's value.
+    fn saves_steps(a: SparseColMat<usize, f64>, plain: &RitzStarts, better: &RitzStarts) {
+        use crate::conditioning::{cond2_warm, Reuse};
+        let system = crate::system::Stiffness::Sparse(a);
         let run = |starts| {
             let reuse = Reuse {
                 starts: Some(starts),
@@ -409,7 +338,7 @@ mod tests {
             };
             cond2_warm(&system, reuse).unwrap().0
         };
-        let (plain, better) = (run(&ritz), run(&started));
+        let (plain, better) = (run(plain), run(better));
         let steps = |r: &crate::conditioning::CondReport| r.certificate.unwrap().lanczos_steps;
         assert!(
             steps(&better) < steps(&plain),
@@ -423,5 +352,47 @@ mod tests {
                 "{x:?} {y:?}"
             );
         }
+    }
+
+    /// K's Ritz vectors of the 12 × 12 membrane.
+    fn membrane_ritz(active: &[usize]) -> RitzStarts {
+        let k = crate::system::Stiffness::Sparse(membrane(12, active, 0.0));
+        let keep = crate::conditioning::Reuse::keeping_ritz();
+        crate::conditioning::cond2_warm(&k, keep)
+            .unwrap()
+            .1
+            .expect("K's Ritz vectors")
+    }
+
+    /// On a five-point membrane (12 × 12, 29 DOFs penalized at ε = 1e6), the certified cond₂
+    /// of A started from the padded top vector takes fewer Lanczos steps than from K's
+    /// vectors alone, and both brackets hold the same value (each within the other's bracket).
+    #[test]
+    fn the_padded_start_saves_steps_on_a_membrane() {
+        let active: Vec<usize> = (0..144).step_by(5).collect();
+        let (a, ritz) = (membrane(12, &active, 1e6), membrane_ritz(&active));
+        let top = penalty_top_start(&a, &ritz.top, &active).expect("the padded start wins");
+        let padded = RitzStarts {
+            top,
+            bottom: ritz.bottom.clone(),
+        };
+        saves_steps(a, &ritz, &padded);
+    }
+
+    /// On the same membrane with every fifth DOF penalized at ε = 1e8, the certified cond₂ of A
+    /// with its bottom run started from the free block's vector takes fewer Lanczos steps
+    /// than from K's vectors alone, and both brackets hold the same value.
+    #[test]
+    fn the_free_block_start_saves_steps_on_a_membrane() {
+        let active: Vec<usize> = (0..144).step_by(5).collect();
+        let (k, a) = (membrane(12, &active, 0.0), membrane(12, &active, 1e8));
+        let ritz = membrane_ritz(&active);
+        let free = free_block_bottom(&k, &active, &ritz.bottom).expect("a free-block vector");
+        let bottom = penalty_bottom_start(&a, &ritz.bottom, &free).expect("the better start");
+        let started = RitzStarts {
+            top: ritz.top.clone(),
+            bottom,
+        };
+        saves_steps(a, &ritz, &started);
     }
 }
