@@ -154,7 +154,8 @@ pub fn cond2_saddle_with(
 
 /// [`cond2_saddle_with`] whose Lanczos runs for λ_max (on A) and λ⁺_min (on A⁻¹) start from
 /// K's Ritz vectors ([`RitzStarts`] of K, padded with zeros on the multipliers): D adds unit
-/// entries only, so A's top eigenvector is close to K's. Fewer steps, the same certificate.
+/// entries only, so A's top eigenvector is close to K's; the run for λ⁻_max (on −A⁻¹) from
+/// `[0; Dᵀv_top]` (`SaddleStarts::negative`). Fewer steps, the same certificate.
 pub fn cond2_saddle_warm(
     k: &SparseColMat<usize, f64>,
     dofs: &[usize],
@@ -268,7 +269,13 @@ fn run_saddle(
             .filter(|s| s.top.len() == n && s.bottom.len() == n)
             .map(|s| {
                 let pad = |v: &[f64]| v.iter().copied().chain((0..m).map(|_| 0.0)).collect();
-                (pad(&s.top), pad(&s.bottom))
+                let multipliers = (0..m).map(|c| blocks.dt(&s.top, c));
+                let negative = std::iter::repeat_n(0.0, n).chain(multipliers).collect();
+                SaddleStarts {
+                    top: pad(&s.top),
+                    bottom: pad(&s.bottom),
+                    negative,
+                }
             }),
     };
     // Each estimate is wanted only to 1/64 of the bracket width it will be certified to,
@@ -348,11 +355,30 @@ fn run_saddle(
     ))
 }
 
-/// The warm start of a `sign > 0` run: K's padded top Ritz vector for the run on A (`top`),
-/// its bottom one for the run on A⁻¹; none for the runs on −A and −A⁻¹.
-fn warm_start(starts: &Option<(Vec<f64>, Vec<f64>)>, sign: f64, top: bool) -> Option<&[f64]> {
-    let (t, b) = starts.as_ref().filter(|_| sign > 0.0)?;
-    Some(if top { t } else { b })
+/// The warm starts of a saddle point's Lanczos runs, from K's Ritz vectors (N + m entries).
+struct SaddleStarts {
+    /// The run on A (λ_max): K's top vector, padded with zeros on the multipliers.
+    top: Vec<f64>,
+    /// The run on A⁻¹ (λ⁺_min): K's bottom vector, padded.
+    bottom: Vec<f64>,
+    /// The run on −A⁻¹ (λ⁻_max, the negative eigenvalue closest to 0): `[0; Dᵀv_top]`. For
+    /// small |λ| a negative eigenpair has `x ≈ −K⁻¹Dy` and `DᵀK⁻¹D y ≈ −λy`, so y is near the
+    /// bottom of `S = DᵀK⁻¹D`, where Dy excites K's stiff modes: K's top vector seen through
+    /// Dᵀ. A start only (the folder's lagrange rows: 10–40 steps → 6–26).
+    negative: Vec<f64>,
+}
+
+/// The warm start of a run (`top`: on ±A, else on ±A⁻¹; `sign`: of the operator): K's padded
+/// top or bottom Ritz vector for the positive runs, `[0; Dᵀv_top]` for the run on −A⁻¹, none
+/// for the run on −A.
+fn warm_start(starts: &Option<SaddleStarts>, sign: f64, top: bool) -> Option<&[f64]> {
+    let s = starts.as_ref()?;
+    match (sign > 0.0, top) {
+        (true, true) => Some(&s.top),
+        (true, false) => Some(&s.bottom),
+        (false, false) => Some(&s.negative),
+        (false, true) => None,
+    }
 }
 
 /// A Lanczos estimate, or an error naming it where it is not a positive finite number.
@@ -398,8 +424,8 @@ struct SaddleRun<'a> {
     positive: Option<(f64, Option<f64>)>,
     /// The same of |λ⁻_max| and the next negative eigenvalue's modulus (the −A⁻¹ run).
     negative: Option<(f64, Option<f64>)>,
-    /// Warm starts of the λ_max and λ⁺_min runs: K's Ritz vectors padded to N + m.
-    starts: Option<(Vec<f64>, Vec<f64>)>,
+    /// Warm starts of the λ_max, λ⁺_min and λ⁻_max runs ([`SaddleStarts`]).
+    starts: Option<SaddleStarts>,
     /// |λ⁻_max| by the Schur complement's Newton steps, where they ran ([`schur`]).
     negative_value: Option<f64>,
 }
