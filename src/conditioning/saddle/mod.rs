@@ -124,6 +124,7 @@ mod null_space;
 pub mod schur;
 mod shifts;
 mod top;
+mod warm;
 use blocks::{constrained_mask, free_block_values, s0, saddle_csc, BlockInverse};
 pub(crate) use blocks::{dof_error, dof_mask, free_block_factor};
 use coupling::{AugmentedInverse, Blocks, Inverse};
@@ -131,6 +132,7 @@ pub use coupling::{Row, MAX_ROWS_ENTRIES};
 use negative::schur_test_fails;
 pub use null_space::{null_space_lambda_min, NullSpaceMin};
 use shifts::Shifts;
+use warm::{warm_start, SaddleStarts};
 
 /// Largest m for which the fourth end (λ⁻_max) is certified by the m×m test `λ_min(M(s)) ≥ s`.
 pub const SCHUR_TEST_MAX: usize = 1500;
@@ -265,18 +267,7 @@ fn run_saddle(
         positive: None,
         negative: None,
         negative_value: None,
-        starts: starts
-            .filter(|s| s.top.len() == n && s.bottom.len() == n)
-            .map(|s| {
-                let pad = |v: &[f64]| v.iter().copied().chain((0..m).map(|_| 0.0)).collect();
-                let multipliers = (0..m).map(|c| blocks.dt(&s.top, c));
-                let negative = std::iter::repeat_n(0.0, n).chain(multipliers).collect();
-                SaddleStarts {
-                    top: pad(&s.top),
-                    bottom: pad(&s.bottom),
-                    negative,
-                }
-            }),
+        starts: starts.and_then(|s| SaddleStarts::of(s, blocks)),
     };
     // Each estimate is wanted only to 1/64 of the bracket width it will be certified to,
     // `bracket_tol(cond₂)` (as in the SPD route), with cond₂ bounded below by what is known
@@ -353,32 +344,6 @@ fn run_saddle(
         proven.is_some(),
         Some(log10_det),
     ))
-}
-
-/// The warm starts of a saddle point's Lanczos runs, from K's Ritz vectors (N + m entries).
-struct SaddleStarts {
-    /// The run on A (λ_max): K's top vector, padded with zeros on the multipliers.
-    top: Vec<f64>,
-    /// The run on A⁻¹ (λ⁺_min): K's bottom vector, padded.
-    bottom: Vec<f64>,
-    /// The run on −A⁻¹ (λ⁻_max, the negative eigenvalue closest to 0): `[0; Dᵀv_top]`. For
-    /// small |λ| a negative eigenpair has `x ≈ −K⁻¹Dy` and `DᵀK⁻¹D y ≈ −λy`, so y is near the
-    /// bottom of `S = DᵀK⁻¹D`, where Dy excites K's stiff modes: K's top vector seen through
-    /// Dᵀ. A start only (the folder's lagrange rows: 10–40 steps → 6–26).
-    negative: Vec<f64>,
-}
-
-/// The warm start of a run (`top`: on ±A, else on ±A⁻¹; `sign`: of the operator): K's padded
-/// top or bottom Ritz vector for the positive runs, `[0; Dᵀv_top]` for the run on −A⁻¹, none
-/// for the run on −A.
-fn warm_start(starts: &Option<SaddleStarts>, sign: f64, top: bool) -> Option<&[f64]> {
-    let s = starts.as_ref()?;
-    match (sign > 0.0, top) {
-        (true, true) => Some(&s.top),
-        (true, false) => Some(&s.bottom),
-        (false, false) => Some(&s.negative),
-        (false, true) => None,
-    }
 }
 
 /// A Lanczos estimate, or an error naming it where it is not a positive finite number.
