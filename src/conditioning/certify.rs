@@ -230,12 +230,6 @@ pub fn factor_counts(symbolic: &SymbolicCholesky<usize>) -> (usize, usize) {
     }
 }
 
-/// The stored entries of the Cholesky factor of a symbolic analysis (`Σ_k c_k`; a solve with
-/// the factor costs `4 Σ_k c_k` flops).
-pub fn factor_entries(symbolic: &SymbolicCholesky<usize>) -> f64 {
-    symbolic.len_val() as f64
-}
-
 /// `Σ_k c_k²` over the column counts c_k of the Cholesky factor (diagonal included): the
 /// products of a numeric factorization, and of the residual of Lemma 7.
 pub fn factor_products(symbolic: &SymbolicCholesky<usize>) -> f64 {

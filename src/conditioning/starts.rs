@@ -100,6 +100,15 @@ fn rayleigh(a: &SparseColMat<usize, f64>, v: &[f64], scratch: &mut [f64]) -> f64
     dot(v, scratch) / dot(v, v)
 }
 
+/// The Rayleigh quotients on `a` of a candidate start and of K's vector it would replace.
+fn quotients(a: &SparseColMat<usize, f64>, candidate: &[f64], k_vector: &[f64]) -> (f64, f64) {
+    let mut scratch = vec![0.0; a.nrows()];
+    (
+        rayleigh(a, candidate, &mut scratch),
+        rayleigh(a, k_vector, &mut scratch),
+    )
+}
+
 /// The top Lanczos start for `a = K + D E Dᵀ` (see the module docs; `a` in compressed
 /// columns with sorted row indices, both triangles stored): the top Ritz vector of the
 /// principal submatrix on `active` (sorted, distinct DOFs), padded with zeros, where its
@@ -133,11 +142,7 @@ pub fn penalty_top_start(
     for (&d, &x) in active.iter().zip(run.vector.as_ref()?) {
         padded[d] = x;
     }
-    let mut scratch = vec![0.0; n];
-    let (mine, ks) = (
-        rayleigh(a, &padded, &mut scratch),
-        rayleigh(a, k_top, &mut scratch),
-    );
+    let (mine, ks) = quotients(a, &padded, k_top);
     (mine.is_finite() && mine > ks).then_some(padded)
 }
 
@@ -157,16 +162,6 @@ pub fn free_block_bottom(
         return None;
     }
     let in_b = super::saddle::dof_mask(n, constrained).ok()?;
-    let start: Vec<f64> = k_bottom
-        .iter()
-        .zip(&in_b)
-        .map(|(&x, &b)| if b { 0.0 } else { x })
-        .collect();
-    if start.iter().all(|&x| x == 0.0) {
-        return None;
-    }
-    let pattern = DiagonalPattern::new(k).ok()?;
-    let kff = super::saddle::free_block_factor(&pattern, &in_b).ok()?;
     let project = |y: &mut [f64]| {
         for (yi, &b) in y.iter_mut().zip(&in_b) {
             if b {
@@ -174,6 +169,13 @@ pub fn free_block_bottom(
             }
         }
     };
+    let mut start = k_bottom.to_vec();
+    project(&mut start);
+    if start.iter().all(|&x| x == 0.0) {
+        return None;
+    }
+    let pattern = DiagonalPattern::new(k).ok()?;
+    let kff = super::saddle::free_block_factor(&pattern, &in_b).ok()?;
     let run = inverse_lanczos(n, MAX_LANCZOS_STEPS, STAGNATION, Some(&start), |y| {
         kff.solve_vec_in_place(y);
         project(y);
@@ -198,11 +200,7 @@ pub fn penalty_bottom_start(
     if free.len() != n || k_bottom.len() != n {
         return None;
     }
-    let mut scratch = vec![0.0; n];
-    let (mine, ks) = (
-        rayleigh(a, free, &mut scratch),
-        rayleigh(a, k_bottom, &mut scratch),
-    );
+    let (mine, ks) = quotients(a, free, k_bottom);
     (mine.is_finite() && mine < ks).then(|| free.to_vec())
 }
 

@@ -146,21 +146,19 @@ fn dominant_active_dofs(problem: &Problem, sol: &Solution) -> Option<Vec<usize>>
 /// ([`conditioning::starts::free_block_bottom`], started from K's bottom Ritz vector): the
 /// bottom start of every penalized row of the scene where it is the better one. None where
 /// a constraint in contact couples DOFs, no constraint or every DOF is in contact, K_ℱℱ is
-/// not positive definite, or the run fails. A
-/// sweep computes it once per scene after its lagrange row; `solve --exact-start` the same
-/// way.
+/// not positive definite, or the run fails. A sweep computes it once per scene after its
+/// lagrange row; `solve --exact-start` the same way.
 pub fn contact_bottom(
     problem: &Problem,
     contact: &[bool],
     k_starts: &RitzStarts,
 ) -> Option<Vec<f64>> {
-    let dofs = contact
+    let mut dofs = contact
         .iter()
         .enumerate()
         .filter(|&(_, &on)| on)
         .map(|(c, _)| problem.constraints.get(c)?.single_dof())
         .collect::<Option<Vec<usize>>>()?;
-    let mut dofs = dofs;
     dofs.sort_unstable();
     dofs.dedup();
     let k = problem.k.as_sparse();
@@ -295,8 +293,8 @@ pub fn compute_at_contact_set(
         // Where K's Ritz vectors are kept (n ≤ RITZ_VECTOR_MAX_N) the system's cond₂ starts
         // from them, after K's, exactly as a sweep does (`compute_with_k`): the same rows bit
         // for bit, given the exact contact set for a penalized system (a sweep's rows have
-        // it: `contact_bottom`; without it the bottom run starts from K's vector). Above, the two analyses one after the other, the system's from the generic
-        // start: K's and a penalized system's each run their two ends side by side where a
+        // it: `contact_bottom`; without it the bottom run starts from K's vector). Above, the
+        // two analyses one after the other, the system's from the generic start: K's and a penalized system's each run their two ends side by side where a
         // second factor fits the memory (`conditioning::sparse::SIDE_BY_SIDE_ENDS_MIN_N`),
         // which uses the two threads a side-by-side pair of analyses would, at the memory of
         // one (10⁶ membrane: docs/performance.md); a saddle point's analysis (lagrange) runs

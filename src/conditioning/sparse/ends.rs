@@ -242,8 +242,9 @@ fn certify_top(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Opti
 /// The lower end of λ_max after a shift-invert refinement (value `r`, Ritz vector `v`), from
 /// `max_lo`: `v`'s sharpened Rayleigh quotient ([`sharpen_top`] to `need`), and where it
 /// lags `r` by more than `share`, a plain run from `v` ([`restart_top`], up to
-/// [`PLAIN_LANCZOS_STEPS`] products, a few where `v` is good; its steps returned): the shift-invert run leaves the components of the far spectrum that its start
-/// carried, which barely move its value but much the quotient on A.
+/// [`PLAIN_LANCZOS_STEPS`] products, a few where `v` is good; its steps returned): the
+/// shift-invert run leaves the components of the far spectrum that its start carried, which
+/// barely move its value but much the quotient on A.
 fn refined_lower(
     fam: &ShiftFamily,
     (r, v): (f64, &[f64]),

@@ -314,8 +314,8 @@ fn analyse(
 }
 
 /// Phase 1 of [`extreme_eigenvalues`]: the Lanczos estimates of both ends (converged, but
-/// for a rough top, `top_rough`), their Ritz vectors, x̂ = A⁻¹y_bottom and, where the graded bound can gain, a rough λ_min of the
-/// equilibrated matrix. The factor of A is dropped when the λ_min end is done.
+/// for a rough top, `top_rough`), their Ritz vectors, x̂ = A⁻¹y_bottom and, where the graded
+/// bound can gain, a rough λ_min of the equilibrated matrix. The factor of A is dropped when the λ_min end is done.
 pub(super) struct Estimates {
     lmax: f64,
     lmin: f64,
@@ -375,7 +375,7 @@ fn estimate(
             a,
             pattern,
             (max_steps, budget),
-            starts.map(|s| s.top.as_slice()),
+            top_start,
             (bottom_stag, top_stag),
         )
     };
@@ -544,7 +544,7 @@ const MIN_PLAIN_BUDGET: usize = 12;
 fn plain_budget(pattern: &DiagonalPattern) -> usize {
     let (n, nnz) = (pattern.n() as f64, pattern.values.len() as f64);
     let products = super::certify::factor_products(&pattern.symbolic);
-    let entries = super::certify::factor_entries(&pattern.symbolic);
+    let entries = pattern.symbolic.len_val() as f64; // Σ_j c_j, the stored entries of L
     let refinement = 3.0 * products + 32.0 * entries;
     let steps = (refinement / (nnz + 8.0 * n)).ceil();
     if steps.is_finite() {

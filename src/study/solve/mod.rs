@@ -107,8 +107,8 @@ fn augmented_defaults(p: &crate::system::Problem, knobs: &mut Knobs) {
 /// by `lagrange` and constant, scaled and condensed start from its contact set, as every
 /// `sweep` row does ([`strategy::Prepared::with_contact_set`]; the lagrange solve is not in
 /// the statistics or `seconds`), and a penalized system's cond₂ may start its bottom run from
-/// K_ℱℱ's bottom Ritz vector at that set ([`metrics::compute_at_contact_set`]). With `opts.write_system`, the final system `A x = b` is
-/// written there exactly as solved ([`write_system`]). Errors on unreadable scenes, bad knobs,
+/// K_ℱℱ's bottom Ritz vector at that set ([`metrics::compute_at_contact_set`]). With
+/// `opts.write_system`, the final system `A x = b` is written there exactly as solved ([`write_system`]). Errors on unreadable scenes, bad knobs,
 /// a `cond_tol` outside (0, 1), singular systems and a non-finite solution.
 pub fn solve_scene(
     scene: &Path,
@@ -140,10 +140,9 @@ pub fn solve_scene(
             Some((prep, set))
         })
         .flatten();
-    let (prepared, contact) = match exact {
-        Some((prep, set)) => (Some(prep.with_contact_set(set.clone())), Some(set)),
-        None => (None, None),
-    };
+    let (prepared, contact) = exact
+        .map(|(prep, set)| (prep.with_contact_set(set.clone()), set))
+        .unzip();
     let t0 = Instant::now();
     let sol = match &prepared {
         Some(prep) => strategy::solve_prepared(p, method, Some(prep))?,
