@@ -12,7 +12,8 @@
 //! kernel is the Cholesky kernel's (`sparse_llt::simplicial_numeric`) with `L_kj = w_j / d_j`,
 //! `d_k = b_kk − Σ_j L_kj w_j` in place of the square roots.
 
-use super::sparse_llt::{simplicial_numeric, DiagonalPattern};
+use super::diagonal_pattern::DiagonalPattern;
+use super::sparse_llt::simplicial_numeric;
 use faer::sparse::linalg::cholesky::SymbolicCholeskyRaw;
 
 /// A computed `PB̃Pᵀ ≈ L̂D̂L̂ᵀ` and its inertia: L̂ unit lower triangular in compressed columns

@@ -17,6 +17,7 @@
 //! (`pivot ≤ ε_mach · max pivot`) is reported as [`Error::Singular`]: K is singular to working
 //! precision and `K⁻¹` does not exist numerically.
 
+mod diagonal_pattern;
 mod factor_columns;
 pub mod krylov;
 mod ldlt;
@@ -25,10 +26,11 @@ pub mod precond;
 pub mod refine;
 mod sparse_llt;
 
+pub use diagonal_pattern::DiagonalPattern;
 pub use factor_columns::LowerFactor;
 pub use ldlt::InertiaTest;
 pub use pcg::{pcg, PcgOutcome};
-pub use sparse_llt::{release_thread_buffers, DiagonalPattern, SparseLlt, SYMBOLIC_CACHE_LEN};
+pub use sparse_llt::{release_thread_buffers, SparseLlt, SYMBOLIC_CACHE_LEN};
 
 use crate::error::{Error, Result};
 use crate::system::Stiffness;
@@ -84,7 +86,9 @@ enum Inner {
 pub struct Factorization {
     inner: Inner,
     n: usize,
-    log10_abs_det: Option<f64>,
+    /// The factor's pivots and the power they enter `|det|` with (2 for Cholesky's L, 1 for
+    /// LU's U); `None` for sparse LU. `log10|det|` is summed from them when asked for.
+    pivots: Option<(Vec<f64>, f64)>,
     pivot_ratio: f64,
 }
 
@@ -122,12 +126,12 @@ impl Factorization {
                 match llt {
                     Some(l) => {
                         let d: Vec<f64> = (0..n).map(|i| l.L()[(i, i)]).collect();
-                        Self::from_pivots(Inner::DenseLlt(l), n, &d, 2.0)
+                        Self::from_pivots(Inner::DenseLlt(l), n, d, 2.0)
                     }
                     None => {
                         let lu = m.partial_piv_lu();
                         let d: Vec<f64> = (0..n).map(|i| lu.U()[(i, i)]).collect();
-                        Self::from_pivots(Inner::DenseLu(lu), n, &d, 1.0)
+                        Self::from_pivots(Inner::DenseLu(lu), n, d, 1.0)
                     }
                 }
             }
@@ -144,7 +148,7 @@ impl Factorization {
                 match llt {
                     Some(l) => {
                         let d = l.l_diagonal();
-                        Self::from_pivots(Inner::SparseLlt(l), n, &d, 2.0)
+                        Self::from_pivots(Inner::SparseLlt(l), n, d, 2.0)
                     }
                     None => {
                         let lu = m.sp_lu().map_err(|e| {
@@ -155,7 +159,7 @@ impl Factorization {
                         Factorization {
                             inner: Inner::SparseLu(lu),
                             n,
-                            log10_abs_det: None,
+                            pivots: None,
                             pivot_ratio: f64::NAN,
                         }
                     }
@@ -169,8 +173,11 @@ impl Factorization {
                 f.pivot_ratio
             )));
         }
-        if let Some(ld) = f.log10_abs_det {
-            if !ld.is_finite() {
+        // A sum of logs of finite nonzero pivots is finite: the sum is formed (for the
+        // message) only where one is zero, infinite or NaN.
+        if let Some((d, _)) = &f.pivots {
+            if !d.iter().all(|v| v.is_finite() && *v != 0.0) {
+                let ld = f.log10_abs_det().unwrap_or(f64::NAN);
                 return Err(Error::singular(format!(
                     "{n}×{n} matrix has a zero pivot (log10|det| = {ld})"
                 )));
@@ -179,15 +186,14 @@ impl Factorization {
         Ok(f)
     }
 
-    fn from_pivots(inner: Inner, n: usize, d: &[f64], power: f64) -> Self {
+    fn from_pivots(inner: Inner, n: usize, d: Vec<f64>, power: f64) -> Self {
         let amax = d.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         let amin = d.iter().fold(f64::INFINITY, |a, v| a.min(v.abs()));
-        let ld: f64 = d.iter().map(|v| power * v.abs().log10()).sum();
         Factorization {
             inner,
             n,
-            log10_abs_det: Some(ld),
             pivot_ratio: (amin / amax).powf(power),
+            pivots: Some((d, power)),
         }
     }
 
@@ -216,7 +222,8 @@ impl Factorization {
 
     /// `log10|det A|` from the factor's pivots (`None` for sparse LU).
     pub fn log10_abs_det(&self) -> Option<f64> {
-        self.log10_abs_det
+        let (d, power) = self.pivots.as_ref()?;
+        Some(d.iter().map(|v| power * v.abs().log10()).sum())
     }
 
     /// Solves `A X = B` in place for a block of right-hand sides.

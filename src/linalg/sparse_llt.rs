@@ -1,8 +1,8 @@
 //! Sparse Cholesky `PAPᵀ = LLᵀ` ([`SparseLlt`]) with the symbolic analysis cached per
-//! pattern, the simplicial numeric and solve kernels, and [`DiagonalPattern`] (one analysis for
-//! every diagonal shift of a pattern).
+//! pattern, and the simplicial numeric and solve kernels (also those of
+//! [`DiagonalPattern`](super::DiagonalPattern): one analysis for every diagonal shift of a
+//! pattern).
 
-use super::symmetric_matvec;
 use crate::error::{Error, Result};
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::linalg::cholesky::{
@@ -14,7 +14,7 @@ use std::sync::{Arc, Mutex};
 
 /// The cached permuted upper triangle of the pattern `pat` analysed as `symbolic` (the same
 /// analysis, by pointer, and the same pattern), if any.
-fn cached_permutation(
+pub(super) fn cached_permutation(
     symbolic: &Arc<SymbolicCholesky<usize>>,
     pat: SymbolicSparseColMatRef<'_, usize>,
 ) -> Option<Arc<PermutedUpper>> {
@@ -33,7 +33,7 @@ fn cached_permutation(
 /// The cached analysis that `hit` accepts: this thread's recent entries first, then the
 /// process-wide cache (whose entry is then kept on this thread too). The process-wide cache
 /// is behind a lock that every factorization of two threads would otherwise contend for.
-fn cached(hit: impl Fn(&CachedSymbolic) -> bool) -> Option<Arc<CachedSymbolic>> {
+pub(super) fn cached(hit: impl Fn(&CachedSymbolic) -> bool) -> Option<Arc<CachedSymbolic>> {
     let local = LOCAL_SYMBOLIC.with(|l| l.borrow().iter().find(|e| hit(e)).cloned());
     if local.is_some() {
         return local;
@@ -44,6 +44,51 @@ fn cached(hit: impl Fn(&CachedSymbolic) -> bool) -> Option<Arc<CachedSymbolic>> 
     }?;
     LOCAL_SYMBOLIC.with(|l| push_bounded(&mut l.borrow_mut(), found.clone()));
     Some(found)
+}
+
+/// The symbolic analysis of `pat` (AMD ordering), not cached.
+pub(super) fn analyse_symbolic(
+    pat: SymbolicSparseColMatRef<'_, usize>,
+) -> Result<Arc<SymbolicCholesky<usize>>> {
+    factorize_symbolic_cholesky(pat, Side::Lower, Default::default(), Default::default())
+        .map(Arc::new)
+        .map_err(|e| Error::Numerical(format!("sparse symbolic Cholesky failed: {e:?}")))
+}
+
+/// The cache's entry of a compressed square pattern, analysed and added where missing;
+/// `None` for a pattern the cache does not keep (uncompressed or not square).
+pub(super) fn cached_entry(
+    pat: SymbolicSparseColMatRef<'_, usize>,
+) -> Result<Option<Arc<CachedSymbolic>>> {
+    if pat.col_nnz().is_some() || pat.nrows() != pat.ncols() {
+        return Ok(None);
+    }
+    if let Some(e) = lookup_entry(pat) {
+        return Ok(Some(e));
+    }
+    let (cp, ri) = (pat.col_ptr(), pat.row_idx());
+    let symbolic = analyse_symbolic(pat)?;
+    let diag = (0..pat.ncols())
+        .map(|j| crate::system::csc_position(pat, j, j))
+        .collect();
+    let entry = Arc::new(CachedSymbolic {
+        col_ptr: cp.to_vec(),
+        row_idx: ri.to_vec(),
+        permuted: PermutedUpper::new(pat, &symbolic).map(Arc::new),
+        symbolic,
+        diag,
+    });
+    let mut cache = SYMBOLIC_CACHE.lock().unwrap_or_else(|e| e.into_inner());
+    push_bounded(&mut cache, entry.clone());
+    drop(cache);
+    LOCAL_SYMBOLIC.with(|l| push_bounded(&mut l.borrow_mut(), entry.clone()));
+    Ok(Some(entry))
+}
+
+/// The cache's entry of `pat` (compressed, square), if it has one.
+pub(super) fn lookup_entry(pat: SymbolicSparseColMatRef<'_, usize>) -> Option<Arc<CachedSymbolic>> {
+    let (cp, ri) = (pat.col_ptr(), pat.row_idx());
+    cached(|e| e.col_ptr == cp && e.row_idx == ri)
 }
 
 /// Appends `e`, dropping the oldest entry beyond [`SYMBOLIC_CACHE_LEN`].
@@ -64,17 +109,19 @@ thread_local! {
 pub const SYMBOLIC_CACHE_LEN: usize = 2;
 
 /// A pattern (compressed, square) and its symbolic analysis.
-struct CachedSymbolic {
-    col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
-    symbolic: Arc<SymbolicCholesky<usize>>,
+pub(super) struct CachedSymbolic {
+    pub(super) col_ptr: Vec<usize>,
+    pub(super) row_idx: Vec<usize>,
+    pub(super) symbolic: Arc<SymbolicCholesky<usize>>,
     /// The permuted upper triangle, where the analysis is simplicial with a permutation.
-    permuted: Option<Arc<PermutedUpper>>,
+    pub(super) permuted: Option<Arc<PermutedUpper>>,
+    /// `diag[j]`: the position of entry (j, j), where every diagonal entry is stored
+    /// ([`DiagonalPattern::new`](super::DiagonalPattern::new) of a matrix with this pattern then copies it).
+    pub(super) diag: Option<Vec<usize>>,
 }
 
 /// The last [`SYMBOLIC_CACHE_LEN`] analyses, oldest first.
 static SYMBOLIC_CACHE: Mutex<Vec<Arc<CachedSymbolic>>> = Mutex::new(Vec::new());
-
 /// Sparse Cholesky factor with access to its diagonal (for log-det) and a shareable symbolic
 /// analysis (same pattern ⇒ reuse across penalty values).
 pub struct SparseLlt {
@@ -97,30 +144,10 @@ impl SparseLlt {
     pub fn analyze_pattern(
         pat: SymbolicSparseColMatRef<'_, usize>,
     ) -> Result<Arc<SymbolicCholesky<usize>>> {
-        let key = (pat.col_nnz().is_none() && pat.nrows() == pat.ncols())
-            .then(|| (pat.col_ptr(), pat.row_idx()));
-        if let Some((cp, ri)) = key {
-            if let Some(e) = cached(|e| e.col_ptr == cp && e.row_idx == ri) {
-                return Ok(e.symbolic.clone());
-            }
+        if let Some(e) = cached_entry(pat)? {
+            return Ok(e.symbolic.clone());
         }
-        let symbolic =
-            factorize_symbolic_cholesky(pat, Side::Lower, Default::default(), Default::default())
-                .map(Arc::new)
-                .map_err(|e| Error::Numerical(format!("sparse symbolic Cholesky failed: {e:?}")))?;
-        if let Some((cp, ri)) = key {
-            let entry = Arc::new(CachedSymbolic {
-                col_ptr: cp.to_vec(),
-                row_idx: ri.to_vec(),
-                symbolic: symbolic.clone(),
-                permuted: PermutedUpper::new(pat, &symbolic).map(Arc::new),
-            });
-            let mut cache = SYMBOLIC_CACHE.lock().unwrap_or_else(|e| e.into_inner());
-            push_bounded(&mut cache, entry.clone());
-            drop(cache);
-            LOCAL_SYMBOLIC.with(|l| push_bounded(&mut l.borrow_mut(), entry));
-        }
-        Ok(symbolic)
+        analyse_symbolic(pat)
     }
 
     /// Numeric factorization with a given symbolic analysis (same pattern as `a`).
@@ -142,7 +169,7 @@ impl SparseLlt {
 
     /// [`SparseLlt::factorize_ref`] with the cached permutation of the pattern already looked
     /// up (`permuted`, where there is one).
-    fn factorize_permuted(
+    pub(super) fn factorize_permuted(
         symbolic: Arc<SymbolicCholesky<usize>>,
         permuted: Option<&PermutedUpper>,
         a: faer::sparse::SparseColMatRef<'_, usize, f64>,
@@ -393,26 +420,9 @@ fn recycle_values(v: Vec<f64>) {
     });
 }
 
-/// The pattern of a sparse matrix with every diagonal entry present (inserted as explicit
-/// zeros where missing) and its symbolic Cholesky analysis: any matrix with these values
-/// changed — shifted `A + σI`, or A with Dirichlet rows/columns replaced by the identity — is
-/// factorized numerically without a new analysis.
-pub struct DiagonalPattern {
-    /// Column pointers and sorted row indices (diagonal included).
-    pub pattern: SymbolicSparseColMat<usize>,
-    /// The values of A on that pattern (0 at inserted diagonal positions).
-    pub values: Vec<f64>,
-    /// `diag[j]`: position of entry (j, j) in `values`.
-    pub diag: Vec<usize>,
-    /// Symbolic Cholesky analysis of the pattern.
-    pub symbolic: Arc<SymbolicCholesky<usize>>,
-    /// The cached permutation of the pattern (looked up once, not at every factorization).
-    pub(super) permuted: Option<Arc<PermutedUpper>>,
-}
-
 /// The pattern of the upper triangle of `PAPᵀ` (columns unsorted, as faer's
 /// `permute_self_adjoint_to_unsorted` leaves them) and, for each of its entries, the position
-/// of the same entry of A in [`DiagonalPattern::values`].
+/// of the same entry of A in [`DiagonalPattern::values`](super::DiagonalPattern::values).
 ///
 /// faer's `factorize_numeric_llt` permutes A again at every factorization (a scatter of the
 /// whole matrix, ≈ 15 % of a factorization of the sweep's matrices). The symbolic cache
@@ -563,7 +573,7 @@ pub(super) fn simplicial_numeric<const LDLT: bool>(
 
 impl PermutedUpper {
     /// None unless `symbolic` is simplicial with a permutation.
-    fn new(
+    pub(super) fn new(
         pattern: SymbolicSparseColMatRef<'_, usize>,
         symbolic: &SymbolicCholesky<usize>,
     ) -> Option<Self> {
@@ -604,155 +614,5 @@ impl PermutedUpper {
             reach_ptr,
             reach,
         })
-    }
-}
-
-impl DiagonalPattern {
-    /// Copies the pattern of `a` (CSC with sorted row indices), inserting missing diagonals.
-    pub fn new(a: &SparseColMat<usize, f64>) -> Result<Self> {
-        let n = a.nrows();
-        let cp = a.symbolic().col_ptr();
-        let ri = a.symbolic().row_idx();
-        let av = a.val();
-        // Every diagonal stored (the usual case): A's own arrays, copied whole (compact
-        // storage from position 0).
-        if a.symbolic().col_nnz().is_none() && cp[0] == 0 {
-            let diag: Option<Vec<usize>> = (0..n)
-                .map(|j| crate::system::csc_position(a.symbolic(), j, j))
-                .collect();
-            if let Some(diag) = diag {
-                let end = cp[n];
-                let pattern =
-                    SymbolicSparseColMat::new_checked(n, n, cp.to_vec(), None, ri[..end].to_vec());
-                return Self::with_pattern(pattern, av[..end].to_vec(), diag);
-            }
-        }
-        let mut col_ptr = Vec::with_capacity(n + 1);
-        let mut row_idx = Vec::with_capacity(ri.len() + n);
-        let mut values = Vec::with_capacity(ri.len() + n);
-        let mut diag = vec![0; n];
-        col_ptr.push(0);
-        for j in 0..n {
-            let mut have_diag = false;
-            for p in cp[j]..cp[j + 1] {
-                let i = ri[p];
-                if !have_diag && i > j {
-                    diag[j] = row_idx.len();
-                    row_idx.push(j);
-                    values.push(0.0);
-                    have_diag = true;
-                }
-                if i == j {
-                    diag[j] = row_idx.len();
-                    have_diag = true;
-                }
-                row_idx.push(i);
-                values.push(av[p]);
-            }
-            if !have_diag {
-                diag[j] = row_idx.len();
-                row_idx.push(j);
-                values.push(0.0);
-            }
-            col_ptr.push(row_idx.len());
-        }
-        let pattern = SymbolicSparseColMat::new_checked(n, n, col_ptr, None, row_idx);
-        Self::with_pattern(pattern, values, diag)
-    }
-
-    /// The analysis of `pattern` (cached) around its values and diagonal positions.
-    fn with_pattern(
-        pattern: SymbolicSparseColMat<usize>,
-        values: Vec<f64>,
-        diag: Vec<usize>,
-    ) -> Result<Self> {
-        let symbolic = SparseLlt::analyze_pattern(pattern.as_ref())?;
-        let permuted = cached_permutation(&symbolic, pattern.as_ref());
-        Ok(DiagonalPattern {
-            pattern,
-            values,
-            diag,
-            symbolic,
-            permuted,
-        })
-    }
-
-    /// Numeric Cholesky of the matrix with this pattern and `values` (None if not positive
-    /// definite).
-    pub fn factor(&self, values: &[f64]) -> Option<SparseLlt> {
-        let m = faer::sparse::SparseColMatRef::new(self.pattern.as_ref(), values);
-        SparseLlt::factorize_permuted(self.symbolic.clone(), self.permuted.as_deref(), m)
-    }
-
-    /// Writes `α·A + σI + β·1_B` on this pattern into `out` (B: the j with `in_b[j]`; no β
-    /// term where `in_b` is None), each entry formed as `α·a_ij`, then `+ (σ + β)` on the
-    /// diagonal; returns `max_i(|α·a_ii| + |σ| + |β_i|)`, which bounds the diagonal's
-    /// formation error (one rounding of each addition). The test matrices of the certified
-    /// routes (shifts, inertia tests) are all formed here.
-    pub fn fill_shifted(
-        &self,
-        out: &mut Vec<f64>,
-        alpha: f64,
-        sigma: f64,
-        beta: f64,
-        in_b: Option<&[bool]>,
-    ) -> f64 {
-        out.clear();
-        out.extend(self.values.iter().map(|x| alpha * x));
-        let mut max_e = 0.0f64;
-        for (j, &p) in self.diag.iter().enumerate() {
-            let b = match in_b {
-                Some(m) if m[j] => beta,
-                _ => 0.0,
-            };
-            max_e = max_e.max(out[p].abs() + sigma.abs() + b.abs());
-            out[p] += sigma + b;
-        }
-        max_e
-    }
-
-    /// Row and column `i` of `values` (on this pattern) reduced to their diagonal entry: the
-    /// matrix then has the spectrum of the one without row and column i, and that entry
-    /// (Cauchy's interlacing tests of `conditioning::temple` and the saddle-point route).
-    pub fn pin(&self, values: &mut [f64], i: usize) {
-        let (cp, ri) = (self.pattern.col_ptr(), self.pattern.row_idx());
-        for j in 0..self.n() {
-            let range = cp[j]..cp[j + 1];
-            for (&r, v) in ri[range.clone()].iter().zip(&mut values[range]) {
-                if (j == i) != (r == i) {
-                    *v = 0.0;
-                }
-            }
-        }
-    }
-
-    /// `y = A x` with A's values on this pattern (both triangles stored). Every user holds a
-    /// symmetric A, so the product is formed as `Aᵀx` column by column (`y_j = Σ_i A_ij x_i`,
-    /// a gather: one accumulator per entry of y instead of scattered updates; ≈ 2× faster on
-    /// the sweep's Lanczos runs).
-    pub fn matvec(&self, x: &[f64], y: &mut [f64]) {
-        symmetric_matvec(self.pattern.as_ref(), &self.values, x, y)
-    }
-
-    /// Dimension.
-    pub fn n(&self) -> usize {
-        self.diag.len()
-    }
-
-    /// `max_i A_ii` (0 if every diagonal entry is ≤ 0): a lower bound of λ_max, the Rayleigh
-    /// quotient of a unit vector.
-    pub fn max_diagonal(&self) -> f64 {
-        self.diag
-            .iter()
-            .map(|&p| self.values[p])
-            .fold(0.0f64, f64::max)
-    }
-
-    /// The smallest diagonal entry (∞ for an empty matrix).
-    pub fn min_diagonal(&self) -> f64 {
-        self.diag
-            .iter()
-            .map(|&p| self.values[p])
-            .fold(f64::INFINITY, f64::min)
     }
 }

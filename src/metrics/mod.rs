@@ -269,6 +269,15 @@ pub fn system_matrix(problem: &Problem, sol: &Solution) -> Stiffness {
     }
 }
 
+/// [`system_matrix`], borrowed where the solve kept the matrix it factored
+/// ([`Solution::matrix`], the same entries bit for bit).
+fn system_matrix_of<'a>(problem: &Problem, sol: &'a Solution) -> std::borrow::Cow<'a, Stiffness> {
+    match (&sol.system, &sol.matrix) {
+        (SystemKind::Penalized, Some(a)) => std::borrow::Cow::Borrowed(a),
+        _ => std::borrow::Cow::Owned(system_matrix(problem, sol)),
+    }
+}
+
 /// Computes the requested metrics.
 pub fn compute(problem: &Problem, sol: &Solution, set: MetricSet) -> Result<Metrics> {
     compute_at_contact_set(problem, sol, set, None)
@@ -288,7 +297,7 @@ pub fn compute_at_contact_set(
     if !(set.cond || set.det) {
         return Ok(out);
     }
-    let sys = system_matrix(problem, sol);
+    let sys = system_matrix_of(problem, sol);
     if set.cond {
         // Where K's Ritz vectors are kept (n ≤ RITZ_VECTOR_MAX_N) the system's cond₂ starts
         // from them, after K's, exactly as a sweep does (`compute_with_k`): the same rows bit
@@ -361,7 +370,7 @@ pub fn compute_with_k(
     if !(set.cond || set.det) {
         return Ok(out);
     }
-    let sys = system_matrix(problem, sol);
+    let sys = system_matrix_of(problem, sol);
     if set.cond {
         let t = std::time::Instant::now();
         out.cond2_system = system_cond(

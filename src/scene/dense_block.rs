@@ -41,6 +41,7 @@ pub(super) struct DenseBlock {
 /// `None` where the fast path does not apply.
 pub(super) fn find(text: &str) -> Option<DenseBlock> {
     let mut c = Cursor {
+        text,
         b: text.as_bytes(),
         i: 0,
     };
@@ -73,6 +74,8 @@ pub(super) fn find(text: &str) -> Option<DenseBlock> {
 }
 
 struct Cursor<'a> {
+    /// The text (its tokens are sliced from it without a second UTF-8 check).
+    text: &'a str,
     b: &'a [u8],
     i: usize,
 }
@@ -202,11 +205,8 @@ impl<'a> Cursor<'a> {
                 return None;
             }
         }
-        // The token is ASCII by the grammar.
-        let x: f64 = std::str::from_utf8(&self.b[start..self.i])
-            .ok()?
-            .parse()
-            .ok()?;
+        // The token is ASCII by the grammar, so both ends are character boundaries.
+        let x: f64 = self.text.get(start..self.i)?.parse().ok()?;
         x.is_finite().then_some(x)
     }
 

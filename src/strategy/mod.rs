@@ -333,6 +333,11 @@ pub struct Solution {
     /// it instead of factorizing the matrix again. Not serialized.
     #[serde(skip)]
     pub factor: Option<Arc<Factorization>>,
+    /// The final penalized system `K + D E Dᵀ` that `factor` factors, as the solve assembled
+    /// it ([`penalized_matrix`] of `penalties`): kept with the factor, so that the metrics
+    /// do not assemble it again. Not serialized.
+    #[serde(skip)]
+    pub matrix: Option<Arc<Stiffness>>,
 }
 
 /// Solves `problem` with `method`.
@@ -493,8 +498,9 @@ pub struct Context<'a> {
     /// start.
     contact_set: Option<Arc<Vec<bool>>>,
     /// Last penalized factorization and the penalties it was built with (reused when the
-    /// penalties repeat, e.g. Uzawa updates at fixed ε).
-    last: Option<(Vec<f64>, Factorization)>,
+    /// penalties repeat, e.g. Uzawa updates at fixed ε), with the matrix it factors where
+    /// [`Context::finish`] may hand both to the solution.
+    last: Option<(Vec<f64>, Factorization, Option<Stiffness>)>,
     /// W = K⁻¹D, shared with the [`Prepared`] this context came from.
     constraint_columns: ConstraintColumns,
     /// Work done by a [`Prepared`] that is charged to this solve the first time it is used,
@@ -615,7 +621,7 @@ impl<'a> Context<'a> {
     /// augmented Lagrangian).
     pub fn solve_penalized_with(&mut self, eps: &[f64], limits: &[f64]) -> Result<Vec<f64>> {
         let p = self.problem;
-        let reuse = matches!(&self.last, Some((e, _)) if e.as_slice() == eps);
+        let reuse = matches!(&self.last, Some((e, _, _)) if e.as_slice() == eps);
         if !reuse {
             self.last = None; // one penalized factor in memory at a time
             let a = penalized_matrix(p, eps);
@@ -631,7 +637,8 @@ impl<'a> Context<'a> {
                 e => e,
             })?;
             self.stats.factorizations += 1;
-            self.last = Some((eps.to_vec(), f));
+            let keep = handed_on(&f).then_some(a);
+            self.last = Some((eps.to_vec(), f, keep));
         }
         let f = &self.last.as_ref().expect("just set").1;
         let mut rhs = p.q.clone();
@@ -661,15 +668,11 @@ impl<'a> Context<'a> {
         let forces =
             forces.unwrap_or_else(|| penalties.iter().zip(&gaps).map(|(e, g)| e * g).collect());
         let max_penetration = self.problem.max_penetration(&u);
-        let factor = match self.last {
-            Some((eps, f))
-                if eps == penalties
-                    && f.kind() == FactorKind::SparseCholesky
-                    && f.n() <= crate::conditioning::sparse::RITZ_VECTOR_MAX_N =>
-            {
-                Some(Arc::new(f))
+        let (factor, matrix) = match self.last {
+            Some((eps, f, a)) if eps == penalties && handed_on(&f) => {
+                (Some(Arc::new(f)), a.map(Arc::new))
             }
-            _ => None,
+            _ => (None, None),
         };
         Solution {
             method,
@@ -682,8 +685,17 @@ impl<'a> Context<'a> {
             stats: self.stats,
             warnings,
             factor,
+            matrix,
         }
     }
+}
+
+/// Whether a penalized factorization is handed on to the solution ([`Solution::factor`]):
+/// a sparse Cholesky factor of at most [`crate::conditioning::sparse::RITZ_VECTOR_MAX_N`]
+/// unknowns.
+fn handed_on(f: &Factorization) -> bool {
+    f.kind() == FactorKind::SparseCholesky
+        && f.n() <= crate::conditioning::sparse::RITZ_VECTOR_MAX_N
 }
 
 impl Solution {
