@@ -117,7 +117,7 @@ fn bench_simplicial_numeric(c: &mut Criterion) {
         g.bench_function(BenchmarkId::new(format!("{name}/ours"), n), |bench| {
             bench.iter(|| pattern.factor(black_box(&pattern.values)).expect("SPD"))
         });
-        let a = faer::sparse::SparseColMat::new(pattern.pattern.clone(), pattern.values.clone());
+        let a = faer::sparse::SparseColMat::new((*pattern.pattern).clone(), pattern.values.clone());
         let symbolic = pattern.symbolic.clone();
         let mut values = vec![0.0; symbolic.len_val()];
         let req = symbolic.factorize_numeric_llt_scratch::<f64>(faer::Par::Seq, Default::default());
@@ -163,7 +163,7 @@ fn bench_posterior_margin(c: &mut Criterion) {
             bench.iter(|| {
                 posterior_margin(
                     &f.lower_factor(),
-                    pattern.pattern.as_ref(),
+                    pattern.pat(),
                     black_box(&pattern.values),
                     1.0,
                     0.0,
@@ -182,7 +182,7 @@ fn bench_posterior_margin(c: &mut Criterion) {
                     .expect("simplicial");
                 let m = temple::ldlt_margin(&test, &s_hat, &diag).expect("finite");
                 let mu = temple::lambda2_lower(mu, m, mu, None);
-                temple::temple_lower(pattern.pattern.as_ref(), &pattern.values, &x, mu)
+                temple::temple_lower(pattern.pat(), &pattern.values, &x, mu)
             })
         });
     }

@@ -484,7 +484,7 @@ pub(crate) mod tests {
             let n = a.nrows();
             for sigma in [0.0, 1e-3] {
                 let mut v = pattern.values.clone();
-                for &p in &pattern.diag {
+                for &p in pattern.diag.iter() {
                     v[p] -= sigma;
                 }
                 let f = pattern.factor(&v).expect("positive definite");

@@ -73,7 +73,7 @@ impl ShiftFamily {
         let stored: Vec<f64> = self.pattern.diag.iter().map(|&p| self.work[p]).collect();
         let posterior = self.posterior_ok.then(|| {
             (
-                self.pattern.pattern.as_ref(),
+                self.pattern.pat(),
                 self.pattern.values.as_slice(),
                 alpha,
                 sigma,
@@ -111,7 +111,7 @@ impl ShiftFamily {
             }
             rowsum = rowsum.max(sum);
         }
-        for &p in &self.pattern.diag {
+        for &p in self.pattern.diag.iter() {
             v[p] -= tau;
         }
         self.factorizations += 1;

@@ -199,7 +199,7 @@ pub(crate) fn lambda_min_lower(
                 let stored: Vec<f64> = pattern.diag.iter().map(|&p| buf[p]).collect();
                 let lower = ldlt_margin(&test, s_hat, &stored)
                     .map(|m| lambda2_lower(tau, m, max_s2, h))
-                    .and_then(|mu| temple_lower(pattern.pattern.as_ref(), &pattern.values, x, mu));
+                    .and_then(|mu| temple_lower(pattern.pat(), &pattern.values, x, mu));
                 return (lower.filter(|&l| l > 0.0), tests);
             }
             k => f /= 2.0 * k as f64,
@@ -251,7 +251,7 @@ pub fn interlaced_lower(
             continue;
         }
         let mu = margin.lower_from_test(tau, max_b, h);
-        let lower = temple_lower(pattern.pattern.as_ref(), &pattern.values, x, mu);
+        let lower = temple_lower(pattern.pat(), &pattern.values, x, mu);
         return (lower.filter(|&l| l > 0.0), tests);
     }
     (None, tests)
@@ -277,7 +277,7 @@ mod tests {
         let s_hat: Vec<f64> = vec![2f64.sqrt(); n];
         let tau = 0.5 * (lambda(1) + lambda(2));
         let mut v = pattern.values.clone();
-        for &p in &pattern.diag {
+        for &p in pattern.diag.iter() {
             v[p] -= tau;
         }
         let stored: Vec<f64> = pattern.diag.iter().map(|&p| v[p]).collect();
@@ -305,7 +305,7 @@ mod tests {
             );
         }
         let mut v = pattern.values.clone();
-        for &p in &pattern.diag {
+        for &p in pattern.diag.iter() {
             v[p] -= 0.5 * (lambda(2) + lambda(3));
         }
         assert_eq!(pattern.ldlt(&v).unwrap().negative, 2);
@@ -338,7 +338,7 @@ mod tests {
             let slack = 8.0 * n as f64 * f64::EPSILON * norm;
             let tau = 0.5 * (l1 + l2);
             let mut v = pattern.values.clone();
-            for &p in &pattern.diag {
+            for &p in pattern.diag.iter() {
                 v[p] -= tau;
             }
             let stored: Vec<f64> = pattern.diag.iter().map(|&p| v[p]).collect();

@@ -5,7 +5,7 @@ use super::sparse_llt::{cached_entry, cached_permutation, lookup_entry, Permuted
 use super::symmetric_matvec;
 use crate::error::Result;
 use faer::sparse::linalg::cholesky::SymbolicCholesky;
-use faer::sparse::{SparseColMat, SymbolicSparseColMat};
+use faer::sparse::{SparseColMat, SymbolicSparseColMat, SymbolicSparseColMatRef};
 use std::sync::Arc;
 
 /// The pattern of a sparse matrix with every diagonal entry present (inserted as explicit
@@ -13,12 +13,13 @@ use std::sync::Arc;
 /// changed — shifted `A + σI`, or A with Dirichlet rows/columns replaced by the identity — is
 /// factorized numerically without a new analysis.
 pub struct DiagonalPattern {
-    /// Column pointers and sorted row indices (diagonal included).
-    pub pattern: SymbolicSparseColMat<usize>,
+    /// Column pointers and sorted row indices (diagonal included); shared with the symbolic
+    /// cache where the pattern is a matrix's own ([`DiagonalPattern::pat`] borrows it).
+    pub pattern: Arc<SymbolicSparseColMat<usize>>,
     /// The values of A on that pattern (0 at inserted diagonal positions).
     pub values: Vec<f64>,
-    /// `diag[j]`: position of entry (j, j) in `values`.
-    pub diag: Vec<usize>,
+    /// `diag[j]`: position of entry (j, j) in `values` (shared like `pattern`).
+    pub diag: Arc<Vec<usize>>,
     /// Symbolic Cholesky analysis of the pattern.
     pub symbolic: Arc<SymbolicCholesky<usize>>,
     /// The cached permutation of the pattern (looked up once, not at every factorization).
@@ -47,16 +48,9 @@ impl DiagonalPattern {
             };
             if let Some(e) = entry {
                 if let Some(diag) = &e.diag {
-                    let end = cp[n];
                     return Ok(DiagonalPattern {
-                        pattern: SymbolicSparseColMat::new_checked(
-                            n,
-                            n,
-                            cp.to_vec(),
-                            None,
-                            ri[..end].to_vec(),
-                        ),
-                        values: av[..end].to_vec(),
+                        pattern: e.pattern.clone(),
+                        values: av[..cp[n]].to_vec(),
                         diag: diag.clone(),
                         symbolic: e.symbolic.clone(),
                         permuted: e.permuted.clone(),
@@ -106,18 +100,23 @@ impl DiagonalPattern {
         let symbolic = SparseLlt::analyze_pattern(pattern.as_ref())?;
         let permuted = cached_permutation(&symbolic, pattern.as_ref());
         Ok(DiagonalPattern {
-            pattern,
+            pattern: Arc::new(pattern),
             values,
-            diag,
+            diag: Arc::new(diag),
             symbolic,
             permuted,
         })
     }
 
+    /// The pattern, borrowed.
+    pub fn pat(&self) -> SymbolicSparseColMatRef<'_, usize> {
+        (*self.pattern).as_ref()
+    }
+
     /// Numeric Cholesky of the matrix with this pattern and `values` (None if not positive
     /// definite).
     pub fn factor(&self, values: &[f64]) -> Option<SparseLlt> {
-        let m = faer::sparse::SparseColMatRef::new(self.pattern.as_ref(), values);
+        let m = faer::sparse::SparseColMatRef::new(self.pat(), values);
         SparseLlt::factorize_permuted(self.symbolic.clone(), self.permuted.as_deref(), m)
     }
 
@@ -168,7 +167,7 @@ impl DiagonalPattern {
     /// a gather: one accumulator per entry of y instead of scattered updates; ≈ 2× faster on
     /// the sweep's Lanczos runs).
     pub fn matvec(&self, x: &[f64], y: &mut [f64]) {
-        symmetric_matvec(self.pattern.as_ref(), &self.values, x, y)
+        symmetric_matvec(self.pat(), &self.values, x, y)
     }
 
     /// Dimension.

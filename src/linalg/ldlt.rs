@@ -78,7 +78,7 @@ mod tests {
         ];
         for (tau, below) in shifts {
             let mut v = pattern.values.clone();
-            for &p in &pattern.diag {
+            for &p in pattern.diag.iter() {
                 v[p] -= tau;
             }
             let test = pattern.ldlt(&v).expect("simplicial, no zero pivot");

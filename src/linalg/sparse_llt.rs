@@ -23,8 +23,8 @@ pub(super) fn cached_permutation(
     }
     cached(|e| {
         Arc::ptr_eq(&e.symbolic, symbolic)
-            && e.col_ptr == pat.col_ptr()
-            && e.row_idx == pat.row_idx()
+            && e.pattern.col_ptr() == pat.col_ptr()
+            && e.pattern.row_idx() == pat.row_idx()
     })?
     .permuted
     .clone()
@@ -66,14 +66,27 @@ pub(super) fn cached_entry(
     if let Some(e) = lookup_entry(pat) {
         return Ok(Some(e));
     }
-    let (cp, ri) = (pat.col_ptr(), pat.row_idx());
+    let (n, cp, ri) = (pat.ncols(), pat.col_ptr(), pat.row_idx());
     let symbolic = analyse_symbolic(pat)?;
-    let diag = (0..pat.ncols())
-        .map(|j| crate::system::csc_position(pat, j, j))
-        .collect();
+    let compact_sorted = cp[0] == 0
+        && ri.len() == cp[n]
+        && (0..n).all(|j| ri[cp[j]..cp[j + 1]].windows(2).all(|w| w[0] < w[1]));
+    let diag = compact_sorted
+        .then(|| {
+            (0..n)
+                .map(|j| crate::system::csc_position(pat, j, j))
+                .collect()
+        })
+        .flatten()
+        .map(Arc::new);
     let entry = Arc::new(CachedSymbolic {
-        col_ptr: cp.to_vec(),
-        row_idx: ri.to_vec(),
+        pattern: Arc::new(SymbolicSparseColMat::new_unsorted_checked(
+            n,
+            n,
+            cp.to_vec(),
+            None,
+            ri.to_vec(),
+        )),
         permuted: PermutedUpper::new(pat, &symbolic).map(Arc::new),
         symbolic,
         diag,
@@ -88,7 +101,7 @@ pub(super) fn cached_entry(
 /// The cache's entry of `pat` (compressed, square), if it has one.
 pub(super) fn lookup_entry(pat: SymbolicSparseColMatRef<'_, usize>) -> Option<Arc<CachedSymbolic>> {
     let (cp, ri) = (pat.col_ptr(), pat.row_idx());
-    cached(|e| e.col_ptr == cp && e.row_idx == ri)
+    cached(|e| e.pattern.col_ptr() == cp && e.pattern.row_idx() == ri)
 }
 
 /// Appends `e`, dropping the oldest entry beyond [`SYMBOLIC_CACHE_LEN`].
@@ -110,14 +123,16 @@ pub const SYMBOLIC_CACHE_LEN: usize = 2;
 
 /// A pattern (compressed, square) and its symbolic analysis.
 pub(super) struct CachedSymbolic {
-    pub(super) col_ptr: Vec<usize>,
-    pub(super) row_idx: Vec<usize>,
+    /// The pattern as analysed (its column pointers and row indices are the cache's key).
+    pub(super) pattern: Arc<SymbolicSparseColMat<usize>>,
     pub(super) symbolic: Arc<SymbolicCholesky<usize>>,
     /// The permuted upper triangle, where the analysis is simplicial with a permutation.
     pub(super) permuted: Option<Arc<PermutedUpper>>,
-    /// `diag[j]`: the position of entry (j, j), where every diagonal entry is stored
-    /// ([`DiagonalPattern::new`](super::DiagonalPattern::new) of a matrix with this pattern then copies it).
-    pub(super) diag: Option<Vec<usize>>,
+    /// `diag[j]`: the position of entry (j, j), where the pattern is stored from position 0
+    /// with sorted columns and every diagonal entry
+    /// ([`DiagonalPattern::new`](super::DiagonalPattern::new) of a matrix with this pattern
+    /// then shares it and the pattern).
+    pub(super) diag: Option<Arc<Vec<usize>>>,
 }
 
 /// The last [`SYMBOLIC_CACHE_LEN`] analyses, oldest first.

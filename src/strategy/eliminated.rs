@@ -130,7 +130,7 @@ pub fn box_solve(
                         x[j] = u_fix[j];
                     }
                 }
-                let a = SparseColMatRef::new(pat.pattern.as_ref(), &vals);
+                let a = SparseColMatRef::new(pat.pat(), &vals);
                 let out = pcg(
                     a,
                     f,

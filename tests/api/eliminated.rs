@@ -207,7 +207,7 @@ fn pcg_with_a_nearby_factor() {
     new.push(n / 2 + 1);
     let f_old = pat.factor(&values_with(&old)).unwrap();
     let v_new = values_with(&new);
-    let a = faer::sparse::SparseColMatRef::new(pat.pattern.as_ref(), &v_new);
+    let a = faer::sparse::SparseColMatRef::new(pat.pat(), &v_new);
     let b: Vec<f64> = (0..n).map(|i| 1.0 + (i % 5) as f64).collect();
     let mut x_direct = b.clone();
     pat.factor(&v_new)

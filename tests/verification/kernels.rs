@@ -77,13 +77,13 @@ fn shifted_factorizations_from_the_cached_permutation_are_faers() {
         let b = rhs(a.nrows());
         for shift in [0.0, 1e-3, 0.5] {
             let mut v = pattern.values.clone();
-            for &p in &pattern.diag {
+            for &p in pattern.diag.iter() {
                 v[p] += shift;
             }
             let ours = pattern.factor(&v).expect("SPD");
             let mut x = b.clone();
             ours.solve_vec_in_place(&mut x);
-            let shifted = SparseColMat::new(pattern.pattern.clone(), v);
+            let shifted = SparseColMat::new((*pattern.pattern).clone(), v);
             let theirs = faer_solve(&shifted, &b);
             assert!(
                 same_bits(&x, &theirs),
@@ -134,7 +134,7 @@ fn random_patterns_factor_as_faer_does() {
         // Past the Gershgorin bound: not positive definite.
         let big = row_sum.iter().fold(0.0f64, |m, r| m.max(2.0 * r + 1.0));
         let mut v = pattern.values.clone();
-        for &p in &pattern.diag {
+        for &p in pattern.diag.iter() {
             v[p] -= big;
         }
         assert!(

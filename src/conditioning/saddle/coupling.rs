@@ -107,7 +107,7 @@ impl<'a> Blocks<'a> {
         for row in &rows {
             for &(i, a) in row {
                 for &(j, b) in row {
-                    let pos = csc_position(pattern.pattern.as_ref(), i, j).ok_or_else(|| {
+                    let pos = csc_position(pattern.pat(), i, j).ok_or_else(|| {
                         Error::Numerical(format!(
                             "saddle-point cond₂: entry ({i}, {j}) of DDᵀ is not in the widened pattern"
                         ))

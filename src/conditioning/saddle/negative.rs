@@ -51,7 +51,7 @@ pub(super) fn negative_floor(shifts: &mut Shifts<'_>, t: f64, margin: Margin) ->
         for (d, a) in blocks.column(j) {
             dcol[d] = a;
         }
-        let res = residual_dot2(pattern.pattern.as_ref(), stored, &xj, 1.0, &dcol);
+        let res = residual_dot2(pattern.pat(), stored, &xj, 1.0, &dcol);
         for (i, (ri, ei)) in res.into_iter().enumerate() {
             r[j * n + i] = ri;
             dr[j * n + i] = up(ei + U * (stored[pattern.diag[i]] * xj[i]).abs());

@@ -134,7 +134,7 @@ pub fn null_space_lambda_min(k: &SparseColMat<usize, f64>, rows: &[Row]) -> Resu
             (1.0 + gamma(len + 1)) * pattern.values[a..b].iter().map(|v| v.abs()).sum::<f64>()
         })
         .fold(0.0, f64::max);
-    let (_, rho_hi) = rayleigh_interval(pattern.pattern.as_ref(), &pattern.values, &x)
+    let (_, rho_hi) = rayleigh_interval(pattern.pat(), &pattern.values, &x)
         .ok_or_else(|| failed("the Rayleigh quotient is not positive"))?;
     let x_norm = dot_interval(&x, &x).0.sqrt() * (1.0 - 4.0 * f64::EPSILON);
     let t = up(r_norm / (lambda_g.sqrt() * (1.0 - 4.0 * U)) / x_norm);

@@ -177,7 +177,7 @@ fn residuals(
     m: usize,
 ) -> (Vec<f64>, Vec<f64>) {
     let n = pattern.n();
-    let kfs_pattern = pattern.pattern.as_ref();
+    let kfs_pattern = pattern.pat();
     let mut r = vec![0.0; n * m];
     let mut dr = vec![0.0; n * m];
     for j in 0..m {

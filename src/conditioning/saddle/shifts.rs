@@ -56,7 +56,7 @@ impl Shifts<'_> {
             max_e = self
                 .blocks
                 .fill(self.pattern, &mut self.work, alpha, sigma, beta);
-            for &p in &self.pattern.diag {
+            for &p in self.pattern.diag.iter() {
                 max_b = max_b.max(certify::up(self.work[p]));
             }
         }
@@ -143,14 +143,7 @@ impl Shifts<'_> {
         if !(max_b > 0.0 && max_b.is_finite()) {
             return None;
         }
-        let residual = posterior.then(|| {
-            (
-                self.pattern.pattern.as_ref(),
-                self.work.as_slice(),
-                1.0,
-                0.0,
-            )
-        });
+        let residual = posterior.then(|| (self.pattern.pat(), self.work.as_slice(), 1.0, 0.0));
         let m =
             crate::conditioning::residual::own_margin(f, &stored, margin.m, need / max_b, residual);
         let c = (m * max_b + 6.0 * certify::U * max_e) * (1.0 + 16.0 * certify::U);

@@ -81,7 +81,7 @@ pub(super) fn certify_ends(
     margin: Margin,
     tol: Option<f64>,
 ) -> Ends {
-    let (pat, vals) = (fam.pattern.pattern.as_ref(), fam.pattern.values.as_slice());
+    let (pat, vals) = (fam.pattern.pat(), fam.pattern.values.as_slice());
     // The bottom end's upper side through Lemma 6 with compensated sums (a plain ρ(y_bottom)
     // carries ε·cond₂ of rounding and is rarely sharper).
     let refined_min = certify::inverse_rayleigh_upper(pat, vals, &est.bottom, &est.x_hat);
@@ -121,7 +121,7 @@ struct Bottom {
 fn certify_top(fam: &mut ShiftFamily, est: &Estimates, margin: Margin, tol: Option<f64>) -> Top {
     let max_diag = fam.pattern.max_diagonal();
     let (lmax_est, lmin_est) = (est.lmax, est.lmin);
-    let (pat, vals) = (fam.pattern.pattern.as_ref(), fam.pattern.values.as_slice());
+    let (pat, vals) = (fam.pattern.pat(), fam.pattern.values.as_slice());
     // ρ(y_top) in f64 with its rounding bounded (`rayleigh_interval`: ≈ k·ε relative at the
     // top of the spectrum).
     let top_plain = est
@@ -252,7 +252,7 @@ fn refined_lower(
     need: f64,
     share: f64,
 ) -> (f64, usize) {
-    let (pat, vals) = (fam.pattern.pattern.as_ref(), fam.pattern.values.as_slice());
+    let (pat, vals) = (fam.pattern.pat(), fam.pattern.values.as_slice());
     let mut lo = max_lo;
     if let Some(plain) = rayleigh_interval(pat, vals, v) {
         lo = lo.max(sharpen_top(pat, vals, v, plain, need));
@@ -269,7 +269,7 @@ fn refined_lower(
 /// quotient of its Ritz vector (a lower end of λ_max, [`sharpen_top`] to `need`; 0 where the
 /// run fails) and its steps.
 fn restart_top(fam: &ShiftFamily, y: &[f64], need: f64) -> (f64, usize) {
-    let (pat, vals) = (fam.pattern.pattern.as_ref(), fam.pattern.values.as_slice());
+    let (pat, vals) = (fam.pattern.pat(), fam.pattern.values.as_slice());
     let Ok(run) = lanczos(
         fam.pattern.n(),
         PLAIN_LANCZOS_STEPS,
@@ -312,7 +312,7 @@ fn inverse_rayleigh_upper(fam: &mut ShiftFamily, v: &[f64]) -> Option<f64> {
     let f = fam.factor(1.0, 0.0)?;
     let mut x = v.to_vec();
     f.solve_vec_in_place(&mut x);
-    let (pat, vals) = (fam.pattern.pattern.as_ref(), fam.pattern.values.as_slice());
+    let (pat, vals) = (fam.pattern.pat(), fam.pattern.values.as_slice());
     certify::inverse_rayleigh_upper(pat, vals, v, &x)
 }
 

@@ -676,8 +676,7 @@ mod tests {
             for j in [1, n] {
                 let y: Vec<f64> = (1..=n).map(|i| (i as f64 * j as f64 * th).sin()).collect();
                 let (lo, hi) =
-                    super::rayleigh_interval(pattern.pattern.as_ref(), &pattern.values, &y)
-                        .expect("positive");
+                    super::rayleigh_interval(pattern.pat(), &pattern.values, &y).expect("positive");
                 let l = lambda(j);
                 // The closed form itself carries a few ulps of rounding.
                 let slack = 4.0 * f64::EPSILON * l;

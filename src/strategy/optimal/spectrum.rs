@@ -209,9 +209,8 @@ impl Spectrum {
                 };
                 let n = pattern.n();
                 let mut warm = warm.borrow_mut();
-                let mut times_a = |x: &[f64], y: &mut [f64]| {
-                    symmetric_matvec(pattern.pattern.as_ref(), &values, x, y)
-                };
+                let mut times_a =
+                    |x: &[f64], y: &mut [f64]| symmetric_matvec(pattern.pat(), &values, x, y);
                 let Some(top) = top_window(&mut times_a, n, WINDOW, &warm[0], RESIDUAL, MAX_STEPS)
                 else {
                     return Ok(None);
@@ -263,7 +262,7 @@ impl Spectrum {
 fn outer_positions(pattern: &DiagonalPattern, row: &Constraint) -> Result<Vec<(usize, f64)>> {
     row.outer(1.0)
         .map(|(i, j, ab)| {
-            crate::system::csc_position(pattern.pattern.as_ref(), i, j)
+            crate::system::csc_position(pattern.pat(), i, j)
                 .map(|p| (p, ab))
                 .ok_or_else(|| Error::Numerical(format!("optimal: entry ({i}, {j}) of a row's outer product is not in the widened pattern")))
         })
