@@ -272,6 +272,10 @@ pub struct Reuse<'a> {
     /// run side by side ([`sparse::SIDE_BY_SIDE_ENDS_MIN_N`]): one factor alive at a time,
     /// one thread; the same result bit for bit.
     pub sequential_ends: bool,
+    /// The caller knows the matrix is symmetric bit for bit (a solve's `K + D E Dᵀ` with K
+    /// exactly symmetric and `D E Dᵀ` on the diagonal, as a solution hands it on):
+    /// its symmetry is not checked again.
+    pub exactly_symmetric: bool,
 }
 
 impl Reuse<'_> {
@@ -292,7 +296,11 @@ pub fn cond2_warm(
     a: &Stiffness,
     reuse: Reuse<'_>,
 ) -> Result<(CondReport, Option<sparse::RitzStarts>)> {
-    let symmetry = a.symmetry();
+    let symmetry = if reuse.exactly_symmetric {
+        Symmetry::Exact
+    } else {
+        a.symmetry()
+    };
     if let Symmetry::Near(asym) = symmetry {
         return cond2_near_symmetric(a, asym, reuse);
     }

@@ -79,10 +79,16 @@ fn system_cond(
     tol: Option<f64>,
     unavailable: &mut Vec<String>,
 ) -> Result<Option<CondReport>> {
-    let factor = sol.factor.as_deref();
     let penalty = starts.and_then(|s| penalty_starts(problem, sol, sys, s, free_bottom));
-    let starts = penalty.as_ref().or(starts);
-    cond_of_system(problem, &sol.system, sys, factor, starts, tol, unavailable)
+    let reuse = Reuse {
+        starts: penalty.as_ref().or(starts),
+        factor: sol.factor.as_deref(),
+        tol,
+        // The solution's own matrix is attached only where it is symmetric bit for bit.
+        exactly_symmetric: sol.matrix.as_deref().is_some_and(|m| std::ptr::eq(m, sys)),
+        ..Reuse::default()
+    };
+    cond_of_system(problem, &sol.system, sys, reuse, unavailable)
 }
 
 /// The starts of a penalized system's cond₂ ([`conditioning::starts`]), K's Ritz vectors
@@ -172,9 +178,7 @@ pub(crate) fn cond_of_system(
     problem: &Problem,
     kind: &SystemKind,
     sys: &Stiffness,
-    factor: Option<&crate::linalg::Factorization>,
-    starts: Option<&RitzStarts>,
-    tol: Option<f64>,
+    reuse: Reuse<'_>,
     unavailable: &mut Vec<String>,
 ) -> Result<Option<CondReport>> {
     // A saddle point with symmetric K: the block-structure route, never densified (a dense K
@@ -191,14 +195,16 @@ pub(crate) fn cond_of_system(
             let k = problem.k.as_sparse();
             let schur = conditioning::saddle::SCHUR_TEST_MAX;
             let report = match boolean_dofs(active) {
-                Some(dofs) => conditioning::saddle::cond2_saddle_warm(&k, &dofs, schur, starts),
+                Some(dofs) => {
+                    conditioning::saddle::cond2_saddle_warm(&k, &dofs, schur, reuse.starts)
+                }
                 // Rows that couple DOFs: the same route on the pattern of K + DDᵀ.
                 None => {
                     let rows: Vec<conditioning::saddle::Row> = active
                         .iter()
                         .map(|&c| problem.constraints[c].terms.clone())
                         .collect();
-                    conditioning::saddle::cond2_saddle_rows(&k, &rows, schur, starts)
+                    conditioning::saddle::cond2_saddle_rows(&k, &rows, schur, reuse.starts)
                 }
             };
             match report {
@@ -211,12 +217,6 @@ pub(crate) fn cond_of_system(
             }
         }
     }
-    let reuse = Reuse {
-        starts,
-        factor,
-        tol,
-        ..Reuse::default()
-    };
     match conditioning::cond2_warm(sys, reuse) {
         Ok((r, _)) => Ok(Some(r)),
         Err(e) if e.is_input() => {

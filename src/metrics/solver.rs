@@ -364,7 +364,11 @@ fn cond_jacobi(
     match &sol.system {
         SystemKind::Penalized => {
             let scaled = a.scaled(&s);
-            cond_of_system(problem, &sol.system, &scaled, None, None, tol, unavailable)
+            let reuse = crate::conditioning::Reuse {
+                tol,
+                ..Default::default()
+            };
+            cond_of_system(problem, &sol.system, &scaled, reuse, unavailable)
         }
         SystemKind::SaddlePoint { active } => {
             let scaled_k = problem.k.scaled(&s);
@@ -388,7 +392,11 @@ fn cond_jacobi(
                 }
             };
             let sys = crate::strategy::lagrange::saddle_matrix(&p, active);
-            cond_of_system(&p, &sol.system, &sys, None, None, tol, unavailable)
+            let reuse = crate::conditioning::Reuse {
+                tol,
+                ..Default::default()
+            };
+            cond_of_system(&p, &sol.system, &sys, reuse, unavailable)
         }
     }
 }

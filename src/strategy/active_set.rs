@@ -489,17 +489,17 @@ pub fn fixed_energy(mut ctx: Context, method: Method, eps: Vec<f64>) -> Result<S
         .constraints
         .iter()
         .all(|c| c.kind != ConstraintKind::Bilateral);
-    // Obstacle-type problems: a path-following start up to the target penalties.
-    let t_end = problem
-        .constraints
-        .iter()
-        .zip(&eps)
-        .map(|(c, &e)| e / c.stiffness(&problem.k).abs())
-        .fold(0.0f64, f64::max);
     let contact_set = ctx.contact_set().filter(|_| !all_bilateral);
     let path = if all_bilateral || contact_set.is_some() {
         None
     } else {
+        // Obstacle-type problems: a path-following start up to the target penalties.
+        let t_end = problem
+            .constraints
+            .iter()
+            .zip(&eps)
+            .map(|(c, &e)| e / c.stiffness(&problem.k).abs())
+            .fold(0.0f64, f64::max);
         path_following(&mut ctx, &eps, &limits, t_end)?
     };
     let start = if all_bilateral {

@@ -334,8 +334,10 @@ pub struct Solution {
     #[serde(skip)]
     pub factor: Option<Arc<Factorization>>,
     /// The final penalized system `K + D E Dᵀ` that `factor` factors, as the solve assembled
-    /// it ([`penalized_matrix`] of `penalties`): kept with the factor, so that the metrics
-    /// do not assemble it again. Not serialized.
+    /// it ([`penalized_matrix`] of `penalties`), where it is symmetric bit for bit (K is, and
+    /// every penalized constraint is single-DOF, so `D E Dᵀ` is diagonal): kept with the
+    /// factor, so that the metrics neither assemble it nor check its symmetry again. Not
+    /// serialized.
     #[serde(skip)]
     pub matrix: Option<Arc<Stiffness>>,
 }
@@ -668,9 +670,15 @@ impl<'a> Context<'a> {
         let forces =
             forces.unwrap_or_else(|| penalties.iter().zip(&gaps).map(|(e, g)| e * g).collect());
         let max_penetration = self.problem.max_penetration(&u);
+        let diagonal = || {
+            let p = self.problem;
+            (p.constraints.iter().zip(&penalties))
+                .all(|(c, &e)| e == 0.0 || c.single_dof().is_some())
+        };
         let (factor, matrix) = match self.last {
             Some((eps, f, a)) if eps == penalties && handed_on(&f) => {
-                (Some(Arc::new(f)), a.map(Arc::new))
+                let exact = self.symmetric && diagonal();
+                (Some(Arc::new(f)), a.filter(|_| exact).map(Arc::new))
             }
             _ => (None, None),
         };

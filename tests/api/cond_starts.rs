@@ -55,3 +55,73 @@ fn the_contact_set_start_saves_steps_on_a_membrane() {
     too_long.push(true);
     assert!(metrics::contact_bottom(p, &too_long, &ritz).is_none());
 }
+
+/// A penalized solve hands its final `K + D E Dᵀ` to the metrics (`Solution::matrix`) only
+/// where that matrix is symmetric bit for bit — K exactly symmetric and every penalized
+/// constraint single-DOF — and it is then the matrix the metrics would assemble, with the same
+/// cond₂ bit for bit; a K one unit off symmetric or a coupled row gets no matrix.
+#[test]
+fn the_solve_hands_on_its_matrix_only_where_it_is_exactly_symmetric() {
+    use penalty_lab::system::{Constraint, ConstraintKind, Problem, Stiffness};
+    let cfg = GeneratorConfig {
+        membrane_side: (12, 12),
+        ..GeneratorConfig::default()
+    };
+    let p = generate(Family::Membrane, 0, 5, &cfg).unwrap().problem;
+    assert!(p.k.is_sparse() && p.k.is_symmetric());
+    let set = MetricSet {
+        cond: true,
+        det: true,
+        ..MetricSet::default()
+    };
+    let sol = strategy::solve(&p, Method::constant(1e4)).unwrap();
+    let handed = sol
+        .matrix
+        .as_deref()
+        .expect("an exactly symmetric system is handed on");
+    assert!(handed.is_symmetric());
+    assert_eq!(
+        handed.to_dense(),
+        metrics::system_matrix(&p, &sol).to_dense()
+    );
+    let mut bare = sol.clone();
+    bare.matrix = None;
+    let (with, without) = (
+        metrics::compute(&p, &sol, set).unwrap(),
+        metrics::compute(&p, &bare, set).unwrap(),
+    );
+    let (a, b) = (with.cond2_system.unwrap(), without.cond2_system.unwrap());
+    assert_eq!(
+        (
+            a.cond2.to_bits(),
+            a.cond2_lo.to_bits(),
+            a.cond2_hi.to_bits()
+        ),
+        (
+            b.cond2.to_bits(),
+            b.cond2_lo.to_bits(),
+            b.cond2_hi.to_bits()
+        )
+    );
+    assert_eq!(with.log10_det_system, without.log10_det_system);
+
+    // K one unit in the last place off symmetric (in the first off-diagonal entry).
+    let mut entries = Vec::new();
+    p.k.for_each_entry(|i, j, v| entries.push((i, j, v)));
+    let at = entries.iter().position(|&(i, j, _)| i > j).unwrap();
+    entries[at].2 = f64::from_bits(entries[at].2.to_bits() + 1);
+    let near = Stiffness::from_triplets(p.n(), &entries).unwrap();
+    assert!(!near.is_symmetric());
+    let pn = Problem::new(near, p.q.clone(), p.constraints.clone()).unwrap();
+    let sol = strategy::solve(&pn, Method::constant(1e4)).unwrap();
+    assert!(sol.matrix.is_none());
+
+    // A (bilateral, so always penalized) row coupling two DOFs adds off-diagonal entries.
+    let mut rows = p.constraints.clone();
+    let (d0, d1) = (rows[0].lead_dof(), rows[1].lead_dof());
+    rows[0] = Constraint::row(vec![(d0, 0.6), (d1, 0.8)], 0.0, ConstraintKind::Bilateral);
+    let pc = Problem::new(p.k.clone(), p.q.clone(), rows).unwrap();
+    let sol = strategy::solve(&pc, Method::constant(1e4)).unwrap();
+    assert!(sol.penalties[0] != 0.0 && sol.factor.is_some());
+    assert!(sol.matrix.is_none());
+}
