@@ -229,6 +229,15 @@ fn killed_run_resumes_to_the_uninterrupted_rows() {
         m["rows_written"].as_u64().unwrap() as usize,
         expected - resumed * cfg.rows_per_scene()
     );
+    // The rows the manifest says rows.csv holds (what the report prints) are the file's.
+    let in_file = rows::count_rows(&out.join("rows.csv")).unwrap();
+    assert_eq!(in_file, expected);
+    assert_eq!(m["rows_in_file"].as_u64().unwrap() as usize, in_file);
+    let report = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        report.contains(&format!(" {in_file} in rows.csv")),
+        "{report}"
+    );
     // Resuming a complete run changes nothing.
     sweep_ok(&d, &with(&args, &["--resume"]));
     assert_eq!(rows_of(&out), reference);

@@ -176,6 +176,9 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
     manifest["status"] = "complete".into();
     manifest["wall_seconds"] = wall.into();
     manifest["rows_written"] = rows_written.into();
+    // rows.csv as this run leaves it: the complete scenes it kept (`--resume` cut it back to
+    // them) and the rows it appended.
+    manifest["rows_in_file"] = (done * per_scene + rows_written).into();
     manifest["rows_per_second"] = summary.rows_per_second.into();
     manifest["resumed_scenes"] = summary.resumed_scenes.into();
     manifest["timing"] = times.report(wall, threads);
