@@ -273,8 +273,9 @@ pub struct Reuse<'a> {
     /// one thread; the same result bit for bit.
     pub sequential_ends: bool,
     /// The caller knows the matrix is symmetric bit for bit (a solve's `K + D E Dᵀ` with K
-    /// exactly symmetric and `D E Dᵀ` on the diagonal, as a solution hands it on):
-    /// its symmetry is not checked again.
+    /// exactly symmetric and `D E Dᵀ` on the diagonal, as a solution hands it on): its
+    /// symmetry is not checked again (debug builds still check). A wrong claim certifies the
+    /// cond₂ of the wrong operator.
     pub exactly_symmetric: bool,
 }
 
@@ -297,6 +298,10 @@ pub fn cond2_warm(
     reuse: Reuse<'_>,
 ) -> Result<(CondReport, Option<sparse::RitzStarts>)> {
     let symmetry = if reuse.exactly_symmetric {
+        debug_assert!(
+            a.is_symmetric(),
+            "Reuse::exactly_symmetric on an unsymmetric matrix"
+        );
         Symmetry::Exact
     } else {
         a.symmetry()

@@ -86,9 +86,6 @@ enum Inner {
 pub struct Factorization {
     inner: Inner,
     n: usize,
-    /// The factor's pivots and the power they enter `|det|` with (2 for Cholesky's L, 1 for
-    /// LU's U); `None` for sparse LU. `log10|det|` is summed from them when asked for.
-    pivots: Option<(Vec<f64>, f64)>,
     pivot_ratio: f64,
 }
 
@@ -124,15 +121,8 @@ impl Factorization {
                     None
                 };
                 match llt {
-                    Some(l) => {
-                        let d: Vec<f64> = (0..n).map(|i| l.L()[(i, i)]).collect();
-                        Self::from_pivots(Inner::DenseLlt(l), n, d, 2.0)
-                    }
-                    None => {
-                        let lu = m.partial_piv_lu();
-                        let d: Vec<f64> = (0..n).map(|i| lu.U()[(i, i)]).collect();
-                        Self::from_pivots(Inner::DenseLu(lu), n, d, 1.0)
-                    }
+                    Some(l) => Self::from_pivots(Inner::DenseLlt(l), n),
+                    None => Self::from_pivots(Inner::DenseLu(m.partial_piv_lu()), n),
                 }
             }
             Stiffness::Sparse(m) => {
@@ -146,10 +136,7 @@ impl Factorization {
                     None
                 };
                 match llt {
-                    Some(l) => {
-                        let d = l.l_diagonal();
-                        Self::from_pivots(Inner::SparseLlt(l), n, d, 2.0)
-                    }
+                    Some(l) => Self::from_pivots(Inner::SparseLlt(l), n),
                     None => {
                         let lu = m.sp_lu().map_err(|e| {
                             Error::singular(format!("sparse LU failed ({e:?}): matrix is singular"))
@@ -159,7 +146,6 @@ impl Factorization {
                         Factorization {
                             inner: Inner::SparseLu(lu),
                             n,
-                            pivots: None,
                             pivot_ratio: f64::NAN,
                         }
                     }
@@ -175,7 +161,7 @@ impl Factorization {
         }
         // A sum of logs of finite nonzero pivots is finite: the sum is formed (for the
         // message) only where one is zero, infinite or NaN.
-        if let Some((d, _)) = &f.pivots {
+        if let Some((d, _)) = f.pivots() {
             if !d.iter().all(|v| v.is_finite() && *v != 0.0) {
                 let ld = f.log10_abs_det().unwrap_or(f64::NAN);
                 return Err(Error::singular(format!(
@@ -186,14 +172,29 @@ impl Factorization {
         Ok(f)
     }
 
-    fn from_pivots(inner: Inner, n: usize, d: Vec<f64>, power: f64) -> Self {
-        let amax = d.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        let amin = d.iter().fold(f64::INFINITY, |a, v| a.min(v.abs()));
-        Factorization {
+    fn from_pivots(inner: Inner, n: usize) -> Self {
+        let mut f = Factorization {
             inner,
             n,
-            pivot_ratio: (amin / amax).powf(power),
-            pivots: Some((d, power)),
+            pivot_ratio: f64::NAN,
+        };
+        let (d, power) = f.pivots().expect("a factor with pivots");
+        let amax = d.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let amin = d.iter().fold(f64::INFINITY, |a, v| a.min(v.abs()));
+        f.pivot_ratio = (amin / amax).powf(power);
+        f
+    }
+
+    /// The factor's pivots and the power they enter `|det|` with (2 for Cholesky's L, 1 for
+    /// LU's U), read off the factor when asked (not kept: n words per live factor); `None`
+    /// for sparse LU.
+    fn pivots(&self) -> Option<(Vec<f64>, f64)> {
+        let n = self.n;
+        match &self.inner {
+            Inner::DenseLlt(l) => Some(((0..n).map(|i| l.L()[(i, i)]).collect(), 2.0)),
+            Inner::DenseLu(lu) => Some(((0..n).map(|i| lu.U()[(i, i)]).collect(), 1.0)),
+            Inner::SparseLlt(l) => Some((l.l_diagonal(), 2.0)),
+            Inner::SparseLu(_) => None,
         }
     }
 
@@ -222,7 +223,7 @@ impl Factorization {
 
     /// `log10|det A|` from the factor's pivots (`None` for sparse LU).
     pub fn log10_abs_det(&self) -> Option<f64> {
-        let (d, power) = self.pivots.as_ref()?;
+        let (d, power) = self.pivots()?;
         Some(d.iter().map(|v| power * v.abs().log10()).sum())
     }
 

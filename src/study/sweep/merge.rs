@@ -237,6 +237,7 @@ pub fn merge(out: &Path, dirs: &[PathBuf], provenance: &Provenance) -> Result<Me
         "rows_per_scene": first.get("rows_per_scene"),
         "status": "complete",
         "rows_written": total_rows,
+        "rows_in_file": total_rows,
         "resumed_scenes": 0,
         "merged_from": merged_from,
         "timing": summed_timing(&shards),

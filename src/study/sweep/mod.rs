@@ -80,6 +80,14 @@ pub struct RunSummary {
     pub rows_per_second: f64,
 }
 
+/// Removes `path` where it exists (an error other than its absence is reported).
+fn remove_if_present(path: &Path) -> Result<()> {
+    match std::fs::remove_file(path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(Error::io(path.display(), e)),
+        _ => Ok(()),
+    }
+}
+
 fn write_manifest(path: &Path, manifest: &serde_json::Value) -> Result<()> {
     let text = serde_json::to_string_pretty(manifest).expect("a JSON value serializes");
     write_atomic(path, text.as_bytes())
@@ -143,20 +151,17 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
     bar.set_done(done);
 
     // rows.csv's header (fresh runs) and the running manifest, both before any row. A fresh
-    // run replaces both files: it removes the old ones first, so that neither write replaces
-    // a file (on ext4, a rename over a file flushes the new one, and the final manifest then
-    // waited for that flush: 0.5 ms of the 25 ms folder sweep, docs/performance.md).
+    // run replaces both files and removes each old one just before writing it, so that neither
+    // write renames over a file: on ext4 such a rename flushes the new file, and the final
+    // manifest then waited for that flush (0.5 ms of the 25 ms folder sweep,
+    // docs/performance.md). The trade: the start files of a fresh run are not flushed, so a
+    // power loss in the seconds before the kernel writes them back can leave them empty
+    // (`--resume` then refuses and the run starts over), as for a run into a new folder.
     let start = || -> Result<()> {
         if resumed.is_none() {
-            for old in [&rows_path, &manifest_path] {
-                match std::fs::remove_file(old) {
-                    Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
-                        return Err(Error::io(old.display(), e))
-                    }
-                    _ => {}
-                }
-            }
+            remove_if_present(&rows_path)?;
             write_atomic(&rows_path, rows::header().as_bytes())?;
+            remove_if_present(&manifest_path)?;
         }
         write_manifest(&manifest_path, &manifest)
     };
