@@ -82,11 +82,15 @@ enum Inner {
     SparseLu(SparseLu<usize, f64>),
 }
 
+/// `Σ power·log10|d_i|`: `log10|det|` from a factor's pivots.
+fn log10_sum(d: &[f64], power: f64) -> f64 {
+    d.iter().map(|v| power * v.abs().log10()).sum()
+}
+
 /// A factorization of a square matrix, with solve and `log10|det|`.
 pub struct Factorization {
     inner: Inner,
     n: usize,
-    pivot_ratio: f64,
 }
 
 impl std::fmt::Debug for Factorization {
@@ -113,7 +117,7 @@ impl Factorization {
         symbolic: Option<Arc<SymbolicCholesky<usize>>>,
     ) -> Result<Self> {
         let n = a.n();
-        let f = match a {
+        let inner = match a {
             Stiffness::Dense(m) => {
                 let llt = if symmetric {
                     m.llt(Side::Lower).ok()
@@ -121,8 +125,8 @@ impl Factorization {
                     None
                 };
                 match llt {
-                    Some(l) => Self::from_pivots(Inner::DenseLlt(l), n),
-                    None => Self::from_pivots(Inner::DenseLu(m.partial_piv_lu()), n),
+                    Some(l) => Inner::DenseLlt(l),
+                    None => Inner::DenseLu(m.partial_piv_lu()),
                 }
             }
             Stiffness::Sparse(m) => {
@@ -136,53 +140,36 @@ impl Factorization {
                     None
                 };
                 match llt {
-                    Some(l) => Self::from_pivots(Inner::SparseLlt(l), n),
-                    None => {
-                        let lu = m.sp_lu().map_err(|e| {
-                            Error::singular(format!("sparse LU failed ({e:?}): matrix is singular"))
-                        })?;
-                        // faer's sparse LU does not expose U's diagonal: log|det| is then
-                        // computed by the metrics module when asked for.
-                        Factorization {
-                            inner: Inner::SparseLu(lu),
-                            n,
-                            pivot_ratio: f64::NAN,
-                        }
-                    }
+                    Some(l) => Inner::SparseLlt(l),
+                    // faer's sparse LU does not expose U's diagonal: log|det| is then
+                    // computed by the metrics module when asked for.
+                    None => Inner::SparseLu(m.sp_lu().map_err(|e| {
+                        Error::singular(format!("sparse LU failed ({e:?}): matrix is singular"))
+                    })?),
                 }
             }
         };
-        if f.pivot_ratio.is_finite() && f.pivot_ratio <= f64::EPSILON {
-            return Err(Error::singular(format!(
-                "{n}×{n} matrix is singular to working precision \
-                 (smallest/largest pivot = {:.3e})",
-                f.pivot_ratio
-            )));
-        }
-        // A sum of logs of finite nonzero pivots is finite: the sum is formed (for the
-        // message) only where one is zero, infinite or NaN.
-        if let Some((d, _)) = f.pivots() {
+        let f = Factorization { inner, n };
+        // The pivots, read once: the smallest over the largest, and a sum of logs that is
+        // finite unless one is zero, infinite or NaN (formed only then, for the message).
+        if let Some((d, power)) = f.pivots() {
+            let amax = d.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            let amin = d.iter().fold(f64::INFINITY, |a, v| a.min(v.abs()));
+            let ratio = (amin / amax).powf(power);
+            if ratio.is_finite() && ratio <= f64::EPSILON {
+                return Err(Error::singular(format!(
+                    "{n}×{n} matrix is singular to working precision \
+                     (smallest/largest pivot = {ratio:.3e})"
+                )));
+            }
             if !d.iter().all(|v| v.is_finite() && *v != 0.0) {
-                let ld = f.log10_abs_det().unwrap_or(f64::NAN);
+                let ld = log10_sum(&d, power);
                 return Err(Error::singular(format!(
                     "{n}×{n} matrix has a zero pivot (log10|det| = {ld})"
                 )));
             }
         }
         Ok(f)
-    }
-
-    fn from_pivots(inner: Inner, n: usize) -> Self {
-        let mut f = Factorization {
-            inner,
-            n,
-            pivot_ratio: f64::NAN,
-        };
-        let (d, power) = f.pivots().expect("a factor with pivots");
-        let amax = d.iter().fold(0.0f64, |a, v| a.max(v.abs()));
-        let amin = d.iter().fold(f64::INFINITY, |a, v| a.min(v.abs()));
-        f.pivot_ratio = (amin / amax).powf(power);
-        f
     }
 
     /// The factor's pivots and the power they enter `|det|` with (2 for Cholesky's L, 1 for
@@ -223,8 +210,7 @@ impl Factorization {
 
     /// `log10|det A|` from the factor's pivots (`None` for sparse LU).
     pub fn log10_abs_det(&self) -> Option<f64> {
-        let (d, power) = self.pivots()?;
-        Some(d.iter().map(|v| power * v.abs().log10()).sum())
+        self.pivots().map(|(d, power)| log10_sum(&d, power))
     }
 
     /// Solves `A X = B` in place for a block of right-hand sides.

@@ -501,7 +501,7 @@ pub struct Context<'a> {
     contact_set: Option<Arc<Vec<bool>>>,
     /// Last penalized factorization and the penalties it was built with (reused when the
     /// penalties repeat, e.g. Uzawa updates at fixed ε), with the matrix it factors where
-    /// [`Context::finish`] may hand both to the solution.
+    /// [`Context::finish`] may hand that on ([`Solution::matrix`]).
     last: Option<(Vec<f64>, Factorization, Option<Stiffness>)>,
     /// W = K⁻¹D, shared with the [`Prepared`] this context came from.
     constraint_columns: ConstraintColumns,
@@ -639,7 +639,10 @@ impl<'a> Context<'a> {
                 e => e,
             })?;
             self.stats.factorizations += 1;
-            let keep = handed_on(&f).then_some(a);
+            // K exactly symmetric (`self.symmetric`) and D E Dᵀ diagonal: A is too.
+            let diagonal =
+                (p.constraints.iter().zip(eps)).all(|(c, &e)| e == 0.0 || c.single_dof().is_some());
+            let keep = (handed_on(&f) && self.symmetric && diagonal).then_some(a);
             self.last = Some((eps.to_vec(), f, keep));
         }
         let f = &self.last.as_ref().expect("just set").1;
@@ -670,15 +673,9 @@ impl<'a> Context<'a> {
         let forces =
             forces.unwrap_or_else(|| penalties.iter().zip(&gaps).map(|(e, g)| e * g).collect());
         let max_penetration = self.problem.max_penetration(&u);
-        let diagonal = || {
-            let p = self.problem;
-            (p.constraints.iter().zip(&penalties))
-                .all(|(c, &e)| e == 0.0 || c.single_dof().is_some())
-        };
         let (factor, matrix) = match self.last {
             Some((eps, f, a)) if eps == penalties && handed_on(&f) => {
-                let exact = self.symmetric && diagonal();
-                (Some(Arc::new(f)), a.filter(|_| exact).map(Arc::new))
+                (Some(Arc::new(f)), a.map(Arc::new))
             }
             _ => (None, None),
         };
