@@ -15,6 +15,12 @@ computes, without any of penalty-lab's code:
 - pcg_iters_ic0: SciPy's `cg` with an IC(0) preconditioner written here from its definition
   (Meijerink & van der Vorst: Cholesky restricted to A's lower pattern; on breakdown
   A + alpha diag(A), alpha = 1e-3 doubled), applied by two SciPy triangular solves;
+- pcg_iters_jacobi_to_err, pcg_iters_ic0_to_err (penalized systems), minres_iters_to_err
+  (saddle points, SciPy's `minres` with M^-1 = diag(1/K_ii; K_dd) for single-DOF rows): the
+  same solvers from x0 = 0, counted by their callback to the first iterate with
+  ||u_k - u*||_inf <= e ||u*||_inf (u* the u block of mpmath's 50-digit solve, e = --err,
+  1e-6), the run ended there by an exception from the callback; and the error of u at each
+  residual stop (pcg_err_u_at_stop_jacobi, pcg_err_u_at_stop_ic0);
 - forward_err_u, forward_err_force: the relative inf-norm error of x_hat (u block; contact
   forces: penalties eps_c (x_d - u^_c) + lambda_c, multipliers for lagrange) against mpmath's
   LU solve at 50 digits of the stored A and b.
@@ -64,16 +70,49 @@ def jacobi_scaled(a, n_u):
     return out
 
 
-def cg_iterations(a, b, tau, m_inv):
+def cg_iterations(a, b, tau, m_inv, u_star=None):
+    """SciPy's cg to rtol = tau: (iterations, converged, error of u at the stop)."""
     count = [0]
 
     def cb(_):
         count[0] += 1
 
     op = spla.LinearOperator(a.shape, matvec=m_inv)
-    _, info = spla.cg(a, b, x0=np.zeros_like(b), rtol=tau, atol=0.0,
+    x, info = spla.cg(a, b, x0=np.zeros_like(b), rtol=tau, atol=0.0,
                       maxiter=10 * len(b), M=op, callback=cb)
-    return count[0], info == 0
+    err = None if u_star is None else rel_err_u(x, u_star)
+    return count[0], info == 0, err
+
+
+class Reached(Exception):
+    pass
+
+
+def rel_err_u(x, u_star):
+    top = np.max(np.abs(u_star))
+    e = np.max(np.abs(x[:len(u_star)] - u_star))
+    return float(e / top) if top > 0 else float(e)
+
+
+def iterations_to_err(solver, a, b, m_inv, u_star, target):
+    """Iterations of SciPy's `solver` (cg or minres) from x0 = 0 to the first iterate with
+    ||u_k - u*||_inf <= target ||u*||_inf: (iterations, reached)."""
+    count = [0]
+    if rel_err_u(np.zeros_like(b), u_star) <= target:
+        return 0, True
+
+    def cb(xk):
+        count[0] += 1
+        if rel_err_u(xk, u_star) <= target:
+            raise Reached()
+
+    op = spla.LinearOperator(a.shape, matvec=m_inv)
+    kw = {"rtol": 0.0, "atol": 0.0} if solver is spla.cg else {"rtol": 0.0}
+    try:
+        solver(a, b, x0=np.zeros_like(b), maxiter=10 * len(b), M=op, callback=cb, **kw)
+    except Reached:
+        return count[0], True
+    return count[0], False
 
 
 def ic0(a):
@@ -143,7 +182,7 @@ def forces(x, scene, out, n):
     return f
 
 
-def run_case(solve, base, case, tau):
+def run_case(solve, base, case, tau, err):
     scene_path = os.path.join(base, case["scene"])
     with open(scene_path) as fh:
         scene = json.load(fh)
@@ -159,10 +198,16 @@ def run_case(solve, base, case, tau):
            "n_system": a.shape[0]}
     sas = jacobi_scaled(a, n)
     ref["cond2_jacobi"] = float(np.linalg.cond(sas, 2))
+    x_ref = mp_solve(a, b)
+    u_star = np.array([float(v) for v in list(x_ref)[:n]])
     if out["system"] == "penalized":
         d = a.diagonal()
-        ref["pcg_iters_jacobi"], ref["pcg_converged_jacobi"] = cg_iterations(
-            a, b, tau, lambda r: r / d)
+        jac = lambda r: r / d  # noqa: E731
+        (ref["pcg_iters_jacobi"], ref["pcg_converged_jacobi"],
+         ref["pcg_err_u_at_stop_jacobi"]) = cg_iterations(a, b, tau, jac, u_star)
+        (ref["pcg_iters_jacobi_to_err"],
+         ref["pcg_iters_jacobi_to_err_converged"]) = iterations_to_err(
+            spla.cg, a, b, jac, u_star, err)
         l, shift = ic0(a)
         lt = l.T.tocsr()
 
@@ -170,16 +215,31 @@ def run_case(solve, base, case, tau):
             y = spla.spsolve_triangular(l, r, lower=True)
             return spla.spsolve_triangular(lt, y, lower=False)
 
-        ref["pcg_iters_ic0"], ref["pcg_converged_ic0"] = cg_iterations(a, b, tau, ic_apply)
+        (ref["pcg_iters_ic0"], ref["pcg_converged_ic0"],
+         ref["pcg_err_u_at_stop_ic0"]) = cg_iterations(a, b, tau, ic_apply, u_star)
+        (ref["pcg_iters_ic0_to_err"],
+         ref["pcg_iters_ic0_to_err_converged"]) = iterations_to_err(
+            spla.cg, a, b, ic_apply, u_star, err)
         ref["ic0_shift"] = shift
-    x_ref = mp_solve(a, b)
+    else:
+        # M^-1: 1/K_ii on u; on a single-DOF row's multiplier K_dd (the inverse of
+        # d^T diag(K)^-1 d).
+        dense = a.toarray()
+        inv = np.concatenate([1.0 / np.diag(dense)[:n],
+                              [dense[np.flatnonzero(dense[:n, j])[0], np.flatnonzero(dense[:n, j])[0]]
+                               for j in range(n, a.shape[0])]])
+        for j in range(n, a.shape[0]):
+            assert np.count_nonzero(dense[:n, j]) == 1, "single-DOF rows only"
+        (ref["minres_iters_to_err"],
+         ref["minres_iters_to_err_converged"]) = iterations_to_err(
+            spla.minres, a, b, lambda r: inv * r, u_star, err)
     ref["forward_err_u"] = rel_inf(x_hat[:n], list(x_ref)[:n])
     f_hat = [float(v) for v in forces([mpmath.mpf(float(v)) for v in x_hat], scene, out, n)]
     ref["forward_err_force"] = rel_inf(f_hat, forces(list(x_ref), scene, out, n))
     ours = {k: out.get(k) for k in ref if k not in ("scene", "method", "args", "n_system")}
     print(f"{case['scene']} {case['method']} {' '.join(case.get('args', []))}")
     for k in ours:
-        print(f"    {k:22} reference {ref[k]!s:24} penalty-lab {ours[k]}")
+        print(f"    {k:34} reference {ref[k]!s:24} penalty-lab {ours[k]}")
     return ref
 
 
@@ -189,16 +249,18 @@ def main():
     ap.add_argument("--cases", required=True)
     ap.add_argument("--out")
     ap.add_argument("--tau", type=float, default=1e-8)
+    ap.add_argument("--err", type=float, default=1e-6)
     args = ap.parse_args()
     with open(args.cases) as fh:
         cases = json.load(fh)
     base = os.path.dirname(os.path.abspath(args.cases))
-    refs = [run_case(args.solve, base, c, args.tau) for c in cases]
+    refs = [run_case(args.solve, base, c, args.tau, args.err) for c in cases]
     doc = {
         "generator": "scripts/solver_cost_reference.py",
         "versions": {"numpy": np.__version__, "scipy": scipy.__version__,
                      "mpmath": mpmath.__version__, "python": sys.version.split()[0]},
         "tau": args.tau,
+        "err_target": args.err,
         "cases": refs,
     }
     text = json.dumps(doc, indent=1) + "\n"

@@ -14,14 +14,22 @@
 //!   multiplier block; there `S_λc = diag(K)_{d_c}^{1/2}` (Jacobi on u, and on λ the scaling
 //!   that keeps each coupling entry exactly 1), i.e. the matrix `[S K S, D_A; D_Aᵀ, 0]`; for a
 //!   row with several terms `S_λc = 1/‖S d_c‖_∞` (its largest coupling entry 1);
-//! - `pcg_iters_jacobi`, `pcg_iters_ic0`: CG from x₀ = 0 to `‖r‖₂ ≤ τ‖b‖₂`
-//!   ([`crate::linalg::krylov::cg`], SciPy's test), preconditioned by Jacobi and by IC(0) on
-//!   A's pattern ([`crate::linalg::precond::Ic0`], with its Manteuffel shift recorded), each
-//!   with the effective condition number of the preconditioned operator estimated from the
-//!   run's Lanczos coefficients (an estimate); penalties only (A is SPD);
-//! - `minres_iters` (`lagrange`): MINRES from x₀ = 0 to `‖r‖_{M⁻¹} ≤ τ‖b‖_{M⁻¹}` with the
-//!   block-diagonal SPD preconditioner `M = diag(diag(K), D_Aᵀ diag(K)⁻¹ D_A)` (Jacobi on K,
-//!   the diagonal approximation of the Schur complement on the multipliers);
+//! - `pcg_iters_jacobi_to_err`, `pcg_iters_ic0_to_err`: CG from x₀ = 0
+//!   ([`crate::linalg::krylov::cg`]) until `‖u_k − u*‖∞ ≤ e·‖u*‖∞` (e = `krylov_err_target`,
+//!   default 1e-6; u* the refined reference below), preconditioned by Jacobi and by IC(0) on
+//!   A's pattern ([`crate::linalg::precond::Ic0`], with its Manteuffel shift recorded);
+//!   penalties only (A is SPD). **These are the counts to compare rules by**: each reaches the
+//!   same accuracy of u;
+//! - `pcg_iters_jacobi`, `pcg_iters_ic0`: the same runs stopped by SciPy's residual test
+//!   `‖r‖₂ ≤ τ‖b‖₂`, each beside the error of u at its stop (`pcg_err_u_at_stop_*`) and the
+//!   effective condition number of the preconditioned operator estimated from the run's
+//!   Lanczos coefficients (an estimate). The residual test is not an accuracy: with
+//!   `b = q + D E û` and û ≠ 0, ‖b‖ grows with ε and the test loosens (a stiffer penalty
+//!   "converges" in fewer iterations to a worse u);
+//! - `minres_iters_to_err`, `minres_iters` (`lagrange`): MINRES from x₀ = 0 to the same error
+//!   of u (the displacement block), and to `‖r‖_{M⁻¹} ≤ τ‖b‖_{M⁻¹}`, with the block-diagonal
+//!   SPD preconditioner `M = diag(diag(K), D_Aᵀ diag(K)⁻¹ D_A)` (Jacobi on K, the diagonal
+//!   approximation of the Schur complement on the multipliers);
 //! - `forward_err_u`, `forward_err_force`: `‖x̂ − x*‖∞/‖x*‖∞` of the plain f64 direct solve x̂
 //!   (Cholesky, or LU for the saddle point; not refined) against the reference x* of
 //!   [`crate::linalg::refine`] (double-double residuals; its estimated accuracy is
@@ -38,7 +46,7 @@ use super::{cond_of_system, finite_or_null, system_matrix};
 use crate::conditioning::CondReport;
 use crate::dd::Dd;
 use crate::error::{Error, Result};
-use crate::linalg::krylov::{self, KrylovRun};
+use crate::linalg::krylov::{self, KrylovRun, Preconditioner, Stop};
 use crate::linalg::precond::{Ic0, Jacobi};
 use crate::linalg::{refine, Factorization};
 use crate::strategy::{Solution, SystemKind};
@@ -49,6 +57,10 @@ use std::time::Instant;
 /// The default relative residual τ of the Krylov runs.
 pub const DEFAULT_TOL: f64 = 1e-8;
 
+/// The default relative error of u the error-based Krylov counts are taken to
+/// (`krylov_err_target`, module doc).
+pub const DEFAULT_ERR_TARGET: f64 = 1e-6;
+
 /// The default iteration limit of a Krylov run on N unknowns: SciPy's 10·N, at most 10⁵ (a
 /// run that has not converged by then would take hours at 10⁶ unknowns).
 pub fn default_max_iters(n: usize) -> usize {
@@ -58,8 +70,10 @@ pub fn default_max_iters(n: usize) -> usize {
 /// Options of [`compute`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SolverOptions {
-    /// τ: the Krylov runs stop at `‖r‖ ≤ τ‖b‖` (module doc).
+    /// τ: the residual-based Krylov runs stop at `‖r‖ ≤ τ‖b‖` (module doc).
     pub tol: f64,
+    /// e: the error-based Krylov runs stop at `‖u_k − u*‖∞ ≤ e‖u*‖∞` (module doc).
+    pub err_target: f64,
     /// Iteration limit of each Krylov run (`None`: [`default_max_iters`]).
     pub max_iters: Option<usize>,
     /// Relative accuracy asked of `cond2_jacobi` (`None`: the accuracy contract).
@@ -70,6 +84,7 @@ impl Default for SolverOptions {
     fn default() -> Self {
         SolverOptions {
             tol: DEFAULT_TOL,
+            err_target: DEFAULT_ERR_TARGET,
             max_iters: None,
             cond_tol: None,
         }
@@ -77,9 +92,10 @@ impl Default for SolverOptions {
 }
 
 impl SolverOptions {
-    /// Checks τ ∈ (0, 1) and a positive iteration limit.
+    /// Checks τ, e ∈ (0, 1) and a positive iteration limit.
     pub fn check(&self) -> Result<()> {
         Error::fraction("Krylov tolerance", self.tol)?;
+        Error::fraction("Krylov error target", self.err_target)?;
         if self.max_iters == Some(0) {
             return Err(Error::out_of_range("the Krylov iteration limit", 0, "≥ 1"));
         }
@@ -94,24 +110,55 @@ pub struct IterativeSolve {
     pub run: KrylovRun,
     /// Wall time (s).
     pub seconds: f64,
+    /// `‖u_k − u*‖∞/‖u*‖∞` at the run's stop (`None` without a converged reference u*).
+    pub err_u: Option<f64>,
+}
+
+/// The pair of runs of one Krylov solver and preconditioner (module doc): to the fixed error
+/// of u, and to the residual test.
+#[derive(Clone, Copy, Debug, Default, Serialize)]
+pub struct KrylovPair {
+    /// Stopped at `‖u_k − u*‖∞ ≤ e‖u*‖∞` (`None` without a converged reference u*).
+    pub to_err: Option<IterativeSolve>,
+    /// Stopped at the residual test τ.
+    pub residual: Option<IterativeSolve>,
+}
+
+impl KrylovPair {
+    /// Iterations and convergence of the error-based run.
+    pub fn to_err(&self) -> Option<KrylovRun> {
+        self.to_err.map(|s| s.run)
+    }
+
+    /// Iterations and convergence of the residual-based run.
+    pub fn residual(&self) -> Option<KrylovRun> {
+        self.residual.map(|s| s.run)
+    }
+
+    /// The error of u where the residual-based run stopped.
+    pub fn err_u_at_stop(&self) -> Option<f64> {
+        self.residual.and_then(|s| s.err_u)
+    }
 }
 
 /// The solver-cost metrics of one final system (module doc); `None` where a metric does not
 /// apply or could not be computed (the reason in `unavailable`).
 #[derive(Clone, Debug, Default, Serialize)]
 pub struct SolverMetrics {
-    /// τ of the Krylov runs.
+    /// τ of the residual-based Krylov runs.
     pub tol: f64,
+    /// e of the error-based Krylov runs.
+    pub err_target: f64,
     /// cond₂(S A S).
     pub cond2_jacobi: Option<CondReport>,
     /// CG with Jacobi (penalties).
-    pub pcg_jacobi: Option<IterativeSolve>,
+    pub pcg_jacobi: KrylovPair,
     /// CG with IC(0) (penalties).
-    pub pcg_ic0: Option<IterativeSolve>,
+    pub pcg_ic0: KrylovPair,
     /// IC(0)'s diagonal shift α (`A + α·diag(A)` factored; 0: none needed).
     pub ic0_shift: Option<f64>,
     /// MINRES with the block-diagonal preconditioner (`lagrange`).
-    pub minres: Option<IterativeSolve>,
+    pub minres: KrylovPair,
     /// Relative ∞-norm error of the direct solve's u.
     pub forward_err_u: Option<f64>,
     /// Relative ∞-norm error of the direct solve's contact forces.
@@ -138,13 +185,25 @@ pub struct SolverMetrics {
 pub struct Summary {
     /// cond₂ of S A S.
     pub cond2_jacobi: Option<f64>,
-    /// Jacobi-CG iterations.
+    /// Jacobi-CG iterations to the error target.
+    pub pcg_iters_jacobi_to_err: Option<usize>,
+    /// Whether that run reached the target.
+    pub pcg_iters_jacobi_to_err_converged: Option<bool>,
+    /// IC(0)-CG iterations to the error target.
+    pub pcg_iters_ic0_to_err: Option<usize>,
+    /// Whether that run reached the target.
+    pub pcg_iters_ic0_to_err_converged: Option<bool>,
+    /// MINRES iterations to the error target.
+    pub minres_iters_to_err: Option<usize>,
+    /// Whether that run reached the target.
+    pub minres_iters_to_err_converged: Option<bool>,
+    /// Jacobi-CG iterations to the residual test.
     pub pcg_iters_jacobi: Option<usize>,
-    /// IC(0)-CG iterations.
+    /// IC(0)-CG iterations to the residual test.
     pub pcg_iters_ic0: Option<usize>,
     /// Both CG runs reached τ.
     pub pcg_converged: Option<bool>,
-    /// MINRES iterations.
+    /// MINRES iterations to the residual test.
     pub minres_iters: Option<usize>,
     /// Forward error of u.
     pub forward_err_u: Option<f64>,
@@ -155,14 +214,20 @@ pub struct Summary {
 impl SolverMetrics {
     /// The [`Summary`] columns.
     pub fn summary(&self) -> Summary {
-        let run = |s: &Option<IterativeSolve>| s.as_ref().map(|s| s.run);
-        let (j, i) = (run(&self.pcg_jacobi), run(&self.pcg_ic0));
+        let (j, i) = (self.pcg_jacobi.residual(), self.pcg_ic0.residual());
+        let to_err = [&self.pcg_jacobi, &self.pcg_ic0, &self.minres].map(|p| p.to_err());
         Summary {
             cond2_jacobi: self.cond2_jacobi.map(|r| r.cond2),
+            pcg_iters_jacobi_to_err: to_err[0].map(|r| r.iterations),
+            pcg_iters_jacobi_to_err_converged: to_err[0].map(|r| r.converged),
+            pcg_iters_ic0_to_err: to_err[1].map(|r| r.iterations),
+            pcg_iters_ic0_to_err_converged: to_err[1].map(|r| r.converged),
+            minres_iters_to_err: to_err[2].map(|r| r.iterations),
+            minres_iters_to_err_converged: to_err[2].map(|r| r.converged),
             pcg_iters_jacobi: j.map(|r| r.iterations),
             pcg_iters_ic0: i.map(|r| r.iterations),
             pcg_converged: j.zip(i).map(|(a, b)| a.converged && b.converged),
-            minres_iters: run(&self.minres).map(|r| r.iterations),
+            minres_iters: self.minres.residual().map(|r| r.iterations),
             forward_err_u: self.forward_err_u,
             forward_err_force: self.forward_err_force,
         }
@@ -260,46 +325,61 @@ pub fn compute_for(
     opts.check()?;
     let mut out = SolverMetrics {
         tol: opts.tol,
+        err_target: opts.err_target,
         ..SolverMetrics::default()
     };
     out.cond2_jacobi = cond_jacobi(problem, sol, &fs.a, opts.cond_tol, &mut out.unavailable)?;
-    let sparse = fs.a.to_sparse();
-    let max_iters = opts.max_iters.unwrap_or(default_max_iters(fs.b.len()));
-    let timed = |f: &dyn Fn() -> KrylovRun| {
-        let t = Instant::now();
-        let run = f();
-        IterativeSolve {
-            run,
-            seconds: t.elapsed().as_secs_f64(),
-        }
-    };
     let symmetric = fs.a.is_symmetric();
+    // The reference u* first: the error-based counts stop on it.
+    let u_star = direct_errors(problem, sol, fs, symmetric, &mut out)?;
     if !symmetric {
         out.unavailable.push(
             "Krylov iterations not computed: the system matrix is not symmetric bit for bit \
              (CG and MINRES need a symmetric A)"
                 .into(),
         );
+        return Ok(out);
     }
+    if u_star.is_none() {
+        out.unavailable.push(
+            "error-based Krylov counts not computed: no converged reference u* (see the \
+             forward errors)"
+                .into(),
+        );
+    }
+    let sparse = fs.a.to_sparse();
+    let a = sparse.as_ref();
+    let max_iters = opts.max_iters.unwrap_or(default_max_iters(fs.b.len()));
+    let pair = |solver: Solver, m: &dyn Preconditioner| KrylovPair {
+        to_err: u_star.as_deref().map(|u| {
+            let stop = Stop::ErrorOfU {
+                reference: u,
+                target: opts.err_target,
+            };
+            timed(solver, a, m, &fs.b, stop, max_iters, u_star.as_deref())
+        }),
+        residual: Some(timed(
+            solver,
+            a,
+            m,
+            &fs.b,
+            Stop::Residual(opts.tol),
+            max_iters,
+            u_star.as_deref(),
+        )),
+    };
     match &sol.system {
-        _ if !symmetric => {}
         SystemKind::Penalized => {
-            match Jacobi::new(sparse.as_ref()) {
-                Ok(m) => {
-                    out.pcg_jacobi = Some(timed(&|| {
-                        krylov::cg(sparse.as_ref(), &m, &fs.b, opts.tol, max_iters).1
-                    }))
-                }
+            match Jacobi::new(a) {
+                Ok(m) => out.pcg_jacobi = pair(krylov::cg, &m),
                 Err(e) => out
                     .unavailable
                     .push(format!("pcg (Jacobi): {}", e.bare_message())),
             }
-            match Ic0::new(sparse.as_ref()) {
+            match Ic0::new(a) {
                 Ok(m) => {
                     out.ic0_shift = Some(m.shift);
-                    out.pcg_ic0 = Some(timed(&|| {
-                        krylov::cg(sparse.as_ref(), &m, &fs.b, opts.tol, max_iters).1
-                    }))
+                    out.pcg_ic0 = pair(krylov::cg, &m);
                 }
                 Err(e) => out
                     .unavailable
@@ -307,18 +387,42 @@ pub fn compute_for(
             }
         }
         SystemKind::SaddlePoint { active } => match saddle_preconditioner(problem, active) {
-            Ok(m) => {
-                out.minres = Some(timed(&|| {
-                    krylov::minres(sparse.as_ref(), &m, &fs.b, opts.tol, max_iters).1
-                }))
-            }
+            Ok(m) => out.minres = pair(krylov::minres, &m),
             Err(e) => out
                 .unavailable
                 .push(format!("minres: {}", e.bare_message())),
         },
     }
-    direct_errors(problem, sol, fs, symmetric, &mut out)?;
     Ok(out)
+}
+
+/// A Krylov solver of [`crate::linalg::krylov`].
+type Solver = fn(
+    faer::sparse::SparseColMatRef<'_, usize, f64>,
+    &dyn Preconditioner,
+    &[f64],
+    Stop<'_>,
+    usize,
+) -> (Vec<f64>, KrylovRun);
+
+/// One timed run, with the error of u at its stop where u* is known.
+fn timed(
+    solver: Solver,
+    a: faer::sparse::SparseColMatRef<'_, usize, f64>,
+    m: &dyn Preconditioner,
+    b: &[f64],
+    stop: Stop<'_>,
+    max_iters: usize,
+    u_star: Option<&[f64]>,
+) -> IterativeSolve {
+    let t = Instant::now();
+    let (x, run) = solver(a, m, b, stop, max_iters);
+    let seconds = t.elapsed().as_secs_f64();
+    IterativeSolve {
+        run,
+        seconds,
+        err_u: u_star.map(|u| krylov::relative_error_of_u(&x, u)),
+    }
 }
 
 /// `M⁻¹` of the MINRES preconditioner (module doc): `1/K_ii` on u, and on λ_c the inverse of
@@ -401,14 +505,15 @@ fn cond_jacobi(
     }
 }
 
-/// The direct solve's forward and backward errors against the refined reference.
+/// The direct solve's forward and backward errors against the refined reference; returns the
+/// reference's u block u* (rounded to f64) where the refinement converged.
 fn direct_errors(
     problem: &Problem,
     sol: &Solution,
     fs: &FinalSystem,
     symmetric: bool,
     out: &mut SolverMetrics,
-) -> Result<()> {
+) -> Result<Option<Vec<f64>>> {
     // A fresh factorization even where the solve kept its own (`Solution::factor`), so that
     // `seconds_direct` is a whole direct solve (factorization and one solve) for every rule.
     let t = Instant::now();
@@ -419,7 +524,7 @@ fn direct_errors(
                 "forward/backward errors not computed: {}",
                 e.bare_message()
             ));
-            return Ok(());
+            return Ok(None);
         }
     };
     let x = factor.solve(&fs.b);
@@ -439,7 +544,7 @@ fn direct_errors(
             "forward errors not computed: the reference did not converge (estimated accuracy {:.1e} after {} refinement steps; cond₂ too large for f64 corrections)",
             reference.accuracy, reference.steps
         ));
-        return Ok(());
+        return Ok(None);
     }
     let n = problem.n();
     out.forward_err_u = Some(refine::relative_error_dd(
@@ -452,7 +557,7 @@ fn direct_errors(
         .collect();
     let f_ref = forces_of(problem, sol, fs, &reference.x);
     out.forward_err_force = Some(refine::relative_error_dd(&f_hat, &f_ref));
-    Ok(())
+    Ok(Some(reference.x[..n].iter().map(|v| v.to_f64()).collect()))
 }
 
 impl SolverMetrics {
@@ -465,13 +570,16 @@ impl SolverMetrics {
     ) -> serde_json::Map<String, serde_json::Value> {
         use serde_json::json;
         let j = self.cond2_jacobi.as_ref();
-        let run = |s: &Option<IterativeSolve>| s.as_ref().map(|s| s.run);
-        let (pj, pi, mr) = (run(&self.pcg_jacobi), run(&self.pcg_ic0), run(&self.minres));
+        let (pj, pi, mr) = (
+            self.pcg_jacobi.residual(),
+            self.pcg_ic0.residual(),
+            self.minres.residual(),
+        );
         let both = match (pj, pi) {
             (Some(a), Some(b)) => Some(a.converged && b.converged),
             _ => None,
         };
-        let fields = json!({
+        let mut fields = json!({
             "cond2_jacobi": finite_or_null(j.map(|c| c.cond2)),
             "cond2_jacobi_lo": finite_or_null(j.map(|c| c.cond2_lo)),
             "cond2_jacobi_hi": finite_or_null(j.map(|c| c.cond2_hi)),
@@ -479,19 +587,20 @@ impl SolverMetrics {
             "eps_cond2": finite_or_null(eps_cond(cond2_system)),
             "eps_cond2_jacobi": finite_or_null(eps_cond(j)),
             "krylov_tol": self.tol,
+            "krylov_err_target": self.err_target,
             "pcg_iters_jacobi": pj.map(|r| r.iterations),
             "pcg_converged_jacobi": pj.map(|r| r.converged),
             "pcg_cond_eff_jacobi": finite_or_null(pj.and_then(|r| r.effective_cond())),
-            "pcg_seconds_jacobi": self.pcg_jacobi.map(|s| s.seconds),
+            "pcg_seconds_jacobi": self.pcg_jacobi.residual.map(|s| s.seconds),
             "pcg_iters_ic0": pi.map(|r| r.iterations),
             "pcg_converged_ic0": pi.map(|r| r.converged),
             "pcg_cond_eff_ic0": finite_or_null(pi.and_then(|r| r.effective_cond())),
-            "pcg_seconds_ic0": self.pcg_ic0.map(|s| s.seconds),
+            "pcg_seconds_ic0": self.pcg_ic0.residual.map(|s| s.seconds),
             "ic0_shift": self.ic0_shift,
             "pcg_converged": both,
             "minres_iters": mr.map(|r| r.iterations),
             "minres_converged": mr.map(|r| r.converged),
-            "minres_seconds": self.minres.map(|s| s.seconds),
+            "minres_seconds": self.minres.residual.map(|s| s.seconds),
             "forward_err_u": finite_or_null(self.forward_err_u),
             "forward_err_force": finite_or_null(self.forward_err_force),
             "backward_err": finite_or_null(self.backward_err),
@@ -499,9 +608,30 @@ impl SolverMetrics {
             "refinement_steps": self.refinement_steps,
             "seconds_direct": self.seconds_direct,
         });
-        match fields {
-            serde_json::Value::Object(m) => m,
-            _ => unreachable!("a JSON object literal"),
+        let map = fields.as_object_mut().expect("a JSON object literal");
+        // The error-based counts, and the error of u at each residual stop.
+        for (name, stop_name, p) in [
+            (
+                "pcg_iters_jacobi_to_err",
+                "pcg_err_u_at_stop_jacobi",
+                &self.pcg_jacobi,
+            ),
+            (
+                "pcg_iters_ic0_to_err",
+                "pcg_err_u_at_stop_ic0",
+                &self.pcg_ic0,
+            ),
+            ("minres_iters_to_err", "minres_err_u_at_stop", &self.minres),
+        ] {
+            let run = p.to_err();
+            map.insert(name.into(), json!(run.map(|r| r.iterations)));
+            map.insert(format!("{name}_converged"), json!(run.map(|r| r.converged)));
+            map.insert(
+                format!("{name}_seconds"),
+                json!(p.to_err.map(|s| s.seconds)),
+            );
+            map.insert(stop_name.into(), finite_or_null(p.err_u_at_stop()));
         }
+        std::mem::take(map)
     }
 }

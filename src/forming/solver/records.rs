@@ -57,7 +57,8 @@ pub struct StepRecord {
     #[serde(default = "nan", deserialize_with = "null_as_nan")]
     pub cond2_jacobi: f64,
     /// CG iterations with Jacobi to ‖r‖ ≤ 1e-8‖b‖ from 0 on the step's last system (`None`
-    /// where CG does not apply or in records written before).
+    /// where CG does not apply or in records written before; not an accuracy: see
+    /// `pcg_err_u_at_stop_jacobi`).
     #[serde(default)]
     pub pcg_iters_jacobi: Option<usize>,
     /// Whether that run reached τ within 10·N iterations.
@@ -69,6 +70,26 @@ pub struct StepRecord {
     /// Whether that run reached τ.
     #[serde(default)]
     pub pcg_converged_ic0: Option<bool>,
+    /// CG iterations with Jacobi from 0 to the fixed error of u
+    /// (`‖v_k − v*‖∞ ≤ 1e-6‖v*‖∞`, v* the refined direct solution of the step's last
+    /// system; [`crate::metrics::solver`]): the count the figures and comparisons use.
+    #[serde(default)]
+    pub pcg_iters_jacobi_to_err: Option<usize>,
+    /// Whether that run reached the error target.
+    #[serde(default)]
+    pub pcg_iters_jacobi_to_err_converged: Option<bool>,
+    /// CG iterations with IC(0) to the fixed error of u.
+    #[serde(default)]
+    pub pcg_iters_ic0_to_err: Option<usize>,
+    /// Whether that run reached the error target.
+    #[serde(default)]
+    pub pcg_iters_ic0_to_err_converged: Option<bool>,
+    /// The relative error of the velocities where the residual-stopped Jacobi run stopped.
+    #[serde(default)]
+    pub pcg_err_u_at_stop_jacobi: Option<f64>,
+    /// The same for IC(0).
+    #[serde(default)]
+    pub pcg_err_u_at_stop_ic0: Option<f64>,
     /// Relative error of the plain direct solve of the step's last system against its
     /// double-double refinement (`forward_err_u` of [`crate::metrics::solver`]).
     #[serde(default = "nan", deserialize_with = "null_as_nan")]
@@ -110,6 +131,20 @@ pub struct StepRecord {
     /// cond₂ of every Picard iteration's system matrix (only if requested).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub iteration_cond2: Vec<f64>,
+}
+
+impl StepRecord {
+    /// Jacobi-CG iterations to the error target, where that run reached it.
+    pub fn jacobi_iters_to_err(&self) -> Option<usize> {
+        self.pcg_iters_jacobi_to_err
+            .filter(|_| self.pcg_iters_jacobi_to_err_converged == Some(true))
+    }
+
+    /// IC(0)-CG iterations to the error target, where that run reached it.
+    pub fn ic0_iters_to_err(&self) -> Option<usize> {
+        self.pcg_iters_ic0_to_err
+            .filter(|_| self.pcg_iters_ic0_to_err_converged == Some(true))
+    }
 }
 
 /// The sheet state at a given punch travel (for figures).

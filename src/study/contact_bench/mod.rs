@@ -29,7 +29,9 @@
 //! - `cond2_system` of its final system matrix ([`crate::metrics`], to `cond_tol`), with
 //!   `cond2_bounds_proven` and `cond2_within_contract` (false at the default `cond_tol`, which
 //!   is looser than the contract),
-//! - what that system costs a solver ([`crate::metrics::solver`]): `cond2_jacobi`,
+//! - what that system costs a solver ([`crate::metrics::solver`]): `cond2_jacobi`, the
+//!   Krylov counts to the fixed error of u `pcg_iters_jacobi_to_err`, `pcg_iters_ic0_to_err`,
+//!   `minres_iters_to_err` (each with its `*_converged`), the residual-stopped counts
 //!   `pcg_iters_jacobi`, `pcg_iters_ic0`, `pcg_converged`, `minres_iters`, `forward_err_u`,
 //!   `forward_err_force`,
 //! - `iterations` (the rule's own outer iterations), `force_solves`, `force_mismatch`, and for
@@ -375,6 +377,12 @@ fn base_row(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> BenchRow {
         pcg_iters_ic0: None,
         pcg_converged: None,
         minres_iters: None,
+        pcg_iters_jacobi_to_err: None,
+        pcg_iters_jacobi_to_err_converged: None,
+        pcg_iters_ic0_to_err: None,
+        pcg_iters_ic0_to_err_converged: None,
+        minres_iters_to_err: None,
+        minres_iters_to_err_converged: None,
         forward_err_u: None,
         forward_err_force: None,
         converged: false,

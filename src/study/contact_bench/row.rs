@@ -109,7 +109,8 @@ pub struct BenchRow {
     /// empty in rows written before issue 47).
     #[serde(default)]
     pub cond2_jacobi: Option<f64>,
-    /// CG iterations with Jacobi from 0 to ‖r‖ ≤ 1e-8‖b‖ (penalties).
+    /// CG iterations with Jacobi from 0 to ‖r‖ ≤ 1e-8‖b‖ (penalties; a residual test, not an
+    /// accuracy).
     #[serde(default)]
     pub pcg_iters_jacobi: Option<usize>,
     /// CG iterations with IC(0), the same test (penalties).
@@ -121,6 +122,25 @@ pub struct BenchRow {
     /// MINRES iterations (lagrange).
     #[serde(default)]
     pub minres_iters: Option<usize>,
+    /// CG iterations with Jacobi from 0 to ‖u_k − u*‖∞ ≤ 1e-6‖u*‖∞ (u* the refined direct
+    /// solution; penalties): the count that compares rules at equal accuracy.
+    #[serde(default)]
+    pub pcg_iters_jacobi_to_err: Option<usize>,
+    /// Whether that run reached the error target.
+    #[serde(default)]
+    pub pcg_iters_jacobi_to_err_converged: Option<bool>,
+    /// CG iterations with IC(0) to the same error of u (penalties).
+    #[serde(default)]
+    pub pcg_iters_ic0_to_err: Option<usize>,
+    /// Whether that run reached the error target.
+    #[serde(default)]
+    pub pcg_iters_ic0_to_err_converged: Option<bool>,
+    /// MINRES iterations to the same error of u (lagrange).
+    #[serde(default)]
+    pub minres_iters_to_err: Option<usize>,
+    /// Whether that run reached the error target.
+    #[serde(default)]
+    pub minres_iters_to_err_converged: Option<bool>,
     /// Relative error of the plain direct solve's u against its double-double refinement.
     #[serde(default)]
     pub forward_err_u: Option<f64>,
@@ -211,6 +231,12 @@ impl BenchRow {
         self.pcg_iters_ic0 = c.pcg_iters_ic0;
         self.pcg_converged = c.pcg_converged;
         self.minres_iters = c.minres_iters;
+        self.pcg_iters_jacobi_to_err = c.pcg_iters_jacobi_to_err;
+        self.pcg_iters_jacobi_to_err_converged = c.pcg_iters_jacobi_to_err_converged;
+        self.pcg_iters_ic0_to_err = c.pcg_iters_ic0_to_err;
+        self.pcg_iters_ic0_to_err_converged = c.pcg_iters_ic0_to_err_converged;
+        self.minres_iters_to_err = c.minres_iters_to_err;
+        self.minres_iters_to_err_converged = c.minres_iters_to_err_converged;
         self.forward_err_u = c.forward_err_u;
         self.forward_err_force = c.forward_err_force;
     }

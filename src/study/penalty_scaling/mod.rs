@@ -353,14 +353,18 @@ fn row_of(
     let opts = SolverOptions {
         tol: cfg.krylov_tol,
         max_iters: None,
+        err_target: metrics::solver::DEFAULT_ERR_TARGET,
         cond_tol: Some(cfg.cond_tol),
     };
     match metrics::solver::compute(problem, &sol, opts) {
         Ok(c) => {
             row.cond2_jacobi = c.cond2_jacobi.map(|r| r.cond2);
-            row.pcg_iters_jacobi = c.pcg_jacobi.map(|p| p.run.iterations);
-            row.pcg_iters_ic0 = c.pcg_ic0.map(|p| p.run.iterations);
-            row.minres_iters = c.minres.map(|p| p.run.iterations);
+            let reached = |p: &metrics::solver::KrylovPair| {
+                p.to_err().filter(|r| r.converged).map(|r| r.iterations)
+            };
+            row.pcg_iters_jacobi_to_err = reached(&c.pcg_jacobi);
+            row.pcg_iters_ic0_to_err = reached(&c.pcg_ic0);
+            row.minres_iters_to_err = reached(&c.minres);
             row.forward_err_u = c.forward_err_u;
             if !c.unavailable.is_empty() {
                 let sep = if row.note.is_empty() { "" } else { "; " };

@@ -40,12 +40,13 @@ pub struct Row {
     pub cond2_system: Option<f64>,
     /// cond₂ of the Jacobi-scaled final system (to `cond_tol`).
     pub cond2_jacobi: Option<f64>,
-    /// CG iterations with Jacobi (penalties).
-    pub pcg_iters_jacobi: Option<usize>,
-    /// CG iterations with IC(0) (penalties).
-    pub pcg_iters_ic0: Option<usize>,
-    /// MINRES iterations (lagrange).
-    pub minres_iters: Option<usize>,
+    /// CG iterations with Jacobi (penalties) to the fixed error of u
+    /// ([`crate::metrics::solver`], 1e-6 by default); empty where the run missed it.
+    pub pcg_iters_jacobi_to_err: Option<usize>,
+    /// CG iterations with IC(0) (penalties) to the same error; empty where missed.
+    pub pcg_iters_ic0_to_err: Option<usize>,
+    /// MINRES iterations (lagrange) to the same error; empty where missed.
+    pub minres_iters_to_err: Option<usize>,
     /// Relative error of the direct solve's u.
     pub forward_err_u: Option<f64>,
     /// The rule's solve (s).

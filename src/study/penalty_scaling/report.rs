@@ -45,8 +45,8 @@ pub fn text(rows: &[Row]) -> String {
                 opt(r.max_penetration, 2),
                 opt(r.cond2_system, 3),
                 opt(r.cond2_jacobi, 3),
-                count(r.pcg_iters_jacobi),
-                count(r.pcg_iters_ic0.or(r.minres_iters)),
+                count(r.pcg_iters_jacobi_to_err),
+                count(r.pcg_iters_ic0_to_err.or(r.minres_iters_to_err)),
                 r.note.chars().take(80).collect::<String>(),
             );
         }

@@ -51,6 +51,12 @@ fn with_flag(e: Error) -> Error {
     }
 }
 
+/// Above this many unknowns [`solve_scene`] computes the solver-cost metrics only when asked
+/// (`SolveOptions::solver_metrics`, `--solver-metrics`): their Krylov runs (two per
+/// preconditioner, to the residual test and to the fixed error of u) and the refined
+/// reference take longer than the solve itself at that size.
+pub const SOLVER_METRICS_AUTO_MAX_N: usize = 50_000;
+
 /// How [`solve_scene`] runs: which metrics, from which start, and what it writes.
 #[derive(Clone, Debug, Default)]
 pub struct SolveOptions {
@@ -58,6 +64,8 @@ pub struct SolveOptions {
     pub no_metrics: bool,
     /// Skip the solver-cost metrics only.
     pub no_solver_metrics: bool,
+    /// Compute the solver-cost metrics above [`SOLVER_METRICS_AUTO_MAX_N`] unknowns too.
+    pub solver_metrics: bool,
     /// Start constant, scaled and condensed from the exact contact set, and a penalized
     /// system's cond₂ from its free block's bottom vector (module doc of [`solve_scene`]).
     pub exact_start: bool,
@@ -75,9 +83,11 @@ fn check_options(opts: &SolveOptions) -> Result<()> {
     let k = opts.krylov;
     let only_tol = SolverOptions {
         max_iters: None,
+        err_target: metrics::solver::DEFAULT_ERR_TARGET,
         ..k
     };
     only_tol.check().map_err(|e| e.for_flag("--krylov-tol"))?;
+    Error::fraction("Krylov error target", k.err_target).map_err(|e| e.for_flag("--krylov-err"))?;
     k.check().map_err(|e| e.for_flag("--krylov-max-iters"))?;
     MetricSet::check_cond_tol(opts.cond_tol).map_err(|e| e.for_flag("--cond-tol"))
 }
@@ -172,6 +182,12 @@ pub fn solve_scene(
     let cost = solver_cost(p, &sol, opts)?;
     if let Some(c) = &cost {
         warnings.extend(c.unavailable.iter().cloned());
+    } else if !(no_metrics || opts.no_solver_metrics) {
+        warnings.push(format!(
+            "solver-cost metrics not computed: {} unknowns is above {SOLVER_METRICS_AUTO_MAX_N} \
+             (--solver-metrics computes them)",
+            p.n()
+        ));
     }
     let flags = crate::conditioning::CondReport::flags([
         m.cond2_k.as_ref(),
@@ -227,6 +243,13 @@ pub fn solve_scene(
     Ok(out)
 }
 
+/// Whether the solver-cost metrics run: not skipped, and asked for or at most
+/// [`SOLVER_METRICS_AUTO_MAX_N`] unknowns.
+fn solver_metrics_on(p: &crate::system::Problem, opts: &SolveOptions) -> bool {
+    !(opts.no_metrics || opts.no_solver_metrics)
+        && (opts.solver_metrics || p.n() <= SOLVER_METRICS_AUTO_MAX_N)
+}
+
 /// The solver-cost metrics of `sol` unless `opts` skips them, and its final system written
 /// to `opts.write_system` (with the direct solve x̂ where the metrics ran); the system is
 /// formed once for both.
@@ -235,7 +258,7 @@ fn solver_cost(
     sol: &strategy::Solution,
     opts: &SolveOptions,
 ) -> Result<Option<metrics::solver::SolverMetrics>> {
-    let with_cost = !(opts.no_metrics || opts.no_solver_metrics);
+    let with_cost = solver_metrics_on(p, opts);
     let system =
         (with_cost || opts.write_system.is_some()).then(|| metrics::solver::final_system(p, sol));
     let cost = match &system {
@@ -297,10 +320,14 @@ pub struct Flags {
     /// Adaptive per-constraint penalty update (augmented).
     #[arg(long)]
     adaptive: bool,
-    /// Skip the solver-cost metrics only (cond2_jacobi, the Krylov runs, the forward errors):
-    /// at 10⁶ unknowns the two CG runs take about as long as the solve.
+    /// Skip the solver-cost metrics only (cond2_jacobi, the Krylov runs, the forward errors).
     #[arg(long)]
     no_solver_metrics: bool,
+    /// Compute the solver-cost metrics above 50 000 unknowns too (by default they are
+    /// computed up to 50 000 unknowns only: above, their Krylov runs take longer than the
+    /// solve itself).
+    #[arg(long, conflicts_with = "no_solver_metrics")]
+    solver_metrics: bool,
     /// Skip every metric: cond₂, log-det and the solver-cost metrics (cond₂ costs O(N³) for
     /// dense systems).
     #[arg(long)]
@@ -318,6 +345,10 @@ pub struct Flags {
     /// stop at ‖r‖ ≤ τ‖b‖, from x₀ = 0.
     #[arg(long, default_value_t = metrics::solver::DEFAULT_TOL, allow_negative_numbers = true)]
     krylov_tol: f64,
+    /// The relative error of u the reported Krylov counts are taken to
+    /// (`*_to_err`: ‖u_k − u*‖∞ ≤ e‖u*‖∞, u* the refined direct solution of the same system).
+    #[arg(long, default_value_t = metrics::solver::DEFAULT_ERR_TARGET, allow_negative_numbers = true)]
+    krylov_err: f64,
     /// Iteration limit of each Krylov run (default 10·N, SciPy's, at most 1e5).
     #[arg(long)]
     krylov_max_iters: Option<usize>,
@@ -408,10 +439,12 @@ impl Study for Solve {
         let opts = SolveOptions {
             no_metrics: f.no_metrics,
             no_solver_metrics: f.no_solver_metrics,
+            solver_metrics: f.solver_metrics,
             exact_start: f.exact_start,
             cond_tol: f.cond_tol,
             krylov: SolverOptions {
                 tol: f.krylov_tol,
+                err_target: f.krylov_err,
                 max_iters: f.krylov_max_iters,
                 cond_tol: None,
             },

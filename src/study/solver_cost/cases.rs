@@ -17,7 +17,14 @@
 //!   (nodal −0.2/n_el), the bed `w ≥ −0.5·(1 + sin(3πx/L))·x/L` at every node. Length scale:
 //!   0.5; ε relative to max K_dd.
 //!
-//! For `membrane` and `beam` the errors are on u: a rule's penalty error is
+//! - `incline-15`, `incline-30`, `incline-45`: the block of [`incline_block`] (W × H = 2 × 1,
+//!   E = 1, ν = 0.3, crowned bottom along the plane, top clamped and pressed by 0.01·H) on the
+//!   plane inclined at θ = 15°, 30°, 45°, with `8·2^l × 4·2^l` Q4 elements: one two-term row
+//!   `sinθ·u_x + cosθ·u_y ≥ −g₀` per bottom node, the DOFs and supports axis-aligned — the
+//!   coupled rows a diagonal preconditioner cannot absorb. Length scale: 0.01 (the press);
+//!   ε relative to max `d_cᵀ K d_c`.
+//!
+//! For `membrane`, `beam` and the incline families the errors are on u: a rule's penalty error is
 //! `‖u − u_L‖∞/‖u_L‖∞` against Lagrange on the same mesh; the discretization error of level l
 //! is estimated by the next level, `‖u_l − R u_{l+1}‖∞/‖R u_{l+1}‖∞` at the coarse nodes (R:
 //! restriction to them); the finest level's is extrapolated at the last observed ratio
@@ -26,6 +33,7 @@
 use crate::error::{Error, Result};
 use crate::model::beam::bed::{self, Bed};
 use crate::model::elasticity::Grid;
+use crate::model::incline_block;
 use crate::model::membrane;
 use crate::strategy::force_control::{solve_at_load, FORCE_TOL};
 use crate::strategy::{self, Method, Solution};
@@ -46,15 +54,24 @@ pub enum Family {
     Membrane,
     /// The cantilever on a wavy bed.
     Beam,
+    /// The block pressed on a plane inclined at 15° (two-term rows).
+    Incline15,
+    /// The same at 30°.
+    Incline30,
+    /// The same at 45°.
+    Incline45,
 }
 
 impl Family {
     /// Every family, in table order.
-    pub const ALL: [Family; 4] = [
+    pub const ALL: [Family; 7] = [
         Family::HertzPlane,
         Family::HertzAxi,
         Family::Membrane,
         Family::Beam,
+        Family::Incline15,
+        Family::Incline30,
+        Family::Incline45,
     ];
 
     /// Its name in rows.
@@ -64,7 +81,25 @@ impl Family {
             Family::HertzAxi => "hertz-axi",
             Family::Membrane => "membrane",
             Family::Beam => "beam",
+            Family::Incline15 => "incline-15",
+            Family::Incline30 => "incline-30",
+            Family::Incline45 => "incline-45",
         }
+    }
+
+    /// The plane's inclination θ in degrees (incline families).
+    pub fn incline_deg(self) -> Option<f64> {
+        match self {
+            Family::Incline15 => Some(15.0),
+            Family::Incline30 => Some(30.0),
+            Family::Incline45 => Some(45.0),
+            _ => None,
+        }
+    }
+
+    /// Whether its contact rows couple DOFs (two terms).
+    pub fn coupled(self) -> bool {
+        self.incline_deg().is_some()
     }
 }
 
@@ -78,6 +113,8 @@ pub const HERTZ: Setup = Setup {
 };
 /// The Hertz block over a.
 pub const HERTZ_BLOCK: f64 = 16.0;
+/// Elements along x of the incline families' coarsest level (`8 × 4`; level l: `8·2^l × 4·2^l`).
+pub const INCLINE_NX0: usize = 8;
 
 /// One mesh level of one family, with its Lagrange reference.
 pub struct Level {
@@ -85,7 +122,8 @@ pub struct Level {
     pub family: Family,
     /// Level index (0: coarsest).
     pub index: usize,
-    /// Element size (Hertz: h/a at the contact; membrane: 1/(side+1); beam: L/n_el over L).
+    /// Element size (Hertz: h/a at the contact; membrane: 1/(side+1); beam: L/n_el over L;
+    /// incline: 1/n_x).
     pub h: f64,
     /// Free DOFs.
     pub n_dofs: usize,
@@ -256,6 +294,23 @@ fn hertz_level(family: Family, case: Case, index: usize, h_rel: f64) -> Result<L
 /// level's DOFs to its own.
 fn fixed_level(family: Family, index: usize, size: usize) -> Result<Level> {
     let (problem, h, scale, from_coarse) = match family {
+        _ if family.coupled() => {
+            let theta = family.incline_deg().expect("an incline family");
+            let (nx, ny) = (size, size / 2);
+            let (cx, cy) = (nx / 2, ny / 2);
+            let map = (0..2 * (cx + 1) * cy)
+                .map(|d| {
+                    let (node, c) = (d / 2, d % 2);
+                    incline_block::free_dof(ny, 2 * (node / cy), 2 * (node % cy), c)
+                })
+                .collect();
+            (
+                incline_block::problem(theta, nx, ny)?,
+                1.0 / nx as f64,
+                incline_block::PRESS * incline_block::HEIGHT,
+                map,
+            )
+        }
         Family::Membrane => {
             let side = size;
             let coarse = side.div_ceil(2) - 1;
@@ -320,10 +375,11 @@ pub fn levels(
             Family::HertzAxi => hertz_level(family, Case::HertzAxi, l, hertz_h0 / (1 << l) as f64)?,
             Family::Membrane => fixed_level(family, l, (membrane_side0 + 1) * (1 << l) - 1)?,
             Family::Beam => fixed_level(family, l, beam_el0 * (1 << l))?,
+            _ => fixed_level(family, l, INCLINE_NX0 * (1 << l))?,
         };
         out.push(level);
     }
-    if matches!(family, Family::Membrane | Family::Beam) {
+    if !matches!(family, Family::HertzPlane | Family::HertzAxi) {
         for l in 0..count.saturating_sub(1) {
             let (coarse, fine) = out.split_at_mut(l + 1);
             let (c, f) = (&mut coarse[l], &fine[0]);

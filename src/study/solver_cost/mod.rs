@@ -55,8 +55,10 @@ pub struct SolverCostConfig {
     pub penetration_rel: f64,
     /// Relative tolerance of the knob match.
     pub match_tol: f64,
-    /// τ of the Krylov runs.
+    /// τ of the residual-stopped Krylov runs.
     pub krylov_tol: f64,
+    /// The relative error of u the error-based Krylov counts are taken to.
+    pub krylov_err: f64,
     /// Relative accuracy asked of each cond₂.
     pub cond_tol: f64,
 }
@@ -73,6 +75,7 @@ impl Default for SolverCostConfig {
             penetration_rel: 1e-3,
             match_tol: 0.05,
             krylov_tol: metrics::solver::DEFAULT_TOL,
+            krylov_err: metrics::solver::DEFAULT_ERR_TARGET,
             cond_tol: 1e-6,
         }
     }
@@ -131,6 +134,7 @@ impl SolverCostConfig {
             ("--penetration-rel", self.penetration_rel),
             ("--match-tol", self.match_tol),
             ("--krylov-tol", self.krylov_tol),
+            ("--krylov-err", self.krylov_err),
             ("--cond-tol", self.cond_tol),
         ] {
             Error::fraction(flag, v)?;
@@ -254,6 +258,7 @@ fn row_of(cfg: &SolverCostConfig, level: &Level, s: &'static Strategy, acc: Accu
     }
     let opts = SolverOptions {
         tol: cfg.krylov_tol,
+        err_target: cfg.krylov_err,
         max_iters: None,
         cond_tol: Some(cfg.cond_tol),
     };
@@ -335,24 +340,37 @@ fn solve_row(
 
 fn fill_solver_metrics(row: &mut Row, c: &metrics::solver::SolverMetrics) {
     row.cond2_jacobi = c.cond2_jacobi.map(|r| r.cond2);
-    if let Some(p) = c.pcg_jacobi {
-        row.pcg_iters_jacobi = Some(p.run.iterations);
-        row.pcg_converged_jacobi = Some(p.run.converged);
-        row.pcg_cond_eff_jacobi = p.run.effective_cond();
-        row.seconds_pcg_jacobi = Some(p.seconds);
+    let to_err = |p: &metrics::solver::KrylovPair| {
+        let r = p.to_err();
+        (r.map(|r| r.iterations), r.map(|r| r.converged))
+    };
+    (
+        row.pcg_iters_jacobi_to_err,
+        row.pcg_iters_jacobi_to_err_converged,
+    ) = to_err(&c.pcg_jacobi);
+    (row.pcg_iters_ic0_to_err, row.pcg_iters_ic0_to_err_converged) = to_err(&c.pcg_ic0);
+    (row.minres_iters_to_err, row.minres_iters_to_err_converged) = to_err(&c.minres);
+    row.seconds_pcg_jacobi = c.pcg_jacobi.to_err.map(|s| s.seconds);
+    row.seconds_pcg_ic0 = c.pcg_ic0.to_err.map(|s| s.seconds);
+    row.seconds_minres = c.minres.to_err.map(|s| s.seconds);
+    if let Some(r) = c.pcg_jacobi.residual() {
+        row.pcg_iters_jacobi = Some(r.iterations);
+        row.pcg_converged_jacobi = Some(r.converged);
+        row.pcg_cond_eff_jacobi = r.effective_cond();
     }
-    if let Some(p) = c.pcg_ic0 {
-        row.pcg_iters_ic0 = Some(p.run.iterations);
-        row.pcg_converged_ic0 = Some(p.run.converged);
-        row.pcg_cond_eff_ic0 = p.run.effective_cond();
-        row.seconds_pcg_ic0 = Some(p.seconds);
+    row.pcg_err_u_at_stop_jacobi = c.pcg_jacobi.err_u_at_stop();
+    if let Some(r) = c.pcg_ic0.residual() {
+        row.pcg_iters_ic0 = Some(r.iterations);
+        row.pcg_converged_ic0 = Some(r.converged);
+        row.pcg_cond_eff_ic0 = r.effective_cond();
     }
+    row.pcg_err_u_at_stop_ic0 = c.pcg_ic0.err_u_at_stop();
     row.ic0_shift = c.ic0_shift;
-    if let Some(p) = c.minres {
-        row.minres_iters = Some(p.run.iterations);
-        row.minres_converged = Some(p.run.converged);
-        row.seconds_minres = Some(p.seconds);
+    if let Some(r) = c.minres.residual() {
+        row.minres_iters = Some(r.iterations);
+        row.minres_converged = Some(r.converged);
     }
+    row.minres_err_u_at_stop = c.minres.err_u_at_stop();
     row.forward_err_u = c.forward_err_u;
     row.forward_err_force = c.forward_err_force;
     row.backward_err = c.backward_err;
@@ -388,9 +406,14 @@ pub struct Flags {
     /// δ of the penetration rows over the family's length scale.
     #[arg(long, default_value_t = 1e-3)]
     penetration_rel: f64,
-    /// τ of the Krylov runs (‖r‖ ≤ τ‖b‖ from x₀ = 0).
+    /// τ of the residual-stopped Krylov runs (‖r‖ ≤ τ‖b‖ from x₀ = 0), reported beside the
+    /// error of u at their stop.
     #[arg(long, default_value_t = metrics::solver::DEFAULT_TOL)]
     krylov_tol: f64,
+    /// The relative error of u every reported iteration count is taken to
+    /// (‖u_k − u*‖∞ ≤ e‖u*‖∞, u* the refined direct solution of the same system).
+    #[arg(long, default_value_t = metrics::solver::DEFAULT_ERR_TARGET)]
+    krylov_err: f64,
     /// Relative accuracy asked of each cond₂.
     #[arg(long, default_value_t = 1e-6)]
     cond_tol: f64,
@@ -453,6 +476,7 @@ impl Study for SolverCost {
             penetration_rel: f.penetration_rel,
             match_tol: d.match_tol,
             krylov_tol: f.krylov_tol,
+            krylov_err: f.krylov_err,
             cond_tol: f.cond_tol,
         };
         cfg.validate()?;

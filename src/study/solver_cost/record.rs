@@ -46,24 +46,44 @@ pub struct Row {
     pub cond2_system: Option<f64>,
     /// cond₂ of the Jacobi-scaled final system (to `cond_tol`).
     pub cond2_jacobi: Option<f64>,
-    /// CG iterations with Jacobi (penalties).
+    /// CG iterations with Jacobi (penalties) to the fixed error of u
+    /// (`‖u_k − u*‖∞ ≤ krylov_err_target·‖u*‖∞`): the count the tables, slopes and figures use.
+    pub pcg_iters_jacobi_to_err: Option<usize>,
+    /// Whether that run reached the error target.
+    pub pcg_iters_jacobi_to_err_converged: Option<bool>,
+    /// CG iterations with IC(0) to the fixed error of u.
+    pub pcg_iters_ic0_to_err: Option<usize>,
+    /// Whether that run reached the error target.
+    pub pcg_iters_ic0_to_err_converged: Option<bool>,
+    /// MINRES iterations (lagrange) to the fixed error of u.
+    pub minres_iters_to_err: Option<usize>,
+    /// Whether that run reached the error target.
+    pub minres_iters_to_err_converged: Option<bool>,
+    /// CG iterations with Jacobi to the residual test ‖r‖ ≤ τ‖b‖ (not an accuracy: see
+    /// `pcg_err_u_at_stop_jacobi`).
     pub pcg_iters_jacobi: Option<usize>,
     /// Whether they reached τ.
     pub pcg_converged_jacobi: Option<bool>,
+    /// The relative error of u where the residual-stopped Jacobi run stopped.
+    pub pcg_err_u_at_stop_jacobi: Option<f64>,
     /// Effective condition number of the Jacobi-preconditioned operator (estimate).
     pub pcg_cond_eff_jacobi: Option<f64>,
-    /// CG iterations with IC(0).
+    /// CG iterations with IC(0) to the residual test.
     pub pcg_iters_ic0: Option<usize>,
     /// Whether they reached τ.
     pub pcg_converged_ic0: Option<bool>,
+    /// The relative error of u where the residual-stopped IC(0) run stopped.
+    pub pcg_err_u_at_stop_ic0: Option<f64>,
     /// Effective condition number of the IC(0)-preconditioned operator (estimate).
     pub pcg_cond_eff_ic0: Option<f64>,
-    /// IC(0)'s diagonal shift.
+    /// IC(0)'s diagonal shift α (`A + α·diag(A)` factored; 0: none needed).
     pub ic0_shift: Option<f64>,
-    /// MINRES iterations (lagrange).
+    /// MINRES iterations (lagrange) to the residual test.
     pub minres_iters: Option<usize>,
     /// Whether they reached τ.
     pub minres_converged: Option<bool>,
+    /// The relative error of u where the residual-stopped MINRES run stopped.
+    pub minres_err_u_at_stop: Option<f64>,
     /// Relative error of the direct solve's u.
     pub forward_err_u: Option<f64>,
     /// Relative error of the direct solve's contact forces.
@@ -72,11 +92,11 @@ pub struct Row {
     pub backward_err: Option<f64>,
     /// Direct solve (factorization + solve; s).
     pub seconds_direct: Option<f64>,
-    /// CG with Jacobi (s).
+    /// CG with Jacobi to the error target (s).
     pub seconds_pcg_jacobi: Option<f64>,
-    /// CG with IC(0) (s).
+    /// CG with IC(0) to the error target (s).
     pub seconds_pcg_ic0: Option<f64>,
-    /// MINRES (s).
+    /// MINRES to the error target (s).
     pub seconds_minres: Option<f64>,
     /// The knob search (every solve of it; s).
     pub seconds_search: f64,
@@ -94,15 +114,38 @@ impl Row {
             .map(|e| (e / f64::EPSILON).log10().max(0.0))
     }
 
-    /// The iterations of the rule's Krylov solver with its stronger preconditioner: IC(0)-CG
-    /// for the penalties, MINRES for lagrange.
+    /// The iterations to the error target of the rule's Krylov solver with its stronger
+    /// preconditioner (IC(0)-CG for the penalties, MINRES for lagrange), where that run
+    /// reached the target.
     pub fn krylov_iters(&self) -> Option<usize> {
-        self.pcg_iters_ic0.or(self.minres_iters)
+        converged(
+            self.pcg_iters_ic0_to_err,
+            self.pcg_iters_ic0_to_err_converged,
+        )
+        .or(converged(
+            self.minres_iters_to_err,
+            self.minres_iters_to_err_converged,
+        ))
+    }
+
+    /// Jacobi-CG iterations to the error target, where it was reached.
+    pub fn jacobi_iters(&self) -> Option<usize> {
+        converged(
+            self.pcg_iters_jacobi_to_err,
+            self.pcg_iters_jacobi_to_err_converged,
+        )
     }
 }
 
+/// A count that reached its target (`None` otherwise).
+fn converged(iters: Option<usize>, ok: Option<bool>) -> Option<usize> {
+    iters.filter(|_| ok == Some(true))
+}
+
 /// The fitted exponents of one rule at one accuracy over a family's levels: cond ∝ h^−p,
-/// iterations ∝ h^−q (least squares in log–log over the matched levels with the value).
+/// iterations ∝ h^−q (least squares in log–log over the matched levels with the value). The
+/// iterations are the error-based counts (to `krylov_err_target`), levels whose run missed
+/// the target left out.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Slope {
     /// Family.
@@ -164,9 +207,19 @@ pub fn slopes(rows: &[Row]) -> Vec<Slope> {
                 levels_matched: g.len(),
                 p_cond2: exponent(&g, |r| r.cond2_system),
                 p_cond2_jacobi: exponent(&g, |r| r.cond2_jacobi),
-                q_pcg_jacobi: exponent(&g, |r| count(r.pcg_iters_jacobi)),
-                q_pcg_ic0: exponent(&g, |r| count(r.pcg_iters_ic0)),
-                q_minres: exponent(&g, |r| count(r.minres_iters)),
+                q_pcg_jacobi: exponent(&g, |r| count(r.jacobi_iters())),
+                q_pcg_ic0: exponent(&g, |r| {
+                    count(converged(
+                        r.pcg_iters_ic0_to_err,
+                        r.pcg_iters_ic0_to_err_converged,
+                    ))
+                }),
+                q_minres: exponent(&g, |r| {
+                    count(converged(
+                        r.minres_iters_to_err,
+                        r.minres_iters_to_err_converged,
+                    ))
+                }),
             }
         })
         .collect()

@@ -332,6 +332,12 @@ fn solver_columns(
             row.pcg_iters_ic0 = m.pcg_iters_ic0;
             row.pcg_converged = m.pcg_converged;
             row.minres_iters = m.minres_iters;
+            row.pcg_iters_jacobi_to_err = m.pcg_iters_jacobi_to_err;
+            row.pcg_iters_jacobi_to_err_converged = m.pcg_iters_jacobi_to_err_converged;
+            row.pcg_iters_ic0_to_err = m.pcg_iters_ic0_to_err;
+            row.pcg_iters_ic0_to_err_converged = m.pcg_iters_ic0_to_err_converged;
+            row.minres_iters_to_err = m.minres_iters_to_err;
+            row.minres_iters_to_err_converged = m.minres_iters_to_err_converged;
             row.forward_err_u = m.forward_err_u;
             row.forward_err_force = m.forward_err_force;
             for note in c.unavailable {

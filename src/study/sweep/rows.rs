@@ -102,7 +102,8 @@ pub struct Row {
     /// `--metrics solver` ([`crate::metrics::solver`]; empty otherwise): cond₂ of the
     /// Jacobi-scaled system.
     pub cond2_jacobi: Option<f64>,
-    /// CG iterations with Jacobi from 0 to ‖r‖ ≤ 1e-8‖b‖ (penalties).
+    /// CG iterations with Jacobi from 0 to ‖r‖ ≤ 1e-8‖b‖ (penalties; a residual test, not an
+    /// accuracy: compare rules by `pcg_iters_jacobi_to_err`).
     pub pcg_iters_jacobi: Option<usize>,
     /// CG iterations with IC(0), the same test (penalties).
     pub pcg_iters_ic0: Option<usize>,
@@ -110,6 +111,19 @@ pub struct Row {
     pub pcg_converged: Option<bool>,
     /// MINRES iterations (lagrange).
     pub minres_iters: Option<usize>,
+    /// CG iterations with Jacobi from 0 to ‖u_k − u*‖∞ ≤ 1e-6‖u*‖∞ (u* the refined direct
+    /// solution; penalties): the count that compares rules at equal accuracy.
+    pub pcg_iters_jacobi_to_err: Option<usize>,
+    /// Whether that run reached the error target.
+    pub pcg_iters_jacobi_to_err_converged: Option<bool>,
+    /// CG iterations with IC(0) to the same error of u (penalties).
+    pub pcg_iters_ic0_to_err: Option<usize>,
+    /// Whether that run reached the error target.
+    pub pcg_iters_ic0_to_err_converged: Option<bool>,
+    /// MINRES iterations to the same error of u (lagrange).
+    pub minres_iters_to_err: Option<usize>,
+    /// Whether that run reached the error target.
+    pub minres_iters_to_err_converged: Option<bool>,
     /// Relative error of the plain direct solve's u against its double-double refinement.
     pub forward_err_u: Option<f64>,
     /// The same for the contact forces.
@@ -121,7 +135,7 @@ pub struct Row {
 }
 
 /// Column names, in file order.
-pub const COLUMNS: [&str; 48] = [
+pub const COLUMNS: [&str; 54] = [
     "scene",
     "family",
     "n",
@@ -166,6 +180,12 @@ pub const COLUMNS: [&str; 48] = [
     "pcg_iters_ic0",
     "pcg_converged",
     "minres_iters",
+    "pcg_iters_jacobi_to_err",
+    "pcg_iters_jacobi_to_err_converged",
+    "pcg_iters_ic0_to_err",
+    "pcg_iters_ic0_to_err_converged",
+    "minres_iters_to_err",
+    "minres_iters_to_err_converged",
     "forward_err_u",
     "forward_err_force",
     "seconds_solver",
@@ -271,6 +291,12 @@ impl Row {
         c.whole(self.pcg_iters_ic0)?;
         c.text(flag(self.pcg_converged))?;
         c.whole(self.minres_iters)?;
+        c.whole(self.pcg_iters_jacobi_to_err)?;
+        c.text(flag(self.pcg_iters_jacobi_to_err_converged))?;
+        c.whole(self.pcg_iters_ic0_to_err)?;
+        c.text(flag(self.pcg_iters_ic0_to_err_converged))?;
+        c.whole(self.minres_iters_to_err)?;
+        c.text(flag(self.minres_iters_to_err_converged))?;
         c.float(self.forward_err_u)?;
         c.float(self.forward_err_force)?;
         c.float(self.seconds_solver)?;
@@ -424,6 +450,7 @@ fn parse_record(rec: &csv::StringRecord) -> std::result::Result<Row, String> {
         }
     };
     let whole = |s: &str, what: &str| s.parse::<usize>().map_err(|_| format!("bad {what} '{s}'"));
+    let boolean = |c: &str, what: &str| parse_opt(c).map_err(|_| format!("bad {what} '{c}'"));
     Ok(Row {
         scene: next().into(),
         family: next().into(),
@@ -481,6 +508,12 @@ fn parse_record(rec: &csv::StringRecord) -> std::result::Result<Row, String> {
             parse_opt(c).map_err(|_| format!("bad pcg_converged '{c}'"))?
         },
         minres_iters: parse_opt(next())?,
+        pcg_iters_jacobi_to_err: parse_opt(next())?,
+        pcg_iters_jacobi_to_err_converged: boolean(next(), "pcg_iters_jacobi_to_err_converged")?,
+        pcg_iters_ic0_to_err: parse_opt(next())?,
+        pcg_iters_ic0_to_err_converged: boolean(next(), "pcg_iters_ic0_to_err_converged")?,
+        minres_iters_to_err: parse_opt(next())?,
+        minres_iters_to_err_converged: boolean(next(), "minres_iters_to_err_converged")?,
         forward_err_u: fl(next())?,
         forward_err_force: fl(next())?,
         seconds_solver: fl(next())?,
@@ -555,6 +588,18 @@ mod tests {
                 wh(r.pcg_iters_ic0),
                 r.pcg_converged.map(|c| c.to_string()).unwrap_or_default(),
                 wh(r.minres_iters),
+                wh(r.pcg_iters_jacobi_to_err),
+                r.pcg_iters_jacobi_to_err_converged
+                    .map(|c| c.to_string())
+                    .unwrap_or_default(),
+                wh(r.pcg_iters_ic0_to_err),
+                r.pcg_iters_ic0_to_err_converged
+                    .map(|c| c.to_string())
+                    .unwrap_or_default(),
+                wh(r.minres_iters_to_err),
+                r.minres_iters_to_err_converged
+                    .map(|c| c.to_string())
+                    .unwrap_or_default(),
                 fl(r.forward_err_u),
                 fl(r.forward_err_force),
                 fl(r.seconds_solver),
@@ -649,6 +694,12 @@ mod tests {
                     pcg_iters_ic0: w(5),
                     pcg_converged: [Some(true), Some(false), None][i % 3],
                     minres_iters: w(6),
+                    pcg_iters_jacobi_to_err: w(7),
+                    pcg_iters_jacobi_to_err_converged: [None, Some(false), Some(true)][i % 3],
+                    pcg_iters_ic0_to_err: w(8),
+                    pcg_iters_ic0_to_err_converged: [Some(false), None, Some(true)][i % 3],
+                    minres_iters_to_err: w(9),
+                    minres_iters_to_err_converged: [Some(true), None, Some(false)][i % 3],
                     forward_err_u: x(17),
                     forward_err_force: x(18),
                     seconds_solver: x(19),
@@ -688,6 +739,22 @@ mod tests {
             assert_eq!(
                 (a.cond2_bounds_proven, a.cond2_within_contract),
                 (b.cond2_bounds_proven, b.cond2_within_contract)
+            );
+            assert_eq!(
+                (
+                    a.pcg_iters_jacobi_to_err,
+                    a.pcg_iters_jacobi_to_err_converged,
+                    a.pcg_iters_ic0_to_err_converged,
+                    a.minres_iters_to_err,
+                    a.minres_iters_to_err_converged
+                ),
+                (
+                    b.pcg_iters_jacobi_to_err,
+                    b.pcg_iters_jacobi_to_err_converged,
+                    b.pcg_iters_ic0_to_err_converged,
+                    b.minres_iters_to_err,
+                    b.minres_iters_to_err_converged
+                )
             );
         }
     }

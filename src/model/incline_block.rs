@@ -1,0 +1,147 @@
+//! An elastic block pressed on a rigid plane inclined at θ: contact rows that couple the two
+//! DOFs of a node, `sinθ·u_x + cosθ·u_y ≥ −g₀`.
+//!
+//! **Why.** A single-DOF row adds `ε·e_d e_dᵀ` to K, a diagonal entry that any diagonal
+//! preconditioner absorbs. A row along an inclined normal `n = (sinθ, cosθ)` adds the 2×2
+//! block `ε·n nᵀ` to a node's DOFs, which is not diagonal: Jacobi scaling leaves a
+//! `O(ε)` coupling, and its cond₂ grows with ε. The DOFs and the supports stay axis-aligned
+//! (nothing is rotated to the plane's frame), as in a code that meets an inclined obstacle.
+//!
+//! **Geometry** (plane strain; lengths and E in consistent units, the block's E = 1, ν = 0.3):
+//! the plane through the origin descending to the right at θ, `y_p(x) = −x·tanθ`, outward
+//! normal `n = (sinθ, cosθ)`. The block occupies `0 ≤ x ≤ W`, `y_b(x) ≤ y ≤ H` with W = 2,
+//! H = 1, and its bottom face follows the plane with a parabolic crown,
+//! `y_b(x) = y_p(x) + κ(x − W/2)²`, κ = [`CROWN`]: it touches the plane at x = W/2 and the
+//! initial normal gap of a bottom node is `g₀(x) = κ(x − W/2)²·cosθ`. The mesh is the
+//! `nx × ny`-element tensor grid mapped between `y_b` and H (Q4, [`assemble_mapped`]). The
+//! top face is clamped and moved by `(0, −d)`, d = [`PRESS`]·H: the block is pressed down
+//! onto the plane and contact spreads from the crown (a Hertz-like zone on the incline);
+//! the clamp carries the tangential part of the load (the plane is frictionless).
+//!
+//! **Constraints:** one per bottom node, kind `lower`: `sinθ·u_x + cosθ·u_y ≥ −g₀(x)`
+//! (`g = n·u + g₀ ≥ 0`). DOF numbering: node (i, j), i = 0..=nx along x, j = 0..ny up
+//! (the top row j = ny is prescribed), has free DOFs `2(i·ny + j) + c`, c = 0 (x), 1 (y)
+//! ([`free_dof`]).
+
+use super::elasticity::{assemble_mapped, eliminate, Geometry, Material};
+use crate::error::{Error, Result};
+use crate::system::{Constraint, ConstraintKind, Problem};
+
+/// Width W of the block.
+pub const WIDTH: f64 = 2.0;
+/// Height H of the block (at its left side above the plane's origin).
+pub const HEIGHT: f64 = 1.0;
+/// κ of the crown `κ(x − W/2)²` of the bottom face.
+pub const CROWN: f64 = 0.1;
+/// The top face's prescribed downward displacement over H.
+pub const PRESS: f64 = 0.01;
+/// The block's material.
+pub const MATERIAL: Material = Material {
+    young: 1.0,
+    poisson: 0.3,
+};
+
+/// The free DOF of component `c` (0: x, 1: y) of node (i, j), j < ny (module doc).
+pub fn free_dof(ny: usize, i: usize, j: usize, c: usize) -> usize {
+    2 * (i * ny + j) + c
+}
+
+/// The block on the plane inclined at `theta_deg` degrees with `nx × ny` elements (module doc).
+pub fn problem(theta_deg: f64, nx: usize, ny: usize) -> Result<Problem> {
+    if !(theta_deg > 0.0 && theta_deg < 60.0) {
+        return Err(Error::out_of_range(
+            "incline angle θ (degrees)",
+            theta_deg,
+            "in (0, 60)",
+        ));
+    }
+    if nx < 2 || ny < 1 {
+        return Err(Error::out_of_range(
+            "inclined block elements",
+            format!("{nx} × {ny}"),
+            "at least 2 × 1",
+        ));
+    }
+    let (s, c) = theta_deg.to_radians().sin_cos();
+    let tan = s / c;
+    let bottom = |x: f64| -x * tan + CROWN * (x - WIDTH / 2.0).powi(2);
+    let (nnx, nny) = (nx + 1, ny + 1);
+    let mut coords = Vec::with_capacity(nnx * nny);
+    for i in 0..nnx {
+        let x = WIDTH * i as f64 / nx as f64;
+        let yb = bottom(x);
+        for j in 0..nny {
+            coords.push((x, yb + (HEIGHT - yb) * j as f64 / ny as f64));
+        }
+    }
+    let triplets = assemble_mapped(&coords, (nnx, nny), Geometry::PlaneStrain, &MATERIAL)?;
+    let mut fixed = vec![None; 2 * nnx * nny];
+    for i in 0..nnx {
+        let top = i * nny + ny;
+        fixed[2 * top] = Some(0.0);
+        fixed[2 * top + 1] = Some(-PRESS * HEIGHT);
+    }
+    let (k, q, map) = eliminate(&triplets, &fixed)?;
+    let constraints = (0..nnx)
+        .map(|i| {
+            let x = WIDTH * i as f64 / nx as f64;
+            let g0 = CROWN * (x - WIDTH / 2.0).powi(2) * c;
+            let node = i * nny;
+            debug_assert_eq!(map[2 * node], free_dof(ny, i, 0, 0));
+            Constraint::row(
+                vec![(map[2 * node], s), (map[2 * node + 1], c)],
+                -g0,
+                ConstraintKind::Lower,
+            )
+        })
+        .collect();
+    Problem::new(k, q, constraints).map(Problem::in_preferred_storage)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::strategy::{self, Method};
+
+    #[test]
+    fn rows_couple_two_dofs_along_the_normal() {
+        let p = problem(30.0, 8, 4).unwrap();
+        assert_eq!(p.n(), 2 * 9 * 4);
+        assert_eq!(p.m(), 9);
+        let (s, c) = 30f64.to_radians().sin_cos();
+        for (i, con) in p.constraints.iter().enumerate() {
+            assert_eq!(
+                con.terms,
+                vec![(free_dof(4, i, 0, 0), s), (free_dof(4, i, 0, 1), c)]
+            );
+            assert!(con.limit <= 0.0);
+        }
+        // The crown touches at x = W/2 (node 4 of 8 elements).
+        assert_eq!(p.constraints[4].limit, 0.0);
+    }
+
+    #[test]
+    fn pressed_block_touches_around_the_crown_and_nowhere_penetrates_under_lagrange() {
+        let p = problem(30.0, 16, 8).unwrap();
+        let sol = strategy::solve(&p, Method::lagrange()).unwrap();
+        assert!(sol.stats.converged);
+        let active = sol.forces.iter().filter(|&&f| f != 0.0).count();
+        // Contact at the crown, not everywhere.
+        assert!(active >= 3 && active < p.m(), "{active} of {}", p.m());
+        assert!(sol.forces[8] != 0.0);
+        let scale = PRESS * HEIGHT;
+        assert!(
+            sol.max_penetration <= 1e-10 * scale,
+            "{}",
+            sol.max_penetration
+        );
+    }
+
+    #[test]
+    fn bad_angles_and_meshes_are_refused() {
+        assert!(problem(0.0, 8, 4).is_err());
+        assert!(problem(f64::NAN, 8, 4).is_err());
+        assert!(problem(75.0, 8, 4).is_err());
+        assert!(problem(30.0, 1, 4).is_err());
+    }
+}
