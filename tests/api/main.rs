@@ -11,6 +11,7 @@ mod condensed_delta;
 mod constraint_rows;
 mod eliminated;
 mod engine;
+mod krylov_to_err;
 mod scene_fuzz;
 mod scene_reading;
 mod scene_round_trips;

@@ -175,8 +175,8 @@ fn json_shapes_and_out_files() {
     for metric in [
         "cond2",
         "cond2_jacobi",
-        "pcg_iters_jacobi",
-        "pcg_iters_ic0",
+        "pcg_iters_jacobi_to_err",
+        "pcg_iters_ic0_to_err",
         "forward_err_u",
     ] {
         assert_eq!(
@@ -190,6 +190,7 @@ fn json_shapes_and_out_files() {
         for s in run["steps"].as_array().unwrap() {
             assert!(s["cond2_jacobi"].as_f64().unwrap() >= 1.0, "{name}: {s}");
             assert!(s["pcg_iters_ic0"].as_u64().is_some(), "{name}: {s}");
+            assert!(s["pcg_iters_ic0_to_err"].as_u64().is_some(), "{name}: {s}");
             let fe = s["forward_err_u"].as_f64().unwrap();
             let bound = 1e3 * f64::EPSILON * s["cond2"].as_f64().unwrap();
             assert!(

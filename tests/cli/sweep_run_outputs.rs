@@ -245,6 +245,12 @@ fn solver_metrics_are_opt_in_and_change_no_other_column() {
             pcg_iters_ic0: None,
             pcg_converged: None,
             minres_iters: None,
+            pcg_iters_jacobi_to_err: None,
+            pcg_iters_jacobi_to_err_converged: None,
+            pcg_iters_ic0_to_err: None,
+            pcg_iters_ic0_to_err_converged: None,
+            minres_iters_to_err: None,
+            minres_iters_to_err_converged: None,
             forward_err_u: None,
             forward_err_force: None,
             warnings: x.warnings.clone(),
@@ -263,13 +269,18 @@ fn solver_metrics_are_opt_in_and_change_no_other_column() {
         );
         if y.method == "lagrange" {
             assert!(
-                y.minres_iters.is_some() && y.pcg_iters_ic0.is_none(),
+                y.minres_iters.is_some()
+                    && y.minres_iters_to_err.is_some()
+                    && y.pcg_iters_ic0.is_none(),
                 "{}",
                 y.scene
             );
         } else {
             assert!(
-                y.pcg_iters_jacobi.is_some() && y.pcg_iters_ic0.is_some(),
+                y.pcg_iters_jacobi.is_some()
+                    && y.pcg_iters_ic0.is_some()
+                    && y.pcg_iters_jacobi_to_err.is_some()
+                    && y.pcg_iters_ic0_to_err_converged.is_some(),
                 "{} {}",
                 y.scene,
                 y.method

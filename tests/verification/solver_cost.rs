@@ -174,13 +174,26 @@ fn solver_cost_metrics_agree_with_numpy_scipy_and_mpmath() {
                 failures.push(format!("{what}: {key} {} vs mpmath {r:e}", out[key]));
             }
         }
-        for (key, r) in [
-            ("pcg_err_u_at_stop_jacobi", c.pcg_err_u_at_stop_jacobi),
-            ("pcg_err_u_at_stop_ic0", c.pcg_err_u_at_stop_ic0),
+        for (key, r, count, reference_count) in [
+            (
+                "pcg_err_u_at_stop_jacobi",
+                c.pcg_err_u_at_stop_jacobi,
+                "pcg_iters_jacobi",
+                c.pcg_iters_jacobi,
+            ),
+            (
+                "pcg_err_u_at_stop_ic0",
+                c.pcg_err_u_at_stop_ic0,
+                "pcg_iters_ic0",
+                c.pcg_iters_ic0,
+            ),
         ] {
+            let same_stop = out[count].as_u64().map(|i| i as usize) == reference_count;
             let agrees = match r {
-                // Errors at a residual stop below 1e-12 are rounding-dominated.
-                Some(r) => r <= 1e-12 || error_agrees(&out[key], r),
+                // Errors at a residual stop below 1e-12 are rounding-dominated; where the two
+                // runs stop at different iterations (within the count's tolerance) their
+                // iterates differ.
+                Some(r) => r <= 1e-12 || !same_stop || error_agrees(&out[key], r),
                 None => out[key].is_null(),
             };
             if !agrees {

@@ -179,16 +179,7 @@ pub fn solve_scene(
             "the solution contains NaN/Inf (system singular to working precision)".into(),
         ));
     }
-    let cost = solver_cost(p, &sol, opts)?;
-    if let Some(c) = &cost {
-        warnings.extend(c.unavailable.iter().cloned());
-    } else if !(no_metrics || opts.no_solver_metrics) {
-        warnings.push(format!(
-            "solver-cost metrics not computed: {} unknowns is above {SOLVER_METRICS_AUTO_MAX_N} \
-             (--solver-metrics computes them)",
-            p.n()
-        ));
-    }
+    let cost = solver_cost(p, &sol, opts, &mut warnings)?;
     let flags = crate::conditioning::CondReport::flags([
         m.cond2_k.as_ref(),
         m.cond2_system.as_ref(),
@@ -250,15 +241,23 @@ fn solver_metrics_on(p: &crate::system::Problem, opts: &SolveOptions) -> bool {
         && (opts.solver_metrics || p.n() <= SOLVER_METRICS_AUTO_MAX_N)
 }
 
-/// The solver-cost metrics of `sol` unless `opts` skips them, and its final system written
-/// to `opts.write_system` (with the direct solve x̂ where the metrics ran); the system is
+/// The solver-cost metrics of `sol` unless `opts` skips them (their warnings, or why they
+/// were skipped by size, into `warnings`), and its final system written to `opts.write_system` (with the direct solve x̂ where the metrics ran); the system is
 /// formed once for both.
 fn solver_cost(
     p: &crate::system::Problem,
     sol: &strategy::Solution,
     opts: &SolveOptions,
+    warnings: &mut Vec<String>,
 ) -> Result<Option<metrics::solver::SolverMetrics>> {
     let with_cost = solver_metrics_on(p, opts);
+    if !with_cost && !(opts.no_metrics || opts.no_solver_metrics) {
+        warnings.push(format!(
+            "solver-cost metrics not computed: {} unknowns is above {SOLVER_METRICS_AUTO_MAX_N} \
+             (--solver-metrics computes them)",
+            p.n()
+        ));
+    }
     let system =
         (with_cost || opts.write_system.is_some()).then(|| metrics::solver::final_system(p, sol));
     let cost = match &system {
@@ -274,6 +273,9 @@ fn solver_cost(
     if let (Some(dir), Some(fs)) = (&opts.write_system, &system) {
         let x = cost.as_ref().map(|c| c.x_direct.as_slice());
         write_system(dir, fs, x)?;
+    }
+    if let Some(c) = &cost {
+        warnings.extend(c.unavailable.iter().cloned());
     }
     Ok(cost)
 }
