@@ -19,7 +19,7 @@
 //!
 //! - `incline-15`, `incline-30`, `incline-45`: the block of [`incline_block`] (W × H = 2 × 1,
 //!   E = 1, ν = 0.3, crowned bottom along the plane, top clamped and pressed by 0.01·H) on the
-//!   plane inclined at θ = 15°, 30°, 45°, with `8·2^l × 4·2^l` Q4 elements: one two-term row
+//!   plane inclined at θ = 15°, 30°, 45°, with `6·2^l × 3·2^l` Q4 elements: one two-term row
 //!   `sinθ·u_x + cosθ·u_y ≥ −g₀` per bottom node, the DOFs and supports axis-aligned — the
 //!   coupled rows a diagonal preconditioner cannot absorb. Length scale: 0.01 (the press);
 //!   ε relative to max `d_cᵀ K d_c`.
@@ -55,10 +55,16 @@ pub enum Family {
     /// The cantilever on a wavy bed.
     Beam,
     /// The block pressed on a plane inclined at 15° (two-term rows).
+    #[serde(rename = "incline-15")]
+    #[value(name = "incline-15")]
     Incline15,
     /// The same at 30°.
+    #[serde(rename = "incline-30")]
+    #[value(name = "incline-30")]
     Incline30,
     /// The same at 45°.
+    #[serde(rename = "incline-45")]
+    #[value(name = "incline-45")]
     Incline45,
 }
 
@@ -113,8 +119,8 @@ pub const HERTZ: Setup = Setup {
 };
 /// The Hertz block over a.
 pub const HERTZ_BLOCK: f64 = 16.0;
-/// Elements along x of the incline families' coarsest level (`8 × 4`; level l: `8·2^l × 4·2^l`).
-pub const INCLINE_NX0: usize = 8;
+/// Elements along x of the incline families' coarsest level (`6 × 3`; level l: `6·2^l × 3·2^l`).
+pub const INCLINE_NX0: usize = 6;
 
 /// One mesh level of one family, with its Lagrange reference.
 pub struct Level {

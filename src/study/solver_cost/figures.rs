@@ -8,7 +8,11 @@
 //! - `raw_vs_jacobi`: cond₂ of the Jacobi-scaled system against the raw one, every row, with
 //!   the diagonal;
 //! - `leaderboard_pcg`: IC(0)-CG iterations to the error target (MINRES for Lagrange) of
-//!   every rule on each family's finest level, at both accuracies.
+//!   every rule on each family's finest level, at both accuracies;
+//! - `eps_map`: the ε map (`constant` over 11 decades of ε on one level per family):
+//!   Jacobi- and IC(0)-CG iterations to the error target, misses marked.
+//!
+//! The ε map's rows appear in `eps_map` only.
 
 use super::Row;
 use crate::plot::{method_label, share_legend, Figure, Mark, Series};
@@ -200,8 +204,77 @@ fn leaderboard_panels(rows: &[Row]) -> Vec<Figure> {
         .collect()
 }
 
+/// The ε map: per family, iterations to the error target against ε/k_scale, Jacobi and
+/// IC(0); a run that missed the target is drawn as a cross at the iterations it spent (the
+/// iteration limit, or where the preconditioned CG broke down).
+fn eps_map_panels(map: &[Row]) -> Vec<Figure> {
+    families(map)
+        .iter()
+        .map(|fam| {
+            let coupled = super::Family::ALL
+                .iter()
+                .any(|f| f.name() == fam && f.coupled());
+            let rows: Vec<&Row> = map.iter().filter(|r| &r.family == fam).collect();
+            let (level, n) = rows.first().map_or((0, 0), |r| (r.level, r.n_dofs));
+            let mut f = Figure::new(
+                format!(
+                    "{fam} ({}), level {level}, {n} DOFs: constant",
+                    if coupled {
+                        "two-term rows"
+                    } else {
+                        "one-DOF rows"
+                    }
+                ),
+                "ε / k_scale",
+                "CG iterations to ‖u − u*‖∞ ≤ e‖u*‖∞",
+            )
+            .log_log();
+            let pick: [(&str, fn(&Row) -> (Option<usize>, Option<bool>)); 2] = [
+                ("Jacobi", |r| {
+                    (
+                        r.pcg_iters_jacobi_to_err,
+                        r.pcg_iters_jacobi_to_err_converged,
+                    )
+                }),
+                ("IC(0)", |r| {
+                    (r.pcg_iters_ic0_to_err, r.pcg_iters_ic0_to_err_converged)
+                }),
+            ];
+            for (k, (name, get)) in pick.iter().enumerate() {
+                let point = |ok: bool| {
+                    rows.iter()
+                        .filter_map(|r| match get(r) {
+                            (Some(i), Some(c)) if c == ok => {
+                                Some((r.knob_rel?, (i as f64).max(1.0)))
+                            }
+                            _ => None,
+                        })
+                        .unzip::<f64, f64, Vec<f64>, Vec<f64>>()
+                };
+                let (x, y) = point(true);
+                if !x.is_empty() {
+                    f = f.with_series(
+                        Series::new(format!("{name}-CG"), x, y, Mark::LinePoints).color(k),
+                    );
+                }
+                let (x, y) = point(false);
+                if !x.is_empty() {
+                    f = f.with_series(
+                        Series::new(format!("{name}-CG: target missed"), x, y, Mark::Points)
+                            .color(k)
+                            .glyph(crate::plot::Glyph::Cross),
+                    );
+                }
+            }
+            f
+        })
+        .collect()
+}
+
 /// Every drawing (module doc).
-pub fn drawings(rows: &[Row]) -> crate::error::Result<Vec<Drawing>> {
+pub fn drawings(all: &[Row]) -> crate::error::Result<Vec<Drawing>> {
+    let (map, rows): (Vec<Row>, Vec<Row>) = all.iter().cloned().partition(|r| r.in_eps_map());
+    let rows = &rows[..];
     let mut out = Vec::new();
     if rows.iter().all(|r| r.cond2_system.is_none()) {
         return Ok(out);
@@ -225,6 +298,7 @@ pub fn drawings(rows: &[Row]) -> crate::error::Result<Vec<Drawing>> {
     push("iterations_jacobi", iteration_panels(rows, false))?;
     push("digits_lost", digits_panels(rows))?;
     push("leaderboard_pcg", leaderboard_panels(rows))?;
+    push("eps_map", eps_map_panels(&map))?;
     out.push(Drawing::single("raw_vs_jacobi", raw_vs_jacobi(rows)));
     Ok(out)
 }

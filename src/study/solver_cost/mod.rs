@@ -9,6 +9,13 @@
 //! - `penetration`: its largest penetration equals δ = `penetration_rel` · the family's
 //!   length scale (`barrier` never penetrates: it runs at d̂ = δ, unmatched).
 //!
+//! **The ε map** ([`eps_map_rows`]): on one level of every family (`eps_map_level`, 2 by
+//! default), `constant` at ε = 10^k·k_scale for k = 0 … 10 (k_scale: the family's stiffness
+//! scale, [`cases::Level::k_scale`]; rows with accuracy `eps-map`, unmatched): iterations to the
+//! fixed error of u and digits of u lost against ε, per preconditioner, where each one fails
+//! (the error-based run misses its target within the iteration limit, or the preconditioner
+//! cannot be built).
+//!
 //! Each row then holds the solver-cost metrics of its final system
 //! ([`crate::metrics::solver`]: cond₂ raw and Jacobi-scaled, CG iterations with Jacobi and
 //! IC(0) and their effective condition estimates, MINRES for Lagrange, forward errors of u and
@@ -61,7 +68,15 @@ pub struct SolverCostConfig {
     pub krylov_err: f64,
     /// Relative accuracy asked of each cond₂.
     pub cond_tol: f64,
+    /// The level of the ε map (clamped to the finest).
+    pub eps_map_level: usize,
 }
+
+/// ε/k_scale of the ε map's rows: 10^k for these k (11 decades).
+pub const EPS_MAP_DECADES: std::ops::RangeInclusive<i32> = 0..=10;
+
+/// The accuracy name of the ε map's rows.
+pub const EPS_MAP: &str = "eps-map";
 
 impl Default for SolverCostConfig {
     fn default() -> Self {
@@ -77,6 +92,7 @@ impl Default for SolverCostConfig {
             krylov_tol: metrics::solver::DEFAULT_TOL,
             krylov_err: metrics::solver::DEFAULT_ERR_TARGET,
             cond_tol: 1e-6,
+            eps_map_level: 2,
         }
     }
 }
@@ -206,6 +222,15 @@ pub fn run(cfg: &SolverCostConfig, progress: &Progress) -> Result<Vec<Row>> {
                 })
                 .collect();
             rows.extend(level_rows);
+            if level.index == cfg.eps_map_level.min(cfg.levels - 1) {
+                progress.message(format!(
+                    "{} level {}: the ε map ({} values of ε)",
+                    family.name(),
+                    level.index,
+                    EPS_MAP_DECADES.count()
+                ));
+                rows.extend(eps_map_rows(cfg, level));
+            }
             progress.step(&format!(
                 "{} level {}: h = {:.4}, {} DOFs",
                 family.name(),
@@ -242,6 +267,15 @@ fn row_of(cfg: &SolverCostConfig, level: &Level, s: &'static Strategy, acc: Accu
             return row;
         }
     };
+    let t1 = std::time::Instant::now();
+    metrics_into(cfg, &solved, &mut row);
+    row.seconds_search = t1.duration_since(t0).as_secs_f64();
+    row.seconds_metrics = t1.elapsed().as_secs_f64();
+    row
+}
+
+/// The row of `solved`: its errors, cond₂ and solver-cost metrics. Failures go to `note`.
+fn metrics_into(cfg: &SolverCostConfig, solved: &cases::Solved, row: &mut Row) {
     let (problem, sol) = (&solved.problem, &solved.sol);
     row.err_penalty = Some(solved.err_penalty);
     row.max_penetration = Some(sol.max_penetration);
@@ -251,7 +285,6 @@ fn row_of(cfg: &SolverCostConfig, level: &Level, s: &'static Strategy, acc: Accu
         det: false,
         cond_tol: Some(cfg.cond_tol),
     };
-    let t1 = std::time::Instant::now();
     match metrics::compute(problem, sol, set) {
         Ok(m) => row.cond2_system = m.cond2_system.map(|c| c.cond2),
         Err(e) => row.note = format!("cond₂: {e}"),
@@ -263,13 +296,48 @@ fn row_of(cfg: &SolverCostConfig, level: &Level, s: &'static Strategy, acc: Accu
         cond_tol: Some(cfg.cond_tol),
     };
     match metrics::solver::compute(problem, sol, opts) {
-        Ok(c) => fill_solver_metrics(&mut row, &c),
+        Ok(c) => fill_solver_metrics(row, &c),
         Err(e) => row.note = format!("solver metrics: {e}"),
     }
-    let t2 = std::time::Instant::now();
-    row.seconds_search = t1.duration_since(t0).as_secs_f64();
-    row.seconds_metrics = t2.duration_since(t1).as_secs_f64();
-    row
+}
+
+/// The ε map of one level (module doc): `constant` at ε = 10^k·k_scale, k in
+/// [`EPS_MAP_DECADES`], in parallel, rows in ε order.
+pub fn eps_map_rows(cfg: &SolverCostConfig, level: &Level) -> Vec<Row> {
+    let decades: Vec<i32> = EPS_MAP_DECADES.collect();
+    decades
+        .par_iter()
+        .map(|&k| {
+            let rel = 10f64.powi(k);
+            let eps = rel * level.k_scale;
+            let mut row = Row {
+                family: level.family.name().into(),
+                level: level.index,
+                h: level.h,
+                n_dofs: level.n_dofs,
+                method: strategy::constant::STRATEGY.name.into(),
+                accuracy: EPS_MAP.into(),
+                knob: "eps".into(),
+                knob_rel: Some(rel),
+                knob_value: Some(eps),
+                err_discretization: level.err_discretization,
+                err_discretization_extrapolated: level.err_discretization_extrapolated,
+                evaluations: 1,
+                ..Row::default()
+            };
+            let t0 = std::time::Instant::now();
+            match level.solve(strategy::Method::constant(eps)) {
+                Ok(solved) => {
+                    row.seconds_search = t0.elapsed().as_secs_f64();
+                    let t1 = std::time::Instant::now();
+                    metrics_into(cfg, &solved, &mut row);
+                    row.seconds_metrics = t1.elapsed().as_secs_f64();
+                }
+                Err(e) => row.note = e.to_string(),
+            }
+            row
+        })
+        .collect()
 }
 
 /// The knob search of one row (lagrange: its one solve), recording the knob and the match.
@@ -417,6 +485,10 @@ pub struct Flags {
     /// Relative accuracy asked of each cond₂.
     #[arg(long, default_value_t = 1e-6)]
     cond_tol: f64,
+    /// The level of the ε map (constant at ε = 10^0 … 10^10 · the family's stiffness
+    /// scale), clamped to the finest.
+    #[arg(long, default_value_t = 2)]
+    eps_map_level: usize,
 }
 
 /// The study as the shared entry runs it ([`crate::study::shape::main`]).
@@ -478,6 +550,7 @@ impl Study for SolverCost {
             krylov_tol: f.krylov_tol,
             krylov_err: f.krylov_err,
             cond_tol: f.cond_tol,
+            eps_map_level: f.eps_map_level,
         };
         cfg.validate()?;
         Ok(cfg)

@@ -107,6 +107,11 @@ pub struct Row {
 }
 
 impl Row {
+    /// Whether the row belongs to the ε map (accuracy `eps-map`), not to a level series.
+    pub fn in_eps_map(&self) -> bool {
+        self.accuracy == super::EPS_MAP
+    }
+
     /// Digits of u lost by the direct solve: `log₁₀(forward_err_u / ε_mach)`, at least 0.
     pub fn digits_lost(&self) -> Option<f64> {
         self.forward_err_u
@@ -184,10 +189,11 @@ fn exponent(rows: &[&Row], value: impl Fn(&Row) -> Option<f64>) -> Option<f64> {
     loglog_slope(&h, &v).map(|s| -s)
 }
 
-/// The slopes of every (family, rule, accuracy), in row order.
+/// The slopes of every (family, rule, accuracy), in row order (the ε map's rows are not a
+/// level series and are left out).
 pub fn slopes(rows: &[Row]) -> Vec<Slope> {
     let mut keys: Vec<(&str, &str, &str)> = Vec::new();
-    for r in rows {
+    for r in rows.iter().filter(|r| !r.in_eps_map()) {
         let k = (r.family.as_str(), r.method.as_str(), r.accuracy.as_str());
         if !keys.contains(&k) {
             keys.push(k);

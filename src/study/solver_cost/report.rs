@@ -20,7 +20,9 @@ fn count(v: Option<usize>, conv: Option<bool>) -> String {
 /// The report (module doc). Iterations are counted to the fixed error of u; `*`: the run did
 /// not reach it within the iteration limit. The last columns show the residual-stopped
 /// Jacobi run (‖r‖ ≤ τ‖b‖) and the error of u where it stopped.
-pub fn text(rows: &[Row]) -> String {
+pub fn text(all: &[Row]) -> String {
+    let (map, rows): (Vec<Row>, Vec<Row>) = all.iter().cloned().partition(|r| r.in_eps_map());
+    let rows = &rows[..];
     let mut t = String::new();
     let mut fams: Vec<&str> = Vec::new();
     for r in rows {
@@ -78,7 +80,8 @@ pub fn text(rows: &[Row]) -> String {
     t.push_str("| family | rule | accuracy | levels | p cond₂ | p cond₂ Jacobi | q CG Jacobi | q CG IC(0) / MINRES |\n");
     t.push_str("|---|---|---|---:|---:|---:|---:|---:|\n");
     let f = |v: Option<f64>| v.map_or("—".into(), |x| format!("{x:.2}"));
-    for s in slopes(rows) {
+    let slope_rows = slopes(rows);
+    for s in slope_rows {
         let _ = writeln!(
             t,
             "| {} | {} | {} | {} | {} | {} | {} | {} |",
@@ -91,6 +94,48 @@ pub fn text(rows: &[Row]) -> String {
             f(s.q_pcg_jacobi),
             f(s.q_pcg_ic0.or(s.q_minres)),
         );
+    }
+    t.push_str(&eps_map_text(&map));
+    t
+}
+
+/// The ε map's table: per family, iterations to the error target (`*`: missed within the
+/// iteration limit), IC(0)'s shift and the digits of u a direct solve loses, against ε.
+fn eps_map_text(map: &[Row]) -> String {
+    let mut t = String::new();
+    let mut fams: Vec<&str> = Vec::new();
+    for r in map {
+        if !fams.contains(&r.family.as_str()) {
+            fams.push(&r.family);
+        }
+    }
+    for fam in fams {
+        let first = map.iter().find(|r| r.family == fam);
+        let (level, n) = first.map_or((0, 0), |r| (r.level, r.n_dofs));
+        let _ = writeln!(
+            t,
+            "\nε map, {fam} level {level} ({n} DOFs): constant at ε = ε/k_scale · k_scale; iterations to ‖u − u*‖∞ ≤ e‖u*‖∞\n"
+        );
+        t.push_str("| ε/k_scale | CG Jacobi | CG IC(0) | IC(0) shift | cond₂ Jacobi | digits lost (u) | max penetration | CG Jacobi to τ | err u at τ |\n");
+        t.push_str("|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+        for r in map.iter().filter(|r| r.family == fam) {
+            let _ = writeln!(
+                t,
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                opt(r.knob_rel, 0),
+                count(
+                    r.pcg_iters_jacobi_to_err,
+                    r.pcg_iters_jacobi_to_err_converged
+                ),
+                count(r.pcg_iters_ic0_to_err, r.pcg_iters_ic0_to_err_converged),
+                r.ic0_shift.map_or("—".into(), |a| format!("{a:.3}")),
+                opt(r.cond2_jacobi, 2),
+                r.digits_lost().map_or("—".into(), |d| format!("{d:.1}")),
+                opt(r.max_penetration, 1),
+                count(r.pcg_iters_jacobi, r.pcg_converged_jacobi),
+                opt(r.pcg_err_u_at_stop_jacobi, 1),
+            );
+        }
     }
     t
 }
