@@ -86,6 +86,18 @@ fn bad_configuration_exits_2_with_one_line_and_writes_nothing() {
         &["'flops'", "cond", "det"],
     );
     assert_rejected(&d, "count0", &["--count", "0"], &["--count"]);
+    assert_rejected(
+        &d,
+        "kerr0",
+        &["--krylov-err", "0"],
+        &["--krylov-err", "(0, 1)"],
+    );
+    assert_rejected(
+        &d,
+        "kerr1",
+        &["--krylov-err", "1.5"],
+        &["--krylov-err", "(0, 1)"],
+    );
     assert_rejected(&d, "threads0", &["--threads", "0"], &["--threads"]);
     let nodelta = write_toml(&d, "nodelta", "deltas_rel = []\n");
     assert_rejected(

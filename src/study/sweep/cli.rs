@@ -55,6 +55,10 @@ pub struct ConfigArgs {
     /// max(1e-12, 4·ε_mach·cond₂)); looser is faster, the bounds stay proven.
     #[arg(long, allow_negative_numbers = true)]
     cond_tol: Option<f64>,
+    /// With --metrics solver: the relative error of u the Krylov counts *_to_err are taken to
+    /// (‖u_k − u*‖∞ ≤ e‖u*‖∞, u* the refined direct solution), in (0, 1) [default: 1e-6].
+    #[arg(long, allow_negative_numbers = true)]
+    krylov_err: Option<f64>,
 }
 
 impl ConfigArgs {
@@ -113,6 +117,9 @@ impl ConfigArgs {
         if let Some(t) = a.cond_tol {
             c.cond_tol = Some(t);
         }
+        if let Some(e) = a.krylov_err {
+            c.krylov_err = e;
+        }
         if let Some(d) = &a.scenes_dir {
             c.scenes_dir = Some(d.clone());
         }
@@ -166,6 +173,7 @@ impl ConfigArgs {
             "methods" => given(self.methods.is_some(), "--methods"),
             "metrics" => given(self.metrics.is_some(), "--metrics"),
             "cond_tol" => given(self.cond_tol.is_some(), "--cond-tol"),
+            "krylov_err" => given(self.krylov_err.is_some(), "--krylov-err"),
             _ => None,
         }
     }

@@ -52,6 +52,9 @@ pub struct SweepConfig {
     /// runs earlier; the bounds stay proven and rows.csv records both (`cond_tol`, the bound
     /// columns).
     pub cond_tol: Option<f64>,
+    /// With `metrics` holding `solver`: the relative error of u the Krylov counts
+    /// `*_to_err` are taken to (`--krylov-err`, in (0, 1); default 1e-6).
+    pub krylov_err: f64,
 }
 
 impl Default for SweepConfig {
@@ -82,6 +85,7 @@ impl Default for SweepConfig {
             scenes_dir: None,
             optimal_families: vec![Source::Generated(Family::Beam), Source::Files],
             cond_tol: None,
+            krylov_err: crate::metrics::solver::DEFAULT_ERR_TARGET,
         }
     }
 }
@@ -205,6 +209,7 @@ impl SweepConfig {
         Error::distinct("deltas", &self.deltas).map_err(at("deltas"))?;
         Error::distinct("deltas_rel", &self.deltas_rel).map_err(at("deltas_rel"))?;
         MetricSet::check_cond_tol(self.cond_tol).map_err(at("cond_tol"))?;
+        Error::fraction("krylov_err", self.krylov_err).map_err(at("krylov_err"))?;
         if self.scenes_dir.is_none() {
             if self.families.is_empty() {
                 return Err(at("families")(Error::none_given(
@@ -261,13 +266,14 @@ impl SweepConfig {
     }
 
     /// The solver-cost metrics' options where `metrics` has `solver` ([`crate::metrics::solver`]:
-    /// τ = 1e-8, cond₂ of the Jacobi-scaled system to `cond_tol`); `None` otherwise (the
-    /// default: they cost nothing unless asked for).
+    /// τ = 1e-8, the error-based counts to `krylov_err`, cond₂ of the Jacobi-scaled system to
+    /// `cond_tol`); `None` otherwise (the default: they cost nothing unless asked for).
     pub(super) fn solver_options(&self) -> Option<crate::metrics::solver::SolverOptions> {
         self.metrics
             .contains(&Metric::Solver)
             .then(|| crate::metrics::solver::SolverOptions {
                 cond_tol: self.cond_tol,
+                err_target: self.krylov_err,
                 ..Default::default()
             })
     }
