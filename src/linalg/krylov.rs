@@ -114,22 +114,28 @@ impl Stop<'_> {
     }
 }
 
-/// `‖x[..u*.len()] − u*‖∞`.
+/// `‖x[..u*.len()] − u*‖∞`, NaN if any difference is NaN (so that a NaN iterate never meets
+/// the error test: `f64::max` would drop the NaN).
 fn error_of_u(x: &[f64], reference: &[f64]) -> f64 {
-    x.iter()
-        .zip(reference)
-        .fold(0.0f64, |t, (a, b)| t.max((a - b).abs()))
+    x.iter().zip(reference).fold(0.0f64, |t, (a, b)| {
+        let d = (a - b).abs();
+        if d.is_nan() || d > t {
+            d
+        } else {
+            t
+        }
+    })
 }
 
-/// The relative error `‖x[..u*.len()] − u*‖∞ / ‖u*‖∞` of an iterate (the absolute error where
-/// u* = 0).
+/// The relative error `‖x[..u*.len()] − u*‖∞ / ‖u*‖∞` of an iterate, the quantity the error
+/// test bounds (where u* = 0: 0 for x = u*, +∞ otherwise, as the test `e ≤ target·0` reads).
 pub fn relative_error_of_u(x: &[f64], reference: &[f64]) -> f64 {
     let top = reference.iter().fold(0.0f64, |t, v| t.max(v.abs()));
     let e = error_of_u(x, reference);
-    if top > 0.0 {
-        e / top
-    } else {
-        e
+    match (top > 0.0, e == 0.0) {
+        (true, _) => e / top,
+        (false, true) => 0.0,
+        (false, false) => f64::INFINITY,
     }
 }
 
@@ -384,8 +390,10 @@ pub fn minres(
         }
         run.iterations = it + 1;
         if beta == 0.0 {
-            // An invariant subspace: x is exact.
+            // An invariant subspace: x is exact (in exact arithmetic); the next step would
+            // divide by β = 0. Stop here; the test below decides convergence.
             phibar = 0.0;
+            break;
         }
     }
     if !run.converged && met(&x, phibar) {
@@ -523,6 +531,21 @@ mod tests {
         assert!(relative_error_of_u(&y, u_star) <= 1e-4);
         let (z, before) = minres(s.as_ref(), &pre, &b, stop, run.iterations - 1);
         assert!(!before.converged && relative_error_of_u(&z, u_star) > 1e-4);
+    }
+
+    #[test]
+    fn a_nan_iterate_never_meets_the_error_test() {
+        let u = [1.0, 2.0, 3.0];
+        assert!(relative_error_of_u(&[f64::NAN, 2.0, 3.0], &u).is_nan());
+        assert!(relative_error_of_u(&[1.0, 2.0, f64::NAN], &u).is_nan());
+        assert!(error_of_u(&[1.0, f64::NAN, 3.0], &u).is_nan());
+        assert_eq!(relative_error_of_u(&[1.0, 2.0, 3.5], &u), 0.5 / 3.0);
+        // u* = 0: only x = 0 is within any relative target.
+        assert_eq!(relative_error_of_u(&[0.0, 0.0], &[0.0, 0.0]), 0.0);
+        assert_eq!(
+            relative_error_of_u(&[1e-300, 0.0], &[0.0, 0.0]),
+            f64::INFINITY
+        );
     }
 
     #[test]

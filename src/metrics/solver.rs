@@ -21,9 +21,10 @@
 //!   penalties only (A is SPD). **These are the counts to compare rules by**: each reaches the
 //!   same accuracy of u;
 //! - `pcg_iters_jacobi`, `pcg_iters_ic0`: the same runs stopped by SciPy's residual test
-//!   `‖r‖₂ ≤ τ‖b‖₂`, each beside the error of u at its stop (`pcg_err_u_at_stop_*`) and the
-//!   effective condition number of the preconditioned operator estimated from the run's
-//!   Lanczos coefficients (an estimate). The residual test is not an accuracy: with
+//!   `‖r‖₂ ≤ τ‖b‖₂`, each beside the error of u at its stop (`pcg_err_u_at_stop_*`); the
+//!   effective condition number of the preconditioned operator (`pcg_cond_eff_*`) is estimated
+//!   from the Lanczos coefficients of the error-based run (an estimate). The residual test is
+//!   not an accuracy: with
 //!   `b = q + D E û` and û ≠ 0, ‖b‖ grows with ε and the test loosens (a stiffer penalty
 //!   "converges" in fewer iterations to a worse u);
 //! - `minres_iters_to_err`, `minres_iters` (`lagrange`): MINRES from x₀ = 0 to the same error
@@ -138,6 +139,15 @@ impl KrylovPair {
     /// The error of u where the residual-based run stopped.
     pub fn err_u_at_stop(&self) -> Option<f64> {
         self.residual.and_then(|s| s.err_u)
+    }
+
+    /// The effective condition number of the preconditioned operator (an estimate from the
+    /// run's Lanczos coefficients) of the longer of the two runs: the error-based one where
+    /// it ran (a residual run on a stiff penalty may stop after one step and see nothing).
+    pub fn effective_cond(&self) -> Option<f64> {
+        self.to_err()
+            .or(self.residual())
+            .and_then(|r| r.effective_cond())
     }
 }
 
@@ -590,11 +600,11 @@ impl SolverMetrics {
             "krylov_err_target": self.err_target,
             "pcg_iters_jacobi": pj.map(|r| r.iterations),
             "pcg_converged_jacobi": pj.map(|r| r.converged),
-            "pcg_cond_eff_jacobi": finite_or_null(pj.and_then(|r| r.effective_cond())),
+            "pcg_cond_eff_jacobi": finite_or_null(self.pcg_jacobi.effective_cond()),
             "pcg_seconds_jacobi": self.pcg_jacobi.residual.map(|s| s.seconds),
             "pcg_iters_ic0": pi.map(|r| r.iterations),
             "pcg_converged_ic0": pi.map(|r| r.converged),
-            "pcg_cond_eff_ic0": finite_or_null(pi.and_then(|r| r.effective_cond())),
+            "pcg_cond_eff_ic0": finite_or_null(self.pcg_ic0.effective_cond()),
             "pcg_seconds_ic0": self.pcg_ic0.residual.map(|s| s.seconds),
             "ic0_shift": self.ic0_shift,
             "pcg_converged": both,

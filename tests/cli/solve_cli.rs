@@ -438,5 +438,11 @@ fn cond_tol_loosens_the_value_and_keeps_the_bounds() {
         let (code, _, err) = solve(&[scene, "--method", "lagrange", "--cond-tol", bad]);
         assert_eq!(code, 2, "{bad}: {err}");
         assert_eq!(err.trim().lines().count(), 1, "{err}");
+        let (code, _, err) = solve(&[scene, "--method", "lagrange", "--krylov-err", bad]);
+        assert_eq!(code, 2, "{bad}: {err}");
+        assert!(
+            err.contains("--krylov-err") && err.contains("(0, 1)"),
+            "{err}"
+        );
     }
 }

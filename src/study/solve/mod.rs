@@ -54,8 +54,10 @@ fn with_flag(e: Error) -> Error {
 /// Above this many unknowns [`solve_scene`] computes the solver-cost metrics only when asked
 /// (`SolveOptions::solver_metrics`, `--solver-metrics`): their Krylov runs (two per
 /// preconditioner, to the residual test and to the fixed error of u) and the refined
-/// reference take longer than the solve itself at that size.
-pub const SOLVER_METRICS_AUTO_MAX_N: usize = 50_000;
+/// reference grow faster than the solve. Measured on the membrane (one `lower` row per node,
+/// 2 cores): at 19 881 unknowns the whole `solve --json` takes 1.5–1.6× as long with them
+/// (lagrange, constant, condensed), at 49 729 already 1.75× (condensed) and 2.2× (lagrange).
+pub const SOLVER_METRICS_AUTO_MAX_N: usize = 20_000;
 
 /// How [`solve_scene`] runs: which metrics, from which start, and what it writes.
 #[derive(Clone, Debug, Default)]
@@ -325,9 +327,9 @@ pub struct Flags {
     /// Skip the solver-cost metrics only (cond2_jacobi, the Krylov runs, the forward errors).
     #[arg(long)]
     no_solver_metrics: bool,
-    /// Compute the solver-cost metrics above 50 000 unknowns too (by default they are
-    /// computed up to 50 000 unknowns only: above, their Krylov runs take longer than the
-    /// solve itself).
+    /// Compute the solver-cost metrics above 20 000 unknowns too (by default they are
+    /// computed up to 20 000 unknowns only: above, their Krylov runs and refined reference
+    /// would more than double the run's time).
     #[arg(long, conflicts_with = "no_solver_metrics")]
     solver_metrics: bool,
     /// Skip every metric: cond₂, log-det and the solver-cost metrics (cond₂ costs O(N³) for

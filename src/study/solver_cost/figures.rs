@@ -61,10 +61,11 @@ fn iteration_panels(rows: &[Row], ic0: bool) -> Vec<Figure> {
                     .iter()
                     .filter(|r| &r.family == fam && r.method == m && r.accuracy != "penetration")
                     .filter_map(|r| {
-                        let it = if ic0 {
+                        // Lagrange (MINRES) in both panels; a penalty's own preconditioner.
+                        let it = if ic0 || r.method == "lagrange" {
                             r.krylov_iters()
                         } else {
-                            r.jacobi_iters().or(r.krylov_iters())
+                            r.jacobi_iters()
                         };
                         it.map(|i| (r.h, i as f64))
                     })

@@ -424,14 +424,14 @@ fn fill_solver_metrics(row: &mut Row, c: &metrics::solver::SolverMetrics) {
     if let Some(r) = c.pcg_jacobi.residual() {
         row.pcg_iters_jacobi = Some(r.iterations);
         row.pcg_converged_jacobi = Some(r.converged);
-        row.pcg_cond_eff_jacobi = r.effective_cond();
     }
+    row.pcg_cond_eff_jacobi = c.pcg_jacobi.effective_cond();
     row.pcg_err_u_at_stop_jacobi = c.pcg_jacobi.err_u_at_stop();
     if let Some(r) = c.pcg_ic0.residual() {
         row.pcg_iters_ic0 = Some(r.iterations);
         row.pcg_converged_ic0 = Some(r.converged);
-        row.pcg_cond_eff_ic0 = r.effective_cond();
     }
+    row.pcg_cond_eff_ic0 = c.pcg_ic0.effective_cond();
     row.pcg_err_u_at_stop_ic0 = c.pcg_ic0.err_u_at_stop();
     row.ic0_shift = c.ic0_shift;
     if let Some(r) = c.minres.residual() {
