@@ -16,5 +16,5 @@ cargo run --release --bin cond_accuracy -- --out figures/cond_accuracy
 cargo run --release --bin solver_cost -- --out figures/solver_cost   # ≈ 6 min on 2 cores
 cargo run --release --bin contact_bench -- --out figures/contact_bench --optimal-max-n 6000   # ≈ 1.6 h on 2 cores
 cargo run --release --bin contact_bench -- --cases inclined-15,inclined-30,inclined-45,patch-two-body-mortar,patch-two-body-nts-1,patch-two-body-nts-2,hertz-two-body,hertz-normals --out figures/contact_bench/coupled   # ≈ 1.5 min
-cargo run --release --bin penalty_scaling -- --out figures/penalty_scaling   # ≈ 25 s
+cargo run --release --bin penalty_scaling -- --out figures/penalty_scaling   # ≈ 2 min
 cargo run --release --bin engine_scale -- --sizes 10000,100000,1000000 --out figures/engine_scale

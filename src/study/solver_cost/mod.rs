@@ -13,8 +13,8 @@
 //! default), `constant` at ε = 10^k·k_scale for k = 0 … 10 (k_scale: the family's stiffness
 //! scale, [`cases::Level::k_scale`]; rows with accuracy `eps-map`, unmatched): iterations to the
 //! fixed error of u and digits of u lost against ε, per preconditioner, where each one fails
-//! (the error-based run misses its target within the iteration limit, or the preconditioner
-//! cannot be built).
+//! (the error-based run misses its target: it hits the iteration limit, or its CG breaks
+//! down, pᵀAp ≤ 0 or rᵀz ≤ 0 in floating point; or the preconditioner cannot be built).
 //!
 //! Each row then holds the solver-cost metrics of its final system
 //! ([`crate::metrics::solver`]: cond₂ raw and Jacobi-scaled, CG iterations with Jacobi and

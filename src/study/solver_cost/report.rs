@@ -18,7 +18,7 @@ fn count(v: Option<usize>, conv: Option<bool>) -> String {
 }
 
 /// The report (module doc). Iterations are counted to the fixed error of u; `*`: the run did
-/// not reach it within the iteration limit. The last columns show the residual-stopped
+/// not reach it (iteration limit, or a breakdown of the preconditioned CG). The last columns show the residual-stopped
 /// Jacobi run (‖r‖ ≤ τ‖b‖) and the error of u where it stopped.
 pub fn text(all: &[Row]) -> String {
     let (map, rows): (Vec<Row>, Vec<Row>) = all.iter().cloned().partition(|r| r.in_eps_map());
@@ -99,8 +99,8 @@ pub fn text(all: &[Row]) -> String {
     t
 }
 
-/// The ε map's table: per family, iterations to the error target (`*`: missed within the
-/// iteration limit), IC(0)'s shift and the digits of u a direct solve loses, against ε.
+/// The ε map's table: per family, iterations to the error target (`*`: missed, at the
+/// iteration limit or at a breakdown of the preconditioned CG), IC(0)'s shift and the digits of u a direct solve loses, against ε.
 fn eps_map_text(map: &[Row]) -> String {
     let mut t = String::new();
     let mut fams: Vec<&str> = Vec::new();
