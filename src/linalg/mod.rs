@@ -17,6 +17,7 @@
 //! (`pivot ≤ ε_mach · max pivot`) is reported as [`Error::Singular`]: K is singular to working
 //! precision and `K⁻¹` does not exist numerically.
 
+pub mod amg;
 mod diagonal_pattern;
 mod factor_columns;
 pub mod krylov;

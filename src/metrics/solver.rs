@@ -18,7 +18,9 @@
 //!   ([`crate::linalg::krylov::cg`]) until `‖u_k − u*‖∞ ≤ e·‖u*‖∞` (e = `krylov_err_target`,
 //!   default 1e-6; u* the refined reference below), preconditioned by Jacobi and by IC(0) on
 //!   A's pattern ([`crate::linalg::precond::Ic0`], with its Manteuffel shift recorded);
-//!   penalties only (A is SPD). **These are the counts to compare rules by**: each reaches the
+//!   penalties only (A is SPD); `pcg_iters_amg_scalar_to_err` the same with scalar
+//!   smoothed-aggregation AMG ([`crate::linalg::amg`], B = ones, one V-cycle per
+//!   application; `amg_scalar_levels`: unknowns per level). **These are the counts to compare rules by**: each reaches the
 //!   same accuracy of u;
 //! - `pcg_iters_jacobi`, `pcg_iters_ic0`: the same runs stopped by SciPy's residual test
 //!   `‖r‖₂ ≤ τ‖b‖₂`, each beside the error of u at its stop (`pcg_err_u_at_stop_*`); the
@@ -47,6 +49,7 @@ use super::{cond_of_system, finite_or_null, system_matrix};
 use crate::conditioning::CondReport;
 use crate::dd::Dd;
 use crate::error::{Error, Result};
+use crate::linalg::amg::{Amg, AmgOptions};
 use crate::linalg::krylov::{self, KrylovRun, Preconditioner, Stop};
 use crate::linalg::precond::{Ic0, Jacobi};
 use crate::linalg::{refine, Factorization};
@@ -165,6 +168,10 @@ pub struct SolverMetrics {
     pub pcg_jacobi: KrylovPair,
     /// CG with IC(0) (penalties).
     pub pcg_ic0: KrylovPair,
+    /// CG with scalar smoothed-aggregation AMG, B = ones (penalties).
+    pub pcg_amg_scalar: KrylovPair,
+    /// Levels of that AMG hierarchy (unknowns per level, finest first).
+    pub amg_scalar_sizes: Vec<usize>,
     /// IC(0)'s diagonal shift α (`A + α·diag(A)` factored; 0: none needed).
     pub ic0_shift: Option<f64>,
     /// MINRES with the block-diagonal preconditioner (`lagrange`).
@@ -394,6 +401,15 @@ pub fn compute_for(
                 Err(e) => out
                     .unavailable
                     .push(format!("pcg (IC(0)): {}", e.bare_message())),
+            }
+            match Amg::new(a, &AmgOptions::default()) {
+                Ok(m) => {
+                    out.amg_scalar_sizes = m.sizes.clone();
+                    out.pcg_amg_scalar = pair(krylov::cg, &m);
+                }
+                Err(e) => out
+                    .unavailable
+                    .push(format!("pcg (AMG, scalar): {}", e.bare_message())),
             }
         }
         SystemKind::SaddlePoint { active } => match saddle_preconditioner(problem, active) {
@@ -631,6 +647,11 @@ impl SolverMetrics {
                 "pcg_err_u_at_stop_ic0",
                 &self.pcg_ic0,
             ),
+            (
+                "pcg_iters_amg_scalar_to_err",
+                "pcg_err_u_at_stop_amg_scalar",
+                &self.pcg_amg_scalar,
+            ),
             ("minres_iters_to_err", "minres_err_u_at_stop", &self.minres),
         ] {
             let run = p.to_err();
@@ -642,6 +663,11 @@ impl SolverMetrics {
             );
             map.insert(stop_name.into(), finite_or_null(p.err_u_at_stop()));
         }
+        map.insert(
+            "pcg_iters_amg_scalar".into(),
+            json!(self.pcg_amg_scalar.residual().map(|r| r.iterations)),
+        );
+        map.insert("amg_scalar_levels".into(), json!(self.amg_scalar_sizes));
         std::mem::take(map)
     }
 }

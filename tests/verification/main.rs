@@ -6,6 +6,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod amg;
 mod cond_adversarial;
 mod cond_reference;
 mod contact_bench;

@@ -253,7 +253,7 @@ fn solver_cost(
     warnings: &mut Vec<String>,
 ) -> Result<Option<metrics::solver::SolverMetrics>> {
     let with_cost = solver_metrics_on(p, opts);
-    if !with_cost && !(opts.no_metrics || opts.no_solver_metrics) {
+    if !(with_cost || opts.no_metrics || opts.no_solver_metrics) {
         warnings.push(format!(
             "solver-cost metrics not computed: {} unknowns is above {SOLVER_METRICS_AUTO_MAX_N} \
              (--solver-metrics computes them)",

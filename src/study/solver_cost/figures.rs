@@ -10,7 +10,7 @@
 //! - `leaderboard_pcg`: IC(0)-CG iterations to the error target (MINRES for Lagrange) of
 //!   every rule on each family's finest level, at both accuracies;
 //! - `eps_map`: the ε map (`constant` over 11 decades of ε on one level per family):
-//!   Jacobi- and IC(0)-CG iterations to the error target, misses marked.
+//!   Jacobi-, IC(0)- and scalar-AMG-CG iterations to the error target, misses marked.
 //!
 //! The ε map's rows appear in `eps_map` only.
 
@@ -20,6 +20,9 @@ use crate::study::shape::Drawing;
 
 /// Reads one value off a row.
 type Value = fn(&Row) -> Option<f64>;
+
+/// Reads a Krylov count and whether it reached its target off a row.
+type CountOf = fn(&Row) -> (Option<usize>, Option<bool>);
 
 /// Smallest error drawn (an exact value has error 0, which a log axis cannot show).
 const FLOOR: f64 = 1e-18;
@@ -230,7 +233,7 @@ fn eps_map_panels(map: &[Row]) -> Vec<Figure> {
                 "CG iterations to ‖u − u*‖∞ ≤ e‖u*‖∞",
             )
             .log_log();
-            let pick: [(&str, fn(&Row) -> (Option<usize>, Option<bool>)); 2] = [
+            let pick: [(&str, CountOf); 3] = [
                 ("Jacobi", |r| {
                     (
                         r.pcg_iters_jacobi_to_err,
@@ -239,6 +242,12 @@ fn eps_map_panels(map: &[Row]) -> Vec<Figure> {
                 }),
                 ("IC(0)", |r| {
                     (r.pcg_iters_ic0_to_err, r.pcg_iters_ic0_to_err_converged)
+                }),
+                ("AMG (scalar)", |r| {
+                    (
+                        r.pcg_iters_amg_scalar_to_err,
+                        r.pcg_iters_amg_scalar_to_err_converged,
+                    )
                 }),
             ];
             for (k, (name, get)) in pick.iter().enumerate() {

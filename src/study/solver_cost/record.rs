@@ -55,6 +55,11 @@ pub struct Row {
     pub pcg_iters_ic0_to_err: Option<usize>,
     /// Whether that run reached the error target.
     pub pcg_iters_ic0_to_err_converged: Option<bool>,
+    /// CG iterations with scalar smoothed-aggregation AMG (B = ones; penalties) to the fixed
+    /// error of u.
+    pub pcg_iters_amg_scalar_to_err: Option<usize>,
+    /// Whether that run reached the error target.
+    pub pcg_iters_amg_scalar_to_err_converged: Option<bool>,
     /// MINRES iterations (lagrange) to the fixed error of u.
     pub minres_iters_to_err: Option<usize>,
     /// Whether that run reached the error target.

@@ -1,0 +1,84 @@
+#!/usr/bin/env python3
+"""PyAMG references for penalty-lab's smoothed-aggregation AMG (`src/linalg/amg.rs`, issue 63):
+CG iterations to a fixed error of u with PyAMG's `smoothed_aggregation_solver` (its defaults,
+scalar CSR, B = ones) as the preconditioner (one V-cycle per application), on penalized
+membranes built here from their formula, which `tests/verification/amg.rs` builds the same
+way in Rust:
+
+    K = 5-point Laplacian (stencil 4, -1) on side x side interior nodes of the unit square,
+    h = 1/(side+1), node (i, j) -> i*side + j, x_i = (i+1) h;
+    eps_c = eps_rel * 4 on the nodes with r^2 = (x-1/2)^2 + (y-1/2)^2 < 0.1, else 0;
+    A = K + diag(eps), b = -10 h^2 + eps * (-0.35 - 0.7 r^2).
+
+u* = SciPy's direct solve; the count is the first CG iterate (x0 = 0, SciPy's `cg`, its
+callback) with ||u_k - u*||_inf <= 1e-6 ||u*||_inf.
+
+    pip install numpy scipy pyamg
+    python3 scripts/amg_reference.py > tests/data/amg/reference.json
+"""
+import json
+import sys
+
+import numpy as np
+import pyamg
+import scipy
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+TARGET = 1e-6
+
+
+class Reached(Exception):
+    pass
+
+
+def membrane(side, eps_rel):
+    t = sp.diags([-1.0, 2.0, -1.0], [-1, 0, 1], shape=(side, side))
+    k = (sp.kron(t, sp.identity(side)) + sp.kron(sp.identity(side), t)).tocsr()
+    h = 1.0 / (side + 1)
+    x = (np.arange(side) + 1) * h
+    xx, yy = np.meshgrid(x, x, indexing="ij")
+    r2 = ((xx - 0.5) ** 2 + (yy - 0.5) ** 2).ravel()
+    eps = np.where(r2 < 0.1, eps_rel * 4.0, 0.0)
+    a = (k + sp.diags(eps)).tocsr()
+    b = -10 * h * h * np.ones(side * side) + eps * (-0.35 - 0.7 * r2)
+    return a, b
+
+
+def iterations_to_err(a, b, m, u_star):
+    top = np.max(np.abs(u_star))
+    count = [0]
+
+    def cb(xk):
+        count[0] += 1
+        if np.max(np.abs(xk - u_star)) <= TARGET * top:
+            raise Reached()
+
+    try:
+        spla.cg(a, b, x0=np.zeros_like(b), rtol=0.0, atol=0.0, maxiter=10 * len(b), M=m,
+                callback=cb)
+    except Reached:
+        return count[0], True
+    return count[0], False
+
+
+cases = []
+for side in [63, 127]:
+    for eps_rel in [1e2, 1e6]:
+        a, b = membrane(side, eps_rel)
+        u_star = spla.spsolve(a.tocsc(), b)
+        ml = pyamg.smoothed_aggregation_solver(a, B=np.ones((a.shape[0], 1)))
+        m = ml.aspreconditioner(cycle="V")
+        its, ok = iterations_to_err(a, b, m, u_star)
+        jac = spla.LinearOperator(a.shape, matvec=lambda r, d=a.diagonal(): r / d)
+        jits, jok = iterations_to_err(a, b, jac, u_star)
+        cases.append({"side": side, "eps_rel": eps_rel, "n": a.shape[0],
+                      "pcg_iters_amg_scalar_to_err": its, "converged": ok,
+                      "pcg_iters_jacobi_to_err": jits, "jacobi_converged": jok,
+                      "levels": [lv.A.shape[0] for lv in ml.levels]})
+        print(cases[-1], file=sys.stderr)
+json.dump({"generator": "scripts/amg_reference.py", "err_target": TARGET,
+           "versions": {"pyamg": pyamg.__version__, "scipy": scipy.__version__,
+                        "numpy": np.__version__},
+           "cases": cases}, sys.stdout, indent=1)
+sys.stdout.write("\n")
