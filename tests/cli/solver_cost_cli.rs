@@ -28,8 +28,14 @@ fn small_run_matches_rules_and_meets_the_error_bounds() {
     );
     let rows: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let rows = rows.as_array().unwrap();
-    // 2 families × 3 levels × (lagrange + 7 rules × 2 accuracies).
-    assert_eq!(rows.len(), 2 * 3 * 15);
+    // 2 families × 3 levels × (lagrange + 7 rules × 2 accuracies), and the ε map: 11 values
+    // of ε on level 2 of each family.
+    assert_eq!(rows.len(), 2 * 3 * 15 + 2 * 11);
+    let map: Vec<_> = rows.iter().filter(|r| r["accuracy"] == "eps-map").collect();
+    assert_eq!(map.len(), 2 * 11);
+    assert!(map
+        .iter()
+        .all(|r| r["level"] == 2 && r["method"] == "constant" && r["matched"] == false));
     let f = |r: &serde_json::Value, k: &str| r[k].as_f64();
     for r in rows {
         let what = format!(
@@ -73,6 +79,15 @@ fn small_run_matches_rules_and_meets_the_error_bounds() {
         } else {
             assert!(r["pcg_iters_jacobi"].as_u64().is_some(), "{what}");
             assert!(r["pcg_iters_ic0"].as_u64().is_some(), "{what}");
+            // The counts to 1e-6 of u: every run here reaches it.
+            for key in [
+                "pcg_iters_jacobi_to_err",
+                "pcg_iters_ic0_to_err",
+                "pcg_iters_amg_scalar_to_err",
+            ] {
+                assert!(r[key].as_u64().is_some(), "{what}: {key}");
+                assert_eq!(r[format!("{key}_converged")], true, "{what}: {key}");
+            }
         }
     }
     // h halves from level to level.
@@ -120,6 +135,7 @@ fn small_run_matches_rules_and_meets_the_error_bounds() {
         "digits_lost",
         "raw_vs_jacobi",
         "leaderboard_pcg",
+        "eps_map",
     ] {
         assert!(
             dir.join("figures").join(format!("{fig}.png")).exists(),
@@ -134,6 +150,7 @@ fn bad_input_exits_2() {
         (vec!["--levels", "1"], "--levels"),
         (vec!["--methods", "bogus"], "bogus"),
         (vec!["--krylov-tol", "2"], "--krylov-tol"),
+        (vec!["--krylov-err", "0"], "--krylov-err"),
         (vec!["--hertz-h0", "0.9"], "--hertz-h0"),
         // A family's own flag without the family (it was ignored).
         (
