@@ -21,11 +21,13 @@ computes, without any of penalty-lab's code:
   ||u_k - u*||_inf <= e ||u*||_inf (u* the u block of mpmath's 50-digit solve, e = --err,
   1e-6), the run ended there by an exception from the callback; and the error of u at each
   residual stop (pcg_err_u_at_stop_jacobi, pcg_err_u_at_stop_ic0);
+- pcg_iters_amg_scalar_to_err: SciPy's `cg` preconditioned by one V-cycle of PyAMG's
+  `smoothed_aggregation_solver` (its defaults, CSR, B = ones), counted the same way;
 - forward_err_u, forward_err_force: the relative inf-norm error of x_hat (u block; contact
   forces: penalties eps_c (x_d - u^_c) + lambda_c, multipliers for lagrange) against mpmath's
   LU solve at 50 digits of the stored A and b.
 
-    pip install numpy scipy mpmath
+    pip install numpy scipy mpmath pyamg
     python3 scripts/solver_cost_reference.py --solve target/release/solve \
         --cases tests/data/solver_cost/cases.json --out tests/data/solver_cost/reference.json
 
@@ -43,6 +45,7 @@ import tempfile
 
 import mpmath
 import numpy as np
+import pyamg
 import scipy
 import scipy.io
 import scipy.sparse as sp
@@ -172,8 +175,9 @@ def forces(x, scene, out, n):
         for c, con in enumerate(cons):
             e, r, g = out["penalties"][c], out["forces"][c], out["gaps"][c]
             lam = r - e * g  # IEEE double, as the library forms it
-            f.append(mpmath.mpf(e) * (mpmath.mpf(x[con["dof"]]) - mpmath.mpf(con["limit"]))
-                     + mpmath.mpf(lam))
+            terms = con.get("terms") or [[con["dof"], 1.0]]
+            v = sum(mpmath.mpf(a) * mpmath.mpf(x[d]) for d, a in terms)
+            f.append(mpmath.mpf(e) * (v - mpmath.mpf(con["limit"])) + mpmath.mpf(lam))
         return f
     active = out["system"]["saddle_point"]["active"]
     f = [mpmath.mpf(0)] * len(cons)
@@ -221,15 +225,20 @@ def run_case(solve, base, case, tau, err):
          ref["pcg_iters_ic0_to_err_converged"]) = iterations_to_err(
             spla.cg, a, b, ic_apply, u_star, err)
         ref["ic0_shift"] = shift
+        # PyAMG's smoothed aggregation with its defaults, scalar CSR, B = ones.
+        ml = pyamg.smoothed_aggregation_solver(sp.csr_matrix(a), B=np.ones((a.shape[0], 1)))
+        amg = ml.aspreconditioner(cycle="V")
+        (ref["pcg_iters_amg_scalar_to_err"],
+         ref["pcg_iters_amg_scalar_to_err_converged"]) = iterations_to_err(
+            spla.cg, a, b, amg.matvec, u_star, err)
     else:
-        # M^-1: 1/K_ii on u; on a single-DOF row's multiplier K_dd (the inverse of
-        # d^T diag(K)^-1 d).
+        # M^-1: 1/K_ii on u; on a row d_c's multiplier the inverse of d_c^T diag(K)^-1 d_c
+        # (K_dd for a single-DOF row).
         dense = a.toarray()
-        inv = np.concatenate([1.0 / np.diag(dense)[:n],
-                              [dense[np.flatnonzero(dense[:n, j])[0], np.flatnonzero(dense[:n, j])[0]]
+        kd = np.diag(dense)[:n]
+        inv = np.concatenate([1.0 / kd,
+                              [1.0 / np.sum(dense[:n, j] ** 2 / kd)
                                for j in range(n, a.shape[0])]])
-        for j in range(n, a.shape[0]):
-            assert np.count_nonzero(dense[:n, j]) == 1, "single-DOF rows only"
         (ref["minres_iters_to_err"],
          ref["minres_iters_to_err_converged"]) = iterations_to_err(
             spla.minres, a, b, lambda r: inv * r, u_star, err)
@@ -258,7 +267,8 @@ def main():
     doc = {
         "generator": "scripts/solver_cost_reference.py",
         "versions": {"numpy": np.__version__, "scipy": scipy.__version__,
-                     "mpmath": mpmath.__version__, "python": sys.version.split()[0]},
+                     "mpmath": mpmath.__version__, "pyamg": pyamg.__version__,
+                     "python": sys.version.split()[0]},
         "tau": args.tau,
         "err_target": args.err,
         "cases": refs,

@@ -661,6 +661,11 @@ impl SolverMetrics {
                 format!("{name}_seconds"),
                 json!(p.to_err.map(|s| s.seconds)),
             );
+            // The error of u where the error-based run stopped (≤ the target iff converged).
+            map.insert(
+                format!("{name}_err_u"),
+                finite_or_null(p.to_err.and_then(|s| s.err_u)),
+            );
             map.insert(stop_name.into(), finite_or_null(p.err_u_at_stop()));
         }
         map.insert(

@@ -246,6 +246,24 @@ fn write_system_round_trips_the_final_system() {
             "pcg_iters_ic0"
         };
         assert!(v[iters].as_u64().is_some(), "{method}: {iters}");
+        // The counts to a fixed error of u: a run that reports reaching the target stopped
+        // within it (its error of u is in the output), one that did not, above it.
+        let target = v["krylov_err_target"].as_f64().unwrap();
+        let names: &[&str] = if method == "lagrange" {
+            &["minres_iters_to_err"]
+        } else {
+            &[
+                "pcg_iters_jacobi_to_err",
+                "pcg_iters_ic0_to_err",
+                "pcg_iters_amg_scalar_to_err",
+            ]
+        };
+        for name in names {
+            let reached = v[format!("{name}_converged")].as_bool().unwrap();
+            let err_u = v[format!("{name}_err_u")].as_f64().unwrap();
+            assert_eq!(reached, err_u <= target, "{method}: {name} {err_u:e}");
+            assert!(v[*name].as_u64().is_some(), "{method}: {name}");
+        }
         // The file is Matrix Market the library itself reads back.
         assert!(
             parse_matrix_market_str(&std::fs::read_to_string(dir.join("A.mtx")).unwrap(), "A")
