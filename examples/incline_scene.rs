@@ -17,9 +17,7 @@ fn main() -> std::process::ExitCode {
     penalty_lab::error::run_main(|| {
         let args: Vec<String> = std::env::args().skip(1).collect();
         let [path, theta, nx] = args.as_slice() else {
-            return Err(Error::input(
-                "usage: incline_scene PATH THETA_DEGREES NX".into(),
-            ));
+            return Err(Error::input("usage: incline_scene PATH THETA_DEGREES NX"));
         };
         let theta: f64 = theta
             .parse()

@@ -58,7 +58,8 @@ def read(path):
 
 
 def jacobi_scaled(a, n_u):
-    """S A S with S = diag(A)^(-1/2) on the first n_u rows; multiplier rows keep D = 1."""
+    """S A S with S = diag(A)^(-1/2) on the first n_u rows; multiplier rows scaled so that each
+    row's largest coupling entry is 1 (single-DOF rows keep D = 1)."""
     a = a.toarray()
     n = a.shape[0]
     d = np.diag(a)[:n_u]
@@ -68,8 +69,17 @@ def jacobi_scaled(a, n_u):
     # mirrored, as the library rounds it (an exactly symmetric S A S).
     lower = np.tril(a[:n_u, :n_u] * s[:, None] * s[None, :])
     out[:n_u, :n_u] = lower + np.tril(lower, -1).T
-    # The coupling block of a saddle point: entries are 1 and stay 1.
-    assert n == n_u or np.all((a[:n_u, n_u:] == 0) | (a[:n_u, n_u:] == 1))
+    # The coupling block of a saddle point: a single-DOF row's entry 1 stays 1; a row with
+    # several terms becomes (a_j s_j) / max_j |a_j s_j| (its largest coupling entry 1).
+    for j in range(n_u, n):
+        col = a[:n_u, j]
+        if np.count_nonzero(col) > 1:
+            sc = col * s
+            sc = sc / np.max(np.abs(sc))
+            out[:n_u, j] = sc
+            out[j, :n_u] = sc
+        else:
+            assert np.all((col == 0) | (col == 1))
     return out
 
 

@@ -98,7 +98,7 @@ fn solver_cost_metrics_agree_with_numpy_scipy_and_mpmath() {
     let dir = super::cond_reference::data_dir("solver_cost");
     let text = std::fs::read_to_string(dir.join("reference.json")).unwrap();
     let reference: Reference = serde_json::from_str(&text).unwrap();
-    assert_eq!(reference.cases.len(), 25);
+    assert_eq!(reference.cases.len(), 30);
     let mut failures = Vec::new();
     for c in &reference.cases {
         let opts = SolveOptions {
@@ -157,6 +157,18 @@ fn solver_cost_metrics_agree_with_numpy_scipy_and_mpmath() {
                 c.minres_iters_to_err_converged,
             ),
         ] {
+            // A residual stop met by an iterate 10 % or more away from u* (a stiff penalty
+            // with û ≠ 0) is met at an iteration that rounding moves: there only the
+            // error-based counts are compared.
+            let loose = match key {
+                "pcg_iters_jacobi" => c.pcg_err_u_at_stop_jacobi,
+                "pcg_iters_ic0" => c.pcg_err_u_at_stop_ic0,
+                _ => None,
+            }
+            .is_some_and(|e| e >= 0.1);
+            if loose {
+                continue;
+            }
             if !iterations_agree(&out[key], r) || out[conv_key].as_bool() != conv {
                 failures.push(format!(
                     "{what}: {key} {} ({}) vs SciPy {r:?} ({conv:?})",
@@ -231,4 +243,31 @@ fn solver_cost_metrics_agree_with_numpy_scipy_and_mpmath() {
         }
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The README's answer for two-term rows, read off SciPy's and PyAMG's counts alone (no
+/// penalty-lab number): on the 30° inclined block, raising ε from 10 to 1e6 costs Jacobi-CG and
+/// scalar-AMG-CG iterations to the same error of u, and IC(0)-CG nothing.
+#[test]
+fn scipy_counts_show_two_term_rows_costing_jacobi_and_scalar_amg_not_ic0() {
+    let dir = super::cond_reference::data_dir("solver_cost");
+    let text = std::fs::read_to_string(dir.join("reference.json")).unwrap();
+    let reference: Reference = serde_json::from_str(&text).unwrap();
+    let at = |eps: &str| {
+        reference
+            .cases
+            .iter()
+            .find(|c| c.scene.contains("incline-30") && c.method == "constant" && c.args[1] == eps)
+            .unwrap()
+    };
+    let (soft, stiff) = (at("10"), at("1e6"));
+    let ratio = |a: Option<usize>, b: Option<usize>| b.unwrap() as f64 / a.unwrap() as f64;
+    assert!(ratio(soft.pcg_iters_jacobi_to_err, stiff.pcg_iters_jacobi_to_err) >= 1.5);
+    assert!(
+        ratio(
+            soft.pcg_iters_amg_scalar_to_err,
+            stiff.pcg_iters_amg_scalar_to_err
+        ) >= 1.3
+    );
+    assert_eq!(soft.pcg_iters_ic0_to_err, stiff.pcg_iters_ic0_to_err);
 }
