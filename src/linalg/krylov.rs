@@ -458,20 +458,26 @@ mod tests {
         assert!(run.converged && run.iterations == 0 && x.iter().all(|&v| v == 0.0));
     }
 
-    #[test]
-    fn minres_solves_a_saddle_point() {
-        // [K d; dᵀ 0] with K the Laplacian, d = e_3.
+    /// `[K d; dᵀ 0]` with K the 20-node Laplacian and d = e_3, its block-diagonal
+    /// preconditioner and a right-hand side.
+    fn saddle() -> (Stiffness, Jacobi, Vec<f64>) {
         let n = 20;
         let mut t = Vec::new();
         laplacian(n, 0.0).for_each_entry(|i, j, v| t.push((i, j, v)));
         t.push((3, n, 1.0));
         t.push((n, 3, 1.0));
         let a = Stiffness::from_triplets(n + 1, &t).unwrap();
-        let s = a.to_sparse();
         let mut inv = vec![0.5; n + 1];
         inv[n] = 2.0; // (dᵀ diag(K)⁻¹ d)⁻¹
         let pre = Jacobi::from_inverse_diagonal(inv).unwrap();
         let b: Vec<f64> = (0..=n).map(|i| (i % 3) as f64 - 0.7).collect();
+        (a, pre, b)
+    }
+
+    #[test]
+    fn minres_solves_a_saddle_point() {
+        let (a, pre, b) = saddle();
+        let s = a.to_sparse();
         let (x, run) = minres(s.as_ref(), &pre, &b, Stop::Residual(1e-12), 500);
         assert!(run.converged, "{run:?}");
         assert!(residual(&a, &x, &b) <= 1e-10, "{}", residual(&a, &x, &b));
@@ -509,17 +515,8 @@ mod tests {
 
     #[test]
     fn minres_error_stop_on_the_displacement_block() {
-        let n = 20;
-        let mut t = Vec::new();
-        laplacian(n, 0.0).for_each_entry(|i, j, v| t.push((i, j, v)));
-        t.push((3, n, 1.0));
-        t.push((n, 3, 1.0));
-        let a = Stiffness::from_triplets(n + 1, &t).unwrap();
-        let s = a.to_sparse();
-        let mut inv = vec![0.5; n + 1];
-        inv[n] = 2.0;
-        let pre = Jacobi::from_inverse_diagonal(inv).unwrap();
-        let b: Vec<f64> = (0..=n).map(|i| (i % 3) as f64 - 0.7).collect();
+        let (a, pre, b) = saddle();
+        let (s, n) = (a.to_sparse(), b.len() - 1);
         let (x, _) = minres(s.as_ref(), &pre, &b, Stop::Residual(1e-14), 500);
         let u_star = &x[..n];
         let stop = Stop::ErrorOfU {
