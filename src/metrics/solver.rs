@@ -118,6 +118,12 @@ pub struct IterativeSolve {
     pub err_u: Option<f64>,
 }
 
+/// A count of a run to the error target where that run reached it (`None` otherwise): what
+/// tables, slopes and figures plot of a row's `*_to_err` and `*_to_err_converged`.
+pub fn reached(iters: Option<usize>, converged: Option<bool>) -> Option<usize> {
+    iters.filter(|_| converged == Some(true))
+}
+
 /// The pair of runs of one Krylov solver and preconditioner (module doc): to the fixed error
 /// of u, and to the residual test.
 #[derive(Clone, Copy, Debug, Default, Serialize)]
@@ -132,6 +138,12 @@ impl KrylovPair {
     /// Iterations and convergence of the error-based run.
     pub fn to_err(&self) -> Option<KrylovRun> {
         self.to_err.map(|s| s.run)
+    }
+
+    /// Iterations of the error-based run where it reached the target ([`reached`]).
+    pub fn iters_reached(&self) -> Option<usize> {
+        let r = self.to_err();
+        reached(r.map(|r| r.iterations), r.map(|r| r.converged))
     }
 
     /// Iterations and convergence of the residual-based run.

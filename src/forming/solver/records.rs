@@ -136,14 +136,18 @@ pub struct StepRecord {
 impl StepRecord {
     /// Jacobi-CG iterations to the error target, where that run reached it.
     pub fn jacobi_iters_to_err(&self) -> Option<usize> {
-        self.pcg_iters_jacobi_to_err
-            .filter(|_| self.pcg_iters_jacobi_to_err_converged == Some(true))
+        crate::metrics::solver::reached(
+            self.pcg_iters_jacobi_to_err,
+            self.pcg_iters_jacobi_to_err_converged,
+        )
     }
 
     /// IC(0)-CG iterations to the error target, where that run reached it.
     pub fn ic0_iters_to_err(&self) -> Option<usize> {
-        self.pcg_iters_ic0_to_err
-            .filter(|_| self.pcg_iters_ic0_to_err_converged == Some(true))
+        crate::metrics::solver::reached(
+            self.pcg_iters_ic0_to_err,
+            self.pcg_iters_ic0_to_err_converged,
+        )
     }
 }
 

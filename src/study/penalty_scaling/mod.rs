@@ -359,12 +359,9 @@ fn row_of(
     match metrics::solver::compute(problem, &sol, opts) {
         Ok(c) => {
             row.cond2_jacobi = c.cond2_jacobi.map(|r| r.cond2);
-            let reached = |p: &metrics::solver::KrylovPair| {
-                p.to_err().filter(|r| r.converged).map(|r| r.iterations)
-            };
-            row.pcg_iters_jacobi_to_err = reached(&c.pcg_jacobi);
-            row.pcg_iters_ic0_to_err = reached(&c.pcg_ic0);
-            row.minres_iters_to_err = reached(&c.minres);
+            row.pcg_iters_jacobi_to_err = c.pcg_jacobi.iters_reached();
+            row.pcg_iters_ic0_to_err = c.pcg_ic0.iters_reached();
+            row.minres_iters_to_err = c.minres.iters_reached();
             row.forward_err_u = c.forward_err_u;
             if !c.unavailable.is_empty() {
                 let sep = if row.note.is_empty() { "" } else { "; " };

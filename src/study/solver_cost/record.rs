@@ -1,5 +1,6 @@
 //! The rows of `solver_cost` and what is derived from them: the slopes against h.
 
+use crate::metrics::solver::reached;
 use crate::stats::loglog_slope;
 use serde::{Deserialize, Serialize};
 
@@ -128,11 +129,11 @@ impl Row {
     /// preconditioner (IC(0)-CG for the penalties, MINRES for lagrange), where that run
     /// reached the target.
     pub fn krylov_iters(&self) -> Option<usize> {
-        converged(
+        reached(
             self.pcg_iters_ic0_to_err,
             self.pcg_iters_ic0_to_err_converged,
         )
-        .or(converged(
+        .or(reached(
             self.minres_iters_to_err,
             self.minres_iters_to_err_converged,
         ))
@@ -140,16 +141,11 @@ impl Row {
 
     /// Jacobi-CG iterations to the error target, where it was reached.
     pub fn jacobi_iters(&self) -> Option<usize> {
-        converged(
+        reached(
             self.pcg_iters_jacobi_to_err,
             self.pcg_iters_jacobi_to_err_converged,
         )
     }
-}
-
-/// A count that reached its target (`None` otherwise).
-fn converged(iters: Option<usize>, ok: Option<bool>) -> Option<usize> {
-    iters.filter(|_| ok == Some(true))
 }
 
 /// The fitted exponents of one rule at one accuracy over a family's levels: cond ∝ h^−p,
@@ -220,13 +216,13 @@ pub fn slopes(rows: &[Row]) -> Vec<Slope> {
                 p_cond2_jacobi: exponent(&g, |r| r.cond2_jacobi),
                 q_pcg_jacobi: exponent(&g, |r| count(r.jacobi_iters())),
                 q_pcg_ic0: exponent(&g, |r| {
-                    count(converged(
+                    count(reached(
                         r.pcg_iters_ic0_to_err,
                         r.pcg_iters_ic0_to_err_converged,
                     ))
                 }),
                 q_minres: exponent(&g, |r| {
-                    count(converged(
+                    count(reached(
                         r.minres_iters_to_err,
                         r.minres_iters_to_err_converged,
                     ))
