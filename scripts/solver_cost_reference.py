@@ -23,6 +23,8 @@ computes, without any of penalty-lab's code:
   residual stop (pcg_err_u_at_stop_jacobi, pcg_err_u_at_stop_ic0);
 - pcg_iters_amg_scalar_to_err: SciPy's `cg` preconditioned by one V-cycle of PyAMG's
   `smoothed_aggregation_solver` (its defaults, CSR, B = ones), counted the same way;
+- pcg_iters_amg_nodal_to_err (scenes with "near_null_space" and "block_size"): the same with
+  A as BSR in blocks of block_size and B read from the scene's file (PyAMG's nodal mode);
 - forward_err_u, forward_err_force: the relative inf-norm error of x_hat (u block; contact
   forces: penalties eps_c (x_d - u^_c) + lambda_c, multipliers for lagrange) against mpmath's
   LU solve at 50 digits of the stored A and b.
@@ -241,6 +243,16 @@ def run_case(solve, base, case, tau, err):
         (ref["pcg_iters_amg_scalar_to_err"],
          ref["pcg_iters_amg_scalar_to_err_converged"]) = iterations_to_err(
             spla.cg, a, b, amg.matvec, u_star, err)
+        if "near_null_space" in scene:
+            bs = scene.get("block_size", 1)
+            bmodes = np.asarray(scipy.io.mmread(os.path.join(
+                os.path.dirname(scene_path), scene["near_null_space"]["matrix_market"])))
+            ml = pyamg.smoothed_aggregation_solver(sp.csr_matrix(a).tobsr(blocksize=(bs, bs)),
+                                                   B=bmodes)
+            amg = ml.aspreconditioner(cycle="V")
+            (ref["pcg_iters_amg_nodal_to_err"],
+             ref["pcg_iters_amg_nodal_to_err_converged"]) = iterations_to_err(
+                spla.cg, a, b, amg.matvec, u_star, err)
     else:
         # M^-1: 1/K_ii on u; on a row d_c's multiplier the inverse of d_c^T diag(K)^-1 d_c
         # (K_dd for a single-DOF row).

@@ -33,14 +33,22 @@ pub fn crate_versions() -> serde_json::Value {
 
 /// Writes `bytes` to `path` through a uniquely named temporary file in the same folder
 /// (`tempfile`) and a rename, so a reader never sees a half-written file, two writers never
-/// share a temporary file, and a failed write leaves nothing behind.
+/// share a temporary file, and a failed write leaves nothing behind. The file gets the
+/// permissions an ordinary write would (0666 less the umask on Unix), not the temporary
+/// file's owner-only 0600.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     use std::io::Write;
     let dir = match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
     };
-    let mut tmp = tempfile::NamedTempFile::new_in(dir).map_err(|e| {
+    let mut builder = tempfile::Builder::new();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    let mut tmp = builder.tempfile_in(dir).map_err(|e| {
         Error::io(
             path.display(),
             format!("cannot create temporary file in {}: {e}", dir.display()),
@@ -255,6 +263,20 @@ pub fn csv_line(fields: &[String]) -> String {
 #[cfg(test)]
 mod tests {
     use super::toml_key_line;
+
+    /// An atomically written file gets the mode a plain write gives (umask applied), not
+    /// the temporary file's 0600.
+    #[cfg(unix)]
+    #[test]
+    fn atomic_writes_get_ordinary_permissions() {
+        use std::os::unix::fs::PermissionsExt;
+        let dir = tempfile::tempdir().unwrap();
+        let (a, b) = (dir.path().join("atomic.txt"), dir.path().join("plain.txt"));
+        super::write_atomic(&a, b"x").unwrap();
+        std::fs::write(&b, b"x").unwrap();
+        let mode = |p: &std::path::Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o777;
+        assert_eq!(mode(&a), mode(&b));
+    }
 
     /// The key's line past comments (one holding a multi-line delimiter), multi-line strings
     /// (one holding the key's text), trailing comments, quoted keys, tables and a byte-order

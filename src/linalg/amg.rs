@@ -8,8 +8,9 @@
 //! 2. **Aggregation** (PyAMG's `standard_aggregation`): pass 1 makes an aggregate of every
 //!    node whose strong neighbours are all free, with them; pass 2 joins each remaining node
 //!    to a neighbouring aggregate; pass 3 makes aggregates of what is left.
-//! 3. **Tentative prolongator** `T` from the near-null space `B` (N×k; scalar default: ones),
-//!    on the finest level first relaxed by 4 symmetric Gauss–Seidel sweeps on `A x = 0`
+//! 3. **Tentative prolongator** `T` from the near-null space `B` (N×k; scalar default: ones;
+//!    nodal: e.g. the rigid-body modes, [`crate::system::NearNull`]), on the finest level
+//!    first relaxed by 4 symmetric (block) Gauss–Seidel sweeps on `A x = 0`
 //!    (PyAMG's `improve_candidates`):
 //!    per aggregate, the thin QR of B's rows in it, `B_agg = Q R`; T holds the Q blocks, the
 //!    coarse near-null space is the stack of the R's (so `T B_c = B`).
@@ -20,7 +21,13 @@
 //!    unknowns or [`MAX_LEVELS`] levels; the coarsest is factored (sparse Cholesky).
 //! 6. **V-cycle**: one symmetric Gauss–Seidel sweep (forward then backward) before and after
 //!    the coarse correction, so that the cycle is a symmetric positive definite operator (CG
-//!    needs one).
+//!    needs one). Nodal (block size b on the finest level, k below): block Gauss–Seidel,
+//!    `x_I = D_I⁻¹(b_I − Σ_{J≠I} A_IJ x_J)` with the inverted b×b diagonal blocks (PyAMG's
+//!    `block_gauss_seidel` on a BSR matrix), each inverse symmetrized `(M + Mᵀ)/2` so the
+//!    cycle stays symmetric where a block is ill-conditioned (a two-term penalty row
+//!    `ε n nᵀ` with ε ≥ 1e10·K_dd: PyAMG's unsymmetrized cycle breaks CG down there, this one
+//!    does not). The block smoother takes a two-term row's coupling into its diagonal
+//!    block, which is why nodal AMG stays flat in ε where scalar AMG does not.
 //!
 //! **Why hand-written.** The Rust crates measured for issue 63 do not meet PyAMG's iteration
 //! counts: kryst 4.3's smoothed aggregation needed 4–11× PyAMG's CG iterations on the
@@ -189,8 +196,8 @@ impl Default for AmgOptions {
 
 struct Level {
     a: Csr,
-    /// Diagonal of A (the smoother's).
-    diag: Vec<f64>,
+    /// The inverted diagonal blocks of A (the Gauss–Seidel smoother's).
+    blocks: BlockDiag,
     /// Prolongator to this level from the next coarser, and its transpose.
     p: Csr,
     r: Csr,
@@ -243,8 +250,9 @@ impl Amg {
                     value: diag[i],
                 });
             }
+            let blocks = BlockDiag::new(&a, block)?;
             if levels.is_empty() {
-                improve_candidates(&a, &diag, &mut b, k);
+                improve_candidates(&a, &blocks, &mut b, k);
             }
             let agg = aggregate(&a, block, opts.theta);
             let n_agg = agg.iter().copied().max().map_or(0, |m| m + 1);
@@ -259,7 +267,7 @@ impl Amg {
             let next = ac;
             levels.push(Level {
                 a: std::mem::replace(&mut a, next),
-                diag,
+                blocks,
                 p,
                 r,
             });
@@ -284,8 +292,8 @@ impl Amg {
         }
         let lv = &self.levels[l];
         x.iter_mut().for_each(|v| *v = 0.0);
-        gauss_seidel(&lv.a, &lv.diag, b, x, true);
-        gauss_seidel(&lv.a, &lv.diag, b, x, false);
+        gauss_seidel(&lv.a, &lv.blocks, b, x, true);
+        gauss_seidel(&lv.a, &lv.blocks, b, x, false);
         let mut r = vec![0.0; b.len()];
         lv.a.matvec(x, &mut r);
         r.iter_mut().zip(b).for_each(|(r, b)| *r = b - *r);
@@ -296,8 +304,8 @@ impl Amg {
         let mut e = vec![0.0; b.len()];
         lv.p.matvec(&ec, &mut e);
         x.iter_mut().zip(&e).for_each(|(x, e)| *x += e);
-        gauss_seidel(&lv.a, &lv.diag, b, x, true);
-        gauss_seidel(&lv.a, &lv.diag, b, x, false);
+        gauss_seidel(&lv.a, &lv.blocks, b, x, true);
+        gauss_seidel(&lv.a, &lv.blocks, b, x, false);
     }
 
     /// Levels including the coarsest.
@@ -321,35 +329,120 @@ impl Preconditioner for Amg {
 }
 
 /// PyAMG's `improve_candidates` on the finest level: each column of B relaxed by 4 symmetric
-/// Gauss–Seidel sweeps on `A x = 0` (the near-null space made smoother where A's boundary rows
-/// break it, e.g. ones next to a Dirichlet boundary).
-fn improve_candidates(a: &Csr, diag: &[f64], b: &mut [f64], k: usize) {
+/// (block) Gauss–Seidel sweeps on `A x = 0` (the near-null space made smoother where A's
+/// boundary rows break it, e.g. ones next to a Dirichlet boundary).
+fn improve_candidates(a: &Csr, blocks: &BlockDiag, b: &mut [f64], k: usize) {
     let n = a.n_rows;
     let zero = vec![0.0; n];
     for c in 0..k {
         let x = &mut b[c * n..(c + 1) * n];
         for _ in 0..4 {
-            gauss_seidel(a, diag, &zero, x, true);
-            gauss_seidel(a, diag, &zero, x, false);
+            gauss_seidel(a, blocks, &zero, x, true);
+            gauss_seidel(a, blocks, &zero, x, false);
         }
     }
 }
 
-/// One Gauss–Seidel sweep on `A x = b`, forward or backward.
-fn gauss_seidel(a: &Csr, diag: &[f64], b: &[f64], x: &mut [f64], forward: bool) {
-    let n = b.len();
-    let mut step = |i: usize| {
-        let s: f64 = a
-            .row(i)
-            .filter(|&(j, _)| j != i)
-            .map(|(j, v)| v * x[j])
-            .sum();
-        x[i] = (b[i] - s) / diag[i];
+/// The inverses of A's diagonal `bs × bs` blocks (node blocks; `bs = 1`: 1/a_ii), each
+/// row-major and symmetrized, `(M + Mᵀ)/2` (the block of an SPD A is SPD; rounding in the
+/// inverse would otherwise leave the smoother, and the V-cycle, slightly unsymmetric).
+struct BlockDiag {
+    bs: usize,
+    inv: Vec<f64>,
+    /// A's diagonal (the point smoother divides by it).
+    diag: Vec<f64>,
+}
+
+impl BlockDiag {
+    fn new(a: &Csr, bs: usize) -> Result<BlockDiag> {
+        if bs == 1 {
+            return Ok(BlockDiag {
+                bs,
+                inv: Vec::new(),
+                diag: a.diagonal(),
+            });
+        }
+        let nodes = a.n_rows / bs;
+        let mut inv = vec![0.0; nodes * bs * bs];
+        let mut block = nalgebra::DMatrix::<f64>::zeros(bs, bs);
+        for node in 0..nodes {
+            block.fill(0.0);
+            for r in 0..bs {
+                let i = node * bs + r;
+                for (j, v) in a.row(i) {
+                    if j / bs == node {
+                        block[(r, j - node * bs)] = v;
+                    }
+                }
+            }
+            let m = block
+                .clone()
+                .try_inverse()
+                .filter(|m| m.iter().all(|v| v.is_finite()));
+            let Some(m) = m else {
+                return Err(Error::input(format!(
+                    "AMG: diagonal block {node} ({bs}×{bs}) of a level matrix is singular"
+                )));
+            };
+            let out = &mut inv[node * bs * bs..(node + 1) * bs * bs];
+            for r in 0..bs {
+                for c in 0..bs {
+                    out[r * bs + c] = 0.5 * (m[(r, c)] + m[(c, r)]);
+                }
+            }
+        }
+        Ok(BlockDiag {
+            bs,
+            inv,
+            diag: Vec::new(),
+        })
+    }
+}
+
+/// One (block) Gauss–Seidel sweep on `A x = b`, forward or backward over the node blocks:
+/// `x_I = D_I⁻¹ (b_I − Σ_{J≠I} A_IJ x_J)` (PyAMG's `block_gauss_seidel`; point Gauss–Seidel
+/// for `bs = 1`).
+fn gauss_seidel(a: &Csr, blocks: &BlockDiag, b: &[f64], x: &mut [f64], forward: bool) {
+    let bs = blocks.bs;
+    if bs == 1 {
+        // Point Gauss–Seidel, dividing by a_ii (as PyAMG's `gauss_seidel`).
+        let mut step = |i: usize| {
+            let s: f64 = a
+                .row(i)
+                .filter(|&(j, _)| j != i)
+                .map(|(j, v)| v * x[j])
+                .sum();
+            x[i] = (b[i] - s) / blocks.diag[i];
+        };
+        if forward {
+            (0..b.len()).for_each(&mut step);
+        } else {
+            (0..b.len()).rev().for_each(&mut step);
+        }
+        return;
+    }
+    let nodes = b.len() / bs;
+    let mut r = vec![0.0; bs];
+    let mut step = |node: usize| {
+        let lo = node * bs;
+        for (ri, rv) in r.iter_mut().enumerate() {
+            let i = lo + ri;
+            let s: f64 = a
+                .row(i)
+                .filter(|&(j, _)| j / bs != node)
+                .map(|(j, v)| v * x[j])
+                .sum();
+            *rv = b[i] - s;
+        }
+        let m = &blocks.inv[node * bs * bs..(node + 1) * bs * bs];
+        for c in 0..bs {
+            x[lo + c] = (0..bs).map(|d| m[c * bs + d] * r[d]).sum();
+        }
     };
     if forward {
-        (0..n).for_each(&mut step);
+        (0..nodes).for_each(&mut step);
     } else {
-        (0..n).rev().for_each(&mut step);
+        (0..nodes).rev().for_each(&mut step);
     }
 }
 

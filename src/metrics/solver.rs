@@ -20,8 +20,10 @@
 //!   A's pattern ([`crate::linalg::precond::Ic0`], with its Manteuffel shift recorded);
 //!   penalties only (A is SPD); `pcg_iters_amg_scalar_to_err` the same with scalar
 //!   smoothed-aggregation AMG ([`crate::linalg::amg`], B = ones, one V-cycle per
-//!   application; `amg_scalar_levels`: unknowns per level). **These are the counts to compare rules by**: each reaches the
-//!   same accuracy of u;
+//!   application; `amg_scalar_levels`: unknowns per level), and `pcg_iters_amg_nodal_to_err`
+//!   with nodal aggregation on the problem's near-null space (the rigid-body modes a model or
+//!   scene gives, its block size; `amg_nodal_levels`). **These are the counts to compare
+//!   rules by**: each reaches the same accuracy of u;
 //! - `pcg_iters_jacobi`, `pcg_iters_ic0`: the same runs stopped by SciPy's residual test
 //!   `‖r‖₂ ≤ τ‖b‖₂`, each beside the error of u at its stop (`pcg_err_u_at_stop_*`); the
 //!   effective condition number of the preconditioned operator (`pcg_cond_eff_*`) is estimated
@@ -184,6 +186,11 @@ pub struct SolverMetrics {
     pub pcg_amg_scalar: KrylovPair,
     /// Levels of that AMG hierarchy (unknowns per level, finest first).
     pub amg_scalar_sizes: Vec<usize>,
+    /// CG with nodal smoothed-aggregation AMG on the problem's near-null space (penalties,
+    /// where the model or scene gives B).
+    pub pcg_amg_nodal: KrylovPair,
+    /// Levels of the nodal hierarchy (unknowns per level, finest first).
+    pub amg_nodal_sizes: Vec<usize>,
     /// IC(0)'s diagonal shift α (`A + α·diag(A)` factored; 0: none needed).
     pub ic0_shift: Option<f64>,
     /// MINRES with the block-diagonal preconditioner (`lagrange`).
@@ -422,6 +429,29 @@ pub fn compute_for(
                 Err(e) => out
                     .unavailable
                     .push(format!("pcg (AMG, scalar): {}", e.bare_message())),
+            }
+            match &problem.near_null {
+                Some(nn) => {
+                    let opts = AmgOptions {
+                        block_size: nn.block_size,
+                        near_null: Some((nn.b.clone(), nn.k)),
+                        ..AmgOptions::default()
+                    };
+                    match Amg::new(a, &opts) {
+                        Ok(m) => {
+                            out.amg_nodal_sizes = m.sizes.clone();
+                            out.pcg_amg_nodal = pair(krylov::cg, &m);
+                        }
+                        Err(e) => out
+                            .unavailable
+                            .push(format!("pcg (AMG, nodal): {}", e.bare_message())),
+                    }
+                }
+                None => out.unavailable.push(
+                    "pcg (AMG, nodal): no near-null space (the scene gives neither \
+                     \"near_null_space\" nor \"nodes\")"
+                        .into(),
+                ),
             }
         }
         SystemKind::SaddlePoint { active } => match saddle_preconditioner(problem, active) {
@@ -664,6 +694,11 @@ impl SolverMetrics {
                 "pcg_err_u_at_stop_amg_scalar",
                 &self.pcg_amg_scalar,
             ),
+            (
+                "pcg_iters_amg_nodal_to_err",
+                "pcg_err_u_at_stop_amg_nodal",
+                &self.pcg_amg_nodal,
+            ),
             ("minres_iters_to_err", "minres_err_u_at_stop", &self.minres),
         ] {
             let run = p.to_err();
@@ -685,6 +720,11 @@ impl SolverMetrics {
             json!(self.pcg_amg_scalar.residual().map(|r| r.iterations)),
         );
         map.insert("amg_scalar_levels".into(), json!(self.amg_scalar_sizes));
+        map.insert(
+            "pcg_iters_amg_nodal".into(),
+            json!(self.pcg_amg_nodal.residual().map(|r| r.iterations)),
+        );
+        map.insert("amg_nodal_levels".into(), json!(self.amg_nodal_sizes));
         std::mem::take(map)
     }
 }

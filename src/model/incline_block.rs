@@ -22,11 +22,12 @@
 //! **Constraints:** one per bottom node, kind `lower`: `sinθ·u_x + cosθ·u_y ≥ −g₀(x)`
 //! (`g = n·u + g₀ ≥ 0`). DOF numbering: node (i, j), i = 0..=nx along x, j = 0..ny up
 //! (the top row j = ny is prescribed), has free DOFs `2(i·ny + j) + c`, c = 0 (x), 1 (y)
-//! ([`free_dof`]).
+//! ([`free_dof`]). The problem carries the rigid-body modes of the free nodes
+//! ([`NearNull::rigid_body_modes`], block size 2) for a nodal AMG.
 
 use super::elasticity::{assemble_mapped, eliminate, Geometry, Material};
 use crate::error::{Error, Result};
-use crate::system::{Constraint, ConstraintKind, Problem};
+use crate::system::{Constraint, ConstraintKind, NearNull, Problem};
 
 /// Width W of the block.
 pub const WIDTH: f64 = 2.0;
@@ -118,7 +119,14 @@ pub fn problem(theta_deg: f64, nx: usize, ny: usize) -> Result<Problem> {
             )
         })
         .collect();
-    Problem::new(k, q, constraints).map(Problem::in_preferred_storage)
+    // The rigid-body modes of the free nodes (j < ny), in free-DOF order, for a nodal AMG.
+    let free_coords: Vec<Vec<f64>> = (0..nnx)
+        .flat_map(|i| (0..ny).map(move |j| i * nny + j))
+        .map(|node| vec![coords[node].0, coords[node].1])
+        .collect();
+    Problem::new(k, q, constraints)?
+        .with_near_null(NearNull::rigid_body_modes(&free_coords, 2)?)
+        .map(Problem::in_preferred_storage)
 }
 
 #[cfg(test)]
@@ -143,6 +151,30 @@ mod tests {
         // K and K + D E Dᵀ symmetric bit for bit (CG and the symmetric routes need it).
         assert!(p.k.is_symmetric());
         assert!(p.penalized_k(&vec![1e6; p.m()]).is_symmetric());
+    }
+
+    #[test]
+    fn rigid_body_modes_are_in_the_kernel_away_from_the_clamp() {
+        let (nx, ny) = (6, 4);
+        let p = problem(30.0, nx, ny).unwrap();
+        let nn = p.near_null.as_ref().unwrap();
+        assert_eq!((nn.block_size, nn.k, nn.n()), (2, 3, p.n()));
+        let scale = (0..p.n()).map(|i| p.k.get(i, i)).fold(0.0, f64::max);
+        for col in 0..3 {
+            let b = &nn.b[col * p.n()..(col + 1) * p.n()];
+            let kb = p.k.matvec(b);
+            let bmax = b.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            // Rows of nodes not next to the clamped top (j ≤ ny − 2) see all their columns.
+            for i in 0..=nx {
+                for j in 0..ny - 1 {
+                    for c in 0..2 {
+                        let r = kb[free_dof(ny, i, j, c)];
+                        let tol = 64.0 * f64::EPSILON * scale * bmax;
+                        assert!(r.abs() <= tol, "mode {col}, node ({i}, {j}): {r:e}");
+                    }
+                }
+            }
+        }
     }
 
     #[test]

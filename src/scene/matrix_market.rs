@@ -603,14 +603,35 @@ pub fn write_matrix_market(path: &Path, k: &Stiffness) -> Result<()> {
 /// round-trip form, atomically): the right-hand side beside a matrix written by
 /// [`write_matrix_market`]. Non-finite entries are an error.
 pub fn write_matrix_market_vector(path: &Path, v: &[f64]) -> Result<()> {
-    if let Some(i) = v.iter().position(|x| !x.is_finite()) {
+    write_matrix_market_dense(path, v.len(), 1, v)
+}
+
+/// Writes a dense `rows × cols` matrix given column-major (`a[c·rows + r]`) as a Matrix
+/// Market `array real general` file (shortest round-trip values, atomically), e.g. a
+/// near-null space B. Non-finite entries or a length other than rows·cols are an error.
+pub fn write_matrix_market_dense(path: &Path, rows: usize, cols: usize, a: &[f64]) -> Result<()> {
+    if a.len() != rows * cols {
         return Err(Error::io(
             path.display(),
-            format!("cannot write: entry {i} of the vector is {}", v[i]),
+            format!(
+                "cannot write: {} values for a {rows} × {cols} matrix",
+                a.len()
+            ),
         ));
     }
-    let mut text = format!("%%MatrixMarket matrix array real general\n{} 1\n", v.len());
-    for &x in v {
+    if let Some(i) = a.iter().position(|x| !x.is_finite()) {
+        return Err(Error::io(
+            path.display(),
+            format!(
+                "cannot write: entry ({}, {}) is {}",
+                i % rows.max(1),
+                i / rows.max(1),
+                a[i]
+            ),
+        ));
+    }
+    let mut text = format!("%%MatrixMarket matrix array real general\n{rows} {cols}\n");
+    for &x in a {
         text.push_str(&fmt_f64(x));
         text.push('\n');
     }

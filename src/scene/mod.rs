@@ -34,6 +34,11 @@
 //!   and `"meta"` (any JSON, kept as [`serde_json::Value`], for provenance such as the
 //!   generator and its seed). Other top-level keys are ignored; extra keys inside a
 //!   constraint are ignored too.
+//! * Optional, for a nodal AMG (`solve`'s `pcg_iters_amg_nodal_to_err`): the near-null space
+//!   of K, `"near_null_space": {"matrix_market": "B.mtx"}` (N×k, `array` or `coordinate`)
+//!   with `"block_size": b` (DOFs per node, consecutive; default 1), or
+//!   `"nodes": {"coordinates": [[x, y(, z)], ...], "dofs_per_node": 2 | 3}`, from which the
+//!   rigid-body modes are built ([`NearNull::rigid_body_modes`]).
 //!
 //! Units are whatever the user's model uses (the solver never converts); `units` only
 //! documents them.
@@ -77,7 +82,7 @@
 //! place), so an error never leaves a half-written file behind.
 
 use crate::error::{Error, Result};
-use crate::system::{Constraint, ConstraintKind, Problem, Stiffness};
+use crate::system::{Constraint, ConstraintKind, NearNull, Problem, Stiffness};
 use serde::de::{self, value::MapAccessDeserializer, Deserializer, MapAccess, Visitor};
 use serde::Deserialize;
 use std::fmt;
@@ -93,8 +98,8 @@ mod write;
 pub use write::{write_scene, write_scene_as, Storage};
 
 pub use matrix_market::{
-    parse_matrix_market_str, read_matrix_market, write_matrix_market, write_matrix_market_vector,
-    MAX_DIM,
+    parse_matrix_market_str, read_matrix_market, write_matrix_market, write_matrix_market_dense,
+    write_matrix_market_vector, MAX_DIM,
 };
 
 /// A scene read from disk: a named, validated contact problem.
@@ -217,6 +222,9 @@ fn parse_scene(json: &str, base_dir: &Path, origin: &str, preferred: bool) -> Re
         stiffness: Obj(stiffness),
         load,
         constraints,
+        near_null_space,
+        block_size,
+        nodes,
     } = raw.0;
     let meta = meta.map(|Meta(v)| v);
     let at = |path: &str, msg: String| Error::io(origin, format!("{path}: {msg}"));
@@ -269,12 +277,108 @@ fn parse_scene(json: &str, base_dir: &Path, origin: &str, preferred: bool) -> Re
     };
     let problem =
         Problem::new(k, q, constraints).map_err(|e| Error::io(origin, bare_message(e)))?;
+    let near_null = near_null(
+        near_null_space.map(|Obj(r)| r),
+        block_size,
+        nodes.map(|Obj(r)| r),
+        problem.n(),
+        base_dir,
+        &at,
+    )?;
+    let problem = match near_null {
+        Some(nn) => problem
+            .with_near_null(nn)
+            .map_err(|e| Error::io(origin, bare_message(e)))?,
+        None => problem,
+    };
     Ok(Scene {
         name,
         description,
         problem,
         meta,
     })
+}
+
+/// The near-null space a scene gives: B from its file with `block_size` (default 1), or the
+/// rigid-body modes of `nodes` (B given and `nodes` too: B wins, `nodes` then only says the
+/// block size where `block_size` is absent).
+fn near_null(
+    file: Option<RawNearNull>,
+    block_size: Option<usize>,
+    nodes: Option<RawNodes>,
+    n: usize,
+    base_dir: &Path,
+    at: &dyn Fn(&str, String) -> Error,
+) -> Result<Option<NearNull>> {
+    let nodes = nodes
+        .map(|r| {
+            let coords: Vec<Vec<f64>> = r
+                .coordinates
+                .into_iter()
+                .map(|c| c.into_iter().map(|Num(x)| x).collect())
+                .collect();
+            if coords.len() * r.dofs_per_node != n {
+                return Err(at(
+                    "nodes",
+                    format!(
+                        "{} nodes × {} DOFs per node = {}, but K has N = {n} DOFs",
+                        coords.len(),
+                        r.dofs_per_node,
+                        coords.len() * r.dofs_per_node
+                    ),
+                ));
+            }
+            Ok((coords, r.dofs_per_node))
+        })
+        .transpose()?;
+    match file {
+        Some(RawNearNull { matrix_market: rel }) => {
+            if rel.trim().is_empty() {
+                return Err(at(
+                    "near_null_space.matrix_market",
+                    "empty file path".into(),
+                ));
+            }
+            let (rows, cols, entries) =
+                matrix_market::read_matrix_market_entries(&base_dir.join(&rel))
+                    .map_err(|e| at("near_null_space.matrix_market", e.to_string()))?;
+            if rows != n {
+                return Err(at(
+                    "near_null_space.matrix_market",
+                    format!("B has {rows} rows, but K has N = {n} DOFs (B is N × k)"),
+                ));
+            }
+            let mut b = vec![0.0; rows * cols];
+            for (r, c, v) in entries {
+                b[c * rows + r] += v;
+            }
+            let bs = block_size.or(nodes.map(|(_, d)| d)).unwrap_or(1);
+            NearNull::new(n, bs, cols, b)
+                .map(Some)
+                .map_err(|e| at("near_null_space", bare_message(e)))
+        }
+        None => match nodes {
+            Some((coords, d)) => {
+                if let Some(bs) = block_size.filter(|&bs| bs != d) {
+                    return Err(at(
+                        "block_size",
+                        format!("{bs} differs from nodes.dofs_per_node = {d}"),
+                    ));
+                }
+                NearNull::rigid_body_modes(&coords, d)
+                    .map(Some)
+                    .map_err(|e| at("nodes", bare_message(e)))
+            }
+            None => match block_size {
+                Some(_) => Err(at(
+                    "block_size",
+                    "given without \"near_null_space\" or \"nodes\" (nothing to build B from)"
+                        .into(),
+                )),
+                None => Ok(None),
+            },
+        },
+    }
 }
 
 // ---------------------------------------------------------------------------------------
@@ -294,6 +398,33 @@ struct RawScene {
     stiffness: Obj<RawStiffness>,
     load: Vec<Num>,
     constraints: RawConstraints,
+    near_null_space: Option<Obj<RawNearNull>>,
+    block_size: Option<usize>,
+    nodes: Option<Obj<RawNodes>>,
+}
+
+/// `"near_null_space": {"matrix_market": "B.mtx"}`: B, N×k.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawNearNull {
+    matrix_market: String,
+}
+
+/// `"nodes": {"coordinates": [[x, y(, z)], ...], "dofs_per_node": d}`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawNodes {
+    coordinates: Vec<Vec<Num>>,
+    dofs_per_node: usize,
+}
+
+impl Expecting for RawNearNull {
+    const EXPECTING: &'static str = r#"an object {"matrix_market": "B.mtx"}"#;
+}
+
+impl Expecting for RawNodes {
+    const EXPECTING: &'static str =
+        r#"an object {"coordinates": [[x, y], ...], "dofs_per_node": d}"#;
 }
 
 /// `constraints`: an array of constraint objects, or the rows of D in a Matrix Market file.

@@ -82,7 +82,8 @@ pub fn write_scene(
 /// (a dense K written to Matrix Market reads back as sparse storage with identical values;
 /// its exact `+0.0` entries are not stored). Both files are written with
 /// [`write_atomic`] (the `.mtx` first), so an error
-/// never leaves a half-written file.
+/// never leaves a half-written file. A problem with a near-null space writes B to
+/// `<stem>.B.mtx` (dense array) and names it with its `block_size`.
 pub fn write_scene_as(
     path: &Path,
     scene_name: &str,
@@ -101,6 +102,7 @@ pub fn write_scene_as(
         .or_else(|| file_name.strip_suffix(".json"))
         .unwrap_or(file_name);
     let mtx_name = format!("{stem}.mtx");
+    let b_name = format!("{stem}.B.mtx");
     let use_mtx = match storage {
         Storage::Auto { mtx_threshold } => problem.k.is_sparse() || problem.n() > mtx_threshold,
         Storage::Dense => false,
@@ -169,6 +171,15 @@ pub fn write_scene_as(
             }
             write!(w, "  ]")?;
         }
+        if problem.near_null.is_some() {
+            write!(
+                w,
+                ",\n  \"near_null_space\": {{\"matrix_market\": {}}}",
+                serde_json::to_string(&b_name).map_err(to_io)?
+            )?;
+            let bs = problem.near_null.as_ref().map_or(1, |nn| nn.block_size);
+            write!(w, ",\n  \"block_size\": {bs}")?;
+        }
         if let Some(meta) = meta {
             let text = serde_json::to_string_pretty(meta).map_err(to_io)?;
             write!(w, ",\n  \"meta\": {}", text.replace('\n', "\n  "))?;
@@ -183,6 +194,14 @@ pub fn write_scene_as(
     if use_mtx {
         let mtx_path = path.with_file_name(&mtx_name);
         write_atomic(&mtx_path, &matrix_market::matrix_market_bytes(&problem.k))?;
+    }
+    if let Some(nn) = &problem.near_null {
+        matrix_market::write_matrix_market_dense(
+            &path.with_file_name(&b_name),
+            nn.n(),
+            nn.k,
+            &nn.b,
+        )?;
     }
     write_atomic(path, &text)
 }

@@ -485,6 +485,9 @@ pub struct Problem {
     /// The contact surface behind the constraints, where the model knows it (None for a bare
     /// K, q, D as scene files give them). Set by [`Problem::with_surface`].
     pub surface: Option<Surface>,
+    /// The near-null space of K for a nodal AMG (rigid-body modes), where the model or the
+    /// scene gives it; set by [`Problem::with_near_null`].
+    pub near_null: Option<NearNull>,
 }
 
 /// What a model knows of its contact surface: the quantities that give a penalty physical
@@ -573,6 +576,7 @@ impl Problem {
             q,
             constraints,
             surface: None,
+            near_null: None,
         })
     }
 
@@ -597,6 +601,21 @@ impl Problem {
         Error::positive("surface: bounding-box diagonal", surface.bbox_diagonal)?;
         Ok(Problem {
             surface: Some(surface),
+            ..self
+        })
+    }
+
+    /// The problem with the near-null space B of K (rows: the N DOFs of K).
+    pub fn with_near_null(self, near_null: NearNull) -> Result<Problem> {
+        if near_null.n() != self.n() {
+            return Err(Error::length_mismatch(
+                "near-null space B: rows (one per DOF of K)",
+                near_null.n(),
+                self.n(),
+            ));
+        }
+        Ok(Problem {
+            near_null: Some(near_null),
             ..self
         })
     }
@@ -685,7 +704,9 @@ impl Problem {
 }
 
 mod constraint;
+mod near_null;
 mod symmetry;
 pub(crate) use constraint::check_constraints;
 pub use constraint::{Constraint, ConstraintKind};
+pub use near_null::NearNull;
 pub use symmetry::{Asymmetry, Symmetry};

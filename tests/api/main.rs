@@ -12,6 +12,7 @@ mod constraint_rows;
 mod eliminated;
 mod engine;
 mod krylov_to_err;
+mod near_null_scenes;
 mod scene_fuzz;
 mod scene_reading;
 mod scene_round_trips;

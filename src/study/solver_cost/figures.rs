@@ -233,7 +233,7 @@ fn eps_map_panels(map: &[Row]) -> Vec<Figure> {
                 "CG iterations to ‖u − u*‖∞ ≤ e‖u*‖∞",
             )
             .log_log();
-            let pick: [(&str, CountOf); 3] = [
+            let pick: [(&str, CountOf); 4] = [
                 ("Jacobi", |r| {
                     (
                         r.pcg_iters_jacobi_to_err,
@@ -247,6 +247,12 @@ fn eps_map_panels(map: &[Row]) -> Vec<Figure> {
                     (
                         r.pcg_iters_amg_scalar_to_err,
                         r.pcg_iters_amg_scalar_to_err_converged,
+                    )
+                }),
+                ("AMG (nodal)", |r| {
+                    (
+                        r.pcg_iters_amg_nodal_to_err,
+                        r.pcg_iters_amg_nodal_to_err_converged,
                     )
                 }),
             ];

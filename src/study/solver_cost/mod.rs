@@ -421,6 +421,10 @@ fn fill_solver_metrics(row: &mut Row, c: &metrics::solver::SolverMetrics) {
         row.pcg_iters_amg_scalar_to_err,
         row.pcg_iters_amg_scalar_to_err_converged,
     ) = to_err(&c.pcg_amg_scalar);
+    (
+        row.pcg_iters_amg_nodal_to_err,
+        row.pcg_iters_amg_nodal_to_err_converged,
+    ) = to_err(&c.pcg_amg_nodal);
     (row.minres_iters_to_err, row.minres_iters_to_err_converged) = to_err(&c.minres);
     row.seconds_pcg_jacobi = c.pcg_jacobi.to_err.map(|s| s.seconds);
     row.seconds_pcg_ic0 = c.pcg_ic0.to_err.map(|s| s.seconds);

@@ -61,6 +61,13 @@ pub struct Row {
     pub pcg_iters_amg_scalar_to_err: Option<usize>,
     /// Whether that run reached the error target.
     pub pcg_iters_amg_scalar_to_err_converged: Option<bool>,
+    /// CG iterations with nodal smoothed-aggregation AMG (the model's rigid-body modes, block
+    /// size 2; the elasticity families) to the fixed error of u.
+    #[serde(default)]
+    pub pcg_iters_amg_nodal_to_err: Option<usize>,
+    /// Whether that run reached the error target.
+    #[serde(default)]
+    pub pcg_iters_amg_nodal_to_err_converged: Option<bool>,
     /// MINRES iterations (lagrange) to the fixed error of u.
     pub minres_iters_to_err: Option<usize>,
     /// Whether that run reached the error target.

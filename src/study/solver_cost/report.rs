@@ -45,9 +45,9 @@ pub fn text(all: &[Row]) -> String {
             t,
             "\n{fam}, finest level ({n} DOFs, h = {h:.4}, discretization error {e:.2e})\n"
         );
-        t.push_str("| rule | accuracy | knob (rel) | matched | cond₂ | cond₂ Jacobi | CG Jacobi | CG IC(0) / MINRES | CG AMG (scalar) | IC(0) shift | digits lost (u) | err forces | direct (s) | CG IC(0) (s) | CG Jacobi to τ | err u at τ |\n");
+        t.push_str("| rule | accuracy | knob (rel) | matched | cond₂ | cond₂ Jacobi | CG Jacobi | CG IC(0) / MINRES | CG AMG (scalar) | CG AMG (nodal) | IC(0) shift | digits lost (u) | err forces | direct (s) | CG IC(0) (s) | CG Jacobi to τ | err u at τ |\n");
         t.push_str(
-            "|---|---|---:|:-:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+            "|---|---|---:|:-:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
         );
         for r in rows.iter().filter(|r| r.family == fam && r.level == finest) {
             let krylov = match r.minres_iters_to_err {
@@ -56,7 +56,7 @@ pub fn text(all: &[Row]) -> String {
             };
             let _ = writeln!(
                 t,
-                "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
                 r.method,
                 r.accuracy,
                 opt(r.knob_rel, 2),
@@ -71,6 +71,10 @@ pub fn text(all: &[Row]) -> String {
                 count(
                     r.pcg_iters_amg_scalar_to_err,
                     r.pcg_iters_amg_scalar_to_err_converged
+                ),
+                count(
+                    r.pcg_iters_amg_nodal_to_err,
+                    r.pcg_iters_amg_nodal_to_err_converged
                 ),
                 r.ic0_shift.map_or("—".into(), |a| format!("{a:.3}")),
                 r.digits_lost().map_or("—".into(), |d| format!("{d:.1}")),
@@ -122,12 +126,12 @@ fn eps_map_text(map: &[Row]) -> String {
             t,
             "\nε map, {fam} level {level} ({n} DOFs): constant at ε = ε/k_scale · k_scale; iterations to ‖u − u*‖∞ ≤ e‖u*‖∞\n"
         );
-        t.push_str("| ε/k_scale | CG Jacobi | CG IC(0) | CG AMG (scalar) | IC(0) shift | cond₂ Jacobi | digits lost (u) | max penetration | CG Jacobi to τ | err u at τ |\n");
-        t.push_str("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
+        t.push_str("| ε/k_scale | CG Jacobi | CG IC(0) | CG AMG (scalar) | CG AMG (nodal) | IC(0) shift | cond₂ Jacobi | digits lost (u) | max penetration | CG Jacobi to τ | err u at τ |\n");
+        t.push_str("|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n");
         for r in map.iter().filter(|r| r.family == fam) {
             let _ = writeln!(
                 t,
-                "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
                 opt(r.knob_rel, 0),
                 count(
                     r.pcg_iters_jacobi_to_err,
@@ -137,6 +141,10 @@ fn eps_map_text(map: &[Row]) -> String {
                 count(
                     r.pcg_iters_amg_scalar_to_err,
                     r.pcg_iters_amg_scalar_to_err_converged
+                ),
+                count(
+                    r.pcg_iters_amg_nodal_to_err,
+                    r.pcg_iters_amg_nodal_to_err_converged
                 ),
                 r.ic0_shift.map_or("—".into(), |a| format!("{a:.3}")),
                 opt(r.cond2_jacobi, 2),

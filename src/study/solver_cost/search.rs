@@ -7,8 +7,10 @@
 //! `ln(measure/target)`, bisecting where a measure is 0 (no penetration). ε and f stay within
 //! 10⁻⁶…10¹² of their scales, δ and tolerances within 10⁻¹²…10⁻¹ of the length scale. It
 //! stops when the measure is within `tol` (relative) of the target, or after
-//! [`MAX_EVALUATIONS`] solves (or at the end of the range) and reports the closest solve as
-//! unmatched.
+//! [`MAX_EVALUATIONS`] solves (or at the end of the range), or when the bracket is narrower than
+//! [`KNOB_RESOLUTION`] decades — the measure then jumps across the target (an Uzawa count or an
+//! active set that changes there; a measure that varies as knob^p with p ≤ 10 is within 5 % at
+//! both ends of such a bracket) — and reports the closest solve as unmatched.
 
 use super::cases::{Level, Solved};
 use crate::error::Result;
@@ -17,6 +19,10 @@ use serde::{Deserialize, Serialize};
 
 /// Largest number of solves of one search.
 pub const MAX_EVALUATIONS: usize = 30;
+
+/// The narrowest bracket (decades of the knob) the search closes in on: 0.002, a 0.5 % change of
+/// the knob.
+pub const KNOB_RESOLUTION: f64 = 0.002;
 
 /// Which accuracy a row is matched at.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -196,7 +202,10 @@ pub fn find(
         (a, fa) = (t, f);
     }
     if let Some((mut b, mut fb)) = bracket {
-        while evaluations.get() < MAX_EVALUATIONS && best.as_ref().is_some_and(|x| !x.matched) {
+        while evaluations.get() < MAX_EVALUATIONS
+            && best.as_ref().is_some_and(|x| !x.matched)
+            && (b - a).abs() >= KNOB_RESOLUTION
+        {
             let c = if fa.is_finite() && fb.is_finite() {
                 (a * fb - b * fa) / (fb - fa)
             } else {
