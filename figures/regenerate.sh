@@ -1,20 +1,21 @@
 #!/usr/bin/env bash
 # Regenerates every figure of the repository from data (each binary saves its data first and
-# renders from it). Run from the repository root: bash figures/regenerate.sh
+# renders from it; --force replaces each folder's previous run whole, keeping its README).
+# Run from the repository root: bash figures/regenerate.sh
 # The timing figures (runtime_vs_error, cond_cost, engine_scale) measure this machine: run them idle.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release --bins
-cargo run --release --bin sweep -- --out figures/sweep
-cargo run --release --bin paper_beam -- --out figures/paper_beam
-cargo run --release --bin deep_drawing -- --out figures/deep_drawing
-cargo run --release --bin stretch_test -- --out figures/stretch_test
-cargo run --release --bin stress -- --out figures/stress
-cargo run --release --bin runtime_vs_error -- --out figures/runtime_vs_error
-cargo run --release --bin cond_cost -- --out figures/cond_cost
-cargo run --release --bin cond_accuracy -- --out figures/cond_accuracy
-cargo run --release --bin solver_cost -- --out figures/solver_cost   # ≈ 7 min on 2 cores
-cargo run --release --bin contact_bench -- --out figures/contact_bench --optimal-max-n 6000   # ≈ 1.6 h on 2 cores
-cargo run --release --bin contact_bench -- --cases inclined-15,inclined-30,inclined-45,patch-two-body-mortar,patch-two-body-nts-1,patch-two-body-nts-2,hertz-two-body,hertz-normals --out figures/contact_bench/coupled   # ≈ 1.5 min
-cargo run --release --bin penalty_scaling -- --out figures/penalty_scaling   # ≈ 2 min
-cargo run --release --bin engine_scale -- --sizes 10000,100000,1000000 --out figures/engine_scale
+cargo run --release --bin sweep -- --force --out figures/sweep
+cargo run --release --bin paper_beam -- --force --out figures/paper_beam
+cargo run --release --bin deep_drawing -- --force --out figures/deep_drawing
+cargo run --release --bin stretch_test -- --force --out figures/stretch_test
+cargo run --release --bin stress -- --force --out figures/stress
+cargo run --release --bin runtime_vs_error -- --force --out figures/runtime_vs_error
+cargo run --release --bin cond_cost -- --force --out figures/cond_cost
+cargo run --release --bin cond_accuracy -- --force --out figures/cond_accuracy
+cargo run --release --bin solver_cost -- --force --out figures/solver_cost   # ≈ 7 min on 2 cores
+cargo run --release --bin contact_bench -- --force --out figures/contact_bench --optimal-max-n 6000   # ≈ 1.6 h on 2 cores
+cargo run --release --bin contact_bench -- --cases inclined-15,inclined-30,inclined-45,patch-two-body-mortar,patch-two-body-nts-1,patch-two-body-nts-2,hertz-two-body,hertz-normals --force --out figures/contact_bench/coupled   # ≈ 1.5 min
+cargo run --release --bin penalty_scaling -- --force --out figures/penalty_scaling   # ≈ 2 min
+cargo run --release --bin engine_scale -- --sizes 10000,100000,1000000 --force --out figures/engine_scale

@@ -25,9 +25,10 @@
 //!    `x_I = D_I⁻¹(b_I − Σ_{J≠I} A_IJ x_J)` with the inverted b×b diagonal blocks (PyAMG's
 //!    `block_gauss_seidel` on a BSR matrix), each inverse symmetrized `(M + Mᵀ)/2` so the
 //!    cycle stays symmetric where a block is ill-conditioned (a two-term penalty row
-//!    `ε n nᵀ` with ε ≥ 1e10·K_dd: PyAMG's unsymmetrized cycle breaks CG down there, this one
-//!    does not). The block smoother takes a two-term row's coupling into its diagonal
-//!    block, which is why nodal AMG stays flat in ε where scalar AMG does not.
+//!    `ε n nᵀ`; at ε ≈ 1e10·K_dd the cycle may still lose definiteness in floating point and
+//!    CG break down, as PyAMG's does). The block smoother takes a two-term row's coupling
+//!    into its diagonal block, which is why nodal AMG stays flat in ε where scalar AMG does
+//!    not.
 //!
 //! **Why hand-written.** The Rust crates measured for issue 63 do not meet PyAMG's iteration
 //! counts: kryst 4.3's smoothed aggregation needed 4–11× PyAMG's CG iterations on the

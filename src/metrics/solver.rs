@@ -447,11 +447,8 @@ pub fn compute_for(
                             .push(format!("pcg (AMG, nodal): {}", e.bare_message())),
                     }
                 }
-                None => out.unavailable.push(
-                    "pcg (AMG, nodal): no near-null space (the scene gives neither \
-                     \"near_null_space\" nor \"nodes\")"
-                        .into(),
-                ),
+                // No near-null space: the nodal count does not apply (null), not a warning.
+                None => {}
             }
         }
         SystemKind::SaddlePoint { active } => match saddle_preconditioner(problem, active) {

@@ -26,6 +26,7 @@ pub mod engine_scale;
 pub mod forming_runs;
 pub mod grid;
 pub mod hertz;
+pub mod out_guard;
 pub mod paper_beam;
 pub mod penalty_scaling;
 pub mod runtime_vs_error;

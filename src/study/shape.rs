@@ -109,6 +109,8 @@ pub struct RunContext<'a> {
     pub out: &'a Path,
     /// `--resume` was given (only for [`Study::RESUMABLE`] studies).
     pub resume: bool,
+    /// `--force` was given: replace what the run would otherwise refuse to overwrite.
+    pub force: bool,
     /// `--quiet` was given (for a study that draws its own progress).
     pub quiet: bool,
     /// The run's provenance, made once by the entry (the study's name, the commit, the crate
@@ -135,8 +137,9 @@ pub trait Study {
     const SAVES: bool = true;
     /// The study's own flags (clap).
     type Flags: Args;
-    /// The validated configuration.
-    type Config;
+    /// The validated configuration (its JSON identifies a run in `--out`:
+    /// [`super::out_guard`]).
+    type Config: Serialize;
     /// What a run returns and the saved files hold.
     type Record: Serialize + DeserializeOwned;
 
@@ -172,6 +175,11 @@ pub trait Study {
     fn out_override(_cfg: &Self::Config) -> Option<PathBuf> {
         None
     }
+    /// Whether the entry guards `--out` for this run ([`super::out_guard`]); `false` for a
+    /// run that checks its output folder itself (`sweep merge`).
+    fn guards_out(_cfg: &Self::Config) -> bool {
+        true
+    }
     /// What `--json` prints: the record by default.
     fn json(record: &Self::Record) -> Result<String> {
         crate::provenance::json_text(Self::NAME, record)
@@ -198,6 +206,9 @@ struct Cli<F: Args> {
     /// Reuse the checkpoints an interrupted run of the same build and options left in `--out`.
     #[arg(long, hide = true)]
     resume: bool,
+    /// Replace what --out holds from another run (its files removed first; never mixed).
+    #[arg(long)]
+    force: bool,
     /// Skip the figures.
     #[arg(long, global = true)]
     no_figures: bool,
@@ -287,7 +298,7 @@ fn entry<S: Study>(cli: &Cli<S::Flags>) -> Result<()> {
             "--out names a file; it must be a folder (created where missing)",
         ));
     }
-    let (record, out) = if cli.render_only {
+    let (record, out, guard) = if cli.render_only {
         let record = S::load(&out).map_err(|e| match e {
             crate::Error::Io { .. } => crate::Error::bad_file(
                 out.display(),
@@ -298,16 +309,32 @@ fn entry<S: Study>(cli: &Cli<S::Flags>) -> Result<()> {
             ),
             e => e,
         })?;
-        (record, out)
+        (record, out, None)
     } else {
         let cfg = S::config(&cli.flags)?;
         let out = S::out_override(&cfg).unwrap_or(out);
+        let guard = if S::SAVES && S::guards_out(&cfg) {
+            let config = serde_json::to_value(&cfg).map_err(|e| {
+                crate::Error::Numerical(format!("cannot write the configuration as JSON: {e}"))
+            })?;
+            Some(super::out_guard::claim(
+                &out,
+                S::NAME,
+                config,
+                S::FIGURES_DIR,
+                cli.resume,
+                cli.force,
+            )?)
+        } else {
+            None
+        };
         let progress = Progress::new(S::PROGRESS, cli.quiet);
         let provenance = Provenance::new(S::NAME);
         let ctx = RunContext {
             progress: &progress,
             out: &out,
             resume: cli.resume,
+            force: cli.force,
             quiet: cli.quiet,
             provenance: &provenance,
         };
@@ -323,9 +350,9 @@ fn entry<S: Study>(cli: &Cli<S::Flags>) -> Result<()> {
             } else {
                 S::load(&out)?
             };
-            (record, out)
+            (record, out, guard)
         } else {
-            (record, out)
+            (record, out, guard)
         }
     };
     if S::SAVES && !cli.no_figures {
@@ -337,6 +364,9 @@ fn entry<S: Study>(cli: &Cli<S::Flags>) -> Result<()> {
         if !cli.quiet {
             eprintln!("rendered {files} figure files into {}", dir.display());
         }
+    }
+    if let Some(g) = guard {
+        g.finish()?;
     }
     if cli.json {
         println!("{}", S::json(&record)?);

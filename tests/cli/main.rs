@@ -10,6 +10,7 @@ mod cond_accuracy_cli;
 mod cond_cost_cli;
 mod contact_bench_cli;
 mod forming_cli;
+mod out_guard;
 mod paper_beam_cli;
 mod penalty_scaling_cli;
 mod plot_smoke;

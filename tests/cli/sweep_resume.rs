@@ -208,7 +208,7 @@ fn killed_run_resumes_to_the_uninterrupted_rows() {
     // A copy of the interrupted run, for the torn-write variant.
     let torn = d.join(format!("torn{count}"));
     std::fs::create_dir_all(&torn).unwrap();
-    for f in ["rows.csv", "manifest.json"] {
+    for f in ["rows.csv", "manifest.json", "penalty-lab-run.json"] {
         std::fs::copy(out.join(f), torn.join(f)).unwrap();
     }
     assert_foreign_resumes_refused(&d, &cfg_path, &args, &out);

@@ -301,6 +301,35 @@ pub fn write_system(
     }
 }
 
+impl serde::Serialize for SolveConfig {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        serde::Serialize::serialize(
+            &json!({"scene": self.scene, "method": self.strategy.name}),
+            s,
+        )
+    }
+}
+
+/// The files [`write_system`] writes.
+pub const SYSTEM_FILES: [&str; 3] = ["A.mtx", "b.mtx", "x_hat.mtx"];
+
+/// `--write-system DIR` never overwrites: an error naming the first of [`SYSTEM_FILES`] that
+/// exists in `dir` (`--force` replaces them).
+fn check_system_files_absent(dir: &Path) -> Result<()> {
+    match SYSTEM_FILES
+        .iter()
+        .map(|f| dir.join(f))
+        .find(|p| p.exists())
+    {
+        Some(p) => Err(Error::bad_file(
+            p.display(),
+            "exists; --write-system does not overwrite: choose another folder, or --force to \
+             replace it",
+        )),
+        None => Ok(()),
+    }
+}
+
 /// The `solve` binary's flags.
 #[derive(clap::Args, Clone, Debug)]
 pub struct Flags {
@@ -357,7 +386,9 @@ pub struct Flags {
     #[arg(long)]
     krylov_max_iters: Option<usize>,
     /// Write the final linear system as solved into this folder: A.mtx and b.mtx (Matrix
-    /// Market, values round-trip exact).
+    /// Market, values round-trip exact) and, where the solver metrics ran, x_hat.mtx (the
+    /// plain direct solve their forward errors measure). Existing files are refused (--force
+    /// replaces them).
     #[arg(long, value_name = "DIR")]
     write_system: Option<std::path::PathBuf>,
 }
@@ -469,7 +500,12 @@ impl Study for Solve {
         })
     }
 
-    fn run(c: &SolveConfig, _: &RunContext) -> Result<Value> {
+    fn run(c: &SolveConfig, ctx: &RunContext) -> Result<Value> {
+        if let Some(dir) = &c.opts.write_system {
+            if !ctx.force {
+                check_system_files_absent(dir)?;
+            }
+        }
         solve_scene(&c.scene, c.strategy, c.knobs, &c.opts)
     }
 

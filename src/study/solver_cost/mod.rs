@@ -83,7 +83,7 @@ impl Default for SolverCostConfig {
         SolverCostConfig {
             families: Family::ALL.to_vec(),
             levels: 5,
-            hertz_h0: 0.4,
+            hertz_h0: 0.5,
             membrane_side0: 7,
             beam_el0: 8,
             methods: default_methods(),
@@ -465,7 +465,7 @@ pub struct Flags {
     /// Mesh levels per family (h halving), 2–8.
     #[arg(long, default_value_t = 5)]
     levels: usize,
-    /// Coarsest Hertz element size at the contact, over a [default: 0.4]; needs a Hertz
+    /// Coarsest Hertz element size at the contact, over a [default: 0.5]; needs a Hertz
     /// family.
     #[arg(long)]
     hertz_h0: Option<f64>,

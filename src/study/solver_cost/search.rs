@@ -4,7 +4,8 @@
 //! The search runs on t = log₁₀(knob relative to its scale): the measure falls as ε or f grows
 //! and rises with δ or the augmented tolerance. From a start it steps a decade at a time until
 //! the measure crosses the target, then closes in by regula falsi (Illinois variant) on
-//! `ln(measure/target)`, bisecting where a measure is 0 (no penetration). ε and f stay within
+//! `ln(measure/target)`, bisecting where a measure is 0 (no penetration) and after two steps
+//! that did not halve the bracket. ε and f stay within
 //! 10⁻⁶…10¹² of their scales, δ and tolerances within 10⁻¹²…10⁻¹ of the length scale. It
 //! stops when the measure is within `tol` (relative) of the target, or after
 //! [`MAX_EVALUATIONS`] solves (or at the end of the range), or when the bracket is narrower than
@@ -202,13 +203,18 @@ pub fn find(
         (a, fa) = (t, f);
     }
     if let Some((mut b, mut fb)) = bracket {
+        let mut stalls = 0;
         while evaluations.get() < MAX_EVALUATIONS
             && best.as_ref().is_some_and(|x| !x.matched)
             && (b - a).abs() >= KNOB_RESOLUTION
         {
-            let c = if fa.is_finite() && fb.is_finite() {
+            // Regula falsi, but a bisection after two steps that did not halve the bracket
+            // (a measure that jumps across the target stalls regula falsi).
+            let width = (b - a).abs();
+            let c = if fa.is_finite() && fb.is_finite() && stalls < 2 {
                 (a * fb - b * fa) / (fb - fa)
             } else {
+                stalls = 0;
                 0.5 * (a + b)
             };
             let fc = eval(c, &mut best);
@@ -221,6 +227,9 @@ pub fn find(
                 fa *= 0.5;
             }
             (b, fb) = (c, fc);
+            if (b - a).abs() > 0.5 * width {
+                stalls += 1;
+            }
         }
     }
     match best {

@@ -25,6 +25,20 @@ pub struct StressRun {
     pub config: StressConfig,
 }
 
+impl serde::Serialize for StressRun {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        use serde::ser::Error as _;
+        let families: Vec<&str> = self.families.iter().map(|f| f.name()).collect();
+        let v = json!({
+            "seed": self.seed,
+            "count": self.count,
+            "families": families,
+            "config": serde_json::to_value(&self.config).map_err(S::Error::custom)?,
+        });
+        serde::Serialize::serialize(&v, s)
+    }
+}
+
 /// Largest `count` per family: the dense double-double reference grows like N³.
 pub const MAX_COUNT: usize = 50;
 

@@ -216,7 +216,8 @@ enum Merge {
     },
 }
 
-/// What one `sweep` invocation does.
+/// What one `sweep` invocation does. As JSON (what identifies the run in `--out`,
+/// [`crate::study::out_guard`]): `{"run": {"config": …, "shard": …}}` or `{"merge": [dirs]}`.
 #[derive(Debug)]
 pub enum SweepJob {
     /// Run the sweep of this configuration (`--out` is [`RunOptions::out`]).
@@ -228,6 +229,29 @@ pub enum SweepJob {
         /// The shard folders.
         dirs: Vec<PathBuf>,
     },
+}
+
+/// What identifies a sweep run in its output folder: its configuration (as the manifest
+/// writes it) and its shard.
+pub(super) fn run_identity(
+    config: serde_json::Value,
+    shard: Option<(usize, usize)>,
+) -> serde_json::Value {
+    serde_json::json!({"run": {"config": config, "shard": shard}})
+}
+
+impl Serialize for SweepJob {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        use serde::ser::Error as _;
+        let v = match self {
+            SweepJob::Run(cfg, opts) => run_identity(
+                serde_json::to_value(cfg).map_err(S::Error::custom)?,
+                opts.shard,
+            ),
+            SweepJob::Merge { dirs, .. } => serde_json::json!({ "merge": dirs }),
+        };
+        v.serialize(s)
+    }
 }
 
 /// What a sweep folder holds: `manifest.json` (provenance, configuration, the run's counts and
@@ -329,6 +353,12 @@ impl Study for Sweep {
             ..RunOptions::default()
         };
         Ok(SweepJob::Run(Box::new(cfg), opts))
+    }
+
+    /// `sweep merge` checks OUT itself (it must not exist) and records it as the unsharded
+    /// run it is ([`merge::merge`]).
+    fn guards_out(job: &SweepJob) -> bool {
+        matches!(job, SweepJob::Run(..))
     }
 
     fn out_override(job: &SweepJob) -> Option<PathBuf> {

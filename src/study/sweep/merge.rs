@@ -248,6 +248,9 @@ pub fn merge(out: &Path, dirs: &[PathBuf], provenance: &Provenance) -> Result<Me
     write_atomic(&out.join("rows.csv"), text.as_bytes())?;
     let m = serde_json::to_string_pretty(&manifest).expect("a JSON value serializes");
     write_atomic(&out.join("manifest.json"), m.as_bytes())?;
+    // The merged folder is the unsharded run: `sweep --resume` of its config accepts it.
+    let config = first.get("config").cloned().unwrap_or(Value::Null);
+    crate::study::out_guard::record_complete(out, "sweep", super::cli::run_identity(config, None))?;
     Ok(MergeSummary {
         shards: shards.len(),
         scenes,
