@@ -430,25 +430,22 @@ pub fn compute_for(
                     .unavailable
                     .push(format!("pcg (AMG, scalar): {}", e.bare_message())),
             }
-            match &problem.near_null {
-                Some(nn) => {
-                    let opts = AmgOptions {
-                        block_size: nn.block_size,
-                        near_null: Some((nn.b.clone(), nn.k)),
-                        ..AmgOptions::default()
-                    };
-                    match Amg::new(a, &opts) {
-                        Ok(m) => {
-                            out.amg_nodal_sizes = m.sizes.clone();
-                            out.pcg_amg_nodal = pair(krylov::cg, &m);
-                        }
-                        Err(e) => out
-                            .unavailable
-                            .push(format!("pcg (AMG, nodal): {}", e.bare_message())),
+            // No near-null space: the nodal count does not apply (null), not a warning.
+            if let Some(nn) = &problem.near_null {
+                let opts = AmgOptions {
+                    block_size: nn.block_size,
+                    near_null: Some((nn.b.clone(), nn.k)),
+                    ..AmgOptions::default()
+                };
+                match Amg::new(a, &opts) {
+                    Ok(m) => {
+                        out.amg_nodal_sizes = m.sizes.clone();
+                        out.pcg_amg_nodal = pair(krylov::cg, &m);
                     }
+                    Err(e) => out
+                        .unavailable
+                        .push(format!("pcg (AMG, nodal): {}", e.bare_message())),
                 }
-                // No near-null space: the nodal count does not apply (null), not a warning.
-                None => {}
             }
         }
         SystemKind::SaddlePoint { active } => match saddle_preconditioner(problem, active) {
