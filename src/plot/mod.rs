@@ -336,9 +336,9 @@ pub fn legend_fits(fig: &Figure, cell: (f64, f64)) -> Result<bool> {
 }
 
 /// One legend for panels that share their series' labels (the same rules in every panel): the
-/// labels stay on the first panel whose legend [fits](legend_fits) in its cell of the
-/// [`render_panels`] grid (`cols`, `size`), else on the first panel, and are cleared on the
-/// others. Bands' and markers' labels are left alone.
+/// labels stay on the panel naming the most series (the first of those) among the panels
+/// whose legend [fits](legend_fits) in its cell of the [`render_panels`] grid (`cols`,
+/// `size`), else on the first panel, and are cleared on the others. Bands' and markers' labels are left alone.
 pub fn share_legend(figs: &mut [Figure], cols: usize, size: (u32, u32)) -> Result<()> {
     if figs.is_empty() || cols == 0 {
         return Ok(());
@@ -347,11 +347,16 @@ pub fn share_legend(figs: &mut [Figure], cols: usize, size: (u32, u32)) -> Resul
     let rows = figs.len().div_ceil(cols);
     let canvas = panel_canvas(rows, cols, size);
     let cell = (canvas.0 as f64 / cols as f64, canvas.1 as f64 / rows as f64);
+    // The panel whose legend names the most series (the first of those), among those where
+    // it fits: a panel missing a series (no nodal AMG on a scalar family) would leave it
+    // unnamed.
     let mut keep = 0;
+    let mut most = None;
     for (i, f) in figs.iter().enumerate() {
-        if legend_fits(f, cell)? {
+        let named = f.series.iter().filter(|s| !s.label.is_empty()).count();
+        if most.is_none_or(|m| named > m) && legend_fits(f, cell)? {
             keep = i;
-            break;
+            most = Some(named);
         }
     }
     for (i, f) in figs.iter_mut().enumerate() {
@@ -514,5 +519,20 @@ mod tests {
         share_legend(&mut figs, 2, (1200, 500)).unwrap();
         assert!(figs[0].series[0].label.is_empty());
         assert_eq!(figs[1].series[0].label, "rule");
+    }
+
+    /// The legend stays on the panel that names every series, not on the first one.
+    #[test]
+    fn shared_legend_goes_where_it_names_the_most_series() {
+        let line =
+            |label: &str, y: f64| Series::new(label, vec![0.0, 1.0], vec![y, y + 1.0], Mark::Line);
+        let one = Figure::new("one", "x", "y").with_series(line("a", 0.0));
+        let two = Figure::new("two", "x", "y")
+            .with_series(line("a", 0.0))
+            .with_series(line("b", 5.0));
+        let mut figs = vec![one, two];
+        share_legend(&mut figs, 2, (1200, 500)).unwrap();
+        assert!(figs[0].series[0].label.is_empty());
+        assert_eq!(figs[1].series[1].label, "b");
     }
 }
