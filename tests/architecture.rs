@@ -25,6 +25,7 @@ const STUDY_SUPPORT: &[&str] = &[
     "study::text",
     "study::forming_runs",
     "study::shape",
+    "study::out_guard",
     "study::grid",
     "study::hertz",
 ];

@@ -82,7 +82,7 @@
 //! place), so an error never leaves a half-written file behind.
 
 use crate::error::{Error, Result};
-use crate::system::{Constraint, ConstraintKind, NearNull, Problem, Stiffness};
+use crate::system::{Constraint, ConstraintKind, Problem, Stiffness};
 use serde::de::{self, value::MapAccessDeserializer, Deserializer, MapAccess, Visitor};
 use serde::Deserialize;
 use std::fmt;
@@ -93,6 +93,7 @@ mod dense_block;
 mod json_error;
 use json_error::quote_short;
 pub mod matrix_market;
+mod near_null;
 mod write;
 
 pub use write::{write_scene, write_scene_as, Storage};
@@ -277,7 +278,7 @@ fn parse_scene(json: &str, base_dir: &Path, origin: &str, preferred: bool) -> Re
     };
     let problem =
         Problem::new(k, q, constraints).map_err(|e| Error::io(origin, bare_message(e)))?;
-    let near_null = near_null(
+    let near_null = near_null::parse(
         near_null_space.map(|Obj(r)| r),
         block_size,
         nodes.map(|Obj(r)| r),
@@ -299,88 +300,6 @@ fn parse_scene(json: &str, base_dir: &Path, origin: &str, preferred: bool) -> Re
     })
 }
 
-/// The near-null space a scene gives: B from its file with `block_size` (default 1), or the
-/// rigid-body modes of `nodes` (B given and `nodes` too: B wins, `nodes` then only says the
-/// block size where `block_size` is absent).
-fn near_null(
-    file: Option<RawNearNull>,
-    block_size: Option<usize>,
-    nodes: Option<RawNodes>,
-    n: usize,
-    base_dir: &Path,
-    at: &dyn Fn(&str, String) -> Error,
-) -> Result<Option<NearNull>> {
-    let nodes = nodes
-        .map(|r| {
-            let coords: Vec<Vec<f64>> = r
-                .coordinates
-                .into_iter()
-                .map(|c| c.into_iter().map(|Num(x)| x).collect())
-                .collect();
-            if coords.len() * r.dofs_per_node != n {
-                return Err(at(
-                    "nodes",
-                    format!(
-                        "{} nodes × {} DOFs per node = {}, but K has N = {n} DOFs",
-                        coords.len(),
-                        r.dofs_per_node,
-                        coords.len() * r.dofs_per_node
-                    ),
-                ));
-            }
-            Ok((coords, r.dofs_per_node))
-        })
-        .transpose()?;
-    match file {
-        Some(RawNearNull { matrix_market: rel }) => {
-            if rel.trim().is_empty() {
-                return Err(at(
-                    "near_null_space.matrix_market",
-                    "empty file path".into(),
-                ));
-            }
-            let (rows, cols, entries) =
-                matrix_market::read_matrix_market_entries(&base_dir.join(&rel))
-                    .map_err(|e| at("near_null_space.matrix_market", e.to_string()))?;
-            if rows != n {
-                return Err(at(
-                    "near_null_space.matrix_market",
-                    format!("B has {rows} rows, but K has N = {n} DOFs (B is N × k)"),
-                ));
-            }
-            let mut b = vec![0.0; rows * cols];
-            for (r, c, v) in entries {
-                b[c * rows + r] += v;
-            }
-            let bs = block_size.or(nodes.map(|(_, d)| d)).unwrap_or(1);
-            NearNull::new(n, bs, cols, b)
-                .map(Some)
-                .map_err(|e| at("near_null_space", bare_message(e)))
-        }
-        None => match nodes {
-            Some((coords, d)) => {
-                if let Some(bs) = block_size.filter(|&bs| bs != d) {
-                    return Err(at(
-                        "block_size",
-                        format!("{bs} differs from nodes.dofs_per_node = {d}"),
-                    ));
-                }
-                NearNull::rigid_body_modes(&coords, d)
-                    .map(Some)
-                    .map_err(|e| at("nodes", bare_message(e)))
-            }
-            None => match block_size {
-                Some(_) => Err(at(
-                    "block_size",
-                    "given without \"near_null_space\" or \"nodes\" (nothing to build B from)"
-                        .into(),
-                )),
-                None => Ok(None),
-            },
-        },
-    }
-}
-
 // ---------------------------------------------------------------------------------------
 // The scene as written: serde types
 // ---------------------------------------------------------------------------------------
@@ -398,33 +317,9 @@ struct RawScene {
     stiffness: Obj<RawStiffness>,
     load: Vec<Num>,
     constraints: RawConstraints,
-    near_null_space: Option<Obj<RawNearNull>>,
+    near_null_space: Option<Obj<near_null::RawNearNull>>,
     block_size: Option<usize>,
-    nodes: Option<Obj<RawNodes>>,
-}
-
-/// `"near_null_space": {"matrix_market": "B.mtx"}`: B, N×k.
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawNearNull {
-    matrix_market: String,
-}
-
-/// `"nodes": {"coordinates": [[x, y(, z)], ...], "dofs_per_node": d}`.
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawNodes {
-    coordinates: Vec<Vec<Num>>,
-    dofs_per_node: usize,
-}
-
-impl Expecting for RawNearNull {
-    const EXPECTING: &'static str = r#"an object {"matrix_market": "B.mtx"}"#;
-}
-
-impl Expecting for RawNodes {
-    const EXPECTING: &'static str =
-        r#"an object {"coordinates": [[x, y], ...], "dofs_per_node": d}"#;
+    nodes: Option<Obj<near_null::RawNodes>>,
 }
 
 /// `constraints`: an array of constraint objects, or the rows of D in a Matrix Market file.

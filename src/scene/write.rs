@@ -55,6 +55,42 @@ pub enum Storage {
     Dense,
 }
 
+/// The `"constraints"` member (without a trailing comma or newline).
+fn write_constraints(w: &mut impl Write, problem: &Problem) -> std::io::Result<()> {
+    if problem.constraints.is_empty() {
+        write!(w, "  \"constraints\": []")?;
+    } else {
+        writeln!(w, "  \"constraints\": [")?;
+        let m = problem.constraints.len();
+        for (c, con) in problem.constraints.iter().enumerate() {
+            let kind = match con.kind {
+                ConstraintKind::Bilateral => "bilateral",
+                ConstraintKind::Upper => "upper",
+                ConstraintKind::Lower => "lower",
+            };
+            match con.single_dof() {
+                Some(d) => write!(w, "    {{\"dof\": {d}")?,
+                None => {
+                    w.write_all(b"    {\"terms\": [")?;
+                    for (t, &(d, a)) in con.terms.iter().enumerate() {
+                        let sep = if t > 0 { ", " } else { "" };
+                        write!(w, "{sep}[{d}, {}]", fmt_f64(a))?;
+                    }
+                    w.write_all(b"]")?;
+                }
+            }
+            writeln!(
+                w,
+                ", \"limit\": {}, \"kind\": \"{kind}\"}}{}",
+                fmt_f64(con.limit),
+                if c + 1 < m { "," } else { "" }
+            )?;
+        }
+        write!(w, "  ]")?;
+    }
+    Ok(())
+}
+
 /// Writes a scene file: [`write_scene_as`] with [`Storage::Auto`].
 pub fn write_scene(
     path: &Path,
@@ -140,37 +176,7 @@ pub fn write_scene_as(
         w.write_all(b"  \"load\": ")?;
         write_number_list(w, &problem.q)?;
         writeln!(w, ",")?;
-        if problem.constraints.is_empty() {
-            write!(w, "  \"constraints\": []")?;
-        } else {
-            writeln!(w, "  \"constraints\": [")?;
-            let m = problem.constraints.len();
-            for (c, con) in problem.constraints.iter().enumerate() {
-                let kind = match con.kind {
-                    ConstraintKind::Bilateral => "bilateral",
-                    ConstraintKind::Upper => "upper",
-                    ConstraintKind::Lower => "lower",
-                };
-                match con.single_dof() {
-                    Some(d) => write!(w, "    {{\"dof\": {d}")?,
-                    None => {
-                        w.write_all(b"    {\"terms\": [")?;
-                        for (t, &(d, a)) in con.terms.iter().enumerate() {
-                            let sep = if t > 0 { ", " } else { "" };
-                            write!(w, "{sep}[{d}, {}]", fmt_f64(a))?;
-                        }
-                        w.write_all(b"]")?;
-                    }
-                }
-                writeln!(
-                    w,
-                    ", \"limit\": {}, \"kind\": \"{kind}\"}}{}",
-                    fmt_f64(con.limit),
-                    if c + 1 < m { "," } else { "" }
-                )?;
-            }
-            write!(w, "  ]")?;
-        }
+        write_constraints(w, problem)?;
         if problem.near_null.is_some() {
             write!(
                 w,

@@ -2,7 +2,8 @@
 //! refused, unless `--resume` (finish that same run) or `--force` (replace it whole).
 //!
 //! Every run that saves writes [`MARKER`] into `--out` before it starts: the study's name, its
-//! configuration (as JSON) and, once it has finished, the files it wrote. A later run into
+//! configuration (as JSON) and, once it has finished, the data files it wrote (`.csv`,
+//! `.json`, `.png`, `.svg`, `.mtx`, `.jsonl`: what studies write). A later run into
 //! that folder
 //! - with the **same study and configuration** re-runs in place (so a command works twice) or,
 //!   with `--resume`, picks up its checkpoints;
@@ -62,7 +63,10 @@ pub fn claim(
              --force replaces it",
         ));
     }
-    let started = SystemTime::now();
+    // File times come from the kernel's coarse clock, which can lag `SystemTime::now()` by a
+    // tick: a file written just after the claim may carry an earlier time. A margin keeps it
+    // (what else it catches was written by the run this one replaces or continues).
+    let started = SystemTime::now() - std::time::Duration::from_secs(2);
     let mut marker = Marker {
         study: study.into(),
         config,
@@ -166,11 +170,12 @@ impl Guard {
         write_atomic(&self.out.join(MARKER), text.as_bytes())
     }
 
-    /// Marks the run complete, listing every file under `out` written since it started (and
-    /// those an earlier pass of the same run listed).
+    /// Marks the run complete, listing every data file (the extensions a study writes) under
+    /// `out` written since it started, and those an earlier pass of the same run listed: a
+    /// README or notes a user keeps there are never listed, so never removed by `--force`.
     pub fn finish(mut self) -> Result<()> {
         let mut files = self.marker.files.clone();
-        for f in walk(&self.out) {
+        for f in data_files(&self.out, true) {
             let fresh = std::fs::metadata(&f)
                 .and_then(|m| m.modified())
                 .is_ok_and(|t| t >= self.started);
@@ -273,56 +278,24 @@ mod tests {
     fn same_run_again_other_run_refused_force_replaces_only_its_files() {
         let dir = tempfile::tempdir().unwrap();
         let out = dir.path().join("out");
-        let g = claim(
-            &out,
-            "sweep",
-            json!({"families": ["beam"]}),
-            "figures",
-            false,
-            false,
-        )
-        .unwrap();
+        let run = |family: &str, force: bool| {
+            let config = json!({ "families": [family] });
+            claim(&out, "sweep", config, "figures", false, force)
+        };
+        let g = run("beam", false).unwrap();
         std::fs::create_dir_all(out.join("figures")).unwrap();
         std::fs::write(out.join("rows.csv"), "a\n").unwrap();
         std::fs::write(out.join("figures/x.png"), "p").unwrap();
         g.finish().unwrap();
         std::fs::write(out.join("README.md"), "mine").unwrap();
         // The same configuration runs again in place.
-        claim(
-            &out,
-            "sweep",
-            json!({"families": ["beam"]}),
-            "figures",
-            false,
-            false,
-        )
-        .unwrap()
-        .finish()
-        .unwrap();
+        run("beam", false).unwrap().finish().unwrap();
         // Another configuration is refused, naming both ways out; nothing is touched.
-        let e = claim(
-            &out,
-            "sweep",
-            json!({"families": ["membrane"]}),
-            "figures",
-            false,
-            false,
-        )
-        .err()
-        .unwrap()
-        .to_string();
+        let e = run("membrane", false).err().unwrap().to_string();
         assert!(e.contains("--resume") && e.contains("--force"), "{e}");
         assert!(out.join("rows.csv").exists() && out.join("figures/x.png").exists());
         // --force removes the old run's files, keeps the user's.
-        let g = claim(
-            &out,
-            "sweep",
-            json!({"families": ["membrane"]}),
-            "figures",
-            false,
-            true,
-        )
-        .unwrap();
+        let g = run("membrane", true).unwrap();
         assert!(!out.join("rows.csv").exists() && !out.join("figures").exists());
         assert!(out.join("README.md").exists());
         g.finish().unwrap();

@@ -202,35 +202,12 @@ pub fn find(
         }
         (a, fa) = (t, f);
     }
-    if let Some((mut b, mut fb)) = bracket {
-        let mut stalls = 0;
-        while evaluations.get() < MAX_EVALUATIONS
-            && best.as_ref().is_some_and(|x| !x.matched)
-            && (b - a).abs() >= KNOB_RESOLUTION
-        {
-            // Regula falsi, but a bisection after two steps that did not halve the bracket
-            // (a measure that jumps across the target stalls regula falsi).
-            let width = (b - a).abs();
-            let c = if fa.is_finite() && fb.is_finite() && stalls < 2 {
-                (a * fb - b * fa) / (fb - fa)
-            } else {
-                stalls = 0;
-                0.5 * (a + b)
-            };
-            let fc = eval(c, &mut best);
-            if fc.is_nan() {
-                break;
-            }
-            if (fc > 0.0) != (fb > 0.0) {
-                (a, fa) = (b, fb);
-            } else {
-                fa *= 0.5;
-            }
-            (b, fb) = (c, fc);
-            if (b - a).abs() > 0.5 * width {
-                stalls += 1;
-            }
-        }
+    if let Some(b) = bracket {
+        close_in((a, fa), b, |c| {
+            let go_on =
+                evaluations.get() < MAX_EVALUATIONS && best.as_ref().is_some_and(|x| !x.matched);
+            go_on.then(|| eval(c, &mut best))
+        });
     }
     match best {
         Some(mut f) => {
@@ -240,5 +217,78 @@ pub fn find(
             Ok(f)
         }
         None => Err(last_err.unwrap_or_else(|| crate::Error::Numerical("no solve".into()))),
+    }
+}
+
+/// Closes in on the sign change of f in the bracket `(a, f(a))`, `(b, f(b))` (f of opposite
+/// signs) by regula falsi (Illinois variant), bisecting after two steps that did not halve the
+/// bracket (a measure that jumps across the target stalls regula falsi), until the bracket is
+/// narrower than [`KNOB_RESOLUTION`], `eval` says stop (`None`) or returns NaN (a failed solve).
+fn close_in(
+    (mut a, mut fa): (f64, f64),
+    (mut b, mut fb): (f64, f64),
+    mut eval: impl FnMut(f64) -> Option<f64>,
+) {
+    let mut stalls = 0;
+    while (b - a).abs() >= KNOB_RESOLUTION {
+        let width = (b - a).abs();
+        let c = if fa.is_finite() && fb.is_finite() && stalls < 2 {
+            (a * fb - b * fa) / (fb - fa)
+        } else {
+            stalls = 0;
+            0.5 * (a + b)
+        };
+        let Some(fc) = eval(c) else { break };
+        if fc.is_nan() {
+            break;
+        }
+        if (fc > 0.0) != (fb > 0.0) {
+            (a, fa) = (b, fb);
+        } else {
+            fa *= 0.5;
+        }
+        (b, fb) = (c, fc);
+        if (b - a).abs() > 0.5 * width {
+            stalls += 1;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A measure that jumps across the target (an Uzawa count changing at t = 0.3) ends in a
+    /// bracket of KNOB_RESOLUTION around the jump within a bounded number of solves; a smooth
+    /// one gets close to its root long before.
+    #[test]
+    fn close_in_stops_at_a_jump_and_finds_a_smooth_root() {
+        let mut ts = Vec::new();
+        close_in((0.0, -1.0), (1.0, 1.0), |t| {
+            ts.push(t);
+            Some(if t < 0.3 { -1.0 } else { 1.0 })
+        });
+        assert!(ts.len() <= 20, "{} evaluations", ts.len());
+        let (lo, hi) = ts.iter().fold((0.0f64, 1.0f64), |(lo, hi), &t| {
+            if t < 0.3 {
+                (lo.max(t), hi)
+            } else {
+                (lo, hi.min(t))
+            }
+        });
+        assert!(
+            hi - lo < KNOB_RESOLUTION && lo < 0.3 && hi >= 0.3,
+            "[{lo}, {hi}]"
+        );
+
+        let mut last = f64::NAN;
+        let mut n = 0;
+        close_in((0.0, -0.7), (2.0, 1.3), |t| {
+            n += 1;
+            last = t;
+            let f = t - 0.7;
+            (f.abs() > 1e-9).then_some(f)
+        });
+        assert!((last - 0.7).abs() < 1e-6 && n < 12, "{last} after {n}");
     }
 }

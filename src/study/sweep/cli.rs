@@ -231,20 +231,11 @@ pub enum SweepJob {
     },
 }
 
-/// What identifies a sweep run in its output folder: its configuration (as the manifest
-/// writes it) and its shard.
-pub(super) fn run_identity(
-    config: serde_json::Value,
-    shard: Option<(usize, usize)>,
-) -> serde_json::Value {
-    serde_json::json!({"run": {"config": config, "shard": shard}})
-}
-
 impl Serialize for SweepJob {
     fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
         use serde::ser::Error as _;
         let v = match self {
-            SweepJob::Run(cfg, opts) => run_identity(
+            SweepJob::Run(cfg, opts) => merge::run_identity(
                 serde_json::to_value(cfg).map_err(S::Error::custom)?,
                 opts.shard,
             ),

@@ -195,6 +195,12 @@ fn summed_timing(shards: &[Shard]) -> Value {
     acc
 }
 
+/// What identifies a sweep run in its output folder: its configuration (as the manifest
+/// writes it) and its shard.
+pub fn run_identity(config: serde_json::Value, shard: Option<(usize, usize)>) -> serde_json::Value {
+    serde_json::json!({"run": {"config": config, "shard": shard}})
+}
+
 /// Merges the shard folders `dirs` (any order) into `out`: `rows.csv` in scene order and one
 /// manifest. Nothing is written unless every check passes and every shard's rows read back.
 /// The merged manifest records `provenance`.
@@ -250,7 +256,7 @@ pub fn merge(out: &Path, dirs: &[PathBuf], provenance: &Provenance) -> Result<Me
     write_atomic(&out.join("manifest.json"), m.as_bytes())?;
     // The merged folder is the unsharded run: `sweep --resume` of its config accepts it.
     let config = first.get("config").cloned().unwrap_or(Value::Null);
-    crate::study::out_guard::record_complete(out, "sweep", super::cli::run_identity(config, None))?;
+    crate::study::out_guard::record_complete(out, "sweep", run_identity(config, None))?;
     Ok(MergeSummary {
         shards: shards.len(),
         scenes,
