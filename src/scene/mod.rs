@@ -38,7 +38,7 @@
 //!   of K, `"near_null_space": {"matrix_market": "B.mtx"}` (N×k, `array` or `coordinate`)
 //!   with `"block_size": b` (DOFs per node, consecutive; default 1), or
 //!   `"nodes": {"coordinates": [[x, y(, z)], ...], "dofs_per_node": 2 | 3}`, from which the
-//!   rigid-body modes are built ([`NearNull::rigid_body_modes`]).
+//!   rigid-body modes are built ([`crate::system::NearNull::rigid_body_modes`]).
 //!
 //! Units are whatever the user's model uses (the solver never converts); `units` only
 //! documents them.

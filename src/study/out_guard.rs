@@ -11,7 +11,7 @@
 //!   `--force`; with `--force` the files the old run wrote (the marker's list) are removed
 //!   first — nothing else in the folder is touched (a hand-written `README.md` stays);
 //! - into a folder that is **not empty and has no marker** (an older output, or anything else)
-//!   is refused likewise; with `--force` only the data files there (`.csv`, `.json`, `.png`,
+//!   is refused likewise (with `--resume`, the study's own resume checks decide); with `--force` only the data files there (`.csv`, `.json`, `.png`,
 //!   `.svg`, `.mtx`, `.jsonl`) directly in the folder and in the study's figures folder are
 //!   removed first (other subfolders, e.g. another run's output nested inside, stay).
 //!
@@ -116,7 +116,9 @@ pub fn claim(
             remove_file(&path)?;
             prune_empty_dirs(out);
         }
-        None if nonempty => {
+        // `--resume` into a folder of an older version (no record): the study's own resume
+        // checks (the sweep's manifest, contact_bench's checkpoints) decide.
+        None if nonempty && !resume => {
             if !force {
                 return Err(Error::bad_file(
                     out.display(),

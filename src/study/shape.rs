@@ -206,7 +206,8 @@ struct Cli<F: Args> {
     /// Reuse the checkpoints an interrupted run of the same build and options left in `--out`.
     #[arg(long, hide = true)]
     resume: bool,
-    /// Replace what --out holds from another run (its files removed first; never mixed).
+    /// Replace what --out holds from another run (its data files removed first; never
+    /// mixed); for solve, overwrite the files of --write-system.
     #[arg(long)]
     force: bool,
     /// Skip the figures.

@@ -259,7 +259,7 @@ fn solver_cost_metrics_agree_with_numpy_scipy_and_mpmath() {
 
 /// The README's answer for two-term rows, read off SciPy's and PyAMG's counts alone (no
 /// penalty-lab number): on the 30° inclined block, raising ε from 10 to 1e6 costs Jacobi-CG and
-/// scalar-AMG-CG iterations to the same error of u, and IC(0)-CG nothing.
+/// scalar-AMG-CG iterations to the same error of u, and IC(0)-CG and nodal-AMG-CG nothing.
 #[test]
 fn scipy_counts_show_two_term_rows_costing_jacobi_and_scalar_amg_not_ic0() {
     let dir = super::cond_reference::data_dir("solver_cost");
@@ -282,4 +282,10 @@ fn scipy_counts_show_two_term_rows_costing_jacobi_and_scalar_amg_not_ic0() {
         ) >= 1.3
     );
     assert_eq!(soft.pcg_iters_ic0_to_err, stiff.pcg_iters_ic0_to_err);
+    // Nodal AMG with the rigid-body modes (PyAMG, BSR 2×2): flat as IC(0).
+    assert!(soft.pcg_iters_amg_nodal_to_err.is_some());
+    assert_eq!(
+        soft.pcg_iters_amg_nodal_to_err,
+        stiff.pcg_iters_amg_nodal_to_err
+    );
 }
