@@ -318,14 +318,13 @@ fn entry<S: Study>(cli: &Cli<S::Flags>) -> Result<()> {
             let config = serde_json::to_value(&cfg).map_err(|e| {
                 crate::Error::Numerical(format!("cannot write the configuration as JSON: {e}"))
             })?;
-            Some(super::out_guard::claim(
-                &out,
-                S::NAME,
+            let who = super::out_guard::Claimant {
+                study: S::NAME,
                 config,
-                S::FIGURES_DIR,
-                cli.resume,
-                cli.force,
-            )?)
+                figures_dir: S::FIGURES_DIR,
+                resumable: S::RESUMABLE,
+            };
+            Some(super::out_guard::claim(&out, who, cli.resume, cli.force)?)
         } else {
             None
         };
@@ -339,7 +338,15 @@ fn entry<S: Study>(cli: &Cli<S::Flags>) -> Result<()> {
             quiet: cli.quiet,
             provenance: &provenance,
         };
-        let record = S::run(&cfg, &ctx)?;
+        let record = match S::run(&cfg, &ctx) {
+            Ok(r) => r,
+            Err(e) => {
+                if let Some(g) = guard {
+                    g.abandon();
+                }
+                return Err(e);
+            }
+        };
         progress.finish();
         if S::SAVES {
             // What follows is drawn and printed from the saved files, as --render-only would.

@@ -502,7 +502,17 @@ impl Study for Solve {
 
     fn run(c: &SolveConfig, ctx: &RunContext) -> Result<Value> {
         if let Some(dir) = &c.opts.write_system {
-            if !ctx.force {
+            if ctx.force {
+                // Replaced as a whole: no x_hat.mtx of an earlier system beside the new A.
+                for f in SYSTEM_FILES {
+                    match std::fs::remove_file(dir.join(f)) {
+                        Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
+                            return Err(Error::io(dir.join(f).display(), e));
+                        }
+                        _ => {}
+                    }
+                }
+            } else {
                 check_system_files_absent(dir)?;
             }
         }

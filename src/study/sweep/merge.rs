@@ -206,6 +206,18 @@ pub fn run_identity(config: serde_json::Value, shard: Option<(usize, usize)>) ->
 /// The merged manifest records `provenance`.
 pub fn merge(out: &Path, dirs: &[PathBuf], provenance: &Provenance) -> Result<MergeSummary> {
     let shards = check(out, dirs)?;
+    let config = shards[0]
+        .manifest
+        .get("config")
+        .cloned()
+        .unwrap_or(Value::Null);
+    if !crate::study::out_guard::is_new_or_same(out, "sweep", &run_identity(config.clone(), None)) {
+        return Err(Error::bad_file(
+            out.display(),
+            "sweep merge: OUT is not empty and holds no record of this merge; merge into a new \
+             or empty folder",
+        ));
+    }
     let mut text = rows::header();
     let mut total_rows = 0;
     let mut scenes = 0;
@@ -255,8 +267,12 @@ pub fn merge(out: &Path, dirs: &[PathBuf], provenance: &Provenance) -> Result<Me
     let m = serde_json::to_string_pretty(&manifest).expect("a JSON value serializes");
     write_atomic(&out.join("manifest.json"), m.as_bytes())?;
     // The merged folder is the unsharded run: `sweep --resume` of its config accepts it.
-    let config = first.get("config").cloned().unwrap_or(Value::Null);
-    crate::study::out_guard::record_complete(out, "sweep", run_identity(config, None))?;
+    crate::study::out_guard::record_complete(
+        out,
+        "sweep",
+        run_identity(config, None),
+        &["rows.csv", "manifest.json"],
+    )?;
     Ok(MergeSummary {
         shards: shards.len(),
         scenes,
