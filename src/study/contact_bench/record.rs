@@ -296,14 +296,26 @@ impl Checkpoints {
         crate::provenance::write_json(&self.path(mesh.case, mesh.h_rel), &c)
     }
 
-    /// Removes the directory (after the summary is saved).
+    /// Removes the checkpoint files (`<case>-h<h_rel>.json`) after the summary is saved, then
+    /// the directory if that left it empty: anything else a user keeps there stays.
     pub fn remove(&self) -> Result<()> {
-        match std::fs::remove_dir_all(&self.dir) {
-            Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
-                Err(Error::io(self.dir.display(), e))
+        let Ok(entries) = std::fs::read_dir(&self.dir) else {
+            return Ok(());
+        };
+        for e in entries.flatten() {
+            let name = e.file_name();
+            let name = name.to_string_lossy();
+            let checkpoint = e.file_type().is_ok_and(|t| t.is_file())
+                && name
+                    .strip_suffix(".json")
+                    .and_then(|stem| stem.rsplit_once("-h"))
+                    .is_some_and(|(_, h)| h.parse::<f64>().is_ok());
+            if checkpoint {
+                std::fs::remove_file(e.path()).map_err(|err| Error::io(e.path().display(), err))?;
             }
-            _ => Ok(()),
         }
+        let _ = std::fs::remove_dir(&self.dir); // only if empty
+        Ok(())
     }
 }
 
@@ -313,4 +325,40 @@ pub(super) fn floor_of(s: &Summary, case: &str, h: f64) -> Option<f64> {
         .iter()
         .find(|f| f.case == case && f.h == h)
         .map(|f| f.cond2_floor)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Checkpoints;
+
+    /// Removing the checkpoints removes only files named like them, and the folder only when
+    /// that left it empty.
+    #[test]
+    fn removing_checkpoints_keeps_other_files() {
+        let dir = tempfile::tempdir().unwrap();
+        let c = Checkpoints::in_out(dir.path(), false);
+        let meshes = dir.path().join("meshes");
+        std::fs::create_dir_all(&meshes).unwrap();
+        for f in [
+            "flat-punch-h0.2.json",
+            "hertz-h0.05.json",
+            "my_mesh.msh",
+            "notes.json",
+        ] {
+            std::fs::write(meshes.join(f), "x").unwrap();
+        }
+        c.remove().unwrap();
+        let mut left: Vec<String> = std::fs::read_dir(&meshes)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .collect();
+        left.sort();
+        assert_eq!(left, ["my_mesh.msh", "notes.json"]);
+        for f in &left {
+            std::fs::remove_file(meshes.join(f)).unwrap();
+        }
+        std::fs::write(meshes.join("hertz-h0.1.json"), "x").unwrap();
+        c.remove().unwrap();
+        assert!(!meshes.exists());
+    }
 }
