@@ -61,6 +61,15 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     Ok(())
 }
 
+/// Removes the file `path`; a file that is not there is not an error (any other failure is,
+/// naming the file).
+pub fn remove_if_present(path: &Path) -> Result<()> {
+    match std::fs::remove_file(path) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(Error::io(path.display(), e)),
+        _ => Ok(()),
+    }
+}
+
 /// `value` as pretty-printed JSON (what every binary's `--json` prints and every record holds);
 /// a value JSON cannot hold (e.g. a map with non-string keys) is an error naming `what`.
 pub fn json_text(what: &str, value: &impl serde::Serialize) -> Result<String> {

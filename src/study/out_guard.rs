@@ -22,7 +22,7 @@
 //! `--render-only` reads and never writes the marker.
 
 use crate::error::{Error, Result};
-use crate::provenance::write_atomic;
+use crate::provenance::{remove_if_present, write_atomic};
 use serde::{Deserialize, Serialize};
 use std::path::{Component, Path, PathBuf};
 use std::time::SystemTime;
@@ -137,7 +137,7 @@ pub fn claim(out: &Path, who: Claimant<'_>, resume: bool, force: bool) -> Result
                 .map(|f| out.join(f))
                 .collect();
             remove_all(out, &listed)?;
-            remove_file(&path)?;
+            remove_if_present(&path)?;
         }
         None if nonempty => {
             if !force {
@@ -155,7 +155,7 @@ pub fn claim(out: &Path, who: Claimant<'_>, resume: bool, force: bool) -> Result
                 files.extend(data_files(&out.join(who.figures_dir), true));
             }
             remove_all(out, &files)?;
-            remove_file(&path)?;
+            remove_if_present(&path)?;
         }
         None => {}
     }
@@ -291,7 +291,7 @@ fn inside(out: &Path, rel: &str) -> bool {
 fn remove_all(out: &Path, files: &[PathBuf]) -> Result<()> {
     for f in files {
         if std::fs::symlink_metadata(f).is_ok_and(|m| !m.is_dir()) {
-            remove_file(f)?;
+            remove_if_present(f)?;
         }
     }
     for f in files {
@@ -304,14 +304,6 @@ fn remove_all(out: &Path, files: &[PathBuf]) -> Result<()> {
         }
     }
     Ok(())
-}
-
-fn remove_file(p: &Path) -> Result<()> {
-    match std::fs::remove_file(p) {
-        Ok(()) => Ok(()),
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
-        Err(e) => Err(Error::io(p.display(), format!("cannot remove: {e}"))),
-    }
 }
 
 /// Every file under `dir` (recursively), not following symbolic links (not even `dir`

@@ -4,10 +4,8 @@
 //! runs twice; `--force` replaces the run whole; `solve --write-system` never overwrites.
 
 use crate::common;
+use crate::sweep_support::{SOLVE, SWEEP};
 use std::process::Command;
-
-const SWEEP: &str = env!("CARGO_BIN_EXE_sweep");
-const SOLVE: &str = env!("CARGO_BIN_EXE_solve");
 
 fn sweep(out: &std::path::Path, family: &str, extra: &[&str]) -> std::process::Output {
     let mut args = vec![

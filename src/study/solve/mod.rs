@@ -505,12 +505,7 @@ impl Study for Solve {
             if ctx.force {
                 // Replaced as a whole: no x_hat.mtx of an earlier system beside the new A.
                 for f in SYSTEM_FILES {
-                    match std::fs::remove_file(dir.join(f)) {
-                        Err(e) if e.kind() != std::io::ErrorKind::NotFound => {
-                            return Err(Error::io(dir.join(f).display(), e));
-                        }
-                        _ => {}
-                    }
+                    crate::provenance::remove_if_present(&dir.join(f))?;
                 }
             } else {
                 check_system_files_absent(dir)?;

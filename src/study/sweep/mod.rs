@@ -35,7 +35,7 @@ pub use jobs::{
 pub use plan::{load, parse_shard, plan, shard_range, LoadedScene, SceneSpec};
 
 use crate::error::{Error, Result};
-use crate::provenance::{write_atomic, Provenance};
+use crate::provenance::{remove_if_present, write_atomic, Provenance};
 use resume::{resume_point, solve_in_order, InOrder};
 use rows::Row;
 use serde::Serialize;
@@ -81,13 +81,6 @@ pub struct RunSummary {
 }
 
 /// Removes `path` where it exists (an error other than its absence is reported).
-fn remove_if_present(path: &Path) -> Result<()> {
-    match std::fs::remove_file(path) {
-        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(Error::io(path.display(), e)),
-        _ => Ok(()),
-    }
-}
-
 fn write_manifest(path: &Path, manifest: &serde_json::Value) -> Result<()> {
     let text = serde_json::to_string_pretty(manifest).expect("a JSON value serializes");
     write_atomic(path, text.as_bytes())
