@@ -185,6 +185,17 @@ pub struct AmgOptions {
     pub theta: f64,
 }
 
+impl AmgOptions {
+    /// Nodal aggregation on a problem's near-null space (its block size and B), θ default.
+    pub fn nodal(nn: &crate::system::NearNull) -> AmgOptions {
+        AmgOptions {
+            block_size: nn.block_size,
+            near_null: Some((nn.b.clone(), nn.k)),
+            ..AmgOptions::default()
+        }
+    }
+}
+
 impl Default for AmgOptions {
     fn default() -> Self {
         AmgOptions {
@@ -251,7 +262,7 @@ impl Amg {
                     value: diag[i],
                 });
             }
-            let blocks = BlockDiag::new(&a, block)?;
+            let blocks = BlockDiag::new(&a, &diag, block)?;
             if levels.is_empty() {
                 improve_candidates(&a, &blocks, &mut b, k);
             }
@@ -344,24 +355,20 @@ fn improve_candidates(a: &Csr, blocks: &BlockDiag, b: &mut [f64], k: usize) {
     }
 }
 
-/// The inverses of A's diagonal `bs × bs` blocks (node blocks; `bs = 1`: 1/a_ii), each
-/// row-major and symmetrized, `(M + Mᵀ)/2` (the block of an SPD A is SPD; rounding in the
-/// inverse would otherwise leave the smoother, and the V-cycle, slightly unsymmetric).
-struct BlockDiag {
-    bs: usize,
-    inv: Vec<f64>,
-    /// A's diagonal (the point smoother divides by it).
-    diag: Vec<f64>,
+/// What the Gauss–Seidel smoother divides by: A's diagonal (scalar levels), or the inverses
+/// of A's diagonal `bs × bs` node blocks, each row-major and symmetrized, `(M + Mᵀ)/2` (the
+/// block of an SPD A is SPD; rounding in the inverse would otherwise leave the smoother, and
+/// the V-cycle, slightly unsymmetric).
+enum BlockDiag {
+    Point(Vec<f64>),
+    Block { bs: usize, inv: Vec<f64> },
 }
 
 impl BlockDiag {
-    fn new(a: &Csr, bs: usize) -> Result<BlockDiag> {
+    /// From A and its diagonal `diag`, for node blocks of `bs` unknowns.
+    fn new(a: &Csr, diag: &[f64], bs: usize) -> Result<BlockDiag> {
         if bs == 1 {
-            return Ok(BlockDiag {
-                bs,
-                inv: Vec::new(),
-                diag: a.diagonal(),
-            });
+            return Ok(BlockDiag::Point(diag.to_vec()));
         }
         let nodes = a.n_rows / bs;
         let mut inv = vec![0.0; nodes * bs * bs];
@@ -392,11 +399,7 @@ impl BlockDiag {
                 }
             }
         }
-        Ok(BlockDiag {
-            bs,
-            inv,
-            diag: Vec::new(),
-        })
+        Ok(BlockDiag::Block { bs, inv })
     }
 }
 
@@ -404,24 +407,26 @@ impl BlockDiag {
 /// `x_I = D_I⁻¹ (b_I − Σ_{J≠I} A_IJ x_J)` (PyAMG's `block_gauss_seidel`; point Gauss–Seidel
 /// for `bs = 1`).
 fn gauss_seidel(a: &Csr, blocks: &BlockDiag, b: &[f64], x: &mut [f64], forward: bool) {
-    let bs = blocks.bs;
-    if bs == 1 {
-        // Point Gauss–Seidel, dividing by a_ii (as PyAMG's `gauss_seidel`).
-        let mut step = |i: usize| {
-            let s: f64 = a
-                .row(i)
-                .filter(|&(j, _)| j != i)
-                .map(|(j, v)| v * x[j])
-                .sum();
-            x[i] = (b[i] - s) / blocks.diag[i];
-        };
-        if forward {
-            (0..b.len()).for_each(&mut step);
-        } else {
-            (0..b.len()).rev().for_each(&mut step);
+    let (bs, inv) = match blocks {
+        BlockDiag::Block { bs, inv } => (*bs, inv),
+        BlockDiag::Point(diag) => {
+            // Point Gauss–Seidel, dividing by a_ii (as PyAMG's `gauss_seidel`).
+            let mut step = |i: usize| {
+                let s: f64 = a
+                    .row(i)
+                    .filter(|&(j, _)| j != i)
+                    .map(|(j, v)| v * x[j])
+                    .sum();
+                x[i] = (b[i] - s) / diag[i];
+            };
+            if forward {
+                (0..b.len()).for_each(&mut step);
+            } else {
+                (0..b.len()).rev().for_each(&mut step);
+            }
+            return;
         }
-        return;
-    }
+    };
     let nodes = b.len() / bs;
     let mut r = vec![0.0; bs];
     let mut step = |node: usize| {
@@ -435,7 +440,7 @@ fn gauss_seidel(a: &Csr, blocks: &BlockDiag, b: &[f64], x: &mut [f64], forward: 
                 .sum();
             *rv = b[i] - s;
         }
-        let m = &blocks.inv[node * bs * bs..(node + 1) * bs * bs];
+        let m = &inv[node * bs * bs..(node + 1) * bs * bs];
         for c in 0..bs {
             x[lo + c] = (0..bs).map(|d| m[c * bs + d] * r[d]).sum();
         }

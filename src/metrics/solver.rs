@@ -421,31 +421,21 @@ pub fn compute_for(
                     .unavailable
                     .push(format!("pcg (IC(0)): {}", e.bare_message())),
             }
-            match Amg::new(a, &AmgOptions::default()) {
-                Ok(m) => {
-                    out.amg_scalar_sizes = m.sizes.clone();
-                    out.pcg_amg_scalar = pair(krylov::cg, &m);
+            let mut amg = |opts: &AmgOptions, name: &str| match Amg::new(a, opts) {
+                Ok(m) => Some((m.sizes.clone(), pair(krylov::cg, &m))),
+                Err(e) => {
+                    let e = e.bare_message();
+                    out.unavailable.push(format!("pcg (AMG, {name}): {e}"));
+                    None
                 }
-                Err(e) => out
-                    .unavailable
-                    .push(format!("pcg (AMG, scalar): {}", e.bare_message())),
+            };
+            if let Some(run) = amg(&AmgOptions::default(), "scalar") {
+                (out.amg_scalar_sizes, out.pcg_amg_scalar) = run;
             }
-            // No near-null space: the nodal count does not apply (null), not a warning.
-            if let Some(nn) = &problem.near_null {
-                let opts = AmgOptions {
-                    block_size: nn.block_size,
-                    near_null: Some((nn.b.clone(), nn.k)),
-                    ..AmgOptions::default()
-                };
-                match Amg::new(a, &opts) {
-                    Ok(m) => {
-                        out.amg_nodal_sizes = m.sizes.clone();
-                        out.pcg_amg_nodal = pair(krylov::cg, &m);
-                    }
-                    Err(e) => out
-                        .unavailable
-                        .push(format!("pcg (AMG, nodal): {}", e.bare_message())),
-                }
+            // Without a near-null space the nodal count does not apply (null, not a warning).
+            let nodal = problem.near_null.as_ref().map(AmgOptions::nodal);
+            if let Some(run) = nodal.and_then(|o| amg(&o, "nodal")) {
+                (out.amg_nodal_sizes, out.pcg_amg_nodal) = run;
             }
         }
         SystemKind::SaddlePoint { active } => match saddle_preconditioner(problem, active) {

@@ -129,12 +129,7 @@ fn nodal_amg_matches_pyamg_on_two_term_rows() {
         let u_star = Factorization::new(&k, true).unwrap().solve(&b);
         let a = k.to_sparse();
         let nn = p.near_null.as_ref().unwrap();
-        let opts = AmgOptions {
-            block_size: nn.block_size,
-            near_null: Some((nn.b.clone(), nn.k)),
-            ..AmgOptions::default()
-        };
-        let amg = Amg::new(a.as_ref(), &opts).unwrap();
+        let amg = Amg::new(a.as_ref(), &AmgOptions::nodal(nn)).unwrap();
         let stop = Stop::ErrorOfU {
             reference: &u_star,
             target: reference.err_target,
