@@ -22,12 +22,21 @@ PyAMG with A as BSR 2x2 and that B (its nodal mode: block strength, block Gauss-
 scalar CSR with B = ones, for comparison. `tests/verification/amg.rs` builds the same A and b
 from the model.
 
+And nodal smoothed aggregation in 3-D with unknowns in slots: the `hertz-3d` block of
+`solver_cost` (trilinear hexahedra, h/a = 0.25, N = 2520), its scene written by
+`examples/sphere_scene` (K, q, one row u_z <= u^_c per top node, B = the rigid-body modes of
+the free nodes over three slots per node and each DOF's slot), penalized with eps = eps_rel *
+max K_ii (1, 1e3, 1e6; at 1e8 PyAMG's CG no longer reaches the target); A padded to the slots (each DOF moved to its slot, every empty slot - a symmetry
+plane's prescribed component - a decoupled identity row s e e^T, s = mean of diag(A)), PyAMG
+on it as BSR 3x3 with that B, and the preconditioner for A the V-cycle restricted to the DOFs'
+slots (zeros in, empty slots dropped) - the definition `linalg::amg` implements.
+
 u* = SciPy's direct solve; the count is the first CG iterate (x0 = 0, SciPy's `cg`, its
 callback) with ||u_k - u*||_inf <= 1e-6 ||u*||_inf (a run that breaks down or reaches 10 N
 iterations is recorded as not converged).
 
     pip install numpy scipy pyamg
-    cargo build --release --example incline_scene
+    cargo build --release --example incline_scene --example sphere_scene
     python3 scripts/amg_reference.py > tests/data/amg/reference.json
 """
 import json
@@ -83,28 +92,64 @@ def iterations_to_err(a, b, m, u_star):
     return count[0], False
 
 
-def incline(theta, nx, eps):
-    """A, b and B of the penalized inclined block (module doc)."""
-    exe = os.environ.get("INCLINE_SCENE", "target/release/examples/incline_scene")
+def scene_system(exe, args, eps_of):
+    """K, the penalized A and b, B and the scene of the scene `exe` writes (module doc)."""
     with tempfile.TemporaryDirectory() as tmp:
-        path = os.path.join(tmp, "incline.scene.json")
-        subprocess.run([exe, path, repr(theta), str(nx)], check=True, capture_output=True)
+        path = os.path.join(tmp, "model.scene.json")
+        subprocess.run([exe, path, *args], check=True, capture_output=True)
         with open(path) as fh:
             scene = json.load(fh)
         k = sp.csr_matrix(scipy.io.mmread(os.path.join(tmp, scene["stiffness"]["matrix_market"])))
         bmodes = np.asarray(scipy.io.mmread(
             os.path.join(tmp, scene["near_null_space"]["matrix_market"])))
     n = k.shape[0]
+    eps = eps_of(k)
     rows, cols, vals = [], [], []
     b = np.array(scene["load"], dtype=float)
     for c, con in enumerate(scene["constraints"]):
-        for d, a in con["terms"]:
+        terms = con["terms"] if "terms" in con else [[con["dof"], 1.0]]
+        for d, a in terms:
             rows.append(c)
             cols.append(d)
             vals.append(a)
             b[d] += eps * a * con["limit"]
     dmat = sp.csr_matrix((vals, (rows, cols)), shape=(len(scene["constraints"]), n))
-    return (k + eps * (dmat.T @ dmat)).tocsr(), b, bmodes, scene["block_size"]
+    return (k + eps * (dmat.T @ dmat)).tocsr(), b, bmodes, scene, eps
+
+
+def incline(theta, nx, eps):
+    """A, b and B of the penalized inclined block (module doc)."""
+    exe = os.environ.get("INCLINE_SCENE", "target/release/examples/incline_scene")
+    a, b, bmodes, scene, _ = scene_system(exe, [repr(theta), str(nx)], lambda k: eps)
+    return a, b, bmodes, scene["block_size"]
+
+
+def sphere(h, eps_rel):
+    """A, b, B, slots and eps of the penalized hertz-3d block (module doc)."""
+    exe = os.environ.get("SPHERE_SCENE", "target/release/examples/sphere_scene")
+    a, b, bmodes, scene, eps = scene_system(
+        exe, [repr(h)], lambda k: eps_rel * k.diagonal().max())
+    return a, b, bmodes, scene["near_null_space"]["slots"], eps
+
+
+def padded_preconditioner(a, slots, n_slots, bmodes, bs):
+    """PyAMG's V-cycle on A padded to its slots, restricted to the DOFs (module doc)."""
+    slots = np.asarray(slots)
+    n = a.shape[0]
+    e = sp.csr_matrix((np.ones(n), (slots, np.arange(n))), shape=(n_slots, n))
+    empty = np.setdiff1d(np.arange(n_slots), slots)
+    s = a.diagonal().mean()
+    pad = sp.csr_matrix((np.full(len(empty), s), (empty, empty)), shape=(n_slots, n_slots))
+    a_hat = (e @ a @ e.T + pad).tocsr()
+    ml = pyamg.smoothed_aggregation_solver(a_hat.tobsr(blocksize=(bs, bs)), B=bmodes)
+    m = ml.aspreconditioner(cycle="V")
+
+    def apply(r):
+        z = np.zeros(n_slots)
+        z[slots] = r
+        return m.matvec(z)[slots]
+
+    return spla.LinearOperator(a.shape, matvec=apply), ml
 
 
 cases = []
@@ -135,8 +180,18 @@ for eps in [1.0, 1e4, 1e8]:
                     "levels": [lv.A.shape[0] for lv in nodal.levels],
                     "pcg_iters_amg_scalar_to_err": sits, "scalar_converged": sok})
     print(elastic[-1], file=sys.stderr)
+solid = []
+for eps_rel in [1.0, 1e3, 1e6]:
+    a, b, bmodes, slots, eps = sphere(0.25, eps_rel)
+    u_star = spla.spsolve(a.tocsc(), b)
+    m, ml = padded_preconditioner(a, slots, bmodes.shape[0], bmodes, 3)
+    its, ok = iterations_to_err(a, b, m, u_star)
+    solid.append({"h_over_a": 0.25, "eps_rel": eps_rel, "eps": eps, "n": a.shape[0],
+                  "pcg_iters_amg_nodal_to_err": its, "converged": ok,
+                  "levels": [lv.A.shape[0] for lv in ml.levels]})
+    print(solid[-1], file=sys.stderr)
 json.dump({"generator": "scripts/amg_reference.py", "err_target": TARGET,
            "versions": {"pyamg": pyamg.__version__, "scipy": scipy.__version__,
                         "numpy": np.__version__},
-           "cases": cases, "elastic": elastic}, sys.stdout, indent=1)
+           "cases": cases, "elastic": elastic, "solid": solid}, sys.stdout, indent=1)
 sys.stdout.write("\n")

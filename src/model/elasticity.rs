@@ -83,7 +83,7 @@ impl Material {
         self.young / (1.0 - self.poisson * self.poisson)
     }
 
-    fn validate(&self) -> Result<()> {
+    pub(crate) fn validate(&self) -> Result<()> {
         Error::positive("Young's modulus", self.young)?;
         if !(self.poisson > -1.0 && self.poisson < 0.5) {
             return Err(Error::out_of_range(

@@ -16,5 +16,6 @@ pub mod incline_block;
 pub mod inclined;
 pub mod membrane;
 pub mod scalable;
+pub mod solid;
 pub mod spring;
 pub mod two_body;

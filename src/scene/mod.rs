@@ -36,7 +36,10 @@
 //!   constraint are ignored too.
 //! * Optional, for a nodal AMG (`solve`'s `pcg_iters_amg_nodal_to_err`): the near-null space
 //!   of K, `"near_null_space": {"matrix_market": "B.mtx"}` (N×k, `array` or `coordinate`)
-//!   with `"block_size": b` (DOFs per node, consecutive; default 1), or
+//!   with `"block_size": b` (DOFs per node, consecutive; default 1) — where supports fix some
+//!   of a node's components, B has one row per *slot* (b per node) and `"slots": [s_0, …]`
+//!   inside `near_null_space` gives each DOF's slot, increasing
+//!   ([`crate::system::NearNull::with_slots`]) — or
 //!   `"nodes": {"coordinates": [[x, y(, z)], ...], "dofs_per_node": 2 | 3}`, from which the
 //!   rigid-body modes are built ([`crate::system::NearNull::rigid_body_modes`]).
 //!

@@ -7,11 +7,14 @@ use crate::system::NearNull;
 use serde::Deserialize;
 use std::path::Path;
 
-/// `"near_null_space": {"matrix_market": "B.mtx"}`: B, N×k.
+/// `"near_null_space": {"matrix_market": "B.mtx"}`: B, N×k; with `"slots": [s_0, …]` (one
+/// increasing slot per DOF, [`NearNull::with_slots`]) B has one row per slot instead.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawNearNull {
     pub(super) matrix_market: String,
+    #[serde(default)]
+    pub(super) slots: Option<Vec<usize>>,
 }
 
 /// `"nodes": {"coordinates": [[x, y(, z)], ...], "dofs_per_node": d}`.
@@ -23,7 +26,8 @@ pub(super) struct RawNodes {
 }
 
 impl Expecting for RawNearNull {
-    const EXPECTING: &'static str = r#"an object {"matrix_market": "B.mtx"}"#;
+    const EXPECTING: &'static str =
+        r#"an object {"matrix_market": "B.mtx"} (optionally with "slots": [s_0, ...])"#;
 }
 
 impl Expecting for RawNodes {
@@ -64,7 +68,10 @@ pub(super) fn parse(
         })
         .transpose()?;
     match file {
-        Some(RawNearNull { matrix_market: rel }) => {
+        Some(RawNearNull {
+            matrix_market: rel,
+            slots,
+        }) => {
             if rel.trim().is_empty() {
                 return Err(at(
                     "near_null_space.matrix_market",
@@ -74,7 +81,16 @@ pub(super) fn parse(
             let (rows, cols, entries) =
                 matrix_market::read_matrix_market_entries(&base_dir.join(&rel))
                     .map_err(|e| at("near_null_space.matrix_market", e.to_string()))?;
-            if rows != n {
+            if let Some(s) = slots.as_ref().filter(|s| s.len() != n) {
+                return Err(at(
+                    "near_null_space.slots",
+                    format!(
+                        "{} slots, but K has N = {n} DOFs (one slot per DOF)",
+                        s.len()
+                    ),
+                ));
+            }
+            if slots.is_none() && rows != n {
                 return Err(at(
                     "near_null_space.matrix_market",
                     format!("B has {rows} rows, but K has N = {n} DOFs (B is N × k)"),
@@ -85,9 +101,15 @@ pub(super) fn parse(
                 b[c * rows + r] += v;
             }
             let bs = block_size.or(nodes.map(|(_, d)| d)).unwrap_or(1);
-            NearNull::new(n, bs, cols, b)
-                .map(Some)
-                .map_err(|e| at("near_null_space", bare_message(e)))
+            let nn = NearNull::new(rows, bs, cols, b)
+                .map_err(|e| at("near_null_space", bare_message(e)))?;
+            match slots {
+                Some(s) => nn
+                    .with_slots(s)
+                    .map(Some)
+                    .map_err(|e| at("near_null_space.slots", bare_message(e))),
+                None => Ok(Some(nn)),
+            }
         }
         None => match nodes {
             Some((coords, d)) => {

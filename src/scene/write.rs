@@ -177,12 +177,18 @@ pub fn write_scene_as(
         write_number_list(w, &problem.q)?;
         writeln!(w, ",")?;
         write_constraints(w, problem)?;
-        if problem.near_null.is_some() {
+        if let Some(nn) = &problem.near_null {
             write!(
                 w,
-                ",\n  \"near_null_space\": {{\"matrix_market\": {}}}",
+                ",\n  \"near_null_space\": {{\"matrix_market\": {}",
                 serde_json::to_string(&b_name).map_err(to_io)?
             )?;
+            if let Some(slots) = &nn.slots {
+                write!(w, ", \"slots\": ")?;
+                let s = serde_json::to_string(slots).map_err(to_io)?;
+                w.write_all(s.as_bytes())?;
+            }
+            write!(w, "}}")?;
             let bs = problem.near_null.as_ref().map_or(1, |nn| nn.block_size);
             write!(w, ",\n  \"block_size\": {bs}")?;
         }
@@ -204,7 +210,7 @@ pub fn write_scene_as(
     if let Some(nn) = &problem.near_null {
         matrix_market::write_matrix_market_dense(
             &path.with_file_name(&b_name),
-            nn.n(),
+            nn.padded_n(),
             nn.k,
             &nn.b,
         )?;

@@ -9,6 +9,12 @@
 //! the coordinates of its nodes (`"nodes": {"coordinates": [...], "dofs_per_node": d}`), from
 //! which [`NearNull::rigid_body_modes`] builds it. Without either, the AMG is scalar with
 //! B = ones.
+//!
+//! **Slots** ([`NearNull::with_slots`], models only). Where supports fix some components of a
+//! node but not all (a symmetry plane), the unknowns do not come in whole node blocks. B is
+//! then given over *slots*, `block_size` per node, and each unknown names its slot; a slot
+//! without an unknown is a prescribed component, which a nodal AMG fills with a decoupled
+//! identity row (as codes that keep Dirichlet rows do) so that its node blocks stay whole.
 
 use crate::error::{Error, Result};
 
@@ -19,8 +25,10 @@ pub struct NearNull {
     pub block_size: usize,
     /// Columns k of B.
     pub k: usize,
-    /// B, column-major: entry (r, c) at `b[c·N + r]`.
+    /// B, column-major: entry (r, c) at `b[c·N + r]` (N: slots, [`Self::padded_n`]).
     pub b: Vec<f64>,
+    /// The slot of each unknown, increasing (module doc); `None`: unknown i is slot i.
+    pub slots: Option<Vec<usize>>,
 }
 
 impl NearNull {
@@ -53,7 +61,31 @@ impl NearNull {
                 "near-null space: column {c} of B is zero"
             )));
         }
-        Ok(NearNull { block_size, k, b })
+        Ok(NearNull {
+            block_size,
+            k,
+            b,
+            slots: None,
+        })
+    }
+
+    /// B over slots (module doc): unknown i fills slot `slots[i]`; the slots must increase
+    /// and lie below [`Self::padded_n`]. The slots no unknown fills are prescribed components.
+    pub fn with_slots(self, slots: Vec<usize>) -> Result<NearNull> {
+        let n = self.padded_n();
+        if let Some(i) =
+            (0..slots.len()).find(|&i| slots[i] >= n || (i > 0 && slots[i] <= slots[i - 1]))
+        {
+            return Err(Error::out_of_range(
+                format!("near-null space: slot of unknown {i}"),
+                slots[i],
+                format!("increasing and below the {n} slots of B"),
+            ));
+        }
+        Ok(NearNull {
+            slots: Some(slots),
+            ..self
+        })
     }
 
     /// The rigid-body modes (module doc) of nodes at `coords` (each of length `dim` = 2 or 3),
@@ -101,8 +133,13 @@ impl NearNull {
         NearNull::new(n, dim, k, b)
     }
 
-    /// Rows of B (the N it was built for).
+    /// The unknowns B is for (rows of B, or the number of slots filled).
     pub fn n(&self) -> usize {
+        self.slots.as_ref().map_or(self.padded_n(), Vec::len)
+    }
+
+    /// Rows of B: one per slot (= [`Self::n`] without slots).
+    pub fn padded_n(&self) -> usize {
         self.b.len() / self.k
     }
 }

@@ -7,7 +7,9 @@
 //! same). Nodal aggregation with the rigid-body modes (block size 2, block Gauss–Seidel) on the
 //! inclined block of `model::incline_block` (θ = 30°, 48 × 24, two-term rows penalized by a
 //! constant ε = 1, 1e4, 1e8): the same level sizes as PyAMG's BSR hierarchy and CG counts within
-//! 1.5×.
+//! 1.5×. The same in 3-D with unknowns in slots: the `hertz-3d` block of `solver_cost`
+//! (h/a = 1/4, one-DOF rows penalized by ε = 1, 1e3, 1e6 · max K_ii; block size 3, the
+//! symmetry planes' empty slots identity rows), against PyAMG on the same padded matrix.
 
 use penalty_lab::linalg::amg::{Amg, AmgOptions};
 use penalty_lab::linalg::krylov::{cg, Stop};
@@ -22,6 +24,16 @@ struct Reference {
     err_target: f64,
     cases: Vec<Case>,
     elastic: Vec<Elastic>,
+    solid: Vec<Solid>,
+}
+
+#[derive(Deserialize)]
+struct Solid {
+    h_over_a: f64,
+    eps: f64,
+    pcg_iters_amg_nodal_to_err: usize,
+    converged: bool,
+    levels: Vec<usize>,
 }
 
 #[derive(Deserialize)]
@@ -125,6 +137,49 @@ fn nodal_amg_matches_pyamg_on_two_term_rows() {
             for &(d, a) in &con.terms {
                 b[d] += c.eps * a * con.limit;
             }
+        }
+        let u_star = Factorization::new(&k, true).unwrap().solve(&b);
+        let a = k.to_sparse();
+        let nn = p.near_null.as_ref().unwrap();
+        let amg = Amg::new(a.as_ref(), &AmgOptions::nodal(nn)).unwrap();
+        let stop = Stop::ErrorOfU {
+            reference: &u_star,
+            target: reference.err_target,
+        };
+        let (_, run) = cg(a.as_ref(), &amg, &b, stop, 10 * b.len());
+        report.push(format!(
+            "ε {:e}: nodal AMG {} (PyAMG {}), levels {:?} (PyAMG {:?})",
+            c.eps, run.iterations, c.pcg_iters_amg_nodal_to_err, amg.sizes, c.levels
+        ));
+        assert!(c.converged && run.converged, "{}", report.join("\n"));
+        assert_eq!(amg.sizes, c.levels, "{}", report.join("\n"));
+        let (ours, theirs) = (run.iterations as f64, c.pcg_iters_amg_nodal_to_err as f64);
+        assert!(
+            ours <= 1.5 * theirs && theirs <= 1.5 * ours,
+            "{}",
+            report.join("\n")
+        );
+    }
+    eprintln!("{}", report.join("\n"));
+}
+
+#[test]
+fn nodal_amg_in_slots_matches_pyamg_in_3d() {
+    use penalty_lab::study::solver_cost::cases::{sphere_grid, sphere_scene, HERTZ};
+    let dir = super::cond_reference::data_dir("amg");
+    let text = std::fs::read_to_string(dir.join("reference.json")).unwrap();
+    let reference: Reference = serde_json::from_str(&text).unwrap();
+    assert_eq!(reference.solid.len(), 3);
+    let mut report = Vec::new();
+    for c in &reference.solid {
+        let grid = sphere_grid(c.h_over_a).unwrap();
+        let lift = HERTZ.a_target * HERTZ.a_target / HERTZ.radius;
+        let p = sphere_scene(&grid, lift).unwrap().problem;
+        // A = K + ε Σ e_d e_dᵀ, b = q + ε Σ e_d û (the script's formula).
+        let k = p.penalized_k(&vec![c.eps; p.m()]);
+        let mut b = p.q.clone();
+        for con in &p.constraints {
+            b[con.lead_dof()] += c.eps * con.limit;
         }
         let u_star = Factorization::new(&k, true).unwrap().solve(&b);
         let a = k.to_sparse();

@@ -24,17 +24,28 @@
 //!   coupled rows a diagonal preconditioner cannot absorb. Length scale: 0.01 (the press);
 //!   ε relative to max `d_cᵀ K d_c`.
 //!
-//! For `membrane`, `beam` and the incline families the errors are on u: a rule's penalty error is
-//! `‖u − u_L‖∞/‖u_L‖∞` against Lagrange on the same mesh; the discretization error of level l
-//! is estimated by the next level, `‖u_l − R u_{l+1}‖∞/‖R u_{l+1}‖∞` at the coarse nodes (R:
-//! restriction to them); the finest level's is extrapolated at the last observed ratio
-//! (`err_discretization_extrapolated`).
+//! - `hertz-3d`: the quarter of an `8a × 8a × 8a` block of trilinear hexahedra
+//!   ([`crate::model::solid`]: E = 210e3, ν = 0.3, clamped base, symmetry planes x = 0 and
+//!   y = 0) under the rigid sphere of R = 10, element size h/a at the contact =
+//!   `sphere_h0`/2^l on `[0, 1.25a]` growing by 2 beyond: one row `u_z ≤ r²/(2R)` per top
+//!   node. Displacement-controlled: the base lift is set by Lagrange so that it carries
+//!   Hertz's load for a = 1 (a secant step from the half-space's a²/R), and every rule
+//!   solves at that lift. Discretization error: Lagrange's pressure against Hertz's for the
+//!   load it carries ([`hertz::pressure_error`], r = √(x² + y²), ω the top areas), the
+//!   finite block's bias included. Length scale: a; ε relative to max K_dd.
+//!
+//! For `membrane`, `beam`, the incline families and `hertz-3d` the errors are on u: a rule's
+//! penalty error is `‖u − u_L‖∞/‖u_L‖∞` against Lagrange on the same mesh; the
+//! discretization error of level l is estimated (but for `hertz-3d`) by the next level,
+//! `‖u_l − R u_{l+1}‖∞/‖R u_{l+1}‖∞` at the coarse nodes (R: restriction to them); the finest
+//! level's is extrapolated at the last observed ratio (`err_discretization_extrapolated`).
 
 use crate::error::{Error, Result};
 use crate::model::beam::bed::{self, Bed};
-use crate::model::elasticity::Grid;
+use crate::model::elasticity::{Base, ContactNode, Geometry, Grid, Material};
 use crate::model::incline_block;
 use crate::model::membrane;
+use crate::model::solid::{self, Grid3, SphereIndentation};
 use crate::strategy::force_control::{solve_at_load, FORCE_TOL};
 use crate::strategy::{self, Method, Solution};
 use crate::study::hertz::{self, Case, Exact, Setup};
@@ -66,11 +77,16 @@ pub enum Family {
     #[serde(rename = "incline-45")]
     #[value(name = "incline-45")]
     Incline45,
+    /// A 3-D hexahedral block under a rigid sphere (one-DOF rows).
+    #[serde(rename = "hertz-3d")]
+    #[value(name = "hertz-3d")]
+    Hertz3d,
 }
 
 impl Family {
-    /// Every family, in table order.
-    pub const ALL: [Family; 7] = [
+    /// The families of the default run: all but `hertz-3d` (its five levels to 11 040 DOFs
+    /// take ≈ 3.7 min on 2 cores beside the default run's ≈ 3.8 min; `--families` adds it).
+    pub const DEFAULT: [Family; 7] = [
         Family::HertzPlane,
         Family::HertzAxi,
         Family::Membrane,
@@ -78,6 +94,18 @@ impl Family {
         Family::Incline15,
         Family::Incline30,
         Family::Incline45,
+    ];
+
+    /// Every family, in table order.
+    pub const ALL: [Family; 8] = [
+        Family::HertzPlane,
+        Family::HertzAxi,
+        Family::Membrane,
+        Family::Beam,
+        Family::Incline15,
+        Family::Incline30,
+        Family::Incline45,
+        Family::Hertz3d,
     ];
 
     /// Its name in rows.
@@ -90,6 +118,7 @@ impl Family {
             Family::Incline15 => "incline-15",
             Family::Incline30 => "incline-30",
             Family::Incline45 => "incline-45",
+            Family::Hertz3d => "hertz-3d",
         }
     }
 
@@ -158,8 +187,9 @@ enum Kind {
     Fixed {
         problem: Problem,
         u_lagrange: Vec<f64>,
-        /// The restriction: for each DOF of the next coarser level, its DOF here.
-        from_coarse: Vec<usize>,
+        /// The restriction: for each DOF of the next coarser level, its DOF here (None where
+        /// the level's discretization error is its own, `hertz-3d`).
+        from_coarse: Option<Vec<usize>>,
     },
 }
 
@@ -359,19 +389,142 @@ fn fixed_level(family: Family, index: usize, size: usize) -> Result<Level> {
         kind: Kind::Fixed {
             problem,
             u_lagrange: lag.u,
-            from_coarse,
+            from_coarse: Some(from_coarse),
         },
     })
 }
 
+/// The sphere's block over a, its fine zone over a and the growth beyond (module doc).
+pub const SPHERE_BLOCK: (f64, f64, f64) = (8.0, 1.25, 2.0);
+
+/// The 3-D mesh of `hertz-3d` at element size `h_rel`·a (module doc).
+pub fn sphere_grid(h_rel: f64) -> Result<Grid3> {
+    let a = HERTZ.a_target;
+    let (block, fine, growth) = SPHERE_BLOCK;
+    Grid3::graded(block * a, block * a, h_rel * a, fine * a, growth)
+}
+
+/// The `hertz-3d` scene on `grid` at base lift `lift`.
+pub fn sphere_scene(grid: &Grid3, lift: f64) -> Result<SphereIndentation> {
+    let mat = Material {
+        young: HERTZ.young,
+        poisson: HERTZ.poisson,
+    };
+    solid::sphere_indentation(grid, &mat, Base::Clamped, HERTZ.radius, lift)
+}
+
+/// What Lagrange gives on a `hertz-3d` mesh: its scene at the lift that carries Hertz's load
+/// for a = 1 (module doc), its solution and its pressures against Hertz's.
+pub struct SphereCheck {
+    /// The scene at the lift.
+    pub scene: SphereIndentation,
+    /// Lagrange's u there.
+    pub u: Vec<f64>,
+    /// The load it carries.
+    pub load: f64,
+    /// Hertz for that load.
+    pub exact: Exact,
+    /// `p_err_rel` of its pressures ([`hertz::pressure_error`]).
+    pub p_err_rel: f64,
+    /// The pressure at the node on the axis over Hertz's p0.
+    pub p0_ratio: f64,
+    /// The contact radius read along the x axis ([`hertz::contact_width`]) over Hertz's a.
+    pub a_ratio: f64,
+}
+
+/// Lagrange on the `hertz-3d` mesh `grid` (module doc).
+pub fn sphere_lagrange(grid: &Grid3) -> Result<SphereCheck> {
+    let es = HERTZ.e_star();
+    let (a, r) = (HERTZ.a_target, HERTZ.radius);
+    let target = Geometry::Axisymmetric.hertz_load(a, r, es);
+    let solve = |w: f64| -> Result<(SphereIndentation, Solution, f64)> {
+        let scene = sphere_scene(grid, w)?;
+        let sol = strategy::solve(&scene.problem, Method::lagrange())?;
+        if !sol.stats.converged {
+            return Err(Error::Numerical(format!(
+                "hertz-3d: Lagrange did not converge at lift {w:e}"
+            )));
+        }
+        let f = scene.total_force(&sol.u);
+        Ok((scene, sol, f))
+    };
+    // Hertz: P ∝ w^{3/2}; one secant step in that law from the half-space's lift.
+    let w0 = a * a / r;
+    let (_, _, f0) = solve(w0)?;
+    if f0.is_nan() || f0 <= 0.0 {
+        return Err(Error::Numerical(format!(
+            "hertz-3d: no contact force at lift {w0:e} ({f0:e})"
+        )));
+    }
+    let w1 = w0 * (target / f0).powf(2.0 / 3.0);
+    let (scene, sol, load) = solve(w1)?;
+    let exact = Exact::hertz(Geometry::Axisymmetric, load, r, es);
+    let nodes: Vec<ContactNode> = scene
+        .contact
+        .iter()
+        .map(|n| ContactNode::new(n.r(), n.weight))
+        .collect();
+    let p = scene.pressures(&sol.u);
+    let ny = grid.ys.len();
+    // The x axis: the top nodes (i, 0), every ny-th.
+    let (axis, p_axis): (Vec<ContactNode>, Vec<f64>) = (0..grid.xs.len())
+        .map(|i| (nodes[i * ny], p[i * ny]))
+        .unzip();
+    Ok(SphereCheck {
+        p_err_rel: hertz::pressure_error(&nodes, &p, &exact),
+        p0_ratio: p[0] / exact.p0,
+        a_ratio: hertz::contact_width(&axis, &p_axis, 1e-9 * exact.p0) / exact.a,
+        load,
+        exact,
+        u: sol.u,
+        scene,
+    })
+}
+
+/// The `hertz-3d` level `h_rel`: its mesh, the lift that carries the load and Lagrange there.
+fn sphere_level(index: usize, h_rel: f64) -> Result<Level> {
+    let grid = sphere_grid(h_rel)?;
+    let check = sphere_lagrange(&grid)?;
+    let problem = check.scene.problem;
+    Ok(Level {
+        family: Family::Hertz3d,
+        index,
+        h: h_rel,
+        n_dofs: problem.n(),
+        scale: HERTZ.a_target,
+        k_scale: problem.max_constraint_stiffness(),
+        aug_eps: problem.mean_constraint_stiffness(),
+        err_discretization: check.p_err_rel,
+        err_discretization_extrapolated: false,
+        kind: Kind::Fixed {
+            problem,
+            u_lagrange: check.u,
+            from_coarse: None,
+        },
+    })
+}
+
+/// The coarsest sizes of the families' levels (each halving from level to level).
+#[derive(Clone, Copy, Debug)]
+pub struct Coarsest {
+    /// Hertz h/a.
+    pub hertz_h0: f64,
+    /// Membrane side (interior nodes per direction).
+    pub membrane_side0: usize,
+    /// Beam elements.
+    pub beam_el0: usize,
+    /// `hertz-3d` h/a.
+    pub sphere_h0: f64,
+}
+
 /// Every level of `family` (coarse to fine), with Lagrange and the discretization errors.
-pub fn levels(
-    family: Family,
-    count: usize,
-    hertz_h0: f64,
-    membrane_side0: usize,
-    beam_el0: usize,
-) -> Result<Vec<Level>> {
+pub fn levels(family: Family, count: usize, c: Coarsest) -> Result<Vec<Level>> {
+    let Coarsest {
+        hertz_h0,
+        membrane_side0,
+        beam_el0,
+        sphere_h0,
+    } = c;
     let mut out = Vec::with_capacity(count);
     for l in 0..count {
         let level = match family {
@@ -381,11 +534,15 @@ pub fn levels(
             Family::HertzAxi => hertz_level(family, Case::HertzAxi, l, hertz_h0 / (1 << l) as f64)?,
             Family::Membrane => fixed_level(family, l, (membrane_side0 + 1) * (1 << l) - 1)?,
             Family::Beam => fixed_level(family, l, beam_el0 * (1 << l))?,
+            Family::Hertz3d => sphere_level(l, sphere_h0 / (1 << l) as f64)?,
             _ => fixed_level(family, l, INCLINE_NX0 * (1 << l))?,
         };
         out.push(level);
     }
-    if !matches!(family, Family::HertzPlane | Family::HertzAxi) {
+    if !matches!(
+        family,
+        Family::HertzPlane | Family::HertzAxi | Family::Hertz3d
+    ) {
         for l in 0..count.saturating_sub(1) {
             let (coarse, fine) = out.split_at_mut(l + 1);
             let (c, f) = (&mut coarse[l], &fine[0]);
@@ -393,7 +550,7 @@ pub fn levels(
                 Kind::Fixed { u_lagrange: uc, .. },
                 Kind::Fixed {
                     u_lagrange: uf,
-                    from_coarse,
+                    from_coarse: Some(from_coarse),
                     ..
                 },
             ) = (&c.kind, &f.kind)

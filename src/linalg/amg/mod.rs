@@ -18,7 +18,8 @@
 //!    steps on `D^{-1/2} A D^{-1/2}` (the largest Ritz value, raised by 1 % against an
 //!    estimate from below).
 //! 5. **Galerkin** coarse operator `A_c = Pᵀ A P`, recursively until ≤ [`MAX_COARSE`]
-//!    unknowns or [`MAX_LEVELS`] levels; the coarsest is factored (sparse Cholesky).
+//!    nodes (unknowns over the level's block size, as PyAMG counts them) or [`MAX_LEVELS`]
+//!    levels; the coarsest is factored (sparse Cholesky).
 //! 6. **V-cycle**: one symmetric Gauss–Seidel sweep (forward then backward) before and after
 //!    the coarse correction, so that the cycle is a symmetric positive definite operator (CG
 //!    needs one). Nodal (block size b on the finest level, k below): block Gauss–Seidel,
@@ -38,13 +39,16 @@
 //! (`scripts/amg_eval/README.md`). The sparse products are Gustavson's row-by-row
 //! accumulation.
 
+mod slots;
+
 use super::krylov::Preconditioner;
 use crate::error::{Error, Result};
 use crate::linalg::Factorization;
 use crate::system::Stiffness;
 use faer::sparse::SparseColMatRef;
 
-/// Coarsest size: a level with at most this many unknowns is factored (PyAMG's `max_coarse`).
+/// Coarsest size: a level with at most this many nodes (unknowns / block size) is factored
+/// (PyAMG's `max_coarse`).
 pub const MAX_COARSE: usize = 10;
 /// Most levels of the hierarchy (the last is factored whatever its size).
 pub const MAX_LEVELS: usize = 12;
@@ -183,6 +187,9 @@ pub struct AmgOptions {
     pub near_null: Option<(Vec<f64>, usize)>,
     /// θ of the strength of connection.
     pub theta: f64,
+    /// Unknowns in slots ([`crate::system::NearNull::with_slots`]): each unknown's slot and
+    /// the number of slots (B's rows); the hierarchy is built on the slotted matrix (`slots`).
+    pub slots: Option<(Vec<usize>, usize)>,
 }
 
 impl AmgOptions {
@@ -191,6 +198,7 @@ impl AmgOptions {
         AmgOptions {
             block_size: nn.block_size,
             near_null: Some((nn.b.clone(), nn.k)),
+            slots: nn.slots.clone().map(|s| (s, nn.padded_n())),
             ..AmgOptions::default()
         }
     }
@@ -202,6 +210,7 @@ impl Default for AmgOptions {
             block_size: 1,
             near_null: None,
             theta: 0.0,
+            slots: None,
         }
     }
 }
@@ -220,17 +229,24 @@ pub struct Amg {
     levels: Vec<Level>,
     coarse: Factorization,
     coarse_n: usize,
-    /// Unknowns per level, finest first (the coarsest last).
+    /// Unknowns per level, finest first (the coarsest last; with slots, the finest counts
+    /// the slots).
     pub sizes: Vec<usize>,
+    /// Each unknown's slot and the number of slots, where the options had slots.
+    slots: Option<(Vec<usize>, usize)>,
 }
 
 impl Amg {
     /// Builds the hierarchy of the SPD `a` (both triangles stored). Errors on a diagonal entry
     /// ≤ 0, a near-null space of the wrong size or a coarsest matrix that does not factor.
     pub fn new(a: SparseColMatRef<'_, usize, f64>, opts: &AmgOptions) -> Result<Amg> {
-        let n = a.ncols();
+        let mut a = Csr::of_symmetric(a);
+        if let Some((s, n_slots)) = &opts.slots {
+            a = slots::padded(&a, s, *n_slots)?;
+        }
+        let n = a.n_rows;
         let bs = opts.block_size.max(1);
-        if n % bs != 0 {
+        if !n.is_multiple_of(bs) {
             return Err(Error::length_mismatch(
                 format!("AMG: unknowns in blocks of {bs}"),
                 n,
@@ -250,11 +266,10 @@ impl Amg {
             }
             None => (vec![1.0; n], 1),
         };
-        let mut a = Csr::of_symmetric(a);
         let mut levels = Vec::new();
         let mut sizes = vec![n];
         let mut block = bs;
-        while a.n_rows > MAX_COARSE && levels.len() + 1 < MAX_LEVELS {
+        while a.n_rows > MAX_COARSE * block && levels.len() + 1 < MAX_LEVELS {
             let diag = a.diagonal();
             if let Some(i) = diag.iter().position(|&d| !(d > 0.0 && d.is_finite())) {
                 return Err(Error::NotPositive {
@@ -293,6 +308,7 @@ impl Amg {
             levels,
             coarse,
             sizes,
+            slots: opts.slots.clone(),
         })
     }
 
@@ -336,7 +352,15 @@ impl Amg {
 
 impl Preconditioner for Amg {
     fn apply(&self, r: &[f64], z: &mut [f64]) {
-        self.cycle(0, r, z);
+        match &self.slots {
+            None => self.cycle(0, r, z),
+            Some((s, n)) => {
+                let rs = slots::scatter(r, s, *n);
+                let mut zs = vec![0.0; *n];
+                self.cycle(0, &rs, &mut zs);
+                slots::gather(&zs, s, z);
+            }
+        }
     }
 }
 
