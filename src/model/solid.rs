@@ -120,8 +120,8 @@ fn corner(a: usize) -> (usize, usize, usize) {
     (a >> 2, (a >> 1) & 1, a & 1)
 }
 
-/// The 24×24 stiffness of the box `dx × dy × dz`, local nodes [`corner`]-ordered, DOFs
-/// (u_x, u_y, u_z) per node; symmetric bit for bit.
+/// The 24×24 stiffness of the box `dx × dy × dz`, local node `a = 4di + 2dj + dk` at offsets
+/// (di, dj, dk) ∈ {0, 1}³, DOFs (u_x, u_y, u_z) per node; symmetric bit for bit.
 pub fn element_stiffness(c: &[[f64; 6]; 6], (dx, dy, dz): (f64, f64, f64)) -> Vec<[f64; 24]> {
     let g = 1.0 / 3f64.sqrt();
     let mut ke = vec![[0.0; 24]; 24];
