@@ -31,12 +31,20 @@ plane's prescribed component - a decoupled identity row s e e^T, s = mean of dia
 on it as BSR 3x3 with that B, and the preconditioner for A the V-cycle restricted to the DOFs'
 slots (zeros in, empty slots dropped) - the definition `linalg::amg` implements.
 
+And the same on plane rows that couple DOFs on one node or across bodies: `hertz-normals`
+(h/a = 1/8: rows along the cylinder's normals) and `patch-two-body-nts-1` (h/a = 1/16: one-pass
+node-to-segment rows between two blocks), their scenes written by `examples/contact_scene`
+(B = the plane rigid-body modes over two slots per node; the symmetry line's fixed u_x an
+empty slot), eps = 1, 1e4, 1e8 * max K_ii, nodal (BSR 2x2, padded) and scalar. cond(A) reaches
+1e14 there, so u* is SciPy's direct solve refined by three steps of iterative refinement with
+residuals in long double (an unrefined solve is no reference to 1e-6).
+
 u* = SciPy's direct solve; the count is the first CG iterate (x0 = 0, SciPy's `cg`, its
 callback) with ||u_k - u*||_inf <= 1e-6 ||u*||_inf (a run that breaks down or reaches 10 N
 iterations is recorded as not converged).
 
     pip install numpy scipy pyamg
-    cargo build --release --example incline_scene --example sphere_scene
+    cargo build --release --example incline_scene --example sphere_scene --example contact_scene
     python3 scripts/amg_reference.py > tests/data/amg/reference.json
 """
 import json
@@ -132,6 +140,25 @@ def sphere(h, eps_rel):
     return a, b, bmodes, scene["near_null_space"]["slots"], eps
 
 
+def contact(case, h, eps_rel):
+    """A, b, B, slots and eps of a penalized contact benchmark scene (module doc)."""
+    exe = os.environ.get("CONTACT_SCENE", "target/release/examples/contact_scene")
+    a, b, bmodes, scene, eps = scene_system(
+        exe, [case, repr(h)], lambda k: eps_rel * k.diagonal().max())
+    return a, b, bmodes, scene["near_null_space"]["slots"], eps
+
+
+def refined_solve(a, b, steps=3):
+    """spsolve, then `steps` of iterative refinement with long-double residuals."""
+    lu = spla.splu(a.tocsc())
+    x = lu.solve(b)
+    al, bl = a.astype(np.longdouble), b.astype(np.longdouble)
+    for _ in range(steps):
+        r = bl - al @ x.astype(np.longdouble)
+        x = x + lu.solve(np.asarray(r, dtype=float))
+    return x
+
+
 def padded_preconditioner(a, slots, n_slots, bmodes, bs):
     """PyAMG's V-cycle on A padded to its slots, restricted to the DOFs (module doc)."""
     slots = np.asarray(slots)
@@ -190,8 +217,23 @@ for eps_rel in [1.0, 1e3, 1e6]:
                   "pcg_iters_amg_nodal_to_err": its, "converged": ok,
                   "levels": [lv.A.shape[0] for lv in ml.levels]})
     print(solid[-1], file=sys.stderr)
+coupled = []
+for case, h in [("hertz-normals", 0.125), ("patch-two-body-nts-1", 0.0625)]:
+    for eps_rel in [1.0, 1e4, 1e8]:
+        a, b, bmodes, slots, eps = contact(case, h, eps_rel)
+        u_star = refined_solve(a, b)
+        m, ml = padded_preconditioner(a, slots, bmodes.shape[0], bmodes, 2)
+        its, ok = iterations_to_err(a, b, m, u_star)
+        scalar = pyamg.smoothed_aggregation_solver(a, B=np.ones((a.shape[0], 1)))
+        sits, sok = iterations_to_err(a, b, scalar.aspreconditioner(cycle="V"), u_star)
+        coupled.append({"case": case, "h_over_a": h, "eps_rel": eps_rel, "eps": eps,
+                        "n": a.shape[0], "pcg_iters_amg_nodal_to_err": its, "converged": ok,
+                        "levels": [lv.A.shape[0] for lv in ml.levels],
+                        "pcg_iters_amg_scalar_to_err": sits, "scalar_converged": sok})
+        print(coupled[-1], file=sys.stderr)
 json.dump({"generator": "scripts/amg_reference.py", "err_target": TARGET,
            "versions": {"pyamg": pyamg.__version__, "scipy": scipy.__version__,
                         "numpy": np.__version__},
-           "cases": cases, "elastic": elastic, "solid": solid}, sys.stdout, indent=1)
+           "cases": cases, "elastic": elastic, "solid": solid,
+           "coupled": coupled}, sys.stdout, indent=1)
 sys.stdout.write("\n")

@@ -221,8 +221,20 @@ pub fn hertz_two_body(
         contact.push(node);
     }
     let width = *block.xs.last().unwrap_or(&0.0);
+    // The block's nodes, then the cap's (mapped) ones.
+    let (n1, ny1) = (block.nodes(), block.ny());
+    let at = |n: usize| {
+        if n < n1 {
+            (block.xs[n / ny1], block.ys[n % ny1])
+        } else {
+            coords[n - n1]
+        }
+    };
+    let modes = elasticity::plane_near_null(at, &fixed)?;
     Indentation {
-        problem: Problem::new(k, q, constraints)?.in_preferred_storage(),
+        problem: Problem::new(k, q, constraints)?
+            .with_near_null(modes)?
+            .in_preferred_storage(),
         contact,
         n_free,
         lift: squeeze,

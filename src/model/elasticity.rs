@@ -34,7 +34,7 @@
 
 use super::contact_forces;
 use crate::error::{Error, Result};
-use crate::system::{Constraint, ConstraintKind, Problem, Stiffness, Surface};
+use crate::system::{Constraint, ConstraintKind, NearNull, Problem, Stiffness, Surface};
 
 /// Plane strain or axisymmetry.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -657,6 +657,29 @@ pub(super) fn prescribed(grid: &Grid, base: Base, lift: f64) -> Vec<Option<f64>>
     fixed
 }
 
+/// The plane rigid-body modes ([`NearNull::rigid_body_modes`]) of every node that keeps a free
+/// DOF, over two slots per such node ([`NearNull::with_slots`]): node `i` at `coords(i)`, its
+/// DOFs `2i`, `2i + 1`, free where `fixed` is None and numbered in that order (as
+/// [`eliminate`] numbers them). A node held in x on a symmetry line keeps an empty slot, which
+/// a nodal AMG fills with an identity row.
+pub(crate) fn plane_near_null(
+    coords: impl Fn(usize) -> (f64, f64),
+    fixed: &[Option<f64>],
+) -> Result<NearNull> {
+    let mut nodes = Vec::new();
+    let mut slots = Vec::new();
+    for node in 0..fixed.len() / 2 {
+        let free: Vec<usize> = (0..2).filter(|&c| fixed[2 * node + c].is_none()).collect();
+        if free.is_empty() {
+            continue;
+        }
+        slots.extend(free.iter().map(|c| 2 * nodes.len() + c));
+        let (x, y) = coords(node);
+        nodes.push(vec![x, y]);
+    }
+    NearNull::rigid_body_modes(&nodes, 2)?.with_slots(slots)
+}
+
 /// The global DOF (`2·node + component`) of each unknown of [`indentation`]'s problem on
 /// `grid` with `base`, in order.
 pub fn free_dofs(grid: &Grid, base: Base) -> Vec<usize> {
@@ -698,9 +721,14 @@ pub fn indentation(
         constraints.push(Constraint::on_dof(d, limit, ConstraintKind::Upper));
         contact.push(ContactNode::new(x, w));
     }
-    let problem = Problem::new(k, q, constraints)?.in_preferred_storage();
+    let mut problem = Problem::new(k, q, constraints)?;
+    if geometry == Geometry::PlaneStrain {
+        let ny = grid.ny();
+        let modes = plane_near_null(|n| (grid.xs[n / ny], grid.ys[n % ny]), &fixed)?;
+        problem = problem.with_near_null(modes)?;
+    }
     Ok(Indentation {
-        problem,
+        problem: problem.in_preferred_storage(),
         contact,
         n_free,
         lift,

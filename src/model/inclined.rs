@@ -184,7 +184,10 @@ pub fn with_nodal_normals(
             _ => con.clone(),
         });
     }
-    let problem = Problem::new(scene.problem.k.clone(), scene.problem.q.clone(), rows)?;
+    let mut problem = Problem::new(scene.problem.k.clone(), scene.problem.q.clone(), rows)?;
+    if let Some(modes) = scene.problem.near_null.clone() {
+        problem = problem.with_near_null(modes)?;
+    }
     Ok(Indentation { problem, ..scene })
 }
 

@@ -466,8 +466,22 @@ pub fn patch_in(
         constraints.push(Constraint::row(terms, 0.0, ConstraintKind::Lower));
         contact.push(node);
     }
+    let mut problem = Problem::new(k, q, constraints)?;
+    if geometry == Geometry::PlaneStrain {
+        // Both blocks' nodes, the upper one stacked at y = H₁.
+        let (n1, ny1, ny2) = (lower.nodes(), lower.ny(), upper.ny());
+        let at = |n: usize| {
+            if n < n1 {
+                (lower.xs[n / ny1], lower.ys[n % ny1])
+            } else {
+                let m = n - n1;
+                (upper.xs[m / ny2], b.h_lower + upper.ys[m % ny2])
+            }
+        };
+        problem = problem.with_near_null(elasticity::plane_near_null(at, &fixed)?)?;
+    }
     Ok(Indentation {
-        problem: Problem::new(k, q, constraints)?.in_preferred_storage(),
+        problem: problem.in_preferred_storage(),
         contact,
         n_free,
         lift: squeeze,

@@ -8,6 +8,14 @@
 //!   Lagrange's pressure against Hertz's on this block ([`hertz::pressure_error`], which also
 //!   holds the finite block's bias); a rule's penalty error: its pressure's distance from
 //!   Lagrange's ([`hertz::pressure_distance`]). Length scale (δ): a; ε relative to E*/a.
+//! - **Rows that couple DOFs, force-controlled the same way** (the contact benchmarks' cases):
+//!   `hertz-normals` (`hertz-plane` with every row along the cylinder's normal at its node,
+//!   `−f'·u_x + v ≤ …` normalized: two terms on one node), `patch-nts-1` (the two-body patch
+//!   test, a block on the a × a block at 7:4 interface meshes, one-pass node-to-segment rows:
+//!   three terms on nodes of both bodies; it fails the patch test, which is its discretization
+//!   error) and `hertz-two-body` (an elastic cylinder, E/3, ν = 0.33, on the Hertz block,
+//!   mortar rows: each row couples the slave node's neighbours and every master node under
+//!   them; Hertz with the pair's E*). Not in the default run: `hertz-two-body`.
 //! - `membrane`: the 5-point membrane (`−Δu = f`, f = −10, unit square, clamped edges,
 //!   [`membrane::stiffness`]) with side = (side₀ + 1)·2^l − 1 interior nodes (h = 1/(side+1)),
 //!   on the obstacle `u ≥ ψ = −0.35 − 0.7·((x−½)² + (y−½)²)` at every node. Length scale: 0.35
@@ -81,12 +89,20 @@ pub enum Family {
     #[serde(rename = "hertz-3d")]
     #[value(name = "hertz-3d")]
     Hertz3d,
+    /// Hertz plane with every row along the cylinder's normal at its node (two terms).
+    HertzNormals,
+    /// An elastic cylinder on the Hertz block, mortar rows (coupling nodes of both bodies).
+    HertzTwoBody,
+    /// The two-body patch test with one-pass node-to-segment rows (three terms).
+    #[serde(rename = "patch-nts-1")]
+    #[value(name = "patch-nts-1")]
+    PatchNts1,
 }
 
 impl Family {
-    /// The families of the default run: all but `hertz-3d` (its five levels to 11 040 DOFs
-    /// take ≈ 3.7 min on 2 cores beside the default run's ≈ 3.8 min; `--families` adds it).
-    pub const DEFAULT: [Family; 7] = [
+    /// The families of the default run: all but `hertz-two-body` and `hertz-3d` (each takes
+    /// minutes of its own on 2 cores; `--families` adds them).
+    pub const DEFAULT: [Family; 9] = [
         Family::HertzPlane,
         Family::HertzAxi,
         Family::Membrane,
@@ -94,10 +110,12 @@ impl Family {
         Family::Incline15,
         Family::Incline30,
         Family::Incline45,
+        Family::HertzNormals,
+        Family::PatchNts1,
     ];
 
     /// Every family, in table order.
-    pub const ALL: [Family; 8] = [
+    pub const ALL: [Family; 11] = [
         Family::HertzPlane,
         Family::HertzAxi,
         Family::Membrane,
@@ -105,6 +123,9 @@ impl Family {
         Family::Incline15,
         Family::Incline30,
         Family::Incline45,
+        Family::HertzNormals,
+        Family::PatchNts1,
+        Family::HertzTwoBody,
         Family::Hertz3d,
     ];
 
@@ -119,6 +140,22 @@ impl Family {
             Family::Incline30 => "incline-30",
             Family::Incline45 => "incline-45",
             Family::Hertz3d => "hertz-3d",
+            Family::HertzNormals => "hertz-normals",
+            Family::HertzTwoBody => "hertz-two-body",
+            Family::PatchNts1 => "patch-nts-1",
+        }
+    }
+
+    /// The contact benchmark case of a family solved under force control (the Hertz cases,
+    /// the two-body ones; [`crate::study::hertz`]).
+    pub fn hertz_case(self) -> Option<Case> {
+        match self {
+            Family::HertzPlane => Some(Case::HertzPlane),
+            Family::HertzAxi => Some(Case::HertzAxi),
+            Family::HertzNormals => Some(Case::HertzNormals),
+            Family::HertzTwoBody => Some(Case::HertzTwoBody),
+            Family::PatchNts1 => Some(Case::PatchNts1),
+            _ => None,
         }
     }
 
@@ -132,9 +169,13 @@ impl Family {
         }
     }
 
-    /// Whether its contact rows couple DOFs (two terms).
+    /// Whether its contact rows couple DOFs (two or more terms).
     pub fn coupled(self) -> bool {
         self.incline_deg().is_some()
+            || matches!(
+                self,
+                Family::HertzNormals | Family::HertzTwoBody | Family::PatchNts1
+            )
     }
 }
 
@@ -528,10 +569,10 @@ pub fn levels(family: Family, count: usize, c: Coarsest) -> Result<Vec<Level>> {
     let mut out = Vec::with_capacity(count);
     for l in 0..count {
         let level = match family {
-            Family::HertzPlane => {
-                hertz_level(family, Case::HertzPlane, l, hertz_h0 / (1 << l) as f64)?
+            f if f.hertz_case().is_some() => {
+                let case = f.hertz_case().expect("a force-controlled family");
+                hertz_level(family, case, l, hertz_h0 / (1 << l) as f64)?
             }
-            Family::HertzAxi => hertz_level(family, Case::HertzAxi, l, hertz_h0 / (1 << l) as f64)?,
             Family::Membrane => fixed_level(family, l, (membrane_side0 + 1) * (1 << l) - 1)?,
             Family::Beam => fixed_level(family, l, beam_el0 * (1 << l))?,
             Family::Hertz3d => sphere_level(l, sphere_h0 / (1 << l) as f64)?,
@@ -539,10 +580,7 @@ pub fn levels(family: Family, count: usize, c: Coarsest) -> Result<Vec<Level>> {
         };
         out.push(level);
     }
-    if !matches!(
-        family,
-        Family::HertzPlane | Family::HertzAxi | Family::Hertz3d
-    ) {
+    if family.hertz_case().is_none() && family != Family::Hertz3d {
         for l in 0..count.saturating_sub(1) {
             let (coarse, fine) = out.split_at_mut(l + 1);
             let (c, f) = (&mut coarse[l], &fine[0]);

@@ -224,7 +224,7 @@ fn eps_map_panels(map: &[Row]) -> Vec<Figure> {
                 format!(
                     "{fam} ({}), level {level}, {n} DOFs: constant",
                     if coupled {
-                        "two-term rows"
+                        "coupled rows"
                     } else {
                         "one-DOF rows"
                     }

@@ -2,8 +2,11 @@
 //! direct solve loses and the iterations a preconditioned Krylov solver needs — over mesh
 //! levels with h halving (issue 47).
 //!
-//! Families ([`cases`]): Hertz plane and axisymmetric (force-controlled), the membrane on an
-//! obstacle and the cantilever on a wavy bed. On every level, Lagrange once (`exact`), and
+//! Families ([`cases`]): one-DOF rows — Hertz plane and axisymmetric (force-controlled), the
+//! membrane on an obstacle, the cantilever on a wavy bed, the 3-D block under a sphere
+//! (`hertz-3d`); coupled rows — the block on an inclined plane, Hertz with rows along the
+//! cylinder's normals, the two-body patch test with node-to-segment rows, an elastic cylinder
+//! on a block with mortar rows. On every level, Lagrange once (`exact`), and
 //! every other rule twice, its knob searched ([`search`]) so that
 //! - `discretization`: its penalty error equals the level's discretization error, or
 //! - `penetration`: its largest penetration equals δ = `penetration_rel` · the family's
@@ -474,7 +477,7 @@ fn fill_solver_metrics(row: &mut Row, c: &metrics::solver::SolverMetrics) {
 /// The `solver_cost` binary's flags.
 #[derive(clap::Args, Debug)]
 pub struct Flags {
-    /// Families, comma-separated (default: all but hertz-3d).
+    /// Families, comma-separated (default: all but hertz-two-body and hertz-3d).
     #[arg(long, value_delimiter = ',', value_enum)]
     families: Option<Vec<Family>>,
     /// Mesh levels per family (h halving), 2–8.
@@ -547,7 +550,13 @@ impl Study for SolverCost {
             (
                 "--hertz-h0",
                 f.hertz_h0.is_some(),
-                &[Family::HertzPlane, Family::HertzAxi][..],
+                &[
+                    Family::HertzPlane,
+                    Family::HertzAxi,
+                    Family::HertzNormals,
+                    Family::HertzTwoBody,
+                    Family::PatchNts1,
+                ][..],
             ),
             (
                 "--membrane-side0",
