@@ -708,5 +708,5 @@ mod near_null;
 mod symmetry;
 pub(crate) use constraint::check_constraints;
 pub use constraint::{Constraint, ConstraintKind};
-pub use near_null::NearNull;
+pub use near_null::{check_slots, NearNull};
 pub use symmetry::{Asymmetry, Symmetry};

@@ -72,16 +72,7 @@ impl NearNull {
     /// B over slots (module doc): unknown i fills slot `slots[i]`; the slots must increase
     /// and lie below [`Self::padded_n`]. The slots no unknown fills are prescribed components.
     pub fn with_slots(self, slots: Vec<usize>) -> Result<NearNull> {
-        let n = self.padded_n();
-        if let Some(i) =
-            (0..slots.len()).find(|&i| slots[i] >= n || (i > 0 && slots[i] <= slots[i - 1]))
-        {
-            return Err(Error::out_of_range(
-                format!("near-null space: slot of unknown {i}"),
-                slots[i],
-                format!("increasing and below the {n} slots of B"),
-            ));
-        }
+        check_slots("near-null space", &slots, self.padded_n())?;
         Ok(NearNull {
             slots: Some(slots),
             ..self
@@ -142,6 +133,20 @@ impl NearNull {
     pub fn padded_n(&self) -> usize {
         self.b.len() / self.k
     }
+}
+
+/// Checks that `slots` increase and lie below `n_slots` (errors name `what` and the unknown).
+pub fn check_slots(what: &str, slots: &[usize], n_slots: usize) -> Result<()> {
+    if let Some(i) =
+        (0..slots.len()).find(|&i| slots[i] >= n_slots || (i > 0 && slots[i] <= slots[i - 1]))
+    {
+        return Err(Error::out_of_range(
+            format!("{what}: slot of unknown {i}"),
+            slots[i],
+            format!("increasing and below the {n_slots} slots"),
+        ));
+    }
+    Ok(())
 }
 
 #[cfg(test)]

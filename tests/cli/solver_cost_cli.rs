@@ -165,6 +165,18 @@ fn bad_input_exits_2() {
             vec!["--families", "membrane", "--beam-el0", "4"],
             "--beam-el0",
         ),
+        (
+            vec!["--families", "membrane", "--sphere-h0", "1"],
+            "--sphere-h0 needs the family hertz-3d",
+        ),
+        (
+            vec!["--families", "hertz-3d", "--sphere-h0", "3"],
+            "--sphere-h0",
+        ),
+        (
+            vec!["--families", "hertz-3d", "--sphere-h0", "NaN"],
+            "--sphere-h0",
+        ),
     ] {
         let tmp = common::tmp_dir("solver-cost-bad");
         let o = bin()

@@ -18,7 +18,7 @@ use penalty_lab::linalg::krylov::{cg, Stop};
 use penalty_lab::linalg::precond::Jacobi;
 use penalty_lab::linalg::Factorization;
 use penalty_lab::model::incline_block;
-use penalty_lab::system::Stiffness;
+use penalty_lab::system::{Problem, Stiffness};
 use serde::Deserialize;
 
 #[derive(Deserialize)]
@@ -94,6 +94,60 @@ fn membrane(side: usize, eps_rel: f64) -> (Stiffness, Vec<f64>) {
     (Stiffness::from_triplets(side * side, &t).unwrap(), b)
 }
 
+/// A = K + ε Σ d dᵀ, b = q + ε Σ d û (the script's formula) of `p` at ε = `eps`, and u* of
+/// it (refined in double-double where `refine`: cond(A) up to 1e14).
+fn penalized(p: &Problem, eps: f64, refine: bool) -> (Stiffness, Vec<f64>, Vec<f64>) {
+    let k = p.penalized_k(&vec![eps; p.m()]);
+    let mut b = p.q.clone();
+    for con in &p.constraints {
+        for &(d, a) in &con.terms {
+            b[d] += eps * a * con.limit;
+        }
+    }
+    let f = Factorization::new(&k, true).unwrap();
+    let mut u_star = f.solve(&b);
+    if refine {
+        let refined = penalty_lab::linalg::refine::refine(&k, &b, &f, &u_star);
+        u_star = refined.x.iter().map(|v| v.to_f64()).collect();
+    }
+    (k, b, u_star)
+}
+
+/// CG preconditioned by `opts`' AMG on A to the error target: (its run, the level sizes).
+fn amg_cg(
+    k: &Stiffness,
+    b: &[f64],
+    u_star: &[f64],
+    target: f64,
+    opts: &AmgOptions,
+) -> (penalty_lab::linalg::krylov::KrylovRun, Vec<usize>) {
+    let a = k.to_sparse();
+    let amg = Amg::new(a.as_ref(), opts).unwrap();
+    let stop = Stop::ErrorOfU {
+        reference: u_star,
+        target,
+    };
+    let (_, run) = cg(a.as_ref(), &amg, b, stop, 10 * b.len());
+    (run, amg.sizes.clone())
+}
+
+/// Our nodal AMG against PyAMG's on `p` at ε: the same levels, both converged, counts
+/// within 1.5×; the line of the report.
+fn check_nodal(p: &Problem, eps: f64, target: f64, theirs: (usize, bool, &[usize])) -> String {
+    let (k, b, u_star) = penalized(p, eps, false);
+    let nn = p.near_null.as_ref().unwrap();
+    let (run, sizes) = amg_cg(&k, &b, &u_star, target, &AmgOptions::nodal(nn));
+    let line = format!(
+        "ε {eps:e}: nodal AMG {} (PyAMG {}), levels {sizes:?} (PyAMG {:?})",
+        run.iterations, theirs.0, theirs.2
+    );
+    assert!(theirs.1 && run.converged, "{line}");
+    assert_eq!(sizes, theirs.2, "{line}");
+    let (o, t) = (run.iterations as f64, theirs.0 as f64);
+    assert!(o <= 1.5 * t && t <= 1.5 * o, "{line}");
+    line
+}
+
 #[test]
 fn amg_iterations_are_within_1_5x_of_pyamg() {
     let dir = super::cond_reference::data_dir("amg");
@@ -142,40 +196,11 @@ fn nodal_amg_matches_pyamg_on_two_term_rows() {
     let text = std::fs::read_to_string(dir.join("reference.json")).unwrap();
     let reference: Reference = serde_json::from_str(&text).unwrap();
     assert_eq!(reference.elastic.len(), 3);
-    let mut report = Vec::new();
     for c in &reference.elastic {
         let p = incline_block::problem(c.theta_deg, c.nx, c.ny).unwrap();
-        // A = K + ε Σ d dᵀ, b = q + ε Σ d û (the script's formula).
-        let k = p.penalized_k(&vec![c.eps; p.m()]);
-        let mut b = p.q.clone();
-        for con in &p.constraints {
-            for &(d, a) in &con.terms {
-                b[d] += c.eps * a * con.limit;
-            }
-        }
-        let u_star = Factorization::new(&k, true).unwrap().solve(&b);
-        let a = k.to_sparse();
-        let nn = p.near_null.as_ref().unwrap();
-        let amg = Amg::new(a.as_ref(), &AmgOptions::nodal(nn)).unwrap();
-        let stop = Stop::ErrorOfU {
-            reference: &u_star,
-            target: reference.err_target,
-        };
-        let (_, run) = cg(a.as_ref(), &amg, &b, stop, 10 * b.len());
-        report.push(format!(
-            "ε {:e}: nodal AMG {} (PyAMG {}), levels {:?} (PyAMG {:?})",
-            c.eps, run.iterations, c.pcg_iters_amg_nodal_to_err, amg.sizes, c.levels
-        ));
-        assert!(c.converged && run.converged, "{}", report.join("\n"));
-        assert_eq!(amg.sizes, c.levels, "{}", report.join("\n"));
-        let (ours, theirs) = (run.iterations as f64, c.pcg_iters_amg_nodal_to_err as f64);
-        assert!(
-            ours <= 1.5 * theirs && theirs <= 1.5 * ours,
-            "{}",
-            report.join("\n")
-        );
+        let theirs = (c.pcg_iters_amg_nodal_to_err, c.converged, &c.levels[..]);
+        eprintln!("{}", check_nodal(&p, c.eps, reference.err_target, theirs));
     }
-    eprintln!("{}", report.join("\n"));
 }
 
 #[test]
@@ -185,40 +210,13 @@ fn nodal_amg_in_slots_matches_pyamg_in_3d() {
     let text = std::fs::read_to_string(dir.join("reference.json")).unwrap();
     let reference: Reference = serde_json::from_str(&text).unwrap();
     assert_eq!(reference.solid.len(), 3);
-    let mut report = Vec::new();
     for c in &reference.solid {
         let grid = sphere_grid(c.h_over_a).unwrap();
         let lift = HERTZ.a_target * HERTZ.a_target / HERTZ.radius;
         let p = sphere_scene(&grid, lift).unwrap().problem;
-        // A = K + ε Σ e_d e_dᵀ, b = q + ε Σ e_d û (the script's formula).
-        let k = p.penalized_k(&vec![c.eps; p.m()]);
-        let mut b = p.q.clone();
-        for con in &p.constraints {
-            b[con.lead_dof()] += c.eps * con.limit;
-        }
-        let u_star = Factorization::new(&k, true).unwrap().solve(&b);
-        let a = k.to_sparse();
-        let nn = p.near_null.as_ref().unwrap();
-        let amg = Amg::new(a.as_ref(), &AmgOptions::nodal(nn)).unwrap();
-        let stop = Stop::ErrorOfU {
-            reference: &u_star,
-            target: reference.err_target,
-        };
-        let (_, run) = cg(a.as_ref(), &amg, &b, stop, 10 * b.len());
-        report.push(format!(
-            "ε {:e}: nodal AMG {} (PyAMG {}), levels {:?} (PyAMG {:?})",
-            c.eps, run.iterations, c.pcg_iters_amg_nodal_to_err, amg.sizes, c.levels
-        ));
-        assert!(c.converged && run.converged, "{}", report.join("\n"));
-        assert_eq!(amg.sizes, c.levels, "{}", report.join("\n"));
-        let (ours, theirs) = (run.iterations as f64, c.pcg_iters_amg_nodal_to_err as f64);
-        assert!(
-            ours <= 1.5 * theirs && theirs <= 1.5 * ours,
-            "{}",
-            report.join("\n")
-        );
+        let theirs = (c.pcg_iters_amg_nodal_to_err, c.converged, &c.levels[..]);
+        eprintln!("{}", check_nodal(&p, c.eps, reference.err_target, theirs));
     }
-    eprintln!("{}", report.join("\n"));
 }
 
 #[test]
@@ -237,43 +235,25 @@ fn nodal_and_scalar_amg_match_pyamg_on_coupled_contact_rows() {
             .scene(case, &grid, HERTZ.lift_guess(case, &grid))
             .unwrap()
             .problem;
-        // A = K + ε Σ d dᵀ, b = q + ε Σ d û (the script's formula).
-        let k = p.penalized_k(&vec![c.eps; p.m()]);
-        let mut b = p.q.clone();
-        for con in &p.constraints {
-            for &(d, a) in &con.terms {
-                b[d] += c.eps * a * con.limit;
-            }
-        }
-        // u* refined in double-double (cond(A) reaches 1e14 here: an unrefined Cholesky
-        // solve is not a reference to 1e-6).
-        let f = Factorization::new(&k, true).unwrap();
-        let refined = penalty_lab::linalg::refine::refine(&k, &b, &f, &f.solve(&b));
-        let u_star: Vec<f64> = refined.x.iter().map(|v| v.to_f64()).collect();
-        let a = k.to_sparse();
+        let (k, b, u_star) = penalized(&p, c.eps, true);
         let nn = p.near_null.as_ref().unwrap();
-        let stop = || Stop::ErrorOfU {
-            reference: &u_star,
-            target: reference.err_target,
-        };
-        let nodal = Amg::new(a.as_ref(), &AmgOptions::nodal(nn)).unwrap();
-        let (_, run) = cg(a.as_ref(), &nodal, &b, stop(), 10 * b.len());
-        let scalar = Amg::new(a.as_ref(), &AmgOptions::default()).unwrap();
-        let (_, srun) = cg(a.as_ref(), &scalar, &b, stop(), 10 * b.len());
+        let target = reference.err_target;
+        let (run, sizes) = amg_cg(&k, &b, &u_star, target, &AmgOptions::nodal(nn));
+        let (srun, _) = amg_cg(&k, &b, &u_star, target, &AmgOptions::default());
         report.push(format!(
             "{} ε {:e}: nodal {} (PyAMG {}), levels {:?} (PyAMG {:?}); scalar {} (PyAMG {})",
             c.case,
             c.eps,
             run.iterations,
             c.pcg_iters_amg_nodal_to_err,
-            nodal.sizes,
+            sizes,
             c.levels,
             srun.iterations,
             c.pcg_iters_amg_scalar_to_err
         ));
         let msg = report.join("\n");
         assert!(c.converged && run.converged, "{msg}");
-        assert_eq!(nodal.sizes, c.levels, "{msg}");
+        assert_eq!(sizes, c.levels, "{msg}");
         // Scalar AMG at ε = 1e8·max K_ii on rows along the normals: neither CG reaches the
         // target in 10 N iterations; where both do, the counts agree.
         assert_eq!(c.scalar_converged, srun.converged, "{msg}");

@@ -17,15 +17,7 @@ pub(super) fn padded(a: &Csr, slots: &[usize], n_slots: usize) -> Result<Csr> {
             a.n_rows,
         ));
     }
-    if let Some(i) =
-        (0..slots.len()).find(|&i| slots[i] >= n_slots || (i > 0 && slots[i] <= slots[i - 1]))
-    {
-        return Err(Error::out_of_range(
-            format!("AMG: slot of unknown {i}"),
-            slots[i],
-            format!("increasing and below {n_slots}"),
-        ));
-    }
+    crate::system::check_slots("AMG", slots, n_slots)?;
     let diag = a.diagonal();
     let s = diag.iter().sum::<f64>() / diag.len().max(1) as f64;
     let mut owner = vec![usize::MAX; n_slots];

@@ -86,7 +86,7 @@ pub const EPS_MAP: &str = "eps-map";
 impl Default for SolverCostConfig {
     fn default() -> Self {
         SolverCostConfig {
-            families: Family::DEFAULT.to_vec(),
+            families: Family::defaults(),
             levels: 5,
             hertz_h0: 0.5,
             membrane_side0: 7,
