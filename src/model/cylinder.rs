@@ -31,7 +31,7 @@ use super::elasticity::{
 };
 use super::two_body::{self, Discretization, Terms};
 use crate::error::{Error, Result};
-use crate::system::{Constraint, ConstraintKind, Problem};
+use crate::system::{Constraint, ConstraintKind, NearNull, Problem};
 
 /// The cylinder on the block (module doc).
 #[derive(Clone, Debug, PartialEq)]
@@ -225,12 +225,13 @@ pub fn hertz_two_body(
     let (n1, ny1) = (block.nodes(), block.ny());
     let at = |n: usize| {
         if n < n1 {
-            (block.xs[n / ny1], block.ys[n % ny1])
+            vec![block.xs[n / ny1], block.ys[n % ny1]]
         } else {
-            coords[n - n1]
+            let (x, y) = coords[n - n1];
+            vec![x, y]
         }
     };
-    let modes = elasticity::plane_near_null(at, &fixed)?;
+    let modes = NearNull::rigid_body_modes_in_slots(2, at, &fixed)?;
     Indentation {
         problem: Problem::new(k, q, constraints)?
             .with_near_null(modes)?

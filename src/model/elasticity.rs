@@ -25,12 +25,10 @@
 //! (compressive positive; the same formula for every rule: a penalty's ε_c·penetration, a
 //! Lagrange multiplier), and its pressure is `p_c = f_c / ω_c` with the tributary weight
 //! `ω_c = ∫ N_c ds` (plane strain) or `∫ N_c r dr` (axisymmetric) over the top face — the row
-//! sums of the consistent boundary mass matrix, so a uniform pressure gives exactly uniform
-//! `p_c`.
-//!
-//! When to use: the analytic contact benchmarks (Hertz, the contact patch test) of the
-//! `contact_bench` study and the sweep's `hertz` and `patch` families. The assembly is
-//! checked against scikit-fem's K of the same block (`tests/verification`).
+//! sums of the consistent boundary mass matrix: a uniform pressure reads back uniform. Plane
+//! scenes carry their nodes' rigid-body modes in slots (`NearNull::rigid_body_modes_in_slots`).
+//! When to use: the analytic contact benchmarks of `contact_bench`, `solver_cost` and the
+//! sweep's `hertz` and `patch` families. K is checked against scikit-fem's (`tests/verification`).
 
 use super::contact_forces;
 use crate::error::{Error, Result};
@@ -657,29 +655,6 @@ pub(super) fn prescribed(grid: &Grid, base: Base, lift: f64) -> Vec<Option<f64>>
     fixed
 }
 
-/// The plane rigid-body modes ([`NearNull::rigid_body_modes`]) of every node that keeps a free
-/// DOF, over two slots per such node ([`NearNull::with_slots`]): node `i` at `coords(i)`, its
-/// DOFs `2i`, `2i + 1`, free where `fixed` is None and numbered in that order (as
-/// [`eliminate`] numbers them). A node held in x on a symmetry line keeps an empty slot, which
-/// a nodal AMG fills with an identity row.
-pub(crate) fn plane_near_null(
-    coords: impl Fn(usize) -> (f64, f64),
-    fixed: &[Option<f64>],
-) -> Result<NearNull> {
-    let mut nodes = Vec::new();
-    let mut slots = Vec::new();
-    for node in 0..fixed.len() / 2 {
-        let free: Vec<usize> = (0..2).filter(|&c| fixed[2 * node + c].is_none()).collect();
-        if free.is_empty() {
-            continue;
-        }
-        slots.extend(free.iter().map(|c| 2 * nodes.len() + c));
-        let (x, y) = coords(node);
-        nodes.push(vec![x, y]);
-    }
-    NearNull::rigid_body_modes(&nodes, 2)?.with_slots(slots)
-}
-
 /// The global DOF (`2·node + component`) of each unknown of [`indentation`]'s problem on
 /// `grid` with `base`, in order.
 pub fn free_dofs(grid: &Grid, base: Base) -> Vec<usize> {
@@ -723,9 +698,8 @@ pub fn indentation(
     }
     let mut problem = Problem::new(k, q, constraints)?;
     if geometry == Geometry::PlaneStrain {
-        let ny = grid.ny();
-        let modes = plane_near_null(|n| (grid.xs[n / ny], grid.ys[n % ny]), &fixed)?;
-        problem = problem.with_near_null(modes)?;
+        let at = |n: usize| vec![grid.xs[n / ny], grid.ys[n % ny]];
+        problem = problem.with_near_null(NearNull::rigid_body_modes_in_slots(2, at, &fixed)?)?;
     }
     Ok(Indentation {
         problem: problem.in_preferred_storage(),

@@ -245,7 +245,7 @@ fn edge_weights(xs: &[f64]) -> Vec<f64> {
 /// One top node in contact with the sphere.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TopNode {
-    /// Its (x, y).
+    /// Its x.
     pub x: f64,
     /// Its y.
     pub y: f64,
@@ -363,22 +363,12 @@ pub fn sphere_indentation(
             });
         }
     }
-    // Three slots per node with any free DOF (the nodes above the bottom face, or all nodes
-    // on a sliding base), in node order; the free DOFs fill theirs in the same order.
-    let mut coords = Vec::new();
-    let mut slots = Vec::with_capacity(q.len());
-    for node in 0..grid.nodes() {
-        let free: Vec<usize> = (0..3).filter(|&c| fixed[3 * node + c].is_none()).collect();
-        if free.is_empty() {
-            continue;
-        }
-        let slot0 = 3 * coords.len();
-        slots.extend(free.iter().map(|c| slot0 + c));
+    // Three slots per node with any free DOF, in node order.
+    let at = |node: usize| {
         let (k, rest) = (node % nz, node / nz);
-        let (i, j) = (rest / ny, rest % ny);
-        coords.push(vec![grid.xs[i], grid.ys[j], grid.zs[k]]);
-    }
-    let near_null = NearNull::rigid_body_modes(&coords, 3)?.with_slots(slots)?;
+        vec![grid.xs[rest / ny], grid.ys[rest % ny], grid.zs[k]]
+    };
+    let near_null = NearNull::rigid_body_modes_in_slots(3, at, &fixed)?;
     let problem = Problem::new(k, q, constraints)?
         .with_near_null(near_null)?
         .in_preferred_storage();

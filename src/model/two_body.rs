@@ -55,7 +55,7 @@
 
 use super::elasticity::{self, ContactNode, Geometry, Grid, Indentation, Material};
 use crate::error::{Error, Result};
-use crate::system::{Constraint, ConstraintKind, Problem};
+use crate::system::{Constraint, ConstraintKind, NearNull, Problem};
 
 /// A constraint row's terms `(DOF, coefficient)`.
 pub(super) type Terms = Vec<(usize, f64)>;
@@ -472,13 +472,13 @@ pub fn patch_in(
         let (n1, ny1, ny2) = (lower.nodes(), lower.ny(), upper.ny());
         let at = |n: usize| {
             if n < n1 {
-                (lower.xs[n / ny1], lower.ys[n % ny1])
+                vec![lower.xs[n / ny1], lower.ys[n % ny1]]
             } else {
                 let m = n - n1;
-                (upper.xs[m / ny2], b.h_lower + upper.ys[m % ny2])
+                vec![upper.xs[m / ny2], b.h_lower + upper.ys[m % ny2]]
             }
         };
-        problem = problem.with_near_null(elasticity::plane_near_null(at, &fixed)?)?;
+        problem = problem.with_near_null(NearNull::rigid_body_modes_in_slots(2, at, &fixed)?)?;
     }
     Ok(Indentation {
         problem: problem.in_preferred_storage(),

@@ -10,7 +10,7 @@
 //! which [`NearNull::rigid_body_modes`] builds it. Without either, the AMG is scalar with
 //! B = ones.
 //!
-//! **Slots** ([`NearNull::with_slots`], models only). Where supports fix some components of a
+//! **Slots** ([`NearNull::with_slots`]; scenes: `near_null_space.slots`). Where supports fix some components of a
 //! node but not all (a symmetry plane), the unknowns do not come in whole node blocks. B is
 //! then given over *slots*, `block_size` per node, and each unknown names its slot; a slot
 //! without an unknown is a prescribed component, which a nodal AMG fills with a decoupled
@@ -122,6 +122,31 @@ impl NearNull {
             }
         }
         NearNull::new(n, dim, k, b)
+    }
+
+    /// The rigid-body modes of every node that keeps a free DOF, over `dim` slots per such
+    /// node: node `i` at `coords(i)`, its DOFs `dim·i + c`, free where `fixed[dim·i + c]` is
+    /// None and numbered in that order (as an elimination of the prescribed DOFs numbers
+    /// them). A prescribed component of a node that keeps another is an empty slot (module
+    /// doc); a node with none free has no slots.
+    pub fn rigid_body_modes_in_slots(
+        dim: usize,
+        coords: impl Fn(usize) -> Vec<f64>,
+        fixed: &[Option<f64>],
+    ) -> Result<NearNull> {
+        let mut nodes = Vec::new();
+        let mut slots = Vec::new();
+        for node in 0..fixed.len() / dim.max(1) {
+            let free: Vec<usize> = (0..dim)
+                .filter(|&c| fixed[dim * node + c].is_none())
+                .collect();
+            if free.is_empty() {
+                continue;
+            }
+            slots.extend(free.iter().map(|c| dim * nodes.len() + c));
+            nodes.push(coords(node));
+        }
+        NearNull::rigid_body_modes(&nodes, dim)?.with_slots(slots)
     }
 
     /// The unknowns B is for (rows of B, or the number of slots filled).

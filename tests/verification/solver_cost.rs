@@ -291,8 +291,8 @@ fn scipy_counts_show_two_term_rows_costing_jacobi_and_scalar_amg_not_ic0() {
 }
 
 /// The `hertz-3d` family against Hertz's sphere: Lagrange at the lift that carries the load for
-/// a = 1 reads p0 at the node on the axis to 3 % and the contact radius to within one element
-/// (h/a = 1/2, 1/4; measured 1.9 % and 0.2 % for p0), and its pressure error against Hertz
+/// a = 1 reads p0 at the node on the axis to 3 % and the contact radius to within a quarter
+/// element (h/a = 1/2, 1/4; measured 1.9 % and 0.2 % for p0, 4.7 % and 1.8 % for a), and its pressure error against Hertz
 /// (the finite block's bias included) falls by at least 1.8× when h halves (measured 2.4×).
 #[test]
 fn hertz_3d_meets_hertz_for_a_sphere() {
@@ -309,7 +309,10 @@ fn hertz_3d_meets_hertz_for_a_sphere() {
         eprintln!("{line}");
         assert!((c.load / target - 1.0).abs() <= 0.05, "{line}");
         assert!((c.p0_ratio - 1.0).abs() <= 0.03, "{line}");
-        assert!((c.a_ratio - 1.0).abs() <= h / HERTZ.a_target, "{line}");
+        assert!(
+            (c.a_ratio - 1.0).abs() <= 0.25 * h / HERTZ.a_target,
+            "{line}"
+        );
         errs.push(c.p_err_rel);
     }
     assert!(errs[0] >= 1.8 * errs[1], "{errs:?}");

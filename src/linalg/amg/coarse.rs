@@ -29,11 +29,18 @@ impl Coarse {
             }
         }
         let eig = d.symmetric_eigen();
+        if eig.eigenvalues.iter().any(|v| !v.is_finite()) {
+            return Err(crate::error::Error::Numerical(
+                "AMG: the coarsest matrix has a non-finite eigenvalue".into(),
+            ));
+        }
         let top = eig.eigenvalues.iter().fold(0.0f64, |m, v| m.max(v.abs()));
         let cut = n as f64 * f64::EPSILON * top;
         let mut m = vec![0.0; n * n];
         for (k, &lam) in eig.eigenvalues.iter().enumerate() {
-            if lam.abs() <= cut || !lam.is_finite() {
+            // Signed: a rounding-negative eigenvalue is dropped too, so the pseudo-inverse
+            // stays positive semidefinite and the V-cycle symmetric positive definite.
+            if lam <= cut {
                 continue;
             }
             let q = eig.eigenvectors.column(k);

@@ -54,8 +54,8 @@ use coarse::Coarse;
 use faer::sparse::SparseColMatRef;
 use smoother::{gauss_seidel, improve_candidates, BlockDiag};
 
-/// Coarsest size: a level with at most this many nodes (unknowns / block size) is factored
-/// (PyAMG's `max_coarse`).
+/// Coarsest size: a level with at most this many nodes (unknowns / block size) is solved
+/// directly (PyAMG's `max_coarse`).
 pub const MAX_COARSE: usize = 10;
 /// The largest coarsest level solved by a dense pseudo-inverse (module doc, step 5).
 pub const MAX_DENSE_COARSE: usize = 1000;
@@ -247,7 +247,8 @@ pub struct Amg {
 
 impl Amg {
     /// Builds the hierarchy of the SPD `a` (both triangles stored). Errors on a diagonal entry
-    /// ≤ 0, a near-null space of the wrong size or a coarsest matrix that does not factor.
+    /// ≤ 0, a near-null space of the wrong size, a non-finite spectral estimate or a coarsest
+    /// matrix that cannot be solved.
     pub fn new(a: SparseColMatRef<'_, usize, f64>, opts: &AmgOptions) -> Result<Amg> {
         let mut a = Csr::of_symmetric(a);
         if let Some((s, n_slots)) = &opts.slots {
@@ -293,10 +294,10 @@ impl Amg {
             let agg = aggregate(&a, block, opts.theta);
             let n_agg = agg.iter().copied().max().map_or(0, |m| m + 1);
             if n_agg == 0 || n_agg * k >= a.n_rows {
-                break; // no coarsening: factor this level
+                break; // no coarsening: solve this level directly
             }
             let (t, bc) = tentative(&agg, n_agg, block, &b, k);
-            let p = smooth(&a, &diag, &t);
+            let p = smooth(&a, &diag, &t)?;
             let r = p.transpose();
             let ac = r.mul(&a.mul(&p));
             sizes.push(ac.n_rows);
@@ -505,8 +506,8 @@ fn tentative(agg: &[usize], n_agg: usize, bs: usize, b: &[f64], k: usize) -> (Cs
 }
 
 /// `P = (I − ω/ρ · D⁻¹A) T` (module doc, step 4).
-fn smooth(a: &Csr, diag: &[f64], t: &Csr) -> Csr {
-    let rho = spectral_radius(a, diag);
+fn smooth(a: &Csr, diag: &[f64], t: &Csr) -> Result<Csr> {
+    let rho = spectral_radius(a, diag)?;
     let at = a.mul(t);
     let w = OMEGA / rho;
     // P = T − w D⁻¹ (A T), merged row by row (both rows sorted by column).
@@ -546,13 +547,13 @@ fn smooth(a: &Csr, diag: &[f64], t: &Csr) -> Csr {
         }
         ptr.push(col.len());
     }
-    Csr {
+    Ok(Csr {
         n_rows: t.n_rows,
         n_cols: t.n_cols,
         ptr,
         col,
         val,
-    }
+    })
 }
 
 /// ρ(D⁻¹A) = λ_max(D^{-1/2} A D^{-1/2}) as PyAMG's `approximate_spectral_radius` takes it:
@@ -561,8 +562,11 @@ fn smooth(a: &Csr, diag: &[f64], t: &Csr) -> Csr {
 /// value. A single run from a smooth start can miss the large eigenvalues that stiff penalty
 /// rows localize on a few nodes; ρ too small makes `P` amplify them (found on rows along
 /// curved normals at ε = 1e8·max K_ii: 3 661 CG iterations against PyAMG's 27).
-fn spectral_radius(a: &Csr, diag: &[f64]) -> f64 {
+fn spectral_radius(a: &Csr, diag: &[f64]) -> Result<f64> {
     let n = a.n_rows;
+    if n == 0 {
+        return Ok(0.0);
+    }
     let s: Vec<f64> = diag.iter().map(|d| 1.0 / d.sqrt()).collect();
     let steps = 15.min(n);
     let mut v: Vec<f64> = (0..n)
@@ -616,6 +620,11 @@ fn spectral_radius(a: &Csr, diag: &[f64]) -> f64 {
             })
             .unwrap_or(0);
         rho = eig.eigenvalues[top].abs();
+        if !rho.is_finite() {
+            return Err(Error::Numerical(
+                "AMG: the spectral radius estimate of D⁻¹A is not finite".into(),
+            ));
+        }
         let y = eig.eigenvectors.column(top);
         // The residual of the Ritz pair: β_k (after the last step) times y's last entry.
         let error = beta.get(k - 1).map_or(0.0, |b| b * y[k - 1]);
@@ -627,7 +636,7 @@ fn spectral_radius(a: &Csr, diag: &[f64]) -> f64 {
             v.iter_mut().zip(q).for_each(|(v, q)| *v += c * q);
         }
     }
-    rho
+    Ok(rho)
 }
 
 #[cfg(test)]

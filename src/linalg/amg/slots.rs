@@ -64,3 +64,38 @@ pub(super) fn gather(x: &[f64], slots: &[usize], out: &mut [f64]) {
         *o = x[s];
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A = [[4, −1], [−1, 3]] in slots {0, 2} of 3: slot 1 an identity row of mean diag 3.5.
+    #[test]
+    fn padding_moves_rows_and_fills_empty_slots() {
+        let a = Csr {
+            n_rows: 2,
+            n_cols: 2,
+            ptr: vec![0, 2, 4],
+            col: vec![0, 1, 0, 1],
+            val: vec![4.0, -1.0, -1.0, 3.0],
+        };
+        let p = padded(&a, &[0, 2], 3).unwrap();
+        let dense = |i: usize| -> Vec<f64> {
+            let mut r = vec![0.0; 3];
+            p.row(i).for_each(|(j, v)| r[j] = v);
+            r
+        };
+        assert_eq!(dense(0), vec![4.0, 0.0, -1.0]);
+        assert_eq!(dense(1), vec![0.0, 3.5, 0.0]);
+        assert_eq!(dense(2), vec![-1.0, 0.0, 3.0]);
+        let x = scatter(&[1.5, -2.0], &[0, 2], 3);
+        assert_eq!(x, vec![1.5, 0.0, -2.0]);
+        let mut back = vec![0.0; 2];
+        gather(&x, &[0, 2], &mut back);
+        assert_eq!(back, vec![1.5, -2.0]);
+        // Slots must increase, lie below the count and be one per unknown.
+        assert!(padded(&a, &[2, 0], 3).is_err());
+        assert!(padded(&a, &[0, 3], 3).is_err());
+        assert!(padded(&a, &[0], 3).is_err());
+    }
+}

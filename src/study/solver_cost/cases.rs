@@ -366,8 +366,8 @@ fn hertz_level(family: Family, case: Case, index: usize, h_rel: f64) -> Result<L
 /// level's DOFs to its own.
 fn fixed_level(family: Family, index: usize, size: usize) -> Result<Level> {
     let (problem, h, scale, from_coarse) = match family {
-        _ if family.coupled() => {
-            let theta = family.incline_deg().expect("an incline family");
+        _ if family.incline_deg().is_some() => {
+            let theta = family.incline_deg().unwrap_or(30.0);
             let (nx, ny) = (size, size / 2);
             let (cx, cy) = (nx / 2, ny / 2);
             let map = (0..2 * (cx + 1) * cy)

@@ -146,11 +146,11 @@ impl SolverCostConfig {
             ));
         }
         let finest = self.sphere_h0 / (1u64 << (self.levels - 1)) as f64;
-        if !(self.sphere_h0 <= 2.0 && finest >= 1.0 / 64.0) {
+        if !(self.sphere_h0 <= 2.0 && finest >= 1.0 / 32.0) {
             return Err(Error::out_of_range(
                 "--sphere-h0",
                 format!("{}, finest {finest:e}", self.sphere_h0),
-                "such that h/a ∈ [1/64, 2] at every level",
+                "such that h/a ∈ [1/32, 2] at every level (1/32: 320 352 DOFs)",
             ));
         }
         if self.beam_el0 < 2 || self.beam_el0 << (self.levels - 1) > 20_000 {
