@@ -4,7 +4,7 @@
 //! Jacobi-scaled cond₂, and the slopes against h.
 //!
 //! ```text
-//! cargo run --release --bin solver_cost                      # default: 4 families, 5 levels
+//! cargo run --release --bin solver_cost                      # default: 9 families, 5 levels
 //! cargo run --release --bin solver_cost -- --families membrane --levels 3 --json
 //! cargo run --release --bin solver_cost -- --render-only      # re-render from saved data
 //! ```

@@ -24,7 +24,9 @@ computes, without any of penalty-lab's code:
 - pcg_iters_amg_scalar_to_err: SciPy's `cg` preconditioned by one V-cycle of PyAMG's
   `smoothed_aggregation_solver` (its defaults, CSR, B = ones), counted the same way;
 - pcg_iters_amg_nodal_to_err (scenes with "near_null_space" and "block_size"): the same with
-  A as BSR in blocks of block_size and B read from the scene's file (PyAMG's nodal mode);
+  A as BSR in blocks of block_size and B read from the scene's file (PyAMG's nodal mode); with
+  "slots", A padded to them first (empty slots identity rows of the mean diagonal) and the
+  V-cycle restricted to the DOFs;
 - forward_err_u, forward_err_force: the relative inf-norm error of x_hat (u block; contact
   forces: penalties eps_c (x_d - u^_c) + lambda_c, multipliers for lagrange) against mpmath's
   LU solve at 50 digits of the stored A and b.
@@ -247,9 +249,31 @@ def run_case(solve, base, case, tau, err):
             bs = scene.get("block_size", 1)
             bmodes = np.asarray(scipy.io.mmread(os.path.join(
                 os.path.dirname(scene_path), scene["near_null_space"]["matrix_market"])))
-            ml = pyamg.smoothed_aggregation_solver(sp.csr_matrix(a).tobsr(blocksize=(bs, bs)),
-                                                   B=bmodes)
-            amg = ml.aspreconditioner(cycle="V")
+            slots = scene["near_null_space"].get("slots")
+            if slots is None:
+                ml = pyamg.smoothed_aggregation_solver(
+                    sp.csr_matrix(a).tobsr(blocksize=(bs, bs)), B=bmodes)
+                amg = ml.aspreconditioner(cycle="V")
+            else:
+                # B over slots: A padded as `linalg::amg::slots` defines it (empty slots
+                # identity rows of the mean diagonal), the V-cycle restricted to the DOFs.
+                slots = np.asarray(slots)
+                ns, n_a = bmodes.shape[0], a.shape[0]
+                e = sp.csr_matrix((np.ones(n_a), (slots, np.arange(n_a))), shape=(ns, n_a))
+                empty = np.setdiff1d(np.arange(ns), slots)
+                pad = sp.csr_matrix((np.full(len(empty), a.diagonal().mean()), (empty, empty)),
+                                    shape=(ns, ns))
+                a_hat = (e @ sp.csr_matrix(a) @ e.T + pad).tocsr()
+                ml = pyamg.smoothed_aggregation_solver(a_hat.tobsr(blocksize=(bs, bs)),
+                                                       B=bmodes)
+                m_hat = ml.aspreconditioner(cycle="V")
+
+                def padded(r, m_hat=m_hat, slots=slots, ns=ns):
+                    z = np.zeros(ns)
+                    z[slots] = r
+                    return m_hat.matvec(z)[slots]
+
+                amg = spla.LinearOperator(a.shape, matvec=padded)
             (ref["pcg_iters_amg_nodal_to_err"],
              ref["pcg_iters_amg_nodal_to_err_converged"]) = iterations_to_err(
                 spla.cg, a, b, amg.matvec, u_star, err)

@@ -40,7 +40,10 @@
 //!   Hertz's load for a = 1 (a secant step from the half-space's a²/R), and every rule
 //!   solves at that lift. Discretization error: Lagrange's pressure against Hertz's for the
 //!   load it carries ([`hertz::pressure_error`], r = √(x² + y²), ω the top areas), the
-//!   finite block's bias included. Length scale: a; ε relative to max K_dd.
+//!   finite block's bias included. Length scale: a; ε relative to max K_dd. Its penalty error
+//!   is on u (below), so the `discretization` accuracy sets a u-error equal to a pressure
+//!   error: not like with like (the 2-D Hertz families compare pressures with pressures), and
+//!   the matched ε are small (`constant` ≈ 0.01·k_scale on the finest level).
 //!
 //! For `membrane`, `beam`, the incline families and `hertz-3d` the errors are on u: a rule's
 //! penalty error is `‖u − u_L‖∞/‖u_L‖∞` against Lagrange on the same mesh; the
