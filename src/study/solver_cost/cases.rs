@@ -566,14 +566,11 @@ pub fn levels(family: Family, count: usize, c: Coarsest) -> Result<Vec<Level>> {
     } = c;
     let mut out = Vec::with_capacity(count);
     for l in 0..count {
-        let level = match family {
-            f if f.hertz_case().is_some() => {
-                let case = f.hertz_case().expect("a force-controlled family");
-                hertz_level(family, case, l, hertz_h0 / (1 << l) as f64)?
-            }
-            Family::Membrane => fixed_level(family, l, (membrane_side0 + 1) * (1 << l) - 1)?,
-            Family::Beam => fixed_level(family, l, beam_el0 * (1 << l))?,
-            Family::Hertz3d => sphere_level(l, sphere_h0 / (1 << l) as f64)?,
+        let level = match (family, family.hertz_case()) {
+            (_, Some(case)) => hertz_level(family, case, l, hertz_h0 / (1 << l) as f64)?,
+            (Family::Membrane, _) => fixed_level(family, l, (membrane_side0 + 1) * (1 << l) - 1)?,
+            (Family::Beam, _) => fixed_level(family, l, beam_el0 * (1 << l))?,
+            (Family::Hertz3d, _) => sphere_level(l, sphere_h0 / (1 << l) as f64)?,
             _ => fixed_level(family, l, INCLINE_NX0 * (1 << l))?,
         };
         out.push(level);

@@ -546,18 +546,12 @@ impl Study for SolverCost {
         let d = SolverCostConfig::default();
         let families = f.families.clone().unwrap_or(d.families);
         // A family's own flag without the family would be ignored: refused instead.
+        let force_controlled: Vec<Family> = Family::ALL
+            .into_iter()
+            .filter(|x| x.hertz_case().is_some())
+            .collect();
         for (flag, given, users) in [
-            (
-                "--hertz-h0",
-                f.hertz_h0.is_some(),
-                &[
-                    Family::HertzPlane,
-                    Family::HertzAxi,
-                    Family::HertzNormals,
-                    Family::HertzTwoBody,
-                    Family::PatchNts1,
-                ][..],
-            ),
+            ("--hertz-h0", f.hertz_h0.is_some(), &force_controlled[..]),
             (
                 "--membrane-side0",
                 f.membrane_side0.is_some(),
