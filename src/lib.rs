@@ -79,6 +79,12 @@
 //! ```
 //! Scene files: [`scene::read_scene`]; every metric at once: [`metrics::compute`].
 //!
+//! **Same bits for any thread count.** The studies parallelise over their own jobs (rayon);
+//! faer's dense kernels would otherwise split their work over faer's global pool, whose
+//! rounding depends on its size. Every binary therefore runs with
+//! `faer::set_global_parallelism(faer::Par::Seq)`; a program that calls the library and wants
+//! reproducible bits does the same.
+//!
 //! ## Layers
 //! Dependencies point down only, the module graph has no circle, no study imports another
 //! study, and every binary has its study at `src/study/<binary>` (checked by

@@ -217,6 +217,12 @@ struct Cli<F: Args> {
 
 /// The `main` of a study binary (module doc).
 pub fn main<S: Study>() -> ExitCode {
+    // faer's dense kernels split their work over its global thread pool by default, and the
+    // rounding then depends on the number of threads (`solve --method optimal` differed from
+    // the sweep's row in the 8th digit on two cores). Every study parallelises over its own
+    // jobs instead, so the library's kernels run sequentially: the same bits for any thread
+    // count.
+    faer::set_global_parallelism(faer::Par::Seq);
     let mut cmd = Cli::<S::Flags>::command()
         .name(S::NAME)
         .bin_name(S::NAME)

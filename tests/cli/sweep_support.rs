@@ -142,22 +142,26 @@ pub(crate) const FILE_RUN_KNOBS: [&str; 7] = [
 ];
 
 /// Writes the scenes of a small 2-family run and reruns them from the files. Returns the
-/// test's folder (the guard), the generated rows, the file rows and the scenes folder.
+/// test's folder (the guard), the generated rows, the file rows and the scenes folder. The
+/// beams have at most 30 elements: `optimal` (in the default rules) costs seconds per solve
+/// from about a hundred elements, and five tests share this run.
 pub(crate) fn generated_and_file_runs(tag: &str) -> (TempDir, Vec<Row>, Vec<Row>, PathBuf) {
     let (tmp, d) = work_dir(tag);
     let (gen, files, scenes) = (d.join("gen"), d.join("files"), d.join("scenes"));
+    let cfg = write_toml(
+        &d,
+        "small",
+        "families = [\"beam\", \"spectrum\"]\ncount = 2\nseed = 31\n\
+         [generator]\nbeam_elements = [3, 30]\n",
+    );
     let knobs = FILE_RUN_KNOBS;
     sweep_ok(
         &d,
         &with(
             &knobs,
             &[
-                "--families",
-                "beam,spectrum",
-                "--count",
-                "2",
-                "--seed",
-                "31",
+                "--config",
+                s(&cfg),
                 "--out",
                 s(&gen),
                 "--write-scenes",
