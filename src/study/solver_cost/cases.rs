@@ -61,6 +61,7 @@ use crate::strategy::force_control::{solve_at_load, FORCE_TOL};
 use crate::strategy::{self, Method, Solution};
 use crate::study::hertz::{self, Case, Exact, Setup};
 use crate::system::{Constraint, ConstraintKind, Problem};
+use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 /// A family of `solver_cost`.
@@ -564,17 +565,21 @@ pub fn levels(family: Family, count: usize, c: Coarsest) -> Result<Vec<Level>> {
         beam_el0,
         sphere_h0,
     } = c;
-    let mut out = Vec::with_capacity(count);
-    for l in 0..count {
-        let level = match (family, family.hertz_case()) {
-            (_, Some(case)) => hertz_level(family, case, l, hertz_h0 / (1 << l) as f64)?,
-            (Family::Membrane, _) => fixed_level(family, l, (membrane_side0 + 1) * (1 << l) - 1)?,
-            (Family::Beam, _) => fixed_level(family, l, beam_el0 * (1 << l))?,
-            (Family::Hertz3d, _) => sphere_level(l, sphere_h0 / (1 << l) as f64)?,
-            _ => fixed_level(family, l, INCLINE_NX0 * (1 << l))?,
-        };
-        out.push(level);
-    }
+    // The levels are independent (each its own Lagrange solve): built side by side, finest
+    // first (the longest), in level order.
+    let mut out = (0..count)
+        .rev()
+        .collect::<Vec<usize>>()
+        .into_par_iter()
+        .map(|l| match (family, family.hertz_case()) {
+            (_, Some(case)) => hertz_level(family, case, l, hertz_h0 / (1 << l) as f64),
+            (Family::Membrane, _) => fixed_level(family, l, (membrane_side0 + 1) * (1 << l) - 1),
+            (Family::Beam, _) => fixed_level(family, l, beam_el0 * (1 << l)),
+            (Family::Hertz3d, _) => sphere_level(l, sphere_h0 / (1 << l) as f64),
+            _ => fixed_level(family, l, INCLINE_NX0 * (1 << l)),
+        })
+        .collect::<Result<Vec<Level>>>()?;
+    out.reverse();
     if family.hertz_case().is_none() && family != Family::Hertz3d {
         for l in 0..count.saturating_sub(1) {
             let (coarse, fine) = out.split_at_mut(l + 1);

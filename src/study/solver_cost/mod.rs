@@ -35,15 +35,19 @@ pub use cases::Family;
 pub use record::{slopes, Row, Slope};
 pub use search::Accuracy;
 
+use crate::conditioning::{self, sparse::RitzStarts, Reuse};
 use crate::error::{Error, Result};
 use crate::metrics::{self, solver::SolverOptions, MetricSet};
 use crate::progress::Progress;
 use crate::strategy::{self, registry, Knob, Strategy};
 use crate::study::shape::{Drawing, RunContext, Study};
+use crate::system::Stiffness;
 use cases::Level;
 use rayon::prelude::*;
 use serde::Serialize;
 use std::path::Path;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Mutex, OnceLock};
 
 /// What to run.
 #[derive(Clone, Debug, Serialize)]
@@ -222,24 +226,32 @@ pub fn run(cfg: &SolverCostConfig, progress: &Progress) -> Result<Vec<Row>> {
             cfg.levels
         ));
         let levels = cases::levels(family, cfg.levels, cfg.coarsest())?;
+        // Each job's search starts from its match on the level before (search::Start), and
+        // the jobs that took longest there start first.
+        let mut starts: Vec<Option<search::Start>> = vec![None; jobs.len()];
+        let mut costs = vec![0.0; jobs.len()];
         for level in &levels {
-            let done = std::sync::atomic::AtomicUsize::new(0);
-            let level_rows: Vec<Row> = jobs
-                .par_iter()
-                .map(|&(s, acc)| {
-                    let row = row_of(cfg, level, s, acc);
-                    let k = 1 + done.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                    progress.message(format!(
-                        "{} level {} ({} DOFs): {k}/{} rules",
-                        family.name(),
-                        level.index,
-                        level.n_dofs,
-                        jobs.len()
-                    ));
-                    row
-                })
+            let k_once = KOnce::default();
+            let done = AtomicUsize::new(0);
+            let level_rows: Vec<(Row, Option<search::Start>)> = costliest_first(&costs, |i| {
+                let (s, acc) = jobs[i];
+                let row = row_of(cfg, level, &k_once, s, acc, starts[i]);
+                let k = 1 + done.fetch_add(1, Ordering::Relaxed);
+                progress.message(format!(
+                    "{} level {} ({} DOFs): {k}/{} rules",
+                    family.name(),
+                    level.index,
+                    level.n_dofs,
+                    jobs.len()
+                ));
+                row
+            });
+            starts = level_rows.iter().map(|(_, st)| *st).collect();
+            costs = level_rows
+                .iter()
+                .map(|(r, _)| r.seconds_search + r.seconds_metrics)
                 .collect();
-            rows.extend(level_rows);
+            rows.extend(level_rows.into_iter().map(|(r, _)| r));
             if level.index == cfg.eps_map_level.min(cfg.levels - 1) {
                 progress.message(format!(
                     "{} level {}: the ε map ({} values of ε)",
@@ -247,7 +259,7 @@ pub fn run(cfg: &SolverCostConfig, progress: &Progress) -> Result<Vec<Row>> {
                     level.index,
                     EPS_MAP_DECADES.count()
                 ));
-                rows.extend(eps_map_rows(cfg, level));
+                rows.extend(eps_map_rows_with(cfg, level, &k_once));
             }
             progress.step(&format!(
                 "{} level {}: h = {:.4}, {} DOFs",
@@ -262,9 +274,45 @@ pub fn run(cfg: &SolverCostConfig, progress: &Progress) -> Result<Vec<Row>> {
     Ok(rows)
 }
 
-/// One rule on one level at one accuracy: the knob search, then the metrics of its final
-/// system. Failures are recorded in `note`.
-fn row_of(cfg: &SolverCostConfig, level: &Level, s: &'static Strategy, acc: Accuracy) -> Row {
+/// `f(i)` for every i < `costs.len()` on the rayon pool's threads, the costliest first: each
+/// thread takes the next job of one queue, so a level ends on its cheap jobs rather than one
+/// long job alone on a thread (rayon's halving of the list would pair them as they come).
+/// Results in index order: the same for any number of threads.
+fn costliest_first<T: Send>(costs: &[f64], f: impl Fn(usize) -> T + Sync) -> Vec<T> {
+    let mut order: Vec<usize> = (0..costs.len()).collect();
+    order.sort_by(|&a, &b| costs[b].total_cmp(&costs[a]));
+    let next = AtomicUsize::new(0);
+    let out: Vec<Mutex<Option<T>>> = (0..costs.len()).map(|_| Mutex::new(None)).collect();
+    rayon::scope(|scope| {
+        for _ in 0..rayon::current_num_threads().min(costs.len()) {
+            scope.spawn(|_| {
+                while let Some(&i) = order.get(next.fetch_add(1, Ordering::Relaxed)) {
+                    let v = f(i);
+                    *out[i].lock().unwrap_or_else(|e| e.into_inner()) = Some(v);
+                }
+            });
+        }
+    });
+    out.into_iter()
+        .map(|m| {
+            m.into_inner()
+                .unwrap_or_else(|e| e.into_inner())
+                .expect("every job ran")
+        })
+        .collect()
+}
+
+/// One rule on one level at one accuracy: the knob search (from `start`, the match on the
+/// level before, where there is one), then the metrics of its final system. Failures are
+/// recorded in `note`. Returns the row and the next level's start.
+fn row_of(
+    cfg: &SolverCostConfig,
+    level: &Level,
+    k_once: &KOnce,
+    s: &'static Strategy,
+    acc: Accuracy,
+    start: Option<search::Start>,
+) -> (Row, Option<search::Start>) {
     let mut row = Row {
         family: level.family.name().into(),
         level: level.index,
@@ -277,23 +325,64 @@ fn row_of(cfg: &SolverCostConfig, level: &Level, s: &'static Strategy, acc: Accu
         ..Row::default()
     };
     let t0 = std::time::Instant::now();
-    let solved = match solve_row(cfg, level, s, acc, &mut row) {
+    let (solved, next) = match solve_row(cfg, level, s, acc, start, &mut row) {
         Ok(x) => x,
         Err(e) => {
             row.note = e.to_string();
             row.seconds_search = t0.elapsed().as_secs_f64();
-            return row;
+            return (row, None);
         }
     };
     let t1 = std::time::Instant::now();
-    metrics_into(cfg, &solved, &mut row);
+    metrics_into(cfg, &solved, k_once, &mut row);
     row.seconds_search = t1.duration_since(t0).as_secs_f64();
     row.seconds_metrics = t1.elapsed().as_secs_f64();
-    row
+    (row, next)
+}
+
+/// K's cond₂ analysis on a level, made once: K is the same matrix, bit for bit, in every row
+/// of a level (a Hertz row's scene differs from another's in its lift, which moves q only),
+/// and [`metrics::compute`] would repeat its analysis in every row. Its Ritz vectors start
+/// each row's system analysis as `compute` starts them ([`metrics::compute_with_k`]), so the
+/// values are those `compute` gives. None where K's analysis failed (each row then reports
+/// the failure through `compute`).
+#[derive(Default)]
+struct KOnce(OnceLock<Option<(Stiffness, Option<RitzStarts>)>>);
+
+impl KOnce {
+    /// K's Ritz vectors where `k` is the level's K, bit for bit.
+    fn starts(&self, k: &Stiffness, tol: f64) -> Option<Option<&RitzStarts>> {
+        let got = self.0.get_or_init(|| {
+            let reuse = Reuse {
+                tol: Some(tol),
+                keep_ritz: k.n() <= conditioning::sparse::RITZ_VECTOR_MAX_N,
+                ..Reuse::default()
+            };
+            let (_, ritz) = conditioning::cond2_warm(k, reuse).ok()?;
+            Some((k.clone(), ritz))
+        });
+        let (k0, ritz) = got.as_ref()?;
+        same_entries(k0, k).then_some(ritz.as_ref())
+    }
+}
+
+/// The same storage, pattern and values (bits).
+fn same_entries(a: &Stiffness, b: &Stiffness) -> bool {
+    if a.n() != b.n() || a.nnz() != b.nnz() {
+        return false;
+    }
+    let mut ea = Vec::with_capacity(a.nnz());
+    a.for_each_entry(|i, j, v| ea.push((i, j, v.to_bits())));
+    let (mut same, mut k) = (true, 0);
+    b.for_each_entry(|i, j, v| {
+        same &= ea.get(k) == Some(&(i, j, v.to_bits()));
+        k += 1;
+    });
+    same && k == ea.len()
 }
 
 /// The row of `solved`: its errors, cond₂ and solver-cost metrics. Failures go to `note`.
-fn metrics_into(cfg: &SolverCostConfig, solved: &cases::Solved, row: &mut Row) {
+fn metrics_into(cfg: &SolverCostConfig, solved: &cases::Solved, k_once: &KOnce, row: &mut Row) {
     let (problem, sol) = (&solved.problem, &solved.sol);
     row.err_penalty = Some(solved.err_penalty);
     row.max_penetration = Some(sol.max_penetration);
@@ -303,7 +392,11 @@ fn metrics_into(cfg: &SolverCostConfig, solved: &cases::Solved, row: &mut Row) {
         det: false,
         cond_tol: Some(cfg.cond_tol),
     };
-    match metrics::compute(problem, sol, set) {
+    let m = match k_once.starts(&problem.k, cfg.cond_tol) {
+        Some(starts) => metrics::compute_with_k(problem, sol, set, None, starts, None),
+        None => metrics::compute(problem, sol, set),
+    };
+    match m {
         Ok(m) => row.cond2_system = m.cond2_system.map(|c| c.cond2),
         Err(e) => row.note = format!("cond₂: {e}"),
     }
@@ -322,6 +415,11 @@ fn metrics_into(cfg: &SolverCostConfig, solved: &cases::Solved, row: &mut Row) {
 /// The ε map of one level (module doc): `constant` at ε = 10^k·k_scale, k in
 /// [`EPS_MAP_DECADES`], in parallel, rows in ε order.
 pub fn eps_map_rows(cfg: &SolverCostConfig, level: &Level) -> Vec<Row> {
+    eps_map_rows_with(cfg, level, &KOnce::default())
+}
+
+/// [`eps_map_rows`] with the level's K analysis.
+fn eps_map_rows_with(cfg: &SolverCostConfig, level: &Level, k_once: &KOnce) -> Vec<Row> {
     let decades: Vec<i32> = EPS_MAP_DECADES.collect();
     decades
         .par_iter()
@@ -348,7 +446,7 @@ pub fn eps_map_rows(cfg: &SolverCostConfig, level: &Level) -> Vec<Row> {
                 Ok(solved) => {
                     row.seconds_search = t0.elapsed().as_secs_f64();
                     let t1 = std::time::Instant::now();
-                    metrics_into(cfg, &solved, &mut row);
+                    metrics_into(cfg, &solved, k_once, &mut row);
                     row.seconds_metrics = t1.elapsed().as_secs_f64();
                 }
                 Err(e) => row.note = e.to_string(),
@@ -358,18 +456,20 @@ pub fn eps_map_rows(cfg: &SolverCostConfig, level: &Level) -> Vec<Row> {
         .collect()
 }
 
-/// The knob search of one row (lagrange: its one solve), recording the knob and the match.
+/// The knob search of one row (lagrange: its one solve), recording the knob and the match;
+/// with the next level's start.
 fn solve_row(
     cfg: &SolverCostConfig,
     level: &Level,
     s: &'static Strategy,
     acc: Accuracy,
+    start: Option<search::Start>,
     row: &mut Row,
-) -> Result<cases::Solved> {
+) -> Result<(cases::Solved, Option<search::Start>)> {
     if acc == Accuracy::Exact {
         row.matched = true;
         row.evaluations = 1;
-        return level.solve(strategy::Method::lagrange());
+        return Ok((level.solve(strategy::Method::lagrange())?, None));
     }
     let delta = cfg.penetration_rel * level.scale;
     let aug_eps = level.aug_eps;
@@ -383,21 +483,28 @@ fn solve_row(
         row.note = "barrier: no penetration to match (run at d̂ = δ)".into();
         let solved = level.solve(m)?;
         row.achieved = Some(solved.sol.max_penetration);
-        return Ok(solved);
+        return Ok((solved, None));
     }
     let target = match acc {
         Accuracy::Penetration => delta,
         _ => level.err_discretization,
     };
-    let start = match s.knob {
-        Knob::Eps => 1e3,
-        Knob::Factor => 10.0,
-        _ => match acc {
-            Accuracy::Penetration => cfg.penetration_rel,
-            _ => 1e-3,
+    let start = start.unwrap_or(search::Start {
+        rel: match s.knob {
+            Knob::Eps => 1e3,
+            Knob::Factor => 10.0,
+            _ => match acc {
+                Accuracy::Penetration => cfg.penetration_rel,
+                _ => 1e-3,
+            },
         },
-    };
+        slope: None,
+    });
     let found = search::find(s, level, aug_eps, acc, target, start, cfg.match_tol)?;
+    let next = search::Start {
+        rel: found.rel,
+        slope: found.slope,
+    };
     row.knob = found.knob.into();
     row.knob_rel = Some(found.rel);
     row.knob_value = Some(found.value);
@@ -421,7 +528,7 @@ fn solve_row(
             found.evaluations, found.achieved
         );
     }
-    Ok(found.solved)
+    Ok((found.solved, Some(next)))
 }
 
 fn fill_solver_metrics(row: &mut Row, c: &metrics::solver::SolverMetrics) {

@@ -101,7 +101,25 @@ pub struct Found {
     pub failure: Option<String>,
     /// The search reached the end of the knob's range without crossing the target.
     pub range_end: bool,
+    /// d ln(measure)/d log₁₀(knob) between the two finite evaluations closest to the target
+    /// (None with fewer than two): the next level's first step ([`Start`]).
+    pub slope: Option<f64>,
 }
+
+/// Where a search starts: the knob (relative to its scale) and, where known, the slope
+/// d ln(measure)/d log₁₀(knob) there — the previous mesh level's match, whose knob and slope
+/// change little from one level to the next.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Start {
+    /// The first knob value, relative to its scale.
+    pub rel: f64,
+    /// The slope; with it the second solve is a Newton step from the first (at most
+    /// [`MAX_NEWTON_STEP`] decades) instead of a decade's step.
+    pub slope: Option<f64>,
+}
+
+/// The largest first step (decades) taken from a [`Start`]'s slope.
+pub const MAX_NEWTON_STEP: f64 = 2.0;
 
 /// The measure of `accuracy` on a solve.
 pub fn measure(accuracy: Accuracy, s: &Solved) -> f64 {
@@ -119,7 +137,7 @@ pub fn find(
     aug_eps: f64,
     accuracy: Accuracy,
     target: f64,
-    start: f64,
+    start: Start,
     tol: f64,
 ) -> Result<Found> {
     // dir: +1 where the measure grows with the knob (δ, tolerances), −1 where it falls.
@@ -131,6 +149,8 @@ pub fn find(
     let mut best: Option<Found> = None;
     let evaluations = std::cell::Cell::new(0usize);
     let mut last_err = None;
+    // Every finite (t, f): the slope near the root for the next level.
+    let mut seen: Vec<(f64, f64)> = Vec::new();
     // f(t) = ln(measure/target): −∞ where the measure is 0, NaN where the solve failed.
     let mut eval = |t: f64, best: &mut Option<Found>| -> f64 {
         evaluations.set(evaluations.get() + 1);
@@ -162,7 +182,11 @@ pub fn find(
                         solved: s,
                         failure: None,
                         range_end: false,
+                        slope: None,
                     });
+                }
+                if f.is_finite() {
+                    seen.push((t, f));
                 }
                 f
             }
@@ -178,11 +202,30 @@ pub fn find(
         Knob::Eps | Knob::Factor => (-6.0, 12.0),
         _ => (-12.0, -1.0),
     };
-    let mut a = start.log10().clamp(lo, hi);
+    let mut a = start.rel.log10().clamp(lo, hi);
     let mut fa = eval(a, &mut best);
     let mut bracket = None;
     let mut range_end = false;
-    while fa.is_finite() && fa.abs() > ok || fa == f64::NEG_INFINITY {
+    // A Newton step from a known slope of the right sign (the measure falls with ε and f,
+    // grows with δ and the tolerances); a decade's steps from there if it does not cross.
+    let newton = start
+        .slope
+        .filter(|p| p.is_finite() && p * dir > 0.0)
+        .filter(|_| fa.is_finite() && fa.abs() > ok);
+    if let Some(p) = newton {
+        let t = (a - (fa / p).clamp(-MAX_NEWTON_STEP, MAX_NEWTON_STEP)).clamp(lo, hi);
+        if t != a {
+            let f = eval(t, &mut best);
+            if f.is_nan() {
+                // A failed solve: go on from the start by decades.
+            } else if f.is_finite() && (f > 0.0) != (fa > 0.0) {
+                bracket = Some((t, f));
+            } else if f.is_finite() {
+                (a, fa) = (t, f);
+            }
+        }
+    }
+    while bracket.is_none() && (fa.is_finite() && fa.abs() > ok || fa == f64::NEG_INFINITY) {
         if evaluations.get() >= MAX_EVALUATIONS / 2 {
             break;
         }
@@ -214,10 +257,22 @@ pub fn find(
             f.evaluations = evaluations.get();
             f.failure = last_err.map(|e| e.to_string());
             f.range_end = range_end;
+            f.slope = slope_near_root(&mut seen);
             Ok(f)
         }
         None => Err(last_err.unwrap_or_else(|| crate::Error::Numerical("no solve".into()))),
     }
+}
+
+/// The secant slope between the two evaluations closest to the root (smallest |f|) at
+/// distinct t.
+fn slope_near_root(seen: &mut [(f64, f64)]) -> Option<f64> {
+    seen.sort_by(|x, y| x.1.abs().total_cmp(&y.1.abs()));
+    let (t0, f0) = *seen.first()?;
+    let &(t1, f1) = seen
+        .iter()
+        .find(|(t, _)| (t - t0).abs() >= KNOB_RESOLUTION)?;
+    Some((f1 - f0) / (t1 - t0)).filter(|p| p.is_finite())
 }
 
 /// Closes in on the sign change of f in the bracket `(a, f(a))`, `(b, f(b))` (f of opposite
