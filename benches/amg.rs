@@ -1,6 +1,6 @@
 //! Setup and one V-cycle of the smoothed-aggregation AMG (`linalg::amg`, scalar, B = ones) on
 //! the penalized membranes of `scripts/amg_reference.py` (side 127 and 255: 16 129 and 65 025
-//! unknowns), for the comparison with PyAMG's setup time (issue 63: within 5×).
+//! unknowns), for the comparison with PyAMG's setup time (the target: within 5×).
 //!
 //! `cargo bench --bench amg`.
 

@@ -47,8 +47,8 @@ fn bench_cond(c: &mut Criterion) {
     g.finish();
 }
 
-/// The 400-DOF membrane and a generated beam (138 DOFs) — the sizes of issue 10's scene
-/// folder — in their preferred (sparse) storage.
+/// The 400-DOF membrane and a generated beam (138 DOFs) — the sizes of the benchmark
+/// scene folder (`scripts/folder.toml`) — in their preferred (sparse) storage.
 fn folder_sizes() -> [(&'static str, Stiffness); 2] {
     let beam = generate(Family::Beam, 0, 2011, &GeneratorConfig::default())
         .expect("valid beam")
@@ -71,7 +71,7 @@ fn kernel_group<'a>(c: &'a mut Criterion, name: &str) -> BenchmarkGroup<'a, Wall
 /// One solve with a sparse Cholesky factor of one right-hand side: the one-vector path
 /// (`Factorization::solve_vec_in_place`, simplicial factors) against faer's multi-RHS solve
 /// of the same factor (`solve_mat_in_place` with one column), on the 400-DOF membrane and a
-/// generated beam — the sizes of issue 10's scene folder.
+/// generated beam — the sizes of the benchmark scene folder.
 fn bench_one_vector_solve(c: &mut Criterion) {
     let mut g = kernel_group(c, "one_vector_solve");
     for (name, a) in folder_sizes() {

@@ -1,7 +1,7 @@
 //! Writes an inclined-block scene (+ `.mtx`): the axis-aligned elastic block of
 //! [`penalty_lab::model::incline_block`] pressed on a rigid plane inclined at θ, one two-term
 //! row `sinθ·u_x + cosθ·u_y ≥ −g₀` per bottom node — the rows a diagonal preconditioner cannot
-//! absorb (issue 63). Arguments: output path, θ in degrees, elements along x (y: half).
+//! absorb. Arguments: output path, θ in degrees, elements along x (y: half).
 //!
 //! ```sh
 //! cargo run --release --example incline_scene -- scenes/incline-30.scene.json 30 16

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""PyAMG references for penalty-lab's smoothed-aggregation AMG (`src/linalg/amg.rs`, issue 63):
+"""PyAMG references for penalty-lab's smoothed-aggregation AMG (`src/linalg/amg.rs`):
 CG iterations to a fixed error of u with PyAMG's `smoothed_aggregation_solver` (its defaults,
 scalar CSR, B = ones) as the preconditioner (one V-cycle per application), on penalized
 membranes built here from their formula, which `tests/verification/amg.rs` builds the same

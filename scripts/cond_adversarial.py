@@ -6,7 +6,7 @@ references from outside this project's code.
 Each case is a stored matrix, written as Matrix Market with every entry in shortest round-trip
 form (so it reads back bit for bit), and its sigma_max, sigma_min and cond2 of the *stored*
 matrix from mpmath at 40 digits: `svd_r` for the unsymmetric and near-symmetric ones, `eigsy`
-(sigma = |lambda|) for the exactly symmetric ones. The classes (issue 44):
+(sigma = |lambda|) for the exactly symmetric ones. The classes:
 
 * near-symmetric: SPD but for a small-scale block whose off-diagonal entries are unsymmetric
   by 0.3-30 % of themselves, below the normwise test |a_ij - a_ji| <= 8 eps max|a| (sparse and

@@ -9,7 +9,7 @@ eigenvalues with python-flint (Arb ball arithmetic, `acb_mat.eig`, 256-bit worki
 precision): every printed value is the midpoint of a ball whose radius is printed beside it,
 so the reference is proven, not estimated; where Arb cannot isolate clustered eigenvalues
 (many penalized DOFs of equal K_dd + eps) it falls back to mpmath's `eigsy` at 40 digits
-(`--engine mpmath` forces it; it is what the accuracy issue's measurements used).
+(`--engine mpmath` forces it; it is what the earlier accuracy measurements used).
 sigma = |lambda| (symmetric matrices), and cond2 = max|lambda| / min|lambda|.
 
     pip install python-flint numpy

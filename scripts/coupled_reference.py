@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Scenes with coupled constraint rows (issue 45, item 2) and their independent references.
+"""Scenes with coupled constraint rows and their independent references.
 
 Writes small contact scenes whose constraints are rows g_c = sum_j a_cj u_j - u^_c with several
 terms (a normal on an inclined plane, node-to-segment rows between two bodies, mortar-like rows

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Issue 10's side-by-side benchmark: `sweep` against a plain NumPy script on a folder of
+"""The side-by-side benchmark: `sweep` against a plain NumPy script on a folder of
 scene files with every K stored dense, timed in one run.
 
     cargo build --release --bin sweep && python3 scripts/folder_bench.py [OUT]

@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
-"""Baseline for issue 10: what a plain NumPy script pays for the work of one `sweep` over a
-folder of scene files (scripts/folder_bench.sh runs both in one go and prints the table).
+"""Baseline for folder_bench.py's benchmark: what a plain NumPy script pays for the work of one
+`sweep` over a folder of scene files (scripts/folder_bench.sh runs both in one go and prints the
+table).
 
 Per scene: read the JSON (K stored dense), u0 = K⁻¹q, cond₂(K) by `eigvalsh`, log|det K| by
 `slogdet`; then per system of the sweep's rows (1 lagrange saddle [K D; Dᵀ 0], 13 `constant`

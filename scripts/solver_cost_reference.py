@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Independent references for the solver-cost metrics of `solve` (issue 47), from the final
+"""Independent references for the solver-cost metrics of `solve`, from the final
 linear system exactly as `solve --write-system DIR` writes it (A.mtx, b.mtx, x_hat.mtx).
 
 For each case (a scene and a method with its knobs) it runs `solve --json --write-system` and

@@ -22,10 +22,10 @@
 //!   solution carries P ([`force_control::solve_at_load`], mismatch ≤ 1e-10); the penalty
 //!   rules see the same scene and carry loads of their own (the force-controlled benchmark of
 //!   every rule against the analytic solution is `contact_bench`).
-//! * `flat-punch` (`patch` before issue 44, still accepted) — an a × a block (plane strain or axisymmetric) on a
-//!   frictionless base under a flat rigid punch over its whole top, at the lift where the
-//!   Lagrange solution carries a uniform pressure p̄ ∈ [1e-4, 1e-2]·E* (log-uniform). One body
-//!   in uniform compression, not the two-body contact patch test.
+//! * `flat-punch` (formerly `patch`, still accepted) — an a × a block (plane strain or
+//!   axisymmetric) on a frictionless base under a flat rigid punch over its whole top, at the
+//!   lift where the Lagrange solution carries a uniform pressure p̄ ∈ [1e-4, 1e-2]·E*
+//!   (log-uniform). One body in uniform compression, not the two-body contact patch test.
 //!
 //! * `two-body` — two stacked plane-strain blocks (`W = 1`, heights in [0.3, 1], random E
 //!   and ν each) with non-matching interface meshes (2…8 elements across each, never equal),
@@ -65,7 +65,7 @@ pub enum Family {
     Spectrum,
     /// Elastic block on a rigid parabolic indenter (Hertz configuration).
     Hertz,
-    /// Elastic block under a flat rigid punch (`flat-punch`; `patch` before issue 44).
+    /// Elastic block under a flat rigid punch (`flat-punch`; formerly `patch`).
     FlatPunch,
     /// Two stacked elastic blocks with non-matching interface meshes, node-to-segment or mortar
     /// rows (`two-body`: constraint rows that couple DOFs).
@@ -139,7 +139,7 @@ impl Family {
             "membrane" => Ok(Family::Membrane),
             "spectrum" => Ok(Family::Spectrum),
             "hertz" => Ok(Family::Hertz),
-            // `patch`: the family's name before issue 44.
+            // `patch`: the family's former name.
             "flat-punch" | "patch" => Ok(Family::FlatPunch),
             "two-body" => Ok(Family::TwoBody),
             _ => Err(Error::unknown("family", s, &FAMILY_NAMES, "")),

@@ -44,7 +44,8 @@
 //!
 //! In the repository, `docs/methods.md` gives the equations and algorithms in depth (the
 //! solve engine, the cond₂ certificate, the optimal penalty, the forming solver) and
-//! `docs/performance.md` every measurement with its machine and commit.
+//! `docs/performance.md` the current measurements with their machine and commit (every earlier
+//! one: `docs/history/performance-log.md`).
 //!
 //! ## Using the library: one scene, one strategy, its cond₂
 //! The `solve` binary in a few lines — a scene (K, q, constraints), a strategy, the system it

@@ -23,7 +23,7 @@ pub const DENSIFY_LIMIT: usize = 6000;
 /// size from which K is stored sparse at all. On the sweep's 20-file folder it takes about a
 /// quarter of the time of the dense S = DᵀK⁻¹D route (m solves and an m×m box QP) and of the
 /// saddle-point LU it replaced below 2 000 unknowns, with the same rows to rounding
-/// (docs/performance.md).
+/// (docs/history/performance-log.md).
 pub const ELIMINATION_MIN_N: usize = SPARSE_ROUTE_MIN_N;
 
 /// The cond₂ route [`Structure::cond_plan`] chooses.

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Issue 47's AMG evaluation, second round: plane-strain elasticity with a contact penalty,
+"""The AMG evaluation, second round: plane-strain elasticity with a contact penalty,
 plus the PyAMG reference numbers for every system that `cargo run --release` also solves.
 
 Elasticity systems: bilinear Q4 plane strain (E = 210e3, nu = 0.3, unit thickness, 2x2 Gauss)

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Issue 47's AMG evaluation, first data point: penalized membrane systems (5-point Laplacian
+"""The AMG evaluation, first data point: penalized membrane systems (5-point Laplacian
 on side x side interior nodes of the unit square, a constant penalty 1e2*K_dd on the nodes
 within r^2 < 0.1 of the centre, b as the `constant` rule builds it) written to data/ as Matrix
 Market, then solved by PyAMG's smoothed aggregation (CG acceleration, rtol 1e-8, x0 = 0):

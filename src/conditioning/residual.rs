@@ -180,7 +180,7 @@ crate::dd::fma_dispatch! {
     /// tens of u on this project's matrices.
     ///
     /// Compiled with FMA where the CPU has it (`dd::fma_dispatch`): 153 against 114 µs
-    /// on the 400-DOF membrane without and with (docs/performance.md).
+    /// on the 400-DOF membrane without and with (docs/history/performance-log.md).
     pub fn posterior_margin(
         factor: &crate::linalg::LowerFactor,
         pattern: SymbolicSparseColMatRef<'_, usize>,

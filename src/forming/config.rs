@@ -315,7 +315,7 @@ pub enum ContactRule {
     /// Eq. 28–29 literally, per contact DOF and per Picard iteration: the force estimate is
     /// `|K̄û − q̄|` with every unconstrained velocity taken as zero. On a stationary tool
     /// (û = 0) with no load of its own (q̄ = 0) it gives `ε = −(K̄δ1)/δ < 0`: the node is
-    /// clipped and released while it penetrates (the issue-11 failure; kept for comparison).
+    /// clipped and released while it penetrates (a known failure, kept for comparison).
     #[serde(alias = "paper")]
     PaperLiteral {
         /// Allowed penetration δ (in).

@@ -1,5 +1,5 @@
 //! What the final linear system costs a solver: the digits a direct solve loses and the
-//! iterations a preconditioned Krylov solver needs (issue 47).
+//! iterations a preconditioned Krylov solver needs.
 //!
 //! **The final system** `A x = b` is the one whose solution the strategy reports:
 //! - penalties: `A = K + D E Dᵀ`, `b = q + D(E û − λ)` with `λ_c = r_c − ε_c g_c` the part of

@@ -1,4 +1,4 @@
-//! Hertz between two elastic bodies (issue 45, `hertz-two-body`): an elastic cylinder of
+//! Hertz between two elastic bodies (`hertz-two-body`): an elastic cylinder of
 //! radius R pressed onto an elastic block, plane strain, frictionless, half model (x ≥ 0),
 //! meshed independently so that the interface does not match.
 //!

@@ -1,4 +1,4 @@
-//! A block pressed onto a rigid plane inclined by θ: contact rows with two terms (issue 45).
+//! A block pressed onto a rigid plane inclined by θ: contact rows with two terms.
 //!
 //! Take the flat-punch scene of [`elasticity::indentation`] (a block on a frictionless base,
 //! lifted by w against a flat rigid punch on its top) and turn the whole of it by θ
@@ -137,7 +137,7 @@ pub fn inclined_punch(
 
 /// The indentation `scene` (one `upper` row `v_i ≤ f(x_i)` per top node, as
 /// [`elasticity::indentation`] builds it) with each row taken along the rigid obstacle's
-/// normal at the node instead of along y: a curved obstacle with nodal normals (issue 45).
+/// normal at the node instead of along y: a curved obstacle with nodal normals.
 ///
 /// The obstacle's surface above the node at x is `y = H + f(x)`; its unit normal into the
 /// obstacle is `m = (−f'(x), 1)/s`, `s = √(1 + f'(x)²)`, and the distance from the node to the

@@ -1,6 +1,6 @@
 //! Two elastic blocks stacked with non-matching interface meshes: the two-body contact patch
 //! test (El-Abbasi & Bathe 2001; Crisfield 2000; Taylor & Papadopoulos 1991), with node-to-segment
-//! and mortar constraint rows (issue 45).
+//! and mortar constraint rows.
 //!
 //! **Bodies.** Plane strain, Q4 ([`elasticity::assemble`]): the lower block `W × H₁` on
 //! `nx₁ × ny₁` elements, the upper block `W × H₂` on `nx₂ × ny₂` elements, stacked at y = H₁

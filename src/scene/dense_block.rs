@@ -5,7 +5,7 @@
 //! its reading was ≈ 17 % of the busy time of a folder sweep. On the 20 dense scenes of
 //! `scripts/folder.toml` this module reads the block 5–6× faster than `serde_json` (even
 //! skipping the block as a `RawValue` alone takes 3× its time), and `sonic-rs` and
-//! `simd-json` were slower than `serde_json` (the table: docs/performance.md).
+//! `simd-json` were slower than `serde_json` (the table: docs/history/performance-log.md).
 //!
 //! **What it does.** [`find`] walks the top-level object to the key `"stiffness"` and, in
 //! its object, to the key `"dense"` (other values are skipped, strings with their escapes

@@ -32,7 +32,7 @@
 //!   (For SI solids on centimetre meshes 1e11·m̄ is 1e-4…1 times k̄: rubber ρ = 1e3, E = 1e7 gives
 //!   ≈ 1, steel ≈ 4e-4.) The distances being those of the scene's geometry, κ and the gap it
 //!   leaves do not depend on how the mesh was scaled.
-//! - `balanced` (the rule before issue 44, and the default without a surface: a bare K, q, D
+//! - `balanced` (the former rule, and the default without a surface: a bare K, q, D
 //!   has no length but d̂): `κ_min b''(d̂/2) = k̄`, the barrier as stiff as the structure
 //!   halfway into its band; after each converged Newton solve κ doubles (warm-started
 //!   re-solve, at most up to 100 κ_min) while the smallest distance is below 1e-2·d̂ and fell
@@ -95,7 +95,7 @@ pub enum KappaRule {
     Auto,
     /// ipc-toolkit's κ_min from the bounding box and its in-Newton update.
     Ipc,
-    /// κ_min balanced at d̂/2 and doubling between solves (the rule before issue 44).
+    /// κ_min balanced at d̂/2 and doubling between solves (the former rule).
     Balanced,
     /// This κ (> 0), never updated.
     Fixed(f64),

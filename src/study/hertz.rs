@@ -17,8 +17,7 @@
 //! half model times 2, or the disc area πW²), and it is reproduced exactly by bilinear
 //! elements, so any deviation is the contact rule's. One body in uniform compression: this is
 //! *not* the two-body, non-matching contact patch test of El-Abbasi & Bathe (2001), which needs
-//! two bodies and segment rows (issue 45). It was called `patch` before issue 44; that name
-//! still reads.
+//! two bodies and segment rows. It was formerly called `patch`; that name still reads.
 //!
 //! **Inclined plane** (`inclined-15`, `inclined-30`, `inclined-45`): the flat punch turned by θ
 //! ([`crate::model::inclined`]); the pressure is the flat punch's, but every contact row
@@ -244,7 +243,7 @@ pub enum Case {
     HertzAxi,
     /// Flat rigid punch covering the top of a block, plane strain (one body, uniform
     /// compression: not the two-body contact patch test). Serialized `flat-punch`; `patch`
-    /// (its name before issue 44) still reads.
+    /// (its former name) still reads.
     #[serde(alias = "patch")]
     FlatPunch,
     /// The flat punch turned by 15° onto an inclined rigid plane
@@ -387,7 +386,7 @@ impl Case {
         self.two_body() == Some(Discretization::Nts2)
     }
 
-    /// The case named `s` (`patch` is read as `flat-punch`, its name before issue 44).
+    /// The case named `s` (`patch` is read as `flat-punch`, its former name).
     pub fn from_name(s: &str) -> Option<Case> {
         let s = if s == "patch" { "flat-punch" } else { s };
         Case::ALL.into_iter().find(|c| c.name() == s)

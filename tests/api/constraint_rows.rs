@@ -1,4 +1,4 @@
-//! Constraint rows (issue 45, item 1): `{"terms": [[d, a], ...]}` beside `{"dof": d}` in scene
+//! Constraint rows: `{"terms": [[d, a], ...]}` beside `{"dof": d}` in scene
 //! files, their checks and messages, the bit-for-bit round trip, and a row's algebra
 //! (`d_cᵀu`, `x += v d_c`, `d_cᵀKd_c/‖d_c‖⁴`, `e d_c d_cᵀ`) on a hand-computed example.
 
@@ -261,7 +261,7 @@ fn rows_from_a_matrix_market_d() {
     assert_has(&e, &["constraint 0", "DOF 1 appears twice"]);
 }
 
-/// Review findings of issue 45: a zero coefficient is no term (the row keeps its Boolean
+/// Edge cases: a zero coefficient is no term (the row keeps its Boolean
 /// routes); a `symmetric` D.mtx is refused rather than mirrored; d_cᵀKd_c/‖d_c‖⁴ does not
 /// overflow for a row scaled by 1e90 (it scales by 1e-180, exactly as the formula says).
 #[test]

@@ -1,4 +1,4 @@
-//! Structure-aware routes (issue 10): the storage a matrix is solved in follows its structure
+//! Structure-aware routes: the storage a matrix is solved in follows its structure
 //! whatever the file stored, every route it then takes agrees with the dense SVD within its
 //! certified bracket, and the saddle-point determinant identity |det [K D; Dᵀ 0]| = det K_FF
 //! agrees with an LU of the whole matrix.
@@ -190,7 +190,7 @@ fn saddle_determinant_is_det_k_ff() {
     assert!(conditioning::log10_abs_det_saddle(&p.k, &[d, d]).is_err());
 }
 
-/// Issue 10's reuse along the knob grid: K's Ritz vectors (kept by `cond2_warm`) start the
+/// Reuse along the knob grid: K's Ritz vectors (kept by `cond2_warm`) start the
 /// Lanczos runs of every `K + εP` of the scene. The certified cond₂ agrees with the cold
 /// start's and with the dense SVD within the brackets, in fewer Lanczos steps over the grid.
 #[test]

@@ -27,7 +27,7 @@ fn small_run_writes_rows_and_figure() {
         let diff = r["rel_diff_vs_svd"]
             .as_f64()
             .expect("dense SVD ran for n ≤ 700");
-        // 1e-9 (issue 3), or the rounding floor of the dense reference for this n and cond.
+        // 1e-9, or the rounding floor of the dense reference for this n and cond.
         let tol = 1e-9f64.max(8.0 * n * f64::EPSILON * cond);
         assert!(diff <= tol, "{r}: diff {diff:e} > {tol:e}");
         for key in [

@@ -100,7 +100,7 @@ fn knob_grids_and_the_optimal_limit_are_options() {
             .map(|r| r["knob_rel"].as_f64().unwrap())
             .collect()
     };
-    // `patch`, the flat punch's name before issue 44, still reads.
+    // `patch`, the flat punch's former name, still reads.
     assert!(rows.iter().all(|r| r["case"] == "flat-punch"));
     assert_eq!(knobs("constant"), [1.0, 10.0]);
     assert_eq!(knobs("scaled"), [3.0]);
@@ -202,7 +202,7 @@ fn two_pass_patch_case_runs_without_a_lagrange_reference() {
         .exists());
 }
 
-/// The barrier's κ study (issue 44, item 10): `kappa.csv` holds fixed-κ rows spanning both
+/// The barrier's κ study: `kappa.csv` holds fixed-κ rows spanning both
 /// rules' clamps and one row per rule and d̂; the benchmark's own barrier rows use the `ipc`
 /// rule (the scene carries its surface); the figure is drawn.
 #[test]

@@ -18,7 +18,7 @@ fn run(bin: &str, args: &[&str]) -> std::process::Output {
 
 const DD: &str = env!("CARGO_BIN_EXE_deep_drawing");
 const TE: &str = env!("CARGO_BIN_EXE_stretch_test");
-/// `stretch_test` under its former name, as issue 27 runs it.
+/// `stretch_test` under its former name, as older commands run it.
 const TE_ALIAS: &str = env!("CARGO_BIN_EXE_test_example");
 
 #[test]
@@ -169,7 +169,7 @@ fn json_shapes_and_out_files() {
     assert_eq!(v["cond2_adaptive"], last("adaptive"));
     assert!(v["cond2_classical"].as_f64().unwrap() > 0.0);
     assert_eq!(v["cond2_classical_matched"], last("classical-matched"));
-    // Two δ-rules against two classical runs, in each of the five metrics (issue 47).
+    // Two δ-rules against two classical runs, in each of the five metrics.
     let comparisons = v["comparisons"].as_array().unwrap();
     assert_eq!(comparisons.len(), 4 * 5);
     for metric in [
@@ -246,7 +246,7 @@ fn classical_matched_penetrates_between_half_delta_and_delta() {
 
 #[test]
 fn runs_outside_the_model_exit_3_with_one_line_and_allow_invalid_keeps_them_marked() {
-    // --travel 100 pushes the punch 100 in through a 2.2 in blank (issue 11).
+    // --travel 100 pushes the punch 100 in through a 2.2 in blank.
     for bin in [DD, TE] {
         let o = run(bin, &["--travel", "100", "--json"]);
         let err = String::from_utf8_lossy(&o.stderr);

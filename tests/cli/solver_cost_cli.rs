@@ -170,7 +170,7 @@ fn bad_input_exits_2() {
             "--sphere-h0 needs the family hertz-3d",
         ),
         (
-            vec!["--families", "hertz-3d", "--sphere-h0", "3"],
+            vec!["--families", "hertz-3d", "--sphere-h0", "5"],
             "--sphere-h0",
         ),
         (

@@ -1,4 +1,4 @@
-//! The shared study entry (`study::main`, issue 46): every study binary takes the same
+//! The shared study entry (`study::main`): every study binary takes the same
 //! `--out`, `--render-only`, `--json`, `--quiet` and `--no-figures`, refuses `--resume` where
 //! it keeps no checkpoints, and `--render-only --json` prints the very record the run printed;
 //! `solve`, which keeps no record, refuses `--out` and `--render-only` with one line.

@@ -1,4 +1,4 @@
-//! Fuzzing the two readers (issue 5, "stability stress"): `parse_scene_str`,
+//! Fuzzing the two readers ("stability stress"): `parse_scene_str`,
 //! `parse_matrix_market_str`, `read_scene` and `read_matrix_market` on arbitrary bytes,
 //! arbitrary strings, token soups and byte-level mutations of files written by
 //! `write_scene` / `write_matrix_market`.

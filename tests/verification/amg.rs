@@ -3,7 +3,7 @@
 //! `scripts/amg_reference.py` on penalized membranes (side 63 and 127, penalty 1e2·K_dd and
 //! 1e6·K_dd on a disc) that this test builds from the same formula. CG from x₀ = 0 preconditioned
 //! by one V-cycle, counted to ‖u_k − u*‖∞ ≤ 1e-6‖u*‖∞ (u* a direct solve): within 1.5× of
-//! PyAMG's count (issue 63), and Jacobi's count within ±2 or 5 % of SciPy's (the systems are the
+//! PyAMG's count, and Jacobi's count within ±2 or 5 % of SciPy's (the systems are the
 //! same). Nodal aggregation with the rigid-body modes (block size 2, block Gauss–Seidel) on the
 //! inclined block of `model::incline_block` (θ = 30°, 48 × 24, two-term rows penalized by a
 //! constant ε = 1, 1e4, 1e8): the same level sizes as PyAMG's BSR hierarchy and CG counts within

@@ -1,4 +1,4 @@
-//! The certificates on inputs made to break them (issue 44), against references from outside
+//! The certificates on inputs made to break them, against references from outside
 //! this project's code (`tests/data/cond_adversarial/`, made by `scripts/cond_adversarial.py`:
 //! mpmath at 40 digits, `svd_r` for the unsymmetric and near-symmetric matrices, `eigsy` for the
 //! symmetric ones): near-symmetric (a small-scale block unsymmetric by 0.3–30 % of itself,

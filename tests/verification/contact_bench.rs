@@ -1,6 +1,6 @@
 //! The contact benchmarks against their analytic solutions (Hertz, Johnson 1985 §4.2, §5.8;
-//! the uniform pressure of the flat punch) on the default meshes: the numbers issue 27 asks
-//! for, computed by the library's study.
+//! the uniform pressure of the flat punch) on the default meshes: the benchmark's numbers,
+//! computed by the library's study.
 
 use penalty_lab::progress::Progress;
 use penalty_lab::strategy::registry;
@@ -233,7 +233,7 @@ fn force_control_takes_optimal_to_its_own_tolerance() {
     }
 }
 
-/// The leaderboard discriminates (issue 44, item 8): every winner's penalty error is within a
+/// The leaderboard discriminates: every winner's penalty error is within a
 /// tenth of the discretization error; where a rule's admissibility flips between two decade
 /// values, two more values between them were solved (three per decade at the threshold), so
 /// the winner's softer neighbour is at most a third of a decade away; each winner's
@@ -283,7 +283,7 @@ fn the_leaderboard_has_a_margin_a_refined_threshold_and_ties() {
     }
 }
 
-/// `constant`'s ε is per unit contact length/area (issue 44, item 7): node c gets ε·ω_c. On the
+/// `constant`'s ε is per unit contact length/area: node c gets ε·ω_c. On the
 /// flat punch any ε then gives the exact uniform pressure (a uniform penetration is a rigid
 /// shift) — a nodal ε equal on every node, as before, loaded the half-weight edge node like
 /// the others and spread the pressure; on Hertz the axis node, whose tributary area is the
@@ -352,7 +352,7 @@ fn constant_penalty_is_per_unit_contact_area() {
     }
 }
 
-/// The domain study (issue 44, item 5): Lagrange on blocks of 16a … 1024a at the same contact
+/// The domain study: Lagrange on blocks of 16a … 1024a at the same contact
 /// mesh. The distance from the reference block falls with the block size (∝ L⁻² in plane
 /// strain, ∝ L⁻³ axisymmetric: at least 8× per 4× size), so the reference's own residue is
 /// below the next block's; the rows' `err_discretization` is the reference block's error and
@@ -515,7 +515,7 @@ fn two_body_patch_cases_report_mortar_exact_and_nts_off() {
     }
 }
 
-/// `--mesh-ratio` (issue 45: ratios such as 2:3, 3:5, 4:7): at h = a/10 (10 lower elements
+/// `--mesh-ratio` (ratios such as 2:3, 3:5, 4:7): at h = a/10 (10 lower elements
 /// across) the upper block gets 15, 17 and 18 elements; mortar's Lagrange and `condensed`
 /// keep the uniform pressure to 1e-8 at each, one-pass node-to-segment is off by more than
 /// 1e-3, and the rows record the ratio they ran.
@@ -559,7 +559,7 @@ fn two_body_patch_holds_at_every_mesh_ratio() {
 }
 
 /// `hertz-two-body` in the benchmark (coarsest default mesh, h = a/5): Lagrange and
-/// `condensed` meet Hertz with the pair's E* within the issue's bar (p0 3 %, a 5 %; the
+/// `condensed` meet Hertz with the pair's E* within the acceptance bar (p0 3 %, a 5 %; the
 /// finest mesh is checked in `two_body::elastic_cylinder_on_elastic_block_meets_hertz`), the
 /// rows say mortar, the mesh ratio, the cylinder's material and radius, and `condensed` keeps
 /// every gap row within δ.

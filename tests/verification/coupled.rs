@@ -1,4 +1,4 @@
-//! Constraint rows that couple DOFs (issue 45, item 2), against references from outside this
+//! Constraint rows that couple DOFs, against references from outside this
 //! project's code: `tests/data/coupled/`, made by `scripts/coupled_reference.py` (NumPy only):
 //! three scenes — a truss against a plane inclined by 15°, 30° and 45° (two-term rows), two
 //! trusses with non-matching node-to-segment rows (three and six terms, K as Matrix Market),

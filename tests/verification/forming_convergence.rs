@@ -1,4 +1,4 @@
-//! Issue 11: the default `adaptive` run (Eq. 28 on the contact rows' residual) must converge
+//! The default `adaptive` run (Eq. 28 on the contact rows' residual) must converge
 //! and agree with the exact references, every rule must be mesh- and step-converged, and the
 //! residual reading must reduce to the literal Eq. 28 where the two coincide.
 //!
@@ -36,7 +36,7 @@ fn final_force(doc: &SavedRuns, run: &str) -> f64 {
 }
 
 #[test]
-fn default_adaptive_run_meets_the_issue_11_targets() {
+fn default_adaptive_run_meets_the_convergence_targets() {
     let doc = default_draw();
     assert!(doc.valid, "{:?}", doc.invalid_reasons);
     let a = &doc.runs["adaptive"];

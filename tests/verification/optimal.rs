@@ -1,4 +1,4 @@
-//! The cond-optimal penalty (issue 12): the paper's beam against the outside optimiser's
+//! The cond-optimal penalty: the paper's beam against the outside optimiser's
 //! 219.6, feasibility, the certified lower bound, and the property "never worse than any
 //! feasible δ-driven rule at the same δ" on random small scenes.
 
@@ -27,7 +27,7 @@ fn paper_beam_reaches_the_outside_optimum() {
         "optimal: cond2 {c:.6}, eps {:?}, gaps {:?}, report {rep:?}",
         sol.penalties, sol.gaps
     );
-    // The issue's outside optimiser: 219.6 (printed to 4 digits).
+    // The outside optimiser: 219.6 (printed to 4 digits).
     assert!(c <= 219.6 * (1.0 + 1e-3), "cond2 {c}");
     assert!(sol.max_penetration <= delta, "{}", sol.max_penetration);
     assert!((rep.cond2 - c).abs() <= 1e-9 * c);

@@ -1,5 +1,5 @@
 //! The sparse saddle-point cond₂ route for constraint rows that couple DOFs
-//! (`conditioning::saddle::cond2_saddle_rows`, issue 45) against dense symmetric eigenvalues
+//! (`conditioning::saddle::cond2_saddle_rows`) against dense symmetric eigenvalues
 //! of the assembled `[K D; Dᵀ 0]` (this code's dense route, and NumPy's SVD where
 //! `tests/data/coupled/reference.json` has it): the dense value lies in the certified
 //! bracket, widened by the dense solver's own rounding (64·n·ε_mach·cond₂ relative, as in

@@ -1,4 +1,4 @@
-//! The solver-cost metrics of `solve` (issue 47) against references from outside this
+//! The solver-cost metrics of `solve` against references from outside this
 //! project's code: `tests/data/solver_cost/reference.json`, made by
 //! `scripts/solver_cost_reference.py` from the final systems `solve --write-system` wrote for
 //! the cases of `cases.json` (five scenes of the sweep families beam, flat-punch, membrane and
@@ -194,7 +194,7 @@ fn solver_cost_metrics_agree_with_numpy_scipy_and_mpmath() {
             }
         }
         // Smoothed-aggregation AMG against PyAMG's with the same B (scalar: ones; nodal: the
-        // scene's rigid-body modes, BSR): within 1.5× (issue 63), the same verdict.
+        // scene's rigid-body modes, BSR): within 1.5×, the same verdict.
         for (key, theirs, their_conv) in [
             (
                 "pcg_iters_amg_scalar_to_err",
@@ -316,4 +316,39 @@ fn hertz_3d_meets_hertz_for_a_sphere() {
         errs.push(c.p_err_rel);
     }
     assert!(errs[0] >= 1.8 * errs[1], "{errs:?}");
+}
+
+/// A `hertz-3d` rule's penalty error is its pressure's distance from Lagrange's on the same
+/// mesh, in the measure of the level's discretization error (so `discretization` matches like
+/// with like): 0 for Lagrange itself, falling towards 0 as ε grows, and from a soft penalty of
+/// the order of the discretization error (h/a = 1/2).
+#[test]
+fn hertz_3d_penalty_error_is_a_pressure_distance() {
+    use penalty_lab::strategy::Method;
+    use penalty_lab::study::solver_cost::cases::{levels, Coarsest, Family};
+    let c = Coarsest {
+        hertz_h0: 0.5,
+        membrane_side0: 7,
+        beam_el0: 8,
+        sphere_h0: 1.0,
+    };
+    let lv = levels(Family::Hertz3d, 2, c).unwrap();
+    let level = &lv[1];
+    assert_eq!(level.solve(Method::lagrange()).unwrap().err_penalty, 0.0);
+    let err = |rel: f64| {
+        level
+            .solve(Method::constant(rel * level.k_scale))
+            .unwrap()
+            .err_penalty
+    };
+    let errs: Vec<f64> = [1e-3, 1e-1, 1e1, 1e3].into_iter().map(err).collect();
+    eprintln!(
+        "discretization {:.3e}, penalty {errs:.3?}",
+        level.err_discretization
+    );
+    assert!(errs.windows(2).all(|w| w[1] < w[0]), "{errs:?}");
+    // A stiff penalty is Lagrange to O(1/ε): four decades of ε, about four of the error.
+    assert!(errs[3] <= 1e-3 * errs[1], "{errs:?}");
+    // The soft end reaches the discretization error: the `discretization` rows can match.
+    assert!(errs[0] >= level.err_discretization, "{errs:?}");
 }

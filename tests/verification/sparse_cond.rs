@@ -1,7 +1,7 @@
 //! The sparse exact-cond route (Lanczos estimates certified by inertia) against closed forms and
 //! against a full dense SVD, where both are feasible.
 //!
-//! Agreement target: 1e-9 relative (issue 3), loosened only by the rounding floor of any
+//! Agreement target: 1e-9 relative, loosened only by the rounding floor of any
 //! eigensolver, `c·n·ε_mach·cond₂`, which matters only for the ill-conditioned cases.
 
 use crate::common::matrices::{laplacian_1d, laplacian_2d, sparse_of};

@@ -1,4 +1,4 @@
-//! Stability stress (issue 5): the double-double reference against exact rational
+//! Stability stress: the double-double reference against exact rational
 //! arithmetic, what refinement and equilibration provably do, the O(1/ε) penalty error, and
 //! every strategy at extreme knobs — no panic, no NaN/Inf, warnings where digits are lost.
 //!

@@ -1,4 +1,4 @@
-//! The two-body contact patch test (issue 45, `model::two_body`): two stacked blocks with
+//! The two-body contact patch test (`model::two_body`): two stacked blocks with
 //! non-matching interface meshes (2:3, 3:5, 4:7 elements across), squeezed; the exact
 //! contact pressure is uniform, `w / (H₁/E₁* + H₂/E₂*)`.
 //!
@@ -157,9 +157,8 @@ fn the_two_body_sweep_family_is_seeded_and_coupled() {
 /// a 5 × 5 cap) on an elastic 16 × 16 block (E₁ = 210e3, ν₁ = 0.3, clamped base), mortar rows,
 /// the cylinder meshed 7:4 finer than the block (h = a/20 on the block), loaded under force
 /// control for the Hertz half-width a = 1 with the pair's E*: Lagrange and `condensed`
-/// (δ = 1e-4·a) reproduce Hertz's p0 within 0.5 % and a within 2 % (issue 45's bar: 3 %
-/// and 5 %); one-pass
-/// node-to-segment is printed beside them.
+/// (δ = 1e-4·a) reproduce Hertz's p0 within 0.5 % and a within 2 % (the acceptance bar:
+/// 3 % and 5 %); one-pass node-to-segment is printed beside them.
 #[test]
 fn elastic_cylinder_on_elastic_block_meets_hertz() {
     use penalty_lab::model::cylinder::{hertz_two_body, CylinderOnBlock};
@@ -207,7 +206,7 @@ fn elastic_cylinder_on_elastic_block_meets_hertz() {
             done.scene.problem.n()
         );
         if disc == Discretization::Mortar {
-            // Issue 45's bar is 3 % and 5 %; observed 0.04 % and 1 %.
+            // The acceptance bar is 3 % and 5 %; observed 0.04 % and 1 %.
             assert!(ep.abs() <= 0.005, "{} p0 off by {ep:e}", m.name());
             assert!(ea.abs() <= 0.02, "{} a off by {ea:e}", m.name());
         }

@@ -1,4 +1,4 @@
-//! Issue 47's AMG evaluation: kryst's preconditioners under kryst's CG on the systems that
+//! The AMG evaluation: kryst's preconditioners under kryst's CG on the systems that
 //! `membrane_systems.py` and `elasticity_systems.py` write to data/ (the PyAMG side of the
 //! comparison is in those scripts). Every configuration is timed as `KspContext::setup`
 //! (preconditioner setup) and `KspContext::solve` (CG from x0 = 0).

@@ -1,6 +1,6 @@
 //! D of `A = [K D; Dᵀ 0]` ([`super`]): Boolean columns `e_d` (a selection, one distinct DOF
 //! per constraint) or general constraint rows `d_c = Σ_j a_cj e_j` that couple DOFs
-//! (inclined planes, node-to-segment, mortar; issue 45).
+//! (inclined planes, node-to-segment, mortar).
 //!
 //! Every congruence of the route holds for any D of full column rank: `A − σI ≅ (−σI_m) ⊕
 //! H(σ)` with `H(σ) = K − σI + σ⁻¹DDᵀ`, and the monotonicity the proofs use

@@ -35,7 +35,7 @@
 //!    into its diagonal block, which is why nodal AMG stays flat in ε where scalar AMG does
 //!    not.
 //!
-//! **Why hand-written.** The Rust crates measured for issue 63 do not meet PyAMG's iteration
+//! **Why hand-written.** The Rust crates we measured do not meet PyAMG's iteration
 //! counts: kryst 4.3's smoothed aggregation needed 4–11× PyAMG's CG iterations on the
 //! membrane and elasticity systems of `scripts/amg_eval`, and its `InterpType::Multipass`
 //! stalled in coarsening (out of memory under 8 GB, over 120 s, or a dense solve of the whole

@@ -1,4 +1,4 @@
-//! The cond-optimal penalty (issue 12): the best conditioning any choice of penalties can
+//! The cond-optimal penalty: the best conditioning any choice of penalties can
 //! reach at an allowed penetration δ.
 //!
 //! # Problem
@@ -41,7 +41,8 @@
 //!   150-iteration cap in stages 4–6 with ‖∇Φ‖∞ ≈ 10⁻⁴–10⁻³. Newton ends them below 10⁻⁸.
 //!   That matters beyond the last digits of cond₂: an unconverged optimum jumps as the lift
 //!   moves, and force control then hunts the jump (13–31 solves on the six 2 211-DOF rows
-//!   of the a9af79d run whose force jumped; 6 on the one row re-run with Newton stages; docs/performance.md).
+//!   of the a9af79d run whose force jumped; 6 on the one row re-run with Newton stages;
+//!   docs/history/performance-log.md).
 //! * **Starts**: `condensed` at δ(1 − 10⁻³) (strictly feasible), `paper` at δ, `spring` at δ
 //!   when it is feasible, and `scaled` with the smallest factor `2^k f₀` that is strictly
 //!   feasible (`f₀` from condensed's largest ε/K_dd). Each optimised point is re-solved by
@@ -72,7 +73,7 @@
 //! windows at both ends of the spectrum. n ≤ [`MAX_N`], m ≤ [`MAX_M`]; larger problems are
 //! refused with [`Error::Unsupported`]. K must be symmetric positive definite.
 //!
-//! **Rows that couple DOFs** (issue 45): `A = K + Σ_c ε_c d_c d_cᵀ`, so every formula above
+//! **Rows that couple DOFs**: `A = K + Σ_c ε_c d_c d_cᵀ`, so every formula above
 //! holds with `v_k[d_c]` read as `d_cᵀv_k` and `e_{d_i}` as the row d_i (∂A/∂ε_c = d_c d_cᵀ);
 //! the sparse route factors on the pattern of `K + DDᵀ`. The certified floor
 //! [`cond2_lower_bound`] needs K on the null space of Dᵀ: a Boolean D's free DOFs (K_FF), and
@@ -88,7 +89,7 @@
 //!
 //! On the paper's beam (δ = 0.1, all ties bilateral) the optimum is cond₂ = 219.56 against
 //! 222.27 for `condensed` and 513.87 for Eq. 28, with ε = (694.7, 130.0, 688.8) and gaps
-//! (0.0128, 0.1000, −0.0061) — the outside optimiser's point of issue 12. The spectrum says
+//! (0.0128, 0.1000, −0.0061) — the point an outside optimiser reached. The spectrum says
 //! why: λ_max = 700.0 is the eigenvalue of the axial tie at node 4 (DOF 6, ∂λ_max/∂ε₂ = 0.18,
 //! the other two 0), so ε₂ is kept at the smallest value δ allows (130, gap exactly δ). The
 //! two transverse ties feed only the lower end: raising ε₁, ε₃ lifts λ_min (3.149 → 3.188)

@@ -1,4 +1,4 @@
-//! The domain error of the Hertz cases (issue 44, item 5). Hertz's solution is a half-space's;
+//! The domain error of the Hertz cases. Hertz's solution is a half-space's;
 //! the benchmark's block of [`BenchConfig::block_over_a`]·a with a clamped base is a finite
 //! model of it, and on a fine mesh the block's bias is a sizeable part of Lagrange's error
 //! against the analytic pressure. On every Hertz mesh Lagrange is also solved, at the same

@@ -75,7 +75,7 @@ pub fn jobs(cfg: &BenchConfig, scene: &Indentation, a: f64) -> Vec<BenchJob> {
 /// ([`strategy::augmented::adapted_penalty`]) is what the row measures.
 pub const ADAPTIVE_START: f64 = 1e-2;
 
-/// Knob values added near the leaderboard's threshold (issue 44, item 8): where a rule's
+/// Knob values added near the leaderboard's threshold: where a rule's
 /// admissibility ([`admissible`]) flips between two adjacent values of its grid, two
 /// more log-spaced between them — three per decade there. `optimal` is not refined (one of
 /// its rows costs minutes to an hour at 5 000 DOFs).

@@ -1,4 +1,4 @@
-//! The barrier's κ sensitivity (issue 44, item 10): κ is the log barrier's second knob beside
+//! The barrier's κ sensitivity: κ is the log barrier's second knob beside
 //! d̂, and a row is only meaningful with it. On each Hertz case's middle mesh, at
 //! d̂ = [`KAPPA_DHATS`]·a, the barrier is force-controlled at fixed κ over a log grid
 //! ([`PER_DECADE`] values per decade) that spans both adaptive rules' clamps — from the `ipc`

@@ -9,8 +9,8 @@ pub struct BenchRow {
     /// The case ([`super::analytic::Case::name`]: `hertz-plane`, `flat-punch`,
     /// `patch-two-body-nts-1`, …).
     pub case: String,
-    /// How the contact rows are discretized: `nodal` (one row per contact node; issue 45
-    /// adds `nts-1`, `nts-2` and `mortar` for two bodies).
+    /// How the contact rows are discretized: `nodal` (one row per contact node), or
+    /// `nts-1`, `nts-2` and `mortar` for two bodies.
     #[serde(default = "nodal")]
     pub discretization: String,
     /// Inclination θ of the rigid plane, degrees (0: level).
@@ -106,7 +106,7 @@ pub struct BenchRow {
     #[serde(default)]
     pub cond2_within_contract: Option<bool>,
     /// cond₂ of the Jacobi-scaled final system, to `cond_tol` ([`crate::metrics::solver`];
-    /// empty in rows written before issue 47).
+    /// empty in rows written by older versions).
     #[serde(default)]
     pub cond2_jacobi: Option<f64>,
     /// CG iterations with Jacobi from 0 to ‖r‖ ≤ 1e-8‖b‖ (penalties; a residual test, not an

@@ -1,4 +1,4 @@
-//! The contact solve engine at scale: full-contact membranes from 10⁴ to 10⁶ DOFs (issue 9).
+//! The contact solve engine at scale: full-contact membranes from 10⁴ to 10⁶ DOFs.
 //!
 //! Scene: [`scalable::membrane_scene`] with one `lower` constraint per node — the 5-point membrane
 //! under uniform load on a paraboloid obstacle, in contact over part of the domain. For each

@@ -1,4 +1,4 @@
-//! The two experiments of issue 4 as library functions (the binaries only parse flags):
+//! The two forming experiments as library functions (the binaries only parse flags):
 //! the same configuration run with the classical penalty (ε), the paper's Eq. 28–29 (δ) —
 //! the "modified approach" of Fig. 7, named `adaptive` — and the exact `condensed` rule (δ).
 //! The three runs are independent and run in parallel (rayon).
@@ -324,8 +324,8 @@ pub fn run(provenance: &Provenance, cfg: &ExperimentConfig) -> Result<SavedRuns>
 }
 
 /// Is a run of this rule a diagnostic only (its validity is reported per run and does not
-/// decide the document's)? The literal reading of Eq. 28 is kept to show how it fails
-/// (issue 11): its Picard loop stalls in most steps of the draw by design of the comparison.
+/// decide the document's)? The literal reading of Eq. 28 is kept to show how it fails:
+/// its Picard loop stalls in most steps of the draw by design of the comparison.
 pub fn diagnostic_only(rule: &ContactRule) -> bool {
     matches!(rule, ContactRule::PaperLiteral { .. })
 }

@@ -46,10 +46,10 @@ pub const EQ36_U: [&str; 9] = [
 ];
 /// Eq. 37: Dᵀu − û (entry 3 has the wrong sign: −0.008).
 pub const EQ37_GAPS: [&str; 3] = ["0.018", "0.014", "0.007"];
-/// Issue 12: cond₂ reached at δ = 0.1 by an optimiser outside the harness (the paper prints no
+/// cond₂ reached at δ = 0.1 by an optimiser outside the harness (the paper prints no
 /// optimum; `optimal` must be at or below this to 1e-3).
 pub const OUTSIDE_OPTIMUM_COND2: f64 = 219.6;
-/// Issue 12: that optimiser's ε (printed to 4 digits).
+/// That optimiser's ε (printed to 4 digits).
 pub const OUTSIDE_OPTIMUM_EPS: [&str; 3] = ["694.8", "130", "688.8"];
 /// methods.md: the penalties of the `condensed` strategy at δ = 0.1.
 pub const METHODS_MD_CONDENSED_EPS: [&str; 3] = ["87.9", "130", "41.4"];

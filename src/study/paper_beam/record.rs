@@ -111,8 +111,8 @@ pub struct Row {
 }
 
 /// The cond-optimal penalties at the paper's δ (`strategy::optimal`), next to Eq. 28 and
-/// `condensed`. The paper prints no optimum, so every number here is ours; the issue quotes an
-/// outside optimiser's 219.6 for comparison.
+/// `condensed`. The paper prints no optimum, so every number here is ours; an outside
+/// optimiser's 219.6 is quoted for comparison.
 #[derive(Serialize, Deserialize, Debug, Clone)]
 pub struct Optimum {
     /// δ.
@@ -137,7 +137,7 @@ pub struct Optimum {
     pub starts: usize,
     /// Optimised starts within 1e-3 of the best.
     pub starts_agreeing: usize,
-    /// The outside optimiser's cond₂ quoted in issue 12.
+    /// The outside optimiser's cond₂.
     pub outside_cond2: f64,
 }
 

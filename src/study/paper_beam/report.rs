@@ -200,8 +200,8 @@ fn optimum_text(o: &Optimum) -> String {
     let v = |x: &[f64]| x.iter().map(|e| fmt_g(*e)).collect::<Vec<_>>().join(", ");
     let at: Vec<String> = o.at_delta.iter().map(|c| c.to_string()).collect();
     format!(
-        "The cond-optimal penalties at δ = {} (ours; the paper prints no optimum; issue 12 quotes \
-         an outside optimiser at {}):\n  cond₂ optimal {} (Eq. 28 {}, condensed {}; certified \
+        "The cond-optimal penalties at δ = {} (ours; the paper prints no optimum; an outside \
+         optimiser gives {}):\n  cond₂ optimal {} (Eq. 28 {}, condensed {}; certified \
          lower bound {}), ε = ({}), gaps = ({}); at δ: constraint(s) {}; KKT residual {}, \
          {} of {} optimised starts agree.\n\n",
         o.delta,

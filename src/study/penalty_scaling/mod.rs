@@ -1,5 +1,5 @@
 //! `penalty_scaling`: how a penalty's error and the conditioning it causes scale with the
-//! mesh size h when the contact rows couple DOFs (issue 45, item 5) — the figure a user needs
+//! mesh size h when the contact rows couple DOFs — the figure a user needs
 //! to choose ε on a refined mesh.
 //!
 //! **Case.** The two-body contact patch test ([`crate::model::two_body`]): a lower block

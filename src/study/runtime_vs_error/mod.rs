@@ -1,5 +1,5 @@
 //! Run time against error: every strategy's time to solution against its error as its knob
-//! varies, on beam and membrane scenes of increasing size (issue 5, `runtime_vs_error`).
+//! varies, on beam and membrane scenes of increasing size (`runtime_vs_error`).
 //!
 //! For a strategy with knob κ (ε for `constant`, the factor for `scaled`, δ for
 //! `spring`/`paper`/`condensed`, the tolerance for `augmented`) and a scene of N DOFs, a row

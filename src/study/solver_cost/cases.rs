@@ -40,14 +40,13 @@
 //!   Hertz's load for a = 1 (a secant step from the half-space's a²/R), and every rule
 //!   solves at that lift. Discretization error: Lagrange's pressure against Hertz's for the
 //!   load it carries ([`hertz::pressure_error`], r = √(x² + y²), ω the top areas), the
-//!   finite block's bias included. Length scale: a; ε relative to max K_dd. Its penalty error
-//!   is on u (below), so the `discretization` accuracy sets a u-error equal to a pressure
-//!   error: not like with like (the 2-D Hertz families compare pressures with pressures), and
-//!   the matched ε are small (`constant` ≈ 0.01·k_scale on the finest level).
+//!   finite block's bias included. Length scale: a; ε relative to max K_dd. A rule's penalty
+//!   error: its pressure's distance from Lagrange's on the same mesh at the same lift, in the
+//!   same measure ([`hertz::pressure_distance`]), as for the 2-D Hertz families.
 //!
-//! For `membrane`, `beam`, the incline families and `hertz-3d` the errors are on u: a rule's
+//! For `membrane`, `beam` and the incline families the errors are on u: a rule's
 //! penalty error is `‖u − u_L‖∞/‖u_L‖∞` against Lagrange on the same mesh; the
-//! discretization error of level l is estimated (but for `hertz-3d`) by the next level,
+//! discretization error of level l is estimated by the next level,
 //! `‖u_l − R u_{l+1}‖∞/‖R u_{l+1}‖∞` at the coarse nodes (R: restriction to them); the finest
 //! level's is extrapolated at the last observed ratio (`err_discretization_extrapolated`).
 
@@ -119,12 +118,13 @@ impl Family {
         Family::Hertz3d,
     ];
 
-    /// The families of the default run: all but `hertz-two-body` and `hertz-3d` (each takes
-    /// minutes of its own on 2 cores; `--families` adds them).
+    /// The families of the default run, within 6 minutes on 2 cores: all but
+    /// `hertz-two-body` (mortar rows; minutes of its own) and `hertz-axi` (one-DOF rows like
+    /// `hertz-plane`'s, whose costs it repeats within a few per cent); `--families` adds them.
     pub fn defaults() -> Vec<Family> {
         Family::ALL
             .into_iter()
-            .filter(|f| !matches!(f, Family::HertzTwoBody | Family::Hertz3d))
+            .filter(|f| !matches!(f, Family::HertzTwoBody | Family::HertzAxi))
             .collect()
     }
 
@@ -227,9 +227,15 @@ enum Kind {
     Fixed {
         problem: Problem,
         u_lagrange: Vec<f64>,
-        /// The restriction: for each DOF of the next coarser level, its DOF here (None where
-        /// the level's discretization error is its own, `hertz-3d`).
-        from_coarse: Option<Vec<usize>>,
+        /// The restriction: for each DOF of the next coarser level, its DOF here.
+        from_coarse: Vec<usize>,
+    },
+    Sphere {
+        scene: SphereIndentation,
+        /// The top nodes at their distance from the axis.
+        nodes: Vec<ContactNode>,
+        exact: Exact,
+        p_lagrange: Vec<f64>,
     },
 }
 
@@ -281,6 +287,21 @@ impl Level {
                     sol: l.sol,
                     err_penalty: err,
                     solves: l.solves,
+                })
+            }
+            Kind::Sphere {
+                scene,
+                nodes,
+                exact,
+                p_lagrange,
+            } => {
+                let sol = strategy::solve(&scene.problem, method)?;
+                let p = scene.pressures(&sol.u);
+                Ok(Solved {
+                    problem: scene.problem.clone(),
+                    err_penalty: hertz::pressure_distance(nodes, &p, p_lagrange, exact),
+                    sol,
+                    solves: 1,
                 })
             }
             Kind::Fixed {
@@ -429,7 +450,7 @@ fn fixed_level(family: Family, index: usize, size: usize) -> Result<Level> {
         kind: Kind::Fixed {
             problem,
             u_lagrange: lag.u,
-            from_coarse: Some(from_coarse),
+            from_coarse,
         },
     })
 }
@@ -470,6 +491,10 @@ pub struct SphereCheck {
     pub p0_ratio: f64,
     /// The contact radius read along the x axis ([`hertz::contact_width`]) over Hertz's a.
     pub a_ratio: f64,
+    /// The top nodes at their distance r from the axis, with their areas.
+    pub nodes: Vec<ContactNode>,
+    /// Lagrange's pressures at them.
+    pub p: Vec<f64>,
 }
 
 /// Lagrange on the `hertz-3d` mesh `grid` (module doc).
@@ -518,6 +543,8 @@ pub fn sphere_lagrange(grid: &Grid3) -> Result<SphereCheck> {
         exact,
         u: sol.u,
         scene,
+        nodes,
+        p,
     })
 }
 
@@ -525,7 +552,7 @@ pub fn sphere_lagrange(grid: &Grid3) -> Result<SphereCheck> {
 fn sphere_level(index: usize, h_rel: f64) -> Result<Level> {
     let grid = sphere_grid(h_rel)?;
     let check = sphere_lagrange(&grid)?;
-    let problem = check.scene.problem;
+    let problem = &check.scene.problem;
     Ok(Level {
         family: Family::Hertz3d,
         index,
@@ -536,10 +563,11 @@ fn sphere_level(index: usize, h_rel: f64) -> Result<Level> {
         aug_eps: problem.mean_constraint_stiffness(),
         err_discretization: check.p_err_rel,
         err_discretization_extrapolated: false,
-        kind: Kind::Fixed {
-            problem,
-            u_lagrange: check.u,
-            from_coarse: None,
+        kind: Kind::Sphere {
+            scene: check.scene,
+            nodes: check.nodes,
+            exact: check.exact,
+            p_lagrange: check.p,
         },
     })
 }
@@ -588,7 +616,7 @@ pub fn levels(family: Family, count: usize, c: Coarsest) -> Result<Vec<Level>> {
                 Kind::Fixed { u_lagrange: uc, .. },
                 Kind::Fixed {
                     u_lagrange: uf,
-                    from_coarse: Some(from_coarse),
+                    from_coarse,
                     ..
                 },
             ) = (&c.kind, &f.kind)

@@ -147,9 +147,9 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
     // run replaces both files and removes each old one just before writing it, so that neither
     // write renames over a file: on ext4 such a rename flushes the new file, and the final
     // manifest then waited for that flush (0.5 ms of the 25 ms folder sweep,
-    // docs/performance.md). The trade: the start files of a fresh run are not flushed, so a
-    // power loss in the seconds before the kernel writes them back can leave them empty
-    // (`--resume` then refuses and the run starts over), as for a run into a new folder.
+    // docs/history/performance-log.md). The trade: the start files of a fresh run are not
+    // flushed, so a power loss in the seconds before the kernel writes them back can leave them
+    // empty (`--resume` then refuses and the run starts over), as for a run into a new folder.
     let start = || -> Result<()> {
         if resumed.is_none() {
             remove_if_present(&rows_path)?;

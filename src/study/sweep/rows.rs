@@ -203,7 +203,7 @@ pub const TIMING_COLUMNS: [&str; 5] = [
 
 /// One cell per column, written straight into the CSV writer: numbers are formatted into a
 /// reused buffer (`{:e}` for floats, so they read back bit for bit), never one `String` per
-/// cell (a third less time than one `String` per cell; docs/performance.md).
+/// cell (a third less time than one `String` per cell; docs/history/performance-log.md).
 struct Cells<'a, W: std::io::Write> {
     w: &'a mut csv::Writer<W>,
     buf: &'a mut String,
