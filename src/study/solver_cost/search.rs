@@ -177,7 +177,8 @@ pub fn find(
                         rel,
                         value,
                         achieved: m,
-                        matched: f.abs() <= ok,
+                        // A solve that did not converge (a cycling active set) is no match.
+                        matched: f.abs() <= ok && s.sol.stats.converged,
                         evaluations: 0,
                         solved: s,
                         failure: None,
@@ -202,49 +203,16 @@ pub fn find(
         Knob::Eps | Knob::Factor => (-6.0, 12.0),
         _ => (-12.0, -1.0),
     };
-    let mut a = start.rel.log10().clamp(lo, hi);
-    let mut fa = eval(a, &mut best);
-    let mut bracket = None;
-    let mut range_end = false;
-    // A Newton step from a known slope of the right sign (the measure falls with ε and f,
-    // grows with δ and the tolerances); a decade's steps from there if it does not cross.
-    let newton = start
-        .slope
-        .filter(|p| p.is_finite() && p * dir > 0.0)
-        .filter(|_| fa.is_finite() && fa.abs() > ok);
-    if let Some(p) = newton {
-        let t = (a - (fa / p).clamp(-MAX_NEWTON_STEP, MAX_NEWTON_STEP)).clamp(lo, hi);
-        if t != a {
-            let f = eval(t, &mut best);
-            if f.is_nan() {
-                // A failed solve: go on from the start by decades.
-            } else if f.is_finite() && (f > 0.0) != (fa > 0.0) {
-                bracket = Some((t, f));
-            } else if f.is_finite() {
-                (a, fa) = (t, f);
-            }
-        }
-    }
-    while bracket.is_none() && (fa.is_finite() && fa.abs() > ok || fa == f64::NEG_INFINITY) {
-        if evaluations.get() >= MAX_EVALUATIONS / 2 {
-            break;
-        }
-        let step = if fa > 0.0 { -dir } else { dir };
-        let t = (a + step).clamp(lo, hi);
-        if t == a {
-            range_end = true;
-            break;
-        }
-        let f = eval(t, &mut best);
-        if f.is_nan() {
-            break;
-        }
-        if (f > 0.0) != (fa > 0.0) {
-            bracket = Some((t, f));
-            break;
-        }
-        (a, fa) = (t, f);
-    }
+    let a = start.rel.log10().clamp(lo, hi);
+    let fa = eval(a, &mut best);
+    let ((a, fa), bracket, range_end) = bracket_from(
+        (a, fa),
+        start.slope,
+        (dir, ok),
+        (lo, hi),
+        &evaluations,
+        |t| eval(t, &mut best),
+    );
     if let Some(b) = bracket {
         close_in((a, fa), b, |c| {
             let go_on =
@@ -262,6 +230,57 @@ pub fn find(
         }
         None => Err(last_err.unwrap_or_else(|| crate::Error::Numerical("no solve".into()))),
     }
+}
+
+/// The search's first phase (module doc) from `(a, f(a))`: a Newton step where `slope` is
+/// known and of the right sign (the measure falls with ε and f, grows with δ and the
+/// tolerances: `dir`), then a decade at a time towards the target until f changes sign, the
+/// knob's range `[lo, hi]` ends, a solve fails or half of [`MAX_EVALUATIONS`] are spent.
+/// Returns the last point on the start's side, the bracket's other end (if f changed sign)
+/// and whether the range ended.
+#[allow(clippy::type_complexity)]
+fn bracket_from(
+    (mut a, mut fa): (f64, f64),
+    slope: Option<f64>,
+    (dir, ok): (f64, f64),
+    (lo, hi): (f64, f64),
+    evaluations: &std::cell::Cell<usize>,
+    mut eval: impl FnMut(f64) -> f64,
+) -> ((f64, f64), Option<(f64, f64)>, bool) {
+    let newton = slope
+        .filter(|p| p.is_finite() && p * dir > 0.0)
+        .filter(|_| fa.is_finite() && fa.abs() > ok);
+    if let Some(p) = newton {
+        let t = (a - (fa / p).clamp(-MAX_NEWTON_STEP, MAX_NEWTON_STEP)).clamp(lo, hi);
+        if t != a {
+            // A failed solve (NaN): go on from the start by decades.
+            let f = eval(t);
+            if f.is_finite() && (f > 0.0) != (fa > 0.0) {
+                return ((a, fa), Some((t, f)), false);
+            } else if f.is_finite() {
+                (a, fa) = (t, f);
+            }
+        }
+    }
+    while fa.is_finite() && fa.abs() > ok || fa == f64::NEG_INFINITY {
+        if evaluations.get() >= MAX_EVALUATIONS / 2 {
+            break;
+        }
+        let step = if fa > 0.0 { -dir } else { dir };
+        let t = (a + step).clamp(lo, hi);
+        if t == a {
+            return ((a, fa), None, true);
+        }
+        let f = eval(t);
+        if f.is_nan() {
+            break;
+        }
+        if (f > 0.0) != (fa > 0.0) {
+            return ((a, fa), Some((t, f)), false);
+        }
+        (a, fa) = (t, f);
+    }
+    ((a, fa), None, false)
 }
 
 /// The secant slope between the two evaluations closest to the root (smallest |f|) at
