@@ -1,5 +1,6 @@
 //! One error type for the library. Binaries map every variant to exit status 2 with the
-//! message on one line of stderr, except [`Error::OutsideModel`] (exit status 3).
+//! message on one line of stderr, except [`Error::OutsideModel`] (exit status 3) and
+//! [`Error::MethodFailed`] (exit status 4).
 //!
 //! The variants that name a thing carry it as a field — which knob ([`Error::MissingKnob`],
 //! [`Error::NotPositive`]), which name and the valid ones ([`Error::Unknown`]), which DOF
@@ -162,6 +163,10 @@ pub enum Error {
     /// drawn off the holder); the message lists the reasons. Exit status 3.
     #[error("run outside the model: {0}")]
     OutsideModel(String),
+    /// A run finished and wrote its record, but a method failed on every scene it ran on
+    /// (the message names it and its first error: the studies' per-method tally). Exit status 4.
+    #[error("a method failed on every scene it ran on: {0}")]
+    MethodFailed(String),
 }
 
 /// What is wrong with a constraint row ([`Error::Constraint`]).
@@ -369,7 +374,11 @@ impl Error {
     pub fn is_input(&self) -> bool {
         !matches!(
             self.root(),
-            Error::Singular(_) | Error::Io { .. } | Error::Numerical(_) | Error::OutsideModel(_)
+            Error::Singular(_)
+                | Error::Io { .. }
+                | Error::Numerical(_)
+                | Error::OutsideModel(_)
+                | Error::MethodFailed(_)
         )
     }
     /// The message without its `invalid input: ` prefix (for a caller that names the input
@@ -402,7 +411,7 @@ impl Error {
 pub type Result<T> = std::result::Result<T, Error>;
 
 /// The `main` of every binary: runs `f`; an error becomes its message on one line of stderr
-/// and exit status 2 (3 for [`Error::OutsideModel`]), a panic (a bug, never expected) one line asking for a report and exit
+/// and exit status 2 (3 for [`Error::OutsideModel`], 4 for [`Error::MethodFailed`]), a panic (a bug, never expected) one line asking for a report and exit
 /// status 2 — never a backtrace or a half-written line. Standard output closed by its reader
 /// (`| head`) ends the binary quietly with status 0.
 pub fn run_main(f: impl FnOnce() -> Result<()> + std::panic::UnwindSafe) -> std::process::ExitCode {
@@ -411,10 +420,10 @@ pub fn run_main(f: impl FnOnce() -> Result<()> + std::panic::UnwindSafe) -> std:
         Ok(Ok(())) => std::process::ExitCode::SUCCESS,
         Ok(Err(e)) => {
             eprintln!("error: {e}");
-            let status = if matches!(e.root(), Error::OutsideModel(_)) {
-                3
-            } else {
-                2
+            let status = match e.root() {
+                Error::OutsideModel(_) => 3,
+                Error::MethodFailed(_) => 4,
+                _ => 2,
             };
             std::process::ExitCode::from(status)
         }

@@ -80,6 +80,24 @@
 //! ```
 //! Scene files: [`scene::read_scene`]; every metric at once: [`metrics::compute`].
 //!
+//! ## The certified cond₂ of your own matrix
+//! A matrix assembled elsewhere, written as Matrix Market (`K.mtx`): its cond₂ = σ_max/σ_min,
+//! the bracket proven for the stored matrix, and whether the value is proven within the
+//! contract `max(1e-12, 4·ε_mach·cond₂)` — what the `cond` binary prints
+//! (`cond K.mtx --json`, [`study::cond`]):
+//! ```
+//! # let dir = tempfile::tempdir()?;
+//! # let path = dir.path().join("K.mtx");
+//! # std::fs::write(&path, "%%MatrixMarket matrix coordinate real symmetric\n2 2 3\n1 1 2\n2 1 -1\n2 2 2\n")?;
+//! use penalty_lab::{conditioning::cond2, scene::read_matrix_market};
+//! let k = read_matrix_market(&path)?; // e.g. Path::new("K.mtx")
+//! let c = cond2(&k)?;
+//! println!("cond2 = {:e} in [{:e}, {:e}], route {}", c.cond2, c.cond2_lo, c.cond2_hi, c.route.name());
+//! assert!(c.bounds_proven && c.within_contract()); // [[2, -1], [-1, 2]]: cond₂ = 3
+//! # assert!((c.cond2 - 3.0).abs() <= 1e-12 * 3.0);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
+//!
 //! **Same bits for any thread count.** The studies parallelise over their own jobs (rayon);
 //! faer's dense kernels would otherwise split their work over faer's global pool, whose
 //! rounding depends on its size. Every binary therefore runs with

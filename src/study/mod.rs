@@ -5,19 +5,20 @@
 //! its drawings and prints.
 //!
 //! One module per binary in `experiments/`, named like it (`tests/architecture.rs` checks
-//! it): [`sweep`], [`solve`], [`paper_beam`], [`deep_drawing`], [`stretch_test`],
+//! it): [`sweep`], [`solve`], [`cond`], [`paper_beam`], [`deep_drawing`], [`stretch_test`],
 //! [`runtime_vs_error`], [`stress`], [`cond_cost`], [`cond_accuracy`], [`engine_scale`],
 //! [`contact_bench`], [`solver_cost`], [`penalty_scaling`]. Each has `mod.rs` (configuration, record and run), `figures.rs` and
-//! `report.rs` (`solve` draws nothing and has no `figures.rs`; [`deep_drawing`] and
+//! `report.rs` (`solve` and `cond` draw nothing and have no `figures.rs`; [`deep_drawing`] and
 //! [`stretch_test`] declare an experiment whose files are [`forming_runs`]'s; `stretch_test`
 //! adds its own `--json` summary in `report.rs`). No study
 //! imports another; what several share is a support module: [`text`] (number formats,
 //! aligned tables and wrapped notes of the printed reports), [`shape`] (the one shape of a
 //! study, [`Study`], and the entry every study binary goes through, [`main`]), [`grid`]
-//! (knob grids), [`hertz`] (the contact benchmarks' cases, meshes and analytic solutions,
+//! (knob grids), [`outcomes`] (rows solved, failed and skipped per method: the summary at the end of a run and its exit status 4), [`hertz`] (the contact benchmarks' cases, meshes and analytic solutions,
 //! shared by `contact_bench` and `solver_cost`) and [`forming_runs`] (the forming
 //! experiments' runs, records and figures).
 
+pub mod cond;
 pub mod cond_accuracy;
 pub mod cond_cost;
 pub mod contact_bench;
@@ -27,6 +28,7 @@ pub mod forming_runs;
 pub mod grid;
 pub mod hertz;
 pub mod out_guard;
+pub mod outcomes;
 pub mod paper_beam;
 pub mod penalty_scaling;
 pub mod runtime_vs_error;

@@ -14,7 +14,8 @@
 //! - `--resume` (only where [`Study::RESUMABLE`]): reuse the checkpoints of an interrupted
 //!   run of the same build and configuration;
 //! - the exit codes of [`crate::error::run_main`]: 0, 2 for an error (one line on stderr), 3
-//!   for a run outside its model.
+//!   for a run outside its model, 4 for a run in which a method failed on every scene it ran
+//!   on ([`Study::failure`]; its record is written and its report printed first).
 //!
 //! After a run the record is saved and read back, so that the figures, the report and the
 //! JSON come from the saved files exactly as with `--render-only` (where only the report is
@@ -179,6 +180,12 @@ pub trait Study {
     /// run that checks its output folder itself (`sweep merge`).
     fn guards_out(_cfg: &Self::Config) -> bool {
         true
+    }
+    /// The message of exit status 4 ([`crate::Error::MethodFailed`]) where the record says a
+    /// method failed on every scene it ran on ([`super::outcomes::Tally::all_failed`]); the
+    /// report (or JSON) and the figures come first. `None` by default.
+    fn failure(_record: &Self::Record) -> Option<String> {
+        None
     }
     /// What `--json` prints: the record by default.
     fn json(record: &Self::Record) -> Result<String> {
@@ -387,5 +394,8 @@ fn entry<S: Study>(cli: &Cli<S::Flags>) -> Result<()> {
     } else {
         print!("{}", S::report(&record));
     }
-    Ok(())
+    match S::failure(&record) {
+        Some(msg) => Err(crate::Error::MethodFailed(msg)),
+        None => Ok(()),
+    }
 }

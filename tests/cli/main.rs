@@ -7,6 +7,7 @@
 mod common;
 
 mod cond_accuracy_cli;
+mod cond_cli;
 mod cond_cost_cli;
 mod contact_bench_cli;
 mod forming_cli;

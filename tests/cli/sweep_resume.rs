@@ -230,7 +230,7 @@ fn killed_run_resumes_to_the_uninterrupted_rows() {
         expected - resumed * cfg.rows_per_scene()
     );
     // The rows the manifest says rows.csv holds (what the report prints) are the file's.
-    let in_file = rows::count_rows(&out.join("rows.csv")).unwrap();
+    let in_file = rows::tally_rows(&out.join("rows.csv")).unwrap().rows();
     assert_eq!(in_file, expected);
     assert_eq!(m["rows_in_file"].as_u64().unwrap() as usize, in_file);
     let report = String::from_utf8_lossy(&o.stdout);

@@ -296,3 +296,52 @@ fn solver_metrics_are_opt_in_and_change_no_other_column() {
         );
     }
 }
+
+/// A method that fails on every scene it runs on is said out loud: the summary table names it
+/// with its first error, the run exits 4 with one line on stderr, and the rows are written
+/// (barrier refuses the beam's bilateral ties). With a method that solves beside it, the
+/// failing rows are in the summary and the exit status still 4.
+#[test]
+fn a_method_failing_everywhere_exits_4_with_its_first_error() {
+    let (_tmp, d) = work_dir("all-failed");
+    let out = d.join("out");
+    let o = sweep_in(
+        &d,
+        &[
+            "--families",
+            "beam",
+            "--count",
+            "1",
+            "--methods",
+            "lagrange,barrier",
+            "--no-figures",
+            "--quiet",
+            "--out",
+            s(&out),
+        ],
+    );
+    let (stdout, err) = (
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr),
+    );
+    assert_eq!(o.status.code(), Some(4), "{stdout}{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.contains("barrier (") && !err.contains("lagrange ("),
+        "{err}"
+    );
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("barrier"))
+        .expect("a summary line for barrier");
+    let rows = rows_of(&out);
+    let failed = rows.iter().filter(|r| r.method == "barrier").count();
+    assert!(failed > 0 && rows.iter().any(|r| r.method == "lagrange"));
+    // barrier: 0 solved, every row failed, the first error shown.
+    let cells: Vec<&str> = line.split_whitespace().collect();
+    assert_eq!(cells[1..4], ["0", &failed.to_string(), "0"], "{line}");
+    assert!(
+        stdout.lines().any(|l| l.starts_with("lagrange")),
+        "{stdout}"
+    );
+}

@@ -255,34 +255,35 @@ pub struct Record {
     pub rows: Vec<Row>,
     /// The number of rows in `rows.csv`.
     pub rows_in_file: usize,
+    /// The rows solved, failed and skipped per method.
+    #[serde(default)]
+    pub tally: crate::study::outcomes::Tally,
 }
 
 /// Reads `out/rows.csv` and, where present, `out/manifest.json`.
 pub fn load(out: &Path) -> Result<Record> {
     let (rows, _) = rows::read_rows(&out.join("rows.csv"), false)?;
+    let mut tally = crate::study::outcomes::Tally::default();
+    for r in &rows {
+        tally.add(&r.method, &r.warnings);
+    }
     Ok(Record {
         manifest: read_manifest(out)?,
         rows_in_file: rows.len(),
         rows,
+        tally,
     })
 }
 
-/// [`load`] for the report alone: the manifest, and the number of rows in rows.csv — as the
-/// manifest of a complete run records it (`rows_in_file`: the run that has just written the
-/// folder knows it), else counted ([`rows::count_rows`]); the rows are not read.
+/// [`load`] for the report alone: the manifest, and the rows of rows.csv counted per method
+/// ([`rows::tally_rows`]: the records checked, their values not converted).
 pub fn load_count(out: &Path) -> Result<Record> {
-    let manifest = read_manifest(out)?;
-    let recorded = (manifest["status"] == "complete")
-        .then(|| manifest["rows_in_file"].as_u64())
-        .flatten()
-        .and_then(|n| usize::try_from(n).ok());
+    let tally = rows::tally_rows(&out.join("rows.csv"))?;
     Ok(Record {
-        rows_in_file: match recorded {
-            Some(n) => n,
-            None => rows::count_rows(&out.join("rows.csv"))?,
-        },
-        manifest,
+        rows_in_file: tally.rows(),
+        manifest: read_manifest(out)?,
         rows: Vec::new(),
+        tally,
     })
 }
 
@@ -316,7 +317,8 @@ impl Study for Sweep {
         "Without arguments: the built-in default (beam, membrane, spectrum, 8 scenes each, every \
          method that handles bilateral ties) into results/sweep.\n`sweep merge OUT DIR...` \
          merges the shard folders of one run (--shard K/N) into OUT.\n--json prints the \
-         manifest.\nExit status: 0 ok, 2 bad configuration or input."
+         manifest.\nExit status: 0 ok, 2 bad configuration or input, 4 a method failed on \
+         every scene it ran on (rows and figures written; the summary names its first error)."
             .into()
     }
 
@@ -381,6 +383,7 @@ impl Study for Sweep {
             manifest: serde_json::Value::Null,
             rows: Vec::new(),
             rows_in_file: 0,
+            tally: Default::default(),
         })
     }
 
@@ -402,7 +405,12 @@ impl Study for Sweep {
     }
 
     fn report(rec: &Record) -> String {
-        report::text(&rec.manifest, rec.rows_in_file)
+        report::text(&rec.manifest, rec.rows_in_file, &rec.tally)
+    }
+
+    /// Exit status 4 where a method failed on every row it ran (skipped rows aside).
+    fn failure(rec: &Record) -> Option<String> {
+        rec.tally.all_failed()
     }
 
     fn json(rec: &Record) -> Result<String> {

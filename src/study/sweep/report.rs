@@ -1,9 +1,20 @@
-//! The printed report of a sweep folder: one line from its manifest.
+//! The printed report of a sweep folder: one line from its manifest, then the rows solved,
+//! failed and skipped per method with the first error of each.
+
+use crate::study::outcomes::Tally;
+
+/// Characters of a method's first error shown in the summary (the whole message is in the
+/// row's `warnings` cell).
+const ERROR_WIDTH: usize = 90;
 
 /// `sweep: S scenes (R resumed), N rows in W s (X rows/s)`, or for a merged folder
 /// `sweep merge: K shards, S scenes, N rows`, from the folder's manifest and its row count
-/// (a folder without a manifest: its row count alone).
-pub fn text(m: &serde_json::Value, rows: usize) -> String {
+/// (a folder without a manifest: its row count alone); then `tally` as a table.
+pub fn text(m: &serde_json::Value, rows: usize, tally: &Tally) -> String {
+    format!("{}{}", headline(m, rows), tally.text(ERROR_WIDTH))
+}
+
+fn headline(m: &serde_json::Value, rows: usize) -> String {
     if m.is_null() {
         return format!("sweep: {rows} rows in rows.csv (no manifest.json)\n");
     }

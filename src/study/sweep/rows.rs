@@ -367,19 +367,21 @@ pub fn read_rows(path: &Path, lenient: bool) -> Result<(Vec<Row>, usize)> {
     Ok((rows, good))
 }
 
-/// The number of rows in rows.csv, as [`read_rows`] (not lenient) would return them, but
-/// without converting their cells: the header and every record's completeness and field count
-/// are checked, the values are not (a run's own report, which needs only the count).
-pub fn count_rows(path: &Path) -> Result<usize> {
-    let mut count = 0;
+/// The rows of `path` counted per method as solved, failed or skipped (from each row's
+/// `warnings` cell, [`crate::study::outcomes`]); the records are checked as [`read_rows`]
+/// checks them (field count, torn last line), the values not parsed.
+pub fn tally_rows(path: &Path) -> Result<crate::study::outcomes::Tally> {
+    let col = |name: &str| COLUMNS.iter().position(|c| *c == name).unwrap_or(0);
+    let (method, warnings) = (col("method"), col("warnings"));
+    let mut tally = crate::study::outcomes::Tally::default();
     scan_rows(path, false, |rec| {
         if rec.len() != COLUMNS.len() {
             return Err(field_count_error(rec.len()));
         }
-        count += 1;
+        tally.add(&rec[method], &rec[warnings]);
         Ok(())
     })?;
-    Ok(count)
+    Ok(tally)
 }
 
 /// The scan of [`read_rows`]: the header checked, then `row` on every complete record in
@@ -767,14 +769,14 @@ mod tests {
         let text = header() + &format_rows(&rows);
         std::fs::write(&path, &text).unwrap();
         let (read, _) = read_rows(&path, false).unwrap();
-        assert_eq!(count_rows(&path).unwrap(), read.len());
-        // What read_rows refuses, count_rows refuses: a torn last line, a short record, a
+        assert_eq!(tally_rows(&path).unwrap().rows(), read.len());
+        // What read_rows refuses, tally_rows refuses: a torn last line, a short record, a
         // foreign header.
         std::fs::write(&path, &text[..text.len() - 3]).unwrap();
-        assert!(read_rows(&path, false).is_err() && count_rows(&path).is_err());
+        assert!(read_rows(&path, false).is_err() && tally_rows(&path).is_err());
         std::fs::write(&path, header() + "a,b,c\n").unwrap();
-        assert!(read_rows(&path, false).is_err() && count_rows(&path).is_err());
+        assert!(read_rows(&path, false).is_err() && tally_rows(&path).is_err());
         std::fs::write(&path, "x,y\n").unwrap();
-        assert!(count_rows(&path).is_err());
+        assert!(tally_rows(&path).is_err());
     }
 }
