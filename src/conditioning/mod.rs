@@ -293,7 +293,101 @@ impl Reuse<'_> {
 /// `reuse.starts` (fewer steps, same certified result), solves with `reuse.factor` where it
 /// is a sparse Cholesky of `a` (one factorization fewer), and with `reuse.keep_ritz` also
 /// returns the Ritz vectors of `a`.
+///
+/// A matrix whose largest entry lies outside [2⁻¹⁰⁰, 2¹⁰⁰] is first multiplied by a power of two
+/// that brings it near 1 ([`prescale`]; exact, unless an entry would leave the normal range,
+/// where it is left as it is): cond₂ is scale-free, the routes' margins are not. Its cond₂,
+/// bounds and route are then its unscaled twin's; the σ's, brackets and log-det are scaled back.
 pub fn cond2_warm(
+    a: &Stiffness,
+    reuse: Reuse<'_>,
+) -> Result<(CondReport, Option<sparse::RitzStarts>)> {
+    // A factor of `a` itself cannot serve the scaled matrix: the caller's scale is kept.
+    match prescale(a).filter(|_| reuse.factor.is_none()) {
+        Some((scaled, k)) => {
+            let (r, ritz) = cond2_warm_at_scale(&scaled, reuse)?;
+            Ok((r.unscaled(k, a.n()), ritz))
+        }
+        None => cond2_warm_at_scale(a, reuse),
+    }
+}
+
+/// Largest entries outside `[PRESCALE_MIN, PRESCALE_MAX]` make [`cond2_warm`] rescale.
+const PRESCALE_MAX: f64 = 1.2676506002282294e30; // 2¹⁰⁰
+/// See [`PRESCALE_MAX`].
+const PRESCALE_MIN: f64 = 7.888609052210118e-31; // 2⁻¹⁰⁰
+
+/// `(2ᵏ·A, k)` with k even and `2ᵏ·max|a_ij|` in [1/2, 2), where `max|a_ij|` lies outside
+/// [2⁻¹⁰⁰, 2¹⁰⁰] and every nonzero entry stays a normal number (so the product is exact);
+/// `None` otherwise (including a zero matrix).
+pub fn prescale(a: &Stiffness) -> Option<(Stiffness, i32)> {
+    let (mut big, mut small) = (0.0f64, f64::INFINITY);
+    a.for_each_entry(|_, _, v| {
+        if v != 0.0 {
+            big = big.max(v.abs());
+            small = small.min(v.abs());
+        }
+    });
+    if !(big.is_finite() && big > 0.0) || (PRESCALE_MIN..=PRESCALE_MAX).contains(&big) {
+        return None;
+    }
+    let k = -2 * (big.log2() / 2.0).round() as i32;
+    // Exact only where the smallest entry stays normal and the largest finite.
+    let lands = |x: f64, k: i32| {
+        let y = x * 2f64.powi(k / 2) * 2f64.powi(k / 2);
+        y.is_normal()
+    };
+    if !(lands(small, k) && lands(big, k)) {
+        return None;
+    }
+    let half = vec![2f64.powi(k / 2); a.n()];
+    Some((a.scaled(&half), k))
+}
+
+impl CondReport {
+    /// The report of 2ᵏ·A as the report of A (n = dim A): cond₂ and its bounds as they are,
+    /// σ's, eigenvalue brackets and the asymmetry's absolute sizes times 2⁻ᵏ (bounds rounded
+    /// outwards where that leaves the normal range), log10|det| less n·k·log10 2.
+    fn unscaled(mut self, k: i32, n: usize) -> CondReport {
+        let back = |x: f64| x * 2f64.powi(-k / 2) * 2f64.powi(-k / 2);
+        let down = |x: f64| {
+            let y = back(x);
+            if y != 0.0 && !y.is_normal() {
+                y.next_down().max(0.0)
+            } else {
+                y
+            }
+        };
+        let up = |x: f64| {
+            let y = back(x);
+            if y.is_normal() || y == 0.0 {
+                y
+            } else {
+                y.next_up()
+            }
+        };
+        self.sigma_max = back(self.sigma_max);
+        self.sigma_min = back(self.sigma_min);
+        if let Some(c) = &mut self.certificate {
+            c.lambda_max_lo = down(c.lambda_max_lo);
+            c.lambda_max_hi = up(c.lambda_max_hi);
+            c.lambda_min_lo = down(c.lambda_min_lo);
+            c.lambda_min_hi = up(c.lambda_min_hi);
+        }
+        if let Some(a) = &mut self.asymmetry {
+            a.max_abs = back(a.max_abs);
+            a.max_entry = back(a.max_entry);
+            a.skew_norm_bound = up(a.skew_norm_bound);
+        }
+        self.log10_det = self
+            .log10_det
+            .map(|d| d - n as f64 * k as f64 * std::f64::consts::LOG10_2);
+        self
+    }
+}
+
+/// [`cond2_warm`] at the matrix's own scale.
+fn cond2_warm_at_scale(
     a: &Stiffness,
     reuse: Reuse<'_>,
 ) -> Result<(CondReport, Option<sparse::RitzStarts>)> {
@@ -336,6 +430,9 @@ pub(super) fn cond2_routes(
             Ok(r) => return Ok(r),
             // Not positive definite (e.g. a saddle-point matrix): the dense routes below.
             Err(Error::Singular(_)) => {}
+            // A numerical failure of the certified route (its Lanczos estimates not usable):
+            // the dense routes below where the size allows — a valid matrix is not refused.
+            Err(Error::Numerical(_)) if structure.densify_allowed() => {}
             Err(e) => return Err(e),
         }
     }

@@ -210,21 +210,22 @@ pub(crate) fn cond_of_system(
             match report {
                 Ok(r) => return Ok(Some(r)),
                 // Not its structure (repeated DOFs, no active constraint, dependent rows,
-                // sizes past its limits) or K_FF / K + ρDDᵀ not positive definite: the
-                // generic route decides below.
-                Err(e) if e.is_input() || matches!(e, Error::Singular(_)) => {}
-                Err(e) => return Err(e),
+                // sizes past its limits), K_FF / K + ρDDᵀ not positive definite, or a
+                // numerical failure of its Lanczos runs: the generic route decides below
+                // (dense up to its size limit), never a refusal of a valid matrix.
+                Err(_) => {}
             }
         }
     }
     match conditioning::cond2_warm(sys, reuse) {
         Ok((r, _)) => Ok(Some(r)),
-        Err(e) if e.is_input() => {
+        // No route for it (e.g. indefinite above the densify limit) or a route's numerical
+        // failure: the metric is missing with its reason, the solve stands.
+        Err(e) => {
             let msg = e.bare_message();
             unavailable.push(format!("cond2 of the system matrix not computed: {msg}"));
             Ok(None)
         }
-        Err(e) => Err(e),
     }
 }
 
@@ -308,7 +309,10 @@ pub fn compute_at_contact_set(
         // which uses the two threads a side-by-side pair of analyses would, at the memory of
         // one (10⁶ membrane: docs/performance.md); a saddle point's analysis (lagrange) runs
         // on one thread, after K's. Each end is sequential inside: the same results for any
-        // number of threads. Where K's analysis fails, its error is the result.
+        // number of threads. Where K's analysis fails (a singular K above the densify limit,
+        // a floating body held only by its rows), cond₂(K) is missing with its reason in
+        // `unavailable` and the system's analysis runs from the generic start: a metric of K
+        // never ends a solve.
         let mut unavailable = Vec::new();
         let tol = set.cond_tol;
         let reuse_k = Reuse {
@@ -332,20 +336,32 @@ pub fn compute_at_contact_set(
                     tol,
                     &mut unavailable,
                 );
-                (Ok(k), system)
+                (Some(k), system)
             }
-            Err(e) => (Err(e), Ok(None)),
+            Err(e) => {
+                unavailable.push(format!("cond2 of K not computed: {}", e.bare_message()));
+                let system = system_cond(problem, sol, &sys, None, None, tol, &mut unavailable);
+                (None, system)
+            }
         };
-        out.cond2_k = Some(k?);
+        out.cond2_k = k;
         out.cond2_system = system?;
         out.unavailable = unavailable;
     }
     if set.det {
-        let dk = conditioning::log10_abs_det_after(&problem.k, out.cond2_k.as_ref())?;
-        let ds = log10_det(problem, sol, out.cond2_system.as_ref(), &sys)?;
-        out.log10_det_k = Some(dk);
-        out.log10_det_system = Some(ds);
-        out.log10_det_ratio = Some(ds - dk);
+        // As cond₂(K): a determinant that cannot be formed is missing with its reason.
+        let dk = conditioning::log10_abs_det_after(&problem.k, out.cond2_k.as_ref());
+        let ds = log10_det(problem, sol, out.cond2_system.as_ref(), &sys);
+        let mut missing = |what: &str, e: Error| {
+            out.unavailable
+                .push(format!("{what} not computed: {}", e.bare_message()));
+            None
+        };
+        let dk = dk.map_or_else(|e| missing("log10|det K|", e), Some);
+        let ds = ds.map_or_else(|e| missing("log10|det| of the system matrix", e), Some);
+        out.log10_det_k = dk;
+        out.log10_det_system = ds;
+        out.log10_det_ratio = dk.zip(ds).map(|(k, s)| s - k);
     }
     Ok(out)
 }
@@ -432,6 +448,15 @@ pub fn precision_warnings(m: &Metrics) -> Vec<String> {
                 k.sigma_min
             ));
         }
+    }
+    if let Some(k) = m.cond2_k.filter(|k| !k.cond2_hi.is_finite()) {
+        w.push(format!(
+            "K may be singular: σ_min(K) could not be bounded away from 0 (cond2_K ≈ {:.3e}, \
+             bracket [{:.3e}, ∞], route {})",
+            k.cond2,
+            k.cond2_lo,
+            k.route.name()
+        ));
     }
     if let Some(c) = m.cond2_system {
         if c.cond2 * f64::EPSILON > DIGITS_LOST_THRESHOLD {

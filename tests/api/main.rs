@@ -6,6 +6,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod cond_scaling;
 mod cond_starts;
 mod condensed_delta;
 mod constraint_rows;
