@@ -207,13 +207,12 @@ pub(crate) fn cond_of_system(
                     conditioning::saddle::cond2_saddle_rows(&k, &rows, schur, reuse.starts)
                 }
             };
-            match report {
-                Ok(r) => return Ok(Some(r)),
-                // Not its structure (repeated DOFs, no active constraint, dependent rows,
-                // sizes past its limits), K_FF / K + ρDDᵀ not positive definite, or a
-                // numerical failure of its Lanczos runs: the generic route decides below
-                // (dense up to its size limit), never a refusal of a valid matrix.
-                Err(_) => {}
+            // Where it fails — not its structure (repeated DOFs, no active constraint,
+            // dependent rows, sizes past its limits), K_FF / K + ρDDᵀ not positive definite,
+            // or a numerical failure of its Lanczos runs — the generic route decides below
+            // (dense up to its size limit), never a refusal of a valid matrix.
+            if let Ok(r) = report {
+                return Ok(Some(r));
             }
         }
     }

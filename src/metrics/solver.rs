@@ -233,6 +233,15 @@ pub struct Summary {
     pub minres_iters_to_err: Option<usize>,
     /// Whether that run reached the target.
     pub minres_iters_to_err_converged: Option<bool>,
+    /// Scalar smoothed-aggregation AMG-CG iterations to the error target (penalties).
+    pub pcg_iters_amg_scalar_to_err: Option<usize>,
+    /// Whether that run reached the target.
+    pub pcg_iters_amg_scalar_to_err_converged: Option<bool>,
+    /// Nodal AMG-CG iterations to the error target (penalties, where the scene gives a
+    /// near-null space).
+    pub pcg_iters_amg_nodal_to_err: Option<usize>,
+    /// Whether that run reached the target.
+    pub pcg_iters_amg_nodal_to_err_converged: Option<bool>,
     /// Jacobi-CG iterations to the residual test.
     pub pcg_iters_jacobi: Option<usize>,
     /// IC(0)-CG iterations to the residual test.
@@ -251,7 +260,14 @@ impl SolverMetrics {
     /// The [`Summary`] columns.
     pub fn summary(&self) -> Summary {
         let (j, i) = (self.pcg_jacobi.residual(), self.pcg_ic0.residual());
-        let to_err = [&self.pcg_jacobi, &self.pcg_ic0, &self.minres].map(|p| p.to_err());
+        let to_err = [
+            &self.pcg_jacobi,
+            &self.pcg_ic0,
+            &self.minres,
+            &self.pcg_amg_scalar,
+            &self.pcg_amg_nodal,
+        ]
+        .map(|p| p.to_err());
         Summary {
             cond2_jacobi: self.cond2_jacobi.map(|r| r.cond2),
             pcg_iters_jacobi_to_err: to_err[0].map(|r| r.iterations),
@@ -260,6 +276,10 @@ impl SolverMetrics {
             pcg_iters_ic0_to_err_converged: to_err[1].map(|r| r.converged),
             minres_iters_to_err: to_err[2].map(|r| r.iterations),
             minres_iters_to_err_converged: to_err[2].map(|r| r.converged),
+            pcg_iters_amg_scalar_to_err: to_err[3].map(|r| r.iterations),
+            pcg_iters_amg_scalar_to_err_converged: to_err[3].map(|r| r.converged),
+            pcg_iters_amg_nodal_to_err: to_err[4].map(|r| r.iterations),
+            pcg_iters_amg_nodal_to_err_converged: to_err[4].map(|r| r.converged),
             pcg_iters_jacobi: j.map(|r| r.iterations),
             pcg_iters_ic0: i.map(|r| r.iterations),
             pcg_converged: j.zip(i).map(|(a, b)| a.converged && b.converged),

@@ -251,6 +251,10 @@ fn solver_metrics_are_opt_in_and_change_no_other_column() {
             pcg_iters_ic0_to_err_converged: None,
             minres_iters_to_err: None,
             minres_iters_to_err_converged: None,
+            pcg_iters_amg_scalar_to_err: None,
+            pcg_iters_amg_scalar_to_err_converged: None,
+            pcg_iters_amg_nodal_to_err: None,
+            pcg_iters_amg_nodal_to_err_converged: None,
             forward_err_u: None,
             forward_err_force: None,
             warnings: x.warnings.clone(),
@@ -280,7 +284,9 @@ fn solver_metrics_are_opt_in_and_change_no_other_column() {
                 y.pcg_iters_jacobi.is_some()
                     && y.pcg_iters_ic0.is_some()
                     && y.pcg_iters_jacobi_to_err.is_some()
-                    && y.pcg_iters_ic0_to_err_converged.is_some(),
+                    && y.pcg_iters_ic0_to_err_converged.is_some()
+                    && y.pcg_iters_amg_scalar_to_err.is_some()
+                    && y.pcg_iters_amg_scalar_to_err_converged.is_some(),
                 "{} {}",
                 y.scene,
                 y.method

@@ -31,7 +31,9 @@
 //!   is looser than the contract),
 //! - what that system costs a solver ([`crate::metrics::solver`]): `cond2_jacobi`, the
 //!   Krylov counts to the fixed error of u `pcg_iters_jacobi_to_err`, `pcg_iters_ic0_to_err`,
-//!   `minres_iters_to_err` (each with its `*_converged`), the residual-stopped counts
+//!   `pcg_iters_amg_scalar_to_err`, `pcg_iters_amg_nodal_to_err` (smoothed-aggregation AMG,
+//!   scalar and with the rigid-body modes), `minres_iters_to_err` (each with its
+//!   `*_converged`), the residual-stopped counts
 //!   `pcg_iters_jacobi`, `pcg_iters_ic0`, `pcg_converged`, `minres_iters`, `forward_err_u`,
 //!   `forward_err_force`,
 //! - `iterations` (the rule's own outer iterations), `force_solves`, `force_mismatch`, and for
@@ -383,6 +385,10 @@ fn base_row(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> BenchRow {
         pcg_iters_ic0_to_err_converged: None,
         minres_iters_to_err: None,
         minres_iters_to_err_converged: None,
+        pcg_iters_amg_scalar_to_err: None,
+        pcg_iters_amg_scalar_to_err_converged: None,
+        pcg_iters_amg_nodal_to_err: None,
+        pcg_iters_amg_nodal_to_err_converged: None,
         forward_err_u: None,
         forward_err_force: None,
         converged: false,

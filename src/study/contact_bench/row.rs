@@ -141,6 +141,20 @@ pub struct BenchRow {
     /// Whether that run reached the error target.
     #[serde(default)]
     pub minres_iters_to_err_converged: Option<bool>,
+    /// CG iterations with scalar smoothed-aggregation AMG (B = ones) to the same error of u
+    /// (penalties).
+    #[serde(default)]
+    pub pcg_iters_amg_scalar_to_err: Option<usize>,
+    /// Whether that run reached the error target.
+    #[serde(default)]
+    pub pcg_iters_amg_scalar_to_err_converged: Option<bool>,
+    /// CG iterations with nodal AMG (the model's rigid-body modes, block size 2) to the same
+    /// error of u (penalties).
+    #[serde(default)]
+    pub pcg_iters_amg_nodal_to_err: Option<usize>,
+    /// Whether that run reached the error target.
+    #[serde(default)]
+    pub pcg_iters_amg_nodal_to_err_converged: Option<bool>,
     /// Relative error of the plain direct solve's u against its double-double refinement.
     #[serde(default)]
     pub forward_err_u: Option<f64>,
@@ -237,6 +251,10 @@ impl BenchRow {
         self.pcg_iters_ic0_to_err_converged = c.pcg_iters_ic0_to_err_converged;
         self.minres_iters_to_err = c.minres_iters_to_err;
         self.minres_iters_to_err_converged = c.minres_iters_to_err_converged;
+        self.pcg_iters_amg_scalar_to_err = c.pcg_iters_amg_scalar_to_err;
+        self.pcg_iters_amg_scalar_to_err_converged = c.pcg_iters_amg_scalar_to_err_converged;
+        self.pcg_iters_amg_nodal_to_err = c.pcg_iters_amg_nodal_to_err;
+        self.pcg_iters_amg_nodal_to_err_converged = c.pcg_iters_amg_nodal_to_err_converged;
         self.forward_err_u = c.forward_err_u;
         self.forward_err_force = c.forward_err_force;
     }

@@ -338,6 +338,10 @@ fn solver_columns(
             row.pcg_iters_ic0_to_err_converged = m.pcg_iters_ic0_to_err_converged;
             row.minres_iters_to_err = m.minres_iters_to_err;
             row.minres_iters_to_err_converged = m.minres_iters_to_err_converged;
+            row.pcg_iters_amg_scalar_to_err = m.pcg_iters_amg_scalar_to_err;
+            row.pcg_iters_amg_scalar_to_err_converged = m.pcg_iters_amg_scalar_to_err_converged;
+            row.pcg_iters_amg_nodal_to_err = m.pcg_iters_amg_nodal_to_err;
+            row.pcg_iters_amg_nodal_to_err_converged = m.pcg_iters_amg_nodal_to_err_converged;
             row.forward_err_u = m.forward_err_u;
             row.forward_err_force = m.forward_err_force;
             for note in c.unavailable {

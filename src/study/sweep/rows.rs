@@ -124,6 +124,16 @@ pub struct Row {
     pub minres_iters_to_err: Option<usize>,
     /// Whether that run reached the error target.
     pub minres_iters_to_err_converged: Option<bool>,
+    /// CG iterations with scalar smoothed-aggregation AMG (B = ones, one V-cycle per
+    /// application, [`crate::linalg::amg`]) to the same error of u (penalties).
+    pub pcg_iters_amg_scalar_to_err: Option<usize>,
+    /// Whether that run reached the error target.
+    pub pcg_iters_amg_scalar_to_err_converged: Option<bool>,
+    /// CG iterations with nodal AMG (the scene's near-null space and block size) to the same
+    /// error of u (penalties; empty where the scene gives no near-null space).
+    pub pcg_iters_amg_nodal_to_err: Option<usize>,
+    /// Whether that run reached the error target.
+    pub pcg_iters_amg_nodal_to_err_converged: Option<bool>,
     /// Relative error of the plain direct solve's u against its double-double refinement.
     pub forward_err_u: Option<f64>,
     /// The same for the contact forces.
@@ -135,7 +145,7 @@ pub struct Row {
 }
 
 /// Column names, in file order.
-pub const COLUMNS: [&str; 54] = [
+pub const COLUMNS: [&str; 58] = [
     "scene",
     "family",
     "n",
@@ -186,6 +196,10 @@ pub const COLUMNS: [&str; 54] = [
     "pcg_iters_ic0_to_err_converged",
     "minres_iters_to_err",
     "minres_iters_to_err_converged",
+    "pcg_iters_amg_scalar_to_err",
+    "pcg_iters_amg_scalar_to_err_converged",
+    "pcg_iters_amg_nodal_to_err",
+    "pcg_iters_amg_nodal_to_err_converged",
     "forward_err_u",
     "forward_err_force",
     "seconds_solver",
@@ -297,6 +311,10 @@ impl Row {
         c.text(flag(self.pcg_iters_ic0_to_err_converged))?;
         c.whole(self.minres_iters_to_err)?;
         c.text(flag(self.minres_iters_to_err_converged))?;
+        c.whole(self.pcg_iters_amg_scalar_to_err)?;
+        c.text(flag(self.pcg_iters_amg_scalar_to_err_converged))?;
+        c.whole(self.pcg_iters_amg_nodal_to_err)?;
+        c.text(flag(self.pcg_iters_amg_nodal_to_err_converged))?;
         c.float(self.forward_err_u)?;
         c.float(self.forward_err_force)?;
         c.float(self.seconds_solver)?;
@@ -516,6 +534,16 @@ fn parse_record(rec: &csv::StringRecord) -> std::result::Result<Row, String> {
         pcg_iters_ic0_to_err_converged: boolean(next(), "pcg_iters_ic0_to_err_converged")?,
         minres_iters_to_err: parse_opt(next())?,
         minres_iters_to_err_converged: boolean(next(), "minres_iters_to_err_converged")?,
+        pcg_iters_amg_scalar_to_err: parse_opt(next())?,
+        pcg_iters_amg_scalar_to_err_converged: boolean(
+            next(),
+            "pcg_iters_amg_scalar_to_err_converged",
+        )?,
+        pcg_iters_amg_nodal_to_err: parse_opt(next())?,
+        pcg_iters_amg_nodal_to_err_converged: boolean(
+            next(),
+            "pcg_iters_amg_nodal_to_err_converged",
+        )?,
         forward_err_u: fl(next())?,
         forward_err_force: fl(next())?,
         seconds_solver: fl(next())?,
@@ -600,6 +628,14 @@ mod tests {
                     .unwrap_or_default(),
                 wh(r.minres_iters_to_err),
                 r.minres_iters_to_err_converged
+                    .map(|c| c.to_string())
+                    .unwrap_or_default(),
+                wh(r.pcg_iters_amg_scalar_to_err),
+                r.pcg_iters_amg_scalar_to_err_converged
+                    .map(|c| c.to_string())
+                    .unwrap_or_default(),
+                wh(r.pcg_iters_amg_nodal_to_err),
+                r.pcg_iters_amg_nodal_to_err_converged
                     .map(|c| c.to_string())
                     .unwrap_or_default(),
                 fl(r.forward_err_u),
@@ -702,6 +738,10 @@ mod tests {
                     pcg_iters_ic0_to_err_converged: [Some(false), None, Some(true)][i % 3],
                     minres_iters_to_err: w(9),
                     minres_iters_to_err_converged: [Some(true), None, Some(false)][i % 3],
+                    pcg_iters_amg_scalar_to_err: w(10),
+                    pcg_iters_amg_scalar_to_err_converged: [None, Some(true), Some(false)][i % 3],
+                    pcg_iters_amg_nodal_to_err: w(11),
+                    pcg_iters_amg_nodal_to_err_converged: [Some(false), Some(true), None][i % 3],
                     forward_err_u: x(17),
                     forward_err_force: x(18),
                     seconds_solver: x(19),
@@ -748,14 +788,22 @@ mod tests {
                     a.pcg_iters_jacobi_to_err_converged,
                     a.pcg_iters_ic0_to_err_converged,
                     a.minres_iters_to_err,
-                    a.minres_iters_to_err_converged
+                    a.minres_iters_to_err_converged,
+                    a.pcg_iters_amg_scalar_to_err,
+                    a.pcg_iters_amg_scalar_to_err_converged,
+                    a.pcg_iters_amg_nodal_to_err,
+                    a.pcg_iters_amg_nodal_to_err_converged
                 ),
                 (
                     b.pcg_iters_jacobi_to_err,
                     b.pcg_iters_jacobi_to_err_converged,
                     b.pcg_iters_ic0_to_err_converged,
                     b.minres_iters_to_err,
-                    b.minres_iters_to_err_converged
+                    b.minres_iters_to_err_converged,
+                    b.pcg_iters_amg_scalar_to_err,
+                    b.pcg_iters_amg_scalar_to_err_converged,
+                    b.pcg_iters_amg_nodal_to_err,
+                    b.pcg_iters_amg_nodal_to_err_converged
                 )
             );
         }
