@@ -153,18 +153,24 @@ fn bad_options_exit_2_with_one_line() {
 #[test]
 fn two_pass_patch_case_runs_without_a_lagrange_reference() {
     let dir = tempfile::tempdir().unwrap();
-    let o = common::run_ok(
-        bin()
-            .args([
-                "--cases",
-                "patch-two-body-nts-2",
-                "--meshes",
-                "0.2",
-                "--quiet",
-            ])
-            .args(["--methods", "lagrange,constant,scaled", "--out"])
-            .arg(dir.path()),
-    );
+    let o = bin()
+        .args([
+            "--cases",
+            "patch-two-body-nts-2",
+            "--meshes",
+            "0.2",
+            "--quiet",
+        ])
+        .args(["--methods", "lagrange,constant,scaled", "--out"])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    // Lagrange failed on every mesh it ran on: said on stderr, exit status 4, the rows, the
+    // report and the figures written all the same.
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(4), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(err.contains("lagrange (1 of 1 rows"), "{err}");
     let read: Vec<std::collections::HashMap<String, String>> =
         csv::Reader::from_path(dir.path().join("rows.csv"))
             .unwrap()
@@ -195,6 +201,23 @@ fn two_pass_patch_case_runs_without_a_lagrange_reference() {
     let report = String::from_utf8_lossy(&o.stdout);
     assert!(report.contains("Lagrange failed"), "{report}");
     assert!(report.contains("no Lagrange reference"), "{report}");
+    // The rows per method: lagrange 0 solved, 1 failed; the penalties solved every knob.
+    let line = |m: &str| {
+        report
+            .lines()
+            .find(|l| l.starts_with(m) && l.split_whitespace().count() >= 4)
+            .map(|l| l.split_whitespace().take(4).collect::<Vec<_>>())
+    };
+    assert_eq!(
+        line("lagrange "),
+        Some(vec!["lagrange", "0", "1", "0"]),
+        "{report}"
+    );
+    assert_eq!(
+        line("constant "),
+        Some(vec!["constant", "7", "0", "0"]),
+        "{report}"
+    );
     let figures = dir.path().join("figures");
     assert!(figures.join("pressure_patch-two-body-nts-2.png").is_file());
     assert!(!figures

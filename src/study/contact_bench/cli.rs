@@ -165,8 +165,20 @@ impl Study for ContactBench {
         figures::drawings(summary)
     }
 
+    fn after_help() -> String {
+        "Exit status: 0 ok, 2 bad configuration or input, 3 a run outside its model, 4 a \
+         method failed on every mesh it ran on (rows and figures written; the report names \
+         its first error)."
+            .into()
+    }
+
     fn report(summary: &Summary) -> String {
         super::tables(summary)
+    }
+
+    /// Exit status 4 where a method failed on every mesh it ran on (skipped rows aside).
+    fn failure(summary: &Summary) -> Option<String> {
+        super::report::tally(summary).all_failed()
     }
 
     fn json(summary: &Summary) -> Result<String> {

@@ -1,18 +1,16 @@
-//! `contact_bench`: every contact rule judged against physics — Hertz contact (plane strain
-//! and axisymmetric), a rigid flat punch (`flat-punch`), the same punch turned onto a plane
-//! inclined by 15°, 30° and 45° (`inclined-15`, …: contact rows with two terms,
-//! [`crate::model::inclined`]; rows record `theta` and `discretization`) and the two-body
-//! patch test with mortar or one-pass node-to-segment rows (`patch-two-body-mortar`,
-//! `patch-two-body-nts-1`, [`crate::model::two_body`]: an upper block with a finer,
-//! non-matching mesh pressed on the a × a block; rows record `mesh_ratio`, `young2`,
-//! `poisson2`) — on graded Q4 meshes
-//! ([`crate::model::elasticity`]), with the analytic references of [`analytic`]. On request
-//! also `hertz-two-body`, `hertz-normals` and `patch-two-body-nts-2` (two-pass
-//! node-to-segment, whose rows are dependent: Lagrange refuses them, and its row says so;
-//! the case has no Lagrange reference, so its rows have `p_err_rel` against the exact
-//! pressure — the nodal pressures of both bodies' interface nodes — and no `err_penalty`,
-//! `err_discretization` or leaderboard entry; every rule starts its force control from the
-//! analytic squeeze, and the δ scale is that squeeze).
+//! `contact_bench`: every contact rule judged against physics — Hertz contact (plane strain and
+//! axisymmetric), a rigid flat punch (`flat-punch`), the same punch turned onto a plane inclined by
+//! 15°, 30° and 45° (`inclined-15`, …: contact rows with two terms, [`crate::model::inclined`];
+//! rows record `theta` and `discretization`) and the two-body patch test with mortar or one-pass
+//! node-to-segment rows (`patch-two-body-mortar`, `patch-two-body-nts-1`,
+//! [`crate::model::two_body`]: an upper block with a finer, non-matching mesh pressed on the a × a
+//! block; rows record `mesh_ratio`, `young2`, `poisson2`) — on graded Q4 meshes
+//! ([`crate::model::elasticity`]), with the analytic references of [`analytic`]. On request also
+//! `hertz-two-body`, `hertz-normals` and `patch-two-body-nts-2` (two-pass node-to-segment, whose
+//! rows are dependent: Lagrange refuses them, and its row says so; the case has no Lagrange
+//! reference, so its rows have `p_err_rel` against the exact pressure — the nodal pressures of both
+//! bodies' interface nodes — and no `err_penalty`, `err_discretization` or leaderboard entry; every
+//! rule starts its force control from the analytic squeeze, and the δ scale is that squeeze).
 //!
 //! Every solve is **force-controlled**: the lift w of the block's base is found (regula falsi
 //! in a bracket, [`solve_at_load`]) so that the rule's own solution carries the load P — rules
@@ -29,13 +27,10 @@
 //! - `cond2_system` of its final system matrix ([`crate::metrics`], to `cond_tol`), with
 //!   `cond2_bounds_proven` and `cond2_within_contract` (false at the default `cond_tol`, which
 //!   is looser than the contract),
-//! - what that system costs a solver ([`crate::metrics::solver`]): `cond2_jacobi`, the
-//!   Krylov counts to the fixed error of u `pcg_iters_jacobi_to_err`, `pcg_iters_ic0_to_err`,
-//!   `pcg_iters_amg_scalar_to_err`, `pcg_iters_amg_nodal_to_err` (smoothed-aggregation AMG,
-//!   scalar and with the rigid-body modes), `minres_iters_to_err` (each with its
-//!   `*_converged`), the residual-stopped counts
-//!   `pcg_iters_jacobi`, `pcg_iters_ic0`, `pcg_converged`, `minres_iters`, `forward_err_u`,
-//!   `forward_err_force`,
+//! - what that system costs a solver ([`crate::metrics::solver`]): `cond2_jacobi`, Krylov
+//!   counts to the fixed error of u (`pcg_iters_{jacobi,ic0,amg_scalar,amg_nodal}_to_err`,
+//!   `minres_iters_to_err`, each with `*_converged`), the residual-stopped counts and the
+//!   direct solve's `forward_err_u`, `forward_err_force` ([`BenchRow`]),
 //! - `iterations` (the rule's own outer iterations), `force_solves`, `force_mismatch`, and for
 //!   `barrier` its stiffness `kappa_initial`, `kappa_final`, `kappa_increases` and the rule
 //!   that chose it, `kappa_rule` (`ipc`: ipc-toolkit's, from the block's bounding box; the
@@ -44,10 +39,9 @@
 //! The barrier's κ is a second knob: [`kappa`] solves it at fixed κ across both adaptive
 //! rules' clamps (`kappa.csv`, figure `kappa_sensitivity`).
 //!
-//! Knobs: ε per unit contact length/area relative to E*/a (force/length³; the nodal penalty
-//! is ε·ω_c, ω_c the node's tributary weight), factors absolute, δ / d̂ / tolerances relative to the case's
-//! length scale ([`BenchConfig::length_scale`]: a for Hertz, the compression for the flat
-//! punch).
+//! Knobs: ε per unit contact length/area relative to E*/a (force/length³; the nodal penalty is
+//! ε·ω_c, ω_c the node's tributary weight), factors absolute, δ / d̂ / tolerances relative to the
+//! case's length scale ([`BenchConfig::length_scale`]: a for Hertz, the punch's compression).
 //!
 //! The **leaderboard** ([`leaderboard`]) answers "how much penalty is enough": per rule and
 //! mesh, the knob value with the smallest cond₂ among those whose penalty error is at most

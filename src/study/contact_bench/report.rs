@@ -1,10 +1,13 @@
 //! The benchmark's printed report: Lagrange per mesh against the analytic solution, the
-//! rates, then the leaderboard.
+//! rates, the leaderboard (one line per knob found; the entries without one grouped per case
+//! and reason), then the rows solved, failed and skipped per method.
 
 use super::figures::knob_label;
 use super::record::floor_of;
+use super::record::Leader;
 use super::{analytic::Case, Summary};
-use crate::study::text::{fmt_e, table};
+use crate::study::outcomes::Tally;
+use crate::study::text::{fmt_e, table, wrap};
 
 /// The printed report: Lagrange per mesh (a, p0, errors, rates), then the leaderboard.
 pub fn tables(s: &Summary) -> String {
@@ -78,25 +81,94 @@ pub fn tables(s: &Summary) -> String {
          (resolution: cond₂ step to the next softer knob tried; tie: within it of the mesh's best)\n",
     );
     out.push_str(&leader_table(s));
+    out.push_str(&misses(s));
+    out.push_str("\nRows per method\n");
+    out.push_str(&tally(s).text(90));
     out
 }
 
+/// The rows solved, failed and skipped per method ([`crate::study::outcomes`]): a row whose
+/// `error` starts with `skipped:` was not run, a row without a lift failed, any other solved
+/// (an error of its metrics aside).
+pub fn tally(s: &Summary) -> Tally {
+    let mut t = Tally::default();
+    for r in &s.rows {
+        if r.error.starts_with("skipped:") {
+            t.add(&r.method, &r.error);
+        } else if !r.solved() {
+            t.add(&r.method, &format!("error: {}", r.error));
+        } else {
+            t.add(&r.method, "");
+        }
+    }
+    t
+}
+
+/// Why a leaderboard entry has no knob, or `None` where it has one.
+fn miss_reason(l: &Leader) -> Option<&'static str> {
+    match (l.knob_rel, l.tried) {
+        (Some(_), _) => None,
+        (None, 0) => Some("no solve (see the rows)"),
+        (None, _) if l.err_discretization.is_nan() => Some("no Lagrange reference"),
+        (None, _) => Some("no knob within the margin"),
+    }
+}
+
+/// The leaderboard entries without a knob, one wrapped line per case and reason:
+/// `case: reason: rule (h = …, …), rule (h = …)`.
+fn misses(s: &Summary) -> String {
+    type Group = ((String, &'static str), Vec<(String, Vec<String>)>);
+    let mut groups: Vec<Group> = Vec::new();
+    for l in s.leaderboard.iter().filter(|l| l.rule != "lagrange") {
+        let Some(reason) = miss_reason(l) else {
+            continue;
+        };
+        let key = (l.case.clone(), reason);
+        let i = match groups.iter().position(|(k, _)| *k == key) {
+            Some(i) => i,
+            None => {
+                groups.push((key, Vec::new()));
+                groups.len() - 1
+            }
+        };
+        let rules = &mut groups[i].1;
+        let j = match rules.iter().position(|(r, _)| *r == l.rule) {
+            Some(j) => j,
+            None => {
+                rules.push((l.rule.clone(), Vec::new()));
+                rules.len() - 1
+            }
+        };
+        rules[j].1.push(fmt_e(l.h, 2));
+    }
+    let mut out = String::new();
+    for ((case, reason), rules) in groups {
+        let list: Vec<String> = rules
+            .iter()
+            .map(|(r, hs)| format!("{r} (h = {})", hs.join(", ")))
+            .collect();
+        out.push_str(&wrap(
+            &format!("{case}: {reason}: {}", list.join(", ")),
+            100,
+            4,
+        ));
+        out.push('\n');
+    }
+    out
+}
+
+/// The leaderboard entries with a knob (the others: [`misses`]).
 fn leader_table(s: &Summary) -> String {
     let rows: Vec<Vec<String>> = s
         .leaderboard
         .iter()
-        .filter(|l| l.rule != "lagrange")
+        .filter(|l| l.rule != "lagrange" && miss_reason(l).is_none())
         .map(|l| {
             vec![
                 l.case.clone(),
                 fmt_e(l.h, 2),
                 l.rule.clone(),
-                match (l.knob_rel, l.tried) {
-                    (Some(_), _) => knob_label(&l.knob, l.knob_rel),
-                    (None, 0) => "no solve (see rows)".into(),
-                    (None, _) if l.err_discretization.is_nan() => "no Lagrange reference".into(),
-                    (None, _) => "none within".into(),
-                },
+                knob_label(&l.knob, l.knob_rel),
                 l.cond2_system.map_or("—".into(), |c| fmt_e(c, 3)),
                 match (l.cond2_system, floor_of(s, &l.case, l.h)) {
                     (Some(c), Some(f)) if f.is_finite() => format!("{:.3}", c / f),
