@@ -341,6 +341,9 @@ fn entry<S: Study>(cli: &Cli<S::Flags>) -> Result<()> {
         } else {
             None
         };
+        if S::RESUMABLE {
+            resume_hint_on_interrupt(&out);
+        }
         let progress = Progress::new(S::PROGRESS, cli.quiet);
         let provenance = Provenance::new(S::NAME);
         let ctx = RunContext {
@@ -398,4 +401,31 @@ fn entry<S: Study>(cli: &Cli<S::Flags>) -> Result<()> {
         Some(msg) => Err(crate::Error::MethodFailed(msg)),
         None => Ok(()),
     }
+}
+
+/// Ctrl-C (SIGINT) during the run of a resumable study: one line on stderr saying
+/// where the finished part is kept and the command that finishes the run (the same command
+/// with `--resume`), then exit status 130. What a killed run leaves is what `--resume`
+/// expects (rows flushed per unit of work, a torn last line repaired).
+fn resume_hint_on_interrupt(out: &Path) {
+    let quote = |a: String| {
+        if !a.is_empty()
+            && a.chars()
+                .all(|c| c.is_ascii_alphanumeric() || "-_./=:,+@%".contains(c))
+        {
+            a
+        } else {
+            format!("'{}'", a.replace('\'', r"'\''"))
+        }
+    };
+    let mut args: Vec<String> = std::env::args().map(quote).collect();
+    if !args.iter().any(|a| a == "--resume") {
+        args.push("--resume".into());
+    }
+    let (cmd, out) = (args.join(" "), out.display().to_string());
+    // A second handler (a library caller's own) is kept: then no hint.
+    let _ = ctrlc::try_set_handler(move || {
+        eprintln!("\ninterrupted: what finished is kept in {out}; finish the run with: {cmd}");
+        std::process::exit(130);
+    });
 }

@@ -11,9 +11,10 @@
 //!   rayon task (`with_max_len(1)`): rayon's adaptive splitting would otherwise run a few
 //!   adjacent jobs as one sequential chunk that no idle thread can steal (the default run's
 //!   three `optimal` solves of one scene would then run one after the other).
-//! * Rows of a scene are written together and flushed, in scene order (a reorder buffer keeps
-//!   the order under rayon), so a killed run loses at most the scenes in flight and `--resume`
-//!   completes it without losing or duplicating rows.
+//! * Rows of a scene are written together and flushed as soon as it completes, its index
+//!   appended to `scenes_done.csv` (the order file); a complete run puts rows.csv in
+//!   scene order and removes that file. A killed run loses at most the scenes in flight and
+//!   `--resume` completes it without losing or duplicating rows.
 
 pub mod cli;
 mod config;
@@ -36,7 +37,7 @@ pub use plan::{load, parse_shard, plan, shard_range, LoadedScene, SceneSpec};
 
 use crate::error::{Error, Result};
 use crate::provenance::{remove_if_present, write_atomic, Provenance};
-use resume::{resume_point, solve_in_order, InOrder};
+use resume::{put_in_scene_order, resume_point, solve_as_completed, Completed, ORDER_FILE};
 use rows::Row;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -109,11 +110,17 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
     let config_json = serde_json::to_value(cfg).map_err(|e| Error::Numerical(e.to_string()))?;
     let per_scene = cfg.rows_per_scene();
 
-    // Resume: keep the complete scenes at the head of rows.csv; a fresh run writes its header
-    // beside the first scenes (`start` below).
+    // Resume: keep the complete scenes rows.csv holds; a fresh run writes its header beside
+    // the first scenes (`start` below).
     let resumed = resume_point(opts, &config_json, (k, n), per_scene)?;
-    let done = resumed.unwrap_or(0);
-    let todo = &specs[done.min(specs.len())..];
+    let kept = resumed.clone().unwrap_or_default();
+    let done = kept.done.len();
+    let todo: Vec<(usize, &SceneSpec)> = specs
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| !kept.done.contains(i))
+        .map(|(i, (_, spec))| (i, spec))
+        .collect();
 
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(opts.threads.unwrap_or(0))
@@ -154,19 +161,24 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
         if resumed.is_none() {
             remove_if_present(&rows_path)?;
             write_atomic(&rows_path, rows::header().as_bytes())?;
+            let order_path = opts.out.join(ORDER_FILE);
+            remove_if_present(&order_path)?;
+            write_atomic(&order_path, b"scene_index\n")?;
             remove_if_present(&manifest_path)?;
         }
         write_manifest(&manifest_path, &manifest)
     };
     let mut times = Timing::default();
-    let writer = InOrder::new(&rows_path, &mut times);
-    let outcome = solve_in_order(todo, cfg, opts, &pool, &bar, writer, start);
+    let writer = Completed::new(&rows_path, &mut times);
+    let outcome = solve_as_completed(&todo, cfg, opts, &pool, &bar, writer, start);
     bar.finish();
-    let rows_written = outcome?;
+    let (order, rows_written) = outcome?;
+    let order: Vec<usize> = kept.order.iter().chain(&order).copied().collect();
+    put_in_scene_order(&opts.out, &order, per_scene)?;
     let wall = t_start.elapsed().as_secs_f64();
     let summary = RunSummary {
         scenes: specs.len(),
-        resumed_scenes: done.min(specs.len()),
+        resumed_scenes: done,
         rows_written,
         wall_seconds: wall,
         rows_per_second: rows_written as f64 / wall.max(1e-9),
