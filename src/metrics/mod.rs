@@ -430,7 +430,8 @@ pub fn warnings(sol: &Solution, m: &Metrics) -> Vec<String> {
     w
 }
 
-/// Warnings derived from metrics: digits lost when `cond₂(system) · ε_mach > 1e-6`, and the
+/// Warnings derived from metrics: digits lost when `cond₂(system) · ε_mach > 1e-6`, a cond₂
+/// whose bracket is not proven (route and bracket named), a K that may be singular, and the
 /// metrics that could not be computed.
 pub fn precision_warnings(m: &Metrics) -> Vec<String> {
     let mut w = m.unavailable.clone();
@@ -445,6 +446,20 @@ pub fn precision_warnings(m: &Metrics) -> Vec<String> {
                 "{} (cond₂(K) found it indefinite: σ_min = {:e})",
                 crate::strategy::NOT_SPD_WARNING,
                 k.sigma_min
+            ));
+        }
+    }
+    // A bracket that is not proven (the saddle route's ends that rest on a failed Cholesky
+    // test): the value is an estimate, whatever the bracket's width says.
+    for (name, r) in [("K", m.cond2_k), ("the system matrix", m.cond2_system)] {
+        if let Some(r) = r.filter(|r| !r.bounds_proven && r.cond2.is_finite()) {
+            w.push(format!(
+                "cond2 of {name} ≈ {:.3e} is an estimate, not proven within the contract: route \
+                 {}, bracket [{:.3e}, {:.3e}] not proven (an end rests on a failed Cholesky test)",
+                r.cond2,
+                r.route.name(),
+                r.cond2_lo,
+                r.cond2_hi
             ));
         }
     }

@@ -105,3 +105,38 @@ fn a_metric_of_k_that_fails_does_not_end_the_solve() {
     );
     assert!(m.cond2_system.is_some(), "{:?}", m.unavailable);
 }
+
+/// A cond₂ whose bracket is not proven (the saddle route's ends resting on a failed Cholesky
+/// test) is said to be an estimate in the warnings, with its route and bracket; a proven one
+/// is not.
+#[test]
+fn an_unproven_bracket_is_said_out_loud() {
+    use penalty_lab::conditioning::CondRoute;
+    let report = |proven: bool| CondReport {
+        cond2: 9.187e12,
+        cond2_lo: 9.19e12 * (1.0 - 1e-13),
+        cond2_hi: 9.19e12,
+        bounds_proven: proven,
+        sigma_max: 1.0,
+        sigma_min: 1.0 / 9.187e12,
+        route: CondRoute::SparseSaddleInertia,
+        certificate: None,
+        log10_det: None,
+        asymmetry: None,
+    };
+    let warned = |proven: bool| {
+        let m = metrics::Metrics {
+            cond2_system: Some(report(proven)),
+            ..Default::default()
+        };
+        metrics::precision_warnings(&m)
+    };
+    let w = warned(false);
+    assert!(
+        w.iter().any(|x| x.contains("is an estimate")
+            && x.contains("sparse_saddle_inertia")
+            && x.contains("not proven")),
+        "{w:?}"
+    );
+    assert!(!warned(true).iter().any(|x| x.contains("is an estimate")));
+}
