@@ -449,29 +449,11 @@ pub fn precision_warnings(m: &Metrics) -> Vec<String> {
             ));
         }
     }
-    // A bracket that is not proven (the saddle route's ends that rest on a failed Cholesky
-    // test): the value is an estimate, whatever the bracket's width says.
+    // A bracket that is not proven: the value is an estimate, whatever its width says.
     for (name, r) in [("K", m.cond2_k), ("the system matrix", m.cond2_system)] {
-        if let Some(r) = r.filter(|r| !r.bounds_proven && r.cond2.is_finite()) {
-            w.push(format!(
-                "cond2 of {name} ≈ {:.3e} is an estimate, not proven within the contract: route \
-                 {}, bracket [{:.3e}, {:.3e}] not proven (an end rests on a failed Cholesky test)",
-                r.cond2,
-                r.route.name(),
-                r.cond2_lo,
-                r.cond2_hi
-            ));
-        }
+        w.extend(r.and_then(|r| r.unproven_caveat(name)));
     }
-    if let Some(k) = m.cond2_k.filter(|k| !k.cond2_hi.is_finite()) {
-        w.push(format!(
-            "K may be singular: σ_min(K) could not be bounded away from 0 (cond2_K ≈ {:.3e}, \
-             bracket [{:.3e}, ∞], route {})",
-            k.cond2,
-            k.cond2_lo,
-            k.route.name()
-        ));
-    }
+    w.extend(m.cond2_k.and_then(|k| k.singular_caveat("K")));
     if let Some(c) = m.cond2_system {
         if c.cond2 * f64::EPSILON > DIGITS_LOST_THRESHOLD {
             w.push(format!(

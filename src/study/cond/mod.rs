@@ -168,18 +168,10 @@ fn warnings(r: &CondReport, within: bool, cond_tol: Option<f64>) -> Vec<String> 
             "the matrix is singular to working precision (σ_min = {:e}): cond2 = ∞",
             r.sigma_min
         ));
-    } else if !r.cond2_hi.is_finite() {
-        w.push(format!(
-            "σ_min could not be bounded away from 0 (route {route}): the matrix may be \
-             singular; cond2_hi = ∞"
-        ));
+    } else {
+        w.extend(r.singular_caveat("the matrix"));
     }
-    if !r.bounds_proven {
-        w.push(format!(
-            "the bounds are not proven (route {route}: an end rests on a Cholesky test that \
-             failed); cond2 is an estimate"
-        ));
-    }
+    w.extend(r.unproven_caveat("the matrix"));
     if r.cond2.is_finite() && r.cond2_hi.is_finite() && !within {
         let tol = cond_tol.unwrap_or_else(|| CondReport::contract_tol(r.cond2_lo));
         let bound = r.error_bound();

@@ -37,7 +37,9 @@ pub use plan::{load, parse_shard, plan, shard_range, LoadedScene, SceneSpec};
 
 use crate::error::{Error, Result};
 use crate::provenance::{remove_if_present, write_atomic, Provenance};
-use resume::{put_in_scene_order, resume_point, solve_as_completed, Completed, ORDER_FILE};
+use resume::{
+    order_text, put_in_scene_order, resume_point, solve_as_completed, Completed, ORDER_FILE,
+};
 use rows::Row;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -113,7 +115,8 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
     // Resume: keep the complete scenes rows.csv holds; a fresh run writes its header beside
     // the first scenes (`start` below).
     let resumed = resume_point(opts, &config_json, (k, n), per_scene)?;
-    let kept = resumed.clone().unwrap_or_default();
+    let fresh = resumed.is_none();
+    let kept = resumed.unwrap_or_default();
     let done = kept.done.len();
     let todo: Vec<(usize, &SceneSpec)> = specs
         .iter()
@@ -158,12 +161,12 @@ pub fn run(cfg: &SweepConfig, opts: &RunOptions) -> Result<RunSummary> {
     // flushed, so a power loss in the seconds before the kernel writes them back can leave them
     // empty (`--resume` then refuses and the run starts over), as for a run into a new folder.
     let start = || -> Result<()> {
-        if resumed.is_none() {
+        if fresh {
             remove_if_present(&rows_path)?;
             write_atomic(&rows_path, rows::header().as_bytes())?;
             let order_path = opts.out.join(ORDER_FILE);
             remove_if_present(&order_path)?;
-            write_atomic(&order_path, b"scene_index\n")?;
+            write_atomic(&order_path, order_text(&[]).as_bytes())?;
             remove_if_present(&manifest_path)?;
         }
         write_manifest(&manifest_path, &manifest)

@@ -113,8 +113,8 @@ fn read_order(path: &Path) -> Result<Vec<usize>> {
         .collect()
 }
 
-/// The order file's text for `order`.
-fn order_text(order: &[usize]) -> String {
+/// The order file's text for `order` (`&[]`: the header a fresh run starts with).
+pub(super) fn order_text(order: &[usize]) -> String {
     let mut t = String::from(ORDER_HEADER);
     for i in order {
         t.push_str(&format!("{i}\n"));
