@@ -112,7 +112,7 @@
 //! 2. numerics, bottom up — `route` (the one storage / solve / cond₂ route policy), `system`,
 //!    `linalg`, `conditioning`;
 //! 3. core — `model`, `scene`; then `strategy`; then `metrics`, `plot`, `forming`,
-//!    `generate` (the seeded scene families, some calibrated by a Lagrange solve);
+//!    `friction`, `generate` (the seeded scene families, some calibrated by a Lagrange solve);
 //! 4. studies — `study::<binary>` for every binary, and the support modules `study::text`,
 //!    `study::forming_runs` that several studies share;
 //! 5. binaries (`experiments/`) — arguments → study → record → figures.
@@ -147,6 +147,7 @@ pub mod conditioning;
 pub mod dd;
 pub mod error;
 pub mod forming;
+pub mod friction;
 pub mod generate;
 pub mod linalg;
 pub mod metrics;

@@ -1,0 +1,262 @@
+//! The frictional solvers on the sliding block: the law at convergence, limits that have an
+//! independent answer (μ = 0: the frictionless Lagrange strategy; μ → ∞: a bonded bottom),
+//! penalties converging to the exact law, and bad input.
+
+use super::sliding_block::SlidingBlock;
+use super::*;
+
+/// A small block (quick in debug builds) with the default loading.
+fn block(mu: f64) -> SlidingBlock {
+    SlidingBlock {
+        nx: 8,
+        ny: 4,
+        mu,
+        ..SlidingBlock::default()
+    }
+}
+
+fn inf(v: &[f64]) -> f64 {
+    v.iter().fold(0.0f64, |a, x| a.max(x.abs()))
+}
+
+/// ‖a − b‖∞ / ‖b‖∞.
+fn rel(a: &[f64], b: &[f64]) -> f64 {
+    let d: Vec<f64> = a.iter().zip(b).map(|(x, y)| x - y).collect();
+    inf(&d) / inf(b)
+}
+
+/// The law's conditions on every increment of `sol`, to a tolerance relative to the forces.
+fn check_law(p: &FrictionProblem, sol: &FrictionSolution, tol: f64) {
+    let mut s_prev = vec![0.0; p.m()];
+    for (k, inc) in sol.increments.iter().enumerate() {
+        assert!(inc.converged, "increment {k}");
+        let fmax = inf(&inc.lam_n).max(f64::MIN_POSITIVE);
+        let r = p.residual(k, &inc.u, &inc.lam_n, &inc.lam_t);
+        // The penalties enter the residual's rounding as they enter the tangent's norm.
+        let pen = inf(&sol.eps_n).max(inf(&inc.eps_t));
+        let scale = (p.normal.k.inf_norm() + 2.0 * pen) * inf(&inc.u) + inf(&p.loads[k]);
+        assert!(
+            inf(&r) <= 1e3 * f64::EPSILON * scale,
+            "equilibrium, increment {k}"
+        );
+        for (c, sp) in s_prev.iter_mut().enumerate() {
+            let (ln, lt) = (inc.lam_n[c], inc.lam_t[c]);
+            assert!(ln >= 0.0, "λ_N ≥ 0 at {k}/{c}");
+            assert!(
+                lt.abs() <= p.mu * ln + tol * fmax,
+                "|λ_T| ≤ μλ_N at {k}/{c}"
+            );
+            let s = p.slip(c, &inc.u);
+            if inc.status[c] == ContactStatus::Slip {
+                assert!(
+                    (lt.abs() - p.mu * ln).abs() <= tol * fmax,
+                    "slip at the bound {k}/{c}"
+                );
+                // The slip opposes the friction force.
+                assert!((s - *sp) * lt <= 0.0, "slip direction at {k}/{c}");
+            }
+            *sp = s;
+        }
+    }
+}
+
+#[test]
+fn lagrange_slides_at_t_over_n_equal_to_mu_after_partial_slip() {
+    let case = block(0.2);
+    let p = case.problem().unwrap();
+    let sol = solve(&p, &FrictionMethod::Lagrange).unwrap();
+    assert!(sol.converged, "{:?}", sol.warnings);
+    // Lagrange's contacts sit exactly on the plane: the law to rounding.
+    check_law(&p, &sol, 1e-12);
+    let (onset, ratio) = sol.onset().expect("the block slides within the travel");
+    assert!(onset > 1, "partial slip comes first (onset at {onset})");
+    assert!((ratio - 0.2).abs() <= 1e-12 * 0.2, "T/N = {ratio}");
+    // Before the onset some contact sticks; the platen pushes to +x, friction acts to −x.
+    assert!(sol.increments[onset - 1]
+        .status
+        .contains(&ContactStatus::Stick));
+    let last = sol.increments.last().unwrap();
+    assert!(last.full_slip() && last.tangential_force() < 0.0);
+    // The press alone already sticks the middle and slips the edges (Poisson's expansion).
+    let press = &sol.increments[0].status;
+    assert_eq!(press[case.nx / 2], ContactStatus::Stick);
+    assert_eq!(press[0], ContactStatus::Slip);
+}
+
+#[test]
+fn without_friction_lagrange_is_the_frictionless_strategy() {
+    let p = block(0.0).problem().unwrap();
+    let sol = solve(&p, &FrictionMethod::Lagrange).unwrap();
+    for (k, inc) in sol.increments.iter().enumerate() {
+        let mut normal = p.normal.clone();
+        normal.q.clone_from(&p.loads[k]);
+        let reference =
+            crate::strategy::solve(&normal, crate::strategy::Method::lagrange()).unwrap();
+        assert!(rel(&inc.u, &reference.u) <= 1e-12, "increment {k}");
+        assert!(inf(&inc.lam_t) == 0.0);
+    }
+}
+
+#[test]
+fn with_a_huge_mu_the_pressed_block_is_bonded() {
+    let case = block(1e6);
+    let p = case.problem().unwrap();
+    let sol = solve(&p, &FrictionMethod::Lagrange).unwrap();
+    let press = &sol.increments[0];
+    assert!(press.status.iter().all(|s| *s == ContactStatus::Stick));
+    // The bonded block: the contacts' DOFs eliminated at 0, K's other rows solved directly.
+    let bottom: Vec<usize> = (0..p.m())
+        .flat_map(|c| [p.normal.constraints[c].terms[0].0, p.tangents[c][0].0])
+        .collect();
+    let free: Vec<usize> = (0..p.n()).filter(|d| !bottom.contains(d)).collect();
+    let kd = p.normal.k.to_dense();
+    let kff = faer::Mat::from_fn(free.len(), free.len(), |i, j| kd[(free[i], free[j])]);
+    let mut q = faer::Mat::from_fn(free.len(), 1, |i, _| p.loads[0][free[i]]);
+    faer::prelude::Solve::solve_in_place(&kff.partial_piv_lu(), q.as_mut());
+    let u_free: Vec<f64> = free.iter().map(|&d| press.u[d]).collect();
+    let reference: Vec<f64> = (0..free.len()).map(|i| q[(i, 0)]).collect();
+    assert!(rel(&u_free, &reference) <= 1e-12);
+    assert!(bottom
+        .iter()
+        .all(|&d| press.u[d].abs() <= 1e-14 * inf(&press.u)));
+}
+
+#[test]
+fn augmented_reaches_the_lagrange_solution_and_its_onset() {
+    let p = block(0.2).problem().unwrap();
+    let exact = solve(&p, &FrictionMethod::Lagrange).unwrap();
+    let tol = 1e-12;
+    let aug = FrictionMethod::Augmented {
+        eps_n: 10.0,
+        eps_t: 10.0,
+        tol,
+    };
+    let sol = solve(&p, &aug).unwrap();
+    assert!(sol.converged, "{:?}", sol.warnings);
+    check_law(&p, &sol, 1e-9);
+    assert_eq!(sol.onset().map(|o| o.0), exact.onset().map(|o| o.0));
+    let ratio = sol.onset().unwrap().1;
+    assert!((ratio - 0.2).abs() <= 1e-6 * 0.2);
+    for (a, e) in sol.increments.iter().zip(&exact.increments) {
+        // The multipliers stop moving by tol·ε: u within tol over the displacement scale.
+        assert!(
+            rel(&a.u, &e.u) <= 1e3 * tol / inf(&e.u),
+            "{}",
+            rel(&a.u, &e.u)
+        );
+        assert_eq!(a.status, e.status);
+    }
+}
+
+#[test]
+fn stiffer_penalties_approach_the_exact_friction_force_history() {
+    let p = block(0.2).problem().unwrap();
+    let exact = solve(&p, &FrictionMethod::Lagrange).unwrap();
+    let err = |eps: f64| {
+        let m = FrictionMethod::Penalty {
+            normal: NormalRule::Constant(eps),
+            tangent: TangentRule::Constant(eps),
+            law: Law::Coulomb,
+        };
+        let sol = solve(&p, &m).unwrap();
+        assert!(sol.converged, "ε = {eps}: {:?}", sol.warnings);
+        check_law(&p, &sol, 1e-12);
+        let t = |s: &FrictionSolution| -> Vec<f64> {
+            s.increments
+                .iter()
+                .map(Increment::tangential_force)
+                .collect()
+        };
+        rel(&t(&sol), &t(&exact))
+    };
+    let errs: Vec<f64> = [1e1, 1e3, 1e5].into_iter().map(err).collect();
+    assert!(errs[0] > 1e-3, "{errs:?}");
+    // Each hundredfold stiffer penalty cuts the error at least tenfold.
+    assert!(
+        errs[1] < errs[0] / 10.0 && errs[2] < errs[1] / 10.0,
+        "{errs:?}"
+    );
+}
+
+#[test]
+fn the_delta_rule_sticks_within_delta_and_slides_at_mu() {
+    let p = block(0.2).problem().unwrap();
+    let delta_t = 1e-4;
+    let m = FrictionMethod::Penalty {
+        normal: NormalRule::Constant(1e4),
+        tangent: TangentRule::Delta(delta_t),
+        law: Law::Coulomb,
+    };
+    let sol = solve(&p, &m).unwrap();
+    assert!(sol.converged, "{:?}", sol.warnings);
+    check_law(&p, &sol, 1e-12);
+    for inc in &sol.increments {
+        for c in 0..p.m() {
+            if inc.status[c] != ContactStatus::Open {
+                // ε_T = μλ_N/δ_T: at the bound the elastic slip |λ_T|/ε_T is δ_T.
+                let elastic = inc.lam_t[c].abs() / inc.eps_t[c];
+                assert!(elastic <= delta_t * (1.0 + 1e-12));
+                assert!(
+                    (inc.eps_t[c] - 0.2 * inc.lam_n[c] / delta_t).abs() <= 1e-12 * inc.eps_t[c]
+                );
+            }
+        }
+    }
+    let ratio = sol.onset().unwrap().1;
+    assert!((ratio - 0.2).abs() <= 1e-12 * 0.2);
+}
+
+#[test]
+fn coulomb_slip_makes_the_tangent_unsymmetric_and_tresca_keeps_it_symmetric() {
+    let p = block(0.2).problem().unwrap();
+    let run = |law| {
+        let m = FrictionMethod::Penalty {
+            normal: NormalRule::Constant(1e3),
+            tangent: TangentRule::Area(10.0),
+            law,
+        };
+        solve(&p, &m).unwrap()
+    };
+    let coulomb = run(Law::Coulomb);
+    assert!(coulomb.increments.last().unwrap().full_slip());
+    assert!(!coulomb.tangent.as_ref().unwrap().is_symmetric());
+    let tresca = run(Law::Tresca);
+    assert!(tresca.converged);
+    assert!(tresca.tangent.as_ref().unwrap().is_symmetric());
+}
+
+#[test]
+fn the_normal_rule_of_a_frictionless_strategy_is_held() {
+    let p = block(0.2).problem().unwrap();
+    let method = crate::strategy::Method::constant(123.0);
+    let eps = normal_penalties(&p, &NormalRule::Rule(method)).unwrap();
+    assert!(eps.iter().all(|&e| e == 123.0));
+    let lagrange = NormalRule::Rule(crate::strategy::Method::lagrange());
+    assert!(normal_penalties(&p, &lagrange).is_err());
+}
+
+#[test]
+fn bad_input_is_refused_with_its_name() {
+    for mu in [-0.1, f64::NAN, f64::INFINITY] {
+        let e = block(mu).problem().unwrap_err().to_string();
+        assert!(e.contains('μ'), "{e}");
+    }
+    let p = block(0.2).problem().unwrap();
+    let bad = FrictionMethod::Penalty {
+        normal: NormalRule::Constant(1.0),
+        tangent: TangentRule::Delta(0.0),
+        law: Law::Coulomb,
+    };
+    assert!(solve(&p, &bad).unwrap_err().to_string().contains("δ_T"));
+    let mut short = p.loads.clone();
+    short[1].pop();
+    let e = FrictionProblem::new(
+        p.normal.k.clone(),
+        short,
+        vec![(vec![(0, 1.0)], 0.0)],
+        vec![vec![(1, 1.0)]],
+        0.2,
+        (vec![1.0], vec![1.0], 1.0),
+    );
+    assert!(e.unwrap_err().to_string().contains("increment 1"));
+}
