@@ -7,7 +7,7 @@
 //! One module per binary in `experiments/`, named like it (`tests/architecture.rs` checks
 //! it): [`sweep`], [`solve`], [`cond`], [`paper_beam`], [`deep_drawing`], [`stretch_test`],
 //! [`runtime_vs_error`], [`stress`], [`cond_cost`], [`cond_accuracy`], [`engine_scale`],
-//! [`contact_bench`], [`solver_cost`], [`penalty_scaling`]. Each has `mod.rs` (configuration, record and run), `figures.rs` and
+//! [`contact_bench`], [`solver_cost`], [`penalty_scaling`], [`friction_bench`]. Each has `mod.rs` (configuration, record and run), `figures.rs` and
 //! `report.rs` (`solve` and `cond` draw nothing and have no `figures.rs`; [`deep_drawing`] and
 //! [`stretch_test`] declare an experiment whose files are [`forming_runs`]'s; `stretch_test`
 //! adds its own `--json` summary in `report.rs`). No study
@@ -25,6 +25,7 @@ pub mod contact_bench;
 pub mod deep_drawing;
 pub mod engine_scale;
 pub mod forming_runs;
+pub mod friction_bench;
 pub mod grid;
 pub mod hertz;
 pub mod out_guard;

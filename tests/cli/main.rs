@@ -11,6 +11,7 @@ mod cond_cli;
 mod cond_cost_cli;
 mod contact_bench_cli;
 mod forming_cli;
+mod friction_bench_cli;
 mod out_guard;
 mod paper_beam_cli;
 mod penalty_scaling_cli;

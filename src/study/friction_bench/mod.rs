@@ -1,0 +1,407 @@
+//! `friction_bench`: the tangential penalty ε_T judged against the exact Coulomb law, on the
+//! `sliding-block` case ([`crate::friction::sliding_block`]).
+//!
+//! For each μ the block is pressed, then pushed along the plane in `steps` increments by
+//! every method: `lagrange` (the reference), `augmented` (ε_N = ε_T = 10·G, tolerance
+//! 10⁻¹²·press·H), and the penalty rules with a constant normal penalty `ε_N = eps_n·G` and
+//! a tangential rule of [`crate::friction::TangentRule`] over a ladder of knobs:
+//! `constant` (ε_T = f·G), `area` (ε_T,c = r·G·w_c/h_c) and `delta` (δ_T = f·press·H, the
+//! allowed elastic slip). One row per (μ, method, knob) ([`FrictionRow`]):
+//!
+//! - `onset_ratio` = |T|/N at the first increment in full slip — μ for any converged method
+//!   (the law in full slip), so its error tests the solver; `onset_travel`, the platen's
+//!   travel there, resolved to one increment (`travel/steps`), and `onset_travel_err`, its
+//!   difference from Lagrange's over Lagrange's (a soft ε_T lets the platen travel further
+//!   before the block slides);
+//! - `history_err` = max over increments of |T − T_lagrange| over μ·N_lagrange: the friction
+//!   force's error along the whole loading;
+//! - `increments`, `newton_iters` (all linear solves' Newton steps, lagged passes included),
+//!   `factorizations`, `converged` (every increment; a row that did not converge is kept and
+//!   says so);
+//! - cond₂ of the final increment's linear system (penalties: the N×N consistent tangent,
+//!   unsymmetric under Coulomb's law; Lagrange: its (N+2m)-square active-set system) with
+//!   its bracket (`cond2_system`, `cond2_lo`, `cond2_hi`, `cond2_bounds_proven`,
+//!   `cond_route`): [`crate::conditioning::cond2`], the dense SVD route for an unsymmetric
+//!   matrix.
+//!
+//! The columns `q_over_mup`, `c_num`, `c_exact` and `shear_err_l2` belong to the
+//! Cattaneo–Mindlin case and stay empty here.
+
+mod figures;
+mod report;
+
+pub use figures::figures;
+pub use report::table;
+
+use crate::conditioning;
+use crate::error::{Error, Result};
+use crate::friction::sliding_block::{SlidingBlock, HEIGHT, MATERIAL};
+use crate::friction::{self, FrictionMethod, FrictionSolution, Law, NormalRule, TangentRule};
+use crate::progress::Progress;
+use crate::study::shape::{Drawing, RunContext, Study};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// The cases `--cases` knows.
+pub const CASES: &[&str] = &["sliding-block"];
+
+/// `friction_bench`'s flags.
+#[derive(clap::Args, Debug)]
+pub struct Flags {
+    /// Frictional cases (only `sliding-block` so far).
+    #[arg(long, value_delimiter = ',', default_value = "sliding-block")]
+    cases: Vec<String>,
+    /// Coulomb friction coefficients μ (≥ 0).
+    #[arg(long, value_delimiter = ',', default_value = "0.1,0.2,0.3")]
+    mu: Vec<f64>,
+    /// Elements of the block, `NXxNY`.
+    #[arg(long, default_value = "16x8")]
+    mesh: String,
+    /// Push increments after the press.
+    #[arg(long, default_value_t = 40)]
+    steps: usize,
+    /// ε_N over G (the normal penalty of every penalty row).
+    #[arg(long, default_value_t = 1e4)]
+    eps_n: f64,
+    /// Tangential penalty factors f: `constant` rows ε_T = f·G, `area` rows r = f.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "0.1,1,10,100,1000,10000,100000,1000000"
+    )]
+    eps_t: Vec<f64>,
+    /// Allowed elastic slips δ_T over the platen's depth press·H (`delta` rows).
+    #[arg(long, value_delimiter = ',', default_value = "1,0.1,0.01,0.001")]
+    delta_t: Vec<f64>,
+    /// The friction law of the penalty rows: `coulomb` (unsymmetric tangent) or `tresca`.
+    #[arg(long, default_value = "coulomb")]
+    law: String,
+}
+
+/// The validated configuration.
+#[derive(Clone, Debug, Serialize)]
+pub struct BenchConfig {
+    /// Cases.
+    pub cases: Vec<String>,
+    /// μ values.
+    pub mu: Vec<f64>,
+    /// (nx, ny).
+    pub mesh: (usize, usize),
+    /// Push increments.
+    pub steps: usize,
+    /// ε_N/G.
+    pub eps_n: f64,
+    /// ε_T factors.
+    pub eps_t: Vec<f64>,
+    /// δ_T/(press·H).
+    pub delta_t: Vec<f64>,
+    /// Coulomb or Tresca.
+    pub law: Law,
+}
+
+/// One row (module doc).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct FrictionRow {
+    /// Case name.
+    pub case: String,
+    /// μ.
+    pub mu: f64,
+    /// `lagrange`, `augmented`, `penalty`.
+    pub method: String,
+    /// The tangential rule: `exact`, `augmented`, `constant`, `area`, `delta`.
+    pub tangent_rule: String,
+    /// `coulomb` or `tresca`.
+    pub law: String,
+    /// ε_N (force/length; empty for Lagrange).
+    pub eps_n: Option<f64>,
+    /// ε_T (constant and augmented rows; the area rule's at an interior contact).
+    pub eps_t: Option<f64>,
+    /// δ_T (length).
+    pub delta_t: Option<f64>,
+    /// Q/(μP) (Cattaneo–Mindlin).
+    pub q_over_mup: Option<f64>,
+    /// Numerical stick half-width (Cattaneo–Mindlin).
+    pub c_num: Option<f64>,
+    /// Analytic stick half-width (Cattaneo–Mindlin).
+    pub c_exact: Option<f64>,
+    /// Shear traction's L2 error (Cattaneo–Mindlin).
+    pub shear_err_l2: Option<f64>,
+    /// |T|/N at the first full-slip increment.
+    pub onset_ratio: Option<f64>,
+    /// The platen's travel there.
+    pub onset_travel: Option<f64>,
+    /// (onset_travel − Lagrange's)/Lagrange's.
+    pub onset_travel_err: Option<f64>,
+    /// max |T − T_lagrange| / (μ N_lagrange).
+    pub history_err: Option<f64>,
+    /// Load increments.
+    pub increments: usize,
+    /// Newton steps, all increments.
+    pub newton_iters: usize,
+    /// Linear solves.
+    pub factorizations: usize,
+    /// Every increment converged.
+    pub converged: bool,
+    /// cond₂ of the final linear system.
+    pub cond2_system: Option<f64>,
+    /// Its lower bound.
+    pub cond2_lo: Option<f64>,
+    /// Its upper bound.
+    pub cond2_hi: Option<f64>,
+    /// Whether the bracket is proven.
+    pub cond2_bounds_proven: Option<bool>,
+    /// The cond₂ route.
+    pub cond_route: Option<String>,
+    /// Warnings, `; `-joined.
+    pub warnings: String,
+}
+
+/// `"16x8"` → (16, 8).
+fn mesh(text: &str) -> Result<(usize, usize)> {
+    let bad = || Error::out_of_range("--mesh", text, "NXxNY with NX ≥ 2, NY ≥ 1 (e.g. 16x8)");
+    let (a, b) = text.split_once('x').ok_or_else(bad)?;
+    let (nx, ny) = (a.parse().map_err(|_| bad())?, b.parse().map_err(|_| bad())?);
+    if nx < 2 || ny < 1 {
+        return Err(bad());
+    }
+    Ok((nx, ny))
+}
+
+impl BenchConfig {
+    /// The configuration of `flags`, each value checked.
+    pub fn from_flags(f: &Flags) -> Result<BenchConfig> {
+        for c in &f.cases {
+            if !CASES.contains(&c.as_str()) {
+                return Err(Error::unknown("friction case", c, CASES, ""));
+            }
+        }
+        for &mu in &f.mu {
+            if !(mu.is_finite() && mu >= 0.0) {
+                return Err(Error::out_of_range("--mu", mu, "finite and ≥ 0"));
+            }
+        }
+        for &v in f.eps_t.iter().chain(&f.delta_t) {
+            Error::positive("--eps-t / --delta-t entry", v)?;
+        }
+        if f.steps == 0 {
+            return Err(Error::out_of_range("--steps", 0, "≥ 1"));
+        }
+        let law = match f.law.as_str() {
+            "coulomb" => Law::Coulomb,
+            "tresca" => Law::Tresca,
+            other => return Err(Error::unknown("--law", other, &["coulomb", "tresca"], "")),
+        };
+        Ok(BenchConfig {
+            cases: f.cases.clone(),
+            mu: f.mu.clone(),
+            mesh: mesh(&f.mesh)?,
+            steps: f.steps,
+            eps_n: Error::positive("--eps-n", f.eps_n)?,
+            eps_t: f.eps_t.clone(),
+            delta_t: f.delta_t.clone(),
+            law,
+        })
+    }
+
+    fn block(&self, mu: f64) -> SlidingBlock {
+        SlidingBlock {
+            nx: self.mesh.0,
+            ny: self.mesh.1,
+            mu,
+            steps: self.steps,
+            ..SlidingBlock::default()
+        }
+    }
+
+    /// Every (method, rule name, ε_T, δ_T) of one μ, Lagrange first.
+    fn methods(&self, block: &SlidingBlock) -> Vec<(FrictionMethod, &'static str)> {
+        let g = shear_modulus();
+        let depth = block.press * HEIGHT;
+        let mut m = vec![
+            (FrictionMethod::Lagrange, "exact"),
+            (
+                FrictionMethod::Augmented {
+                    eps_n: 10.0 * g,
+                    eps_t: 10.0 * g,
+                    tol: 1e-12 * depth,
+                },
+                "augmented",
+            ),
+        ];
+        let pen = |tangent| FrictionMethod::Penalty {
+            normal: NormalRule::Constant(self.eps_n * g),
+            tangent,
+            law: self.law,
+        };
+        for &f in &self.eps_t {
+            m.push((pen(TangentRule::Constant(f * g)), "constant"));
+            m.push((pen(TangentRule::Area(f)), "area"));
+        }
+        for &d in &self.delta_t {
+            m.push((pen(TangentRule::Delta(d * depth)), "delta"));
+        }
+        m
+    }
+}
+
+/// The block's shear modulus G.
+fn shear_modulus() -> f64 {
+    MATERIAL.young / (2.0 * (1.0 + MATERIAL.poisson))
+}
+
+/// The row of one solution, `reference` Lagrange's of the same μ.
+fn row(
+    block: &SlidingBlock,
+    (method, rule): &(FrictionMethod, &'static str),
+    sol: &FrictionSolution,
+    reference: Option<&FrictionSolution>,
+    p: &friction::FrictionProblem,
+) -> FrictionRow {
+    let onset = sol.onset();
+    let travel = onset.map(|(k, _)| block.travel_at(k));
+    let ref_travel = reference
+        .and_then(|r| r.onset())
+        .map(|(k, _)| block.travel_at(k));
+    let history_err = reference.map(|r| {
+        let nmax = r
+            .increments
+            .iter()
+            .map(|i| i.normal_force())
+            .fold(0.0, f64::max);
+        let d = sol
+            .increments
+            .iter()
+            .zip(&r.increments)
+            .map(|(a, b)| (a.tangential_force() - b.tangential_force()).abs())
+            .fold(0.0, f64::max);
+        d / (block.mu * nmax)
+    });
+    let cond = sol.tangent.as_ref().map(conditioning::cond2);
+    let mut warnings = sol.warnings.clone();
+    if let Some(Err(e)) = &cond {
+        warnings.push(format!("cond2 unavailable: {e}"));
+    }
+    let cond = cond.and_then(|c| c.ok());
+    let (eps_t, delta_t, eps_n) = match method {
+        FrictionMethod::Lagrange => (None, None, None),
+        FrictionMethod::Augmented { eps_n, eps_t, .. } => (Some(*eps_t), None, Some(*eps_n)),
+        FrictionMethod::Penalty { tangent, .. } => {
+            let en = sol.eps_n.first().copied();
+            match *tangent {
+                TangentRule::Constant(e) => (Some(e), None, en),
+                // The area rule's ε_T at an interior contact (the edges have half its area).
+                TangentRule::Area(r) => {
+                    let c = p.m() / 2;
+                    (
+                        Some(r * p.shear_modulus * p.areas[c] / p.layers[c]),
+                        None,
+                        en,
+                    )
+                }
+                TangentRule::Delta(d) => (None, Some(d), en),
+            }
+        }
+    };
+    let law = match method {
+        FrictionMethod::Penalty { law, .. } => *law,
+        _ => Law::Coulomb,
+    };
+    FrictionRow {
+        case: "sliding-block".into(),
+        mu: block.mu,
+        method: method.name().into(),
+        tangent_rule: (*rule).into(),
+        law: format!("{law:?}").to_lowercase(),
+        eps_n,
+        eps_t,
+        delta_t,
+        q_over_mup: None,
+        c_num: None,
+        c_exact: None,
+        shear_err_l2: None,
+        onset_ratio: onset.map(|o| o.1),
+        onset_travel: travel,
+        onset_travel_err: travel.zip(ref_travel).map(|(a, b)| (a - b) / b),
+        history_err,
+        increments: sol.increments.len(),
+        newton_iters: sol.newton_iters(),
+        factorizations: sol.factorizations,
+        converged: sol.converged,
+        cond2_system: cond.as_ref().map(|c| c.cond2),
+        cond2_lo: cond.as_ref().map(|c| c.cond2_lo),
+        cond2_hi: cond.as_ref().map(|c| c.cond2_hi),
+        cond2_bounds_proven: cond.as_ref().map(|c| c.bounds_proven),
+        cond_route: cond.as_ref().map(|c| c.route.name().to_string()),
+        warnings: warnings.join("; "),
+    }
+}
+
+/// Runs every (case, μ, method) of `cfg`, one progress step per row.
+pub fn run(cfg: &BenchConfig, progress: &Progress) -> Result<Vec<FrictionRow>> {
+    let per_mu = cfg.methods(&cfg.block(0.0)).len();
+    progress.set_total(cfg.mu.len() * per_mu);
+    let rows: Vec<Vec<FrictionRow>> = cfg
+        .mu
+        .par_iter()
+        .map(|&mu| {
+            let block = cfg.block(mu);
+            let p = block.problem()?;
+            let methods = cfg.methods(&block);
+            let reference = friction::solve(&p, &methods[0].0)?;
+            progress.step(&format!("friction_bench: μ = {mu}, lagrange"));
+            let mut rows = vec![row(&block, &methods[0], &reference, Some(&reference), &p)];
+            for m in &methods[1..] {
+                let sol = friction::solve(&p, &m.0)?;
+                rows.push(row(&block, m, &sol, Some(&reference), &p));
+                progress.step(&format!("friction_bench: μ = {mu}, {} {}", m.0.name(), m.1));
+            }
+            Ok(rows)
+        })
+        .collect::<Result<_>>()?;
+    Ok(rows.into_iter().flatten().collect())
+}
+
+/// The study as the shared entry runs it.
+pub struct FrictionBench;
+
+impl Study for FrictionBench {
+    const NAME: &'static str = "friction_bench";
+    const ABOUT: &'static str =
+        "Coulomb friction: every tangential penalty rule against the exact law (sliding block)";
+    const PROGRESS: &'static str = "friction_bench (runs)";
+    const DEFAULT_OUT: &'static str = "results/friction_bench";
+    type Flags = Flags;
+    type Config = BenchConfig;
+    type Record = Vec<FrictionRow>;
+
+    fn config(flags: &Flags) -> Result<BenchConfig> {
+        BenchConfig::from_flags(flags)
+    }
+
+    fn run(cfg: &BenchConfig, ctx: &RunContext) -> Result<Vec<FrictionRow>> {
+        run(cfg, ctx.progress)
+    }
+
+    fn save(
+        out: &Path,
+        cfg: &BenchConfig,
+        rows: &Vec<FrictionRow>,
+        provenance: &crate::provenance::Provenance,
+    ) -> Result<()> {
+        let fields = serde_json::json!({ "config": cfg, "max_newton": friction::MAX_NEWTON });
+        crate::study::shape::save_rows(out, provenance, fields, rows)
+    }
+
+    fn load(out: &Path) -> Result<Vec<FrictionRow>> {
+        crate::study::shape::load_rows(out, Self::NAME)
+    }
+
+    fn figures(rows: &Vec<FrictionRow>) -> Result<Vec<Drawing>> {
+        Ok(figures(rows))
+    }
+
+    fn report(rows: &Vec<FrictionRow>) -> String {
+        table(rows)
+    }
+}
