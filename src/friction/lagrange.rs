@@ -114,6 +114,8 @@ pub(super) fn solve(p: &FrictionProblem) -> Result<FrictionSolution> {
         tangent: None,
         warnings: Vec::new(),
     };
+    // Whether an increment had a contact in stick: its system is the one kept.
+    let mut stuck = false;
     for k in 0..p.loads.len() {
         let mut used: Option<Vec<Set>> = None;
         let mut iters = 0;
@@ -147,7 +149,11 @@ pub(super) fn solve(p: &FrictionProblem) -> Result<FrictionSolution> {
         for (c, s) in s_prev.iter_mut().enumerate() {
             *s = p.slip(c, &u);
         }
-        out.tangent = last;
+        let sticks = final_sets.contains(&Set::Stick);
+        if sticks || !stuck {
+            out.tangent = last;
+        }
+        stuck |= sticks;
         out.increments.push(Increment {
             status: final_sets
                 .iter()

@@ -350,8 +350,10 @@ pub struct FrictionSolution {
     pub factorizations: usize,
     /// Every increment converged.
     pub converged: bool,
-    /// The final increment's linear system (penalty: the n×n consistent tangent; lagrange:
-    /// the (n+2m)-square active-set system), not serialized.
+    /// The linear system of the last increment with a contact in stick (the final
+    /// increment's where none sticks; penalty: the N×N consistent tangent, where ε_T enters
+    /// only through sticking contacts; lagrange: the (N+2m)-square active-set system), not
+    /// serialized.
     #[serde(skip)]
     pub tangent: Option<Stiffness>,
     /// Non-convergence and assumption failures, one line each.

@@ -19,6 +19,13 @@
 //! leaves a residual of order ε_mach‖J‖‖u‖); then the plastic slip becomes
 //! `s_p = s + λ_T/ε_T` (s where ε_T = 0).
 //!
+//! With Tresca's bound b = μλ̂_N fixed, R is the gradient of the convex energy
+//! `½uᵀKu − qᵀu + Σ_c [max(0, λ̄_N − ε_N g)²/(2ε_N) + ψ_T]`, `ψ_T = H_b(λ̄_T − ε_T Δs)/ε_T`
+//! (Huber: `H_b(t) = t²/2` for |t| ≤ b, `b|t| − b²/2` beyond) or `b·δ_T·H_1(Δs/δ_T)` for the
+//! δ_T rule: Newton with an exact line search along its direction always converges. Under
+//! Coulomb's law no such energy exists: an increment tries the consistent Newton first and
+//! falls back on lagged Tresca passes (`increment` in the source).
+//!
 //! `augmented` repeats the Newton solve with λ̄ ← λ until no multiplier moves more than
 //! `tol·ε` (λ_N by `tol·ε_N`, λ_T by `tol·ε_T`), at most [`super::MAX_UZAWA`] times; at that
 //! fixed point the Coulomb law holds exactly.
@@ -92,7 +99,7 @@ fn forces(p: &FrictionProblem, u: &[f64], f: &Fixed) -> Forces {
             out.dn[c] = (-en, 0.0);
         }
         // Coulomb's bound acts in contact; Tresca's wherever it is > 0 (a given bound: the
-        // problem is then a convex minimization, see [`energy`]).
+        // problem is then a convex minimization, see the module doc).
         let (b, db) = match f.law {
             Law::Coulomb if sn > 0.0 => (p.mu * sn, (-p.mu * en, 0.0)),
             Law::Tresca if f.hat_n[c] > 0.0 => (p.mu * f.hat_n[c], (0.0, 0.0)),
@@ -208,7 +215,7 @@ fn newton(
 /// One increment under `f`'s law. Tresca: [`newton`]. Coulomb: the consistent Newton first
 /// ([`COULOMB_TRY`] steps); where it has not converged (a full step can cycle between stick
 /// and slip), lagged passes — Tresca's problem with the bound μλ̂_N, λ̂_N ← λ_N, a convex
-/// minimization each, until λ_N moves by at most 10⁻¹²·max λ_N (at most
+/// minimization each (see the module doc), until λ_N moves by at most 10⁻¹²·max λ_N (at most
 /// [`super::MAX_UZAWA`] passes) — then the consistent Newton again from there.
 fn increment(p: &FrictionProblem, k: usize, u: &mut [f64], f: &Fixed) -> Result<NewtonEnd> {
     let first = newton(
@@ -259,78 +266,57 @@ fn increment(p: &FrictionProblem, k: usize, u: &mut [f64], f: &Fixed) -> Result<
 /// Consistent-Newton steps a Coulomb increment tries before (and after) the lagged passes.
 const COULOMB_TRY: usize = 12;
 
-/// Steps `u ← u + α·du` with the first α of 1, ½, ¼, … (at most [`HALVINGS`] halvings) that
-/// passes Armijo's test (factor 10⁻⁴) on the merit of `f`'s law: the energy [`energy`] for
-/// Tresca (a convex minimization: the test always passes for a small enough α), ½‖R‖² for
-/// Coulomb (the semismooth Newton direction descends it where R is differentiable); the full
-/// step if no α passes.
+/// Steps `u ← u + α·du`. Tresca (a convex minimization, R the energy's gradient): the full
+/// step where the energy still descends at α = 1 (`R(u + du)ᵀdu ≤ 0`), else the minimizer
+/// along the line by bisection on the slope `R(u + α·du)ᵀdu`, which grows with α — a test on
+/// slopes, not on energy values, whose differences near the solution fall below their
+/// rounding. Coulomb: the first α of 1, ½, ¼, … (at most [`HALVINGS`]) that passes Armijo's
+/// test (factor 10⁻⁴) on ½‖R‖² (the semismooth Newton direction descends it where R is
+/// differentiable); the full step if none does.
 fn line_search(p: &FrictionProblem, k: usize, u: &mut [f64], du: &[f64], f: &Fixed, r: &[f64]) {
-    let merit = |v: &[f64]| match f.law {
-        Law::Tresca => energy(p, k, v, f),
+    let at = |alpha: f64| -> (Vec<f64>, Vec<f64>) {
+        let v: Vec<f64> = u.iter().zip(du).map(|(x, d)| x + alpha * d).collect();
+        let fr = forces(p, &v, f);
+        let r = p.residual(k, &v, &fr.lam_n, &fr.lam_t);
+        (v, r)
+    };
+    let slope = |r: &[f64]| r.iter().zip(du).map(|(a, b)| a * b).sum::<f64>();
+    let alpha = match f.law {
+        Law::Tresca => {
+            if slope(&at(1.0).1) <= 0.0 {
+                1.0
+            } else {
+                let (mut lo, mut hi) = (0.0, 1.0);
+                for _ in 0..HALVINGS {
+                    let mid = 0.5 * (lo + hi);
+                    if slope(&at(mid).1) <= 0.0 {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                hi
+            }
+        }
         Law::Coulomb => {
-            let fr = forces(p, v, f);
-            0.5 * norm2(&p.residual(k, v, &fr.lam_n, &fr.lam_t)).powi(2)
+            let m0 = norm2(r).powi(2);
+            let mut alpha = 1.0;
+            for _ in 0..=HALVINGS {
+                if norm2(&at(alpha).1).powi(2) <= (1.0 - 2e-4 * alpha) * m0 {
+                    break;
+                }
+                alpha /= 2.0;
+            }
+            if alpha < 0.5f64.powi(HALVINGS as i32) {
+                1.0
+            } else {
+                alpha
+            }
         }
     };
-    // The merit's slope along du: Rᵀdu for the energy (R is its gradient), −‖R‖² for ½‖R‖².
-    let slope = match f.law {
-        Law::Tresca => r.iter().zip(du).map(|(a, b)| a * b).sum::<f64>(),
-        Law::Coulomb => -norm2(r).powi(2),
-    };
-    let m0 = merit(u);
-    let mut alpha = 1.0;
-    let mut trial = u.to_vec();
-    for _ in 0..=HALVINGS {
-        for ((t, ui), d) in trial.iter_mut().zip(u.iter()).zip(du) {
-            *t = ui + alpha * d;
-        }
-        if merit(&trial) <= m0 + 1e-4 * alpha * slope {
-            u.copy_from_slice(&trial);
-            return;
-        }
-        alpha /= 2.0;
-    }
     for (ui, d) in u.iter_mut().zip(du) {
-        *ui += d;
+        *ui += alpha * d;
     }
-}
-
-/// Tresca's energy, whose gradient is R: `½uᵀKu − qᵀu + Σ_c [φ_N + ψ_T]` with
-/// `φ_N = max(0, λ̄_N − ε_N g)²/(2ε_N)` and, for the bound b = μλ̂_N > 0, the Huber function
-/// `ψ_T = H_b(λ̄_T − ε_T Δs)/ε_T` (`H_b(t) = t²/2` for |t| ≤ b, `b|t| − b²/2` beyond) or, for
-/// the δ_T rule, `ψ_T = b·δ_T·H_1(Δs/δ_T)`.
-fn energy(p: &FrictionProblem, k: usize, u: &[f64], f: &Fixed) -> f64 {
-    let ku = p.normal.k.matvec(u);
-    let mut e: f64 = u
-        .iter()
-        .zip(&ku)
-        .zip(&p.loads[k])
-        .map(|((x, kx), q)| 0.5 * x * kx - q * x)
-        .sum();
-    let huber = |t: f64, b: f64| {
-        if t.abs() <= b {
-            0.5 * t * t
-        } else {
-            b * t.abs() - 0.5 * b * b
-        }
-    };
-    for c in 0..p.m() {
-        let sn = f.shift_n[c] - f.eps_n[c] * p.gap(c, u);
-        if sn > 0.0 {
-            e += sn * sn / (2.0 * f.eps_n[c]);
-        }
-        let b = p.mu * f.hat_n[c];
-        if b <= 0.0 {
-            continue;
-        }
-        let ds = p.slip(c, u) - f.s_ref[c];
-        e += match f.tangential {
-            Tangential::Penalty(eps, _) => huber(f.shift_t[c] - eps[c] * ds, b) / eps[c],
-            Tangential::Augmented(eps, _) => huber(f.shift_t[c] - eps * ds, b) / eps,
-            Tangential::Delta(delta, _) => b * delta * huber(ds / delta, 1.0),
-        };
-    }
-    e
 }
 
 /// Halvings of the line search's step.
@@ -367,6 +353,8 @@ pub(super) fn solve(
         tangent: None,
         warnings: Vec::new(),
     };
+    // Whether an increment had a contact in stick: its system is the one kept.
+    let mut stuck = false;
     for k in 0..p.loads.len() {
         let mut fixed = Fixed {
             eps_n: &eps_n,
@@ -414,7 +402,11 @@ pub(super) fn solve(
         }
         lam_n.clone_from(&fr.lam_n);
         lam_t.clone_from(&fr.lam_t);
-        out.tangent = j;
+        let sticks = fr.status.contains(&ContactStatus::Stick);
+        if sticks || !stuck {
+            out.tangent = j;
+        }
+        stuck |= sticks;
         out.increments.push(Increment {
             u: u.clone(),
             lam_n: fr.lam_n,

@@ -15,7 +15,7 @@ pub fn figures(rows: &[FrictionRow]) -> Vec<Drawing> {
     )
     .log_log();
     let mut cond = Figure::new(
-        "Sliding block: cond₂ of the final tangent vs ε_T",
+        "Sliding block: cond₂ of the tangent before full slip vs ε_T",
         "ε_T (force/length)",
         "cond₂",
     )

@@ -18,8 +18,9 @@
 //! - `increments`, `newton_iters` (all linear solves' Newton steps, lagged passes included),
 //!   `factorizations`, `converged` (every increment; a row that did not converge is kept and
 //!   says so);
-//! - cond₂ of the final increment's linear system (penalties: the N×N consistent tangent,
-//!   unsymmetric under Coulomb's law; Lagrange: its (N+2m)-square active-set system) with
+//! - cond₂ of the linear system of the last increment with a contact in stick — the
+//!   increment before full slip, where ε_T still enters (penalties: the N×N consistent
+//!   tangent, unsymmetric under Coulomb's law; Lagrange: its (N+2m)-square active-set system) with
 //!   its bracket (`cond2_system`, `cond2_lo`, `cond2_hi`, `cond2_bounds_proven`,
 //!   `cond_route`): [`crate::conditioning::cond2`], the dense SVD route for an unsymmetric
 //!   matrix.
@@ -143,7 +144,7 @@ pub struct FrictionRow {
     pub factorizations: usize,
     /// Every increment converged.
     pub converged: bool,
-    /// cond₂ of the final linear system.
+    /// cond₂ of the last increment's system with a contact in stick.
     pub cond2_system: Option<f64>,
     /// Its lower bound.
     pub cond2_lo: Option<f64>,

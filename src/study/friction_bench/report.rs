@@ -34,7 +34,7 @@ pub fn table(rows: &[FrictionRow]) -> String {
                 opt(r.eps_t),
                 opt(r.delta_t),
                 r.onset_ratio
-                    .map_or("no full slip".into(), |x| format!("{x:.12}")),
+                    .map_or("no full slip".into(), |x| fmt_e((x - r.mu) / r.mu, 1)),
                 opt(r.onset_travel_err),
                 opt(r.history_err),
                 r.newton_iters.to_string(),
@@ -51,8 +51,8 @@ pub fn table(rows: &[FrictionRow]) -> String {
         "T/N − μ at onset: (|T|/N − μ)/μ at the first increment in full slip (0 to rounding \
          for a converged method); \
          onset travel err: relative to Lagrange, resolved to one increment; history err: \
-         max |T − T_lagrange|/(μN); cond₂: the final increment's system (penalty: the \
-         consistent tangent).\n",
+         max |T − T_lagrange|/(μN); cond₂: the system of the last increment with a contact \
+         in stick (penalty: the consistent tangent).\n",
     );
     t
 }
