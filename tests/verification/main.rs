@@ -26,3 +26,4 @@ mod solver_cost;
 mod sparse_cond;
 mod stress;
 mod two_body;
+mod verdict;
