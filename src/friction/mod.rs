@@ -34,9 +34,11 @@
 //! costs in error, Newton iterations and cond₂ of the tangent ([`FrictionSolution::tangent`],
 //! unsymmetric: [`crate::conditioning::cond2`] takes the dense SVD route).
 //!
-//! Models with friction: [`sliding_block`].
+//! Models with friction: [`sliding_block`] (an elastic block pressed and pushed along a rigid
+//! plane) and [`patch`] (the two-body patch test in full slip, mortar or node-to-segment rows).
 
 pub mod lagrange;
+pub mod patch;
 pub mod penalty;
 pub mod sliding_block;
 
@@ -223,6 +225,9 @@ pub(crate) fn dot(row: &[(usize, f64)], u: &[f64]) -> f64 {
 pub enum NormalRule {
     /// One ε_N for every contact (force/length).
     Constant(f64),
+    /// `ε_N,c = r·G·w_c/h_c`, as [`TangentRule::Area`]: a penalty per unit contact area (a
+    /// contact with half the area gets half the ε), which a uniform pressure loads uniformly.
+    Area(f64),
     /// A frictionless rule of [`crate::strategy`] (a penalty rule: `constant`, `scaled`,
     /// `spring`, `paper`, `condensed`, `optimal`) solved on the first increment's load; its
     /// ε_c is held through the increments, and a contact it left unpenalized takes the
@@ -379,6 +384,12 @@ impl FrictionSolution {
 pub fn normal_penalties(p: &FrictionProblem, rule: &NormalRule) -> Result<Vec<f64>> {
     let eps = match rule {
         NormalRule::Constant(e) => vec![Error::positive("normal penalty ε_N", *e)?; p.m()],
+        NormalRule::Area(r) => {
+            let r = Error::positive("normal penalty factor r", *r)?;
+            (0..p.m())
+                .map(|c| r * p.shear_modulus * p.areas[c] / p.layers[c])
+                .collect()
+        }
         NormalRule::Rule(method) => {
             let sol = crate::strategy::solve(&p.normal, *method)?;
             let top = sol.penalties.iter().cloned().fold(0.0f64, f64::max);

@@ -58,7 +58,7 @@ use crate::error::{Error, Result};
 use crate::system::{Constraint, ConstraintKind, NearNull, Problem};
 
 /// A constraint row's terms `(DOF, coefficient)`.
-pub(super) type Terms = Vec<(usize, f64)>;
+pub(crate) type Terms = Vec<(usize, f64)>;
 
 /// How the interface rows are formed (module doc).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -206,7 +206,7 @@ pub(super) fn hat(xs: &[f64], k: usize, x: f64) -> f64 {
 
 /// Node-to-segment terms of the node at `x` (DOF `own`) over the face `xs` with DOFs `other`:
 /// `v_own − (1 − ξ) v_a − ξ v_b`, zero coefficients dropped.
-pub(super) fn nts_terms(x: f64, own: usize, xs: &[f64], other: &[usize]) -> Terms {
+pub(crate) fn nts_terms(x: f64, own: usize, xs: &[f64], other: &[usize]) -> Terms {
     let seg = xs
         .windows(2)
         .position(|w| x <= w[1])
@@ -228,13 +228,13 @@ pub(super) fn second_pass(x: f64, weight: f64, dof: usize) -> ContactNode {
 }
 
 /// Tributary lengths ∫ N_i ds on the 1-D mesh `xs` (axisymmetric: ∫ N_i r dr, per radian).
-pub(super) fn tributary(xs: &[f64], geometry: Geometry) -> Vec<f64> {
+pub(crate) fn tributary(xs: &[f64], geometry: Geometry) -> Vec<f64> {
     elasticity::top_weights(xs, geometry)
 }
 
 /// Mortar rows of the slave face `sx` (DOFs `sd`) over the master face `mx` (DOFs `md`):
 /// `(Σ_j D_ij v_j − Σ_k M_ik v_k)/ω_i` per slave node i (module doc).
-pub(super) fn mortar_rows(
+pub(crate) fn mortar_rows(
     sx: &[f64],
     sd: &[usize],
     mx: &[f64],

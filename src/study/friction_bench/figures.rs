@@ -5,9 +5,16 @@ use super::FrictionRow;
 use crate::plot::{Figure, Mark, Series};
 use crate::study::shape::Drawing;
 
-/// `friction_eps_t`: history error and cond₂ against ε_T (constant and area rules; the δ_T
-/// rule's rows have no single ε_T and are in the table).
+/// `friction_eps_t`: history error and cond₂ against ε_T (the sliding block's constant and
+/// area rules; the δ_T rule's rows have no single ε_T and are in the table); nothing where
+/// the run has no such row.
 pub fn figures(rows: &[FrictionRow]) -> Vec<Drawing> {
+    let drawn = |r: &&FrictionRow| {
+        r.case == "sliding-block" && r.eps_t.is_some() && r.history_err.is_some_and(|e| e > 0.0)
+    };
+    if !rows.iter().any(|r| drawn(&r)) {
+        return Vec::new();
+    }
     let mut err = Figure::new(
         "Sliding block: friction force error vs ε_T (Lagrange = exact)",
         "ε_T (force/length)",
@@ -27,7 +34,7 @@ pub fn figures(rows: &[FrictionRow]) -> Vec<Drawing> {
         for rule in ["constant", "area"] {
             let pick = |get: fn(&FrictionRow) -> Option<f64>| -> (Vec<f64>, Vec<f64>) {
                 rows.iter()
-                    .filter(|r| r.mu == mu && r.tangent_rule == rule)
+                    .filter(|r| r.case == "sliding-block" && r.mu == mu && r.tangent_rule == rule)
                     .filter_map(|r| r.eps_t.zip(get(r)).filter(|(_, y)| *y > 0.0))
                     .unzip()
             };

@@ -1,12 +1,17 @@
 //! `friction_bench`: the tangential penalty ε_T judged against the exact Coulomb law, on the
-//! `sliding-block` case ([`crate::friction::sliding_block`]).
+//! `sliding-block` case ([`crate::friction::sliding_block`]) and the two-body patch test in
+//! full slip, `patch-two-body-friction` ([`crate::friction::patch`], mortar and one-pass
+//! node-to-segment rows: rows record `discretization`, `pressure_err_max`, `shear_err_max`).
 //!
 //! For each μ the block is pressed, then pushed along the plane in `steps` increments by
-//! every method: `lagrange` (the reference), `augmented` (ε_N = ε_T = 10·G, tolerance
-//! 10⁻¹²·press·H), and the penalty rules with a constant normal penalty `ε_N = eps_n·G` and
-//! a tangential rule of [`crate::friction::TangentRule`] over a ladder of knobs:
-//! `constant` (ε_T = f·G), `area` (ε_T,c = r·G·w_c/h_c) and `delta` (δ_T = f·press·H, the
-//! allowed elastic slip). One row per (μ, method, knob) ([`FrictionRow`]):
+//! every method (the patch test: one increment into full slip): `lagrange` (the reference),
+//! `augmented` (ε_N = ε_T = 10·G, tolerance 10⁻¹⁰ of the case's length L: the multipliers'
+//! changes stall at 10⁻¹² of w on the stiff patch, rounding), and the penalty
+//! rules with a normal penalty per unit area `ε_N,c = eps_n·G·w_c/h_c` and a tangential rule of
+//! [`crate::friction::TangentRule`] over a ladder of knobs: `constant` (ε_T = f·G), `area`
+//! (ε_T,c = r·G·w_c/h_c) and `delta` (δ_T = f·L, the allowed elastic slip); G the (upper)
+//! body's shear modulus, L the platen's depth press·H or the patch's squeeze w. One row per
+//! (case, μ, discretization, method, knob) ([`FrictionRow`]):
 //!
 //! - `onset_ratio` = |T|/N at the first increment in full slip — μ for any converged method
 //!   (the law in full slip), so its error tests the solver; `onset_travel`, the platen's
@@ -36,8 +41,10 @@ pub use report::table;
 
 use crate::conditioning;
 use crate::error::{Error, Result};
-use crate::friction::sliding_block::{SlidingBlock, HEIGHT, MATERIAL};
+use crate::friction::patch::{PatchFriction, PatchProblem};
+use crate::friction::sliding_block::{SlidingBlock, HEIGHT};
 use crate::friction::{self, FrictionMethod, FrictionSolution, Law, NormalRule, TangentRule};
+use crate::model::two_body::Discretization;
 use crate::progress::Progress;
 use crate::study::shape::{Drawing, RunContext, Study};
 use rayon::prelude::*;
@@ -45,13 +52,17 @@ use serde::{Deserialize, Serialize};
 use std::path::Path;
 
 /// The cases `--cases` knows.
-pub const CASES: &[&str] = &["sliding-block"];
+pub const CASES: &[&str] = &["sliding-block", "patch-two-body-friction"];
 
 /// `friction_bench`'s flags.
 #[derive(clap::Args, Debug)]
 pub struct Flags {
-    /// Frictional cases (only `sliding-block` so far).
-    #[arg(long, value_delimiter = ',', default_value = "sliding-block")]
+    /// Frictional cases: `sliding-block`, `patch-two-body-friction`.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "sliding-block,patch-two-body-friction"
+    )]
     cases: Vec<String>,
     /// Coulomb friction coefficients μ (≥ 0).
     #[arg(long, value_delimiter = ',', default_value = "0.1,0.2,0.3")]
@@ -62,7 +73,8 @@ pub struct Flags {
     /// Push increments after the press.
     #[arg(long, default_value_t = 40)]
     steps: usize,
-    /// ε_N over G (the normal penalty of every penalty row).
+    /// r of the normal penalty ε_N,c = r·G·w_c/h_c of every penalty row (per unit contact
+    /// area: G the case's shear modulus, w_c the contact's length, h_c its element layer).
     #[arg(long, default_value_t = 1e4)]
     eps_n: f64,
     /// Tangential penalty factors f: `constant` rows ε_T = f·G, `area` rows r = f.
@@ -72,7 +84,8 @@ pub struct Flags {
         default_value = "0.1,1,10,100,1000,10000,100000,1000000"
     )]
     eps_t: Vec<f64>,
-    /// Allowed elastic slips δ_T over the platen's depth press·H (`delta` rows).
+    /// Allowed elastic slips δ_T over the case's length (the platen's depth press·H, the
+    /// patch test's squeeze w) (`delta` rows).
     #[arg(long, value_delimiter = ',', default_value = "1,0.1,0.01,0.001")]
     delta_t: Vec<f64>,
     /// The friction law of the penalty rows: `coulomb` (unsymmetric tangent) or `tresca`.
@@ -106,6 +119,8 @@ pub struct BenchConfig {
 pub struct FrictionRow {
     /// Case name.
     pub case: String,
+    /// The interface rows of a two-body case (`mortar`, `nts-1`).
+    pub discretization: Option<String>,
     /// μ.
     pub mu: f64,
     /// `lagrange`, `augmented`, `penalty`.
@@ -136,6 +151,10 @@ pub struct FrictionRow {
     pub onset_travel_err: Option<f64>,
     /// max |T − T_lagrange| / (μ N_lagrange).
     pub history_err: Option<f64>,
+    /// The patch test's largest |p_i − p̄|/p̄ over the rows (p̄ their mean).
+    pub pressure_err_max: Option<f64>,
+    /// The patch test's largest |τ_i − τ̄|/τ̄ over the rows.
+    pub shear_err_max: Option<f64>,
     /// Load increments.
     pub increments: usize,
     /// Newton steps, all increments.
@@ -205,33 +224,44 @@ impl BenchConfig {
         })
     }
 
-    fn block(&self, mu: f64) -> SlidingBlock {
-        SlidingBlock {
-            nx: self.mesh.0,
-            ny: self.mesh.1,
-            mu,
-            steps: self.steps,
-            ..SlidingBlock::default()
+    /// Every scenario of one case and μ (the patch test once per discretization).
+    fn scenarios(&self, case: &str, mu: f64) -> Vec<Scenario> {
+        match case {
+            "sliding-block" => vec![Scenario::Block(SlidingBlock {
+                nx: self.mesh.0,
+                ny: self.mesh.1,
+                mu,
+                steps: self.steps,
+                ..SlidingBlock::default()
+            })],
+            _ => [Discretization::Mortar, Discretization::Nts1]
+                .into_iter()
+                .map(|d| {
+                    Scenario::Patch(PatchFriction {
+                        mu,
+                        ..PatchFriction::standard(d)
+                    })
+                })
+                .collect(),
         }
     }
 
-    /// Every (method, rule name, ε_T, δ_T) of one μ, Lagrange first.
-    fn methods(&self, block: &SlidingBlock) -> Vec<(FrictionMethod, &'static str)> {
-        let g = shear_modulus();
-        let depth = block.press * HEIGHT;
+    /// Every (method, rule name) for a case with shear modulus `g` and length scale `depth`,
+    /// Lagrange first.
+    fn methods(&self, g: f64, depth: f64) -> Vec<(FrictionMethod, &'static str)> {
         let mut m = vec![
             (FrictionMethod::Lagrange, "exact"),
             (
                 FrictionMethod::Augmented {
                     eps_n: 10.0 * g,
                     eps_t: 10.0 * g,
-                    tol: 1e-12 * depth,
+                    tol: 1e-10 * depth,
                 },
                 "augmented",
             ),
         ];
         let pen = |tangent| FrictionMethod::Penalty {
-            normal: NormalRule::Constant(self.eps_n * g),
+            normal: NormalRule::Area(self.eps_n),
             tangent,
             law: self.law,
         };
@@ -246,24 +276,69 @@ impl BenchConfig {
     }
 }
 
-/// The block's shear modulus G.
-fn shear_modulus() -> f64 {
-    MATERIAL.young / (2.0 * (1.0 + MATERIAL.poisson))
+/// One frictional model of the bench.
+#[derive(Clone, Copy, Debug)]
+enum Scenario {
+    Block(SlidingBlock),
+    Patch(PatchFriction),
 }
 
-/// The row of one solution, `reference` Lagrange's of the same μ.
+impl Scenario {
+    fn case(&self) -> &'static str {
+        match self {
+            Scenario::Block(_) => "sliding-block",
+            Scenario::Patch(_) => "patch-two-body-friction",
+        }
+    }
+
+    fn mu(&self) -> f64 {
+        match self {
+            Scenario::Block(b) => b.mu,
+            Scenario::Patch(p) => p.mu,
+        }
+    }
+
+    /// The problem, and the patch test's traction reader.
+    fn build(&self) -> Result<(friction::FrictionProblem, Option<PatchProblem>)> {
+        match self {
+            Scenario::Block(b) => Ok((b.problem()?, None)),
+            Scenario::Patch(p) => {
+                let pp = p.problem()?;
+                Ok((pp.problem.clone(), Some(pp)))
+            }
+        }
+    }
+
+    /// The length δ_T is given in units of.
+    fn depth(&self) -> f64 {
+        match self {
+            Scenario::Block(b) => b.press * HEIGHT,
+            Scenario::Patch(p) => p.squeeze,
+        }
+    }
+
+    /// The platen's travel at increment k (the sliding block's).
+    fn travel_at(&self, k: usize) -> Option<f64> {
+        match self {
+            Scenario::Block(b) => Some(b.travel_at(k)),
+            Scenario::Patch(_) => None,
+        }
+    }
+}
+
+/// The row of one solution of `sc`, `reference` Lagrange's of the same scenario.
 fn row(
-    block: &SlidingBlock,
+    sc: &Scenario,
     (method, rule): &(FrictionMethod, &'static str),
     sol: &FrictionSolution,
     reference: Option<&FrictionSolution>,
-    p: &friction::FrictionProblem,
+    (p, patch): (&friction::FrictionProblem, Option<&PatchProblem>),
 ) -> FrictionRow {
     let onset = sol.onset();
-    let travel = onset.map(|(k, _)| block.travel_at(k));
+    let travel = onset.and_then(|(k, _)| sc.travel_at(k));
     let ref_travel = reference
         .and_then(|r| r.onset())
-        .map(|(k, _)| block.travel_at(k));
+        .and_then(|(k, _)| sc.travel_at(k));
     let history_err = reference.map(|r| {
         let nmax = r
             .increments
@@ -276,7 +351,7 @@ fn row(
             .zip(&r.increments)
             .map(|(a, b)| (a.tangential_force() - b.tangential_force()).abs())
             .fold(0.0, f64::max);
-        d / (block.mu * nmax)
+        d / (sc.mu() * nmax)
     });
     let cond = sol.tangent.as_ref().map(conditioning::cond2);
     let mut warnings = sol.warnings.clone();
@@ -308,9 +383,14 @@ fn row(
         FrictionMethod::Penalty { law, .. } => *law,
         _ => Law::Coulomb,
     };
+    let (pressure_err_max, shear_err_max) = patch.map(|pp| pp.traction_errors(sol)).unzip();
     FrictionRow {
-        case: "sliding-block".into(),
-        mu: block.mu,
+        case: sc.case().into(),
+        discretization: match sc {
+            Scenario::Patch(pf) => Some(pf.disc.name().into()),
+            Scenario::Block(_) => None,
+        },
+        mu: sc.mu(),
         method: method.name().into(),
         tangent_rule: (*rule).into(),
         law: format!("{law:?}").to_lowercase(),
@@ -325,6 +405,8 @@ fn row(
         onset_travel: travel,
         onset_travel_err: travel.zip(ref_travel).map(|(a, b)| (a - b) / b),
         history_err,
+        pressure_err_max,
+        shear_err_max,
         increments: sol.increments.len(),
         newton_iters: sol.newton_iters(),
         factorizations: sol.factorizations,
@@ -340,22 +422,33 @@ fn row(
 
 /// Runs every (case, μ, method) of `cfg`, one progress step per row.
 pub fn run(cfg: &BenchConfig, progress: &Progress) -> Result<Vec<FrictionRow>> {
-    let per_mu = cfg.methods(&cfg.block(0.0)).len();
-    progress.set_total(cfg.mu.len() * per_mu);
-    let rows: Vec<Vec<FrictionRow>> = cfg
-        .mu
+    let scenarios: Vec<Scenario> = cfg
+        .cases
+        .iter()
+        .flat_map(|c| cfg.mu.iter().flat_map(move |&mu| cfg.scenarios(c, mu)))
+        .collect();
+    let per = cfg.methods(1.0, 1.0).len();
+    progress.set_total(scenarios.len() * per);
+    let rows: Vec<Vec<FrictionRow>> = scenarios
         .par_iter()
-        .map(|&mu| {
-            let block = cfg.block(mu);
-            let p = block.problem()?;
-            let methods = cfg.methods(&block);
+        .map(|sc| {
+            let (p, patch) = sc.build()?;
+            let methods = cfg.methods(p.shear_modulus, sc.depth());
             let reference = friction::solve(&p, &methods[0].0)?;
-            progress.step(&format!("friction_bench: μ = {mu}, lagrange"));
-            let mut rows = vec![row(&block, &methods[0], &reference, Some(&reference), &p)];
-            for m in &methods[1..] {
-                let sol = friction::solve(&p, &m.0)?;
-                rows.push(row(&block, m, &sol, Some(&reference), &p));
-                progress.step(&format!("friction_bench: μ = {mu}, {} {}", m.0.name(), m.1));
+            let mut rows = Vec::with_capacity(methods.len());
+            for m in &methods {
+                let sol = match m.0 {
+                    FrictionMethod::Lagrange => reference.clone(),
+                    _ => friction::solve(&p, &m.0)?,
+                };
+                rows.push(row(sc, m, &sol, Some(&reference), (&p, patch.as_ref())));
+                progress.step(&format!(
+                    "friction_bench: {}, μ = {}, {} {}",
+                    sc.case(),
+                    sc.mu(),
+                    m.0.name(),
+                    m.1
+                ));
             }
             Ok(rows)
         })

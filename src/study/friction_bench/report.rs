@@ -9,9 +9,10 @@ fn opt(v: Option<f64>) -> String {
 }
 
 /// The rows as an aligned table: method and knob, onset (T/N and travel error), the friction
-/// force's history error, Newton steps, cond₂ of the final system.
+/// force's history error, the patch test's traction error, Newton steps, cond₂.
 pub fn table(rows: &[FrictionRow]) -> String {
     let headers = [
+        "case",
         "μ",
         "method",
         "rule",
@@ -20,6 +21,7 @@ pub fn table(rows: &[FrictionRow]) -> String {
         "T/N − μ at onset",
         "onset travel err",
         "history err",
+        "traction err",
         "Newton",
         "converged",
         "cond₂",
@@ -27,7 +29,16 @@ pub fn table(rows: &[FrictionRow]) -> String {
     let body: Vec<Vec<String>> = rows
         .iter()
         .map(|r| {
+            let case = match &r.discretization {
+                Some(d) => format!("patch {d}"),
+                None => "block".into(),
+            };
+            let traction = r
+                .pressure_err_max
+                .zip(r.shear_err_max)
+                .map(|(a, b)| a.max(b));
             vec![
+                case,
                 format!("{}", r.mu),
                 r.method.clone(),
                 r.tangent_rule.clone(),
@@ -37,6 +48,7 @@ pub fn table(rows: &[FrictionRow]) -> String {
                     .map_or("no full slip".into(), |x| fmt_e((x - r.mu) / r.mu, 1)),
                 opt(r.onset_travel_err),
                 opt(r.history_err),
+                opt(traction),
                 r.newton_iters.to_string(),
                 if r.converged { "yes" } else { "NO" }.into(),
                 opt(r.cond2_system),
@@ -44,14 +56,15 @@ pub fn table(rows: &[FrictionRow]) -> String {
         })
         .collect();
     let right = [
-        true, false, false, true, true, true, true, true, true, false, true,
+        false, true, false, false, true, true, true, true, true, true, true, false, true,
     ];
     let mut t = aligned(&headers, &body, &right);
     t.push_str(
         "T/N − μ at onset: (|T|/N − μ)/μ at the first increment in full slip (0 to rounding \
          for a converged method); \
          onset travel err: relative to Lagrange, resolved to one increment; history err: \
-         max |T − T_lagrange|/(μN); cond₂: the system of the last increment with a contact \
+         max |T − T_lagrange|/(μN); traction err (patch): the largest relative deviation of \
+         a row's pressure or shear from the rows' mean; cond₂: the system of the last increment with a contact \
          in stick (penalty: the consistent tangent).\n",
     );
     t
