@@ -35,8 +35,10 @@
 //! unsymmetric: [`crate::conditioning::cond2`] takes the dense SVD route).
 //!
 //! Models with friction: [`sliding_block`] (an elastic block pressed and pushed along a rigid
-//! plane) and [`patch`] (the two-body patch test in full slip, mortar or node-to-segment rows).
+//! plane), [`patch`] (the two-body patch test in full slip, mortar or node-to-segment rows) and
+//! [`incline`] (the crowned block pressed onto an inclined plane: rows coupling two DOFs).
 
+pub mod incline;
 pub mod lagrange;
 pub mod patch;
 pub mod penalty;

@@ -297,3 +297,38 @@ fn mortar_transmits_uniform_pressure_and_shear_in_full_slip_and_nts_does_not() {
     // One-pass node-to-segment fails the patch test (by a percent or more here).
     assert!(ep.max(et) > 1e-3, "nts-1: pressure {ep:e}, shear {et:e}");
 }
+
+#[test]
+fn on_the_incline_mu_zero_is_frictionless_and_friction_grows_a_stick_core() {
+    let case = |mu| incline::InclinedFriction {
+        theta_deg: 30.0,
+        nx: 8,
+        ny: 4,
+        mu,
+        steps: 4,
+    };
+    let p0 = case(0.0).problem().unwrap();
+    let sol = solve(&p0, &FrictionMethod::Lagrange).unwrap();
+    for (k, inc) in sol.increments.iter().enumerate() {
+        let mut normal = p0.normal.clone();
+        normal.q.clone_from(&p0.loads[k]);
+        let reference =
+            crate::strategy::solve(&normal, crate::strategy::Method::lagrange()).unwrap();
+        assert!(rel(&inc.u, &reference.u) <= 1e-12, "increment {k}");
+    }
+    let sticks = |mu: f64| {
+        let p = case(mu).problem().unwrap();
+        let sol = solve(&p, &FrictionMethod::Lagrange).unwrap();
+        check_law(&p, &sol, 1e-12);
+        let last = sol.increments.last().unwrap();
+        last.status
+            .iter()
+            .filter(|s| **s == ContactStatus::Stick)
+            .count()
+    };
+    let counts: Vec<usize> = [0.05, 0.3, 5.0].into_iter().map(sticks).collect();
+    assert!(
+        counts.windows(2).all(|w| w[0] <= w[1]) && counts[2] > counts[0],
+        "{counts:?}"
+    );
+}

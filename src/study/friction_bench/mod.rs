@@ -1,7 +1,9 @@
 //! `friction_bench`: the tangential penalty ε_T judged against the exact Coulomb law, on the
 //! `sliding-block` case ([`crate::friction::sliding_block`]) and the two-body patch test in
 //! full slip, `patch-two-body-friction` ([`crate::friction::patch`], mortar and one-pass
-//! node-to-segment rows: rows record `discretization`, `pressure_err_max`, `shear_err_max`).
+//! node-to-segment rows: rows record `discretization`, `pressure_err_max`, `shear_err_max`)
+//! and the crowned block pressed onto a plane inclined at 30°, `inclined-friction`
+//! ([`crate::friction::incline`]: rows coupling two DOFs; rows record `theta`).
 //!
 //! For each μ the block is pressed, then pushed along the plane in `steps` increments by
 //! every method (the patch test: one increment into full slip): `lagrange` (the reference),
@@ -10,7 +12,7 @@
 //! rules with a normal penalty per unit area `ε_N,c = eps_n·G·w_c/h_c` and a tangential rule of
 //! [`crate::friction::TangentRule`] over a ladder of knobs: `constant` (ε_T = f·G), `area`
 //! (ε_T,c = r·G·w_c/h_c) and `delta` (δ_T = f·L, the allowed elastic slip); G the (upper)
-//! body's shear modulus, L the platen's depth press·H or the patch's squeeze w. One row per
+//! body's shear modulus, L the platen's (clamp's) depth press·H or the patch's squeeze w. One row per
 //! (case, μ, discretization, method, knob) ([`FrictionRow`]):
 //!
 //! - `onset_ratio` = |T|/N at the first increment in full slip — μ for any converged method
@@ -41,9 +43,11 @@ pub use report::table;
 
 use crate::conditioning;
 use crate::error::{Error, Result};
+use crate::friction::incline::InclinedFriction;
 use crate::friction::patch::{PatchFriction, PatchProblem};
 use crate::friction::sliding_block::{SlidingBlock, HEIGHT};
 use crate::friction::{self, FrictionMethod, FrictionSolution, Law, NormalRule, TangentRule};
+use crate::model::incline_block::{HEIGHT as INCLINE_HEIGHT, PRESS};
 use crate::model::two_body::Discretization;
 use crate::progress::Progress;
 use crate::study::shape::{Drawing, RunContext, Study};
@@ -51,17 +55,25 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
+/// The incline's angle (degrees) of `inclined-friction`.
+pub const INCLINE_THETA: f64 = 30.0;
+
 /// The cases `--cases` knows.
-pub const CASES: &[&str] = &["sliding-block", "patch-two-body-friction"];
+pub const CASES: &[&str] = &[
+    "sliding-block",
+    "patch-two-body-friction",
+    "inclined-friction",
+];
 
 /// `friction_bench`'s flags.
 #[derive(clap::Args, Debug)]
 pub struct Flags {
-    /// Frictional cases: `sliding-block`, `patch-two-body-friction`.
+    /// Frictional cases: `sliding-block`, `patch-two-body-friction`, `inclined-friction`
+    /// (θ = 30°, the block's `--mesh`, `--steps` press increments).
     #[arg(
         long,
         value_delimiter = ',',
-        default_value = "sliding-block,patch-two-body-friction"
+        default_value = "sliding-block,patch-two-body-friction,inclined-friction"
     )]
     cases: Vec<String>,
     /// Coulomb friction coefficients μ (≥ 0).
@@ -121,6 +133,8 @@ pub struct FrictionRow {
     pub case: String,
     /// The interface rows of a two-body case (`mortar`, `nts-1`).
     pub discretization: Option<String>,
+    /// The incline's angle θ in degrees (`inclined-friction`).
+    pub theta: Option<f64>,
     /// μ.
     pub mu: f64,
     /// `lagrange`, `augmented`, `penalty`.
@@ -234,6 +248,13 @@ impl BenchConfig {
                 steps: self.steps,
                 ..SlidingBlock::default()
             })],
+            "inclined-friction" => vec![Scenario::Incline(InclinedFriction {
+                theta_deg: INCLINE_THETA,
+                nx: self.mesh.0,
+                ny: self.mesh.1,
+                mu,
+                steps: self.steps,
+            })],
             _ => [Discretization::Mortar, Discretization::Nts1]
                 .into_iter()
                 .map(|d| {
@@ -281,6 +302,7 @@ impl BenchConfig {
 enum Scenario {
     Block(SlidingBlock),
     Patch(PatchFriction),
+    Incline(InclinedFriction),
 }
 
 impl Scenario {
@@ -288,6 +310,7 @@ impl Scenario {
         match self {
             Scenario::Block(_) => "sliding-block",
             Scenario::Patch(_) => "patch-two-body-friction",
+            Scenario::Incline(_) => "inclined-friction",
         }
     }
 
@@ -295,6 +318,7 @@ impl Scenario {
         match self {
             Scenario::Block(b) => b.mu,
             Scenario::Patch(p) => p.mu,
+            Scenario::Incline(i) => i.mu,
         }
     }
 
@@ -302,6 +326,7 @@ impl Scenario {
     fn build(&self) -> Result<(friction::FrictionProblem, Option<PatchProblem>)> {
         match self {
             Scenario::Block(b) => Ok((b.problem()?, None)),
+            Scenario::Incline(i) => Ok((i.problem()?, None)),
             Scenario::Patch(p) => {
                 let pp = p.problem()?;
                 Ok((pp.problem.clone(), Some(pp)))
@@ -314,6 +339,7 @@ impl Scenario {
         match self {
             Scenario::Block(b) => b.press * HEIGHT,
             Scenario::Patch(p) => p.squeeze,
+            Scenario::Incline(_) => PRESS * INCLINE_HEIGHT,
         }
     }
 
@@ -321,7 +347,7 @@ impl Scenario {
     fn travel_at(&self, k: usize) -> Option<f64> {
         match self {
             Scenario::Block(b) => Some(b.travel_at(k)),
-            Scenario::Patch(_) => None,
+            Scenario::Patch(_) | Scenario::Incline(_) => None,
         }
     }
 }
@@ -388,7 +414,11 @@ fn row(
         case: sc.case().into(),
         discretization: match sc {
             Scenario::Patch(pf) => Some(pf.disc.name().into()),
-            Scenario::Block(_) => None,
+            _ => None,
+        },
+        theta: match sc {
+            Scenario::Incline(i) => Some(i.theta_deg),
+            _ => None,
         },
         mu: sc.mu(),
         method: method.name().into(),

@@ -29,9 +29,10 @@ pub fn table(rows: &[FrictionRow]) -> String {
     let body: Vec<Vec<String>> = rows
         .iter()
         .map(|r| {
-            let case = match &r.discretization {
-                Some(d) => format!("patch {d}"),
-                None => "block".into(),
+            let case = match (&r.discretization, r.theta) {
+                (Some(d), _) => format!("patch {d}"),
+                (None, Some(t)) => format!("incline {t}°"),
+                (None, None) => "block".into(),
             };
             let traction = r
                 .pressure_err_max
