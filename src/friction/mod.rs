@@ -256,7 +256,8 @@ pub enum TangentRule {
 pub enum Law {
     /// `|λ_T| ≤ μ λ_N` with the current λ_N: the consistent tangent is unsymmetric.
     Coulomb,
-    /// `|λ_T| ≤ μ λ̂_N`, λ̂_N the normal force at the start of the increment: symmetric.
+    /// `|λ_T| ≤ μ λ̂_N`, λ̂_N the normal force at the start of the increment: symmetric. The
+    /// first increment starts from λ̂_N = 0 and is frictionless.
     Tresca,
 }
 
@@ -363,6 +364,8 @@ pub struct FrictionSolution {
     /// serialized.
     #[serde(skip)]
     pub tangent: Option<Stiffness>,
+    /// The increment whose system `tangent` is.
+    pub tangent_increment: Option<usize>,
     /// Non-convergence and assumption failures, one line each.
     pub warnings: Vec<String>,
 }

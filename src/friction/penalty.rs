@@ -15,8 +15,11 @@
 //! `J = K − Σ (d_N ∂λ_Nᵀ + d_T ∂λ_Tᵀ)`: a slipping contact under Coulomb adds
 //! `−d_T (±μ ∂λ_N)ᵀ = ±μ ε_N d_T d_Nᵀ`, the unsymmetric part. R is piecewise linear (ε_T
 //! rule) or piecewise bilinear (δ_T rule) in u, so Newton ends once the statuses are right.
-//! An increment converges when `‖R‖∞ ≤ 10³·ε_mach·(‖J‖∞‖u‖∞ + ‖q‖∞)` (a backward-stable solve
-//! leaves a residual of order ε_mach‖J‖‖u‖); then the plastic slip becomes
+//! An increment converges, after at least one Newton step, when `‖R‖∞ ≤ 10⁻⁸·F`, F the
+//! largest force in play (`‖q‖∞`, `‖Ku‖∞`, `|λ_N|`, `|λ_T|`): a test on the physics' scale, not
+//! on ‖J‖‖u‖, which a stiff penalty inflates — a penalty so stiff that its rounding
+//! (≈ ε_mach·ε·|s|, ε·|s| ≫ λ) exceeds 10⁻⁸·F cannot meet it and is reported unconverged
+//! rather than accepted. Then the plastic slip becomes
 //! `s_p = s + λ_T/ε_T` (s where ε_T = 0).
 //!
 //! With Tresca's bound b = μλ̂_N fixed, R is the gradient of the convex energy
@@ -175,8 +178,12 @@ struct NewtonEnd {
     tangent: Stiffness,
 }
 
+/// The residual an increment must reach, relative to its largest force (module doc).
+pub const RESIDUAL_TOL: f64 = 1e-8;
+
 /// Newton on u for increment k, at most `max_iters` steps, each globalized by
-/// [`line_search`]; converged when `‖R‖∞ ≤ 10³·ε_mach·(‖J‖∞‖u‖∞ + ‖q‖∞)` (module doc).
+/// [`line_search`]; converged after at least one step when `‖R‖∞ ≤ RESIDUAL_TOL·F` (module
+/// doc).
 fn newton(
     p: &FrictionProblem,
     k: usize,
@@ -184,7 +191,6 @@ fn newton(
     f: &Fixed,
     max_iters: usize,
 ) -> Result<NewtonEnd> {
-    let knorm = p.normal.k.inf_norm();
     let qnorm = inf_norm(&p.loads[k]);
     let mut solves = 0;
     let mut it = 0;
@@ -192,8 +198,11 @@ fn newton(
         let fr = forces(p, u, f);
         let r = p.residual(k, u, &fr.lam_n, &fr.lam_t);
         let j = tangent(p, &fr);
-        let scale = j.inf_norm().max(knorm) * inf_norm(u) + qnorm;
-        let converged = inf_norm(&r) <= 1e3 * f64::EPSILON * scale;
+        let forces_scale = qnorm
+            .max(inf_norm(&p.normal.k.matvec(u)))
+            .max(inf_norm(&fr.lam_n))
+            .max(inf_norm(&fr.lam_t));
+        let converged = it > 0 && inf_norm(&r) <= RESIDUAL_TOL * forces_scale;
         if converged || it == max_iters {
             return Ok(NewtonEnd {
                 forces: fr,
@@ -351,6 +360,7 @@ pub(super) fn solve(
         factorizations: 0,
         converged: true,
         tangent: None,
+        tangent_increment: None,
         warnings: Vec::new(),
     };
     // Whether an increment had a contact in stick: its system is the one kept.
@@ -405,6 +415,7 @@ pub(super) fn solve(
         let sticks = fr.status.contains(&ContactStatus::Stick);
         if sticks || !stuck {
             out.tangent = j;
+            out.tangent_increment = Some(k);
         }
         stuck |= sticks;
         out.increments.push(Increment {

@@ -60,6 +60,35 @@ fn check_law(p: &FrictionProblem, sol: &FrictionSolution, tol: f64) {
     }
 }
 
+/// The semismooth Newton method cycled between status patterns on these (c = mean diag K
+/// throughout: 11 of 60 meshes × steps × μ of a referee's sweep); a repeated pattern now
+/// shrinks c. Every increment must converge and meet the law.
+#[test]
+fn lagrange_converges_where_its_full_step_cycled() {
+    for (nx, ny, steps, mu) in [
+        (16, 8, 10, 0.1),
+        (8, 4, 20, 0.1),
+        (8, 4, 20, 5.0),
+        (8, 4, 20, 50.0),
+    ] {
+        let case = SlidingBlock {
+            nx,
+            ny,
+            mu,
+            steps,
+            ..SlidingBlock::default()
+        };
+        let p = case.problem().unwrap();
+        let sol = solve(&p, &FrictionMethod::Lagrange).unwrap();
+        assert!(
+            sol.converged,
+            "{nx}x{ny}, {steps} steps, μ = {mu}: {:?}",
+            sol.warnings
+        );
+        check_law(&p, &sol, 1e-12);
+    }
+}
+
 #[test]
 fn lagrange_slides_at_t_over_n_equal_to_mu_after_partial_slip() {
     let case = block(0.2);
@@ -102,6 +131,7 @@ fn with_a_huge_mu_the_pressed_block_is_bonded() {
     let case = block(1e6);
     let p = case.problem().unwrap();
     let sol = solve(&p, &FrictionMethod::Lagrange).unwrap();
+    assert!(sol.converged, "{:?}", sol.warnings);
     let press = &sol.increments[0];
     assert!(press.status.iter().all(|s| *s == ContactStatus::Stick));
     // The bonded block: the contacts' DOFs eliminated at 0, K's other rows solved directly.

@@ -1,7 +1,7 @@
 //! Krylov solvers as a user runs them on a final system `A x = b`, for the solver-cost
 //! metrics (`metrics::solver`): preconditioned conjugate gradients with the Lanczos
-//! coefficients of the run, and preconditioned MINRES for the symmetric indefinite saddle
-//! point. Both start from x₀ = 0.
+//! coefficients of the run, preconditioned MINRES for the symmetric indefinite saddle
+//! point, and restarted GMRES for the unsymmetric (frictional) tangent. All start from x₀ = 0.
 //!
 //! **CG** (Hestenes & Stiefel 1952) with the recurrences and the stopping test of SciPy's
 //! `scipy.sparse.linalg.cg` (1.12+): stop before an iteration when the recursively updated
@@ -30,7 +30,7 @@
 //!
 //! Why hand-written: faer 0.24's `conjugate_gradient` reports neither the step lengths nor
 //! stops on SciPy's test (its iteration counts are what `tests/data/solver_cost` compares
-//! against SciPy's), and faer has no MINRES. [`super::pcg`] stays faer's, for the active-set
+//! against SciPy's), and faer has neither MINRES nor GMRES. [`super::pcg`] stays faer's, for the active-set
 //! solves. The preconditioners ([`super::precond::Jacobi`], [`super::precond::Ic0`]) are in
 //! [`super::precond`].
 
@@ -403,6 +403,144 @@ pub fn minres(
     (x, run)
 }
 
+/// `y = A x` for a general square sparse A (compressed columns: a scatter per column), for
+/// unsymmetric matrices ([`matvec`] reads A's columns as its rows).
+pub fn matvec_general(a: SparseColMatRef<'_, usize, f64>, x: &[f64], y: &mut [f64]) {
+    y.iter_mut().for_each(|v| *v = 0.0);
+    for (j, &xj) in x.iter().enumerate() {
+        for (&i, &v) in a.row_idx_of_col_raw(j).iter().zip(a.val_of_col(j)) {
+            y[i] += v * xj;
+        }
+    }
+}
+
+/// Restarted GMRES(m) (Saad & Schultz 1986) from x₀ = 0 on a general square `A x = b`, right
+/// preconditioned (`A M⁻¹ y = b`, x = M⁻¹y: the residual it minimizes is the true one), modified
+/// Gram–Schmidt, Givens rotations; every inner step counts as one iteration (one product with
+/// A), as SciPy's `gmres` callback with `callback_type='pr_norm'` counts them. Stops when `stop`
+/// is met — `Stop::Residual(τ)`: `‖r_k‖₂ ≤ τ‖b‖₂` (the rotated estimate); `Stop::ErrorOfU`: the
+/// iterate, formed at every step, within the target of u* — or after `max_iters`. A restart
+/// recomputes the true residual.
+pub fn gmres(
+    a: SparseColMatRef<'_, usize, f64>,
+    pre: &dyn Preconditioner,
+    b: &[f64],
+    restart: usize,
+    stop: Stop<'_>,
+    max_iters: usize,
+) -> (Vec<f64>, KrylovRun) {
+    let n = b.len();
+    let m = restart.max(1);
+    let mut x = vec![0.0; n];
+    let bnorm = norm(b);
+    let mut run = KrylovRun::DONE;
+    let err = stop.error_threshold();
+    let met_err = |x: &[f64]| err.is_some_and(|(u, t)| error_of_u(x, u) <= t);
+    if bnorm == 0.0 || met_err(&x) {
+        return (x, run);
+    }
+    run.converged = false;
+    let atol = stop.tol() * bnorm;
+    let mut r = b.to_vec();
+    let mut w = vec![0.0; n];
+    let mut rnorm = bnorm;
+    // The iterate x + Z y for the first `k` columns of the current cycle.
+    let form = |x: &[f64], z: &[Vec<f64>], h: &[Vec<f64>], g: &[f64], k: usize| -> Vec<f64> {
+        let mut y = vec![0.0; k];
+        for i in (0..k).rev() {
+            let s: f64 = (i + 1..k).map(|j| h[j][i] * y[j]).sum();
+            y[i] = (g[i] - s) / h[i][i];
+        }
+        let mut out = x.to_vec();
+        for (zi, yi) in z.iter().zip(&y) {
+            out.iter_mut().zip(zi).for_each(|(o, v)| *o += yi * v);
+        }
+        out
+    };
+    'cycles: while run.iterations < max_iters {
+        let beta = rnorm;
+        if beta == 0.0 {
+            run.converged = true;
+            break;
+        }
+        let mut v: Vec<Vec<f64>> = vec![r.iter().map(|ri| ri / beta).collect()];
+        let mut z: Vec<Vec<f64>> = Vec::with_capacity(m);
+        // h[j] is column j of the Hessenberg matrix (j + 2 entries), rotated in place.
+        let mut h: Vec<Vec<f64>> = Vec::with_capacity(m);
+        let (mut cs, mut sn): (Vec<f64>, Vec<f64>) = (Vec::with_capacity(m), Vec::with_capacity(m));
+        let mut g = vec![beta];
+        for j in 0..m {
+            let mut zj = vec![0.0; n];
+            pre.apply(&v[j], &mut zj);
+            matvec_general(a, &zj, &mut w);
+            let mut col = Vec::with_capacity(j + 2);
+            for vi in v.iter() {
+                let hij = dot(&w, vi);
+                w.iter_mut().zip(vi).for_each(|(wk, vk)| *wk -= hij * vk);
+                col.push(hij);
+            }
+            let hnext = norm(&w);
+            col.push(hnext);
+            for i in 0..j {
+                let (a0, a1) = (col[i], col[i + 1]);
+                col[i] = cs[i] * a0 + sn[i] * a1;
+                col[i + 1] = -sn[i] * a0 + cs[i] * a1;
+            }
+            let d = col[j].hypot(col[j + 1]);
+            let (c, s) = if d == 0.0 {
+                (1.0, 0.0)
+            } else {
+                (col[j] / d, col[j + 1] / d)
+            };
+            col[j] = d;
+            col[j + 1] = 0.0;
+            cs.push(c);
+            sn.push(s);
+            g.push(-s * g[j]);
+            g[j] *= c;
+            h.push(col);
+            z.push(zj);
+            run.iterations += 1;
+            rnorm = g[j + 1].abs();
+            let done = match err {
+                Some(_) => {
+                    let xk = form(&x, &z, &h, &g, j + 1);
+                    let ok = met_err(&xk);
+                    if ok {
+                        x = xk;
+                    }
+                    ok
+                }
+                None => rnorm <= atol,
+            };
+            if done {
+                if err.is_none() {
+                    x = form(&x, &z, &h, &g, j + 1);
+                }
+                run.converged = true;
+                break 'cycles;
+            }
+            if hnext == 0.0 || run.iterations >= max_iters || !rnorm.is_finite() {
+                x = form(&x, &z, &h, &g, j + 1);
+                if hnext == 0.0 && rnorm.is_finite() {
+                    // An invariant subspace: x solves the system (in exact arithmetic).
+                    run.converged = met_err(&x) || (err.is_none() && rnorm <= atol);
+                }
+                break 'cycles;
+            }
+            v.push(w.iter().map(|wk| wk / hnext).collect());
+        }
+        x = form(&x, &z, &h, &g, m);
+        matvec_general(a, &x, &mut w);
+        r.iter_mut()
+            .zip(b.iter().zip(&w))
+            .for_each(|(ri, (bi, wi))| *ri = bi - wi);
+        rnorm = norm(&r);
+    }
+    run.relative_residual = rnorm / bnorm;
+    (x, run)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -552,5 +690,42 @@ mod tests {
         let h = std::f64::consts::PI / 8.0;
         assert!((lo - (2.0 - 2.0 * h.cos())).abs() <= 1e-14);
         assert!((hi - (2.0 + 2.0 * h.cos())).abs() <= 1e-14);
+    }
+
+    /// n/2 copies of the block [[a, b], [−b, a]]: two distinct eigenvalues a ± ib, so the
+    /// minimal polynomial has degree 2 and GMRES (unpreconditioned: Jacobi is a multiple of I
+    /// here) ends in 2 iterations whatever the restart; restarted every step it still
+    /// converges, more slowly; the error test sees the same iterates.
+    #[test]
+    fn gmres_ends_at_the_degree_of_the_minimal_polynomial() {
+        let n = 40;
+        let (a, bb) = (3.0, 1.5);
+        let mut t = Vec::new();
+        for k in (0..n).step_by(2) {
+            t.extend([
+                (k, k, a),
+                (k, k + 1, bb),
+                (k + 1, k, -bb),
+                (k + 1, k + 1, a),
+            ]);
+        }
+        let m = Stiffness::from_triplets(n, &t).unwrap();
+        let s = m.to_sparse();
+        let pre = Jacobi::new(s.as_ref()).unwrap();
+        let b: Vec<f64> = (0..n).map(|i| ((i * 5) % 7) as f64 - 3.0).collect();
+        let (x, run) = gmres(s.as_ref(), &pre, &b, 30, Stop::Residual(1e-12), 100);
+        assert!(run.converged && run.iterations == 2, "{run:?}");
+        assert!(residual(&m, &x, &b) <= 1e-13, "{}", residual(&m, &x, &b));
+        let (x1, run1) = gmres(s.as_ref(), &pre, &b, 1, Stop::Residual(1e-12), 500);
+        assert!(run1.converged && run1.iterations > 2, "{run1:?}");
+        assert!(residual(&m, &x1, &b) <= 1e-11);
+        let stop = Stop::ErrorOfU {
+            reference: &x,
+            target: 1e-10,
+        };
+        let (_, run2) = gmres(s.as_ref(), &pre, &b, 30, stop, 100);
+        assert!(run2.converged && run2.iterations == 2, "{run2:?}");
+        let (_, run3) = gmres(s.as_ref(), &pre, &b, 30, Stop::Residual(1e-12), 1);
+        assert!(!run3.converged && run3.iterations == 1);
     }
 }

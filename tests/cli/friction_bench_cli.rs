@@ -13,7 +13,7 @@ fn small_run_reproduces_coulombs_onset_and_converging_penalties() {
     let dir = tmp.path().join("out");
     let out = common::run_ok(
         Command::new(BIN)
-            .args(["--mu", "0.2,0.3", "--mesh", "8x4", "--steps", "20"])
+            .args(["--mu", "0.1,0.2,0.3", "--mesh", "8x4", "--steps", "20"])
             .args([
                 "--eps-t",
                 "1,100,10000",
@@ -28,7 +28,7 @@ fn small_run_reproduces_coulombs_onset_and_converging_penalties() {
     let rows = rows.as_array().unwrap();
     // Per μ and model (the block; the patch test with mortar and nts-1 rows; the incline):
     // lagrange, augmented, 3 × (constant, area), 1 delta.
-    assert_eq!(rows.len(), 2 * 4 * 9);
+    assert_eq!(rows.len(), 3 * 4 * 9);
     for r in rows {
         assert_eq!(r["converged"], true, "{r}");
         let mu = r["mu"].as_f64().unwrap();
@@ -48,7 +48,7 @@ fn small_run_reproduces_coulombs_onset_and_converging_penalties() {
         );
         assert!(lo <= c && c <= hi && c >= 1.0, "{r}");
     }
-    for mu in [0.2, 0.3] {
+    for mu in [0.1, 0.2, 0.3] {
         let err = |rule: &str| -> Vec<f64> {
             rows.iter()
                 .filter(|r| r["case"] == "sliding-block")

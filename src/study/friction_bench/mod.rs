@@ -15,8 +15,10 @@
 //! body's shear modulus, L the platen's (clamp's) depth press·H or the patch's squeeze w. One row per
 //! (case, μ, discretization, method, knob) ([`FrictionRow`]):
 //!
-//! - `onset_ratio` = |T|/N at the first increment in full slip — μ for any converged method
-//!   (the law in full slip), so its error tests the solver; `onset_travel`, the platen's
+//! - `onset_ratio` = |T|/N at the first increment in full slip — μ wherever every contact
+//!   slips the same way, by the law's own bookkeeping (λ_T = ∓μλ_N is imposed on a slipping
+//!   contact), so it checks the statuses, not the solve: equilibrium and the law per contact
+//!   are tested against independent solutions in the unit tests; `onset_travel`, the platen's
 //!   travel there, resolved to one increment (`travel/steps`), and `onset_travel_err`, its
 //!   difference from Lagrange's over Lagrange's (a soft ε_T lets the platen travel further
 //!   before the block slides);
@@ -30,7 +32,8 @@
 //!   tangent, unsymmetric under Coulomb's law; Lagrange: its (N+2m)-square active-set system) with
 //!   its bracket (`cond2_system`, `cond2_lo`, `cond2_hi`, `cond2_bounds_proven`,
 //!   `cond_route`): [`crate::conditioning::cond2`], the dense SVD route for an unsymmetric
-//!   matrix.
+//!   matrix; and on the penalties' tangent, GMRES(30)-Jacobi iterations counted to the fixed
+//!   error of u (`gmres_iters_jacobi_to_err`, [`FrictionRow::gmres_iters_jacobi_to_err`]).
 //!
 //! The columns `q_over_mup`, `c_num`, `c_exact` and `shear_err_l2` belong to the
 //! Cattaneo–Mindlin case and stay empty here.
@@ -54,6 +57,11 @@ use crate::study::shape::{Drawing, RunContext, Study};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::path::Path;
+
+/// The most increments `--steps` takes (each a Newton solve per method and μ).
+pub const MAX_STEPS: usize = 10_000;
+/// The most elements `--mesh` takes (cond₂ of the tangent densifies N ≈ 2·NX·NY unknowns).
+pub const MAX_ELEMENTS: usize = 2_500;
 
 /// The incline's angle (degrees) of `inclined-friction`.
 pub const INCLINE_THETA: f64 = 30.0;
@@ -187,16 +195,66 @@ pub struct FrictionRow {
     pub cond2_bounds_proven: Option<bool>,
     /// The cond₂ route.
     pub cond_route: Option<String>,
+    /// GMRES(30) iterations with Jacobi, from x₀ = 0, to ‖u_k − u*‖∞ ≤ 1e-6‖u*‖∞ on the
+    /// penalty's tangent J of the increment `cond2_system` is of, b = J·u (u that increment's
+    /// displacements; u* the solution of the stored J x = b refined in double-double); empty
+    /// for Lagrange and `augmented`, whose systems are not what a user's Krylov solver sees.
+    pub gmres_iters_jacobi_to_err: Option<usize>,
+    /// Whether that run reached the error within [`GMRES_MAX_ITERS`].
+    pub gmres_iters_jacobi_to_err_converged: Option<bool>,
     /// Warnings, `; `-joined.
     pub warnings: String,
 }
 
+/// The restart m of the GMRES counts.
+pub const GMRES_RESTART: usize = 30;
+/// Their iteration limit.
+pub const GMRES_MAX_ITERS: usize = 5000;
+
+/// GMRES(m)-Jacobi iterations to the fixed error of u on `sol`'s tangent (the row's doc);
+/// `None` where the system is not a penalty's or cannot be preconditioned.
+fn gmres_count(sol: &FrictionSolution) -> Result<Option<(usize, bool)>> {
+    use crate::linalg::krylov::{gmres, Stop};
+    use crate::linalg::{precond::Jacobi, refine, Factorization};
+    let (Some(j), Some(k)) = (&sol.tangent, sol.tangent_increment) else {
+        return Ok(None);
+    };
+    if sol.method != "penalty" {
+        return Ok(None);
+    }
+    let u = &sol.increments[k].u;
+    let b = j.matvec(u);
+    let fac = Factorization::new(j, j.is_symmetric())?;
+    let x0 = fac.solve(&b);
+    let reference: Vec<f64> = refine::refine(j, &b, &fac, &x0)
+        .x
+        .iter()
+        .map(|v| v.to_f64())
+        .collect();
+    let a = j.to_sparse();
+    let Ok(pre) = Jacobi::new(a.as_ref()) else {
+        return Ok(None);
+    };
+    let stop = Stop::ErrorOfU {
+        reference: &reference,
+        target: crate::metrics::solver::DEFAULT_ERR_TARGET,
+    };
+    let (_, run) = gmres(a.as_ref(), &pre, &b, GMRES_RESTART, stop, GMRES_MAX_ITERS);
+    Ok(Some((run.iterations, run.converged)))
+}
+
 /// `"16x8"` → (16, 8).
 fn mesh(text: &str) -> Result<(usize, usize)> {
-    let bad = || Error::out_of_range("--mesh", text, "NXxNY with NX ≥ 2, NY ≥ 1 (e.g. 16x8)");
+    let bad = || {
+        Error::out_of_range(
+            "--mesh",
+            text,
+            format!("NXxNY with NX ≥ 2, NY ≥ 1, NX·NY ≤ {MAX_ELEMENTS} (e.g. 16x8)"),
+        )
+    };
     let (a, b) = text.split_once('x').ok_or_else(bad)?;
     let (nx, ny) = (a.parse().map_err(|_| bad())?, b.parse().map_err(|_| bad())?);
-    if nx < 2 || ny < 1 {
+    if nx < 2 || ny < 1 || nx * ny > MAX_ELEMENTS {
         return Err(bad());
     }
     Ok((nx, ny))
@@ -218,9 +276,15 @@ impl BenchConfig {
         for &v in f.eps_t.iter().chain(&f.delta_t) {
             Error::positive("--eps-t / --delta-t entry", v)?;
         }
-        if f.steps == 0 {
-            return Err(Error::out_of_range("--steps", 0, "≥ 1"));
+        if !(1..=MAX_STEPS).contains(&f.steps) {
+            return Err(Error::out_of_range(
+                "--steps",
+                f.steps,
+                format!("in 1..={MAX_STEPS}"),
+            ));
         }
+        Error::distinct("--mu", &f.mu)?;
+        Error::distinct("--cases", &f.cases)?;
         let law = match f.law.as_str() {
             "coulomb" => Law::Coulomb,
             "tresca" => Law::Tresca,
@@ -362,6 +426,8 @@ fn row(
 ) -> FrictionRow {
     let onset = sol.onset();
     let travel = onset.and_then(|(k, _)| sc.travel_at(k));
+    // A reference that did not converge (or a run cut short) measures nothing.
+    let reference = reference.filter(|r| r.converged && r.increments.len() == sol.increments.len());
     let ref_travel = reference
         .and_then(|r| r.onset())
         .and_then(|(k, _)| sc.travel_at(k));
@@ -381,10 +447,18 @@ fn row(
     });
     let cond = sol.tangent.as_ref().map(conditioning::cond2);
     let mut warnings = sol.warnings.clone();
+    if reference.is_none() {
+        warnings
+            .push("no converged Lagrange reference: history and onset errors left empty".into());
+    }
     if let Some(Err(e)) = &cond {
         warnings.push(format!("cond2 unavailable: {e}"));
     }
     let cond = cond.and_then(|c| c.ok());
+    let gm = gmres_count(sol).unwrap_or_else(|e| {
+        warnings.push(format!("gmres count unavailable: {e}"));
+        None
+    });
     let (eps_t, delta_t, eps_n) = match method {
         FrictionMethod::Lagrange => (None, None, None),
         FrictionMethod::Augmented { eps_n, eps_t, .. } => (Some(*eps_t), None, Some(*eps_n)),
@@ -446,7 +520,28 @@ fn row(
         cond2_hi: cond.as_ref().map(|c| c.cond2_hi),
         cond2_bounds_proven: cond.as_ref().map(|c| c.bounds_proven),
         cond_route: cond.as_ref().map(|c| c.route.name().to_string()),
+        gmres_iters_jacobi_to_err: gm.map(|g| g.0),
+        gmres_iters_jacobi_to_err_converged: gm.map(|g| g.1),
         warnings: warnings.join("; "),
+    }
+}
+
+/// `friction::solve`, a numerical failure (a singular system, …) kept as an unconverged
+/// solution with no increment and the error as its warning: one method's failure is its row,
+/// not the end of the run. Bad input stays an error.
+fn solved_or_failed(p: &friction::FrictionProblem, m: &FrictionMethod) -> Result<FrictionSolution> {
+    match friction::solve(p, m) {
+        Err(e) if !e.is_input() => Ok(FrictionSolution {
+            method: m.name(),
+            eps_n: Vec::new(),
+            increments: Vec::new(),
+            factorizations: 0,
+            converged: false,
+            tangent: None,
+            tangent_increment: None,
+            warnings: vec![format!("error: {e}")],
+        }),
+        other => other,
     }
 }
 
@@ -464,12 +559,12 @@ pub fn run(cfg: &BenchConfig, progress: &Progress) -> Result<Vec<FrictionRow>> {
         .map(|sc| {
             let (p, patch) = sc.build()?;
             let methods = cfg.methods(p.shear_modulus, sc.depth());
-            let reference = friction::solve(&p, &methods[0].0)?;
+            let reference = solved_or_failed(&p, &methods[0].0)?;
             let mut rows = Vec::with_capacity(methods.len());
             for m in &methods {
                 let sol = match m.0 {
                     FrictionMethod::Lagrange => reference.clone(),
-                    _ => friction::solve(&p, &m.0)?,
+                    _ => solved_or_failed(&p, &m.0)?,
                 };
                 rows.push(row(sc, m, &sol, Some(&reference), (&p, patch.as_ref())));
                 progress.step(&format!(
