@@ -135,6 +135,9 @@
 //! | uw(·) | [`conditioning::cond2`] | 2-norm condition number σ_max/σ_min | — |
 //! | \|·\| (det) | [`conditioning::log10_abs_det`] | log10 of \|det\| | — |
 //! | μ* | [`forming::Material::mu_star`] | viscosity function of Eq. 4, μ* = σ̄/(3ε̄̇) | ton-force·s/in² |
+//! | μ | [`friction::FrictionProblem::mu`] | Coulomb's friction coefficient (`|λ_T| ≤ μλ_N`) | — |
+//! | λ_N, λ_T | [`friction::Increment::lam_n`], [`friction::Increment::lam_t`] | normal (compressive, ≥ 0) and friction force on the body per contact, along d_N and d_T | force |
+//! | ε_T, δ_T | [`friction::TangentRule`] | tangential ("stick") penalty; allowed elastic slip of the δ_T rule, ε_T = μλ_N/δ_T | force/length; length |
 //! | σ̄ = σ_y(ε̄) + (ε̄̇/γ)^(1/n) | [`forming::Material::sigma_bar`] | effective stress, Eq. 4 and 38 | ton-force/in² |
 //! | v (forming) | `u` of the step's system | nodal velocities and rotation rates | in/s, rad/s |
 //! | δ (forming) | [`forming::ContactRule`] | allowed penetration per step; δ/Δt on the normal velocity | in |

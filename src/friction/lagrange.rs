@@ -59,7 +59,7 @@ fn sets(p: &FrictionProblem, x: &[f64], s_prev: &[f64], c_pen: f64) -> Vec<Set> 
         .collect()
 }
 
-/// The relative residual [`law_residual`] accepts: an iterate whose statuses flip on rounding
+/// The relative residual `law_residual` accepts: an iterate whose statuses flip on rounding
 /// (a grazing contact, g = 0 and λ_N = 0 both to rounding) meets the law to it.
 pub const LAW_TOL: f64 = 1e-12;
 

@@ -25,7 +25,7 @@
 //! **Rows**, per slave node i (upper block's bottom face): the interface rows of
 //! [`crate::model::two_body`] on v (normal, `lower`, limit 0) and the same rows on u
 //! (tangential: `s = Σ_j D_ij u_j/ω_i − Σ_k M_ik u_k/ω_i`, the relative slip). Read back:
-//! `p_i = λ_N,i/ω_i`, `τ_i = −λ_T,i/ω_i` ([`PatchFriction::tractions`]).
+//! `p_i = λ_N,i/ω_i`, `τ_i = −λ_T,i/ω_i` ([`PatchProblem::tractions`]).
 
 use super::FrictionProblem;
 use crate::error::{Error, Result};
