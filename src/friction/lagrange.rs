@@ -148,16 +148,7 @@ pub(super) fn solve(p: &FrictionProblem) -> Result<FrictionSolution> {
     let c_mean = (0..n).map(|i| p.normal.k.diag(i)).sum::<f64>() / n as f64;
     let mut x = vec![0.0; n + 2 * m];
     let mut s_prev = vec![0.0; m];
-    let mut out = FrictionSolution {
-        method: "lagrange",
-        eps_n: vec![0.0; m],
-        increments: Vec::with_capacity(p.loads.len()),
-        factorizations: 0,
-        converged: true,
-        tangent: None,
-        tangent_increment: None,
-        warnings: Vec::new(),
-    };
+    let mut out = FrictionSolution::start("lagrange", vec![0.0; m]);
     // Whether an increment had a contact in stick: its system is the one kept.
     let mut stuck = false;
     for k in 0..p.loads.len() {

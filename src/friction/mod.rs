@@ -371,6 +371,30 @@ pub struct FrictionSolution {
 }
 
 impl FrictionSolution {
+    /// A solution of `method` with no increment yet (converged until one is not), the
+    /// penalties `eps_n` per contact.
+    pub fn start(method: &'static str, eps_n: Vec<f64>) -> FrictionSolution {
+        FrictionSolution {
+            method,
+            eps_n,
+            increments: Vec::new(),
+            factorizations: 0,
+            converged: true,
+            tangent: None,
+            tangent_increment: None,
+            warnings: Vec::new(),
+        }
+    }
+
+    /// A run that failed before any increment: unconverged, `error` its warning.
+    pub fn failed(method: &'static str, error: &Error) -> FrictionSolution {
+        FrictionSolution {
+            converged: false,
+            warnings: vec![format!("error: {error}")],
+            ..FrictionSolution::start(method, Vec::new())
+        }
+    }
+
     /// Total Newton iterations.
     pub fn newton_iters(&self) -> usize {
         self.increments.iter().map(|i| i.newton_iters).sum()

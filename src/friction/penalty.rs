@@ -349,20 +349,12 @@ pub(super) fn solve(
     let mut u = vec![0.0; n];
     let mut s_hist = vec![0.0; m];
     let (mut lam_n, mut lam_t) = (vec![0.0; m], vec![0.0; m]);
-    let mut out = FrictionSolution {
-        method: if matches!(t, Tangential::Augmented(..)) {
-            "augmented"
-        } else {
-            "penalty"
-        },
-        eps_n: eps_n.clone(),
-        increments: Vec::with_capacity(p.loads.len()),
-        factorizations: 0,
-        converged: true,
-        tangent: None,
-        tangent_increment: None,
-        warnings: Vec::new(),
+    let method = if matches!(t, Tangential::Augmented(..)) {
+        "augmented"
+    } else {
+        "penalty"
     };
+    let mut out = FrictionSolution::start(method, eps_n.clone());
     // Whether an increment had a contact in stick: its system is the one kept.
     let mut stuck = false;
     for k in 0..p.loads.len() {

@@ -531,16 +531,7 @@ fn row(
 /// not the end of the run. Bad input stays an error.
 fn solved_or_failed(p: &friction::FrictionProblem, m: &FrictionMethod) -> Result<FrictionSolution> {
     match friction::solve(p, m) {
-        Err(e) if !e.is_input() => Ok(FrictionSolution {
-            method: m.name(),
-            eps_n: Vec::new(),
-            increments: Vec::new(),
-            factorizations: 0,
-            converged: false,
-            tangent: None,
-            tangent_increment: None,
-            warnings: vec![format!("error: {e}")],
-        }),
+        Err(e) if !e.is_input() => Ok(FrictionSolution::failed(m.name(), &e)),
         other => other,
     }
 }
