@@ -28,6 +28,7 @@
 
 use super::{ContactStatus, FrictionProblem, FrictionSolution, Increment, MAX_NEWTON};
 use crate::error::Result;
+use crate::linalg::refine::inf_norm;
 use crate::linalg::Factorization;
 use crate::system::Stiffness;
 
@@ -70,10 +71,7 @@ fn law_residual(p: &FrictionProblem, k: usize, x: &[f64], s_prev: &[f64], c: f64
     let (n, m) = (p.n(), p.m());
     let u = &x[..n];
     let (ln, lt) = (&x[n..n + m], &x[n + m..]);
-    let mut worst = p
-        .residual(k, u, ln, lt)
-        .iter()
-        .fold(0.0f64, |a, v| a.max(v.abs()));
+    let mut worst = inf_norm(p.residual(k, u, ln, lt).into_iter());
     for i in 0..m {
         let sn = (ln[i] - c * p.gap(i, u)).max(0.0);
         let st = lt[i] - c * (p.slip(i, u) - s_prev[i]);
@@ -82,11 +80,7 @@ fn law_residual(p: &FrictionProblem, k: usize, x: &[f64], s_prev: &[f64], c: f64
             .max((ln[i] - sn).abs())
             .max((lt[i] - st.clamp(-b, b)).abs());
     }
-    let scale = p.loads[k]
-        .iter()
-        .chain(ln)
-        .chain(lt)
-        .fold(0.0f64, |a, v| a.max(v.abs()));
+    let scale = inf_norm(p.loads[k].iter().chain(ln).chain(lt).copied());
     if scale == 0.0 {
         worst
     } else {

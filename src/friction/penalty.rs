@@ -35,6 +35,7 @@
 
 use super::{ContactStatus, FrictionProblem, FrictionSolution, Increment, Law, MAX_NEWTON};
 use crate::error::Result;
+use crate::linalg::refine::inf_norm;
 use crate::linalg::Factorization;
 use crate::system::Stiffness;
 
@@ -191,7 +192,7 @@ fn newton(
     f: &Fixed,
     max_iters: usize,
 ) -> Result<NewtonEnd> {
-    let qnorm = inf_norm(&p.loads[k]);
+    let qnorm = inf_norm(p.loads[k].iter().copied());
     let mut solves = 0;
     let mut it = 0;
     loop {
@@ -199,10 +200,10 @@ fn newton(
         let r = p.residual(k, u, &fr.lam_n, &fr.lam_t);
         let j = tangent(p, &fr);
         let forces_scale = qnorm
-            .max(inf_norm(&p.normal.k.matvec(u)))
-            .max(inf_norm(&fr.lam_n))
-            .max(inf_norm(&fr.lam_t));
-        let converged = it > 0 && inf_norm(&r) <= RESIDUAL_TOL * forces_scale;
+            .max(inf_norm(p.normal.k.matvec(u).iter().copied()))
+            .max(inf_norm(fr.lam_n.iter().copied()))
+            .max(inf_norm(fr.lam_t.iter().copied()));
+        let converged = it > 0 && inf_norm(r.iter().copied()) <= RESIDUAL_TOL * forces_scale;
         if converged || it == max_iters {
             return Ok(NewtonEnd {
                 forces: fr,
@@ -254,7 +255,7 @@ fn increment(p: &FrictionProblem, k: usize, u: &mut [f64], f: &Fixed) -> Result<
         let pass = newton(p, k, u, &lagged, MAX_NEWTON)?;
         iters += pass.iters;
         solves += pass.solves;
-        let top = inf_norm(&pass.forces.lam_n);
+        let top = inf_norm(pass.forces.lam_n.iter().copied());
         let moved = pass
             .forces
             .lam_n
@@ -333,10 +334,6 @@ const HALVINGS: usize = 30;
 
 fn norm2(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
-}
-
-fn inf_norm(v: &[f64]) -> f64 {
-    v.iter().fold(0.0f64, |a, x| a.max(x.abs()))
 }
 
 /// Every increment of `p` by a penalty (`eps_n` per contact, `t`) or `augmented`.

@@ -578,7 +578,7 @@ pub struct FrictionBench;
 impl Study for FrictionBench {
     const NAME: &'static str = "friction_bench";
     const ABOUT: &'static str =
-        "Coulomb friction: every tangential penalty rule against the exact law (sliding block)";
+        "Coulomb friction: every tangential penalty rule against the exact law (sliding block, two-body patch test, inclined block)";
     const PROGRESS: &'static str = "friction_bench (runs)";
     const DEFAULT_OUT: &'static str = "results/friction_bench";
     type Flags = Flags;
