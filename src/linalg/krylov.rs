@@ -23,7 +23,8 @@
 //! penalized right-hand side `b = q + D E û` grows with ε wherever û ≠ 0, so `‖r‖ ≤ τ‖b‖`
 //! loosens as ε grows and a stiffer rule "needs fewer iterations" while stopping further from
 //! u (on a Hertz scene, 613 → 7 Jacobi-CG iterations across ε with the error at the stop
-//! rising from 2e-8 to 1).
+//! rising from 2e-8 to 1). [`cg_each`] and [`minres_each`] report several tests from one run
+//! (the iterates do not depend on the test): the metrics' pair of counts costs one run.
 //!
 //! Inner products are compensated (Dot2, see `dot`): the counts of a run on a raw penalized
 //! system should not depend on the summation order.
@@ -92,10 +93,10 @@ pub enum Stop<'a> {
     },
 }
 
-impl Stop<'_> {
+impl<'a> Stop<'a> {
     /// The absolute threshold of the error test (`target·‖u*‖∞`), or `None` for the residual
     /// test.
-    fn error_threshold(&self) -> Option<(&[f64], f64)> {
+    fn error_threshold(&self) -> Option<(&'a [f64], f64)> {
         match *self {
             Stop::Residual(_) => None,
             Stop::ErrorOfU { reference, target } => {
@@ -170,6 +171,17 @@ impl KrylovRun {
     }
 }
 
+/// A Krylov solver that reports several stopping tests from one run ([`cg_each`],
+/// [`minres_each`]): `(A, M, b, stops, max_iters, at_stop) → the last iterate`.
+pub type EachSolver = fn(
+    SparseColMatRef<'_, usize, f64>,
+    &dyn Preconditioner,
+    &[f64],
+    &[Stop<'_>],
+    usize,
+    &mut dyn FnMut(usize, &[f64], KrylovRun),
+) -> Vec<f64>;
+
 /// Preconditioned CG from x₀ = 0 on the SPD `A x = b`: returns x and the run. Stops when
 /// `stop` is met (`Stop::Residual(τ)`: `‖r_k‖₂ ≤ τ·‖b‖₂`, SciPy's `cg` test and count, see the
 /// module doc) or after `max_iters` iterations. A breakdown (`pᵀAp ≤ 0` or `rᵀz ≤ 0`: A or M
@@ -181,29 +193,70 @@ pub fn cg(
     stop: Stop<'_>,
     max_iters: usize,
 ) -> (Vec<f64>, KrylovRun) {
+    let mut out = KrylovRun::DONE;
+    let x = cg_each(a, pre, b, &[stop], max_iters, &mut |_, _, run| out = run);
+    (x, out)
+}
+
+/// One CG run that reports each of several stopping tests ([`cg`] for each `stops[i]`): it
+/// runs until every test is met (or a breakdown, or `max_iters`) and calls
+/// `at_stop(i, x_k, run)` where test i ends, with the iterate and the run as [`cg`] with that
+/// test alone would return them (the iterates do not depend on the test). Returns the last
+/// iterate. The metrics' pair of runs (to the error of u and to the residual test) shares
+/// its iterations this way.
+pub fn cg_each(
+    a: SparseColMatRef<'_, usize, f64>,
+    pre: &dyn Preconditioner,
+    b: &[f64],
+    stops: &[Stop<'_>],
+    max_iters: usize,
+    at_stop: &mut dyn FnMut(usize, &[f64], KrylovRun),
+) -> Vec<f64> {
     let n = b.len();
     let mut x = vec![0.0; n];
     let bnorm = norm(b);
-    let mut run = KrylovRun::DONE;
-    let err = stop.error_threshold();
-    let met_err = |x: &[f64]| err.is_some_and(|(u, t)| error_of_u(x, u) <= t);
-    if bnorm == 0.0 || met_err(&x) {
-        return (x, run);
+    let tests: Vec<Test<'_>> = stops.iter().map(|s| Test::new(s, bnorm)).collect();
+    let mut pending: Vec<usize> = Vec::with_capacity(stops.len());
+    for (i, t) in tests.iter().enumerate() {
+        if bnorm == 0.0 || t.met_err(&x) {
+            at_stop(i, &x, KrylovRun::DONE);
+        } else {
+            pending.push(i);
+        }
     }
-    let atol = stop.tol() * bnorm;
+    if pending.is_empty() {
+        return x;
+    }
     let (mut r, mut z, mut p, mut q) = (b.to_vec(), vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let (mut alphas, mut betas) = (Vec::new(), Vec::new());
     let mut rho_prev = 0.0;
     let mut rnorm = bnorm;
-    run.converged = false;
-    let met = |x: &[f64], rnorm: f64| match err {
-        Some(_) => met_err(x),
-        None => rnorm <= atol,
+    let mut iterations = 0;
+    let mut finish = |i: usize,
+                      x: &[f64],
+                      converged: bool,
+                      iterations: usize,
+                      rnorm: f64,
+                      alphas: &[f64],
+                      betas: &[f64]| {
+        let run = KrylovRun {
+            iterations,
+            converged,
+            relative_residual: rnorm / bnorm,
+            spectrum: lanczos_ends(alphas, betas),
+        };
+        at_stop(i, x, run);
     };
     for it in 0..max_iters {
-        if met(&x, rnorm) {
-            run.converged = true;
-            break;
+        pending.retain(|&i| {
+            let met = tests[i].met(&x, rnorm);
+            if met {
+                finish(i, &x, true, iterations, rnorm, &alphas, &betas);
+            }
+            !met
+        });
+        if pending.is_empty() {
+            return x;
         }
         pre.apply(&r, &mut z);
         let rho = dot(&r, &z);
@@ -228,14 +281,44 @@ pub fn cg(
         r.iter_mut().zip(&q).for_each(|(r, q)| *r -= alpha * q);
         rho_prev = rho;
         rnorm = norm(&r);
-        run.iterations = it + 1;
+        iterations = it + 1;
     }
-    if !run.converged && met(&x, rnorm) {
-        run.converged = true;
+    for &i in &pending {
+        let met = tests[i].met(&x, rnorm);
+        finish(i, &x, met, iterations, rnorm, &alphas, &betas);
     }
-    run.relative_residual = rnorm / bnorm;
-    run.spectrum = lanczos_ends(&alphas, &betas);
-    (x, run)
+    x
+}
+
+/// One stopping test of a run, its threshold resolved ([`Stop`]).
+struct Test<'a> {
+    /// u* and the absolute error threshold (the error test).
+    err: Option<(&'a [f64], f64)>,
+    /// The absolute residual threshold (the residual test; 0 under the error test).
+    atol: f64,
+}
+
+impl<'a> Test<'a> {
+    /// `stop` with its residual threshold relative to `scale` (CG: ‖b‖₂; MINRES: φ₀).
+    fn new(stop: &Stop<'a>, scale: f64) -> Self {
+        Test {
+            err: stop.error_threshold(),
+            atol: stop.tol() * scale,
+        }
+    }
+
+    /// The error test holds at `x` (false for a residual test).
+    fn met_err(&self, x: &[f64]) -> bool {
+        self.err.is_some_and(|(u, t)| error_of_u(x, u) <= t)
+    }
+
+    /// The test holds at `x` with residual measure `res`.
+    fn met(&self, x: &[f64], res: f64) -> bool {
+        match self.err {
+            Some(_) => self.met_err(x),
+            None => res <= self.atol,
+        }
+    }
 }
 
 /// The extreme eigenvalues of CG's Lanczos tridiagonal (module doc) by Sturm bisection.
@@ -315,41 +398,78 @@ pub fn minres(
     stop: Stop<'_>,
     max_iters: usize,
 ) -> (Vec<f64>, KrylovRun) {
+    let mut out = KrylovRun::DONE;
+    let x = minres_each(a, pre, b, &[stop], max_iters, &mut |_, _, run| out = run);
+    (x, out)
+}
+
+/// One MINRES run that reports each of several stopping tests, as [`cg_each`] does for CG.
+pub fn minres_each(
+    a: SparseColMatRef<'_, usize, f64>,
+    pre: &dyn Preconditioner,
+    b: &[f64],
+    stops: &[Stop<'_>],
+    max_iters: usize,
+    at_stop: &mut dyn FnMut(usize, &[f64], KrylovRun),
+) -> Vec<f64> {
     let n = b.len();
     let mut x = vec![0.0; n];
-    let mut run = KrylovRun::DONE;
-    let tol = stop.tol();
-    let err = stop.error_threshold();
-    let met_err = |x: &[f64]| err.is_some_and(|(u, t)| error_of_u(x, u) <= t);
-    if met_err(&x) {
-        return (x, run);
+    let mut pending: Vec<usize> = Vec::with_capacity(stops.len());
+    for (i, s) in stops.iter().enumerate() {
+        if Test::new(s, 0.0).met_err(&x) {
+            at_stop(i, &x, KrylovRun::DONE);
+        } else {
+            pending.push(i);
+        }
+    }
+    if pending.is_empty() {
+        return x;
     }
     let mut y = vec![0.0; n];
     pre.apply(b, &mut y);
     let beta1 = dot(b, &y);
     if beta1 == 0.0 {
-        return (x, run);
+        pending
+            .iter()
+            .for_each(|&i| at_stop(i, &x, KrylovRun::DONE));
+        return x;
     }
     if !(beta1 > 0.0 && beta1.is_finite()) {
-        run.converged = false;
-        run.relative_residual = f64::NAN;
-        return (x, run);
+        let run = KrylovRun {
+            converged: false,
+            relative_residual: f64::NAN,
+            ..KrylovRun::DONE
+        };
+        pending.iter().for_each(|&i| at_stop(i, &x, run));
+        return x;
     }
     let beta1 = beta1.sqrt();
+    let tests: Vec<Test<'_>> = stops.iter().map(|s| Test::new(s, beta1)).collect();
     let (mut r1, mut r2) = (b.to_vec(), b.to_vec());
     let (mut w, mut w1, mut w2) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
     let mut v = vec![0.0; n];
     let (mut oldb, mut beta, mut dbar, mut epsln, mut phibar) = (0.0, beta1, 0.0, 0.0, beta1);
     let (mut cs, mut sn) = (-1.0f64, 0.0f64);
-    run.converged = false;
-    let met = |x: &[f64], phibar: f64| match err {
-        Some(_) => met_err(x),
-        None => phibar <= tol * beta1,
+    let mut iterations = 0;
+    let mut finish = |i: usize, x: &[f64], converged: bool, iterations: usize, phibar: f64| {
+        let run = KrylovRun {
+            iterations,
+            converged,
+            relative_residual: phibar / beta1,
+            spectrum: None,
+        };
+        at_stop(i, x, run);
     };
     for it in 0..max_iters {
-        if met(&x, phibar) {
-            run.converged = true;
-            break;
+        pending.retain(|&i| {
+            let met = tests[i].met(&x, phibar);
+            if met {
+                finish(i, &x, true, iterations, phibar);
+            }
+            !met
+        });
+        if pending.is_empty() {
+            return x;
         }
         let s = 1.0 / beta;
         v.iter_mut().zip(&y).for_each(|(v, y)| *v = s * y);
@@ -388,7 +508,7 @@ pub fn minres(
             w[i] = (v[i] - oldeps * w1[i] - delta * w2[i]) * denom;
             x[i] += phi * w[i];
         }
-        run.iterations = it + 1;
+        iterations = it + 1;
         if beta == 0.0 {
             // An invariant subspace: x is exact (in exact arithmetic); the next step would
             // divide by β = 0. Stop here; the test below decides convergence.
@@ -396,11 +516,11 @@ pub fn minres(
             break;
         }
     }
-    if !run.converged && met(&x, phibar) {
-        run.converged = true;
+    for &i in &pending {
+        let met = tests[i].met(&x, phibar);
+        finish(i, &x, met, iterations, phibar);
     }
-    run.relative_residual = phibar / beta1;
-    (x, run)
+    x
 }
 
 /// `y = A x` for a general square sparse A (compressed columns: a scatter per column), for
@@ -649,6 +769,65 @@ mod tests {
         let (z, loose) = cg(s.as_ref(), &pre, &b, Stop::Residual(1e-8), 10 * n);
         assert!(loose.iterations < run.iterations, "{loose:?} {run:?}");
         assert!(relative_error_of_u(&z, &u_star) > target);
+    }
+
+    /// `(x, run)` of each stop of one shared run, in stop order.
+    fn each(
+        solver: EachSolver,
+        a: SparseColMatRef<'_, usize, f64>,
+        pre: &dyn Preconditioner,
+        b: &[f64],
+        stops: &[Stop<'_>],
+        max_iters: usize,
+    ) -> Vec<(Vec<f64>, KrylovRun)> {
+        let mut out = vec![(Vec::new(), KrylovRun::DONE); stops.len()];
+        solver(a, pre, b, stops, max_iters, &mut |i, x, run| {
+            out[i] = (x.to_vec(), run)
+        });
+        out
+    }
+
+    #[test]
+    fn one_shared_run_reports_each_stop_as_its_own_run_would() {
+        // CG on the stiff Laplacian: the residual test stops before the error test; with a
+        // limit between the two, the error stop ends unconverged at the limit.
+        let n = 60;
+        let s = laplacian(n, 1e8).to_sparse();
+        let mut b: Vec<f64> = (0..n).map(|i| ((i * 3) % 7) as f64 - 3.0).collect();
+        b[n / 2] += 1e8 * 0.25;
+        let pre = Jacobi::new(s.as_ref()).unwrap();
+        let (u_star, _) = cg(s.as_ref(), &pre, &b, Stop::Residual(1e-15), 10 * n);
+        let err = Stop::ErrorOfU {
+            reference: &u_star,
+            target: 1e-6,
+        };
+        let (tol, far) = (Stop::Residual(1e-8), Stop::Residual(1e-300));
+        let loose = cg(s.as_ref(), &pre, &b, tol, 10 * n).1.iterations;
+        for limit in [10 * n, loose + 1, loose] {
+            let stops = [err, tol, far];
+            let shared = each(cg_each, s.as_ref(), &pre, &b, &stops, limit);
+            for (stop, (x, run)) in stops.iter().zip(&shared) {
+                let (y, alone) = cg(s.as_ref(), &pre, &b, *stop, limit);
+                assert_eq!(format!("{run:?}"), format!("{alone:?}"), "limit {limit}");
+                assert_eq!(x, &y, "limit {limit}");
+            }
+            assert!(!shared[2].1.converged, "τ = 1e-300 is never met");
+        }
+        // MINRES on the saddle point, the same.
+        let (a, pre, b) = saddle();
+        let (s, m) = (a.to_sparse(), b.len() - 1);
+        let (x, _) = minres(s.as_ref(), &pre, &b, Stop::Residual(1e-14), 500);
+        let err = Stop::ErrorOfU {
+            reference: &x[..m],
+            target: 1e-4,
+        };
+        let stops = [Stop::Residual(1e-3), err, Stop::Residual(1e-300)];
+        let shared = each(minres_each, s.as_ref(), &pre, &b, &stops, 500);
+        for (stop, (x, run)) in stops.iter().zip(&shared) {
+            let (y, alone) = minres(s.as_ref(), &pre, &b, *stop, 500);
+            assert_eq!(format!("{run:?}"), format!("{alone:?}"));
+            assert_eq!(x, &y);
+        }
     }
 
     #[test]

@@ -25,7 +25,7 @@
 //!   scene gives, its block size; `amg_nodal_levels`). **These are the counts to compare
 //!   rules by**: each reaches the same accuracy of u;
 //! - `pcg_iters_jacobi`, `pcg_iters_ic0`: the same runs stopped by SciPy's residual test
-//!   `‖r‖₂ ≤ τ‖b‖₂`, each beside the error of u at its stop (`pcg_err_u_at_stop_*`); the
+//!   `‖r‖₂ ≤ τ‖b‖₂` (one run serves both stops: its iterates do not depend on the test), each beside the error of u at its stop (`pcg_err_u_at_stop_*`); the
 //!   effective condition number of the preconditioned operator (`pcg_cond_eff_*`) is estimated
 //!   from the Lanczos coefficients of the error-based run (an estimate). The residual test is
 //!   not an accuracy: with
@@ -52,7 +52,7 @@ use crate::conditioning::CondReport;
 use crate::dd::Dd;
 use crate::error::{Error, Result};
 use crate::linalg::amg::{Amg, AmgOptions};
-use crate::linalg::krylov::{self, KrylovRun, Preconditioner, Stop};
+use crate::linalg::krylov::{self, EachSolver, KrylovRun, Preconditioner, Stop};
 use crate::linalg::precond::{Ic0, Jacobi};
 use crate::linalg::{refine, Factorization};
 use crate::strategy::{Solution, SystemKind};
@@ -114,7 +114,7 @@ impl SolverOptions {
 pub struct IterativeSolve {
     /// Statistics of the run.
     pub run: KrylovRun,
-    /// Wall time (s).
+    /// Wall time from the run's start to this stop (s; the pair's two stops share one run).
     pub seconds: f64,
     /// `‖u_k − u*‖∞/‖u*‖∞` at the run's stop (`None` without a converged reference u*).
     pub err_u: Option<f64>,
@@ -406,28 +406,13 @@ pub fn compute_for(
     let sparse = fs.a.to_sparse();
     let a = sparse.as_ref();
     let max_iters = opts.max_iters.unwrap_or(default_max_iters(fs.b.len()));
-    let pair = |solver: Solver, m: &dyn Preconditioner| KrylovPair {
-        to_err: u_star.as_deref().map(|u| {
-            let stop = Stop::ErrorOfU {
-                reference: u,
-                target: opts.err_target,
-            };
-            timed(solver, a, m, &fs.b, stop, max_iters, u_star.as_deref())
-        }),
-        residual: Some(timed(
-            solver,
-            a,
-            m,
-            &fs.b,
-            Stop::Residual(opts.tol),
-            max_iters,
-            u_star.as_deref(),
-        )),
+    let pair = |solver: EachSolver, m: &dyn Preconditioner| {
+        paired_runs(solver, a, m, &fs.b, &opts, max_iters, u_star.as_deref())
     };
     match &sol.system {
         SystemKind::Penalized => {
             match Jacobi::new(a) {
-                Ok(m) => out.pcg_jacobi = pair(krylov::cg, &m),
+                Ok(m) => out.pcg_jacobi = pair(krylov::cg_each, &m),
                 Err(e) => out
                     .unavailable
                     .push(format!("pcg (Jacobi): {}", e.bare_message())),
@@ -435,14 +420,14 @@ pub fn compute_for(
             match Ic0::new(a) {
                 Ok(m) => {
                     out.ic0_shift = Some(m.shift);
-                    out.pcg_ic0 = pair(krylov::cg, &m);
+                    out.pcg_ic0 = pair(krylov::cg_each, &m);
                 }
                 Err(e) => out
                     .unavailable
                     .push(format!("pcg (IC(0)): {}", e.bare_message())),
             }
             let mut amg = |opts: &AmgOptions, name: &str| match Amg::new(a, opts) {
-                Ok(m) => Some((m.sizes.clone(), pair(krylov::cg, &m))),
+                Ok(m) => Some((m.sizes.clone(), pair(krylov::cg_each, &m))),
                 Err(e) => {
                     let e = e.bare_message();
                     out.unavailable.push(format!("pcg (AMG, {name}): {e}"));
@@ -459,7 +444,7 @@ pub fn compute_for(
             }
         }
         SystemKind::SaddlePoint { active } => match saddle_preconditioner(problem, active) {
-            Ok(m) => out.minres = pair(krylov::minres, &m),
+            Ok(m) => out.minres = pair(krylov::minres_each, &m),
             Err(e) => out
                 .unavailable
                 .push(format!("minres: {}", e.bare_message())),
@@ -468,33 +453,41 @@ pub fn compute_for(
     Ok(out)
 }
 
-/// A Krylov solver of [`crate::linalg::krylov`].
-type Solver = fn(
-    faer::sparse::SparseColMatRef<'_, usize, f64>,
-    &dyn Preconditioner,
-    &[f64],
-    Stop<'_>,
-    usize,
-) -> (Vec<f64>, KrylovRun);
-
-/// One timed run, with the error of u at its stop where u* is known.
-fn timed(
-    solver: Solver,
+/// The pair of runs (module doc) from one run of `solver`: its iterates do not depend on the
+/// stopping test, so the run to the residual test τ and the run to the error of u (where u*
+/// is known) are the same run stopped at two places. Each stop keeps its count, its
+/// convergence, its spectrum estimate, the seconds from the start to it and the error of u
+/// there.
+fn paired_runs(
+    solver: EachSolver,
     a: faer::sparse::SparseColMatRef<'_, usize, f64>,
     m: &dyn Preconditioner,
     b: &[f64],
-    stop: Stop<'_>,
+    opts: &SolverOptions,
     max_iters: usize,
     u_star: Option<&[f64]>,
-) -> IterativeSolve {
-    let t = Instant::now();
-    let (x, run) = solver(a, m, b, stop, max_iters);
-    let seconds = t.elapsed().as_secs_f64();
-    IterativeSolve {
-        run,
-        seconds,
-        err_u: u_star.map(|u| krylov::relative_error_of_u(&x, u)),
+) -> KrylovPair {
+    let mut stops = vec![Stop::Residual(opts.tol)];
+    if let Some(u) = u_star {
+        stops.push(Stop::ErrorOfU {
+            reference: u,
+            target: opts.err_target,
+        });
     }
+    let t = Instant::now();
+    let mut out = KrylovPair::default();
+    solver(a, m, b, &stops, max_iters, &mut |i, x, run| {
+        let solve = IterativeSolve {
+            run,
+            seconds: t.elapsed().as_secs_f64(),
+            err_u: u_star.map(|u| krylov::relative_error_of_u(x, u)),
+        };
+        match i {
+            0 => out.residual = Some(solve),
+            _ => out.to_err = Some(solve),
+        }
+    });
+    out
 }
 
 /// `M⁻¹` of the MINRES preconditioner (module doc): `1/K_ii` on u, and on λ_c the inverse of
