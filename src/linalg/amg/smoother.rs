@@ -97,9 +97,10 @@ pub(super) fn gauss_seidel(a: &Csr, blocks: &BlockDiag, b: &[f64], x: &mut [f64]
         let lo = node * bs;
         for (ri, rv) in r.iter_mut().enumerate() {
             let i = lo + ri;
+            // `j` outside the node's block [lo, lo + bs) (no integer division per entry).
             let s: f64 = a
                 .row(i)
-                .filter(|&(j, _)| j / bs != node)
+                .filter(|&(j, _)| j.wrapping_sub(lo) >= bs)
                 .map(|(j, v)| v * x[j])
                 .sum();
             *rv = b[i] - s;
