@@ -155,13 +155,16 @@ pub mod generate;
 pub mod linalg;
 pub mod metrics;
 pub mod model;
+#[cfg(feature = "cli")]
 pub mod plot;
+#[cfg(feature = "cli")]
 pub mod progress;
 pub mod provenance;
 pub mod route;
 pub mod scene;
 pub mod stats;
 pub mod strategy;
+#[cfg(feature = "cli")]
 pub mod study;
 pub mod system;
 

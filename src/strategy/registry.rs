@@ -283,12 +283,14 @@ pub fn delta_rules() -> Vec<&'static Strategy> {
 /// The clap parser of a strategy name (`--method`, `--methods`): the names of [`all`] at the
 /// time the command line is parsed, each with its summary in `--help`, and the list of valid
 /// values in the error message.
+#[cfg(feature = "cli")]
 pub fn method_parser() -> clap::builder::PossibleValuesParser {
     method_parser_of(&all())
 }
 
 /// [`method_parser`] restricted to `strategies` (a study that runs only some of them lists
 /// only those in `--help` and in its error message).
+#[cfg(feature = "cli")]
 pub fn method_parser_of(strategies: &[&'static Strategy]) -> clap::builder::PossibleValuesParser {
     clap::builder::PossibleValuesParser::new(
         strategies
