@@ -128,12 +128,24 @@ pub fn solve_scene(
     knobs: Knobs,
     opts: &SolveOptions,
 ) -> Result<Value> {
-    let (no_metrics, exact_start, cond_tol) = (opts.no_metrics, opts.exact_start, opts.cond_tol);
     check_options(opts)?;
     // K in the storage its structure prefers, as `sweep` reads scenes: the same solve and
     // cond₂ routes (a dense-stored 400-DOF membrane takes the sparse ones, not a dense
     // eigensolver with Kahan-wide bounds).
     let sc = scene::read_scene_preferred(scene)?;
+    solve_loaded(&sc, strategy, knobs, opts)
+}
+
+/// [`solve_scene`] on a scene already read (or built in memory, as the Python module does),
+/// its K in the storage it should be solved in ([`crate::system::Problem::in_preferred_storage`]).
+pub fn solve_loaded(
+    sc: &scene::Scene,
+    strategy: &'static Strategy,
+    knobs: Knobs,
+    opts: &SolveOptions,
+) -> Result<Value> {
+    let (no_metrics, exact_start, cond_tol) = (opts.no_metrics, opts.exact_start, opts.cond_tol);
+    check_options(opts)?;
     let p = &sc.problem;
     let mut knobs = knobs;
     if strategy.knob == Knob::EpsTol {
