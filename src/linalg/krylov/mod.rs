@@ -193,9 +193,7 @@ pub fn cg(
     stop: Stop<'_>,
     max_iters: usize,
 ) -> (Vec<f64>, KrylovRun) {
-    let mut out = KrylovRun::DONE;
-    let x = cg_each(a, pre, b, &[stop], max_iters, &mut |_, _, run| out = run);
-    (x, out)
+    one_stop(cg_each, a, pre, b, stop, max_iters)
 }
 
 /// One CG run that reports each of several stopping tests ([`cg`] for each `stops[i]`): it
@@ -398,8 +396,20 @@ pub fn minres(
     stop: Stop<'_>,
     max_iters: usize,
 ) -> (Vec<f64>, KrylovRun) {
+    one_stop(minres_each, a, pre, b, stop, max_iters)
+}
+
+/// The run of `each` with the one test `stop`: its last iterate and its statistics.
+fn one_stop(
+    each: EachSolver,
+    a: SparseColMatRef<'_, usize, f64>,
+    pre: &dyn Preconditioner,
+    b: &[f64],
+    stop: Stop<'_>,
+    max_iters: usize,
+) -> (Vec<f64>, KrylovRun) {
     let mut out = KrylovRun::DONE;
-    let x = minres_each(a, pre, b, &[stop], max_iters, &mut |_, _, run| out = run);
+    let x = each(a, pre, b, &[stop], max_iters, &mut |_, _, run| out = run);
     (x, out)
 }
 
