@@ -159,11 +159,12 @@ def _rows(d, n):
 def solve(K, q, D, limits, kinds, method="condensed", *, eps=None, factor=None, delta=None,
           tol=None, adaptive=False, metrics=True, solver_metrics=None, cond_tol=None,
           exact_start=False, storage="general", name=None):
-    """One strategy on the contact problem ``K u = q − D r`` (the sign convention of the
+    """One strategy on the contact problem ``K u = q − Dᵀ r`` (the sign convention of the
     library: r the contact forces, r ≥ 0 pushing an ``upper`` obstacle back).
 
     ``K``: n×n (SciPy sparse or NumPy; ``storage`` as in :func:`cond2`); ``q``: n loads;
-    ``D``: m×n, one row d_c per constraint (general rows allowed); ``limits``: û_c;
+    ``D``: m×n, one row d_cᵀ per constraint (general rows allowed; the transpose of the
+    library's N×m D); ``limits``: û_c;
     ``kinds``: ``"upper"`` (d_cᵀu ≤ û_c), ``"lower"`` (≥) or ``"bilateral"`` (=), one per row.
     ``method``: a strategy name (``constant``, ``scaled``, ``spring``, ``paper``,
     ``condensed``, ``lagrange``, ``augmented``, ``optimal``, ``barrier``) with its knob

@@ -159,7 +159,7 @@ fn constraints(
         .collect()
 }
 
-/// One strategy on K u = q − D r with the constraints of D (COO, m × n), as the JSON object
+/// One strategy on K u = q − Dᵀ r with the constraint rows of D (COO, m × n), as the JSON object
 /// `solve --json` prints for the same scene (same keys, same values bit for bit; `seconds`
 /// aside). `metrics`: cond₂ and determinants (`False`: `--no-metrics`); `solver_metrics`:
 /// `None` their default (up to 20 000 unknowns), `True`/`False` as `--solver-metrics` /
