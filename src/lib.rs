@@ -104,11 +104,19 @@
 //! `faer::set_global_parallelism(faer::Par::Seq)`; a program that calls the library and wants
 //! reproducible bits does the same.
 //!
+//! ## Features
+//! `cli` (on by default) holds what the binaries need beside the numerics: [`study`],
+//! [`plot`] and [`progress`], with clap, plotters, indicatif and ctrlc. A crate that only
+//! computes depends on `penalty-lab = { version = "0.1", default-features = false }`: systems,
+//! strategies, certified cond₂, metrics, models, friction, forming, scenes and provenance
+//! (`.ci/run` checks that build with clippy). `lapack` adds the independent LAPACK reference.
+//! From Python: the `penalty_lab` module in `python/` (`pip install ./python`).
+//!
 //! ## Layers
 //! Dependencies point down only, the module graph has no circle, no study imports another
 //! study, and every binary has its study at `src/study/<binary>` (checked by
 //! `tests/architecture.rs`, which also prints the module graph):
-//! 1. foundation — `error`, `stats`, `progress`, `provenance`, `dd`;
+//! 1. foundation — `error`, `stats`, `progress` (feature `cli`), `provenance`, `dd`;
 //! 2. numerics, bottom up — `route` (the one storage / solve / cond₂ route policy), `system`,
 //!    `linalg`, `conditioning`;
 //! 3. core — `model`, `scene`; then `strategy`; then `metrics`, `plot`, `forming`,
