@@ -14,8 +14,9 @@ cargo run --release --bin stress -- --force --out figures/stress
 cargo run --release --bin runtime_vs_error -- --force --out figures/runtime_vs_error
 cargo run --release --bin cond_cost -- --force --out figures/cond_cost
 cargo run --release --bin cond_accuracy -- --force --out figures/cond_accuracy
-cargo run --release --bin solver_cost -- --force --out figures/solver_cost   # 6–7 min on 2 cores
+cargo run --release --bin solver_cost -- --force --out figures/solver_cost   # 2.5 min on 2 cores
 cargo run --release --bin solver_cost -- --families hertz-3d --sphere-h0 2 --force --out figures/solver_cost/hertz-3d   # 5–6 min
+cargo run --release --bin solver_cost -- --families hertz-two-body --force --out figures/solver_cost/hertz-two-body   # 6 min
 cargo run --release --bin contact_bench -- --force --out figures/contact_bench --optimal-max-n 6000   # ≈ 1.6 h on 2 cores
 cargo run --release --bin contact_bench -- --cases inclined-15,inclined-30,inclined-45,patch-two-body-mortar,patch-two-body-nts-1,patch-two-body-nts-2,hertz-two-body,hertz-normals --force --out figures/contact_bench/coupled   # ≈ 1.5 min
 cargo run --release --bin penalty_scaling -- --force --out figures/penalty_scaling   # ≈ 2 min
