@@ -73,13 +73,10 @@ class Cond2:
 _STORAGES = ("general", "lower", "upper")
 
 
-def _coo(a, storage):
-    """(n, rows, cols, vals) of a square matrix: a SciPy sparse matrix or array in any format
-    (duplicates are summed, indices need not be sorted) or anything ``numpy.asarray`` takes
-    (its nonzero entries). ``storage``: ``general`` (every entry given), ``lower``/``upper``
-    (one triangle of a symmetric matrix; the other is mirrored)."""
-    if storage not in _STORAGES:
-        raise ValueError(f"invalid input: storage must be one of {', '.join(_STORAGES)} (got {storage!r})")
+def _triplets(a, what):
+    """(shape, rows, cols, vals) of a 2-D matrix — a SciPy sparse matrix or array in any format
+    (duplicates kept, to be summed; indices need not be sorted) or anything ``numpy.asarray``
+    takes (its nonzero and non-finite entries) — as contiguous int64/int64/float64 arrays."""
     if hasattr(a, "tocoo") and hasattr(a, "nnz"):
         shape = a.shape
         c = a.tocoo()
@@ -89,20 +86,34 @@ def _coo(a, storage):
         if d.dtype == object or not (
             _np.issubdtype(d.dtype, _np.floating) or _np.issubdtype(d.dtype, _np.integer)
         ):
-            raise ValueError(f"invalid input: the matrix must hold real numbers (got dtype {d.dtype})")
+            raise ValueError(f"invalid input: {what} must hold real numbers (got dtype {d.dtype})")
         shape = d.shape
         if d.ndim != 2:
-            raise ValueError(f"invalid input: the matrix must be 2-D (got shape {shape})")
-        # Non-finite entries must reach the check below: keep them as entries.
+            raise ValueError(f"invalid input: {what} must be 2-D (got shape {shape})")
+        # Non-finite entries must reach the library's check: keep them as entries.
         rows, cols = _np.nonzero((d != 0) | ~_np.isfinite(d))
         vals = d[rows, cols]
-    if len(shape) != 2 or shape[0] != shape[1]:
-        raise ValueError(f"invalid input: the matrix must be square (got shape {tuple(shape)})")
+    if len(shape) != 2:  # a 1-D SciPy sparse array
+        raise ValueError(f"invalid input: {what} must be 2-D (got shape {tuple(shape)})")
     if _np.iscomplexobj(vals):
-        raise ValueError("invalid input: the matrix must be real (got complex entries)")
-    rows = _np.ascontiguousarray(rows, dtype=_np.int64)
-    cols = _np.ascontiguousarray(cols, dtype=_np.int64)
-    vals = _np.ascontiguousarray(vals, dtype=_np.float64)
+        raise ValueError(f"invalid input: {what} must be real (got complex entries)")
+    return (
+        tuple(shape),
+        _np.ascontiguousarray(rows, dtype=_np.int64),
+        _np.ascontiguousarray(cols, dtype=_np.int64),
+        _np.ascontiguousarray(vals, dtype=_np.float64),
+    )
+
+
+def _coo(a, storage):
+    """(n, rows, cols, vals) of a square matrix (:func:`_triplets`). ``storage``: ``general``
+    (every entry given), ``lower``/``upper`` (one triangle of a symmetric matrix; the other is
+    mirrored)."""
+    if storage not in _STORAGES:
+        raise ValueError(f"invalid input: storage must be one of {', '.join(_STORAGES)} (got {storage!r})")
+    shape, rows, cols, vals = _triplets(a, "the matrix")
+    if shape[0] != shape[1]:
+        raise ValueError(f"invalid input: the matrix must be square (got shape {shape})")
     if storage != "general":
         keep = rows >= cols if storage == "lower" else rows <= cols
         if not _np.all(keep):
@@ -139,18 +150,8 @@ def _bytes(x, dtype, what):
 
 
 def _rows(d, n):
-    """D as COO (rows = constraints, columns = DOFs): a SciPy sparse matrix or a NumPy array of
-    shape (m, n)."""
-    if hasattr(d, "tocoo") and hasattr(d, "nnz"):
-        c = d.tocoo()
-        shape, rows, cols, vals = d.shape, c.row, c.col, c.data
-    else:
-        a = _np.asarray(d, dtype=_np.float64)
-        if a.ndim != 2:
-            raise ValueError(f"invalid input: D must be 2-D, one row per constraint (got shape {a.shape})")
-        shape = a.shape
-        rows, cols = _np.nonzero((a != 0) | ~_np.isfinite(a))
-        vals = a[rows, cols]
+    """(m, rows, cols, vals) of D (rows = constraints, columns = DOFs; :func:`_triplets`)."""
+    shape, rows, cols, vals = _triplets(d, "D")
     if shape[1] != n:
         raise ValueError(f"invalid input: D has {shape[1]} columns, K is {n} × {n}")
     return shape[0], rows, cols, vals
@@ -178,9 +179,8 @@ def solve(K, q, D, limits, kinds, method="condensed", *, eps=None, factor=None, 
     m, dr, dc, dv = _rows(D, n)
     kinds = [str(k) for k in kinds]
     text = _penalty_lab.solve_coo(
-        n, kr.astype(_np.int64).tobytes(), kc.astype(_np.int64).tobytes(), kv.astype(_np.float64).tobytes(),
-        _bytes(q, _np.float64, "q"),
-        _bytes(dr, _np.int64, "D"), _bytes(dc, _np.int64, "D"), _bytes(dv, _np.float64, "D"),
+        n, kr.tobytes(), kc.tobytes(), kv.tobytes(), _bytes(q, _np.float64, "q"),
+        dr.tobytes(), dc.tobytes(), dv.tobytes(),
         _bytes(limits, _np.float64, "limits"), kinds, str(method),
         eps=eps, factor=factor, delta=delta, tol=tol, adaptive=bool(adaptive), metrics=bool(metrics),
         solver_metrics=solver_metrics, cond_tol=cond_tol, exact_start=bool(exact_start), name=name,

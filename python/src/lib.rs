@@ -131,9 +131,7 @@ fn constraints(
         let dof = usize::try_from(j).ok().filter(|&j| j < n).ok_or_else(|| {
             Error::input(format!("D entry {k}: DOF index {j} outside 0 … {}", n - 1))
         })?;
-        if !x.is_finite() {
-            return Err(Error::not_finite(format!("D entry {k} ({i}, {j}) = {x}")));
-        }
+        // Non-finite coefficients and limits: `Problem::new` names the constraint.
         match terms[row].iter_mut().find(|t| t.0 == dof) {
             Some(t) => t.1 += x,
             None => terms[row].push((dof, x)),
@@ -144,16 +142,11 @@ fn constraints(
         .zip(limits)
         .zip(kinds)
         .map(|((t, l), kind)| {
-            let kind = match kind.as_str() {
-                "upper" => ConstraintKind::Upper,
-                "lower" => ConstraintKind::Lower,
-                "bilateral" => ConstraintKind::Bilateral,
-                k => {
-                    return Err(Error::input(format!(
-                        "constraint kind '{k}': must be 'upper', 'lower' or 'bilateral'"
-                    )))
-                }
-            };
+            let kind = ConstraintKind::from_name(kind).ok_or_else(|| {
+                Error::input(format!(
+                    "constraint kind '{kind}': must be 'upper', 'lower' or 'bilateral'"
+                ))
+            })?;
             Ok(Constraint::row(t, l, kind))
         })
         .collect()
@@ -198,16 +191,8 @@ fn solve_coo(
     py.detach(|| -> Result<String, Error> {
         let strategy = registry::lookup(&method)?;
         let (k, _) = matrix(n, k_rows, k_cols, k_vals)?;
+        // q's length and finiteness: checked by `Problem::new`, as for a scene.
         let q = words(q, "q", f64::from_ne_bytes)?;
-        if q.len() != n {
-            return Err(Error::input(format!(
-                "q has {} entries, K is {n} × {n}",
-                q.len()
-            )));
-        }
-        if let Some(i) = q.iter().position(|v| !v.is_finite()) {
-            return Err(Error::not_finite(format!("q[{i}] = {}", q[i])));
-        }
         let cons = constraints(n, (d_rows, d_cols, d_vals), limits, &kinds)?;
         let problem = Problem::new(k, q, cons)?.in_preferred_storage();
         let scene = Scene {

@@ -70,8 +70,9 @@ def test_a_hand_built_problem_matches_its_closed_form():
 @pytest.mark.parametrize(
     "change, message",
     [
-        ({"q": [0.0, np.nan]}, "not finite"),
-        ({"q": [0.0, 1.0, 2.0]}, "q has 3 entries"),
+        ({"q": [0.0, np.nan]}, "load entry 1 is not finite"),
+        ({"D": np.array([[np.nan, 1.0]])}, "constraint 0"),
+        ({"q": [0.0, 1.0, 2.0]}, r"load vector q \(K is 2×2\) has 3 entries, expected 2"),
         ({"kinds": ["sideways"]}, "kind"),
         ({"kinds": []}, "kinds"),
         ({"method": "magic"}, "magic"),

@@ -753,14 +753,12 @@ struct Kind(ConstraintKind);
 
 impl<'de> Deserialize<'de> for Kind {
     fn deserialize<D: Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
-        match String::deserialize(d)?.as_str() {
-            "bilateral" => Ok(Kind(ConstraintKind::Bilateral)),
-            "upper" => Ok(Kind(ConstraintKind::Upper)),
-            "lower" => Ok(Kind(ConstraintKind::Lower)),
-            other => Err(de::Error::custom(format_args!(
+        let name = String::deserialize(d)?;
+        ConstraintKind::from_name(&name).map(Kind).ok_or_else(|| {
+            de::Error::custom(format_args!(
                 "unknown kind {} (valid kinds: bilateral, upper, lower)",
-                quote_short(other)
-            ))),
-        }
+                quote_short(&name)
+            ))
+        })
     }
 }

@@ -17,6 +17,17 @@ pub enum ConstraintKind {
 }
 
 impl ConstraintKind {
+    /// The kind named `name` as scene files and the Python module write it: `"bilateral"`,
+    /// `"upper"` or `"lower"`.
+    pub fn from_name(name: &str) -> Option<ConstraintKind> {
+        match name {
+            "bilateral" => Some(ConstraintKind::Bilateral),
+            "upper" => Some(ConstraintKind::Upper),
+            "lower" => Some(ConstraintKind::Lower),
+            _ => None,
+        }
+    }
+
     /// Penetration for the signed gap `g = u[d] − û`.
     pub fn penetration(self, g: f64) -> f64 {
         match self {
