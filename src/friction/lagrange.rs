@@ -136,12 +136,21 @@ fn system(
     Ok((Stiffness::from_triplets(n + 2 * m, &t)?, b))
 }
 
-/// Every increment of `p` by the semismooth Newton method (module doc).
-pub(super) fn solve(p: &FrictionProblem) -> Result<FrictionSolution> {
+/// Every increment of `p` by the semismooth Newton method (module doc), from `start` (its u,
+/// λ_N, λ_T and slips) or the unloaded state.
+pub(super) fn solve(p: &FrictionProblem, start: Option<&Increment>) -> Result<FrictionSolution> {
     let (n, m) = (p.n(), p.m());
     let c_mean = (0..n).map(|i| p.normal.k.diag(i)).sum::<f64>() / n as f64;
     let mut x = vec![0.0; n + 2 * m];
     let mut s_prev = vec![0.0; m];
+    if let Some(s) = start {
+        x[..n].copy_from_slice(&s.u);
+        x[n..n + m].copy_from_slice(&s.lam_n);
+        x[n + m..].copy_from_slice(&s.lam_t);
+        for (c, sp) in s_prev.iter_mut().enumerate() {
+            *sp = p.slip(c, &s.u);
+        }
+    }
     let mut out = FrictionSolution::start("lagrange", vec![0.0; m]);
     // Whether an increment had a contact in stick: its system is the one kept.
     let mut stuck = false;

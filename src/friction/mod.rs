@@ -38,6 +38,7 @@
 //! plane), [`patch`] (the two-body patch test in full slip, mortar or node-to-segment rows) and
 //! [`incline`] (the crowned block pressed onto an inclined plane: rows coupling two DOFs).
 
+pub mod cattaneo;
 pub mod incline;
 pub mod lagrange;
 pub mod patch;
@@ -440,13 +441,45 @@ pub fn normal_penalties(p: &FrictionProblem, rule: &NormalRule) -> Result<Vec<f6
 /// Solves every increment of `p` with `method`, each from the state of the one before
 /// (u = 0, λ = 0, s = 0 before the first).
 pub fn solve(p: &FrictionProblem, method: &FrictionMethod) -> Result<FrictionSolution> {
+    solve_from(p, method, None)
+}
+
+/// [`solve`] from the state `start` (an increment of an earlier solve of the same K, rows
+/// and method; None: the unloaded state): its u, λ_N, λ_T and slip history (the penalties'
+/// plastic slip `s + λ_T/ε_T` from its ε_T) are those before `p`'s first load. Used where
+/// many continuations share one loading history (`cattaneo-mindlin`'s slide from one squeeze).
+pub fn solve_from(
+    p: &FrictionProblem,
+    method: &FrictionMethod,
+    start: Option<&Increment>,
+) -> Result<FrictionSolution> {
+    if let Some(s) = start {
+        let m = p.m();
+        if s.u.len() != p.n() {
+            return Err(Error::length_mismatch("start state's u", s.u.len(), p.n()));
+        }
+        for (what, len) in [
+            ("λ_N", s.lam_n.len()),
+            ("λ_T", s.lam_t.len()),
+            ("ε_T", s.eps_t.len()),
+        ] {
+            if len != m {
+                return Err(Error::length_mismatch(
+                    format!("start state's {what}"),
+                    len,
+                    m,
+                ));
+            }
+        }
+    }
     match method {
-        FrictionMethod::Lagrange => lagrange::solve(p),
+        FrictionMethod::Lagrange => lagrange::solve(p, start),
         FrictionMethod::Augmented { eps_n, eps_t, tol } => {
             let eps_n = vec![Error::positive("normal penalty ε_N", *eps_n)?; p.m()];
             Error::positive("tangential penalty ε_T", *eps_t)?;
             Error::positive("augmented tolerance", *tol)?;
-            penalty::solve(p, eps_n, penalty::Tangential::Augmented(*eps_t, *tol))
+            let t = penalty::Tangential::Augmented(*eps_t, *tol);
+            penalty::solve(p, eps_n, t, start)
         }
         FrictionMethod::Penalty {
             normal,
@@ -476,7 +509,7 @@ pub fn solve(p: &FrictionProblem, method: &FrictionMethod) -> Result<FrictionSol
                     *law,
                 ),
             };
-            penalty::solve(p, eps_n, t)
+            penalty::solve(p, eps_n, t, start)
         }
     }
 }

@@ -329,6 +329,16 @@ fn line_search(p: &FrictionProblem, k: usize, u: &mut [f64], du: &[f64], f: &Fix
     }
 }
 
+/// The slip history a contact carries into the next increment: augmented keeps the slip s
+/// itself, a penalty the plastic slip `s + λ_T/ε_T` (s where ε_T = 0).
+fn plastic_slip(s: f64, lam_t: f64, eps_t: f64, t: &Tangential) -> f64 {
+    match t {
+        Tangential::Augmented(..) => s,
+        _ if eps_t > 0.0 => s + lam_t / eps_t,
+        _ => s,
+    }
+}
+
 /// Halvings of the line search's step.
 const HALVINGS: usize = 30;
 
@@ -336,16 +346,26 @@ fn norm2(v: &[f64]) -> f64 {
     v.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
-/// Every increment of `p` by a penalty (`eps_n` per contact, `t`) or `augmented`.
+/// Every increment of `p` by a penalty (`eps_n` per contact, `t`) or `augmented`, from
+/// `start` (its u, λ_N, λ_T and slip history) or the unloaded state.
 pub(super) fn solve(
     p: &FrictionProblem,
     eps_n: Vec<f64>,
     t: Tangential,
+    start: Option<&Increment>,
 ) -> Result<FrictionSolution> {
     let (n, m) = (p.n(), p.m());
     let mut u = vec![0.0; n];
     let mut s_hist = vec![0.0; m];
     let (mut lam_n, mut lam_t) = (vec![0.0; m], vec![0.0; m]);
+    if let Some(s) = start {
+        u.clone_from(&s.u);
+        lam_n.clone_from(&s.lam_n);
+        lam_t.clone_from(&s.lam_t);
+        for (c, h) in s_hist.iter_mut().enumerate() {
+            *h = plastic_slip(p.slip(c, &u), s.lam_t[c], s.eps_t[c], &t);
+        }
+    }
     let method = if matches!(t, Tangential::Augmented(..)) {
         "augmented"
     } else {
@@ -390,14 +410,8 @@ pub(super) fn solve(
                 out.method
             ));
         }
-        // The history: augmented keeps the slip itself, a penalty the plastic slip.
         for (c, h) in s_hist.iter_mut().enumerate() {
-            let s = p.slip(c, &u);
-            *h = match t {
-                Tangential::Augmented(..) => s,
-                _ if fr.eps_t[c] > 0.0 => s + fr.lam_t[c] / fr.eps_t[c],
-                _ => s,
-            };
+            *h = plastic_slip(p.slip(c, &u), fr.lam_t[c], fr.eps_t[c], &t);
         }
         lam_n.clone_from(&fr.lam_n);
         lam_t.clone_from(&fr.lam_t);

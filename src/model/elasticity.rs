@@ -129,7 +129,7 @@ pub struct Grid {
 
 /// Coordinates from 0 to `length`: steps of `h` up to `fine`, then steps growing by `growth`
 /// (the last one stretched or shrunk to end at `length`).
-pub(super) fn graded_axis(length: f64, h: f64, fine: f64, growth: f64) -> Vec<f64> {
+pub(crate) fn graded_axis(length: f64, h: f64, fine: f64, growth: f64) -> Vec<f64> {
     let mut v = vec![0.0];
     let mut step = h;
     let mut x = 0.0;
@@ -592,7 +592,7 @@ impl Indentation {
 
 /// Tributary weights of the top nodes: ∫ N_i ds (plane strain) or ∫ N_i r dr (axisymmetric)
 /// of the linear edge functions, exact.
-pub(super) fn top_weights(xs: &[f64], geometry: Geometry) -> Vec<f64> {
+pub(crate) fn top_weights(xs: &[f64], geometry: Geometry) -> Vec<f64> {
     let mut w = vec![0.0; xs.len()];
     for k in 0..xs.len().saturating_sub(1) {
         let (a, b) = (xs[k], xs[k + 1]);

@@ -38,6 +38,7 @@
 //! The columns `q_over_mup`, `c_num`, `c_exact` and `shear_err_l2` belong to the
 //! Cattaneo–Mindlin case and stay empty here.
 
+mod cattaneo;
 mod figures;
 mod report;
 
@@ -71,13 +72,15 @@ pub const CASES: &[&str] = &[
     "sliding-block",
     "patch-two-body-friction",
     "inclined-friction",
+    cattaneo::CASE,
 ];
 
 /// `friction_bench`'s flags.
 #[derive(clap::Args, Debug)]
 pub struct Flags {
     /// Frictional cases: `sliding-block`, `patch-two-body-friction`, `inclined-friction`
-    /// (θ = 30°, the block's `--mesh`, `--steps` press increments).
+    /// (θ = 30°, the block's `--mesh`, `--steps` press increments); on request
+    /// `cattaneo-mindlin` (minutes: its own `--cm-*` flags and `--q-over-mup`).
     #[arg(
         long,
         value_delimiter = ',',
@@ -111,6 +114,18 @@ pub struct Flags {
     /// The friction law of the penalty rows: `coulomb` (unsymmetric tangent) or `tresca`.
     #[arg(long, default_value = "coulomb")]
     law: String,
+    /// `cattaneo-mindlin`: element sizes h/a at the contact, one mesh each (in [1/256, 1/4]).
+    #[arg(long, value_delimiter = ',', default_value = "0.125,0.0625,0.03125")]
+    cm_levels: Vec<f64>,
+    /// `cattaneo-mindlin`: tangential loads Q/(μP), each in (0, 1).
+    #[arg(long, value_delimiter = ',', default_value = "0.25,0.5,0.75")]
+    q_over_mup: Vec<f64>,
+    /// `cattaneo-mindlin`: r of the `area` rule ε_T,c = r·G·w_c/h_c.
+    #[arg(long, value_delimiter = ',', default_value = "100,10000")]
+    cm_eps_t: Vec<f64>,
+    /// `cattaneo-mindlin`: allowed elastic slips δ_T over a of the `delta` rule.
+    #[arg(long, value_delimiter = ',', default_value = "0.001,0.0001")]
+    cm_delta_t: Vec<f64>,
 }
 
 /// The validated configuration.
@@ -132,6 +147,14 @@ pub struct BenchConfig {
     pub delta_t: Vec<f64>,
     /// Coulomb or Tresca.
     pub law: Law,
+    /// `cattaneo-mindlin` meshes, h/a.
+    pub cm_levels: Vec<f64>,
+    /// `cattaneo-mindlin` targets Q/(μP).
+    pub q_over_mup: Vec<f64>,
+    /// `cattaneo-mindlin` `area` factors r.
+    pub cm_eps_t: Vec<f64>,
+    /// `cattaneo-mindlin` δ_T/a.
+    pub cm_delta_t: Vec<f64>,
 }
 
 /// One row (module doc).
@@ -143,6 +166,9 @@ pub struct FrictionRow {
     pub discretization: Option<String>,
     /// The incline's angle θ in degrees (`inclined-friction`).
     pub theta: Option<f64>,
+    /// The element size at the contact over a (`cattaneo-mindlin`).
+    #[serde(default)]
+    pub h_over_a: Option<f64>,
     /// μ.
     pub mu: f64,
     /// `lagrange`, `augmented`, `penalty`.
@@ -285,6 +311,34 @@ impl BenchConfig {
         }
         Error::distinct("--mu", &f.mu)?;
         Error::distinct("--cases", &f.cases)?;
+        if f.cases.iter().any(|c| c == cattaneo::CASE) {
+            if f.mu.contains(&0.0) {
+                return Err(Error::out_of_range(
+                    "--mu",
+                    0.0,
+                    "> 0 for cattaneo-mindlin (Q/(μP) needs μ > 0)",
+                ));
+            }
+            for &h in &f.cm_levels {
+                if !(h.is_finite() && (1.0 / 256.0..=0.25).contains(&h)) {
+                    return Err(Error::out_of_range("--cm-levels", h, "in [1/256, 1/4]"));
+                }
+            }
+            for &q in &f.q_over_mup {
+                if !(q.is_finite() && q > 0.0 && q < 1.0) {
+                    return Err(Error::out_of_range(
+                        "--q-over-mup",
+                        q,
+                        "in (0, 1): at Q ≥ μP no static equilibrium exists under force control",
+                    ));
+                }
+            }
+            for &v in f.cm_eps_t.iter().chain(&f.cm_delta_t) {
+                Error::positive("--cm-eps-t / --cm-delta-t entry", v)?;
+            }
+            Error::distinct("--cm-levels", &f.cm_levels)?;
+            Error::distinct("--q-over-mup", &f.q_over_mup)?;
+        }
         let law = match f.law.as_str() {
             "coulomb" => Law::Coulomb,
             "tresca" => Law::Tresca,
@@ -299,6 +353,10 @@ impl BenchConfig {
             eps_t: f.eps_t.clone(),
             delta_t: f.delta_t.clone(),
             law,
+            cm_levels: f.cm_levels.clone(),
+            q_over_mup: f.q_over_mup.clone(),
+            cm_eps_t: f.cm_eps_t.clone(),
+            cm_delta_t: f.cm_delta_t.clone(),
         })
     }
 
@@ -312,6 +370,7 @@ impl BenchConfig {
                 steps: self.steps,
                 ..SlidingBlock::default()
             })],
+            cattaneo::CASE => Vec::new(),
             "inclined-friction" => vec![Scenario::Incline(InclinedFriction {
                 theta_deg: INCLINE_THETA,
                 nx: self.mesh.0,
@@ -494,6 +553,7 @@ fn row(
             Scenario::Incline(i) => Some(i.theta_deg),
             _ => None,
         },
+        h_over_a: None,
         mu: sc.mu(),
         method: method.name().into(),
         tangent_rule: (*rule).into(),
@@ -536,7 +596,7 @@ fn solved_or_failed(p: &friction::FrictionProblem, m: &FrictionMethod) -> Result
     }
 }
 
-/// Runs every (case, μ, method) of `cfg`, one progress step per row.
+/// Runs every (case, μ, method) of `cfg`, one progress step per row (`cattaneo-mindlin` last).
 pub fn run(cfg: &BenchConfig, progress: &Progress) -> Result<Vec<FrictionRow>> {
     let scenarios: Vec<Scenario> = cfg
         .cases
@@ -569,7 +629,11 @@ pub fn run(cfg: &BenchConfig, progress: &Progress) -> Result<Vec<FrictionRow>> {
             Ok(rows)
         })
         .collect::<Result<_>>()?;
-    Ok(rows.into_iter().flatten().collect())
+    let mut rows: Vec<FrictionRow> = rows.into_iter().flatten().collect();
+    if cfg.cases.iter().any(|c| c == cattaneo::CASE) {
+        rows.extend(cattaneo::rows(cfg, progress, scenarios.len() * per)?);
+    }
+    Ok(rows)
 }
 
 /// The study as the shared entry runs it.
@@ -608,10 +672,20 @@ impl Study for FrictionBench {
     }
 
     fn figures(rows: &Vec<FrictionRow>) -> Result<Vec<Drawing>> {
-        Ok(figures(rows))
+        let mut d = figures(rows);
+        d.extend(cattaneo::figures(rows));
+        Ok(d)
     }
 
     fn report(rows: &Vec<FrictionRow>) -> String {
-        table(rows)
+        let (cm, other): (Vec<FrictionRow>, Vec<FrictionRow>) =
+            rows.iter().cloned().partition(|r| r.case == cattaneo::CASE);
+        let mut t = if other.is_empty() {
+            String::new()
+        } else {
+            table(&other)
+        };
+        t.push_str(&cattaneo::table(&cm));
+        t
     }
 }
