@@ -24,31 +24,10 @@ use rayon::prelude::*;
 /// The case's name.
 pub const CASE: &str = "cattaneo-mindlin";
 
-/// Every (method, rule) of the case for shear modulus `g` (lengths in units of a).
+/// Every (method, rule) of the case for shear modulus `g` (lengths in units of a): no
+/// `constant` rows (on the uniform contact mesh they are the `area` rows).
 fn methods(cfg: &BenchConfig, g: f64) -> Vec<(FrictionMethod, &'static str)> {
-    let mut m = vec![
-        (FrictionMethod::Lagrange, "exact"),
-        (
-            FrictionMethod::Augmented {
-                eps_n: 10.0 * g,
-                eps_t: 10.0 * g,
-                tol: 1e-10,
-            },
-            "augmented",
-        ),
-    ];
-    let pen = |tangent| FrictionMethod::Penalty {
-        normal: NormalRule::Area(cfg.eps_n),
-        tangent,
-        law: cfg.law,
-    };
-    for &f in &cfg.cm_eps_t {
-        m.push((pen(TangentRule::Area(f)), "area"));
-    }
-    for &d in &cfg.cm_delta_t {
-        m.push((pen(TangentRule::Delta(d)), "delta"));
-    }
-    m
+    cfg.methods_with(g, 1.0, (&cfg.cm_eps_t, false), &cfg.cm_delta_t)
 }
 
 /// The row of one solve (or of its failure, `error`).
@@ -245,7 +224,7 @@ pub fn table(rows: &[FrictionRow]) -> String {
             ];
             for &h in &levels {
                 let c = at(h).and_then(|r| r.c_num.zip(r.c_exact));
-                line.push(c.map_or("—".into(), |(n, e)| fmt_e(n / e - 1.0, 1)));
+                line.push(c.map_or("—".into(), |(n, e)| fmt_e(n / e - 1.0, 2)));
             }
             let errs: Vec<Option<f64>> = levels
                 .iter()
@@ -279,9 +258,10 @@ pub fn table(rows: &[FrictionRow]) -> String {
     t
 }
 
-/// `cattaneo_mindlin`: the shear traction's L2 error and c_num/c_exact against h/a, one line
-/// per (method, knob) at each Q/(μP) (the first μ; the others coincide for every rule but
-/// `delta`, whose δ_T does not scale with μ); nothing without rows of the case.
+/// `cattaneo_mindlin`: per target Q/(μP) (a column each), the shear traction's L2 error
+/// (top) and c_num/c_exact (bottom) against h/a, one line per (method, knob), at the first μ
+/// (the others coincide for every rule but `delta`, whose δ_T does not scale with μ);
+/// nothing without rows of the case.
 pub fn figures(rows: &[FrictionRow]) -> Vec<Drawing> {
     let cm: Vec<&FrictionRow> = rows
         .iter()
@@ -290,58 +270,62 @@ pub fn figures(rows: &[FrictionRow]) -> Vec<Drawing> {
     let Some(mu) = cm.first().map(|r| r.mu) else {
         return Vec::new();
     };
-    let mut err = Figure::new(
-        format!("Cattaneo–Mindlin (μ = {mu}): shear traction L2 error vs h"),
-        "h / a",
-        "‖q − q_exact‖₂ / ‖q_exact‖₂",
-    )
-    .log_log();
-    let mut stick = Figure::new(
-        format!("Cattaneo–Mindlin (μ = {mu}): stick half-width vs h"),
-        "h / a",
-        "c_num / c_exact",
-    )
-    .scales(Scale::Log10, Scale::Linear);
-    let mut series: Vec<(String, String, f64)> = Vec::new();
-    for r in &cm {
-        let k = (
-            format!("{} {}", r.method, knob(r)),
-            r.tangent_rule.clone(),
-            r.q_over_mup.unwrap_or(0.0),
-        );
-        if r.mu == mu
-            && !series
-                .iter()
-                .any(|s| s.0 == k.0 && (s.2 - k.2).abs() <= 1e-3)
-        {
-            series.push(k);
+    let label = |r: &FrictionRow| format!("{} {}", r.method, knob(r)).trim().to_string();
+    let mut labels: Vec<String> = Vec::new();
+    let mut targets: Vec<f64> = Vec::new();
+    for r in cm.iter().filter(|r| r.mu == mu) {
+        if !labels.contains(&label(r)) {
+            labels.push(label(r));
+        }
+        let t = r.q_over_mup.unwrap_or(0.0);
+        if !targets.iter().any(|q| (q - t).abs() <= 1e-3) {
+            targets.push(t);
         }
     }
-    for (color, (label, _, q)) in series.iter().enumerate() {
-        let pts: Vec<&&FrictionRow> = cm
-            .iter()
-            .filter(|r| {
-                r.mu == mu
-                    && format!("{} {}", r.method, knob(r)) == *label
-                    && r.q_over_mup.is_some_and(|v| (v - q).abs() <= 1e-3)
-            })
-            .collect();
-        let name = format!("{label}, Q/μP = {q:.2}");
-        let (x, y): (Vec<f64>, Vec<f64>) = pts
-            .iter()
-            .filter_map(|r| r.h_over_a.zip(r.shear_err_l2))
-            .unzip();
-        err = err.with_series(Series::new(&name, x, y, Mark::LinePoints).color(color));
-        let (x, y): (Vec<f64>, Vec<f64>) = pts
-            .iter()
-            .filter_map(|r| r.h_over_a.zip(r.c_num.zip(r.c_exact).map(|(n, e)| n / e)))
-            .unzip();
-        stick = stick.with_series(Series::new(&name, x, y, Mark::LinePoints).color(color));
+    let mut top = Vec::new();
+    let mut bottom = Vec::new();
+    for &t in &targets {
+        let mut err = Figure::new(
+            format!("Q/μP = {t:.2}, μ = {mu}: shear traction error"),
+            "h / a",
+            "‖q − q_exact‖₂ / ‖q_exact‖₂",
+        )
+        .log_log();
+        let mut stick = Figure::new(
+            format!("Q/μP = {t:.2}, μ = {mu}: stick half-width"),
+            "h / a",
+            "c_num / c_exact",
+        )
+        .scales(Scale::Log10, Scale::Linear);
+        for (color, name) in labels.iter().enumerate() {
+            let pts: Vec<&&FrictionRow> = cm
+                .iter()
+                .filter(|r| {
+                    r.mu == mu
+                        && label(r) == *name
+                        && r.q_over_mup.is_some_and(|v| (v - t).abs() <= 1e-3)
+                })
+                .collect();
+            let (x, y): (Vec<f64>, Vec<f64>) = pts
+                .iter()
+                .filter_map(|r| r.h_over_a.zip(r.shear_err_l2))
+                .unzip();
+            err = err.with_series(Series::new(name, x, y, Mark::LinePoints).color(color));
+            let (x, y): (Vec<f64>, Vec<f64>) = pts
+                .iter()
+                .filter_map(|r| r.h_over_a.zip(r.c_num.zip(r.c_exact).map(|(n, e)| n / e)))
+                .unzip();
+            stick = stick.with_series(Series::new(name, x, y, Mark::LinePoints).color(color));
+        }
+        top.push(err);
+        bottom.push(stick);
     }
+    let cols = targets.len();
+    top.extend(bottom);
     vec![Drawing {
         name: "cattaneo_mindlin".into(),
-        panels: vec![err, stick],
-        cols: 2,
-        size: (1600, 700),
+        panels: top,
+        cols,
+        size: (600 * cols as u32, 1100),
     }]
 }

@@ -393,6 +393,18 @@ impl BenchConfig {
     /// Every (method, rule name) for a case with shear modulus `g` and length scale `depth`,
     /// Lagrange first.
     fn methods(&self, g: f64, depth: f64) -> Vec<(FrictionMethod, &'static str)> {
+        self.methods_with(g, depth, (&self.eps_t, true), &self.delta_t)
+    }
+
+    /// [`Self::methods`] over the ladders `eps_t` (the `area` rule's r; with `constant`
+    /// rows ε_T = f·G where `.1`) and `delta_t` (δ_T over `depth`).
+    fn methods_with(
+        &self,
+        g: f64,
+        depth: f64,
+        (eps_t, constant): (&[f64], bool),
+        delta_t: &[f64],
+    ) -> Vec<(FrictionMethod, &'static str)> {
         let mut m = vec![
             (FrictionMethod::Lagrange, "exact"),
             (
@@ -409,11 +421,13 @@ impl BenchConfig {
             tangent,
             law: self.law,
         };
-        for &f in &self.eps_t {
-            m.push((pen(TangentRule::Constant(f * g)), "constant"));
+        for &f in eps_t {
+            if constant {
+                m.push((pen(TangentRule::Constant(f * g)), "constant"));
+            }
             m.push((pen(TangentRule::Area(f)), "area"));
         }
-        for &d in &self.delta_t {
+        for &d in delta_t {
             m.push((pen(TangentRule::Delta(d * depth)), "delta"));
         }
         m
