@@ -21,4 +21,5 @@ cargo run --release --bin contact_bench -- --force --out figures/contact_bench -
 cargo run --release --bin contact_bench -- --cases inclined-15,inclined-30,inclined-45,patch-two-body-mortar,patch-two-body-nts-1,patch-two-body-nts-2,hertz-two-body,hertz-normals --force --out figures/contact_bench/coupled   # ≈ 1.5 min
 cargo run --release --bin penalty_scaling -- --force --out figures/penalty_scaling   # ≈ 2 min
 cargo run --release --bin friction_bench -- --force --out figures/friction_bench   # ≈ 15 s
+cargo run --release --bin friction_bench -- --cases cattaneo-mindlin --force --out figures/friction_bench/cattaneo-mindlin   # ≈ 14 min
 cargo run --release --bin engine_scale -- --sizes 10000,100000,1000000 --force --out figures/engine_scale
