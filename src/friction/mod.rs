@@ -35,8 +35,10 @@
 //! unsymmetric: [`crate::conditioning::cond2`] takes the dense SVD route).
 //!
 //! Models with friction: [`sliding_block`] (an elastic block pressed and pushed along a rigid
-//! plane), [`patch`] (the two-body patch test in full slip, mortar or node-to-segment rows) and
-//! [`incline`] (the crowned block pressed onto an inclined plane: rows coupling two DOFs).
+//! plane), [`patch`] (the two-body patch test in full slip, mortar or node-to-segment rows),
+//! [`incline`] (the crowned block pressed onto an inclined plane: rows coupling two DOFs) and
+//! [`cattaneo`] (two identical bodies pressed, then loaded tangentially below μP: the stick zone
+//! against Cattaneo–Mindlin's closed form).
 
 pub mod cattaneo;
 pub mod incline;

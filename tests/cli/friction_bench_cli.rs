@@ -102,6 +102,11 @@ fn bad_input_exits_2_and_writes_nothing() {
             vec!["--cases", "cattaneo"],
             vec!["--delta-t", "0"],
             vec!["--steps", "0"],
+            vec!["--cases", "cattaneo-mindlin", "--q-over-mup", "1"],
+            vec!["--cases", "cattaneo-mindlin", "--q-over-mup", "0.5,1.2"],
+            vec!["--cases", "cattaneo-mindlin", "--mu", "0,0.2"],
+            vec!["--cases", "cattaneo-mindlin", "--cm-levels", "0.5"],
+            vec!["--cases", "cattaneo-mindlin", "--cm-delta-t", "-1"],
         ],
         &[],
     );

@@ -35,8 +35,9 @@
 //!   matrix; and on the penalties' tangent, GMRES(30)-Jacobi iterations counted to the fixed
 //!   error of u (`gmres_iters_jacobi_to_err`, [`FrictionRow::gmres_iters_jacobi_to_err`]).
 //!
-//! The columns `q_over_mup`, `c_num`, `c_exact` and `shear_err_l2` belong to the
-//! Cattaneo–Mindlin case and stay empty here.
+//! The columns `h_over_a`, `q_over_mup`, `c_num`, `c_exact` and `shear_err_l2` belong to the
+//! `cattaneo-mindlin` case (on request: `--cases cattaneo-mindlin`, its own flags `--cm-*` and
+//! `--q-over-mup`; `cattaneo` module) and stay empty in the other cases' rows.
 
 mod cattaneo;
 mod figures;
