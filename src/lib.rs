@@ -106,7 +106,7 @@
 //!
 //! ## Features
 //! `cli` (on by default) holds what the binaries need beside the numerics: [`study`],
-//! [`plot`] and [`progress`], with clap, plotters, indicatif and ctrlc. A crate that only
+//! [`plot`], [`vtk`] and [`progress`], with clap, plotters, vtkio, indicatif and ctrlc. A crate that only
 //! computes depends on `penalty-lab = { version = "0.1", default-features = false }`: systems,
 //! strategies, certified cond₂, metrics, models, friction, forming, scenes and provenance
 //! (`.ci/run` checks that build with clippy). `lapack` adds the independent LAPACK reference.
@@ -119,8 +119,9 @@
 //! 1. foundation — `error`, `stats`, `progress` (feature `cli`), `provenance`, `dd`;
 //! 2. numerics, bottom up — `route` (the one storage / solve / cond₂ route policy), `system`,
 //!    `linalg`, `conditioning`;
-//! 3. core — `model`, `scene`; then `strategy`; then `metrics`, `plot`, `forming`,
-//!    `friction`, `generate` (the seeded scene families, some calibrated by a Lagrange solve);
+//! 3. core — `model`, `scene`; then `strategy`; then `metrics`, `plot`, `vtk` (ParaView
+//!    output), `forming`, `friction`, `generate` (the seeded scene families, some calibrated
+//!    by a Lagrange solve);
 //! 4. studies — `study::<binary>` for every binary, and the support modules `study::text`,
 //!    `study::forming_runs` that several studies share;
 //! 5. binaries (`experiments/`) — arguments → study → record → figures.
@@ -175,5 +176,7 @@ pub mod strategy;
 #[cfg(feature = "cli")]
 pub mod study;
 pub mod system;
+#[cfg(feature = "cli")]
+pub mod vtk;
 
 pub use error::{Error, Result};

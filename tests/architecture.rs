@@ -17,7 +17,7 @@ const LAYERS: &[&[&str]] = &[
     &["conditioning"],
     &["model", "scene"],
     &["strategy"],
-    &["metrics", "plot", "forming", "friction", "generate"],
+    &["metrics", "plot", "vtk", "forming", "friction", "generate"],
     &["study"],
 ];
 /// Children of `src/study/` that are no binary's study but shared by studies.

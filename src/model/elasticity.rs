@@ -640,7 +640,7 @@ pub fn eliminate(
 
 /// The prescribed value of every DOF of `grid` (None: free): the bottom face lifted by
 /// `lift` (and held in x where `base` is clamped), the symmetry line held in x.
-pub(super) fn prescribed(grid: &Grid, base: Base, lift: f64) -> Vec<Option<f64>> {
+pub(crate) fn prescribed(grid: &Grid, base: Base, lift: f64) -> Vec<Option<f64>> {
     let mut fixed: Vec<Option<f64>> = vec![None; 2 * grid.nodes()];
     for i in 0..grid.xs.len() {
         let n = grid.node(i, 0);

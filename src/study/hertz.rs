@@ -364,6 +364,16 @@ impl Case {
         )
     }
 
+    /// The base of a single-body case on one grid, whose rows are one per top node in order
+    /// (the cases `--vtk` writes: [`crate::vtk::indentation_fields`]); None for the others.
+    pub fn vtk_base(self) -> Option<Base> {
+        match self {
+            Case::HertzPlane | Case::HertzAxi | Case::HertzNormals => Some(Base::Clamped),
+            Case::FlatPunch => Some(Base::Sliding),
+            _ => None,
+        }
+    }
+
     /// A Hertz case against a rigid indenter (the domain study's cases: its block is the
     /// model of the half-space whose bias `err_domain` measures).
     pub fn is_rigid_hertz(self) -> bool {

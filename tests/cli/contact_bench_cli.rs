@@ -129,6 +129,13 @@ fn bad_options_exit_2_with_one_line() {
         // A case's own flag with none of its cases (it was ignored).
         &["--cases", "flat-punch", "--block-over-a", "20"],
         &["--cases", "hertz-plane,inclined-30", "--mesh-ratio", "3:2"],
+        // --vtk writes single-body cases only.
+        &[
+            "--cases",
+            "inclined-30",
+            "--vtk",
+            "/tmp/penalty-lab-vtk-refused",
+        ],
     ] {
         let o = bin().args(args).arg("--quiet").output().unwrap();
         assert_eq!(o.status.code(), Some(2), "{args:?}");
@@ -370,4 +377,137 @@ fn killed_run_resumes_from_its_checkpoint() {
             }
         }
     }
+}
+
+/// The `.vtu` of `name` in `dir` read back with vtkio: the node coordinates and the point
+/// arrays by name.
+fn read_vtu(
+    path: &std::path::Path,
+) -> (Vec<[f64; 3]>, std::collections::HashMap<String, Vec<f64>>) {
+    use vtkio::model::{Attribute, DataSet};
+    let vtk = vtkio::Vtk::import(path).unwrap();
+    let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
+        panic!("not an unstructured grid")
+    };
+    let piece = pieces[0].load_piece_data(None).unwrap();
+    let pts: Vec<f64> = piece.points.cast_into().unwrap();
+    let points = pts.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let mut arrays = std::collections::HashMap::new();
+    for a in piece.data.point {
+        if let Attribute::DataArray(d) = a {
+            arrays.insert(d.name.clone(), d.data.cast_into::<f64>().unwrap());
+        }
+    }
+    (points, arrays)
+}
+
+/// `--vtk DIR` writes one `.vtu` per solved row of a single-body case, read back here with
+/// vtkio and checked against the run's own record and the model, independently of the
+/// writer: the contact pressure at every top node is the row's profile (summary.json) bit
+/// for bit; the gap at a top node is its indenter clearance x²/(2R) − u_y from the file's
+/// own u (so u sits on the right nodes), 0 where Lagrange is in contact; the base nodes carry
+/// the lift (u_y) and the clamp (u_x = 0). A second run into the folder is refused.
+#[test]
+fn vtk_files_hold_u_and_the_pressure_on_the_right_nodes() {
+    let out = tempfile::tempdir().unwrap();
+    let vtk = out.path().join("vtk");
+    let o = common::run_ok(
+        bin()
+            .args([
+                "--cases",
+                "hertz-plane",
+                "--meshes",
+                "0.2",
+                "--quiet",
+                "--json",
+            ])
+            .args(["--methods", "lagrange,constant", "--eps-rel", "1000"])
+            .arg("--vtk")
+            .arg(&vtk)
+            .arg("--out")
+            .arg(out.path().join("run")),
+    );
+    let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let rows = s["rows"].as_array().unwrap();
+    let mut files: Vec<String> = std::fs::read_dir(&vtk)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    files.sort();
+    assert_eq!(files.len(), rows.len(), "{files:?}");
+    let lagrange = rows.iter().find(|r| r["method"] == "lagrange").unwrap();
+    let h = lagrange["h"].as_f64().unwrap();
+    let (r, lift) = (
+        lagrange["radius"].as_f64().unwrap(),
+        lagrange["lift"].as_f64().unwrap(),
+    );
+    let (points, arrays) = read_vtu(&vtk.join(format!("hertz-plane_h{h}_lagrange.vtu")));
+    let profile = s["profiles"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["rule"] == "lagrange")
+        .unwrap();
+    let (px, pp) = (
+        profile["x"].as_array().unwrap(),
+        profile["p"].as_array().unwrap(),
+    );
+    let (u, p, gap) = (&arrays["u"], &arrays["contact_pressure"], &arrays["gap"]);
+    let top = points.iter().map(|q| q[1]).fold(f64::MIN, f64::max);
+    let scale = u.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let pmax = p.iter().fold(0.0f64, |m, v| m.max(*v));
+    let mut matched = 0;
+    for (k, q) in points.iter().enumerate() {
+        let uy = u[3 * k + 1];
+        if q[1] == top {
+            let c = px
+                .iter()
+                .position(|x| x.as_f64().unwrap() == q[0])
+                .expect("a top node is a profile node");
+            assert_eq!(p[k], pp[c].as_f64().unwrap(), "pressure at x = {}", q[0]);
+            let clearance = q[0] * q[0] / (2.0 * r) - uy;
+            assert!(
+                (gap[k] - clearance).abs() <= 1e-12 * scale,
+                "gap at x = {}",
+                q[0]
+            );
+            // Loaded as contact_bench counts it (an open node's pressure, read from
+            // equilibrium, is rounding).
+            if p[k] > 1e-9 * pmax {
+                assert!(
+                    gap[k].abs() <= 1e-12 * scale,
+                    "Lagrange in contact at {}",
+                    q[0]
+                );
+            }
+            matched += 1;
+        } else {
+            assert_eq!(p[k], 0.0);
+            assert!(gap[k].is_nan());
+        }
+        if q[1] == 0.0 {
+            assert_eq!((u[3 * k], uy), (0.0, lift), "base node at x = {}", q[0]);
+        }
+    }
+    assert_eq!(matched, px.len());
+    let loaded = pp.iter().filter(|v| v.as_f64().unwrap() > 1e-9 * pmax);
+    assert!(loaded.count() >= 3);
+    // Into the same folder again: refused before anything runs.
+    let again = bin()
+        .args([
+            "--cases",
+            "hertz-plane",
+            "--meshes",
+            "0.2",
+            "--quiet",
+            "--vtk",
+        ])
+        .arg(&vtk)
+        .arg("--out")
+        .arg(out.path().join("run2"))
+        .output()
+        .unwrap();
+    assert_eq!(again.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&again.stderr).contains(".vtu files"));
+    assert!(!out.path().join("run2").exists());
 }

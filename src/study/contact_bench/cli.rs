@@ -48,6 +48,12 @@ pub struct Flags {
     /// UPPER:LOWER (default 7:4; e.g. 3:2, 5:3, 7:4 for the patch test's 2:3, 3:5, 4:7).
     #[arg(long, value_parser = crate::study::grid::parse_ratio)]
     mesh_ratio: Option<(usize, usize)>,
+    /// Write every solved row of the single-body cases (hertz-plane, hertz-axi, flat-punch,
+    /// hertz-normals) as a VTK file `DIR/<case>_h<h>_<method>[_<knob><value>].vtu`: u, the
+    /// contact pressure and gap per node (ParaView, meshio). The folder must not hold `.vtu`
+    /// files already.
+    #[arg(long, value_name = "DIR")]
+    vtk: Option<std::path::PathBuf>,
 }
 
 impl Flags {
@@ -116,7 +122,19 @@ impl Flags {
                 ));
             }
         }
+        if let Some(dir) = &self.vtk {
+            if !cfg.cases.iter().any(|c| c.vtk_base().is_some()) {
+                return Err(Error::unsupported(
+                    "--vtk",
+                    "one of the cases hertz-plane, hertz-axi, flat-punch, hertz-normals among --cases",
+                ));
+            }
+            cfg.vtk = Some(dir.clone());
+        }
         cfg.validate()?;
+        if let Some(dir) = &cfg.vtk {
+            crate::vtk::check_empty_dir(dir).map_err(|e| e.for_flag("--vtk"))?;
+        }
         Ok(cfg)
     }
 }

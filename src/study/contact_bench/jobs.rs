@@ -1,10 +1,12 @@
 //! The jobs of a mesh: every method over its knob grid, and the values added near each
 //! rule's leaderboard threshold.
 
-use super::{admissible, BenchConfig, BenchRow};
+use super::{admissible, run_job, BenchConfig, BenchRow, Mesh, LONG_JOB_S};
 use crate::model::elasticity::Indentation;
+use crate::progress::Progress;
 use crate::strategy::{self, Method};
 use crate::study::grid::{Augmented, KnobGrid, Level};
+use rayon::prelude::*;
 
 /// One method at one knob value.
 #[derive(Clone, Copy, Debug)]
@@ -124,4 +126,33 @@ pub fn refinement_jobs(
         }
     }
     out
+}
+
+/// Solves `jobs` on one mesh in parallel, rows in job order, with progress.
+pub(crate) fn solve_jobs(
+    cfg: &BenchConfig,
+    mesh: &Mesh<'_>,
+    jobs: &[BenchJob],
+    progress: &Progress,
+    h_rel: f64,
+) -> Vec<(BenchRow, Vec<f64>)> {
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    jobs.par_iter()
+        .map(|job| {
+            let (row, p) = run_job(cfg, mesh, job);
+            let k = 1 + done.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+            let name = mesh.case.name();
+            progress.message(format!("{name} h/a = {h_rel}: {k}/{} jobs", jobs.len()));
+            if row.seconds >= LONG_JOB_S {
+                let knob = row
+                    .knob_rel
+                    .map_or(String::new(), |v| format!(" {} {v:e} (relative)", row.knob));
+                progress.note(&format!(
+                    "  {name} h/a = {h_rel}: {}{knob} done in {:.0} s, {} solves",
+                    row.method, row.seconds, row.force_solves
+                ));
+            }
+            (row, p)
+        })
+        .collect()
 }

@@ -58,8 +58,10 @@ pub mod kappa;
 mod record;
 mod report;
 mod row;
+mod vtk_out;
 
 pub use cli::{ContactBench, Flags};
+use jobs::solve_jobs;
 pub use jobs::{jobs, refinement_jobs, BenchJob, ADAPTIVE_START};
 pub use report::tables;
 pub use row::{BenchRow, Floor, Profile};
@@ -76,7 +78,6 @@ use crate::progress::Progress;
 use crate::strategy::force_control::{solve_at_load, Loaded, FORCE_TOL};
 use crate::strategy::{self, registry, Method, Strategy};
 use analytic::{Case, Exact};
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
 
@@ -126,6 +127,10 @@ pub struct BenchConfig {
     /// the cylinder's cap); each 1–16.
     #[serde(default = "default_ratio")]
     pub mesh_ratio: (usize, usize),
+    /// `--vtk DIR`: where every solved row of a single-body case is written as `.vtu`
+    /// ([`crate::vtk`]); not part of the record (a resumed run writes what it solves).
+    #[serde(skip)]
+    pub vtk: Option<std::path::PathBuf>,
     /// `optimal` runs only on meshes with at most this many DOFs (≤ `optimal::MAX_N`): each
     /// solve takes ≈ 500–1 600 evaluations of the spectrum's ends on the Hertz meshes, and
     /// force control solves it 4–11 times (measured on 2 cores: 60–132 s per δ at 2 211 DOFs,
@@ -155,6 +160,7 @@ impl Default for BenchConfig {
             optimal_max_n: 100,
             block_over_a: BLOCK_OVER_A,
             mesh_ratio: analytic::MESH_RATIO,
+            vtk: None,
         }
     }
 }
@@ -438,6 +444,11 @@ pub(crate) fn run_job(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> (BenchR
     let problem = &scene.problem;
     let nodes = &scene.contact;
     let p = scene.pressures(&sol.u);
+    if let Some(dir) = &cfg.vtk {
+        if let Err(e) = vtk_out::write(dir, mesh, &row, &scene, &sol.u, &p) {
+            row.error = format!("VTK output failed: {e}");
+        }
+    }
     row.p0_num = p[0];
     row.a_num = analytic::contact_width(nodes, &p, 1e-9 * exact.p0);
     row.p_err_rel = analytic::pressure_error(nodes, &p, exact);
@@ -716,35 +727,6 @@ pub fn run_mesh(cfg: &BenchConfig, case: Case, h_rel: f64, progress: &Progress) 
         out.rows.push(row);
     }
     Ok(out)
-}
-
-/// Solves `jobs` on one mesh in parallel, rows in job order, with progress.
-fn solve_jobs(
-    cfg: &BenchConfig,
-    mesh: &Mesh<'_>,
-    jobs: &[BenchJob],
-    progress: &Progress,
-    h_rel: f64,
-) -> Vec<(BenchRow, Vec<f64>)> {
-    let done = std::sync::atomic::AtomicUsize::new(0);
-    jobs.par_iter()
-        .map(|job| {
-            let (row, p) = run_job(cfg, mesh, job);
-            let k = 1 + done.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-            let name = mesh.case.name();
-            progress.message(format!("{name} h/a = {h_rel}: {k}/{} jobs", jobs.len()));
-            if row.seconds >= LONG_JOB_S {
-                let knob = row
-                    .knob_rel
-                    .map_or(String::new(), |v| format!(" {} {v:e} (relative)", row.knob));
-                progress.note(&format!(
-                    "  {name} h/a = {h_rel}: {}{knob} done in {:.0} s, {} solves",
-                    row.method, row.seconds, row.force_solves
-                ));
-            }
-            (row, p)
-        })
-        .collect()
 }
 
 /// Runs the suite: [`run_mesh`] per case and mesh, in order. With `checkpoints`, each finished

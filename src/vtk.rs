@@ -1,0 +1,246 @@
+//! VTK output: a solved contact scene as an XML unstructured grid (`.vtu`), which ParaView,
+//! VisIt and meshio open.
+//!
+//! **What a file holds.** The body's nodes (2-D meshes at z = 0) and its cells (Q4 elements:
+//! VTK quads), and per node (point data):
+//! - `u` — the displacement (3 components; z = 0 in 2-D), the prescribed values included;
+//! - `contact_pressure` — p_c = the row's compressive force over its tributary length (area
+//!   per radian, axisymmetric) at a contact node, 0 elsewhere; the same p as the benchmark's
+//!   rows and profiles (`Indentation::pressures`);
+//! - `gap` — the clearance to the obstacle at a contact node: `û_c − d_cᵀu` for an `upper`
+//!   row, `d_cᵀu − û_c` for a `lower` one (negative: penetration; 0 for a bilateral row at
+//!   its value), NaN elsewhere;
+//! - `contact_node` — 1 at a contact node, 0 elsewhere.
+//!
+//! Units are the model's (the harness's cases: consistent units, lengths of a). The writer is
+//! vtkio's (XML, inline base64 arrays); a file is written whole or not at all
+//! ([`crate::provenance::write_atomic`]).
+
+use crate::error::{Error, Result};
+use crate::model::elasticity::{self, Base, Grid, Indentation};
+use crate::system::ConstraintKind;
+use std::path::Path;
+use vtkio::model::{
+    Attribute, Attributes, ByteOrder, CellType, Cells, DataArray, DataSet, ElementType,
+    UnstructuredGridPiece, Version, VertexNumbers, Vtk,
+};
+
+/// A field on the nodes: `components` values per node, node after node.
+#[derive(Clone, Debug)]
+pub struct Field {
+    /// The array's name.
+    pub name: String,
+    /// Values per node (1 scalar, 3 vector).
+    pub components: usize,
+    /// `components × nodes` values.
+    pub values: Vec<f64>,
+}
+
+/// Nodes (x, y, z) and quadrilateral cells (four node indices, counter-clockwise).
+#[derive(Clone, Debug)]
+pub struct QuadMesh {
+    /// Node coordinates.
+    pub points: Vec<[f64; 3]>,
+    /// Cells.
+    pub quads: Vec<[usize; 4]>,
+}
+
+impl QuadMesh {
+    /// The Q4 mesh of `grid` (node (i, j) at (xs\[i\], ys\[j\]), index [`Grid::node`]).
+    pub fn of_grid(grid: &Grid) -> QuadMesh {
+        let (nx, ny) = (grid.xs.len(), grid.ny());
+        let points = (0..nx)
+            .flat_map(|i| (0..ny).map(move |j| (i, j)))
+            .map(|(i, j)| [grid.xs[i], grid.ys[j], 0.0])
+            .collect();
+        let mut quads = Vec::with_capacity(nx.saturating_sub(1) * ny.saturating_sub(1));
+        for i in 0..nx.saturating_sub(1) {
+            for j in 0..ny.saturating_sub(1) {
+                quads.push([
+                    grid.node(i, j),
+                    grid.node(i + 1, j),
+                    grid.node(i + 1, j + 1),
+                    grid.node(i, j + 1),
+                ]);
+            }
+        }
+        QuadMesh { points, quads }
+    }
+}
+
+/// Creates `dir` if needed and refuses one that holds `.vtu` files already (a second run
+/// into it would mix two runs' files).
+pub fn check_empty_dir(dir: &Path) -> Result<()> {
+    if dir.exists() {
+        let entries = std::fs::read_dir(dir)
+            .map_err(|e| Error::io(dir.display(), format!("cannot read the folder: {e}")))?;
+        for e in entries.flatten() {
+            if e.path().extension().is_some_and(|x| x == "vtu") {
+                return Err(Error::io(
+                    dir.display(),
+                    "holds .vtu files of another run: choose an empty folder or remove them",
+                ));
+            }
+        }
+        return Ok(());
+    }
+    std::fs::create_dir_all(dir)
+        .map_err(|e| Error::io(dir.display(), format!("cannot create the folder: {e}")))
+}
+
+/// Writes `mesh` with the node fields `fields` to `path` (`.vtu`), atomically. Errors: a
+/// field whose length is not `components × nodes`, a cell naming a node out of range, and
+/// I/O (naming the file).
+pub fn write_vtu(path: &Path, title: &str, mesh: &QuadMesh, fields: &[Field]) -> Result<()> {
+    let n = mesh.points.len();
+    for f in fields {
+        if f.values.len() != f.components * n {
+            return Err(Error::length_mismatch(
+                format!("VTK field `{}`", f.name),
+                f.values.len(),
+                f.components * n,
+            ));
+        }
+    }
+    if let Some(bad) = mesh.quads.iter().flatten().find(|&&k| k >= n) {
+        return Err(Error::out_of_range(
+            "VTK cell node",
+            bad,
+            format!("< {n} nodes"),
+        ));
+    }
+    let connectivity: Vec<u64> = mesh.quads.iter().flatten().map(|&k| k as u64).collect();
+    let offsets = (1..=mesh.quads.len()).map(|c| 4 * c as u64).collect();
+    let point = fields
+        .iter()
+        .map(|f| {
+            let elem = match f.components {
+                3 => ElementType::Vectors,
+                c => ElementType::Scalars {
+                    num_comp: c as u32,
+                    lookup_table: None,
+                },
+            };
+            Attribute::DataArray(DataArray {
+                name: f.name.clone(),
+                elem,
+                data: f.values.clone().into(),
+            })
+        })
+        .collect();
+    let vtk = Vtk {
+        version: Version::new(),
+        title: title.to_string(),
+        byte_order: ByteOrder::LittleEndian,
+        file_path: None,
+        data: DataSet::inline(UnstructuredGridPiece {
+            points: mesh
+                .points
+                .iter()
+                .flatten()
+                .copied()
+                .collect::<Vec<f64>>()
+                .into(),
+            cells: Cells {
+                cell_verts: VertexNumbers::XML {
+                    connectivity,
+                    offsets,
+                },
+                types: vec![CellType::Quad; mesh.quads.len()],
+            },
+            data: Attributes {
+                point,
+                cell: Vec::new(),
+            },
+        }),
+    };
+    let mut bytes = Vec::new();
+    vtk.write_xml(&mut bytes)
+        .map_err(|e| Error::io(path.display(), format!("cannot encode VTK: {e}")))?;
+    crate::provenance::write_atomic(path, &bytes)
+}
+
+/// The fields of a solved single-body indentation (module doc): `u` from the free unknowns
+/// `u_free` and the prescribed values of `base` at the scene's lift; `contact_pressure`,
+/// `gap` and `contact_node` at the top nodes the rows act on. `pressures` as
+/// `Indentation::pressures` gives them, one per row. Errors where the scene's rows are not
+/// one per top node, in order (two bodies, rows of other shapes).
+pub fn indentation_fields(
+    grid: &Grid,
+    base: Base,
+    scene: &Indentation,
+    u_free: &[f64],
+    pressures: &[f64],
+) -> Result<Vec<Field>> {
+    let nodes = grid.nodes();
+    let fixed = elasticity::prescribed(grid, base, scene.lift);
+    let free_count = fixed.iter().filter(|f| f.is_none()).count();
+    if free_count != u_free.len() || scene.n_free != u_free.len() {
+        return Err(Error::length_mismatch(
+            "VTK output: free unknowns of the scene",
+            u_free.len(),
+            free_count,
+        ));
+    }
+    let mut u = vec![0.0; 3 * nodes];
+    let mut next = 0;
+    for (d, f) in fixed.iter().enumerate() {
+        let v = match f {
+            Some(v) => *v,
+            None => {
+                next += 1;
+                u_free[next - 1]
+            }
+        };
+        u[3 * (d / 2) + d % 2] = v;
+    }
+    let m = scene.problem.m();
+    let top = grid.ny() - 1;
+    if m != grid.xs.len() || pressures.len() != m || scene.contact.len() != m {
+        return Err(Error::unsupported(
+            "VTK output of this scene",
+            "one contact row per top node of a single body",
+        ));
+    }
+    let (mut p, mut gap, mut flag) = (vec![0.0; nodes], vec![f64::NAN; nodes], vec![0.0; nodes]);
+    for (c, node) in scene.contact.iter().enumerate() {
+        if (node.x - grid.xs[c]).abs() > 1e-12 * grid.xs.last().copied().unwrap_or(1.0) {
+            return Err(Error::unsupported(
+                "VTK output of this scene",
+                "contact rows in the order of the top nodes",
+            ));
+        }
+        let k = grid.node(c, top);
+        let con = &scene.problem.constraints[c];
+        p[k] = pressures[c];
+        let g = con.gap(u_free);
+        gap[k] = match con.kind {
+            ConstraintKind::Upper => -g,
+            ConstraintKind::Lower => g,
+            ConstraintKind::Bilateral => -g.abs(),
+        };
+        flag[k] = 1.0;
+    }
+    Ok(vec![
+        Field {
+            name: "u".into(),
+            components: 3,
+            values: u,
+        },
+        Field {
+            name: "contact_pressure".into(),
+            components: 1,
+            values: p,
+        },
+        Field {
+            name: "gap".into(),
+            components: 1,
+            values: gap,
+        },
+        Field {
+            name: "contact_node".into(),
+            components: 1,
+            values: flag,
+        },
+    ])
+}
