@@ -4,8 +4,6 @@ on the same matrix (identical records). Tolerances scale with the problem: NumPy
 σ_min to about n·ε_mach·σ_max, so its cond₂ is good to ~n·ε_mach·cond₂."""
 
 import json
-import os
-import pathlib
 import subprocess
 
 import numpy as np
@@ -145,20 +143,9 @@ def test_a_singular_matrix_is_reported_not_raised():
     assert c.hi == np.inf and c.warnings
 
 
-def _cond_binary():
-    exe = os.environ.get("PENALTY_LAB_COND")
-    if exe:
-        return exe
-    root = pathlib.Path(__file__).resolve().parents[2]
-    cand = root / "target" / "release" / "cond"
-    return str(cand) if cand.exists() else None
-
-
 @pytest.mark.parametrize("kind", ["spd", "unsymmetric", "singular"])
-def test_the_record_equals_the_command_line_tools(tmp_path, kind):
-    exe = _cond_binary()
-    if exe is None:
-        pytest.skip("no cond binary: build it (cargo build --release --bin cond) or set PENALTY_LAB_COND")
+def test_the_record_equals_the_command_line_tools(tmp_path, kind, cli_binary):
+    exe = cli_binary("cond")
     rng = np.random.default_rng(11)
     n = 25
     if kind == "spd":

@@ -3,7 +3,6 @@ the same record, key for key and bit for bit (the timings aside), from arrays ha
 through Python (read_scene → SciPy matrices → solve)."""
 
 import json
-import os
 import pathlib
 import subprocess
 
@@ -24,24 +23,14 @@ CASES = [
 ]
 
 
-def _solve_binary():
-    exe = os.environ.get("PENALTY_LAB_SOLVE")
-    if exe:
-        return exe
-    cand = ROOT / "target" / "release" / "solve"
-    return str(cand) if cand.exists() else None
-
-
 def _timing(key):
     return "seconds" in key  # seconds, seconds_direct, pcg_seconds_ic0, *_to_err_seconds, …
 
 
 @pytest.mark.parametrize("scene", SCENES)
 @pytest.mark.parametrize("method, knobs, flags", CASES)
-def test_rows_equal_the_command_line_tools(scene, method, knobs, flags):
-    exe = _solve_binary()
-    if exe is None:
-        pytest.skip("no solve binary: build it (cargo build --release --bin solve) or set PENALTY_LAB_SOLVE")
+def test_rows_equal_the_command_line_tools(scene, method, knobs, flags, cli_binary):
+    exe = cli_binary("solve")
     path = ROOT / "scenes" / scene
     cli = json.loads(
         subprocess.run([exe, str(path), "--method", method, *flags, "--json"], check=True,

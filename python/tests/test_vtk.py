@@ -4,8 +4,6 @@ at every top node equals the run's own profile, the gap there is the indenter's 
 x²/(2R) − u_y from the file's u, and the base nodes carry the lift."""
 
 import json
-import os
-import pathlib
 import subprocess
 
 import numpy as np
@@ -13,22 +11,9 @@ import pytest
 
 meshio = pytest.importorskip("meshio")
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
 
-
-def _bench_binary():
-    exe = os.environ.get("PENALTY_LAB_CONTACT_BENCH")
-    if exe:
-        return exe
-    cand = ROOT / "target" / "release" / "contact_bench"
-    return str(cand) if cand.exists() else None
-
-
-def test_hertz_vtu_opens_in_meshio_with_u_and_pressure_on_the_right_nodes(tmp_path):
-    exe = _bench_binary()
-    if exe is None:
-        pytest.skip("no contact_bench binary: cargo build --release --bin contact_bench, "
-                    "or set PENALTY_LAB_CONTACT_BENCH")
+def test_hertz_vtu_opens_in_meshio_with_u_and_pressure_on_the_right_nodes(tmp_path, cli_binary):
+    exe = cli_binary("contact_bench")
     vtk = tmp_path / "vtk"
     out = subprocess.run(
         [exe, "--cases", "hertz-plane", "--meshes", "0.2", "--methods", "lagrange,condensed",

@@ -411,22 +411,23 @@ fn read_vtu(
 fn vtk_files_hold_u_and_the_pressure_on_the_right_nodes() {
     let out = tempfile::tempdir().unwrap();
     let vtk = out.path().join("vtk");
-    let o = common::run_ok(
-        bin()
+    // The small run, into `run` of `out`, its `.vtu` files into `vtk`.
+    let small = |run: &str| {
+        let mut c = bin();
+        c.args(["--cases", "hertz-plane", "--meshes", "0.2", "--quiet"])
             .args([
-                "--cases",
-                "hertz-plane",
-                "--meshes",
-                "0.2",
-                "--quiet",
-                "--json",
+                "--methods",
+                "lagrange,constant",
+                "--eps-rel",
+                "1000",
+                "--vtk",
             ])
-            .args(["--methods", "lagrange,constant", "--eps-rel", "1000"])
-            .arg("--vtk")
             .arg(&vtk)
             .arg("--out")
-            .arg(out.path().join("run")),
-    );
+            .arg(out.path().join(run));
+        c
+    };
+    let o = common::run_ok(small("run").arg("--json"));
     let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let rows = s["rows"].as_array().unwrap();
     let mut files: Vec<String> = std::fs::read_dir(&vtk)
@@ -493,20 +494,7 @@ fn vtk_files_hold_u_and_the_pressure_on_the_right_nodes() {
     let loaded = pp.iter().filter(|v| v.as_f64().unwrap() > 1e-9 * pmax);
     assert!(loaded.count() >= 3);
     // Into the same folder again: refused before anything runs.
-    let again = bin()
-        .args([
-            "--cases",
-            "hertz-plane",
-            "--meshes",
-            "0.2",
-            "--quiet",
-            "--vtk",
-        ])
-        .arg(&vtk)
-        .arg("--out")
-        .arg(out.path().join("run2"))
-        .output()
-        .unwrap();
+    let again = small("run2").output().unwrap();
     assert_eq!(again.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&again.stderr).contains(".vtu files"));
     assert!(!out.path().join("run2").exists());
