@@ -1,8 +1,13 @@
 //! VTK output: a solved contact scene as an XML unstructured grid (`.vtu`), which ParaView,
 //! VisIt and meshio open.
 //!
-//! **What a file holds.** The body's nodes (2-D meshes at z = 0) and its cells (Q4 elements:
-//! VTK quads), and per node (point data):
+//! **Two sources.** `contact_bench --vtk DIR` writes the harness's single-body models
+//! ([`indentation_fields`]: Q4 grid, below); `solve --vtk DIR` a user's scene that carries
+//! `"nodes"` ([`scene_fields`]: its coordinates and cells, or one vertex per node; per node
+//! `u`, `contact_force`, `gap` and `contact_node`).
+//!
+//! **What a model's file holds.** The body's nodes (2-D meshes at z = 0) and its cells (Q4
+//! elements: VTK quads), and per node (point data):
 //! - `u` — the displacement (3 components; z = 0 in 2-D), the prescribed values included;
 //! - `contact_pressure` — p_c = the row's compressive force over its tributary length (area
 //!   per radian, axisymmetric) at a contact node, 0 elsewhere; the same p as the benchmark's
@@ -18,7 +23,8 @@
 
 use crate::error::{Error, Result};
 use crate::model::elasticity::{self, Base, Grid, Indentation};
-use crate::system::ConstraintKind;
+use crate::scene::Nodes;
+use crate::system::{ConstraintKind, Problem};
 use std::path::Path;
 use vtkio::model::{
     Attribute, Attributes, ByteOrder, CellType, Cells, DataArray, DataSet, ElementType,
@@ -36,27 +42,47 @@ pub struct Field {
     pub values: Vec<f64>,
 }
 
-/// Nodes (x, y, z) and quadrilateral cells (four node indices, counter-clockwise).
+/// Nodes (x, y, z) and cells (node lists in VTK's order); the cell type follows from the node
+/// count and the dimension: 1 vertex, 2 line, 3 triangle, 4 quad (2-D) or tetrahedron (3-D),
+/// 8 hexahedron.
 #[derive(Clone, Debug)]
-pub struct QuadMesh {
-    /// Node coordinates.
+pub struct CellMesh {
+    /// Node coordinates (z = 0 in 2-D).
     pub points: Vec<[f64; 3]>,
     /// Cells.
-    pub quads: Vec<[usize; 4]>,
+    pub cells: Vec<Vec<usize>>,
+    /// 2 or 3.
+    pub dim: usize,
 }
 
-impl QuadMesh {
+impl CellMesh {
+    /// The mesh of a scene's `"nodes"`: its cells, or one vertex per node without them.
+    pub fn of_nodes(nodes: &Nodes) -> CellMesh {
+        let points = nodes
+            .coordinates
+            .iter()
+            .map(|c| [c[0], c[1], c.get(2).copied().unwrap_or(0.0)])
+            .collect();
+        let cells = if nodes.cells.is_empty() {
+            (0..nodes.coordinates.len()).map(|k| vec![k]).collect()
+        } else {
+            nodes.cells.clone()
+        };
+        let dim = nodes.coordinates.first().map_or(2, Vec::len);
+        CellMesh { points, cells, dim }
+    }
+
     /// The Q4 mesh of `grid` (node (i, j) at (xs\[i\], ys\[j\]), index [`Grid::node`]).
-    pub fn of_grid(grid: &Grid) -> QuadMesh {
+    pub fn of_grid(grid: &Grid) -> CellMesh {
         let (nx, ny) = (grid.xs.len(), grid.ny());
         let points = (0..nx)
             .flat_map(|i| (0..ny).map(move |j| (i, j)))
             .map(|(i, j)| [grid.xs[i], grid.ys[j], 0.0])
             .collect();
-        let mut quads = Vec::with_capacity(nx.saturating_sub(1) * ny.saturating_sub(1));
+        let mut cells = Vec::with_capacity(nx.saturating_sub(1) * ny.saturating_sub(1));
         for i in 0..nx.saturating_sub(1) {
             for j in 0..ny.saturating_sub(1) {
-                quads.push([
+                cells.push(vec![
                     grid.node(i, j),
                     grid.node(i + 1, j),
                     grid.node(i + 1, j + 1),
@@ -64,7 +90,28 @@ impl QuadMesh {
                 ]);
             }
         }
-        QuadMesh { points, quads }
+        CellMesh {
+            points,
+            cells,
+            dim: 2,
+        }
+    }
+
+    fn cell_type(&self, len: usize) -> Result<CellType> {
+        Ok(match (len, self.dim) {
+            (1, _) => CellType::Vertex,
+            (2, _) => CellType::Line,
+            (3, _) => CellType::Triangle,
+            (4, 2) => CellType::Quad,
+            (4, _) => CellType::Tetra,
+            (8, _) => CellType::Hexahedron,
+            _ => {
+                return Err(Error::unsupported(
+                    format!("a VTK cell of {len} nodes"),
+                    "1, 2, 3, 4 or 8 nodes",
+                ))
+            }
+        })
     }
 }
 
@@ -91,7 +138,7 @@ pub fn check_empty_dir(dir: &Path) -> Result<()> {
 /// Writes `mesh` with the node fields `fields` to `path` (`.vtu`), atomically. Errors: a
 /// field whose length is not `components × nodes`, a cell naming a node out of range, and
 /// I/O (naming the file).
-pub fn write_vtu(path: &Path, title: &str, mesh: &QuadMesh, fields: &[Field]) -> Result<()> {
+pub fn write_vtu(path: &Path, title: &str, mesh: &CellMesh, fields: &[Field]) -> Result<()> {
     let n = mesh.points.len();
     for f in fields {
         if f.values.len() != f.components * n {
@@ -102,15 +149,27 @@ pub fn write_vtu(path: &Path, title: &str, mesh: &QuadMesh, fields: &[Field]) ->
             ));
         }
     }
-    if let Some(bad) = mesh.quads.iter().flatten().find(|&&k| k >= n) {
+    if let Some(bad) = mesh.cells.iter().flatten().find(|&&k| k >= n) {
         return Err(Error::out_of_range(
             "VTK cell node",
             bad,
             format!("< {n} nodes"),
         ));
     }
-    let connectivity: Vec<u64> = mesh.quads.iter().flatten().map(|&k| k as u64).collect();
-    let offsets = (1..=mesh.quads.len()).map(|c| 4 * c as u64).collect();
+    let connectivity: Vec<u64> = mesh.cells.iter().flatten().map(|&k| k as u64).collect();
+    let offsets = mesh
+        .cells
+        .iter()
+        .scan(0u64, |end, c| {
+            *end += c.len() as u64;
+            Some(*end)
+        })
+        .collect();
+    let types = mesh
+        .cells
+        .iter()
+        .map(|c| mesh.cell_type(c.len()))
+        .collect::<Result<Vec<_>>>()?;
     let point = fields
         .iter()
         .map(|f| {
@@ -146,7 +205,7 @@ pub fn write_vtu(path: &Path, title: &str, mesh: &QuadMesh, fields: &[Field]) ->
                     connectivity,
                     offsets,
                 },
-                types: vec![CellType::Quad; mesh.quads.len()],
+                types,
             },
             data: Attributes {
                 point,
@@ -211,14 +270,8 @@ pub fn indentation_fields(
             ));
         }
         let k = grid.node(c, top);
-        let con = &scene.problem.constraints[c];
         p[k] = pressures[c];
-        let g = con.gap(u_free);
-        gap[k] = match con.kind {
-            ConstraintKind::Upper => -g,
-            ConstraintKind::Lower => g,
-            ConstraintKind::Bilateral => -g.abs(),
-        };
+        gap[k] = clearance(&scene.problem, c, u_free);
         flag[k] = 1.0;
     }
     Ok(vec![
@@ -231,6 +284,82 @@ pub fn indentation_fields(
             name: "contact_pressure".into(),
             components: 1,
             values: p,
+        },
+        Field {
+            name: "gap".into(),
+            components: 1,
+            values: gap,
+        },
+        Field {
+            name: "contact_node".into(),
+            components: 1,
+            values: flag,
+        },
+    ])
+}
+
+/// The clearance of row `c` at `u` (module doc's `gap`): `û − dᵀu` for `upper`, `dᵀu − û`
+/// for `lower`, `−|dᵀu − û|` for bilateral.
+fn clearance(p: &Problem, c: usize, u: &[f64]) -> f64 {
+    let con = &p.constraints[c];
+    let g = con.gap(u);
+    match con.kind {
+        ConstraintKind::Upper => -g,
+        ConstraintKind::Lower => g,
+        ConstraintKind::Bilateral => -g.abs(),
+    }
+}
+
+/// The fields of a solved scene with `"nodes"`: `u` (the node's DOFs as its first components,
+/// padded to 3), `contact_force` (the force the rows exert on the node, `−Σ_c r_c d_c` over
+/// its DOFs, padded to 3; r the row forces with `K u = q − D r`), `gap` (the smallest
+/// clearance of the rows acting on the node, NaN where none does) and `contact_node`.
+pub fn scene_fields(p: &Problem, nodes: &Nodes, u: &[f64], forces: &[f64]) -> Result<Vec<Field>> {
+    let (n, m, k) = (p.n(), p.m(), nodes.dofs_per_node);
+    if u.len() != n || forces.len() != m {
+        return Err(Error::length_mismatch(
+            "VTK output: u and the row forces",
+            u.len() + forces.len(),
+            n + m,
+        ));
+    }
+    if k > 3 {
+        return Err(Error::unsupported(
+            format!("VTK output of {k} DOFs per node"),
+            "at most 3 (displacement components)",
+        ));
+    }
+    let count = nodes.coordinates.len();
+    let mut f = vec![0.0; n];
+    let (mut gap, mut flag) = (vec![f64::NAN; count], vec![0.0; count]);
+    for (c, r) in forces.iter().enumerate() {
+        let g = clearance(p, c, u);
+        for &(d, a) in &p.constraints[c].terms {
+            f[d] -= r * a;
+            let node = d / k;
+            gap[node] = if gap[node].is_nan() {
+                g
+            } else {
+                gap[node].min(g)
+            };
+            flag[node] = 1.0;
+        }
+    }
+    let pad = |v: &[f64]| -> Vec<f64> {
+        (0..count)
+            .flat_map(|i| (0..3).map(move |j| if j < k { v[i * k + j] } else { 0.0 }))
+            .collect()
+    };
+    Ok(vec![
+        Field {
+            name: "u".into(),
+            components: 3,
+            values: pad(u),
+        },
+        Field {
+            name: "contact_force".into(),
+            components: 3,
+            values: pad(&f),
         },
         Field {
             name: "gap".into(),

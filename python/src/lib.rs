@@ -200,6 +200,7 @@ fn solve_coo(
             description: None,
             problem,
             meta: None,
+            nodes: None,
         };
         let knobs = Knobs {
             eps,
@@ -217,6 +218,7 @@ fn solve_coo(
             cond_tol,
             krylov: SolverOptions::default(),
             write_system: None,
+            vtk: None,
         };
         let v = solve_loaded(&scene, strategy, knobs, &opts)?;
         serde_json::to_string(&v).map_err(|e| Error::Numerical(format!("JSON: {e}")))

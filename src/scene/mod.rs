@@ -41,7 +41,10 @@
 //!   inside `near_null_space` gives each DOF's slot, increasing
 //!   ([`crate::system::NearNull::with_slots`]) — or
 //!   `"nodes": {"coordinates": [[x, y(, z)], ...], "dofs_per_node": 2 | 3}`, from which the
-//!   rigid-body modes are built ([`crate::system::NearNull::rigid_body_modes`]).
+//!   rigid-body modes are built ([`crate::system::NearNull::rigid_body_modes`]; one DOF per
+//!   node: a scalar field, whose near-null space is the default B = ones). `"nodes"`
+//!   may also hold `"cells": [[n0, n1, …], …]` (node indices: a line, triangle, quad,
+//!   tetrahedron or hexahedron in VTK's node order) for `solve --vtk` ([`Nodes`]).
 //!
 //! Units are whatever the user's model uses (the solver never converts); `units` only
 //! documents them.
@@ -118,6 +121,9 @@ pub struct Scene {
     /// The optional `meta` object (provenance: generator, seed, …), kept verbatim.
     /// `"meta": null` reads as `None`.
     pub meta: Option<serde_json::Value>,
+    /// The optional `"nodes"` (coordinates, DOFs per node, cells): the near-null space's
+    /// rigid-body modes and the VTK output are built from them.
+    pub nodes: Option<Nodes>,
 }
 
 /// Turns a library error into a bare message (drops the `invalid input: ` prefix, whose
@@ -281,10 +287,13 @@ fn parse_scene(json: &str, base_dir: &Path, origin: &str, preferred: bool) -> Re
     };
     let problem =
         Problem::new(k, q, constraints).map_err(|e| Error::io(origin, bare_message(e)))?;
+    let nodes = nodes
+        .map(|Obj(r)| Nodes::from_raw(r, problem.n()).map_err(|m| at("nodes", m)))
+        .transpose()?;
     let near_null = near_null::parse(
         near_null_space.map(|Obj(r)| r),
         block_size,
-        nodes.map(|Obj(r)| r),
+        nodes.as_ref(),
         problem.n(),
         base_dir,
         &at,
@@ -300,7 +309,73 @@ fn parse_scene(json: &str, base_dir: &Path, origin: &str, preferred: bool) -> Re
         description,
         problem,
         meta,
+        nodes,
     })
+}
+
+/// The nodes a scene may carry (`"nodes"`): coordinates (2 or 3 per node), the DOFs per node
+/// (node i owns DOFs `i·d … i·d + d − 1`) and, optionally, the cells (node lists: the VTK
+/// output draws them; without cells, one vertex per node).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Nodes {
+    /// Node coordinates, each of length 2 or 3 (one length for all).
+    pub coordinates: Vec<Vec<f64>>,
+    /// DOFs per node, consecutive.
+    pub dofs_per_node: usize,
+    /// Cells as node indices (1 to 8 nodes each); empty when the scene gives none.
+    pub cells: Vec<Vec<usize>>,
+}
+
+impl Nodes {
+    /// Checked: `nodes × dofs_per_node = N`, one coordinate length (2 or 3), finite
+    /// coordinates, cells of 1 to 8 nodes in range.
+    fn from_raw(r: near_null::RawNodes, n: usize) -> std::result::Result<Nodes, String> {
+        let coordinates: Vec<Vec<f64>> = r
+            .coordinates
+            .into_iter()
+            .map(|c| c.into_iter().map(|Num(x)| x).collect())
+            .collect();
+        let count = coordinates.len();
+        if r.dofs_per_node == 0 || count * r.dofs_per_node != n {
+            return Err(format!(
+                "{count} nodes × {} DOFs per node = {}, but K has N = {n} DOFs",
+                r.dofs_per_node,
+                count * r.dofs_per_node
+            ));
+        }
+        let dim = coordinates.first().map_or(2, Vec::len);
+        if let Some(i) = coordinates
+            .iter()
+            .position(|c| c.len() != dim || !(2..=3).contains(&c.len()))
+        {
+            return Err(format!(
+                "coordinates of node {i}: {} values (every node 2, or every node 3)",
+                coordinates[i].len()
+            ));
+        }
+        if let Some(i) = coordinates
+            .iter()
+            .position(|c| !c.iter().all(|x| x.is_finite()))
+        {
+            return Err(format!("coordinates of node {i}: not finite"));
+        }
+        let cells = r.cells.unwrap_or_default();
+        for (c, cell) in cells.iter().enumerate() {
+            if !(1..=8).contains(&cell.len()) {
+                return Err(format!("cells[{c}] has {} nodes (1 to 8)", cell.len()));
+            }
+            if let Some(&k) = cell.iter().find(|&&k| k >= count) {
+                return Err(format!(
+                    "cells[{c}] names node {k}, but there are {count} nodes (0-based)"
+                ));
+            }
+        }
+        Ok(Nodes {
+            coordinates,
+            dofs_per_node: r.dofs_per_node,
+            cells,
+        })
+    }
 }
 
 // ---------------------------------------------------------------------------------------

@@ -17,12 +17,15 @@ pub(super) struct RawNearNull {
     pub(super) slots: Option<Vec<usize>>,
 }
 
-/// `"nodes": {"coordinates": [[x, y(, z)], ...], "dofs_per_node": d}`.
+/// `"nodes": {"coordinates": [[x, y(, z)], ...], "dofs_per_node": d}`, optionally with
+/// `"cells": [[n0, n1, …], …]`.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 pub(super) struct RawNodes {
     pub(super) coordinates: Vec<Vec<Num>>,
     pub(super) dofs_per_node: usize,
+    #[serde(default)]
+    pub(super) cells: Option<Vec<Vec<usize>>>,
 }
 
 impl Expecting for RawNearNull {
@@ -31,8 +34,7 @@ impl Expecting for RawNearNull {
 }
 
 impl Expecting for RawNodes {
-    const EXPECTING: &'static str =
-        r#"an object {"coordinates": [[x, y], ...], "dofs_per_node": d}"#;
+    const EXPECTING: &'static str = r#"an object {"coordinates": [[x, y], ...], "dofs_per_node": d} (optionally with "cells": [[n0, n1, ...], ...])"#;
 }
 
 /// The near-null space a scene gives: B from its file with `block_size` (default 1), or the
@@ -41,32 +43,12 @@ impl Expecting for RawNodes {
 pub(super) fn parse(
     file: Option<RawNearNull>,
     block_size: Option<usize>,
-    nodes: Option<RawNodes>,
+    nodes: Option<&super::Nodes>,
     n: usize,
     base_dir: &Path,
     at: &dyn Fn(&str, String) -> Error,
 ) -> Result<Option<NearNull>> {
-    let nodes = nodes
-        .map(|r| {
-            let coords: Vec<Vec<f64>> = r
-                .coordinates
-                .into_iter()
-                .map(|c| c.into_iter().map(|Num(x)| x).collect())
-                .collect();
-            if coords.len() * r.dofs_per_node != n {
-                return Err(at(
-                    "nodes",
-                    format!(
-                        "{} nodes × {} DOFs per node = {}, but K has N = {n} DOFs",
-                        coords.len(),
-                        r.dofs_per_node,
-                        coords.len() * r.dofs_per_node
-                    ),
-                ));
-            }
-            Ok((coords, r.dofs_per_node))
-        })
-        .transpose()?;
+    let nodes = nodes.map(|n| (n.coordinates.clone(), n.dofs_per_node));
     match file {
         Some(RawNearNull {
             matrix_market: rel,
@@ -100,7 +82,7 @@ pub(super) fn parse(
             for (r, c, v) in entries {
                 b[c * rows + r] += v;
             }
-            let bs = block_size.or(nodes.map(|(_, d)| d)).unwrap_or(1);
+            let bs = block_size.or(nodes.as_ref().map(|(_, d)| *d)).unwrap_or(1);
             let nn = NearNull::new(rows, bs, cols, b)
                 .map_err(|e| at("near_null_space", bare_message(e)))?;
             match slots {
@@ -112,6 +94,8 @@ pub(super) fn parse(
             }
         }
         None => match nodes {
+            // One DOF per node (a scalar field): the default near-null space, B = ones.
+            Some((_, 1)) if block_size.is_none_or(|b| b == 1) => Ok(None),
             Some((coords, d)) => {
                 if let Some(bs) = block_size.filter(|&bs| bs != d) {
                     return Err(at(

@@ -379,28 +379,6 @@ fn killed_run_resumes_from_its_checkpoint() {
     }
 }
 
-/// The `.vtu` of `name` in `dir` read back with vtkio: the node coordinates and the point
-/// arrays by name.
-fn read_vtu(
-    path: &std::path::Path,
-) -> (Vec<[f64; 3]>, std::collections::HashMap<String, Vec<f64>>) {
-    use vtkio::model::{Attribute, DataSet};
-    let vtk = vtkio::Vtk::import(path).unwrap();
-    let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
-        panic!("not an unstructured grid")
-    };
-    let piece = pieces[0].load_piece_data(None).unwrap();
-    let pts: Vec<f64> = piece.points.cast_into().unwrap();
-    let points = pts.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
-    let mut arrays = std::collections::HashMap::new();
-    for a in piece.data.point {
-        if let Attribute::DataArray(d) = a {
-            arrays.insert(d.name.clone(), d.data.cast_into::<f64>().unwrap());
-        }
-    }
-    (points, arrays)
-}
-
 /// `--vtk DIR` writes one `.vtu` per solved row of a single-body case, read back here with
 /// vtkio and checked against the run's own record and the model, independently of the
 /// writer: the contact pressure at every top node is the row's profile (summary.json) bit
@@ -442,7 +420,7 @@ fn vtk_files_hold_u_and_the_pressure_on_the_right_nodes() {
         lagrange["radius"].as_f64().unwrap(),
         lagrange["lift"].as_f64().unwrap(),
     );
-    let (points, arrays) = read_vtu(&vtk.join(format!("hertz-plane_h{h}_lagrange.vtu")));
+    let (points, arrays) = common::read_vtu(&vtk.join(format!("hertz-plane_h{h}_lagrange.vtu")));
     let profile = s["profiles"]
         .as_array()
         .unwrap()

@@ -464,3 +464,81 @@ fn cond_tol_loosens_the_value_and_keeps_the_bounds() {
         );
     }
 }
+
+/// `solve --vtk DIR` on a scene with `"nodes"` (a chain of 5 springs along x, one DOF per
+/// node, line cells, an obstacle under three nodes), read back with vtkio: u per node is
+/// the record's u bit for bit, the contact force at a node is −Σ r_c d_c of the record's
+/// row forces, the gap is the row's clearance u − û (`lower` rows), the contact flag marks
+/// the constrained nodes, and the cells are the scene's lines. A second run into the same
+/// file, `--vtk` on a scene without nodes and bad cells are refused with one line.
+#[test]
+fn vtk_output_of_a_scene_with_nodes() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = |nodes: &str| {
+        format!(
+            r#"{{"name": "chain", "stiffness": {{"dense": [[2,-1,0,0,0],[-1,2,-1,0,0],[0,-1,2,-1,0],[0,0,-1,2,-1],[0,0,0,-1,2]]}},
+  "load": [-1, -1, -1, -1, -1],
+  "constraints": [{{"dof": 1, "kind": "lower", "limit": -2}}, {{"dof": 2, "kind": "lower", "limit": -2.5}}, {{"dof": 3, "kind": "lower", "limit": -2}}]{nodes}}}"#
+        )
+    };
+    let nodes = r#", "nodes": {"coordinates": [[0,0],[1,0],[2,0],[3,0],[4,0]], "dofs_per_node": 1, "cells": [[0,1],[1,2],[2,3],[3,4]]}"#;
+    let path = dir.path().join("chain.scene.json");
+    std::fs::write(&path, scene(nodes)).unwrap();
+    let vtk = dir.path().join("vtk");
+    let (p, v) = (path.to_str().unwrap(), vtk.to_str().unwrap());
+    let (code, out, err) = solve(&[p, "--method", "lagrange", "--json", "--vtk", v]);
+    assert_eq!(code, 0, "{err}");
+    let rec: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let floats = |k: &str| -> Vec<f64> {
+        rec[k]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    let (u, r) = (floats("u"), floats("forces"));
+    let (points, arrays) = crate::common::read_vtu(&vtk.join("chain_lagrange.vtu"));
+    assert_eq!(points.len(), 5);
+    let (du, f, gap, flag) = (
+        &arrays["u"],
+        &arrays["contact_force"],
+        &arrays["gap"],
+        &arrays["contact_node"],
+    );
+    let limits = [f64::NAN, -2.0, -2.5, -2.0, f64::NAN];
+    for i in 0..5 {
+        assert_eq!(points[i], [i as f64, 0.0, 0.0]);
+        assert_eq!(du[3 * i], u[i]);
+        assert_eq!((du[3 * i + 1], du[3 * i + 2]), (0.0, 0.0));
+        let row = (1..=3).contains(&i).then(|| i - 1);
+        assert_eq!(f[3 * i], row.map_or(0.0, |c| -r[c]), "node {i}");
+        assert_eq!(flag[i], if row.is_some() { 1.0 } else { 0.0 });
+        match row {
+            Some(_) => assert_eq!(gap[i], u[i] - limits[i]),
+            None => assert!(gap[i].is_nan()),
+        }
+    }
+    // Node 2 is pressed onto its obstacle (the load pushes the chain down): a positive
+    // contact force on it, zero clearance.
+    assert!(f[6] > 0.0 && gap[2].abs() <= 1e-12);
+    for (args, needle) in [
+        (vec![p, "--method", "lagrange", "--vtk", v], "exists"),
+        (vec![SCENE, "--method", "lagrange", "--vtk", v], "--vtk"),
+    ] {
+        let (code, _, err) = solve(&args);
+        assert_eq!(code, 2, "{args:?}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.contains(needle), "{err}");
+    }
+    for bad in [
+        r#", "nodes": {"coordinates": [[0,0],[1,0],[2,0],[3,0],[4,0]], "dofs_per_node": 1, "cells": [[0,7]]}"#,
+        r#", "nodes": {"coordinates": [[0,0],[1,0],[2,0],[3,0]], "dofs_per_node": 1}"#,
+        r#", "nodes": {"coordinates": [[0,0],[1,0],[2,0],[3,0],[4]], "dofs_per_node": 1}"#,
+    ] {
+        std::fs::write(&path, scene(bad)).unwrap();
+        let (code, _, err) = solve(&[p, "--method", "lagrange"]);
+        assert_eq!(code, 2, "{bad}");
+        assert!(err.contains("nodes"), "{err}");
+    }
+}

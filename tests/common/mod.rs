@@ -120,3 +120,25 @@ pub fn assert_render_only(
     assert!(err.contains(data), "'{err}' does not name {data}");
     o.stdout
 }
+
+/// A `.vtu` file read back with vtkio (the writer's crate, an independent code path from
+/// the writer's): the node coordinates and the point arrays by name.
+pub fn read_vtu(
+    path: &std::path::Path,
+) -> (Vec<[f64; 3]>, std::collections::HashMap<String, Vec<f64>>) {
+    use vtkio::model::{Attribute, DataSet};
+    let vtk = vtkio::Vtk::import(path).unwrap();
+    let DataSet::UnstructuredGrid { pieces, .. } = vtk.data else {
+        panic!("not an unstructured grid")
+    };
+    let piece = pieces[0].load_piece_data(None).unwrap();
+    let pts: Vec<f64> = piece.points.cast_into().unwrap();
+    let points = pts.chunks(3).map(|c| [c[0], c[1], c[2]]).collect();
+    let mut arrays = std::collections::HashMap::new();
+    for a in piece.data.point {
+        if let Attribute::DataArray(d) = a {
+            arrays.insert(d.name.clone(), d.data.cast_into::<f64>().unwrap());
+        }
+    }
+    (points, arrays)
+}

@@ -27,7 +27,7 @@ pub(crate) fn write(
     crate::vtk::write_vtu(
         &dir.join(name),
         &title,
-        &crate::vtk::QuadMesh::of_grid(mesh.grid),
+        &crate::vtk::CellMesh::of_grid(mesh.grid),
         &fields,
     )
 }

@@ -78,6 +78,9 @@ pub struct SolveOptions {
     pub krylov: SolverOptions,
     /// Write the final linear system (`A.mtx`, `b.mtx`) into this folder.
     pub write_system: Option<std::path::PathBuf>,
+    /// Write the solution as `<scene name>_<method>.vtu` into this folder (a scene with
+    /// `"nodes"`; [`crate::vtk::scene_fields`]).
+    pub vtk: Option<std::path::PathBuf>,
 }
 
 /// The options' checks, each error named by its flag.
@@ -133,7 +136,37 @@ pub fn solve_scene(
     // cond₂ routes (a dense-stored 400-DOF membrane takes the sparse ones, not a dense
     // eigensolver with Kahan-wide bounds).
     let sc = scene::read_scene_preferred(scene)?;
-    solve_loaded(&sc, strategy, knobs, opts)
+    let Some(dir) = &opts.vtk else {
+        return solve_loaded(&sc, strategy, knobs, opts);
+    };
+    let nodes = sc.nodes.as_ref().ok_or_else(|| {
+        Error::unsupported(
+            "--vtk",
+            "a scene with \"nodes\" (coordinates, DOFs per node, optionally cells)",
+        )
+    })?;
+    let path = dir.join(format!("{}_{}.vtu", sc.name, strategy.name));
+    if path.exists() {
+        return Err(Error::io(
+            path.display(),
+            "exists: --vtk does not overwrite",
+        ));
+    }
+    let v = solve_loaded(&sc, strategy, knobs, opts)?;
+    let floats = |key: &str| -> Vec<f64> {
+        let a = v[key].as_array().map(Vec::as_slice).unwrap_or_default();
+        a.iter().map(|x| x.as_f64().unwrap_or(f64::NAN)).collect()
+    };
+    let fields = crate::vtk::scene_fields(&sc.problem, nodes, &floats("u"), &floats("forces"))?;
+    let title = format!("penalty-lab solve {} {}", sc.name, strategy.name);
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir.display(), e.to_string()))?;
+    crate::vtk::write_vtu(
+        &path,
+        &title,
+        &crate::vtk::CellMesh::of_nodes(nodes),
+        &fields,
+    )?;
+    Ok(v)
 }
 
 /// [`solve_scene`] on a scene already read (or built in memory, as the Python module does),
@@ -403,6 +436,12 @@ pub struct Flags {
     /// replaces them).
     #[arg(long, value_name = "DIR")]
     write_system: Option<std::path::PathBuf>,
+    /// Write the solution as DIR/<scene name>_<method>.vtu (ParaView, meshio): per node u, the
+    /// contact force, the rows' smallest clearance and a contact flag, on the scene's
+    /// "nodes" (its "cells", or one vertex per node). Needs a scene with "nodes"; an existing
+    /// file is refused.
+    #[arg(long, value_name = "DIR")]
+    vtk: Option<std::path::PathBuf>,
 }
 
 /// A knob flag given to a method that does not take it (it would be ignored silently): an
@@ -496,6 +535,7 @@ impl Study for Solve {
                 cond_tol: None,
             },
             write_system: f.write_system.clone(),
+            vtk: f.vtk.clone(),
         };
         check_options(&opts)?;
         check_knob_flags(f, strategy)?;
