@@ -42,6 +42,20 @@ pub struct Field {
     pub values: Vec<f64>,
 }
 
+impl Field {
+    /// Fields from (name, components, values).
+    fn set<const K: usize>(parts: [(&str, usize, Vec<f64>); K]) -> Vec<Field> {
+        parts
+            .into_iter()
+            .map(|(name, components, values)| Field {
+                name: name.into(),
+                components,
+                values,
+            })
+            .collect()
+    }
+}
+
 /// Nodes (x, y, z) and cells (node lists in VTK's order); the cell type follows from the node
 /// count and the dimension: 1 vertex, 2 line, 3 triangle, 4 quad (2-D) or tetrahedron (3-D),
 /// 8 hexahedron.
@@ -274,28 +288,12 @@ pub fn indentation_fields(
         gap[k] = clearance(&scene.problem, c, u_free);
         flag[k] = 1.0;
     }
-    Ok(vec![
-        Field {
-            name: "u".into(),
-            components: 3,
-            values: u,
-        },
-        Field {
-            name: "contact_pressure".into(),
-            components: 1,
-            values: p,
-        },
-        Field {
-            name: "gap".into(),
-            components: 1,
-            values: gap,
-        },
-        Field {
-            name: "contact_node".into(),
-            components: 1,
-            values: flag,
-        },
-    ])
+    Ok(Field::set([
+        ("u", 3, u),
+        ("contact_pressure", 1, p),
+        ("gap", 1, gap),
+        ("contact_node", 1, flag),
+    ]))
 }
 
 /// The clearance of row `c` at `u` (module doc's `gap`): `û − dᵀu` for `upper`, `dᵀu − û`
@@ -350,26 +348,10 @@ pub fn scene_fields(p: &Problem, nodes: &Nodes, u: &[f64], forces: &[f64]) -> Re
             .flat_map(|i| (0..3).map(move |j| if j < k { v[i * k + j] } else { 0.0 }))
             .collect()
     };
-    Ok(vec![
-        Field {
-            name: "u".into(),
-            components: 3,
-            values: pad(u),
-        },
-        Field {
-            name: "contact_force".into(),
-            components: 3,
-            values: pad(&f),
-        },
-        Field {
-            name: "gap".into(),
-            components: 1,
-            values: gap,
-        },
-        Field {
-            name: "contact_node".into(),
-            components: 1,
-            values: flag,
-        },
-    ])
+    Ok(Field::set([
+        ("u", 3, pad(u)),
+        ("contact_force", 3, pad(&f)),
+        ("gap", 1, gap),
+        ("contact_node", 1, flag),
+    ]))
 }

@@ -436,7 +436,7 @@ pub struct Flags {
     /// replaces them).
     #[arg(long, value_name = "DIR")]
     write_system: Option<std::path::PathBuf>,
-    /// Write the solution as DIR/<scene name>_<method>.vtu (ParaView, meshio): per node u, the
+    /// Write the solution as `DIR/<scene name>_<method>.vtu` (ParaView, meshio): per node u, the
     /// contact force, the rows' smallest clearance and a contact flag, on the scene's
     /// "nodes" (its "cells", or one vertex per node). Needs a scene with "nodes"; an existing
     /// file is refused.
