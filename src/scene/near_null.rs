@@ -43,7 +43,7 @@ impl Expecting for RawNodes {
 pub(super) fn parse(
     file: Option<RawNearNull>,
     block_size: Option<usize>,
-    nodes: Option<&super::Nodes>,
+    nodes: Option<&Nodes>,
     n: usize,
     base_dir: &Path,
     at: &dyn Fn(&str, String) -> Error,
@@ -117,4 +117,67 @@ pub(super) fn parse(
             },
         },
     }
+}
+
+/// The nodes a scene may carry (`"nodes"`): coordinates (2 or 3 per node), the DOFs per node
+/// (node i owns DOFs `i·d … i·d + d − 1`) and, optionally, the cells (node lists: the VTK
+/// output draws them; without cells, one vertex per node).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Nodes {
+    /// Node coordinates, each of length 2 or 3 (one length for all).
+    pub coordinates: Vec<Vec<f64>>,
+    /// DOFs per node, consecutive.
+    pub dofs_per_node: usize,
+    /// Cells as node indices (1 to 8 nodes each); empty when the scene gives none.
+    pub cells: Vec<Vec<usize>>,
+}
+
+/// `"nodes"` checked: `nodes × dofs_per_node = N`, one coordinate length (2 or 3), finite
+/// coordinates, cells of 1 to 8 nodes in range.
+pub(super) fn nodes(r: RawNodes, n: usize) -> std::result::Result<Nodes, String> {
+    let coordinates: Vec<Vec<f64>> = r
+        .coordinates
+        .into_iter()
+        .map(|c| c.into_iter().map(|Num(x)| x).collect())
+        .collect();
+    let count = coordinates.len();
+    if r.dofs_per_node == 0 || count * r.dofs_per_node != n {
+        return Err(format!(
+            "{count} nodes × {} DOFs per node = {}, but K has N = {n} DOFs",
+            r.dofs_per_node,
+            count * r.dofs_per_node
+        ));
+    }
+    let dim = coordinates.first().map_or(2, Vec::len);
+    if let Some(i) = coordinates
+        .iter()
+        .position(|c| c.len() != dim || !(2..=3).contains(&c.len()))
+    {
+        return Err(format!(
+            "coordinates of node {i}: {} values (every node 2, or every node 3)",
+            coordinates[i].len()
+        ));
+    }
+    if let Some(i) = coordinates
+        .iter()
+        .position(|c| !c.iter().all(|x| x.is_finite()))
+    {
+        return Err(format!("coordinates of node {i}: not finite"));
+    }
+    let cells = r.cells.unwrap_or_default();
+    for (c, cell) in cells.iter().enumerate() {
+        if !(1..=8).contains(&cell.len()) {
+            return Err(format!("cells[{c}] has {} nodes (1 to 8)", cell.len()));
+        }
+        if let Some(&k) = cell.iter().find(|&&k| k >= count) {
+            return Err(format!(
+                "cells[{c}] names node {k}, but there are {count} nodes (0-based)"
+            ));
+        }
+    }
+    Ok(Nodes {
+        coordinates,
+        dofs_per_node: r.dofs_per_node,
+        cells,
+    })
 }
