@@ -24,7 +24,7 @@
 use crate::error::{Error, Result};
 use crate::model::elasticity::{self, Base, Grid, Indentation};
 use crate::scene::Nodes;
-use crate::system::{ConstraintKind, Problem};
+use crate::system::Problem;
 use std::path::Path;
 use vtkio::model::{
     Attribute, Attributes, ByteOrder, CellType, Cells, DataArray, DataSet, ElementType,
@@ -152,9 +152,9 @@ pub fn check_empty_dir(dir: &Path) -> Result<()> {
 /// Writes `mesh` with the node fields `fields` to `path` (`.vtu`), atomically. Errors: a
 /// field whose length is not `components × nodes`, a cell naming a node out of range, and
 /// I/O (naming the file).
-pub fn write_vtu(path: &Path, title: &str, mesh: &CellMesh, fields: &[Field]) -> Result<()> {
+pub fn write_vtu(path: &Path, title: &str, mesh: &CellMesh, fields: Vec<Field>) -> Result<()> {
     let n = mesh.points.len();
-    for f in fields {
+    for f in &fields {
         if f.values.len() != f.components * n {
             return Err(Error::length_mismatch(
                 format!("VTK field `{}`", f.name),
@@ -185,7 +185,7 @@ pub fn write_vtu(path: &Path, title: &str, mesh: &CellMesh, fields: &[Field]) ->
         .map(|c| mesh.cell_type(c.len()))
         .collect::<Result<Vec<_>>>()?;
     let point = fields
-        .iter()
+        .into_iter()
         .map(|f| {
             let elem = match f.components {
                 3 => ElementType::Vectors,
@@ -195,9 +195,9 @@ pub fn write_vtu(path: &Path, title: &str, mesh: &CellMesh, fields: &[Field]) ->
                 },
             };
             Attribute::DataArray(DataArray {
-                name: f.name.clone(),
+                name: f.name,
                 elem,
-                data: f.values.clone().into(),
+                data: f.values.into(),
             })
         })
         .collect();
@@ -255,17 +255,11 @@ pub fn indentation_fields(
             free_count,
         ));
     }
+    // The free unknowns in DOF order (as `elasticity::eliminate` numbers them).
+    let mut free = u_free.iter();
     let mut u = vec![0.0; 3 * nodes];
-    let mut next = 0;
     for (d, f) in fixed.iter().enumerate() {
-        let v = match f {
-            Some(v) => *v,
-            None => {
-                next += 1;
-                u_free[next - 1]
-            }
-        };
-        u[3 * (d / 2) + d % 2] = v;
+        u[3 * (d / 2) + d % 2] = f.or_else(|| free.next().copied()).unwrap_or(f64::NAN);
     }
     let m = scene.problem.m();
     let top = grid.ny() - 1;
@@ -296,16 +290,11 @@ pub fn indentation_fields(
     ]))
 }
 
-/// The clearance of row `c` at `u` (module doc's `gap`): `û − dᵀu` for `upper`, `dᵀu − û`
-/// for `lower`, `−|dᵀu − û|` for bilateral.
+/// The clearance of row `c` at `u` (module doc's `gap`,
+/// [`crate::system::ConstraintKind::clearance`]).
 fn clearance(p: &Problem, c: usize, u: &[f64]) -> f64 {
     let con = &p.constraints[c];
-    let g = con.gap(u);
-    match con.kind {
-        ConstraintKind::Upper => -g,
-        ConstraintKind::Lower => g,
-        ConstraintKind::Bilateral => -g.abs(),
-    }
+    con.kind.clearance(con.gap(u))
 }
 
 /// The fields of a solved scene with `"nodes"`: `u` (the node's DOFs as its first components,
@@ -335,11 +324,8 @@ pub fn scene_fields(p: &Problem, nodes: &Nodes, u: &[f64], forces: &[f64]) -> Re
         for &(d, a) in &p.constraints[c].terms {
             f[d] -= r * a;
             let node = d / k;
-            gap[node] = if gap[node].is_nan() {
-                g
-            } else {
-                gap[node].min(g)
-            };
+            // NaN (no row yet) gives way to g.
+            gap[node] = gap[node].min(g);
             flag[node] = 1.0;
         }
     }

@@ -147,29 +147,47 @@ pub fn shear_exact(x: f64, a: f64, c: f64, mu_p0: f64) -> f64 {
     mu_p0 * (root(x, a) - stick)
 }
 
+/// `ratio` = Q/(μP) must lie in (0, 1): at Q ≥ μP no static equilibrium exists under force
+/// control.
+pub fn check_ratio(ratio: f64) -> Result<f64> {
+    if ratio.is_finite() && ratio > 0.0 && ratio < 1.0 {
+        return Ok(ratio);
+    }
+    Err(Error::out_of_range(
+        "Q/(μP)",
+        ratio,
+        "in (0, 1): at Q ≥ μP the bodies slide (no static equilibrium under force control)",
+    ))
+}
+
+/// The mesh's h/a must lie in [1/256, 1/4] (finer meshes exceed the case's size limit).
+pub fn check_h_over_a(h_over_a: f64) -> Result<f64> {
+    if h_over_a.is_finite() && (1.0 / 256.0..=0.25).contains(&h_over_a) {
+        return Ok(h_over_a);
+    }
+    Err(Error::out_of_range(
+        "cattaneo-mindlin h/a",
+        h_over_a,
+        "in [1/256, 1/4] (finer meshes exceed this case's size limit)",
+    ))
+}
+
+/// μ must be finite and > 0 (Q/(μP) needs μ > 0).
+pub fn check_mu(mu: f64) -> Result<f64> {
+    if mu.is_finite() && mu > 0.0 {
+        return Ok(mu);
+    }
+    Err(Error::out_of_range(
+        "cattaneo-mindlin μ",
+        mu,
+        "finite and > 0 (Q/(μP) needs μ > 0)",
+    ))
+}
+
 impl CattaneoMindlin {
     fn validate(&self) -> Result<()> {
-        if !(self.h_over_a.is_finite() && self.h_over_a > 0.0 && self.h_over_a <= 0.25) {
-            return Err(Error::out_of_range(
-                "cattaneo-mindlin h/a",
-                self.h_over_a,
-                "in (0, 0.25]",
-            ));
-        }
-        if self.h_over_a < 1.0 / 256.0 {
-            return Err(Error::out_of_range(
-                "cattaneo-mindlin h/a",
-                self.h_over_a,
-                "≥ 1/256 (finer meshes exceed this case's size limit)",
-            ));
-        }
-        if !(self.mu.is_finite() && self.mu > 0.0) {
-            return Err(Error::out_of_range(
-                "cattaneo-mindlin μ",
-                self.mu,
-                "finite and > 0 (Q/(μP) needs μ > 0)",
-            ));
-        }
+        check_h_over_a(self.h_over_a)?;
+        check_mu(self.mu)?;
         Ok(())
     }
 
@@ -257,11 +275,6 @@ impl CattaneoProblem {
         )
     }
 
-    /// The height h_c of the element layer at the contact face.
-    pub fn layer(&self) -> f64 {
-        self.layers[0]
-    }
-
     /// The frictionless normal force at squeeze w (Lagrange): `−Σ r_c`.
     fn normal_force(&self, w: f64) -> Result<f64> {
         let mut p = self.problem(0.0)?.normal;
@@ -298,13 +311,7 @@ impl CattaneoProblem {
     /// s found so that Q/(μP) = `ratio` (module doc); measures the result. `ratio` must lie in
     /// (0, 1): at Q ≥ μP no static equilibrium exists under force control.
     pub fn solve_at(&self, method: &FrictionMethod, ratio: f64) -> Result<CattaneoResult> {
-        if !(ratio.is_finite() && ratio > 0.0 && ratio < 1.0) {
-            return Err(Error::out_of_range(
-                "Q/(μP)",
-                ratio,
-                "in (0, 1): at Q ≥ μP the bodies slide (no static equilibrium under force control)",
-            ));
-        }
+        check_ratio(ratio)?;
         let not_converged = |what: String, sol: &FrictionSolution| {
             Error::Numerical(format!(
                 "cattaneo-mindlin: {} did not converge {what}: {}",
@@ -332,11 +339,11 @@ impl CattaneoProblem {
             let (p, r) = (last.normal_force(), -last.tangential_force());
             let r = r / (self.mu * p);
             if (r - ratio).abs() <= RATIO_TOL {
-                let mut whole = sol.clone();
+                let mut whole = sol;
                 whole.increments.insert(0, state.clone());
                 whole.factorizations = factorizations;
-                whole.tangent_increment = sol.tangent_increment.map(|k| k + 1);
-                whole.warnings = [base.warnings.clone(), sol.warnings].concat();
+                whole.tangent_increment = whole.tangent_increment.map(|k| k + 1);
+                whole.warnings = [base.warnings.clone(), whole.warnings].concat();
                 return Ok(self.measure(whole, s, p, r, step));
             }
             if r < ratio {

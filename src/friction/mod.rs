@@ -166,6 +166,12 @@ impl FrictionProblem {
         dot(&con.terms, u) - con.limit
     }
 
+    /// `r·G·w_c/h_c`: the penalty per unit contact area of contact c for the dimensionless
+    /// factor r ([`NormalRule::Area`], [`TangentRule::Area`]; force/length).
+    pub fn area_penalty(&self, r: f64, c: usize) -> f64 {
+        r * self.shear_modulus * self.areas[c] / self.layers[c]
+    }
+
     /// `s = d_Tᵀu` of contact c.
     pub fn slip(&self, c: usize, u: &[f64]) -> f64 {
         dot(&self.tangents[c], u)
@@ -418,9 +424,7 @@ pub fn normal_penalties(p: &FrictionProblem, rule: &NormalRule) -> Result<Vec<f6
         NormalRule::Constant(e) => vec![Error::positive("normal penalty ε_N", *e)?; p.m()],
         NormalRule::Area(r) => {
             let r = Error::positive("normal penalty factor r", *r)?;
-            (0..p.m())
-                .map(|c| r * p.shear_modulus * p.areas[c] / p.layers[c])
-                .collect()
+            (0..p.m()).map(|c| p.area_penalty(r, c)).collect()
         }
         NormalRule::Rule(method) => {
             let sol = crate::strategy::solve(&p.normal, *method)?;
@@ -502,8 +506,7 @@ pub fn solve_from(
                 }
                 TangentRule::Area(r) => {
                     let r = Error::positive("tangential penalty factor r", r)?;
-                    let g = p.shear_modulus;
-                    let e = (0..p.m()).map(|c| r * g * p.areas[c] / p.layers[c]);
+                    let e = (0..p.m()).map(|c| p.area_penalty(r, c));
                     penalty::Tangential::Penalty(e.collect(), *law)
                 }
                 TangentRule::Delta(d) => penalty::Tangential::Delta(

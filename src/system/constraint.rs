@@ -36,6 +36,17 @@ impl ConstraintKind {
             ConstraintKind::Lower => (-g).max(0.0),
         }
     }
+
+    /// The signed distance to the obstacle for the signed gap `g = u[d] − û`: `−g` for
+    /// `upper`, `g` for `lower`, `−|g|` for bilateral; negative where the row penetrates
+    /// (then it is `−penetration`).
+    pub fn clearance(self, g: f64) -> f64 {
+        match self {
+            ConstraintKind::Bilateral => -g.abs(),
+            ConstraintKind::Upper => -g,
+            ConstraintKind::Lower => g,
+        }
+    }
 }
 
 /// One contact restriction: a row `d_cᵀ` of Dᵀ (its nonzero terms) and an entry `û_c` of û.

@@ -122,6 +122,8 @@ impl Flags {
                 ));
             }
         }
+        cfg.validate()?;
+        // Last, after every check: the folder is created here.
         if let Some(dir) = &self.vtk {
             if !cfg.cases.iter().any(|c| c.vtk_base().is_some()) {
                 return Err(Error::unsupported(
@@ -129,11 +131,8 @@ impl Flags {
                     "one of the cases hertz-plane, hertz-axi, flat-punch, hertz-normals among --cases",
                 ));
             }
-            cfg.vtk = Some(dir.clone());
-        }
-        cfg.validate()?;
-        if let Some(dir) = &cfg.vtk {
             crate::vtk::check_empty_dir(dir).map_err(|e| e.for_flag("--vtk"))?;
+            cfg.vtk = Some(dir.clone());
         }
         Ok(cfg)
     }

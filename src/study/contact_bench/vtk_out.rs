@@ -28,6 +28,6 @@ pub(crate) fn write(
         &dir.join(name),
         &title,
         &crate::vtk::CellMesh::of_grid(mesh.grid),
-        &fields,
+        fields,
     )
 }

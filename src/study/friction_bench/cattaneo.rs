@@ -14,7 +14,7 @@
 use super::{BenchConfig, FrictionRow};
 use crate::error::Result;
 use crate::friction::cattaneo::{CattaneoMindlin, CattaneoResult, RATIO_TOL};
-use crate::friction::{FrictionMethod, NormalRule, TangentRule};
+use crate::friction::{FrictionMethod, FrictionProblem, NormalRule, TangentRule};
 use crate::plot::{Figure, Mark, Scale, Series};
 use crate::progress::Progress;
 use crate::study::shape::Drawing;
@@ -30,15 +30,16 @@ fn methods(cfg: &BenchConfig, g: f64) -> Vec<(FrictionMethod, &'static str)> {
     cfg.methods_with(g, 1.0, (&cfg.cm_eps_t, false), &cfg.cm_delta_t)
 }
 
-/// The row of one solve (or of its failure, `error`).
+/// The row of one solve (or of its failure, `error`) of the case whose frictional problem is
+/// `p`: the `area` rules' ε at the contact point x = 0 (element size h on both sides).
 fn row(
     case: &CattaneoMindlin,
     (method, rule): &(FrictionMethod, &'static str),
     target: f64,
     solved: std::result::Result<CattaneoResult, String>,
-    widths: (f64, f64, usize),
+    p: &FrictionProblem,
 ) -> FrictionRow {
-    let (g, layer, n) = widths;
+    let (n, mid) = (p.n(), p.m() / 2);
     let (eps_n, eps_t, delta_t) = match method {
         FrictionMethod::Lagrange => (None, None, None),
         FrictionMethod::Augmented { eps_n, eps_t, .. } => (Some(*eps_n), Some(*eps_t), None),
@@ -46,11 +47,11 @@ fn row(
             normal, tangent, ..
         } => {
             let en = match normal {
-                NormalRule::Area(r) => Some(r * g * case.h_over_a / layer),
+                NormalRule::Area(r) => Some(p.area_penalty(*r, mid)),
                 _ => None,
             };
             match *tangent {
-                TangentRule::Area(r) => (en, Some(r * g * case.h_over_a / layer), None),
+                TangentRule::Area(r) => (en, Some(p.area_penalty(r, mid)), None),
                 TangentRule::Delta(d) => (en, None, Some(d)),
                 TangentRule::Constant(e) => (en, Some(e), None),
             }
@@ -131,8 +132,7 @@ pub fn rows(cfg: &BenchConfig, progress: &Progress, done: usize) -> Result<Vec<F
         .par_iter()
         .map(|case| {
             let built = case.build()?;
-            let n = built.problem(0.0)?.n();
-            let layer = built.layer();
+            let p = built.problem(0.0)?;
             let mut rows = Vec::with_capacity(per);
             for m in methods(cfg, g) {
                 for &t in &cfg.q_over_mup {
@@ -140,7 +140,7 @@ pub fn rows(cfg: &BenchConfig, progress: &Progress, done: usize) -> Result<Vec<F
                         Err(e) if e.is_input() => return Err(e),
                         other => other.map_err(|e| e.to_string()),
                     };
-                    rows.push(row(case, &m, t, solved, (g, layer, n)));
+                    rows.push(row(case, &m, t, solved, &p));
                     progress.step(&format!(
                         "friction_bench: {CASE}, h = a/{}, μ = {}, {} {}, Q/μP = {t}",
                         1.0 / case.h_over_a,
@@ -189,18 +189,23 @@ pub fn table(rows: &[FrictionRow]) -> String {
     }
     headers.push("rate".into());
     headers.push("converged".into());
-    let mut keys: Vec<(String, String, f64, f64)> = Vec::new();
-    for r in &cm {
-        let k = (
+    // A line per (method and rule, knob, μ, Q/μP), the reached ratios within 1e-3 of each
+    // other (they are within RATIO_TOL of the target).
+    type Key = (String, String, f64, f64);
+    let key = |r: &FrictionRow| -> Key {
+        (
             format!("{} {}", r.method, r.tangent_rule),
             knob(r),
             r.mu,
             r.q_over_mup.unwrap_or(f64::NAN),
-        );
-        let same = |o: &(String, String, f64, f64)| {
-            o.0 == k.0 && o.1 == k.1 && o.2 == k.2 && (o.3 - k.3).abs() <= 1e-3
-        };
-        if !keys.iter().any(same) {
+        )
+    };
+    let same =
+        |a: &Key, b: &Key| a.0 == b.0 && a.1 == b.1 && a.2 == b.2 && (a.3 - b.3).abs() <= 1e-3;
+    let mut keys: Vec<Key> = Vec::new();
+    for r in &cm {
+        let k = key(r);
+        if !keys.iter().any(|o| same(o, &k)) {
             keys.push(k);
         }
     }
@@ -208,13 +213,8 @@ pub fn table(rows: &[FrictionRow]) -> String {
         .iter()
         .map(|k| {
             let at = |h: f64| {
-                cm.iter().find(|r| {
-                    format!("{} {}", r.method, r.tangent_rule) == k.0
-                        && knob(r) == k.1
-                        && r.mu == k.2
-                        && r.q_over_mup.is_some_and(|q| (q - k.3).abs() <= 1e-3)
-                        && r.h_over_a == Some(h)
-                })
+                cm.iter()
+                    .find(|r| r.h_over_a == Some(h) && same(&key(r), k))
             };
             let mut line = vec![
                 k.0.clone(),

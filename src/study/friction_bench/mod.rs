@@ -48,6 +48,7 @@ pub use report::table;
 
 use crate::conditioning;
 use crate::error::{Error, Result};
+use crate::friction::cattaneo::{check_h_over_a, check_mu, check_ratio};
 use crate::friction::incline::InclinedFriction;
 use crate::friction::patch::{PatchFriction, PatchProblem};
 use crate::friction::sliding_block::{SlidingBlock, HEIGHT};
@@ -313,26 +314,14 @@ impl BenchConfig {
         Error::distinct("--mu", &f.mu)?;
         Error::distinct("--cases", &f.cases)?;
         if f.cases.iter().any(|c| c == cattaneo::CASE) {
-            if f.mu.contains(&0.0) {
-                return Err(Error::out_of_range(
-                    "--mu",
-                    0.0,
-                    "> 0 for cattaneo-mindlin (Q/(μP) needs μ > 0)",
-                ));
+            for &mu in &f.mu {
+                check_mu(mu).map_err(|e| e.for_flag("--mu"))?;
             }
             for &h in &f.cm_levels {
-                if !(h.is_finite() && (1.0 / 256.0..=0.25).contains(&h)) {
-                    return Err(Error::out_of_range("--cm-levels", h, "in [1/256, 1/4]"));
-                }
+                check_h_over_a(h).map_err(|e| e.for_flag("--cm-levels"))?;
             }
             for &q in &f.q_over_mup {
-                if !(q.is_finite() && q > 0.0 && q < 1.0) {
-                    return Err(Error::out_of_range(
-                        "--q-over-mup",
-                        q,
-                        "in (0, 1): at Q ≥ μP no static equilibrium exists under force control",
-                    ));
-                }
+                check_ratio(q).map_err(|e| e.for_flag("--q-over-mup"))?;
             }
             for &v in f.cm_eps_t.iter().chain(&f.cm_delta_t) {
                 Error::positive("--cm-eps-t / --cm-delta-t entry", v)?;
@@ -541,14 +530,7 @@ fn row(
             match *tangent {
                 TangentRule::Constant(e) => (Some(e), None, en),
                 // The area rule's ε_T at an interior contact (the edges have half its area).
-                TangentRule::Area(r) => {
-                    let c = p.m() / 2;
-                    (
-                        Some(r * p.shear_modulus * p.areas[c] / p.layers[c]),
-                        None,
-                        en,
-                    )
-                }
+                TangentRule::Area(r) => (Some(p.area_penalty(r, p.m() / 2)), None, en),
                 TangentRule::Delta(d) => (None, Some(d), en),
             }
         }
@@ -693,14 +675,18 @@ impl Study for FrictionBench {
     }
 
     fn report(rows: &Vec<FrictionRow>) -> String {
-        let (cm, other): (Vec<FrictionRow>, Vec<FrictionRow>) =
-            rows.iter().cloned().partition(|r| r.case == cattaneo::CASE);
+        // `cattaneo::table` picks its own rows; the other cases' table the rest.
+        let other: Vec<FrictionRow> = rows
+            .iter()
+            .filter(|r| r.case != cattaneo::CASE)
+            .cloned()
+            .collect();
         let mut t = if other.is_empty() {
             String::new()
         } else {
             table(&other)
         };
-        t.push_str(&cattaneo::table(&cm));
+        t.push_str(&cattaneo::table(rows));
         t
     }
 }

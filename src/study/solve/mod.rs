@@ -164,7 +164,7 @@ pub fn solve_scene(
         &path,
         &title,
         &crate::vtk::CellMesh::of_nodes(nodes),
-        &fields,
+        fields,
     )?;
     Ok(v)
 }
