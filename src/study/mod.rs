@@ -18,6 +18,7 @@
 //! shared by `contact_bench` and `solver_cost`) and [`forming_runs`] (the forming
 //! experiments' runs, records and figures).
 
+pub mod checkpoint;
 pub mod cond;
 pub mod cond_accuracy;
 pub mod cond_cost;

@@ -6,6 +6,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod checkpoints;
 mod cond_scaling;
 mod cond_starts;
 mod condensed_delta;

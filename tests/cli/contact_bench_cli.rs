@@ -341,7 +341,7 @@ fn killed_run_resumes_from_its_checkpoint() {
     const PLANTED: f64 = 12345.0;
     let mut c: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&checkpoint).unwrap()).unwrap();
-    let rows = c["mesh"]["rows"].as_array_mut().unwrap();
+    let rows = c["value"]["rows"].as_array_mut().unwrap();
     assert!(!rows.is_empty());
     for r in rows.iter_mut() {
         r["seconds"] = PLANTED.into();

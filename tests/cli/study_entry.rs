@@ -126,7 +126,7 @@ fn binaries() -> Vec<Entry> {
                 "--methods",
                 "constant",
             ],
-            false,
+            true,
         ),
         (
             "stress",

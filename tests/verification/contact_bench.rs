@@ -4,7 +4,8 @@
 
 use penalty_lab::progress::Progress;
 use penalty_lab::strategy::registry;
-use penalty_lab::study::contact_bench::{self, analytic::Case, BenchConfig, BenchRun, Checkpoints};
+use penalty_lab::study::checkpoint::Checkpoints;
+use penalty_lab::study::contact_bench::{self, analytic::Case, BenchConfig, BenchRun};
 
 fn config() -> BenchConfig {
     BenchConfig {
@@ -155,20 +156,20 @@ fn resumed_runs_reuse_matching_checkpoints_only() {
         meshes: vec![0.2],
         ..config()
     };
-    let fresh = Checkpoints::in_out(dir.path(), false);
+    let fresh = Checkpoints::new(dir.path(), "meshes", &cfg, false).unwrap();
     let first = contact_bench::run(&cfg, &Progress::quiet(), Some(&fresh)).unwrap();
     let file = fresh.dir.join("flat-punch-h0.2.json");
     let mut json: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&file).unwrap()).unwrap();
     assert_eq!(
-        json["mesh"]["rows"].as_array().unwrap().len(),
+        json["value"]["rows"].as_array().unwrap().len(),
         first.rows.len()
     );
-    json["mesh"]["rows"][0]["seconds"] = serde_json::json!(-1.0);
+    json["value"]["rows"][0]["seconds"] = serde_json::json!(-1.0);
     std::fs::write(&file, json.to_string()).unwrap();
     let marked = |run: &BenchRun| run.rows[0].seconds == -1.0;
 
-    let resume = Checkpoints::in_out(dir.path(), true);
+    let resume = Checkpoints::new(dir.path(), "meshes", &cfg, true).unwrap();
     let resumed = contact_bench::run(&cfg, &Progress::quiet(), Some(&resume)).unwrap();
     assert!(marked(&resumed), "the checkpoint is reused");
     for (a, b) in first.rows.iter().zip(&resumed.rows).skip(1) {
@@ -182,13 +183,14 @@ fn resumed_runs_reuse_matching_checkpoints_only() {
         cond_tol: 1e-5,
         ..cfg.clone()
     };
-    let resolved = contact_bench::run(&other, &Progress::quiet(), Some(&resume)).unwrap();
+    let other_resume = Checkpoints::new(dir.path(), "meshes", &other, true).unwrap();
+    let resolved = contact_bench::run(&other, &Progress::quiet(), Some(&other_resume)).unwrap();
     assert!(!marked(&resolved), "another config solves again");
-    json["mesh"]["rows"][0]["seconds"] = serde_json::json!(-1.0);
+    json["value"]["rows"][0]["seconds"] = serde_json::json!(-1.0);
     std::fs::write(&file, json.to_string()).unwrap();
     let again = contact_bench::run(&cfg, &Progress::quiet(), Some(&fresh)).unwrap();
     assert!(!marked(&again), "without resume every mesh is solved");
-    resume.remove().unwrap();
+    Checkpoints::remove_in(dir.path(), "meshes").unwrap();
     assert!(!resume.dir.exists());
 }
 

@@ -1,11 +1,15 @@
 //! The `contact_bench` binary's flags and the study as the shared entry runs it
 //! ([`crate::study::shape::main`]): flags → [`BenchConfig`] here, nowhere else.
 
-use super::{analytic::Case, figures, BenchConfig, Checkpoints, Summary};
+use super::{analytic::Case, figures, BenchConfig, Summary};
 use crate::error::{Error, Result};
 use crate::strategy::registry;
+use crate::study::checkpoint::Checkpoints;
 use crate::study::shape::{Drawing, RunContext, Study};
 use std::path::Path;
+
+/// The checkpoint folder under `--out` (one file per case and mesh).
+const CHECKPOINTS: &str = "meshes";
 
 /// The `contact_bench` binary's flags (each replaces the default of [`BenchConfig`]).
 #[derive(clap::Args, Debug)]
@@ -158,7 +162,7 @@ impl Study for ContactBench {
 
     /// Runs with the checkpoints of `OUT/meshes/` (reused with `--resume`).
     fn run(cfg: &BenchConfig, ctx: &RunContext) -> Result<Summary> {
-        let checkpoints = Checkpoints::in_out(ctx.out, ctx.resume);
+        let checkpoints = Checkpoints::new(ctx.out, CHECKPOINTS, cfg, ctx.resume)?;
         let run = super::run(cfg, ctx.progress, Some(&checkpoints))?;
         Ok(super::summary(cfg, run, ctx.provenance))
     }
@@ -171,7 +175,7 @@ impl Study for ContactBench {
         _provenance: &crate::provenance::Provenance,
     ) -> Result<()> {
         super::save(out, summary)?;
-        Checkpoints::in_out(out, false).remove()
+        Checkpoints::remove_in(out, CHECKPOINTS)
     }
 
     fn load(out: &Path) -> Result<Summary> {

@@ -67,8 +67,8 @@ pub use report::tables;
 pub use row::{BenchRow, Floor, Profile};
 
 pub use record::{
-    admissible, convergence_rates, leaderboard, load, rule_of, save, summary, Checkpoints, Leader,
-    Summary, MARGIN,
+    admissible, convergence_rates, leaderboard, load, rule_of, save, summary, Leader, Summary,
+    MARGIN,
 };
 
 use crate::error::{Error, Result};
@@ -77,6 +77,7 @@ use crate::model::elasticity::{Grid, Indentation};
 use crate::progress::Progress;
 use crate::strategy::force_control::{solve_at_load, Loaded, FORCE_TOL};
 use crate::strategy::{self, registry, Method, Strategy};
+use crate::study::checkpoint::Checkpoints;
 use analytic::{Case, Exact};
 use serde::{Deserialize, Serialize};
 use std::time::Instant;
@@ -498,7 +499,7 @@ pub(crate) fn run_job(cfg: &BenchConfig, mesh: &Mesh, job: &BenchJob) -> (BenchR
 }
 
 /// What one mesh of one case gives: its rows, its pressure profiles (finest mesh only) and its
-/// conditioning floor. [`run`] checkpoints one per mesh ([`Checkpoints`]).
+/// conditioning floor. [`run`] checkpoints one per mesh ([`Checkpoints`], key `<case>-h<h_rel>`).
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct MeshRun {
     /// Case.
@@ -730,9 +731,9 @@ pub fn run_mesh(cfg: &BenchConfig, case: Case, h_rel: f64, progress: &Progress) 
 }
 
 /// Runs the suite: [`run_mesh`] per case and mesh, in order. With `checkpoints`, each finished
-/// mesh is written to its directory at once, and with `resume` a mesh whose checkpoint was
-/// written by the same build ([`crate::provenance::git_commit`]) for the same config is read
-/// back instead of solved; long runs (hours with `optimal` on 5 000-DOF meshes) survive an
+/// mesh is written to its directory at once, and with `--resume` a mesh whose checkpoint was
+/// written by the same build for the same config is read back instead of solved
+/// ([`crate::study::checkpoint`]); long runs (hours with `optimal` on 5 000-DOF meshes) survive an
 /// interruption.
 pub fn run(
     cfg: &BenchConfig,
@@ -744,19 +745,10 @@ pub fn run(
     progress.set_total(cfg.cases.len() * cfg.meshes.len());
     for &case in &cfg.cases {
         for &h_rel in &cfg.meshes {
-            let resumed = match checkpoints {
-                Some(c) if c.resume => c.read(cfg, case, h_rel)?,
-                _ => None,
-            };
-            let (mesh, from_checkpoint) = match resumed {
-                Some(m) => (m, true),
-                None => {
-                    let m = run_mesh(cfg, case, h_rel, progress)?;
-                    if let Some(c) = checkpoints {
-                        c.write(cfg, &m)?;
-                    }
-                    (m, false)
-                }
+            let key = format!("{}-h{h_rel}", case.name());
+            let (mesh, from_checkpoint) = match checkpoints {
+                Some(c) => c.get_or(&key, || run_mesh(cfg, case, h_rel, progress))?,
+                None => (run_mesh(cfg, case, h_rel, progress)?, false),
             };
             let lift = if mesh.lift.is_nan() {
                 "no Lagrange reference (its rows are dependent)".to_string()

@@ -1,7 +1,7 @@
 //! What the benchmark records: the leaderboard, the convergence rates, and the saved summary.
 
 use super::analytic::Case;
-use super::{BenchConfig, BenchRow, BenchRun, Floor, MeshRun, Profile, FINE_OVER_A, GROWTH};
+use super::{BenchConfig, BenchRow, BenchRun, Floor, Profile, FINE_OVER_A, GROWTH};
 use crate::error::{Error, Result};
 use crate::strategy;
 use serde::{Deserialize, Serialize};
@@ -231,134 +231,10 @@ pub fn load(out: &std::path::Path) -> Result<Summary> {
     crate::provenance::read_json(&out.join("summary.json"))
 }
 
-/// Where [`super::run`] keeps each finished mesh: `dir/<case>-h<h_rel>.json`, holding the build
-/// ([`crate::provenance::git_commit`]), the config and the [`MeshRun`]. With `resume`, a
-/// checkpoint is reused only when both match the running build and config exactly (a
-/// `-dirty` build matches another `-dirty` build of the same commit: rebuild from a clean tree
-/// for records); any other is solved again and overwritten.
-#[derive(Clone, Debug)]
-pub struct Checkpoints {
-    /// The directory (created on the first write).
-    pub dir: std::path::PathBuf,
-    /// Reuse matching checkpoints instead of solving.
-    pub resume: bool,
-}
-
-/// One checkpoint file (`M`: the [`MeshRun`] read, or a reference to the one written).
-#[derive(Serialize, Deserialize)]
-struct Checkpoint<M> {
-    git_commit: String,
-    config: serde_json::Value,
-    mesh: M,
-}
-
-impl Checkpoints {
-    /// The checkpoint directory of an output directory: `out/meshes`.
-    pub fn in_out(out: &std::path::Path, resume: bool) -> Checkpoints {
-        Checkpoints {
-            dir: out.join("meshes"),
-            resume,
-        }
-    }
-
-    fn path(&self, case: Case, h_rel: f64) -> std::path::PathBuf {
-        self.dir.join(format!("{}-h{h_rel}.json", case.name()))
-    }
-
-    fn config_value(cfg: &BenchConfig) -> Result<serde_json::Value> {
-        serde_json::to_value(cfg)
-            .map_err(|e| Error::Numerical(format!("cannot write the config as JSON: {e}")))
-    }
-
-    /// The checkpoint of (case, h_rel) if one exists for this build and config; a malformed
-    /// file is a parse error ([`Error::Parse`]) naming it, the line and the column.
-    pub fn read(&self, cfg: &BenchConfig, case: Case, h_rel: f64) -> Result<Option<MeshRun>> {
-        let path = self.path(case, h_rel);
-        if !path.exists() {
-            return Ok(None);
-        }
-        let c: Checkpoint<MeshRun> = crate::provenance::read_json(&path)?;
-        let fits = c.git_commit == crate::provenance::git_commit()
-            && c.config == Self::config_value(cfg)?
-            && c.mesh.case == case
-            && c.mesh.h_rel == h_rel;
-        Ok(fits.then_some(c.mesh))
-    }
-
-    /// Writes the checkpoint of `mesh` (atomically).
-    pub fn write(&self, cfg: &BenchConfig, mesh: &MeshRun) -> Result<()> {
-        std::fs::create_dir_all(&self.dir).map_err(|e| Error::io(self.dir.display(), e))?;
-        let c = Checkpoint {
-            git_commit: crate::provenance::git_commit(),
-            config: Self::config_value(cfg)?,
-            mesh,
-        };
-        crate::provenance::write_json(&self.path(mesh.case, mesh.h_rel), &c)
-    }
-
-    /// Removes the checkpoint files (`<case>-h<h_rel>.json`) after the summary is saved, then
-    /// the directory if that left it empty: anything else a user keeps there stays.
-    pub fn remove(&self) -> Result<()> {
-        let Ok(entries) = std::fs::read_dir(&self.dir) else {
-            return Ok(());
-        };
-        for e in entries.flatten() {
-            let name = e.file_name();
-            let name = name.to_string_lossy();
-            let checkpoint = e.file_type().is_ok_and(|t| t.is_file())
-                && name
-                    .strip_suffix(".json")
-                    .and_then(|stem| stem.rsplit_once("-h"))
-                    .is_some_and(|(_, h)| h.parse::<f64>().is_ok());
-            if checkpoint {
-                std::fs::remove_file(e.path()).map_err(|err| Error::io(e.path().display(), err))?;
-            }
-        }
-        let _ = std::fs::remove_dir(&self.dir); // only if empty
-        Ok(())
-    }
-}
-
 /// The mesh's conditioning floor ([`super::Floor`]), where the summary has one.
 pub(super) fn floor_of(s: &Summary, case: &str, h: f64) -> Option<f64> {
     s.floors
         .iter()
         .find(|f| f.case == case && f.h == h)
         .map(|f| f.cond2_floor)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::Checkpoints;
-
-    /// Removing the checkpoints removes only files named like them, and the folder only when
-    /// that left it empty.
-    #[test]
-    fn removing_checkpoints_keeps_other_files() {
-        let dir = tempfile::tempdir().unwrap();
-        let c = Checkpoints::in_out(dir.path(), false);
-        let meshes = dir.path().join("meshes");
-        std::fs::create_dir_all(&meshes).unwrap();
-        for f in [
-            "flat-punch-h0.2.json",
-            "hertz-h0.05.json",
-            "my_mesh.msh",
-            "notes.json",
-        ] {
-            std::fs::write(meshes.join(f), "x").unwrap();
-        }
-        c.remove().unwrap();
-        let mut left: Vec<String> = std::fs::read_dir(&meshes)
-            .unwrap()
-            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
-            .collect();
-        left.sort();
-        assert_eq!(left, ["my_mesh.msh", "notes.json"]);
-        for f in &left {
-            std::fs::remove_file(meshes.join(f)).unwrap();
-        }
-        std::fs::write(meshes.join("hertz-h0.1.json"), "x").unwrap();
-        c.remove().unwrap();
-        assert!(!meshes.exists());
-    }
 }

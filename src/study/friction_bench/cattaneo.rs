@@ -17,6 +17,7 @@ use crate::friction::cattaneo::{CattaneoMindlin, CattaneoResult, RATIO_TOL};
 use crate::friction::{FrictionMethod, FrictionProblem, NormalRule, TangentRule};
 use crate::plot::{Figure, Mark, Scale, Series};
 use crate::progress::Progress;
+use crate::study::checkpoint::Checkpoints;
 use crate::study::shape::Drawing;
 use crate::study::text::{fmt_e, table as aligned};
 use rayon::prelude::*;
@@ -112,10 +113,17 @@ fn row(
     }
 }
 
-/// Every row of the case: (mesh, μ) in parallel, each method and target in turn. A method's
+/// Every row of the case: (mesh, μ) in parallel, each method and target in turn; with
+/// `checkpoints`, each (mesh, μ) is kept at once and, with `--resume`, read back instead of
+/// solved ([`crate::study::checkpoint`]). A method's
 /// numerical failure is its row (unconverged, the error in `warnings`); bad input an error.
 /// `done`: the progress steps of the other cases, counted before these.
-pub fn rows(cfg: &BenchConfig, progress: &Progress, done: usize) -> Result<Vec<FrictionRow>> {
+pub fn rows(
+    cfg: &BenchConfig,
+    progress: &Progress,
+    done: usize,
+    checkpoints: Option<&Checkpoints>,
+) -> Result<Vec<FrictionRow>> {
     let cases: Vec<CattaneoMindlin> = cfg
         .cm_levels
         .iter()
@@ -131,29 +139,51 @@ pub fn rows(cfg: &BenchConfig, progress: &Progress, done: usize) -> Result<Vec<F
     let out: Vec<Vec<FrictionRow>> = cases
         .par_iter()
         .map(|case| {
-            let built = case.build()?;
-            let p = built.problem(0.0)?;
-            let mut rows = Vec::with_capacity(per);
-            for m in methods(cfg, g) {
-                for &t in &cfg.q_over_mup {
-                    let solved = match built.solve_at(&m.0, t) {
-                        Err(e) if e.is_input() => return Err(e),
-                        other => other.map_err(|e| e.to_string()),
-                    };
-                    rows.push(row(case, &m, t, solved, &p));
-                    progress.step(&format!(
-                        "friction_bench: {CASE}, h = a/{}, μ = {}, {} {}, Q/μP = {t}",
-                        1.0 / case.h_over_a,
-                        case.mu,
-                        m.0.name(),
-                        m.1
-                    ));
+            let key = format!("{CASE}-h{}-mu{}", case.h_over_a, case.mu);
+            let solve = || case_rows(cfg, case, g, per, progress);
+            let (rows, resumed) = match checkpoints {
+                Some(c) => c.get_or(&key, solve)?,
+                None => (solve()?, false),
+            };
+            if resumed {
+                for _ in 0..per {
+                    progress.step(&format!("friction_bench: {key} (checkpoint)"));
                 }
             }
             Ok(rows)
         })
         .collect::<Result<_>>()?;
     Ok(out.into_iter().flatten().collect())
+}
+
+/// The rows of one (mesh, μ): each method and target in turn, one progress step per row.
+fn case_rows(
+    cfg: &BenchConfig,
+    case: &CattaneoMindlin,
+    g: f64,
+    per: usize,
+    progress: &Progress,
+) -> Result<Vec<FrictionRow>> {
+    let built = case.build()?;
+    let p = built.problem(0.0)?;
+    let mut rows = Vec::with_capacity(per);
+    for m in methods(cfg, g) {
+        for &t in &cfg.q_over_mup {
+            let solved = match built.solve_at(&m.0, t) {
+                Err(e) if e.is_input() => return Err(e),
+                other => other.map_err(|e| e.to_string()),
+            };
+            rows.push(row(case, &m, t, solved, &p));
+            progress.step(&format!(
+                "friction_bench: {CASE}, h = a/{}, μ = {}, {} {}, Q/μP = {t}",
+                1.0 / case.h_over_a,
+                case.mu,
+                m.0.name(),
+                m.1
+            ));
+        }
+    }
+    Ok(rows)
 }
 
 /// The knob of a row as printed: ε_T or δ_T.

@@ -39,7 +39,7 @@
 //! `cattaneo-mindlin` case (on request: `--cases cattaneo-mindlin`, its own flags `--cm-*` and
 //! `--q-over-mup`; `cattaneo` module) and stay empty in the other cases' rows.
 
-mod cattaneo;
+pub mod cattaneo;
 mod figures;
 mod report;
 
@@ -56,6 +56,7 @@ use crate::friction::{self, FrictionMethod, FrictionSolution, Law, NormalRule, T
 use crate::model::incline_block::{HEIGHT as INCLINE_HEIGHT, PRESS};
 use crate::model::two_body::Discretization;
 use crate::progress::Progress;
+use crate::study::checkpoint::Checkpoints;
 use crate::study::shape::{Drawing, RunContext, Study};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -286,6 +287,19 @@ fn mesh(text: &str) -> Result<(usize, usize)> {
         return Err(bad());
     }
     Ok((nx, ny))
+}
+
+/// The binary's defaults (its flags' default values, the one place they are written).
+impl Default for BenchConfig {
+    fn default() -> Self {
+        #[derive(clap::Parser)]
+        struct Defaults {
+            #[command(flatten)]
+            flags: Flags,
+        }
+        let d = <Defaults as clap::Parser>::parse_from(["friction_bench"]);
+        BenchConfig::from_flags(&d.flags).expect("the flags' defaults are valid")
+    }
 }
 
 impl BenchConfig {
@@ -594,7 +608,11 @@ fn solved_or_failed(p: &friction::FrictionProblem, m: &FrictionMethod) -> Result
 }
 
 /// Runs every (case, μ, method) of `cfg`, one progress step per row (`cattaneo-mindlin` last).
-pub fn run(cfg: &BenchConfig, progress: &Progress) -> Result<Vec<FrictionRow>> {
+pub fn run(
+    cfg: &BenchConfig,
+    progress: &Progress,
+    checkpoints: Option<&Checkpoints>,
+) -> Result<Vec<FrictionRow>> {
     let scenarios: Vec<Scenario> = cfg
         .cases
         .iter()
@@ -628,7 +646,12 @@ pub fn run(cfg: &BenchConfig, progress: &Progress) -> Result<Vec<FrictionRow>> {
         .collect::<Result<_>>()?;
     let mut rows: Vec<FrictionRow> = rows.into_iter().flatten().collect();
     if cfg.cases.iter().any(|c| c == cattaneo::CASE) {
-        rows.extend(cattaneo::rows(cfg, progress, scenarios.len() * per)?);
+        rows.extend(cattaneo::rows(
+            cfg,
+            progress,
+            scenarios.len() * per,
+            checkpoints,
+        )?);
     }
     Ok(rows)
 }
@@ -642,6 +665,7 @@ impl Study for FrictionBench {
         "Coulomb friction: every tangential penalty rule against the exact law (sliding block, two-body patch test, inclined block)";
     const PROGRESS: &'static str = "friction_bench (runs)";
     const DEFAULT_OUT: &'static str = "results/friction_bench";
+    const RESUMABLE: bool = true;
     type Flags = Flags;
     type Config = BenchConfig;
     type Record = Vec<FrictionRow>;
@@ -650,8 +674,10 @@ impl Study for FrictionBench {
         BenchConfig::from_flags(flags)
     }
 
+    /// Runs with the checkpoints of `OUT/cattaneo-mindlin/` (reused with `--resume`).
     fn run(cfg: &BenchConfig, ctx: &RunContext) -> Result<Vec<FrictionRow>> {
-        run(cfg, ctx.progress)
+        let checkpoints = Checkpoints::new(ctx.out, cattaneo::CASE, cfg, ctx.resume)?;
+        run(cfg, ctx.progress, Some(&checkpoints))
     }
 
     fn save(
@@ -661,7 +687,8 @@ impl Study for FrictionBench {
         provenance: &crate::provenance::Provenance,
     ) -> Result<()> {
         let fields = serde_json::json!({ "config": cfg, "max_newton": friction::MAX_NEWTON });
-        crate::study::shape::save_rows(out, provenance, fields, rows)
+        crate::study::shape::save_rows(out, provenance, fields, rows)?;
+        Checkpoints::remove_in(out, cattaneo::CASE)
     }
 
     fn load(out: &Path) -> Result<Vec<FrictionRow>> {

@@ -40,11 +40,12 @@ use crate::error::{Error, Result};
 use crate::metrics::{self, solver::SolverOptions, MetricSet};
 use crate::progress::Progress;
 use crate::strategy::{self, registry, Knob, Strategy};
+use crate::study::checkpoint::Checkpoints;
 use crate::study::shape::{Drawing, RunContext, Study};
 use crate::system::Stiffness;
 use cases::Level;
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::{Mutex, OnceLock};
@@ -212,9 +213,27 @@ fn jobs(cfg: &SolverCostConfig) -> Vec<(&'static Strategy, Accuracy)> {
     out
 }
 
+/// What one level leaves: its rows (jobs in job order, then the ε map's where it has one) and
+/// each job's start on the next level; checkpointed per level ([`CHECKPOINTS`]).
+#[derive(Serialize, Deserialize)]
+struct LevelRun {
+    rows: Vec<Row>,
+    eps_map: Vec<Row>,
+    starts: Vec<Option<search::Start>>,
+}
+
+/// The checkpoint folder under `--out` (one file per family and level).
+pub const CHECKPOINTS: &str = "levels";
+
 /// Runs every family's levels (one progress step per level; jobs of a level in parallel,
 /// rows in job order: the same rows for any number of threads, but for the timing columns).
-pub fn run(cfg: &SolverCostConfig, progress: &Progress) -> Result<Vec<Row>> {
+/// With `checkpoints`, each finished level is written at once and, with `--resume`, read back
+/// instead of solved ([`crate::study::checkpoint`]; its rows keep their first run's timings).
+pub fn run(
+    cfg: &SolverCostConfig,
+    progress: &Progress,
+    checkpoints: Option<&Checkpoints>,
+) -> Result<Vec<Row>> {
     cfg.validate()?;
     let jobs = jobs(cfg);
     progress.set_total(cfg.families.len() * cfg.levels);
@@ -231,47 +250,76 @@ pub fn run(cfg: &SolverCostConfig, progress: &Progress) -> Result<Vec<Row>> {
         let mut starts: Vec<Option<search::Start>> = vec![None; jobs.len()];
         let mut costs = vec![0.0; jobs.len()];
         for level in &levels {
-            let k_once = KOnce::default();
-            let done = AtomicUsize::new(0);
-            let level_rows: Vec<(Row, Option<search::Start>)> = costliest_first(&costs, |i| {
-                let (s, acc) = jobs[i];
-                let row = row_of(cfg, level, &k_once, s, acc, starts[i]);
-                let k = 1 + done.fetch_add(1, Ordering::Relaxed);
-                progress.message(format!(
-                    "{} level {} ({} DOFs): {k}/{} rules",
-                    family.name(),
-                    level.index,
-                    level.n_dofs,
-                    jobs.len()
-                ));
-                row
-            });
-            starts = level_rows.iter().map(|(_, st)| *st).collect();
-            costs = level_rows
+            let solve = || Ok(level_run(cfg, &jobs, level, &starts, &costs, progress));
+            let key = format!("{}-level{}", family.name(), level.index);
+            let (done, resumed) = match checkpoints {
+                Some(c) => c.get_or(&key, solve)?,
+                None => (solve()?, false),
+            };
+            starts = done.starts;
+            costs = done
+                .rows
                 .iter()
-                .map(|(r, _)| r.seconds_search + r.seconds_metrics)
+                .map(|r| r.seconds_search + r.seconds_metrics)
                 .collect();
-            rows.extend(level_rows.into_iter().map(|(r, _)| r));
-            if level.index == cfg.eps_map_level.min(cfg.levels - 1) {
-                progress.message(format!(
-                    "{} level {}: the ε map ({} values of ε)",
-                    family.name(),
-                    level.index,
-                    EPS_MAP_DECADES.count()
-                ));
-                rows.extend(eps_map_rows_with(cfg, level, &k_once));
-            }
+            rows.extend(done.rows);
+            rows.extend(done.eps_map);
             progress.step(&format!(
-                "{} level {}: h = {:.4}, {} DOFs",
+                "{} level {}: h = {:.4}, {} DOFs{}",
                 family.name(),
                 level.index,
                 level.h,
-                level.n_dofs
+                level.n_dofs,
+                if resumed { " (checkpoint)" } else { "" }
             ));
         }
     }
     progress.finish();
     Ok(rows)
+}
+
+/// One level's jobs in parallel (the costliest on the level before first), then its ε map
+/// where `cfg.eps_map_level` asks for it.
+fn level_run(
+    cfg: &SolverCostConfig,
+    jobs: &[(&'static Strategy, Accuracy)],
+    level: &Level,
+    starts: &[Option<search::Start>],
+    costs: &[f64],
+    progress: &Progress,
+) -> LevelRun {
+    let k_once = KOnce::default();
+    let done = AtomicUsize::new(0);
+    let level_rows: Vec<(Row, Option<search::Start>)> = costliest_first(costs, |i| {
+        let (s, acc) = jobs[i];
+        let row = row_of(cfg, level, &k_once, s, acc, starts[i]);
+        let k = 1 + done.fetch_add(1, Ordering::Relaxed);
+        progress.message(format!(
+            "{} level {} ({} DOFs): {k}/{} rules",
+            level.family.name(),
+            level.index,
+            level.n_dofs,
+            jobs.len()
+        ));
+        row
+    });
+    let eps_map = if level.index == cfg.eps_map_level.min(cfg.levels - 1) {
+        progress.message(format!(
+            "{} level {}: the ε map ({} values of ε)",
+            level.family.name(),
+            level.index,
+            EPS_MAP_DECADES.count()
+        ));
+        eps_map_rows_with(cfg, level, &k_once)
+    } else {
+        Vec::new()
+    };
+    let (rows, starts) = level_rows.into_iter().unzip();
+    LevelRun {
+        rows,
+        eps_map,
+        starts,
+    }
 }
 
 /// `f(i)` for every i < `costs.len()` on the rayon pool's threads, the costliest first: each
@@ -640,13 +688,15 @@ impl Study for SolverCost {
         "What each penalty rule costs a direct and an iterative solver at equal accuracy, over mesh levels";
     const PROGRESS: &'static str = "solver_cost (levels)";
     const DEFAULT_OUT: &'static str = "results/solver_cost";
+    const RESUMABLE: bool = true;
     type Flags = Flags;
     type Config = SolverCostConfig;
     type Record = Vec<Row>;
 
     fn after_help() -> String {
         "Writes solver_cost.csv, solver_cost.json (rows with provenance), summary.json (slopes) \
-         and the figures.\nExit status: 0 ok, 2 bad input."
+         and the figures; each finished level is kept in OUT/levels/ until then (--resume \
+         reuses them after an interruption).\nExit status: 0 ok, 2 bad input."
             .into()
     }
 
@@ -698,8 +748,10 @@ impl Study for SolverCost {
         Ok(cfg)
     }
 
+    /// Runs with the checkpoints of `OUT/levels/` (reused with `--resume`).
     fn run(cfg: &SolverCostConfig, ctx: &RunContext) -> Result<Vec<Row>> {
-        run(cfg, ctx.progress)
+        let checkpoints = Checkpoints::new(ctx.out, CHECKPOINTS, cfg, ctx.resume)?;
+        run(cfg, ctx.progress, Some(&checkpoints))
     }
 
     fn save(
@@ -717,7 +769,8 @@ impl Study for SolverCost {
         crate::provenance::write_json(
             &out.join("summary.json"),
             &serde_json::json!({ "slopes": slopes(rows) }),
-        )
+        )?;
+        Checkpoints::remove_in(out, CHECKPOINTS)
     }
 
     fn load(out: &Path) -> Result<Vec<Row>> {

@@ -109,7 +109,7 @@ pub struct Found {
 /// Where a search starts: the knob (relative to its scale) and, where known, the slope
 /// d ln(measure)/d log₁₀(knob) there — the previous mesh level's match, whose knob and slope
 /// change little from one level to the next.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Start {
     /// The first knob value, relative to its scale.
     pub rel: f64,
