@@ -26,6 +26,7 @@ const STUDY_SUPPORT: &[&str] = &[
     "study::forming_runs",
     "study::shape",
     "study::out_guard",
+    "study::checkpoint",
     "study::grid",
     "study::hertz",
     "study::outcomes",

@@ -6,7 +6,7 @@
 //! (as JSON), its key and its value. It is reused only when all three match the running build,
 //! configuration and key exactly (a `-dirty` build matches another `-dirty` build of the same
 //! commit: rebuild from a clean tree for records); any other is computed again and
-//! overwritten. After the record is saved, [`Checkpoints::remove`] deletes the checkpoint files
+//! overwritten. After the record is saved, [`Checkpoints::remove_in`] deletes the checkpoint files
 //! (only files that parse as one) and the folder if that left it empty.
 //!
 //! Studies that checkpoint: `contact_bench` (per case and mesh, `meshes/`), `solver_cost`
@@ -123,7 +123,7 @@ impl Checkpoints {
 
 #[cfg(test)]
 mod tests {
-    use super::Checkpoints;
+    use crate::study::checkpoint::Checkpoints;
 
     /// A checkpoint is read back only with `--resume` and only for the same configuration;
     /// removing them keeps every other file, and the folder while it holds one.
