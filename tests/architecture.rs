@@ -3,7 +3,8 @@
 //! another study (only to the studies' support modules), and every experiment binary has its
 //! study at `src/study/<binary>`. The nodes are the top-level modules of `src/` and, for
 //! `src/study/`, each of its children (`study::sweep`, …). Run with `--nocapture` to print the
-//! module graph (`module -> dependencies`).
+//! module graph (`module -> dependencies`). Also the repository's size limits (files,
+//! functions) and that the run times the docs state are those `scripts/budgets.sh` measures.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -523,4 +524,51 @@ fn no_function_over_120_lines() {
         })
         .collect();
     assert!(long.is_empty(), "{}", long.join("\n"));
+}
+
+/// Every run time of `scripts/budgets.tsv` (which `scripts/budgets.sh` measures) is what the
+/// documents it names state: each states it on a line that names the command's binary, and
+/// the binary exists.
+#[test]
+fn stated_run_times_are_the_budgets() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let read =
+        |f: &str| std::fs::read_to_string(root.join(f)).unwrap_or_else(|e| panic!("{f}: {e}"));
+    let table = read("scripts/budgets.tsv");
+    let mut rows = 0;
+    let mut wrong = Vec::new();
+    for line in table
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty())
+    {
+        let cols: Vec<&str> = line.split('\t').collect();
+        assert_eq!(
+            cols.len(),
+            5,
+            "budgets.tsv, five tab-separated columns: {line}"
+        );
+        let (name, seconds, stated, files, command) = (cols[0], cols[1], cols[2], cols[3], cols[4]);
+        assert!(
+            seconds.parse::<u64>().is_ok_and(|s| s > 0),
+            "{name}: seconds {seconds}"
+        );
+        let bin = command.split_whitespace().next().unwrap_or("");
+        assert!(
+            root.join(format!("experiments/{bin}.rs")).exists(),
+            "{name}: no binary {bin}"
+        );
+        for f in files.split(',') {
+            if !read(f)
+                .lines()
+                .any(|l| l.contains(stated) && l.contains(bin))
+            {
+                wrong.push(format!(
+                    "{f} does not state \"{stated}\" for {name} ({bin})"
+                ));
+            }
+        }
+        rows += 1;
+    }
+    assert!(rows >= 10, "budgets.tsv has {rows} rows");
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
 }

@@ -172,7 +172,7 @@ def solve(K, q, D, limits, kinds, method="condensed", *, eps=None, factor=None, 
     (``eps``, ``factor``, ``delta``, ``tol``, ``adaptive``) as the ``solve`` tool's flags.
 
     Returns a dict with exactly the keys of ``solve --json`` (u, penalties, gaps, forces, cond₂
-    with its bracket, log-dets, statistics, the solver-side metrics up to 20 000 unknowns, …),
+    with its bracket, log-dets, statistics, the solver-side metrics up to 1 000 unknowns, …),
     computed by the same code. ``ValueError`` on bad input, with the tool's message.
     """
     n, kr, kc, kv = _coo(K, storage)

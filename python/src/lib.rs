@@ -155,7 +155,7 @@ fn constraints(
 /// One strategy on K u = q − Dᵀ r with the constraint rows of D (COO, m × n), as the JSON object
 /// `solve --json` prints for the same scene (same keys, same values bit for bit; `seconds`
 /// aside). `metrics`: cond₂ and determinants (`False`: `--no-metrics`); `solver_metrics`:
-/// `None` their default (up to 20 000 unknowns), `True`/`False` as `--solver-metrics` /
+/// `None` their default (up to 1 000 unknowns), `True`/`False` as `--solver-metrics` /
 /// `--no-solver-metrics`.
 #[pyfunction]
 #[pyo3(signature = (

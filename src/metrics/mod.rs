@@ -314,12 +314,7 @@ pub fn compute_at_contact_set(
         // never ends a solve.
         let mut unavailable = Vec::new();
         let tol = set.cond_tol;
-        let reuse_k = Reuse {
-            tol,
-            keep_ritz: problem.n() <= conditioning::sparse::RITZ_VECTOR_MAX_N,
-            ..Reuse::default()
-        };
-        let (k, system) = match conditioning::cond2_warm(&problem.k, reuse_k) {
+        let (k, system) = match k_analysis(&problem.k, tol) {
             Ok((k, ritz)) => {
                 let starts = ritz.as_ref();
                 let free = contact
@@ -363,6 +358,20 @@ pub fn compute_at_contact_set(
         out.log10_det_ratio = dk.zip(ds).map(|(k, s)| s - k);
     }
     Ok(out)
+}
+
+/// K's cond₂ as [`compute`] takes it, to relative accuracy `tol` (`None`: the accuracy
+/// contract), with its Ritz vectors where they are kept (n ≤
+/// [`conditioning::sparse::RITZ_VECTOR_MAX_N`]): the starts of the system's analysis in
+/// [`compute_with_k`]. A caller that analyses K once for many solves (`solver_cost`'s levels)
+/// calls this, so its rows are [`compute`]'s bit for bit.
+pub fn k_analysis(k: &Stiffness, tol: Option<f64>) -> Result<(CondReport, Option<RitzStarts>)> {
+    let reuse = Reuse {
+        tol,
+        keep_ritz: k.n() <= conditioning::sparse::RITZ_VECTOR_MAX_N,
+        ..Reuse::default()
+    };
+    conditioning::cond2_warm(k, reuse)
 }
 
 /// Like [`compute`], but only the system matrix is analysed: `cond2_k` is left `None` and

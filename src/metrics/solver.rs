@@ -371,7 +371,10 @@ pub fn compute(problem: &Problem, sol: &Solution, opts: SolverOptions) -> Result
 }
 
 /// [`compute`] on the final system `fs` already formed ([`final_system`] of `problem` and
-/// `sol`; `solve --write-system` writes the same one).
+/// `sol`; `solve --write-system` writes the same one). `cond2_jacobi` runs beside the direct
+/// solve and the Krylov runs, and the Krylov runs beside one another (rayon): each is
+/// sequential inside, so every value is the same for any number of threads; only the
+/// `seconds` of a run are wall times taken while the others run.
 pub fn compute_for(
     problem: &Problem,
     sol: &Solution,
@@ -384,17 +387,37 @@ pub fn compute_for(
         err_target: opts.err_target,
         ..SolverMetrics::default()
     };
-    out.cond2_jacobi = cond_jacobi(problem, sol, &fs.a, opts.cond_tol, &mut out.unavailable)?;
+    let mut unavailable = Vec::new();
+    let (cond, solves) = rayon::join(
+        || cond_jacobi(problem, sol, &fs.a, opts.cond_tol, &mut unavailable),
+        || direct_and_krylov(problem, sol, fs, &opts, &mut out),
+    );
+    out.cond2_jacobi = cond?;
+    solves?;
+    // The reasons in the order the metrics are listed: cond2_jacobi's first.
+    unavailable.append(&mut out.unavailable);
+    out.unavailable = unavailable;
+    Ok(out)
+}
+
+/// The direct solve's errors (its reference u* first: the error-based counts stop on it),
+/// then every Krylov run of the system's kind, side by side.
+fn direct_and_krylov(
+    problem: &Problem,
+    sol: &Solution,
+    fs: &FinalSystem,
+    opts: &SolverOptions,
+    out: &mut SolverMetrics,
+) -> Result<()> {
     let symmetric = fs.a.is_symmetric();
-    // The reference u* first: the error-based counts stop on it.
-    let u_star = direct_errors(problem, sol, fs, symmetric, &mut out)?;
+    let u_star = direct_errors(problem, sol, fs, symmetric, out)?;
     if !symmetric {
         out.unavailable.push(
             "Krylov iterations not computed: the system matrix is not symmetric bit for bit \
              (CG and MINRES need a symmetric A)"
                 .into(),
         );
-        return Ok(out);
+        return Ok(());
     }
     if u_star.is_none() {
         out.unavailable.push(
@@ -407,50 +430,55 @@ pub fn compute_for(
     let a = sparse.as_ref();
     let max_iters = opts.max_iters.unwrap_or(default_max_iters(fs.b.len()));
     let pair = |solver: EachSolver, m: &dyn Preconditioner| {
-        paired_runs(solver, a, m, &fs.b, &opts, max_iters, u_star.as_deref())
+        paired_runs(solver, a, m, &fs.b, opts, max_iters, u_star.as_deref())
+    };
+    let mut report = |name: &str, e: Error| {
+        out.unavailable
+            .push(format!("{name}: {}", e.bare_message()));
     };
     match &sol.system {
         SystemKind::Penalized => {
-            match Jacobi::new(a) {
-                Ok(m) => out.pcg_jacobi = pair(krylov::cg_each, &m),
-                Err(e) => out
-                    .unavailable
-                    .push(format!("pcg (Jacobi): {}", e.bare_message())),
-            }
-            match Ic0::new(a) {
-                Ok(m) => {
-                    out.ic0_shift = Some(m.shift);
-                    out.pcg_ic0 = pair(krylov::cg_each, &m);
-                }
-                Err(e) => out
-                    .unavailable
-                    .push(format!("pcg (IC(0)): {}", e.bare_message())),
-            }
-            let mut amg = |opts: &AmgOptions, name: &str| match Amg::new(a, opts) {
-                Ok(m) => Some((m.sizes.clone(), pair(krylov::cg_each, &m))),
-                Err(e) => {
-                    let e = e.bare_message();
-                    out.unavailable.push(format!("pcg (AMG, {name}): {e}"));
-                    None
-                }
+            let amg = |o: &AmgOptions| {
+                Amg::new(a, o).map(|m| (m.sizes.clone(), pair(krylov::cg_each, &m)))
             };
-            if let Some(run) = amg(&AmgOptions::default(), "scalar") {
-                (out.amg_scalar_sizes, out.pcg_amg_scalar) = run;
-            }
             // Without a near-null space the nodal count does not apply (null, not a warning).
             let nodal = problem.near_null.as_ref().map(AmgOptions::nodal);
-            if let Some(run) = nodal.and_then(|o| amg(&o, "nodal")) {
-                (out.amg_nodal_sizes, out.pcg_amg_nodal) = run;
+            let ((jacobi, ic0), (scalar, nodal)) = rayon::join(
+                || {
+                    rayon::join(
+                        || Jacobi::new(a).map(|m| pair(krylov::cg_each, &m)),
+                        || Ic0::new(a).map(|m| (m.shift, pair(krylov::cg_each, &m))),
+                    )
+                },
+                || rayon::join(|| amg(&AmgOptions::default()), || nodal.as_ref().map(amg)),
+            );
+            match jacobi {
+                Ok(run) => out.pcg_jacobi = run,
+                Err(e) => report("pcg (Jacobi)", e),
+            }
+            match ic0 {
+                Ok((shift, run)) => {
+                    out.ic0_shift = Some(shift);
+                    out.pcg_ic0 = run;
+                }
+                Err(e) => report("pcg (IC(0))", e),
+            }
+            match scalar {
+                Ok(run) => (out.amg_scalar_sizes, out.pcg_amg_scalar) = run,
+                Err(e) => report("pcg (AMG, scalar)", e),
+            }
+            match nodal {
+                Some(Ok(run)) => (out.amg_nodal_sizes, out.pcg_amg_nodal) = run,
+                Some(Err(e)) => report("pcg (AMG, nodal)", e),
+                None => {}
             }
         }
         SystemKind::SaddlePoint { active } => match saddle_preconditioner(problem, active) {
             Ok(m) => out.minres = pair(krylov::minres_each, &m),
-            Err(e) => out
-                .unavailable
-                .push(format!("minres: {}", e.bare_message())),
+            Err(e) => report("minres", e),
         },
     }
-    Ok(out)
+    Ok(())
 }
 
 /// The pair of runs (module doc) from one run of `solver`: its iterates do not depend on the

@@ -68,14 +68,60 @@ impl Grid3 {
         })
     }
 
-    /// A uniform grid of `nx × ny × nz` elements on `wx × wy × h`.
-    pub fn uniform((wx, wy, h): (f64, f64, f64), (nx, ny, nz): (usize, usize, usize)) -> Grid3 {
+    /// A uniform grid of `nx × ny × nz` elements on `wx × wy × h` (positive, finite sizes; at
+    /// least one element per axis; [`Grid3::validate`]).
+    pub fn uniform(
+        (wx, wy, h): (f64, f64, f64),
+        (nx, ny, nz): (usize, usize, usize),
+    ) -> Result<Grid3> {
+        for (name, v) in [("width x", wx), ("width y", wy), ("height", h)] {
+            Error::positive(format!("3-D grid: {name}"), v)?;
+        }
         let axis = |len: f64, n: usize| (0..=n).map(|i| len * i as f64 / n as f64).collect();
-        Grid3 {
+        let grid = Grid3 {
             xs: axis(wx, nx),
             ys: axis(wy, ny),
             zs: axis(h, nz),
+        };
+        grid.validate()?;
+        Ok(grid)
+    }
+
+    /// Checks every axis: at least 2 nodes (one element), finite coordinates from 0, strictly
+    /// increasing (every element of positive size) — the fields are public, so [`assemble`]
+    /// checks them again.
+    pub fn validate(&self) -> Result<()> {
+        for (name, axis) in [("x", &self.xs), ("y", &self.ys), ("z", &self.zs)] {
+            if axis.len() < 2 {
+                return Err(Error::out_of_range(
+                    format!("3-D grid: nodes along {name}"),
+                    axis.len(),
+                    "at least 2 (one element)",
+                ));
+            }
+            if axis[0] != 0.0 {
+                return Err(Error::out_of_range(
+                    format!("3-D grid: first {name} coordinate"),
+                    axis[0],
+                    "0",
+                ));
+            }
+            if let Some(w) = axis.windows(2).find(|w| !(w[1].is_finite() && w[1] > w[0])) {
+                return Err(Error::out_of_range(
+                    format!("3-D grid: {name} coordinate after {}", w[0]),
+                    w[1],
+                    "finite and increasing",
+                ));
+            }
         }
+        if self.nodes() > 5_000_000 {
+            return Err(Error::out_of_range(
+                "3-D grid: nodes",
+                self.nodes(),
+                "at most 5e6",
+            ));
+        }
+        Ok(())
     }
 
     /// Nodes per axis.
@@ -181,14 +227,8 @@ pub fn element_stiffness(c: &[[f64; 6]; 6], (dx, dy, dz): (f64, f64, f64)) -> Ve
 /// (i, j) and (j, i) separately may round differently).
 pub fn assemble(grid: &Grid3, material: &Material) -> Result<Vec<(usize, usize, f64)>> {
     material.validate()?;
+    grid.validate()?;
     let (nx, ny, nz) = grid.dims();
-    if nx < 2 || ny < 2 || nz < 2 {
-        return Err(Error::out_of_range(
-            "3-D grid nodes",
-            format!("{nx} × {ny} × {nz}"),
-            "at least 2 × 2 × 2 (one element)",
-        ));
-    }
     let c = c_matrix(material);
     let mut cache: HashMap<(u64, u64, u64), Vec<[f64; 24]>> = HashMap::new();
     let mut t = Vec::with_capacity((nx - 1) * (ny - 1) * (nz - 1) * 576);
@@ -490,7 +530,7 @@ mod tests {
     /// rotations are in the kernel of the padded K at nodes away from every support.
     #[test]
     fn near_null_slots_cover_the_free_dofs() {
-        let grid = Grid3::uniform((1.0, 1.0, 1.0), (3, 3, 3));
+        let grid = Grid3::uniform((1.0, 1.0, 1.0), (3, 3, 3)).unwrap();
         let ind = sphere_indentation(&grid, &steel(), Base::Clamped, 10.0, 0.0).unwrap();
         let nn = ind.problem.near_null.as_ref().unwrap();
         assert_eq!(nn.block_size, 3);
@@ -501,5 +541,36 @@ mod tests {
         assert_eq!(ind.problem.n(), 3 * 48 - 12 - 12);
         assert!(sphere_indentation(&grid, &steel(), Base::Clamped, 0.0, 0.0).is_err());
         assert!(sphere_indentation(&grid, &steel(), Base::Clamped, 1.0, f64::NAN).is_err());
+    }
+
+    /// Bad grids are errors naming the axis and the value, before any assembly (no panic, no
+    /// NaN stiffness): one node on an axis, a shifted origin, a NaN or repeated coordinate,
+    /// a non-positive size, zero elements.
+    #[test]
+    fn bad_grids_are_refused_with_the_axis_named() {
+        let ok = Grid3::uniform((1.0, 1.0, 1.0), (2, 2, 2)).unwrap();
+        let with = |f: &dyn Fn(&mut Grid3)| {
+            let mut g = ok.clone();
+            f(&mut g);
+            g
+        };
+        let m = steel();
+        for (grid, says) in [
+            (with(&|g| g.xs.truncate(1)), "nodes along x"),
+            (with(&|g| g.ys[0] = 0.1), "first y coordinate"),
+            (with(&|g| g.zs[1] = f64::NAN), "z coordinate after 0"),
+            (with(&|g| g.xs[2] = g.xs[1]), "x coordinate after 0.5"),
+        ] {
+            let e = assemble(&grid, &m).unwrap_err().to_string();
+            assert!(e.contains(says), "{e}");
+        }
+        for (sizes, counts, says) in [
+            ((0.0, 1.0, 1.0), (2, 2, 2), "width x"),
+            ((1.0, 1.0, f64::INFINITY), (2, 2, 2), "height"),
+            ((1.0, 1.0, 1.0), (2, 0, 2), "nodes along y"),
+        ] {
+            let e = Grid3::uniform(sizes, counts).unwrap_err().to_string();
+            assert!(e.contains(says), "{e}");
+        }
     }
 }

@@ -110,6 +110,7 @@ fn solver_cost_metrics_agree_with_numpy_scipy_and_mpmath() {
                 err_target: reference.err_target,
                 ..SolverOptions::default()
             },
+            solver_metrics: true,
             ..SolveOptions::default()
         };
         let out = solve_scene(

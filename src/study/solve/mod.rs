@@ -52,12 +52,15 @@ fn with_flag(e: Error) -> Error {
 }
 
 /// Above this many unknowns [`solve_scene`] computes the solver-cost metrics only when asked
-/// (`SolveOptions::solver_metrics`, `--solver-metrics`): their Krylov runs (two per
-/// preconditioner, to the residual test and to the fixed error of u) and the refined
-/// reference grow faster than the solve. Measured on the membrane (one `lower` row per node,
-/// 2 cores): at 19 881 unknowns the whole `solve --json` takes 1.5–1.6× as long with them
-/// (lagrange, constant, condensed), at 49 729 already 1.75× (condensed) and 2.2× (lagrange).
-pub const SOLVER_METRICS_AUTO_MAX_N: usize = 20_000;
+/// (`SolveOptions::solver_metrics`, `--solver-metrics`), so that `solve --json` with its
+/// default metrics takes at most twice as long as with `--no-solver-metrics`. Their four
+/// Krylov runs (each to the residual test and to the fixed error of u), cond₂ of the scaled
+/// system and the refined reference grow faster than the solve, most on elasticity (many CG
+/// iterations per unknown). Measured (`constant`, 2 cores, the runs side by side): Hertz plane
+/// strain 741 / 1 378 / 1 711 / 2 346 / 8 515 / 14 196 unknowns 1.87 / 1.95 / 1.96 / 2.0–2.1 /
+/// 2.2 / 2.1× (4.3× at 14 196 before the runs went side by side); a 1 600-unknown membrane
+/// 1.5×; the 279-unknown cantilever on its bed 1.4×.
+pub const SOLVER_METRICS_AUTO_MAX_N: usize = 1_000;
 
 /// How [`solve_scene`] runs: which metrics, from which start, and what it writes.
 #[derive(Clone, Debug, Default)]
@@ -401,9 +404,9 @@ pub struct Flags {
     /// Skip the solver-cost metrics only (cond2_jacobi, the Krylov runs, the forward errors).
     #[arg(long)]
     no_solver_metrics: bool,
-    /// Compute the solver-cost metrics above 20 000 unknowns too (by default they are
-    /// computed up to 20 000 unknowns only: above, their Krylov runs and refined reference
-    /// would more than double the run's time).
+    /// Compute the solver-cost metrics above 1 000 unknowns too (by default they are
+    /// computed up to 1 000 unknowns only: above, their Krylov runs, the scaled system's cond₂
+    /// and the refined reference would more than double the run's time).
     #[arg(long, conflicts_with = "no_solver_metrics")]
     solver_metrics: bool,
     /// Skip every metric: cond₂, log-det and the solver-cost metrics (cond₂ costs O(N³) for

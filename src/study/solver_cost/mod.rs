@@ -35,7 +35,7 @@ pub use cases::Family;
 pub use record::{slopes, Row, Slope};
 pub use search::Accuracy;
 
-use crate::conditioning::{self, sparse::RitzStarts, Reuse};
+use crate::conditioning::sparse::RitzStarts;
 use crate::error::{Error, Result};
 use crate::metrics::{self, solver::SolverOptions, MetricSet};
 use crate::progress::Progress;
@@ -391,42 +391,41 @@ fn row_of(
 /// K's cond₂ analysis on a level, made once: K is the same matrix, bit for bit, in every row
 /// of a level (a Hertz row's scene differs from another's in its lift, which moves q only),
 /// and [`metrics::compute`] would repeat its analysis in every row. Its Ritz vectors start
-/// each row's system analysis as `compute` starts them ([`metrics::compute_with_k`]), so the
-/// values are those `compute` gives. None where K's analysis failed (each row then reports
-/// the failure through `compute`).
+/// each row's system analysis as `compute` starts them ([`metrics::k_analysis`],
+/// [`metrics::compute_with_k`]), so the values are those `compute` gives. Kept with K's
+/// entries (their bits, read once), against which each row's K is compared without a copy;
+/// None where K's analysis failed (each row then reports the failure through `compute`).
 #[derive(Default)]
-struct KOnce(OnceLock<Option<(Stiffness, Option<RitzStarts>)>>);
+struct KOnce(OnceLock<Option<(Entries, Option<RitzStarts>)>>);
+
+/// A matrix's order and its entries (row, column, value bits) in storage order.
+type Entries = (usize, Vec<(usize, usize, u64)>);
 
 impl KOnce {
     /// K's Ritz vectors where `k` is the level's K, bit for bit.
     fn starts(&self, k: &Stiffness, tol: f64) -> Option<Option<&RitzStarts>> {
         let got = self.0.get_or_init(|| {
-            let reuse = Reuse {
-                tol: Some(tol),
-                keep_ritz: k.n() <= conditioning::sparse::RITZ_VECTOR_MAX_N,
-                ..Reuse::default()
-            };
-            let (_, ritz) = conditioning::cond2_warm(k, reuse).ok()?;
-            Some((k.clone(), ritz))
+            let (_, ritz) = metrics::k_analysis(k, Some(tol)).ok()?;
+            let mut entries = Vec::with_capacity(k.nnz());
+            k.for_each_entry(|i, j, v| entries.push((i, j, v.to_bits())));
+            Some(((k.n(), entries), ritz))
         });
-        let (k0, ritz) = got.as_ref()?;
-        same_entries(k0, k).then_some(ritz.as_ref())
+        let (entries, ritz) = got.as_ref()?;
+        same_entries(entries, k).then_some(ritz.as_ref())
     }
 }
 
-/// The same storage, pattern and values (bits).
-fn same_entries(a: &Stiffness, b: &Stiffness) -> bool {
-    if a.n() != b.n() || a.nnz() != b.nnz() {
+/// `b` has exactly `entries` (order, storage order, pattern and value bits).
+fn same_entries((n, entries): &Entries, b: &Stiffness) -> bool {
+    if b.n() != *n || b.nnz() != entries.len() {
         return false;
     }
-    let mut ea = Vec::with_capacity(a.nnz());
-    a.for_each_entry(|i, j, v| ea.push((i, j, v.to_bits())));
     let (mut same, mut k) = (true, 0);
     b.for_each_entry(|i, j, v| {
-        same &= ea.get(k) == Some(&(i, j, v.to_bits()));
+        same &= entries.get(k) == Some(&(i, j, v.to_bits()));
         k += 1;
     });
-    same && k == ea.len()
+    same && k == entries.len()
 }
 
 /// The row of `solved`: its errors, cond₂ and solver-cost metrics. Failures go to `note`.
