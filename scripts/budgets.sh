@@ -50,7 +50,7 @@ while IFS=$'\t' read -r name seconds stated _where command; do
     case "$name" in '#'* | '') continue ;; esac
     if [ "${#ONLY[@]}" -gt 0 ]; then
         [[ " ${ONLY[*]} " == *" $name "* ]] || continue
-    elif [ "$ALL" != 1 ] && [ "$seconds" -gt 600 ]; then
+    elif [ "$ALL" != 1 ] && awk -v s="$seconds" 'BEGIN { exit !(s > 600) }'; then
         printf '%-28s %12s %12s %7s  %s\n' "$name" "$stated" - - "skipped (--all)"
         continue
     fi
@@ -58,7 +58,9 @@ while IFS=$'\t' read -r name seconds stated _where command; do
     read -r -a argv <<<"${command//\{out\}/$out}"
     log="$TMP/$name.log"
     t0=$(date +%s.%N)
-    if "$BIN/${argv[0]}" "${argv[@]:1}" --quiet >"$log" 2>&1; then
+    rc=0
+    "$BIN/${argv[0]}" "${argv[@]:1}" --quiet >"$log" 2>&1 || rc=$?
+    if [ "$rc" = 0 ]; then
         t1=$(date +%s.%N)
         read -r measured ratio verdict < <(awk -v a="$t0" -v b="$t1" -v s="$seconds" 'BEGIN {
             m = b - a; r = m / s
@@ -68,7 +70,7 @@ while IFS=$'\t' read -r name seconds stated _where command; do
         printf '%-28s %12s %11ss %7s  %s\n' "$name" "$stated" "$measured" "$ratio" "$verdict"
     else
         FAILED=1
-        printf '%-28s %12s %12s %7s  %s\n' "$name" "$stated" - - "FAILED (exit $?): $(tail -1 "$log")"
+        printf '%-28s %12s %12s %7s  %s\n' "$name" "$stated" - - "FAILED (exit $rc): $(tail -1 "$log")"
     fi
     rm -rf "$out"
 done <scripts/budgets.tsv

@@ -140,12 +140,24 @@ pub struct BenchConfig {
     pub optimal_max_n: usize,
 }
 
+/// Every registered rule but `spring`: Eq. 17 sets ε_c from the load on the contact DOF
+/// itself (q_d), and the contact DOFs of these cases carry none (the load comes through the
+/// lift), so its formula goes negative, its penalties clip to 0 and no lift carries the load
+/// (`figures/contact_bench/README.md`). It fails on every row, and a default run would end
+/// with exit status 4; `--methods spring` runs it (and exits 4).
+pub fn default_methods() -> Vec<&'static Strategy> {
+    registry::all()
+        .into_iter()
+        .filter(|s| !std::ptr::eq(*s, &strategy::spring::STRATEGY))
+        .collect()
+}
+
 impl Default for BenchConfig {
     fn default() -> Self {
         BenchConfig {
             cases: Case::DEFAULT.to_vec(),
             meshes: vec![0.2, 0.1, 0.05],
-            methods: registry::all(),
+            methods: default_methods(),
             // Per unit area (nodal ε·ω_c with ω ≈ h inside the contact): the nodal penalties
             // of the earlier grid 0.1 … 1e5·E* at h = a/20 are 2 … 2e6·E*/a.
             eps_rel: vec![1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6],

@@ -1,6 +1,8 @@
-//! The printed report of `friction_bench`: one line per row, grouped by μ.
+//! The printed report of `friction_bench`: one line per row, grouped by μ, and the rows
+//! solved and failed per method (exit status 4 where one failed on every row).
 
 use super::FrictionRow;
+use crate::study::outcomes::Tally;
 use crate::study::text::{fmt_e, table as aligned};
 
 fn opt(v: Option<f64>) -> String {
@@ -69,4 +71,72 @@ pub fn table(rows: &[FrictionRow]) -> String {
          in stick (penalty: the consistent tangent).\n",
     );
     t
+}
+
+/// Rows solved and failed per method and tangential rule (`penalty (delta)`): a row that did
+/// not converge is a failure, with its `warnings` as the error.
+pub fn tally(rows: &[FrictionRow]) -> Tally {
+    let mut t = Tally::default();
+    for r in rows {
+        let method = if r.method == "penalty" {
+            format!("penalty ({})", r.tangent_rule)
+        } else {
+            r.method.clone()
+        };
+        if r.converged {
+            t.add(&method, "");
+        } else {
+            let why = if r.warnings.is_empty() {
+                "did not converge"
+            } else {
+                &r.warnings
+            };
+            t.add(&method, &format!("error: {why}"));
+        }
+    }
+    t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::tally;
+    use crate::study::friction_bench::{FrictionBench, FrictionRow};
+    use crate::study::shape::Study;
+
+    fn row(method: &str, rule: &str, converged: bool) -> FrictionRow {
+        serde_json::from_value(serde_json::json!({
+            "case": "sliding-block", "mu": 0.3, "method": method, "tangent_rule": rule,
+            "law": "coulomb", "increments": 4, "newton_iters": 9, "factorizations": 9,
+            "converged": converged,
+            "warnings": if converged { "" } else { "Newton did not converge in increment 2" },
+        }))
+        .unwrap()
+    }
+
+    /// A row that did not converge is a failure of its method and tangential rule; exit
+    /// status 4 only where one failed on every row it ran.
+    #[test]
+    fn a_rule_that_fails_on_every_row_ends_the_run_with_status_4() {
+        let mixed = vec![
+            row("lagrange", "exact", true),
+            row("penalty", "delta", false),
+            row("penalty", "delta", true),
+            row("penalty", "constant", true),
+        ];
+        let t = tally(&mixed);
+        assert_eq!(t.rows(), 4);
+        assert_eq!(t.0[1].method, "penalty (delta)");
+        assert_eq!((t.0[1].solved, t.0[1].failed), (1, 1));
+        assert_eq!(FrictionBench::failure(&mixed), None);
+        let failing = vec![
+            row("lagrange", "exact", true),
+            row("penalty", "constant", false),
+            row("penalty", "constant", false),
+        ];
+        let why = FrictionBench::failure(&failing).expect("exit status 4");
+        assert!(
+            why.starts_with("penalty (constant) (2 of 2 rows: Newton did not converge"),
+            "{why}"
+        );
+    }
 }
