@@ -3,7 +3,7 @@
 # renders from it; --force replaces each folder's previous run whole, keeping its README).
 # Run from the repository root: bash figures/regenerate.sh
 # The timing figures (runtime_vs_error, cond_cost, engine_scale) measure this machine: run them idle.
-# The times below: scripts/budgets.sh (2 cores, idle, 2026-12-07; cattaneo-mindlin and --optimal-max-n not re-measured).
+# The times below: scripts/budgets.sh (2 cores, idle, 2026-12-07; --optimal-max-n not re-measured).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 cargo build --release --bins
@@ -22,5 +22,5 @@ cargo run --release --bin contact_bench -- --force --out figures/contact_bench -
 cargo run --release --bin contact_bench -- --cases inclined-15,inclined-30,inclined-45,patch-two-body-mortar,patch-two-body-nts-1,patch-two-body-nts-2,hertz-two-body,hertz-normals --force --out figures/contact_bench/coupled   # ≈ 2.4 min
 cargo run --release --bin penalty_scaling -- --force --out figures/penalty_scaling   # ≈ 70 s
 cargo run --release --bin friction_bench -- --force --out figures/friction_bench   # ≈ 10 s
-cargo run --release --bin friction_bench -- --cases cattaneo-mindlin --force --out figures/friction_bench/cattaneo-mindlin   # 14 min 18 s
+cargo run --release --bin friction_bench -- --cases cattaneo-mindlin --force --out figures/friction_bench/cattaneo-mindlin   # 7 min 31 s
 cargo run --release --bin engine_scale -- --sizes 10000,100000,1000000 --force --out figures/engine_scale

@@ -2,8 +2,8 @@
 # Runs every command whose run time the docs state (scripts/budgets.tsv) and prints the
 # measured wall time beside the stated one. Run from the repository root on an idle machine:
 #
-#   bash scripts/budgets.sh              every command stated at ≤ 10 min (≈ 40 min in all)
-#   bash scripts/budgets.sh --all        also the longer ones (≈ 2.3 h more)
+#   bash scripts/budgets.sh              every command stated at ≤ 10 min (≈ 45 min in all)
+#   bash scripts/budgets.sh --all        also the longer one (contact_bench --optimal-max-n 6000, ≈ 1.6 h)
 #   bash scripts/budgets.sh NAME...      the named rows only (first column of the table)
 #
 # Each command writes into a fresh temporary folder (removed afterwards) through the release
