@@ -40,7 +40,7 @@ if [ "${#ONLY[@]}" -gt 0 ]; then
 fi
 
 cargo build --release --bins
-BIN="$PWD/target/release"
+BIN="${CARGO_TARGET_DIR:-$PWD/target}/release"
 TMP="$(mktemp -d)"
 trap 'rm -rf "$TMP"' EXIT
 

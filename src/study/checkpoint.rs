@@ -96,6 +96,19 @@ impl Checkpoints {
         Ok((v, false))
     }
 
+    /// [`Checkpoints::get_or`] for a run that may keep none (`None`: `f` runs, nothing is
+    /// kept).
+    pub fn get_or_maybe<V, F>(checkpoints: Option<&Self>, key: &str, f: F) -> Result<(V, bool)>
+    where
+        V: Serialize + DeserializeOwned,
+        F: FnOnce() -> Result<V>,
+    {
+        match checkpoints {
+            Some(c) => c.get_or(key, f),
+            None => Ok((f()?, false)),
+        }
+    }
+
     /// Removes the checkpoint files of `out/dir` once the record is saved: the `.json` files
     /// that parse as a checkpoint of any build, then the directory if that left it empty.
     /// Anything else a user keeps there stays.

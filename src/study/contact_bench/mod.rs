@@ -758,10 +758,9 @@ pub fn run(
     for &case in &cfg.cases {
         for &h_rel in &cfg.meshes {
             let key = format!("{}-h{h_rel}", case.name());
-            let (mesh, from_checkpoint) = match checkpoints {
-                Some(c) => c.get_or(&key, || run_mesh(cfg, case, h_rel, progress))?,
-                None => (run_mesh(cfg, case, h_rel, progress)?, false),
-            };
+            let (mesh, from_checkpoint) = Checkpoints::get_or_maybe(checkpoints, &key, || {
+                run_mesh(cfg, case, h_rel, progress)
+            })?;
             let lift = if mesh.lift.is_nan() {
                 "no Lagrange reference (its rows are dependent)".to_string()
             } else {

@@ -141,10 +141,7 @@ pub fn rows(
         .map(|case| {
             let key = format!("{CASE}-h{}-mu{}", case.h_over_a, case.mu);
             let solve = || case_rows(cfg, case, g, per, progress);
-            let (rows, resumed) = match checkpoints {
-                Some(c) => c.get_or(&key, solve)?,
-                None => (solve()?, false),
-            };
+            let (rows, resumed) = Checkpoints::get_or_maybe(checkpoints, &key, solve)?;
             if resumed {
                 for _ in 0..per {
                     progress.step(&format!("friction_bench: {key} (checkpoint)"));

@@ -252,10 +252,7 @@ pub fn run(
         for level in &levels {
             let solve = || Ok(level_run(cfg, &jobs, level, &starts, &costs, progress));
             let key = format!("{}-level{}", family.name(), level.index);
-            let (done, resumed) = match checkpoints {
-                Some(c) => c.get_or(&key, solve)?,
-                None => (solve()?, false),
-            };
+            let (done, resumed) = Checkpoints::get_or_maybe(checkpoints, &key, solve)?;
             starts = done.starts;
             costs = done
                 .rows
